@@ -1,0 +1,26 @@
+#pragma once
+// Exact geometric predicates on double-precision input (CGAL's filtered
+// Exact_predicates_inexact_constructions_kernel underneath, kept out of this header).
+// Every decision that changes topology or validity goes through these.
+
+#include "bpm/geometry.h"
+
+namespace bpm {
+
+// Sign of the signed area of (a,b,c): +1 counter-clockwise, -1 clockwise, 0 collinear.
+int orient2d(const Vec2& a, const Vec2& b, const Vec2& c);
+// Sign of the signed volume of (a,b,c,d): +1 if d is below the plane of the
+// counter-clockwise triangle (a,b,c) (CGAL's POSITIVE), -1 above, 0 coplanar.
+int orient3d(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
+// +1 if d is strictly inside the circle through counter-clockwise (a,b,c), 0 on it, -1 outside.
+int in_circle(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d);
+// Exact: are the three points collinear?
+bool collinear3d(const Vec3& a, const Vec3& b, const Vec3& c);
+
+// Do the closed triangles (a0,a1,a2) and (b0,b1,b2) intersect anywhere other than in
+// the vertices / edge they share? Shared corners are given by index: shared[i] = j
+// means corner i of the first triangle is the same vertex as corner j of the second,
+// -1 otherwise. Coplanar overlaps and folds count as intersections.
+bool triangles_intersect_improperly(const Vec3 a[3], const Vec3 b[3], const int shared[3]);
+
+}  // namespace bpm

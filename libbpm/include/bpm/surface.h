@@ -1,0 +1,63 @@
+#pragma once
+// A triangulated surface: one material or several, manifold or not.
+//
+// Connectivity is only the triangle list; adjacency (edges with all their incident
+// triangles, components, boundary loops, feature lines) is derived on demand by
+// bpm/surface_topology.h. Nothing here assumes a manifold.
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "bpm/geometry.h"
+
+namespace bpm {
+
+struct Surface {
+    std::vector<Vec3> vertices;     // #V positions, double precision
+    std::vector<Tri> triangles;     // #T triangles, indices into `vertices`
+    std::vector<int32_t> patches;   // #T patch (material interface / group) id per triangle; same size as triangles
+
+    int32_t num_vertices() const { return static_cast<int32_t>(vertices.size()); }
+    int32_t num_triangles() const { return static_cast<int32_t>(triangles.size()); }
+};
+
+// Axis-aligned bounding box diagonal length; 0 for an empty surface. All relative
+// tolerances in bpm (errors, edge lengths) are fractions of this length so that
+// results do not depend on the model's units.
+double bounding_box_diagonal(const Surface& surface);
+double bounding_box_diagonal(const std::vector<Vec3>& points);
+
+// Problems that make a surface unusable as bpm input. validate_surface() lists
+// them all (up to a limit) instead of stopping at the first.
+struct SurfaceProblem {
+    enum class Kind {
+        NonFiniteCoordinate,  // element = vertex index
+        IndexOutOfRange,      // element = triangle index
+        RepeatedCorner,       // element = triangle index (two corners are the same vertex)
+        ZeroArea,             // element = triangle index (collinear corners, exact test)
+        DuplicateTriangle,    // element = triangle index (same three vertices as `other`)
+        UnreferencedVertex,   // element = vertex index
+        DuplicateVertex,      // element = vertex index (same position as `other`)
+        PatchCountMismatch,   // patches.size() != triangles.size()
+    };
+    Kind kind;
+    int64_t element = -1;
+    int64_t other = -1;
+    std::string describe() const;
+};
+
+struct ValidateOptions {
+    bool allow_unreferenced_vertices = false;
+    bool allow_duplicate_vertices = false;
+    size_t max_problems = 20;
+};
+
+std::vector<SurfaceProblem> validate_surface(const Surface& surface, const ValidateOptions& options = {});
+
+// Repairs that only happen on request (tools: --merge-duplicate-vertices,
+// --drop-unreferenced-vertices). Each returns how many elements it changed.
+int64_t merge_duplicate_vertices(Surface& surface);   // exact position equality
+int64_t drop_unreferenced_vertices(Surface& surface);
+
+}  // namespace bpm

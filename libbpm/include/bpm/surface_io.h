@@ -1,0 +1,66 @@
+#pragma once
+// Reading and writing triangulated surfaces in the common mesh formats.
+//
+// Supported (chosen by file extension or explicitly):
+//   OFF   (.off)         ASCII; polygons with more than 3 corners are rejected
+//   OBJ   (.obj)         `v`/`f` records; `g` and `usemtl` groups become patch ids
+//   STL   (.stl)         ASCII and binary; vertices are merged by exact position
+//   PLY   (.ply)         ASCII, binary_little_endian, binary_big_endian; a face property
+//                        named patch / material / region / label / physical becomes the patch id
+//   MSH   (.msh)         Gmsh 2.2 and 4.1, ASCII and binary; triangles only (other elements
+//                        are skipped and counted); the physical tag is the patch id
+// Every triangle gets a patch id (0 when the format has none).
+//
+// Errors: every malformed input throws bpm::InputError naming the file and the line
+// (text formats) or element / byte offset (binary formats). Counts in headers are never
+// trusted for allocation before they are checked against the size of the input.
+
+#include <cstdint>
+#include <istream>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "bpm/surface.h"
+
+namespace bpm {
+
+enum class SurfaceFormat { Off, Obj, Stl, Ply, Msh };
+
+// "off", "obj", "stl", "ply", "msh" (case-insensitive) -> format; nullopt otherwise.
+std::optional<SurfaceFormat> surface_format_from_name(const std::string& name);
+// Format from the extension of `path`; nullopt if unknown.
+std::optional<SurfaceFormat> surface_format_from_path(const std::string& path);
+
+struct SurfaceReadOptions {
+    std::optional<SurfaceFormat> format;      // overrides the extension; required for "-"
+    bool merge_duplicate_vertices = false;    // repair: merge vertices at identical positions
+    bool drop_unreferenced_vertices = false;  // repair: remove vertices no triangle uses
+};
+
+// What a read did besides producing the surface, for the tool to report.
+struct SurfaceReadReport {
+    SurfaceFormat format = SurfaceFormat::Off;
+    int64_t merged_vertices = 0;       // by the requested repair
+    int64_t dropped_vertices = 0;      // by the requested repair
+    int64_t skipped_elements = 0;      // non-triangle elements of MSH files that were ignored
+    std::vector<std::string> notes;    // other human-readable remarks
+};
+
+// Reads and validates a surface (see validate_surface in bpm/surface.h): NaN/Inf,
+// out-of-range indices, zero-area and duplicate triangles, unreferenced and duplicate
+// vertices are errors unless the matching repair option is set. "-" reads standard input.
+Surface read_surface(const std::string& path, const SurfaceReadOptions& options = {},
+                     SurfaceReadReport* report = nullptr);
+
+// Same, from an in-memory buffer; `name` is used in error messages.
+Surface read_surface_from_memory(const std::string& bytes, SurfaceFormat format, const std::string& name,
+                                 const SurfaceReadOptions& options = {}, SurfaceReadReport* report = nullptr);
+
+// Writes OFF, OBJ (patches as `g patch_N`), STL (binary), PLY (binary little endian with
+// an int `patch` face property) or MSH 4.1 ASCII (patches as physical tags), atomically:
+// to a temporary name in the same directory, renamed when complete. "-" writes stdout.
+void write_surface(const std::string& path, const Surface& surface,
+                   std::optional<SurfaceFormat> format = std::nullopt);
+
+}  // namespace bpm

@@ -1,0 +1,46 @@
+#!/usr/bin/env bash
+# Installs what bpm needs from Debian 12 packages (as root) or says what is missing,
+# then unpacks the real test meshes of libcgal-demo into .data/meshes.
+# Used by both README commands; safe to run again (does nothing when all is there).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+# Package -> a file that proves it is installed.
+declare -A NEED=(
+  [build-essential]=/usr/bin/g++
+  [cmake]=/usr/bin/cmake
+  [libcgal-dev]=/usr/include/CGAL/Exact_predicates_inexact_constructions_kernel.h
+  [libeigen3-dev]=/usr/include/eigen3/Eigen/Sparse
+  [libhdf5-dev]=/usr/include/hdf5/serial/hdf5.h
+  [libcli11-dev]=/usr/include/CLI/CLI.hpp
+  [catch2]=/usr/include/catch2/catch.hpp
+  [tetgen]=/usr/bin/tetgen
+  [libcgal-demo]=/usr/share/doc/libcgal-dev/data.tar.gz
+  [python3-h5py]=/usr/lib/python3/dist-packages/h5py/__init__.py
+  [python3-numpy]=/usr/lib/python3/dist-packages/numpy/__init__.py
+  [python3-vtk9]=/usr/lib/python3/dist-packages/vtkmodules/__init__.py
+  [hdf5-tools]=/usr/bin/h5dump
+)
+missing=()
+for pkg in "${!NEED[@]}"; do
+  [ -e "${NEED[$pkg]}" ] || missing+=("$pkg")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  IFS=$'\n' missing=($(sort <<<"${missing[*]}")); unset IFS
+  if [ "$(id -u)" = 0 ]; then
+    echo "setup: installing ${missing[*]}" >&2
+    export DEBIAN_FRONTEND=noninteractive
+    apt-get update -qq >&2
+    apt-get install -y -qq --no-install-recommends "${missing[@]}" >&2
+  else
+    echo "setup: missing Debian packages: ${missing[*]}" >&2
+    echo "setup: install them with:  sudo apt-get install ${missing[*]}" >&2
+    exit 1
+  fi
+fi
+
+# Real meshes for tests and benchmarks: never committed, unpacked from the package.
+if [ ! -f .data/meshes/femur.off ]; then
+  mkdir -p .data
+  tar -xzf /usr/share/doc/libcgal-dev/data.tar.gz -C .data --strip-components=1 data/meshes
+fi

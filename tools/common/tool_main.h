@@ -1,0 +1,47 @@
+#pragma once
+// The one place that maps libbpm's exceptions to exit codes and prints errors.
+// Every bpm tool's main() is:   return bpm::tools::run("bpm-verb", argc, argv, body);
+
+#include <functional>
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "bpm/context.h"
+
+namespace bpm::tools {
+
+// Exit codes shared by all tools (README.md lists the same table).
+enum ExitCode : int {
+    kOk = 0,
+    kCheckFailed = 1,    // bpm-check: a requested check failed
+    kUsage = 2,          // bad command line
+    kBadInput = 3,       // unreadable or malformed input file
+    kOutputError = 4,    // output could not be written
+    kAlgorithm = 5,      // the algorithm could not proceed on this input
+    kExternalTool = 6,   // tetgen missing or failed
+    kInternal = 70,      // a bug: an unexpected exception
+};
+
+// Runs `body` (which parses with the given app and does the work), catching every
+// exception and printing `tool: error: WHERE: message` on stderr.
+int run(const std::string& tool, int argc, char** argv, CLI::App& app, const std::function<int()>& body);
+
+// A Context whose log goes to stderr ("tool: warning: ...", info only when verbose)
+// and whose progress is shown on stderr only when stderr is a terminal.
+Context make_context(const std::string& tool, bool verbose, bool quiet);
+
+// "bpm-verb 0.1.0 (bpm format 1.0)"
+std::string version_line(const std::string& tool);
+
+// Adds --version to the app (prints version_line and exits 0).
+void add_version_flag(CLI::App& app, const std::string& tool);
+
+// Throws CLI::ValidationError if the directory of `path` does not exist (checked before
+// any expensive work); "-" is always accepted.
+void require_output_directory(const std::string& path);
+
+// The command line as one string, for provenance.
+std::string command_line(int argc, char** argv);
+
+}  // namespace bpm::tools
