@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <cstdio>
+#include <ctime>
 #include <filesystem>
 #include <iostream>
 
@@ -113,6 +114,15 @@ void require_output_directory(const std::string& path) {
     std::error_code ec;
     if (!std::filesystem::is_directory(parent, ec))
         throw CLI::ValidationError("--output", "directory does not exist: " + parent.string());
+}
+
+std::string utc_timestamp() {
+    std::time_t now = std::time(nullptr);
+    std::tm utc{};
+    gmtime_r(&now, &utc);
+    char buffer[32];
+    std::strftime(buffer, sizeof buffer, "%Y-%m-%dT%H:%M:%SZ", &utc);
+    return buffer;
 }
 
 std::string command_line(int argc, char** argv) {

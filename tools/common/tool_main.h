@@ -41,6 +41,9 @@ void add_version_flag(CLI::App& app, const std::string& tool);
 // any expensive work); "-" is always accepted.
 void require_output_directory(const std::string& path);
 
+// Current time as ISO 8601 UTC, for provenance.
+std::string utc_timestamp();
+
 // The command line as one string, for provenance.
 std::string command_line(int argc, char** argv);
 

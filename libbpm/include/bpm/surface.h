@@ -39,24 +39,40 @@ struct SurfaceProblem {
         DuplicateTriangle,    // element = triangle index (same three vertices as `other`)
         UnreferencedVertex,   // element = vertex index
         DuplicateVertex,      // element = vertex index (same position as `other`)
-        PatchCountMismatch,   // patches.size() != triangles.size()
+        PatchCountMismatch,   // patches.size() != triangles.size() (element = patches.size(), other = triangles.size())
     };
+    // `other`: IndexOutOfRange -> the offending index; RepeatedCorner -> the repeated
+    // vertex; DuplicateTriangle / DuplicateVertex -> the smallest index of the same set /
+    // position (problems are reported for the later elements only).
     Kind kind;
     int64_t element = -1;
     int64_t other = -1;
+    // "triangle 17: zero area (its three corners are collinear)"; see also describe_problem.
     std::string describe() const;
 };
+
+// describe() with details looked up in the surface the problem was found in: the vertex
+// indices of a triangle, which corners repeat, which coordinate is NaN, positions.
+std::string describe_problem(const SurfaceProblem& problem, const Surface& surface);
 
 struct ValidateOptions {
     bool allow_unreferenced_vertices = false;
     bool allow_duplicate_vertices = false;
-    size_t max_problems = 20;
+    size_t max_problems = 20;  // stop after this many; 0 = no limit
 };
 
+// Checks in this order, each in index order: patch count, non-finite coordinates, per
+// triangle (index range, repeated corner, zero area by the exact collinear3d), duplicate
+// triangles (same vertex set in any order), unreferenced vertices, duplicate vertices
+// (identical coordinates; -0 equals +0). Deterministic.
 std::vector<SurfaceProblem> validate_surface(const Surface& surface, const ValidateOptions& options = {});
 
 // Repairs that only happen on request (tools: --merge-duplicate-vertices,
 // --drop-unreferenced-vertices). Each returns how many elements it changed.
+// Both keep the surviving vertices in their original order (a merged group is kept at
+// its smallest index) and renumber the triangles; triangle order and patches are not
+// touched, so merging may leave repeated corners or duplicate triangles for
+// validate_surface() to report. Vertices with NaN/Inf coordinates are never merged.
 int64_t merge_duplicate_vertices(Surface& surface);   // exact position equality
 int64_t drop_unreferenced_vertices(Surface& surface);
 

@@ -9,11 +9,22 @@
 //                        named patch / material / region / label / physical becomes the patch id
 //   MSH   (.msh)         Gmsh 2.2 and 4.1, ASCII and binary; triangles only (other elements
 //                        are skipped and counted); the physical tag is the patch id
-// Every triangle gets a patch id (0 when the format has none).
+// Every triangle gets a patch id (0 when the format has none). In detail:
+//   OBJ  each distinct (group names, material) pair is a patch, numbered 0, 1, ... in the
+//        order faces first use it; but when there is no `usemtl` and every face is in a
+//        group named `patch_<N>` (as write_surface writes them), N is the patch id.
+//   STL  ASCII: each `solid ... endsolid` block is a patch (0, 1, ...); binary: 0.
+//        Vertices are numbered in order of first use by the triangles.
+//   PLY  the first such face property in header order; integer values only.
+//   MSH  2.2: the first element tag (physical); 4.1: the first physical tag of the
+//        element's entity in $Entities; 0 when there is none.
+// Polygons (faces with more than three corners) are refused in every format, never
+// triangulated silently.
 //
 // Errors: every malformed input throws bpm::InputError naming the file and the line
 // (text formats) or element / byte offset (binary formats). Counts in headers are never
-// trusted for allocation before they are checked against the size of the input.
+// trusted for allocation before they are checked against the size of the input. A file
+// without triangles (e.g. a point cloud) is an error too.
 
 #include <cstdint>
 #include <istream>
@@ -60,6 +71,11 @@ Surface read_surface_from_memory(const std::string& bytes, SurfaceFormat format,
 // Writes OFF, OBJ (patches as `g patch_N`), STL (binary), PLY (binary little endian with
 // an int `patch` face property) or MSH 4.1 ASCII (patches as physical tags), atomically:
 // to a temporary name in the same directory, renamed when complete. "-" writes stdout.
+// Output is deterministic; text formats write doubles with 17 significant digits, so
+// reading back gives the same surface bit for bit (patches are lost in OFF; STL stores
+// float coordinates, no patches, and numbers vertices in order of first use).
+// Throws OutputError for an unwritable path and for a surface that could not be read
+// back: patches.size() != triangles.size(), an index out of range, a NaN/Inf coordinate.
 void write_surface(const std::string& path, const Surface& surface,
                    std::optional<SurfaceFormat> format = std::nullopt);
 

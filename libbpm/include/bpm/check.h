@@ -1,0 +1,122 @@
+#pragma once
+// Validation of surfaces and parametrized surfaces: what bpm-check runs, and the test
+// oracle for the simplifier. Every verdict that concerns geometry uses the exact
+// predicates of bpm/predicates.h; the only tolerances are relative ones stated below.
+//
+// A check never throws on bad data: it reports it. Each check returns a CheckResult
+// with a count of all problems found and the first few of them (in a deterministic
+// order), naming the offending element by kind and index. The JSON form is described
+// in spec/check-report.md.
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "bpm/bpm_file.h"
+#include "bpm/context.h"
+#include "bpm/parametrization.h"
+#include "bpm/surface.h"
+
+namespace bpm {
+
+// One offending element. `ids` names it for programs, e.g. {{"coarse_triangle", 17},
+// {"piece", 4}}; `where` names it for people ("coarse triangle 17 piece 4").
+struct CheckProblem {
+    std::vector<std::pair<std::string, int64_t>> ids;
+    std::string message;
+    std::string where() const;
+    std::string describe() const;  // "where: message"
+    // The id of the given kind, or -1.
+    int64_t id(const std::string& kind) const;
+};
+
+// The most extreme value a check measured (worst aspect ratio, largest image deviation...).
+struct WorstValue {
+    std::string name;      // e.g. "aspect_ratio"
+    double value = 0.0;
+    std::vector<std::pair<std::string, int64_t>> ids;  // where it occurs
+};
+
+struct CheckResult {
+    std::string name;     // "format", "intersections", "original-intersections", "topology", "bijectivity", "quality"
+    bool passed = true;
+    std::string summary;  // one line for people, e.g. "1234 triangles, 0 intersecting pairs"
+    std::vector<std::pair<std::string, int64_t>> counts;  // named counts, e.g. {"triangles", 1234}
+    int64_t problem_count = 0;            // all problems found
+    std::vector<CheckProblem> problems;   // the first CheckOptions::max_problems of them
+    std::optional<WorstValue> worst;
+
+    // Records a problem (kept only while fewer than `max_problems` are stored) and fails the check.
+    void add_problem(CheckProblem problem, size_t max_problems);
+    void add_count(const std::string& name, int64_t value) { counts.emplace_back(name, value); }
+    int64_t count(const std::string& name) const;  // -1 if absent
+};
+
+struct CheckReport {
+    std::string input;  // file name as given, "-" for standard input
+    std::vector<CheckResult> checks;
+    bool passed() const;
+    const CheckResult* find(const std::string& name) const;
+};
+
+struct CheckOptions {
+    size_t max_problems = 10;
+    // Quality gates on the coarse surface; unset = not checked.
+    std::optional<double> max_aspect_ratio;     // circumradius / inradius, 2 for equilateral
+    std::optional<double> min_angle_degrees;
+    // TODO(max-error): a Hausdorff-distance gate (--max-error) between S and S0.
+};
+
+// Structural consistency of an in-memory parametrization: sizes, index ranges, CSR
+// offsets, finite values, node barycentrics (>= 0, sum 1 within 1e-12, exact zeros on
+// coarse edges, unit vectors at corners), node identities (original vertices and
+// original edges exist), images equal to what the node is within 1e-9 of the bounding
+// box diagonal of S0, coarse vertices at their original positions (same tolerance).
+// The other parametrization checks rely on this one and report "not checked" when it fails.
+CheckResult check_format(const Parametrization& param, const CheckOptions& options = {}, const Context& context = {});
+CheckResult check_format(const BpmFile& file, const CheckOptions& options = {}, const Context& context = {});
+
+// No two triangles intersect other than in a shared vertex or a shared edge (coplanar
+// overlaps and folds included); degenerate triangles are reported too. `name` lets the
+// caller label the result ("intersections" for S, "original-intersections" for S0).
+CheckResult check_intersections(const Surface& surface, const CheckOptions& options = {}, const Context& context = {},
+                                const std::string& name = "intersections");
+
+// Coarse vs original: per component Euler characteristic, orientability, boundary
+// loops, Betti numbers over Z2, sheets, feature vertices (by original id) and feature
+// lines; every piece maps into an original triangle of the coarse triangle's patch.
+CheckResult check_topology(const Parametrization& param, const CheckOptions& options = {}, const Context& context = {});
+// A plain surface: computes and reports its invariants; fails only on surfaces whose
+// topology cannot be computed (indices out of range).
+CheckResult check_topology(const Surface& surface, const CheckOptions& options = {}, const Context& context = {});
+
+// phi is a bijection S -> S0: pieces tile every coarse triangle, agree along shared
+// coarse edges, map into their original triangles with positive orientation and tile
+// every original triangle; every original vertex is the image of exactly one point.
+CheckResult check_bijectivity(const Parametrization& param, const CheckOptions& options = {}, const Context& context = {});
+
+// Aspect ratio and smallest angle of every triangle against the limits in `options`.
+CheckResult check_quality(const Surface& surface, const CheckOptions& options = {}, const Context& context = {});
+
+// What bpm-check runs.
+struct CheckSelection {
+    bool format = true;
+    bool intersections = true;
+    bool topology = true;
+    bool bijectivity = true;
+    bool original_intersections = false;  // also check S0 (so a faulty input is reported as such)
+};
+CheckReport run_checks(const BpmFile& file, const CheckSelection& selection, const CheckOptions& options = {},
+                       const Context& context = {});
+// For a plain surface: intersections and/or topology (and quality if limits are set).
+CheckReport run_surface_checks(const Surface& surface, const CheckSelection& selection,
+                               const CheckOptions& options = {}, const Context& context = {});
+
+// JSON text of the report (spec/check-report.md), ending in a newline.
+std::string check_report_to_json(const CheckReport& report);
+// One line per check: "PASS intersections  1234 triangles, 0 intersecting pairs".
+std::string check_report_to_text(const CheckReport& report);
+
+}  // namespace bpm

@@ -1,0 +1,67 @@
+#pragma once
+// Simplification by point removal with a bijective parametrization (Krause & Sander,
+// "Automatic construction of boundary parametrizations for geometric multigrid
+// solvers", §2.2–2.4; Floater 1997 for the shape-preserving map; Eck et al. 1995 for
+// the polar map).
+//
+// The original surface S0 is simplified by removing vertices one at a time in order
+// of a cost, keeping after every step a coarse surface S with the same topological
+// type and non-manifold structure as S0 and a piecewise-linear bijection phi: S -> S0.
+
+#include <cstdint>
+#include <limits>
+#include <map>
+#include <string>
+
+#include "bpm/context.h"
+#include "bpm/parametrization.h"
+#include "bpm/surface.h"
+
+namespace bpm {
+
+struct SimplifyOptions {
+    // Stopping rules: the first one reached ends the run. 0 / infinity = not used.
+    int64_t target_vertices = 0;      // stop at this many coarse vertices
+    double target_ratio = 0.0;        // stop at this fraction of the input vertices
+    double max_error = std::numeric_limits<double>::infinity();
+    // ^ never exceed this geometric error, relative to the bounding-box diagonal:
+    //   max over the surface of |phi(x) - x| (an upper bound of the one-sided
+    //   Hausdorff distance from S to S0).
+
+    // Cost = error/diagonal + aspect_weight * 1e-3 * (log2(worst new R/r / 2)
+    //                                                - 0.5 log2(worst removed R/r / 2))
+    double aspect_weight = 1.0;
+    // Longest edge a removal may create, relative to the diagonal.
+    double max_edge_length = std::numeric_limits<double>::infinity();
+    // Edges whose dihedral angle (between normals) exceeds this are creases, kept as
+    // feature lines; 180 disables. Boundaries, patch borders and edges with 3 or more
+    // sheets are always feature lines.
+    double feature_angle_degrees = 60.0;
+    // Refuse removals whose new triangles would intersect the rest of the surface.
+    bool prevent_intersections = true;
+    // Testing aid: after every removal, rebuild and validate the parametrization of all
+    // triangles around it from the committed state (slow). Throws bpm::AlgorithmError
+    // naming the removal that broke it.
+    bool self_check = false;
+};
+
+struct SimplifyResult {
+    int64_t input_vertices = 0, input_triangles = 0;
+    int64_t output_vertices = 0, output_triangles = 0;
+    int64_t removed = 0;
+    double max_error = 0.0;           // final max |phi(x) - x| / diagonal
+    double worst_aspect_ratio = 0.0;  // of the coarse surface
+    double seconds = 0.0;
+    bool target_reached = false;
+    std::string stop_reason;          // human readable
+    // Why the vertices that remained could not be removed, counted by reason.
+    std::map<std::string, int64_t> blocked;
+};
+
+// \pre `original` passed validate_surface (finite, no degenerate or duplicate triangles).
+// \throw bpm::OptionError for contradictory options, bpm::Cancelled via the context.
+// Fills `out` (original, coarse, phi) and returns what was achieved.
+SimplifyResult simplify(const Surface& original, const SimplifyOptions& options, const Context& context,
+                        Parametrization& out);
+
+}  // namespace bpm

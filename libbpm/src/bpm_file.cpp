@@ -1,0 +1,859 @@
+// The bpm file format v1 on top of the HDF5 C API. spec/bpm-format.md is normative;
+// this file is one implementation of it.
+//
+// Files are built entirely in memory (core driver, no backing store) and the finished
+// image is written with detail::write_file_atomically, so a reader never sees a half
+// written file and "-" works for standard output. Reading goes through a file image as
+// well, which makes standard input and memory buffers the same case as files.
+//
+// Writing is deterministic: no object timestamps, fixed chunk sizes and filter
+// settings, and nothing that depends on the time or the file name, so the same
+// BpmFile always gives the same bytes.
+
+#include "bpm/bpm_file.h"
+
+#include <hdf5.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <optional>
+#include <sstream>
+
+#include "bpm/errors.h"
+#include "bpm/version.h"
+#include "file_util.h"
+
+namespace bpm {
+
+BpmFormatVersion bpm_format_version() { return {BPM_FORMAT_VERSION_MAJOR, BPM_FORMAT_VERSION_MINOR}; }
+
+namespace {
+
+// ---------------------------------------------------------------------------
+// Small HDF5 helpers
+// ---------------------------------------------------------------------------
+
+// Owns one HDF5 identifier and closes it with the right function.
+class Handle {
+public:
+    using Closer = herr_t (*)(hid_t);
+    Handle() = default;
+    Handle(hid_t id, Closer closer) : id_(id), closer_(closer) {}
+    Handle(const Handle&) = delete;
+    Handle& operator=(const Handle&) = delete;
+    Handle(Handle&& o) noexcept : id_(o.id_), closer_(o.closer_) { o.id_ = -1; }
+    Handle& operator=(Handle&& o) noexcept {
+        if (this != &o) {
+            reset();
+            id_ = o.id_;
+            closer_ = o.closer_;
+            o.id_ = -1;
+        }
+        return *this;
+    }
+    ~Handle() { reset(); }
+    void reset() {
+        if (id_ >= 0 && closer_) closer_(id_);
+        id_ = -1;
+    }
+    hid_t get() const { return id_; }
+    bool valid() const { return id_ >= 0; }
+    operator hid_t() const { return id_; }
+
+private:
+    hid_t id_ = -1;
+    Closer closer_ = nullptr;
+};
+
+// HDF5 prints its error stack to stderr by default; the library never prints, and
+// every failure becomes an exception with our own message instead.
+void silence_hdf5() { H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); }
+
+// The innermost HDF5 error description, appended to messages for diagnosis.
+std::string hdf5_error_text() {
+    std::string text;
+    H5Ewalk2(
+        H5E_DEFAULT, H5E_WALK_DOWNWARD,
+        [](unsigned n, const H5E_error2_t* err, void* data) -> herr_t {
+            auto* out = static_cast<std::string*>(data);
+            if (n == 0 && err && err->desc) *out = err->desc;
+            return 0;
+        },
+        &text);
+    H5Eclear2(H5E_DEFAULT);
+    return text;
+}
+
+// ---------------------------------------------------------------------------
+// Writing
+// ---------------------------------------------------------------------------
+
+constexpr hsize_t kChunkRows = 65536;    // rows per chunk of a large dataset
+constexpr hsize_t kChunkThreshold = 4096;  // datasets with more rows are chunked + compressed
+constexpr unsigned kDeflateLevel = 4;
+
+class Writer {
+public:
+    explicit Writer(std::string where) : where_(std::move(where)) {}
+
+    [[noreturn]] void fail(const std::string& what) const {
+        const std::string detail = hdf5_error_text();
+        throw OutputError(where_, what + (detail.empty() ? "" : " (HDF5: " + detail + ")"));
+    }
+    void check(herr_t status, const std::string& what) const {
+        if (status < 0) fail(what);
+    }
+    hid_t check_id(hid_t id, const std::string& what) const {
+        if (id < 0) fail(what);
+        return id;
+    }
+
+    // Object creation property list without timestamps: timestamps would make two
+    // runs on the same input give different bytes.
+    Handle untimed_plist(hid_t cls) const {
+        Handle p(check_id(H5Pcreate(cls), "cannot create a property list"), H5Pclose);
+        check(H5Pset_obj_track_times(p, false), "cannot disable object timestamps");
+        return p;
+    }
+
+    Handle create_group(hid_t parent, const char* name) const {
+        Handle gcpl = untimed_plist(H5P_GROUP_CREATE);
+        return Handle(check_id(H5Gcreate2(parent, name, H5P_DEFAULT, gcpl, H5P_DEFAULT),
+                               std::string("cannot create group ") + name),
+                      H5Gclose);
+    }
+
+    // A fixed-length string type: VTK 9.1 reads only fixed-length string attributes,
+    // and fixed-length strings are the simplest to read with any HDF5 binding.
+    Handle string_type(size_t length, H5T_cset_t cset) const {
+        Handle t(check_id(H5Tcopy(H5T_C_S1), "cannot create a string type"), H5Tclose);
+        check(H5Tset_size(t, std::max<size_t>(length, 1)), "cannot size a string type");
+        check(H5Tset_strpad(t, H5T_STR_NULLTERM), "cannot set string padding");
+        check(H5Tset_cset(t, cset), "cannot set string character set");
+        return t;
+    }
+
+    void write_string_attribute(hid_t loc, const char* name, const std::string& value, H5T_cset_t cset) const {
+        Handle type = string_type(value.size() + 1, cset);
+        Handle space(check_id(H5Screate(H5S_SCALAR), "cannot create a dataspace"), H5Sclose);
+        Handle attr(check_id(H5Acreate2(loc, name, type, space, H5P_DEFAULT, H5P_DEFAULT),
+                             std::string("cannot create attribute ") + name),
+                    H5Aclose);
+        std::vector<char> buffer(value.size() + 1, '\0');
+        std::memcpy(buffer.data(), value.data(), value.size());
+        check(H5Awrite(attr, type, buffer.data()), std::string("cannot write attribute ") + name);
+    }
+
+    template <typename T>
+    void write_int_attribute(hid_t loc, const char* name, const std::vector<T>& values, hid_t file_type,
+                             hid_t mem_type) const {
+        hsize_t dims[1] = {values.size()};
+        Handle space(check_id(H5Screate_simple(1, dims, nullptr), "cannot create a dataspace"), H5Sclose);
+        Handle attr(check_id(H5Acreate2(loc, name, file_type, space, H5P_DEFAULT, H5P_DEFAULT),
+                             std::string("cannot create attribute ") + name),
+                    H5Aclose);
+        check(H5Awrite(attr, mem_type, values.data()), std::string("cannot write attribute ") + name);
+    }
+
+    // A 1-D (cols == 0) or 2-D (rows x cols) dataset. Large ones are chunked and
+    // compressed; small ones contiguous, which keeps tiny files tiny and trivially
+    // readable.
+    void write_dataset(hid_t group, const char* name, const void* data, hsize_t rows, hsize_t cols,
+                       hid_t file_type, hid_t mem_type) const {
+        const int rank = cols == 0 ? 1 : 2;
+        hsize_t dims[2] = {rows, cols};
+        Handle space(check_id(H5Screate_simple(rank, dims, nullptr), "cannot create a dataspace"), H5Sclose);
+        Handle dcpl = untimed_plist(H5P_DATASET_CREATE);
+        if (rows > kChunkThreshold) {
+            hsize_t chunk[2] = {std::min(rows, kChunkRows), cols};
+            check(H5Pset_chunk(dcpl, rank, chunk), std::string("cannot set chunking of ") + name);
+            check(H5Pset_shuffle(dcpl), std::string("cannot set shuffle filter of ") + name);
+            check(H5Pset_deflate(dcpl, kDeflateLevel), std::string("cannot set deflate filter of ") + name);
+        }
+        Handle ds(check_id(H5Dcreate2(group, name, file_type, space, H5P_DEFAULT, dcpl, H5P_DEFAULT),
+                           std::string("cannot create dataset ") + name),
+                  H5Dclose);
+        if (rows > 0 && (cols > 0 || rank == 1))
+            check(H5Dwrite(ds, mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data),
+                  std::string("cannot write dataset ") + name);
+    }
+
+    void write_strings(hid_t group, const char* name, const std::vector<std::string>& values) const {
+        size_t width = 1;
+        for (const auto& s : values) width = std::max(width, s.size() + 1);
+        Handle type = string_type(width, H5T_CSET_UTF8);
+        std::vector<char> buffer(values.size() * width, '\0');
+        for (size_t i = 0; i < values.size(); ++i) std::memcpy(&buffer[i * width], values[i].data(), values[i].size());
+        write_dataset(group, name, buffer.data(), values.size(), 0, type, type);
+    }
+
+private:
+    std::string where_;
+};
+
+// ---------------------------------------------------------------------------
+// Semantic checks shared by the writer (refuse to write nonsense) and the reader
+// ---------------------------------------------------------------------------
+
+template <typename T>
+std::string num(T v) {
+    std::ostringstream s;
+    s.precision(17);
+    s << v;
+    return s.str();
+}
+
+// Returns an empty string if `file` satisfies every rule of the spec that the format
+// itself can check, otherwise the first violation, beginning with the dataset path.
+std::string find_inconsistency(const BpmFile& file) {
+    const Parametrization& p = file.param;
+    const auto check_surface = [](const Surface& s, const std::string& group) -> std::string {
+        for (size_t v = 0; v < s.vertices.size(); ++v)
+            for (int c = 0; c < 3; ++c)
+                if (!std::isfinite(s.vertices[v][c]))
+                    return group + "/vertices: entry [" + num(v) + ", " + num(c) + "] is not finite (" +
+                           num(s.vertices[v][c]) + ")";
+        if (s.patches.size() != s.triangles.size())
+            return group + "/patches: has " + num(s.patches.size()) + " entries but " + group + "/triangles has " +
+                   num(s.triangles.size()) + " rows";
+        const int64_t nv = static_cast<int64_t>(s.vertices.size());
+        for (size_t t = 0; t < s.triangles.size(); ++t)
+            for (int c = 0; c < 3; ++c) {
+                const int64_t v = s.triangles[t][c];
+                if (v < 0 || v >= nv)
+                    return group + "/triangles: entry [" + num(t) + ", " + num(c) + "] = " + num(v) +
+                           " is out of range [0, " + num(nv) + ") (number of rows of " + group + "/vertices)";
+            }
+        return {};
+    };
+    if (auto e = check_surface(p.original, "/original"); !e.empty()) return e;
+    if (auto e = check_surface(p.coarse, "/coarse"); !e.empty()) return e;
+    if (p.original.vertices.size() > size_t(std::numeric_limits<int32_t>::max()) ||
+        p.original.triangles.size() > size_t(std::numeric_limits<int32_t>::max()) ||
+        p.coarse.vertices.size() > size_t(std::numeric_limits<int32_t>::max()) ||
+        p.coarse.triangles.size() > size_t(std::numeric_limits<int32_t>::max()))
+        return "/original or /coarse: more than 2^31-1 vertices or triangles";
+
+    const int64_t nv0 = p.original.num_vertices();
+    const int64_t nt0 = p.original.num_triangles();
+    const int64_t ntc = p.coarse.num_triangles();
+    if (p.coarse_vertex_origin.size() != p.coarse.vertices.size())
+        return "/coarse/vertex_origin: has " + num(p.coarse_vertex_origin.size()) + " entries but /coarse/vertices has " +
+               num(p.coarse.vertices.size()) + " rows";
+    for (size_t v = 0; v < p.coarse_vertex_origin.size(); ++v)
+        if (p.coarse_vertex_origin[v] < 0 || p.coarse_vertex_origin[v] >= nv0)
+            return "/coarse/vertex_origin: entry " + num(v) + " = " + num(p.coarse_vertex_origin[v]) +
+                   " is out of range [0, " + num(nv0) + ") (number of rows of /original/vertices)";
+
+    const auto check_csr = [ntc](const std::vector<int64_t>& offsets, const std::string& name, int64_t length,
+                                 const std::string& target) -> std::string {
+        if (static_cast<int64_t>(offsets.size()) != ntc + 1)
+            return name + ": has " + num(offsets.size()) + " entries, expected " + num(ntc + 1) +
+                   " (number of rows of /coarse/triangles + 1)";
+        if (offsets[0] != 0) return name + ": entry 0 is " + num(offsets[0]) + ", must be 0";
+        for (size_t i = 1; i < offsets.size(); ++i)
+            if (offsets[i] < offsets[i - 1])
+                return name + ": entry " + num(i) + " = " + num(offsets[i]) + " is smaller than entry " + num(i - 1) +
+                       " = " + num(offsets[i - 1]) + "; offsets must be non-decreasing";
+        if (offsets.back() != length)
+            return name + ": last entry is " + num(offsets.back()) + " but " + target + " has " + num(length) + " rows";
+        return {};
+    };
+    const int64_t nn = p.num_nodes();
+    if (auto e = check_csr(p.node_offsets, "/phi/node_offsets", nn, "/phi/node_kind"); !e.empty()) return e;
+    const auto same_size = [nn](size_t size, const char* name) -> std::string {
+        if (static_cast<int64_t>(size) != nn)
+            return std::string(name) + ": has " + num(size) + " rows but /phi/node_kind has " + num(nn);
+        return {};
+    };
+    for (auto e : {same_size(p.node_barycentric.size(), "/phi/node_barycentric"),
+                   same_size(p.node_image.size(), "/phi/node_image"),
+                   same_size(p.node_original_vertex.size(), "/phi/node_original_vertex"),
+                   same_size(p.node_original_edge.size(), "/phi/node_original_edge"),
+                   same_size(p.node_edge_parameter.size(), "/phi/node_edge_parameter")})
+        if (!e.empty()) return e;
+
+    for (int64_t t = 0; t < ntc; ++t) {
+        const Tri& tri = p.coarse.triangles[static_cast<size_t>(t)];
+        for (int64_t i = p.node_offsets[static_cast<size_t>(t)]; i < p.node_offsets[static_cast<size_t>(t) + 1]; ++i) {
+            const size_t n = static_cast<size_t>(i);
+            const Vec3& b = p.node_barycentric[n];
+            for (int c = 0; c < 3; ++c) {
+                if (!std::isfinite(b[c]))
+                    return "/phi/node_barycentric: entry [" + num(i) + ", " + num(c) + "] is not finite";
+                if (b[c] < 0)
+                    return "/phi/node_barycentric: entry [" + num(i) + ", " + num(c) + "] = " + num(b[c]) +
+                           " is negative";
+            }
+            if (std::fabs(b[0] + b[1] + b[2] - 1) > 1e-9)
+                return "/phi/node_barycentric: row " + num(i) + " sums to " + num(b[0] + b[1] + b[2]) + ", not 1";
+            for (int c = 0; c < 3; ++c)
+                if (!std::isfinite(p.node_image[n][c]))
+                    return "/phi/node_image: entry [" + num(i) + ", " + num(c) + "] is not finite";
+            const int kind = static_cast<int>(p.node_kind[n]);
+            const int32_t ov = p.node_original_vertex[n];
+            const auto& oe = p.node_original_edge[n];
+            const double s = p.node_edge_parameter[n];
+            if (kind == int(NodeKind::OriginalVertex) || kind == int(NodeKind::CoarseCorner)) {
+                if (ov < 0 || ov >= nv0)
+                    return "/phi/node_original_vertex: entry " + num(i) + " = " + num(ov) + " is out of range [0, " +
+                           num(nv0) + ") for a node of kind " + num(kind);
+                if (oe[0] != -1 || oe[1] != -1)
+                    return "/phi/node_original_edge: row " + num(i) + " must be (-1, -1) for a node of kind " + num(kind);
+                if (kind == int(NodeKind::CoarseCorner)) {
+                    int corner = -1;
+                    for (int c = 0; c < 3; ++c)
+                        if (b[c] == 1) corner = c;
+                    if (corner < 0)
+                        return "/phi/node_barycentric: row " + num(i) +
+                               " is a coarse corner (kind 2) but not a unit vector";
+                    const int32_t expected = p.coarse_vertex_origin[static_cast<size_t>(tri[corner])];
+                    if (ov != expected)
+                        return "/phi/node_original_vertex: entry " + num(i) + " = " + num(ov) + " is corner " +
+                               num(corner) + " of coarse triangle " + num(t) + ", whose /coarse/vertex_origin is " +
+                               num(expected);
+                }
+            } else if (kind == int(NodeKind::EdgeCrossing)) {
+                if (ov != -1)
+                    return "/phi/node_original_vertex: entry " + num(i) + " must be -1 for an edge crossing (kind 1)";
+                if (oe[0] < 0 || oe[1] >= nv0 || oe[0] >= oe[1])
+                    return "/phi/node_original_edge: row " + num(i) + " = (" + num(oe[0]) + ", " + num(oe[1]) +
+                           ") is not an edge (u, w) with 0 <= u < w < " + num(nv0);
+                if (!(s >= 0 && s <= 1))
+                    return "/phi/node_edge_parameter: entry " + num(i) + " = " + num(s) +
+                           " is not in [0, 1] for an edge crossing";
+                if (b[0] != 0 && b[1] != 0 && b[2] != 0)
+                    return "/phi/node_barycentric: row " + num(i) +
+                           " is an edge crossing (kind 1) but has no coordinate exactly 0 (not on a coarse edge)";
+            } else {
+                return "/phi/node_kind: entry " + num(i) + " = " + num(kind) + " is not a valid node kind (0, 1 or 2)";
+            }
+        }
+    }
+
+    if (p.piece_original_triangle.size() != p.pieces.size())
+        return "/phi/piece_original_triangle: has " + num(p.piece_original_triangle.size()) +
+               " entries but /phi/pieces has " + num(p.pieces.size()) + " rows";
+    if (auto e = check_csr(p.piece_offsets, "/phi/piece_offsets", p.num_pieces(), "/phi/pieces"); !e.empty()) return e;
+    for (int64_t t = 0; t < ntc; ++t) {
+        const int64_t count = p.node_offsets[static_cast<size_t>(t) + 1] - p.node_offsets[static_cast<size_t>(t)];
+        for (int64_t q = p.piece_offsets[static_cast<size_t>(t)]; q < p.piece_offsets[static_cast<size_t>(t) + 1]; ++q) {
+            for (int c = 0; c < 3; ++c) {
+                const int64_t local = p.pieces[static_cast<size_t>(q)][c];
+                if (local < 0 || local >= count)
+                    return "/phi/pieces: entry [" + num(q) + ", " + num(c) + "] = " + num(local) +
+                           " is out of range [0, " + num(count) + ") (the nodes of coarse triangle " + num(t) + ")";
+            }
+            const int32_t ot = p.piece_original_triangle[static_cast<size_t>(q)];
+            if (ot < 0 || ot >= nt0)
+                return "/phi/piece_original_triangle: entry " + num(q) + " = " + num(ot) + " is out of range [0, " +
+                       num(nt0) + ") (number of rows of /original/triangles)";
+        }
+    }
+    return {};
+}
+
+std::vector<double> flatten(const std::vector<Vec3>& v) {
+    std::vector<double> out;
+    out.reserve(3 * v.size());
+    for (const auto& x : v) out.insert(out.end(), x.begin(), x.end());
+    return out;
+}
+std::vector<int32_t> flatten(const std::vector<Tri>& v) {
+    std::vector<int32_t> out;
+    out.reserve(3 * v.size());
+    for (const auto& x : v) out.insert(out.end(), x.begin(), x.end());
+    return out;
+}
+
+void write_surface(const Writer& w, hid_t group, const Surface& s) {
+    const auto xyz = flatten(s.vertices);
+    const auto tri = flatten(s.triangles);
+    w.write_dataset(group, "vertices", xyz.data(), s.vertices.size(), 3, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE);
+    w.write_dataset(group, "triangles", tri.data(), s.triangles.size(), 3, H5T_STD_I32LE, H5T_NATIVE_INT32);
+    w.write_dataset(group, "patches", s.patches.data(), s.patches.size(), 0, H5T_STD_I32LE, H5T_NATIVE_INT32);
+}
+
+std::atomic<unsigned> g_image_counter{0};
+
+std::string build_image(const BpmFile& file, const std::string& where) {
+    silence_hdf5();
+    if (auto problem = find_inconsistency(file); !problem.empty())
+        throw OutputError(where, "refusing to write an inconsistent parametrization: " + problem);
+    const Parametrization& p = file.param;
+    Writer w(where);
+
+    // In-memory file; the name only has to be unique among files open in this process.
+    Handle fapl(w.check_id(H5Pcreate(H5P_FILE_ACCESS), "cannot create file access properties"), H5Pclose);
+    w.check(H5Pset_fapl_core(fapl, size_t(1) << 20, false), "cannot select the in-memory driver");
+    // The library's default (earliest) object formats on purpose: with the 1.8 formats
+    // the superblock carries a checksum that H5Fget_file_image (HDF5 1.10.8) leaves stale
+    // for images of files still open, and other readers then reject the file.
+    Handle fcpl = w.untimed_plist(H5P_FILE_CREATE);
+    const std::string name = "bpm-write-" + std::to_string(g_image_counter++) + ".h5";
+    Handle f(w.check_id(H5Fcreate(name.c_str(), H5F_ACC_TRUNC, fcpl, fapl), "cannot create an in-memory HDF5 file"),
+             H5Fclose);
+
+    // Root identification.
+    w.write_string_attribute(f, "format", "bpm", H5T_CSET_ASCII);
+    const std::vector<int32_t> version{BPM_FORMAT_VERSION_MAJOR, BPM_FORMAT_VERSION_MINOR};
+    w.write_int_attribute(f, "format_version", version, H5T_STD_I32LE, H5T_NATIVE_INT32);
+    w.write_string_attribute(f, "units", file.units, H5T_CSET_UTF8);
+
+    {
+        Handle g = w.create_group(f, "original");
+        write_surface(w, g, p.original);
+    }
+    {
+        Handle g = w.create_group(f, "coarse");
+        write_surface(w, g, p.coarse);
+        w.write_dataset(g, "vertex_origin", p.coarse_vertex_origin.data(), p.coarse_vertex_origin.size(), 0,
+                        H5T_STD_I32LE, H5T_NATIVE_INT32);
+    }
+    {
+        Handle g = w.create_group(f, "phi");
+        const hsize_t nn = static_cast<hsize_t>(p.num_nodes());
+        w.write_dataset(g, "node_offsets", p.node_offsets.data(), p.node_offsets.size(), 0, H5T_STD_I64LE,
+                        H5T_NATIVE_INT64);
+        const auto bary = flatten(p.node_barycentric);
+        w.write_dataset(g, "node_barycentric", bary.data(), nn, 3, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE);
+        const auto image = flatten(p.node_image);
+        w.write_dataset(g, "node_image", image.data(), nn, 3, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE);
+        std::vector<uint8_t> kinds(p.node_kind.size());
+        for (size_t i = 0; i < kinds.size(); ++i) kinds[i] = static_cast<uint8_t>(p.node_kind[i]);
+        w.write_dataset(g, "node_kind", kinds.data(), nn, 0, H5T_STD_U8LE, H5T_NATIVE_UINT8);
+        w.write_dataset(g, "node_original_vertex", p.node_original_vertex.data(), nn, 0, H5T_STD_I32LE,
+                        H5T_NATIVE_INT32);
+        std::vector<int32_t> edges;
+        edges.reserve(2 * nn);
+        for (const auto& e : p.node_original_edge) edges.insert(edges.end(), e.begin(), e.end());
+        w.write_dataset(g, "node_original_edge", edges.data(), nn, 2, H5T_STD_I32LE, H5T_NATIVE_INT32);
+        // NaN for non-crossings is written as the one canonical quiet NaN so that the
+        // bytes do not depend on how the caller produced its NaNs.
+        std::vector<double> params(p.node_edge_parameter);
+        for (size_t i = 0; i < params.size(); ++i)
+            if (p.node_kind[i] != NodeKind::EdgeCrossing) params[i] = std::numeric_limits<double>::quiet_NaN();
+        w.write_dataset(g, "node_edge_parameter", params.data(), nn, 0, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE);
+        w.write_dataset(g, "piece_offsets", p.piece_offsets.data(), p.piece_offsets.size(), 0, H5T_STD_I64LE,
+                        H5T_NATIVE_INT64);
+        const auto pieces = flatten(p.pieces);
+        w.write_dataset(g, "pieces", pieces.data(), p.pieces.size(), 3, H5T_STD_I32LE, H5T_NATIVE_INT32);
+        w.write_dataset(g, "piece_original_triangle", p.piece_original_triangle.data(),
+                        p.piece_original_triangle.size(), 0, H5T_STD_I32LE, H5T_NATIVE_INT32);
+    }
+    {
+        Handle g = w.create_group(f, "provenance");
+        std::vector<std::string> tool, version_, arguments, timestamp;
+        for (const auto& step : file.provenance) {
+            tool.push_back(step.tool);
+            version_.push_back(step.version);
+            arguments.push_back(step.arguments);
+            timestamp.push_back(step.timestamp);
+        }
+        w.write_strings(g, "tool", tool);
+        w.write_strings(g, "version", version_);
+        w.write_strings(g, "arguments", arguments);
+        w.write_strings(g, "timestamp", timestamp);
+    }
+    {
+        // The coarse surface as a VTKHDF 1.0 UnstructuredGrid, so that ParaView opens the
+        // file directly. Derived data: bpm readers ignore it.
+        Handle g = w.create_group(f, "VTKHDF");
+        w.write_int_attribute(g, "Version", std::vector<int64_t>{1, 0}, H5T_STD_I64LE, H5T_NATIVE_INT64);
+        w.write_string_attribute(g, "Type", "UnstructuredGrid", H5T_CSET_ASCII);
+        const Surface& s = p.coarse;
+        const int64_t nv = s.num_vertices(), nt = s.num_triangles();
+        const std::vector<int64_t> npoints{nv}, ncells{nt}, nconn{3 * nt};
+        w.write_dataset(g, "NumberOfPoints", npoints.data(), 1, 0, H5T_STD_I64LE, H5T_NATIVE_INT64);
+        w.write_dataset(g, "NumberOfCells", ncells.data(), 1, 0, H5T_STD_I64LE, H5T_NATIVE_INT64);
+        w.write_dataset(g, "NumberOfConnectivityIds", nconn.data(), 1, 0, H5T_STD_I64LE, H5T_NATIVE_INT64);
+        const auto xyz = flatten(s.vertices);
+        w.write_dataset(g, "Points", xyz.data(), s.vertices.size(), 3, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE);
+        std::vector<int64_t> connectivity;
+        connectivity.reserve(3 * s.triangles.size());
+        for (const auto& t : s.triangles) connectivity.insert(connectivity.end(), t.begin(), t.end());
+        w.write_dataset(g, "Connectivity", connectivity.data(), connectivity.size(), 0, H5T_STD_I64LE,
+                        H5T_NATIVE_INT64);
+        std::vector<int64_t> offsets(s.triangles.size() + 1);
+        for (size_t i = 0; i < offsets.size(); ++i) offsets[i] = 3 * static_cast<int64_t>(i);
+        w.write_dataset(g, "Offsets", offsets.data(), offsets.size(), 0, H5T_STD_I64LE, H5T_NATIVE_INT64);
+        const std::vector<uint8_t> types(s.triangles.size(), 5);  // VTK_TRIANGLE
+        w.write_dataset(g, "Types", types.data(), types.size(), 0, H5T_STD_U8LE, H5T_NATIVE_UINT8);
+        Handle cd = w.create_group(g, "CellData");
+        w.write_dataset(cd, "patch", s.patches.data(), s.patches.size(), 0, H5T_STD_I32LE, H5T_NATIVE_INT32);
+        Handle pd = w.create_group(g, "PointData");
+        Handle fd = w.create_group(g, "FieldData");
+    }
+
+    w.check(H5Fflush(f, H5F_SCOPE_GLOBAL), "cannot flush the in-memory file");
+    const ssize_t size = H5Fget_file_image(f, nullptr, 0);
+    if (size <= 0) w.fail("cannot get the size of the in-memory file image");
+    std::string bytes(static_cast<size_t>(size), '\0');
+    if (H5Fget_file_image(f, bytes.data(), bytes.size()) != size) w.fail("cannot copy the in-memory file image");
+    return bytes;
+}
+
+// ---------------------------------------------------------------------------
+// Reading
+// ---------------------------------------------------------------------------
+
+// Storage limits: a dataset's logical size may not exceed what the file can hold.
+// Compressed data can be up to ~1032x smaller than its content (deflate's limit), so
+// filtered datasets get that much room; unfiltered ones must fit in the file. This keeps
+// a small hostile file from making us allocate gigabytes.
+constexpr double kMaxCompressionRatio = 1100;
+constexpr hsize_t kMaxRows = hsize_t(1) << 40;
+
+class Reader {
+public:
+    Reader(std::string where, size_t file_size) : where_(std::move(where)), file_size_(file_size) {}
+
+    [[noreturn]] void fail(const std::string& what) const { throw InputError(where_, what); }
+
+    void set_file(hid_t f) { file_ = f; }
+
+    bool exists(const std::string& path) const {
+        // Walk the path one link at a time: H5Lexists fails on a missing parent.
+        size_t pos = 1;
+        while (true) {
+            const size_t next = path.find('/', pos);
+            const std::string prefix = path.substr(0, next);
+            if (H5Lexists(file_, prefix.c_str(), H5P_DEFAULT) <= 0) return false;
+            if (next == std::string::npos) break;
+            pos = next + 1;
+        }
+        return H5Oexists_by_name(file_, path.c_str(), H5P_DEFAULT) > 0;
+    }
+
+    Handle open_dataset(const std::string& path) const {
+        if (!exists(path)) fail(path + ": missing dataset");
+        hid_t id = H5Oopen(file_, path.c_str(), H5P_DEFAULT);
+        if (id < 0) fail(path + ": cannot open (" + hdf5_error_text() + ")");
+        if (H5Iget_type(id) != H5I_DATASET) {
+            H5Oclose(id);
+            fail(path + ": is not a dataset");
+        }
+        return Handle(id, H5Oclose);
+    }
+
+    // Checks rank and column count and the storage bounds; returns the row count.
+    // cols == 0 means a 1-D dataset.
+    hsize_t shape(hid_t ds, const std::string& path, hsize_t cols, const char* shape_text) const {
+        Handle space(H5Dget_space(ds), H5Sclose);
+        if (!space.valid()) fail(path + ": cannot read its dataspace");
+        const int rank = H5Sget_simple_extent_ndims(space);
+        hsize_t dims[H5S_MAX_RANK] = {};
+        if (rank < 0 || H5Sget_simple_extent_dims(space, dims, nullptr) < 0) fail(path + ": cannot read its shape");
+        const int expected_rank = cols == 0 ? 1 : 2;
+        std::string found = "(";
+        for (int i = 0; i < rank; ++i) found += (i ? ", " : "") + num(dims[i]);
+        found += rank == 1 ? ",)" : ")";
+        if (rank != expected_rank || (cols != 0 && dims[1] != cols))
+            fail(path + ": expected shape " + shape_text + ", found shape " + found);
+        if (dims[0] > kMaxRows) fail(path + ": has an absurd number of rows (" + num(dims[0]) + ")");
+
+        Handle type(H5Dget_type(ds), H5Tclose);
+        const size_t elem = type.valid() ? H5Tget_size(type) : 0;
+        if (elem == 0) fail(path + ": cannot read its datatype");
+        const double logical = double(dims[0]) * double(cols == 0 ? 1 : cols) * double(elem);
+        Handle dcpl(H5Dget_create_plist(ds), H5Pclose);
+        const int filters = dcpl.valid() ? H5Pget_nfilters(dcpl) : 0;
+        const double limit = filters > 0 ? kMaxCompressionRatio * double(file_size_) + double(1 << 20)
+                                         : double(file_size_);
+        if (logical > limit)
+            fail(path + ": shape " + found + " needs " + num(logical) + " bytes, more than a " + num(file_size_) +
+                 "-byte file can hold");
+        return dims[0];
+    }
+
+    void require_class(hid_t ds, const std::string& path, H5T_class_t cls, const char* what) const {
+        Handle type(H5Dget_type(ds), H5Tclose);
+        if (!type.valid() || H5Tget_class(type) != cls) fail(path + ": wrong datatype, expected " + what);
+    }
+
+    std::vector<double> read_floats(const std::string& path, hsize_t cols, const char* shape_text,
+                                    hsize_t& rows) const {
+        Handle ds = open_dataset(path);
+        require_class(ds, path, H5T_FLOAT, "a floating-point type (float64)");
+        rows = shape(ds, path, cols, shape_text);
+        std::vector<double> out(static_cast<size_t>(rows * (cols == 0 ? 1 : cols)));
+        if (!out.empty() && H5Dread(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data()) < 0)
+            fail(path + ": cannot read data (" + hdf5_error_text() + ")");
+        return out;
+    }
+
+    // Integers are read as int64 whatever their stored width, so that out-of-range
+    // values are seen (and reported) instead of being clipped by a conversion.
+    std::vector<int64_t> read_ints(const std::string& path, hsize_t cols, const char* shape_text, hsize_t& rows) const {
+        Handle ds = open_dataset(path);
+        require_class(ds, path, H5T_INTEGER, "an integer type");
+        rows = shape(ds, path, cols, shape_text);
+        std::vector<int64_t> out(static_cast<size_t>(rows * (cols == 0 ? 1 : cols)));
+        if (!out.empty() && H5Dread(ds, H5T_NATIVE_INT64, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data()) < 0)
+            fail(path + ": cannot read data (" + hdf5_error_text() + ")");
+        return out;
+    }
+
+    std::vector<std::string> read_strings(const std::string& path, hsize_t& rows) const {
+        Handle ds = open_dataset(path);
+        require_class(ds, path, H5T_STRING, "a string type");
+        rows = shape(ds, path, 0, "(#steps,)");
+        Handle ftype(H5Dget_type(ds), H5Tclose);
+        std::vector<std::string> out(static_cast<size_t>(rows));
+        if (rows == 0) return out;
+        if (H5Tis_variable_str(ftype) > 0) {
+            Handle mtype(H5Tcopy(H5T_C_S1), H5Tclose);
+            H5Tset_size(mtype, H5T_VARIABLE);
+            H5Tset_cset(mtype, H5Tget_cset(ftype));
+            std::vector<char*> ptrs(static_cast<size_t>(rows), nullptr);
+            if (H5Dread(ds, mtype, H5S_ALL, H5S_ALL, H5P_DEFAULT, ptrs.data()) < 0)
+                fail(path + ": cannot read strings (" + hdf5_error_text() + ")");
+            for (size_t i = 0; i < ptrs.size(); ++i)
+                if (ptrs[i]) out[i] = ptrs[i];
+            Handle space(H5Dget_space(ds), H5Sclose);
+            H5Dvlen_reclaim(mtype, space, H5P_DEFAULT, ptrs.data());
+        } else {
+            const size_t width = H5Tget_size(ftype);
+            Handle mtype(H5Tcopy(ftype), H5Tclose);
+            std::vector<char> buffer(static_cast<size_t>(rows) * width);
+            if (H5Dread(ds, mtype, H5S_ALL, H5S_ALL, H5P_DEFAULT, buffer.data()) < 0)
+                fail(path + ": cannot read strings (" + hdf5_error_text() + ")");
+            for (size_t i = 0; i < out.size(); ++i) {
+                const char* s = &buffer[i * width];
+                out[i].assign(s, strnlen(s, width));
+            }
+        }
+        return out;
+    }
+
+    Handle open_attribute(const std::string& name, bool required) const {
+        const htri_t e = H5Aexists(file_, name.c_str());
+        if (e <= 0) {
+            if (required) fail("root attribute '" + name + "': missing (is this a bpm file?)");
+            return {};
+        }
+        hid_t id = H5Aopen(file_, name.c_str(), H5P_DEFAULT);
+        if (id < 0) fail("root attribute '" + name + "': cannot open");
+        return Handle(id, H5Aclose);
+    }
+
+    // A scalar (or one-element) string attribute, fixed or variable length.
+    std::string read_string_attribute(const std::string& name, bool required) const {
+        Handle attr = open_attribute(name, required);
+        if (!attr.valid()) return {};
+        Handle ftype(H5Aget_type(attr), H5Tclose);
+        if (!ftype.valid() || H5Tget_class(ftype) != H5T_STRING)
+            fail("root attribute '" + name + "': wrong datatype, expected a string");
+        Handle space(H5Aget_space(attr), H5Sclose);
+        if (H5Sget_simple_extent_npoints(space) != 1)
+            fail("root attribute '" + name + "': expected a single string");
+        if (H5Tis_variable_str(ftype) > 0) {
+            Handle mtype(H5Tcopy(H5T_C_S1), H5Tclose);
+            H5Tset_size(mtype, H5T_VARIABLE);
+            H5Tset_cset(mtype, H5Tget_cset(ftype));
+            char* value = nullptr;
+            if (H5Aread(attr, mtype, &value) < 0) fail("root attribute '" + name + "': cannot read");
+            std::string out = value ? value : "";
+            H5Dvlen_reclaim(mtype, space, H5P_DEFAULT, &value);
+            return out;
+        }
+        const size_t width = H5Tget_size(ftype);
+        if (width > file_size_) fail("root attribute '" + name + "': absurd string length");
+        std::vector<char> buffer(width + 1, '\0');
+        if (H5Aread(attr, ftype, buffer.data()) < 0) fail("root attribute '" + name + "': cannot read");
+        return std::string(buffer.data(), strnlen(buffer.data(), width));
+    }
+
+    std::vector<int64_t> read_int_attribute(const std::string& name) const {
+        Handle attr = open_attribute(name, true);
+        Handle ftype(H5Aget_type(attr), H5Tclose);
+        if (!ftype.valid() || H5Tget_class(ftype) != H5T_INTEGER)
+            fail("root attribute '" + name + "': wrong datatype, expected integers");
+        Handle space(H5Aget_space(attr), H5Sclose);
+        const hssize_t n = H5Sget_simple_extent_npoints(space);
+        if (n < 0 || n > 16) fail("root attribute '" + name + "': unexpected number of entries");
+        std::vector<int64_t> out(static_cast<size_t>(n));
+        if (n > 0 && H5Aread(attr, H5T_NATIVE_INT64, out.data()) < 0)
+            fail("root attribute '" + name + "': cannot read");
+        return out;
+    }
+
+private:
+    std::string where_;
+    size_t file_size_;
+    hid_t file_ = -1;
+};
+
+// Narrows checked int64 values to int32; values outside int32 are reported here (the
+// semantic checks report indices that fit int32 but are out of range).
+std::vector<int32_t> narrow(const Reader& r, const std::vector<int64_t>& v, const std::string& path) {
+    std::vector<int32_t> out(v.size());
+    for (size_t i = 0; i < v.size(); ++i) {
+        if (v[i] < std::numeric_limits<int32_t>::min() || v[i] > std::numeric_limits<int32_t>::max())
+            r.fail(path + ": element " + num(i) + " = " + num(v[i]) + " does not fit in int32");
+        out[i] = static_cast<int32_t>(v[i]);
+    }
+    return out;
+}
+
+void check_finite(const Reader& r, const std::vector<double>& v, const std::string& path, size_t cols) {
+    for (size_t i = 0; i < v.size(); ++i)
+        if (!std::isfinite(v[i]))
+            r.fail(path + ": entry [" + num(i / cols) + ", " + num(i % cols) + "] is not finite (" + num(v[i]) + ")");
+}
+
+std::vector<Vec3> to_vec3(const std::vector<double>& v) {
+    std::vector<Vec3> out(v.size() / 3);
+    for (size_t i = 0; i < out.size(); ++i) out[i] = {v[3 * i], v[3 * i + 1], v[3 * i + 2]};
+    return out;
+}
+std::vector<Tri> to_tri(const std::vector<int32_t>& v) {
+    std::vector<Tri> out(v.size() / 3);
+    for (size_t i = 0; i < out.size(); ++i) out[i] = {v[3 * i], v[3 * i + 1], v[3 * i + 2]};
+    return out;
+}
+
+void expect_rows(const Reader& r, hsize_t rows, hsize_t expected, const std::string& path, const std::string& why) {
+    if (rows != expected)
+        r.fail(path + ": has " + num(rows) + " rows, expected " + num(expected) + " (" + why + ")");
+}
+
+Surface read_surface(const Reader& r, const std::string& group) {
+    Surface s;
+    hsize_t nv = 0, nt = 0, np = 0;
+    const auto xyz = r.read_floats(group + "/vertices", 3, "(#V, 3)", nv);
+    check_finite(r, xyz, group + "/vertices", 3);
+    if (nv > hsize_t(std::numeric_limits<int32_t>::max())) r.fail(group + "/vertices: more than 2^31-1 vertices");
+    const auto tri = narrow(r, r.read_ints(group + "/triangles", 3, "(#T, 3)", nt), group + "/triangles");
+    const auto patches = narrow(r, r.read_ints(group + "/patches", 0, "(#T,)", np), group + "/patches");
+    expect_rows(r, np, nt, group + "/patches", "one per row of " + group + "/triangles");
+    s.vertices = to_vec3(xyz);
+    s.triangles = to_tri(tri);
+    s.patches = patches;
+    return s;
+}
+
+BpmFile read_image(const std::string& bytes, const std::string& where) {
+    silence_hdf5();
+    if (bytes.empty()) throw InputError(where, "empty input, not a bpm file");
+    static const char kSignature[8] = {'\x89', 'H', 'D', 'F', '\r', '\n', '\x1a', '\n'};
+    // bpm writers put the HDF5 superblock at offset 0; HDF5 also allows a user block of
+    // 512 * 2^k bytes in front of it.
+    bool signature = false;
+    for (size_t off = 0; off + 8 <= bytes.size() && !signature; off = off == 0 ? 512 : 2 * off)
+        signature = std::memcmp(bytes.data() + off, kSignature, 8) == 0;
+    if (!signature) throw InputError(where, "not an HDF5 file (no HDF5 signature), so not a bpm file");
+
+    Reader r(where, bytes.size());
+    Handle fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose);
+    if (!fapl.valid() || H5Pset_fapl_core(fapl, size_t(1) << 20, false) < 0 ||
+        H5Pset_file_image(fapl, const_cast<char*>(bytes.data()), bytes.size()) < 0)
+        r.fail("cannot prepare the HDF5 file image (" + hdf5_error_text() + ")");
+    const std::string name = "bpm-read-" + std::to_string(g_image_counter++) + ".h5";
+    hid_t fid = H5Fopen(name.c_str(), H5F_ACC_RDONLY, fapl);
+    if (fid < 0) r.fail("cannot open as HDF5, file truncated or damaged (" + hdf5_error_text() + ")");
+    Handle f(fid, H5Fclose);
+    r.set_file(f);
+
+    BpmFile out;
+    // Identification first, so that a file of some other kind, or from a future
+    // incompatible version, is reported as such rather than as a missing dataset.
+    const std::string format = r.read_string_attribute("format", true);
+    if (format != "bpm") r.fail("root attribute 'format' is '" + format + "', expected 'bpm'");
+    const auto version = r.read_int_attribute("format_version");
+    if (version.size() != 2) r.fail("root attribute 'format_version': expected 2 integers [major, minor]");
+    if (version[0] != BPM_FORMAT_VERSION_MAJOR)
+        r.fail("root attribute 'format_version': file has format version " + num(version[0]) + "." + num(version[1]) +
+               ", this reader supports major version " + num(BPM_FORMAT_VERSION_MAJOR) +
+               (version[0] > BPM_FORMAT_VERSION_MAJOR ? " only; a newer bpm is needed to read it" : " only"));
+    if (version[1] < 0) r.fail("root attribute 'format_version': negative minor version");
+    out.units = r.read_string_attribute("units", false);
+
+    Parametrization& p = out.param;
+    p.original = read_surface(r, "/original");
+    p.coarse = read_surface(r, "/coarse");
+    const hsize_t nt0 = p.original.triangles.size();
+    const hsize_t nvc = p.coarse.vertices.size(), ntc = p.coarse.triangles.size();
+    hsize_t rows = 0;
+    p.coarse_vertex_origin = narrow(r, r.read_ints("/coarse/vertex_origin", 0, "(#V,)", rows), "/coarse/vertex_origin");
+    expect_rows(r, rows, nvc, "/coarse/vertex_origin", "one per row of /coarse/vertices");
+    (void)nt0;
+
+    p.node_offsets = r.read_ints("/phi/node_offsets", 0, "(#T+1,)", rows);
+    expect_rows(r, rows, ntc + 1, "/phi/node_offsets", "rows of /coarse/triangles + 1");
+    hsize_t nn = 0;
+    const auto kinds = r.read_ints("/phi/node_kind", 0, "(#N,)", nn);
+    const auto bary = r.read_floats("/phi/node_barycentric", 3, "(#N, 3)", rows);
+    expect_rows(r, rows, nn, "/phi/node_barycentric", "one per entry of /phi/node_kind");
+    const auto image = r.read_floats("/phi/node_image", 3, "(#N, 3)", rows);
+    expect_rows(r, rows, nn, "/phi/node_image", "one per entry of /phi/node_kind");
+    check_finite(r, image, "/phi/node_image", 3);
+    const auto ov = narrow(r, r.read_ints("/phi/node_original_vertex", 0, "(#N,)", rows), "/phi/node_original_vertex");
+    expect_rows(r, rows, nn, "/phi/node_original_vertex", "one per entry of /phi/node_kind");
+    const auto oe = narrow(r, r.read_ints("/phi/node_original_edge", 2, "(#N, 2)", rows), "/phi/node_original_edge");
+    expect_rows(r, rows, nn, "/phi/node_original_edge", "one per entry of /phi/node_kind");
+    const auto params = r.read_floats("/phi/node_edge_parameter", 0, "(#N,)", rows);
+    expect_rows(r, rows, nn, "/phi/node_edge_parameter", "one per entry of /phi/node_kind");
+    p.piece_offsets = r.read_ints("/phi/piece_offsets", 0, "(#T+1,)", rows);
+    expect_rows(r, rows, ntc + 1, "/phi/piece_offsets", "rows of /coarse/triangles + 1");
+    hsize_t np = 0;
+    const auto pieces = narrow(r, r.read_ints("/phi/pieces", 3, "(#P, 3)", np), "/phi/pieces");
+    const auto pot = narrow(r, r.read_ints("/phi/piece_original_triangle", 0, "(#P,)", rows),
+                            "/phi/piece_original_triangle");
+    expect_rows(r, rows, np, "/phi/piece_original_triangle", "one per row of /phi/pieces");
+
+    p.node_kind.resize(kinds.size());
+    for (size_t i = 0; i < kinds.size(); ++i) {
+        if (kinds[i] < 0 || kinds[i] > 2)
+            r.fail("/phi/node_kind: entry " + num(i) + " = " + num(kinds[i]) + " is not a valid node kind (0, 1 or 2)");
+        p.node_kind[i] = static_cast<NodeKind>(kinds[i]);
+    }
+    p.node_barycentric = to_vec3(bary);
+    p.node_image = to_vec3(image);
+    p.node_original_vertex = ov;
+    p.node_original_edge.resize(static_cast<size_t>(nn));
+    for (size_t i = 0; i < p.node_original_edge.size(); ++i) p.node_original_edge[i] = {oe[2 * i], oe[2 * i + 1]};
+    p.node_edge_parameter = params;
+    p.pieces = to_tri(pieces);
+    p.piece_original_triangle = pot;
+
+    hsize_t steps = 0;
+    auto tool = r.read_strings("/provenance/tool", steps);
+    auto ver = r.read_strings("/provenance/version", rows);
+    expect_rows(r, rows, steps, "/provenance/version", "one per entry of /provenance/tool");
+    auto args = r.read_strings("/provenance/arguments", rows);
+    expect_rows(r, rows, steps, "/provenance/arguments", "one per entry of /provenance/tool");
+    auto stamp = r.read_strings("/provenance/timestamp", rows);
+    expect_rows(r, rows, steps, "/provenance/timestamp", "one per entry of /provenance/tool");
+    for (size_t i = 0; i < tool.size(); ++i)
+        out.provenance.push_back({std::move(tool[i]), std::move(ver[i]), std::move(args[i]), std::move(stamp[i])});
+
+    if (auto problem = find_inconsistency(out); !problem.empty()) r.fail(problem);
+    // Non-crossing nodes carry NaN as their edge parameter; normalise whatever the file
+    // had so that a read file compares equal to what was written.
+    for (size_t i = 0; i < p.node_edge_parameter.size(); ++i)
+        if (p.node_kind[i] != NodeKind::EdgeCrossing)
+            p.node_edge_parameter[i] = std::numeric_limits<double>::quiet_NaN();
+    return out;
+}
+
+}  // namespace
+
+std::string write_bpm_to_memory(const BpmFile& file) { return build_image(file, "<memory>"); }
+
+void write_bpm(const std::string& path, const BpmFile& file) {
+    const std::string where = path == "-" ? "<stdout>" : path;
+    detail::write_file_atomically(path, build_image(file, where));
+}
+
+BpmFile read_bpm(const std::string& path) {
+    const std::string bytes = detail::read_whole_input(path);
+    return read_image(bytes, detail::display_name(path));
+}
+
+BpmFile read_bpm_from_memory(const std::string& bytes, const std::string& name) { return read_image(bytes, name); }
+
+}  // namespace bpm

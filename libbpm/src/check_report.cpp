@@ -1,0 +1,219 @@
+// CheckResult bookkeeping, running a selection of checks, and the text and JSON forms
+// of a report (spec/check-report.md). The JSON is written by hand: no JSON library is
+// a dependency of libbpm.
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+#include "bpm/check.h"
+#include "check_internal.h"
+
+namespace bpm {
+
+namespace {
+
+std::string kind_words(const std::string& kind) {
+    std::string s = kind;
+    for (char& c : s)
+        if (c == '_') c = ' ';
+    return s;
+}
+
+void json_string(std::string& out, const std::string& s) {
+    out += '"';
+    for (unsigned char c : s) {
+        switch (c) {
+            case '"': out += "\\\""; break;
+            case '\\': out += "\\\\"; break;
+            case '\b': out += "\\b"; break;
+            case '\f': out += "\\f"; break;
+            case '\n': out += "\\n"; break;
+            case '\r': out += "\\r"; break;
+            case '\t': out += "\\t"; break;
+            default:
+                if (c < 0x20 || c == 0x7f) {
+                    char buf[8];
+                    std::snprintf(buf, sizeof buf, "\\u%04x", c);
+                    out += buf;
+                } else {
+                    out += static_cast<char>(c);  // UTF-8 passes through unchanged
+                }
+        }
+    }
+    out += '"';
+}
+
+void json_number(std::string& out, double v) {
+    if (!std::isfinite(v)) {
+        out += "null";  // JSON has no NaN or infinity
+        return;
+    }
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.17g", v);
+    out += buf;
+}
+
+void json_ids(std::string& out, const std::vector<std::pair<std::string, int64_t>>& ids) {
+    out += '{';
+    for (size_t i = 0; i < ids.size(); ++i) {
+        if (i) out += ", ";
+        json_string(out, ids[i].first);
+        out += ": " + std::to_string(ids[i].second);
+    }
+    out += '}';
+}
+
+}  // namespace
+
+namespace detail {
+
+void refuse(CheckResult& result, const std::string& reason) {
+    result.passed = false;
+    result.problem_count += 1;
+    result.problems.push_back({{}, "not checked: " + reason});
+    result.summary = "not checked: " + reason;
+}
+
+std::string format_number(double value) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.6g", value);
+    return buf;
+}
+
+}  // namespace detail
+
+std::string CheckProblem::where() const {
+    std::string s;
+    for (size_t i = 0; i < ids.size(); ++i) {
+        if (i) s += ' ';
+        s += kind_words(ids[i].first) + " " + std::to_string(ids[i].second);
+    }
+    return s;
+}
+
+std::string CheckProblem::describe() const {
+    const std::string w = where();
+    return w.empty() ? message : w + ": " + message;
+}
+
+int64_t CheckProblem::id(const std::string& kind) const {
+    for (auto& [k, v] : ids)
+        if (k == kind) return v;
+    return -1;
+}
+
+void CheckResult::add_problem(CheckProblem problem, size_t max_problems) {
+    passed = false;
+    ++problem_count;
+    if (problems.size() < max_problems) problems.push_back(std::move(problem));
+}
+
+int64_t CheckResult::count(const std::string& n) const {
+    for (auto& [k, v] : counts)
+        if (k == n) return v;
+    return -1;
+}
+
+bool CheckReport::passed() const {
+    for (auto& c : checks)
+        if (!c.passed) return false;
+    return true;
+}
+
+const CheckResult* CheckReport::find(const std::string& n) const {
+    for (auto& c : checks)
+        if (c.name == n) return &c;
+    return nullptr;
+}
+
+CheckReport run_checks(const BpmFile& file, const CheckSelection& sel, const CheckOptions& options,
+                       const Context& context) {
+    CheckReport report;
+    const Parametrization& p = file.param;
+    if (sel.format) report.checks.push_back(check_format(file, options, context));
+    if (sel.original_intersections)
+        report.checks.push_back(check_intersections(p.original, options, context, "original-intersections"));
+    if (sel.intersections) report.checks.push_back(check_intersections(p.coarse, options, context, "intersections"));
+    if (sel.topology) report.checks.push_back(check_topology(p, options, context));
+    if (sel.bijectivity) report.checks.push_back(check_bijectivity(p, options, context));
+    if (options.max_aspect_ratio || options.min_angle_degrees)
+        report.checks.push_back(check_quality(p.coarse, options, context));
+    return report;
+}
+
+CheckReport run_surface_checks(const Surface& surface, const CheckSelection& sel, const CheckOptions& options,
+                               const Context& context) {
+    CheckReport report;
+    if (sel.intersections || sel.original_intersections)
+        report.checks.push_back(check_intersections(surface, options, context, "intersections"));
+    if (sel.topology) report.checks.push_back(check_topology(surface, options, context));
+    if (options.max_aspect_ratio || options.min_angle_degrees)
+        report.checks.push_back(check_quality(surface, options, context));
+    return report;
+}
+
+std::string check_report_to_json(const CheckReport& report) {
+    std::string o;
+    o += "{\n  \"bpm_check_report\": 1,\n  \"input\": ";
+    json_string(o, report.input);
+    o += ",\n  \"passed\": ";
+    o += report.passed() ? "true" : "false";
+    o += ",\n  \"checks\": [";
+    for (size_t i = 0; i < report.checks.size(); ++i) {
+        const CheckResult& c = report.checks[i];
+        o += i ? ",\n    {" : "\n    {";
+        o += "\"name\": ";
+        json_string(o, c.name);
+        o += ", \"passed\": ";
+        o += c.passed ? "true" : "false";
+        o += ", \"summary\": ";
+        json_string(o, c.summary);
+        o += ",\n     \"counts\": ";
+        json_ids(o, c.counts);
+        o += ",\n     \"problem_count\": " + std::to_string(c.problem_count) + ",\n     \"problems\": [";
+        for (size_t j = 0; j < c.problems.size(); ++j) {
+            const CheckProblem& p = c.problems[j];
+            o += j ? ",\n       {" : "\n       {";
+            o += "\"where\": ";
+            json_string(o, p.where());
+            o += ", \"ids\": ";
+            json_ids(o, p.ids);
+            o += ", \"message\": ";
+            json_string(o, p.message);
+            o += "}";
+        }
+        o += c.problems.empty() ? "]" : "\n     ]";
+        o += ",\n     \"worst\": ";
+        if (c.worst) {
+            o += "{\"name\": ";
+            json_string(o, c.worst->name);
+            o += ", \"value\": ";
+            json_number(o, c.worst->value);
+            o += ", \"ids\": ";
+            json_ids(o, c.worst->ids);
+            o += "}";
+        } else {
+            o += "null";
+        }
+        o += "}";
+    }
+    o += report.checks.empty() ? "]\n}\n" : "\n  ]\n}\n";
+    return o;
+}
+
+std::string check_report_to_text(const CheckReport& report) {
+    std::ostringstream o;
+    for (const CheckResult& c : report.checks) {
+        o << (c.passed ? "PASS " : "FAIL ") << c.name << "  ";
+        if (c.passed) {
+            o << c.summary;
+        } else {
+            o << c.problem_count << (c.problem_count == 1 ? " problem" : " problems");
+            if (!c.problems.empty()) o << "; first: " << c.problems.front().describe();
+        }
+        o << '\n';
+    }
+    return o.str();
+}
+
+}  // namespace bpm

@@ -1,0 +1,170 @@
+#include "coarse_mesh.h"
+
+#include <algorithm>
+#include <cmath>
+#include <unordered_map>
+
+namespace bpm::detail {
+
+namespace {
+// Does triangle t traverse the directed edge a->b?
+bool has_directed_edge(const Tri& t, int32_t a, int32_t b) {
+    for (int k = 0; k < 3; ++k)
+        if (t[k] == a && t[(k + 1) % 3] == b) return true;
+    return false;
+}
+}  // namespace
+
+CoarseMesh::CoarseMesh(const Surface& original)
+    : positions_(&original.vertices),
+      triangles_(original.triangles),
+      patches_(original.patches),
+      alive_(original.triangles.size(), 1),
+      initially_flipped_(original.triangles.size(), 0),
+      vertex_triangles_(original.vertices.size()) {
+    if (patches_.size() != triangles_.size()) patches_.assign(triangles_.size(), 0);
+    for (int32_t t = 0; t < int32_t(triangles_.size()); ++t)
+        for (int32_t v : triangles_[t]) vertex_triangles_[v].push_back(t);
+    num_alive_ = static_cast<int32_t>(triangles_.size());
+    for (const auto& list : vertex_triangles_) num_vertices_alive_ += list.empty() ? 0 : 1;
+
+    // Orient each sheet consistently by a breadth-first walk over edges with exactly two
+    // triangles. On a non-orientable sheet the walk leaves some edges inconsistent;
+    // that only restricts which vertices can be removed later.
+    std::vector<uint8_t> visited(triangles_.size(), 0);
+    std::vector<int32_t> queue, around;
+    for (int32_t seed = 0; seed < int32_t(triangles_.size()); ++seed) {
+        if (visited[seed]) continue;
+        visited[seed] = 1;
+        queue.assign(1, seed);
+        for (size_t head = 0; head < queue.size(); ++head) {
+            const int32_t t = queue[head];
+            for (int k = 0; k < 3; ++k) {
+                const int32_t a = triangles_[t][k], b = triangles_[t][(k + 1) % 3];
+                edge_triangles(a, b, around);
+                if (around.size() != 2) continue;
+                const int32_t n = around[0] == t ? around[1] : around[0];
+                if (visited[n]) continue;
+                visited[n] = 1;
+                // A consistent neighbour traverses the shared edge as b->a.
+                if (has_directed_edge(triangles_[n], a, b)) {
+                    std::swap(triangles_[n][1], triangles_[n][2]);
+                    initially_flipped_[n] = 1;
+                }
+                queue.push_back(n);
+            }
+        }
+    }
+}
+
+void CoarseMesh::edge_triangles(int32_t a, int32_t b, std::vector<int32_t>& out) const {
+    out.clear();
+    for (int32_t t : vertex_triangles_[a]) {
+        const Tri& c = triangles_[t];
+        if (c[0] == b || c[1] == b || c[2] == b) out.push_back(t);
+    }
+}
+
+bool CoarseMesh::has_edge(int32_t a, int32_t b) const {
+    const auto& la = vertex_triangles_[a];
+    const auto& lb = vertex_triangles_[b];
+    const auto& shorter = la.size() < lb.size() ? la : lb;
+    const int32_t other = la.size() < lb.size() ? b : a;
+    for (int32_t t : shorter) {
+        const Tri& c = triangles_[t];
+        if (c[0] == other || c[1] == other || c[2] == other) return true;
+    }
+    return false;
+}
+
+int32_t CoarseMesh::find_triangle(int32_t a, int32_t b, int32_t c) const {
+    for (int32_t t : vertex_triangles_[a]) {
+        const Tri& x = triangles_[t];
+        const bool hb = x[0] == b || x[1] == b || x[2] == b;
+        const bool hc = x[0] == c || x[1] == c || x[2] == c;
+        if (hb && hc) return t;
+    }
+    return -1;
+}
+
+void CoarseMesh::set_feature_edge(int32_t a, int32_t b, Feature kind) {
+    if (kind != Feature::None)
+        feature_edges_[edge_key(a, b)] = kind;
+    else
+        feature_edges_.erase(edge_key(a, b));
+}
+
+int32_t CoarseMesh::add_triangle(const Tri& corners, int32_t patch) {
+    const int32_t t = static_cast<int32_t>(triangles_.size());
+    triangles_.push_back(corners);
+    patches_.push_back(patch);
+    alive_.push_back(1);
+    for (int32_t v : corners) {
+        if (vertex_triangles_[v].empty()) ++num_vertices_alive_;
+        vertex_triangles_[v].push_back(t);
+    }
+    ++num_alive_;
+    return t;
+}
+
+void CoarseMesh::remove_triangle(int32_t t) {
+    if (!alive_[t]) return;
+    alive_[t] = 0;
+    --num_alive_;
+    for (int32_t v : triangles_[t]) {
+        auto& list = vertex_triangles_[v];
+        list.erase(std::find(list.begin(), list.end(), t));
+        if (list.empty()) --num_vertices_alive_;
+    }
+}
+
+void CoarseMesh::mark_feature_edges(double feature_angle_degrees) {
+    const double cos_limit = std::cos(feature_angle_degrees * M_PI / 180.0);
+    const auto& p = *positions_;
+    std::unordered_set<uint64_t> seen;
+    std::vector<int32_t> around;
+    for (int32_t t = 0; t < int32_t(triangles_.size()); ++t) {
+        if (!alive_[t]) continue;
+        for (int k = 0; k < 3; ++k) {
+            const int32_t a = triangles_[t][k], b = triangles_[t][(k + 1) % 3];
+            if (!seen.insert(edge_key(a, b)).second) continue;
+            edge_triangles(a, b, around);
+            bool feature = around.size() != 2;
+            if (!feature && patches_[around[0]] != patches_[around[1]]) feature = true;
+            if (feature) {
+                feature_edges_[edge_key(a, b)] = Feature::Hard;
+                continue;
+            }
+            if (feature_angle_degrees < 180.0) {
+                const Tri& t0 = triangles_[around[0]];
+                const Tri& t1 = triangles_[around[1]];
+                const Vec3 n0 = triangle_normal(p[t0[0]], p[t0[1]], p[t0[2]]);
+                const Vec3 n1 = triangle_normal(p[t1[0]], p[t1[1]], p[t1[2]]);
+                // Within a sheet the triangles are consistently oriented (constructor),
+                // so the normals are directly comparable.
+                if (dot(n0, n1) < cos_limit) feature_edges_[edge_key(a, b)] = Feature::Crease;
+            }
+        }
+    }
+}
+
+Surface CoarseMesh::to_surface(std::vector<int32_t>& vertex_origin) const {
+    Surface s;
+    std::unordered_map<int32_t, int32_t> index;
+    vertex_origin.clear();
+    // Vertices in increasing original id, so that the output is deterministic.
+    for (int32_t v = 0; v < int32_t(vertex_triangles_.size()); ++v) {
+        if (vertex_triangles_[v].empty()) continue;
+        index[v] = static_cast<int32_t>(vertex_origin.size());
+        vertex_origin.push_back(v);
+        s.vertices.push_back((*positions_)[v]);
+    }
+    for (int32_t t = 0; t < int32_t(triangles_.size()); ++t) {
+        if (!alive_[t]) continue;
+        s.triangles.push_back({index[triangles_[t][0]], index[triangles_[t][1]], index[triangles_[t][2]]});
+        s.patches.push_back(patches_[t]);
+    }
+    return s;
+}
+
+}  // namespace bpm::detail

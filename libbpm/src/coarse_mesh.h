@@ -1,0 +1,85 @@
+#pragma once
+// The coarse surface while it is being simplified: a non-manifold triangle mesh over
+// the original vertex ids (point removal never creates vertices), with incident
+// triangle lists per vertex and the set of feature edges that must survive as
+// feature lines (paper §2.4). Internal to libbpm.
+
+#include <cstdint>
+#include <unordered_map>
+#include <unordered_set>
+#include <vector>
+
+#include "bpm/geometry.h"
+#include "bpm/surface.h"
+
+namespace bpm::detail {
+
+// Key of an undirected edge; a < b after normalisation.
+inline uint64_t edge_key(int32_t a, int32_t b) {
+    if (a > b) std::swap(a, b);
+    return (uint64_t(uint32_t(a)) << 32) | uint32_t(b);
+}
+
+class CoarseMesh {
+public:
+    // Starts as a copy of `original`. Triangles are re-oriented consistently within
+    // each sheet (connected through edges with exactly two triangles) so that new
+    // triangles can inherit a well-defined orientation; `flipped(t)` tells which
+    // initial triangles were reversed relative to the original.
+    explicit CoarseMesh(const Surface& original);
+
+    const std::vector<Vec3>& positions() const { return *positions_; }
+    const Tri& triangle(int32_t t) const { return triangles_[t]; }
+    int32_t patch(int32_t t) const { return patches_[t]; }
+    bool alive(int32_t t) const { return alive_[t] != 0; }
+    bool flipped_initially(int32_t t) const { return t < int32_t(initially_flipped_.size()) && initially_flipped_[t]; }
+    int32_t triangle_capacity() const { return static_cast<int32_t>(triangles_.size()); }
+    int32_t num_alive_triangles() const { return num_alive_; }
+    int32_t num_vertices_alive() const { return num_vertices_alive_; }
+    bool vertex_alive(int32_t v) const { return !vertex_triangles_[v].empty(); }
+
+    const std::vector<int32_t>& triangles_of(int32_t v) const { return vertex_triangles_[v]; }
+
+    // Alive triangles containing both a and b (all sheets of a non-manifold edge).
+    void edge_triangles(int32_t a, int32_t b, std::vector<int32_t>& out) const;
+    bool has_edge(int32_t a, int32_t b) const;
+    // The alive triangle with exactly these three vertices, or -1.
+    int32_t find_triangle(int32_t a, int32_t b, int32_t c) const;
+
+    // Hard feature edges (boundary, non-manifold, patch border) must stay feature lines;
+    // creases (sharp dihedral angle on one sheet) are soft: they are kept as lines while
+    // their vertices are removed along them, but a crease may end or vanish when the
+    // geometric error allows it (noisy scans have many short "creases").
+    enum class Feature : uint8_t { None = 0, Hard = 1, Crease = 2 };
+    Feature feature(int32_t a, int32_t b) const {
+        auto it = feature_edges_.find(edge_key(a, b));
+        return it == feature_edges_.end() ? Feature::None : it->second;
+    }
+    bool is_feature_edge(int32_t a, int32_t b) const { return feature(a, b) != Feature::None; }
+    void set_feature_edge(int32_t a, int32_t b, Feature kind);
+
+    int32_t add_triangle(const Tri& corners, int32_t patch);
+    void remove_triangle(int32_t t);
+
+    // Marks creases: a manifold edge whose dihedral angle (angle between the two
+    // normals) exceeds `feature_angle_degrees` becomes a feature edge. Boundary edges,
+    // non-manifold edges and patch borders are always feature edges.
+    void mark_feature_edges(double feature_angle_degrees);
+
+    // Alive triangles as a Surface (vertices compacted), with the original id of each
+    // coarse vertex.
+    Surface to_surface(std::vector<int32_t>& vertex_origin) const;
+
+private:
+    const std::vector<Vec3>* positions_;
+    std::vector<Tri> triangles_;
+    std::vector<int32_t> patches_;
+    std::vector<uint8_t> alive_;
+    std::vector<uint8_t> initially_flipped_;
+    std::vector<std::vector<int32_t>> vertex_triangles_;
+    std::unordered_map<uint64_t, Feature> feature_edges_;
+    int32_t num_alive_ = 0;
+    int32_t num_vertices_alive_ = 0;
+};
+
+}  // namespace bpm::detail

@@ -1,0 +1,368 @@
+// Driver of the simplification: priority queue over vertices, global admissibility
+// (intersections with the rest of the surface, error and edge-length limits), and
+// export of the final parametrization. The local work is in vertex_removal.cpp.
+#include "bpm/simplify.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <memory>
+#include <queue>
+
+#include "bpm/errors.h"
+#include "bpm/predicates.h"
+#include "coarse_mesh.h"
+#include "embedding.h"
+#include "overlay.h"
+#include "triangle_grid.h"
+#include "vertex_removal.h"
+
+namespace bpm {
+
+using namespace detail;
+
+namespace {
+
+struct QueueEntry {
+    double cost;
+    int32_t vertex;
+    uint32_t stamp;
+    bool operator>(const QueueEntry& o) const {
+        return cost > o.cost || (cost == o.cost && vertex > o.vertex);
+    }
+};
+
+class Simplifier {
+public:
+    Simplifier(const Surface& original, const SimplifyOptions& options, const Context& context)
+        : original_(original),
+          options_(options),
+          context_(context),
+          mesh_(original),
+          diagonal_(bounding_box_diagonal(original)),
+          grid_(1.0) {
+        mesh_.mark_feature_edges(options.feature_angle_degrees);
+        sign_.resize(original.triangles.size());
+        for (int32_t t = 0; t < original.num_triangles(); ++t) sign_[t] = mesh_.flipped_initially(t) ? -1 : 1;
+        embedding_.init_identity(original, mesh_.triangle_capacity());
+        remover_ = std::make_unique<VertexRemover>(mesh_, embedding_, sign_);
+        stamp_.assign(original.vertices.size(), 0);
+        rebuild_grid();
+    }
+
+    SimplifyResult run(Parametrization& out);
+
+private:
+    const Surface& original_;
+    const SimplifyOptions& options_;
+    const Context& context_;
+    CoarseMesh mesh_;
+    Embedding embedding_;
+    std::vector<int8_t> sign_;
+    std::unique_ptr<VertexRemover> remover_;
+    double diagonal_;
+    TriangleGrid grid_;
+    int32_t grid_built_at_ = 0;  // alive triangles when the grid was last rebuilt
+    std::vector<uint32_t> stamp_;
+    std::priority_queue<QueueEntry, std::vector<QueueEntry>, std::greater<QueueEntry>> queue_;
+    std::vector<std::string> last_reason_;
+    RemovalPlan plan_;
+    std::vector<int32_t> candidates_;
+    int32_t first_new_ = 0;
+
+    void rebuild_grid();
+    bool intersects_rest(const RemovalPlan& plan);
+    // Cost of removing v, +infinity if it cannot be removed now (reason recorded).
+    double evaluate(int32_t v, RemovalPlan& plan);
+    void push(int32_t v);
+    void self_check(int32_t removed_vertex, const std::vector<int32_t>& link, int64_t step);
+};
+
+void Simplifier::self_check(int32_t removed_vertex, const std::vector<int32_t>& link, int64_t step) {
+    TriangleGraph graph;
+    std::vector<OverlayFace> faces;
+    std::vector<Tri> pieces;
+    std::vector<int32_t> piece_triangle;
+    std::vector<int32_t> tris;
+    for (int32_t u : link) tris.insert(tris.end(), mesh_.triangles_of(u).begin(), mesh_.triangles_of(u).end());
+    std::sort(tris.begin(), tris.end());
+    tris.erase(std::unique(tris.begin(), tris.end()), tris.end());
+    for (int32_t t : tris) {
+        build_triangle_graph(mesh_, embedding_, t, graph);
+        std::string why;
+        if (!compute_faces(graph, embedding_, sign_, faces, &why) ||
+            !triangulate_faces(graph, embedding_, sign_, faces, pieces, piece_triangle, &why)) {
+            const Tri& c = mesh_.triangle(t);
+            if (std::getenv("BPM_DEBUG")) {
+                for (const auto& g : graph.nodes)
+                    std::fprintf(stderr, "node kind %d v %d e %d sigma %.17g bary %.17g %.17g %.17g edge %d corner %d\n",
+                                 int(g.kind), g.vertex, g.edge, g.sigma, g.bary[0], g.bary[1], g.bary[2], g.on_edge, g.corner);
+                for (const auto& sg : graph.segments) std::fprintf(stderr, "seg %d %d e %d\n", sg.n0, sg.n1, sg.edge);
+            }
+            throw AlgorithmError("self-check after removal " + std::to_string(step) + " of vertex " +
+                                 std::to_string(removed_vertex) + ": triangle " + std::to_string(t) + " (" +
+                                 std::to_string(c[0]) + "," + std::to_string(c[1]) + "," + std::to_string(c[2]) +
+                                 ", " + std::to_string(graph.nodes.size()) + " nodes, " +
+                                 std::to_string(graph.segments.size()) + " segments" +
+                                 (t >= first_new_ ? ", new" : ", old") + "): " + why);
+        }
+    }
+}
+
+void Simplifier::rebuild_grid() {
+    // Cell size: twice the mean bounding-box extent of the current triangles.
+    const auto& x = original_.vertices;
+    double extent = 0.0;
+    int64_t count = 0;
+    for (int32_t t = 0; t < mesh_.triangle_capacity(); ++t) {
+        if (!mesh_.alive(t)) continue;
+        const Tri& c = mesh_.triangle(t);
+        for (int k = 0; k < 3; ++k) extent += distance(x[c[k]], x[c[(k + 1) % 3]]);
+        count += 3;
+    }
+    const double cell = count ? 2.0 * extent / double(count) : 1.0;
+    grid_ = TriangleGrid(cell > 0 ? cell : 1.0);
+    for (int32_t t = 0; t < mesh_.triangle_capacity(); ++t) {
+        if (!mesh_.alive(t)) continue;
+        const Tri& c = mesh_.triangle(t);
+        grid_.insert(t, x[c[0]], x[c[1]], x[c[2]]);
+    }
+    grid_built_at_ = mesh_.num_alive_triangles();
+}
+
+bool Simplifier::intersects_rest(const RemovalPlan& plan) {
+    const auto& x = original_.vertices;
+    for (size_t i = 0; i < plan.new_triangles.size(); ++i) {
+        const Tri& a = plan.new_triangles[i];
+        const Vec3 pa[3] = {x[a[0]], x[a[1]], x[a[2]]};
+        Vec3 lo, hi;
+        for (int k = 0; k < 3; ++k) {
+            lo[k] = std::min({pa[0][k], pa[1][k], pa[2][k]});
+            hi[k] = std::max({pa[0][k], pa[1][k], pa[2][k]});
+        }
+        auto test = [&](const Tri& b) {
+            int shared[3];
+            for (int k = 0; k < 3; ++k) {
+                shared[k] = -1;
+                for (int j = 0; j < 3; ++j)
+                    if (a[k] == b[j]) shared[k] = j;
+            }
+            const Vec3 pb[3] = {x[b[0]], x[b[1]], x[b[2]]};
+            return triangles_intersect_improperly(pa, pb, shared);
+        };
+        grid_.query(lo, hi, candidates_);
+        for (int32_t t : candidates_) {
+            if (!mesh_.alive(t)) continue;
+            if (std::find(plan.removed_triangles.begin(), plan.removed_triangles.end(), t) !=
+                plan.removed_triangles.end())
+                continue;
+            // Cheap box rejection before the exact test.
+            const Tri& b = mesh_.triangle(t);
+            bool apart = false;
+            for (int k = 0; k < 3 && !apart; ++k) {
+                const double blo = std::min({x[b[0]][k], x[b[1]][k], x[b[2]][k]});
+                const double bhi = std::max({x[b[0]][k], x[b[1]][k], x[b[2]][k]});
+                apart = bhi < lo[k] || blo > hi[k];
+            }
+            if (!apart && test(b)) return true;
+        }
+        for (size_t j = 0; j < i; ++j)
+            if (test(plan.new_triangles[j])) return true;
+    }
+    return false;
+}
+
+double Simplifier::evaluate(int32_t v, RemovalPlan& plan) {
+    remover_->plan(v, plan);
+    if (!plan.valid) {
+        last_reason_[v] = plan.reason;
+        return std::numeric_limits<double>::infinity();
+    }
+    const double error = plan.max_deviation / diagonal_;
+    if (error > options_.max_error) {
+        last_reason_[v] = "geometric error limit (--max-error)";
+        return std::numeric_limits<double>::infinity();
+    }
+    if (plan.longest_new_edge > options_.max_edge_length * diagonal_) {
+        last_reason_[v] = "edge length limit (--max-edge-length)";
+        return std::numeric_limits<double>::infinity();
+    }
+    if (options_.prevent_intersections && intersects_rest(plan)) {
+        last_reason_[v] = "would create a self-intersection";
+        return std::numeric_limits<double>::infinity();
+    }
+    last_reason_[v].clear();
+    const double aspect_term = std::log2(std::max(plan.worst_new_aspect, 2.0) / 2.0) -
+                               0.5 * std::log2(std::max(plan.worst_old_aspect, 2.0) / 2.0);
+    return error + options_.aspect_weight * 1e-3 * aspect_term;
+}
+
+void Simplifier::push(int32_t v) {
+    ++stamp_[v];
+    const double cost = evaluate(v, plan_);
+    if (std::isfinite(cost)) queue_.push({cost, v, stamp_[v]});
+}
+
+SimplifyResult Simplifier::run(Parametrization& out) {
+    const auto start = std::chrono::steady_clock::now();
+    SimplifyResult result;
+    result.input_vertices = original_.num_vertices();
+    result.input_triangles = original_.num_triangles();
+    int64_t target = 0;
+    if (options_.target_vertices > 0) target = options_.target_vertices;
+    if (options_.target_ratio > 0) {
+        const int64_t by_ratio = static_cast<int64_t>(std::ceil(options_.target_ratio * double(result.input_vertices)));
+        target = std::max(target, by_ratio);
+    }
+    last_reason_.assign(original_.vertices.size(), std::string());
+
+    const int32_t nv = original_.num_vertices();
+    for (int32_t v = 0; v < nv; ++v) {
+        push(v);
+        if ((v & 1023) == 0) context_.report(0.2 * v / std::max(nv, 1), "evaluating vertices");
+    }
+    const int64_t start_vertices = mesh_.num_vertices_alive();
+    std::vector<int32_t> affected;
+    std::string stop = "no vertex can be removed any more";
+    while (!queue_.empty()) {
+        if (mesh_.num_vertices_alive() <= target) {
+            stop = "target reached";
+            result.target_reached = true;
+            break;
+        }
+        const QueueEntry top = queue_.top();
+        queue_.pop();
+        if (top.stamp != stamp_[top.vertex] || !mesh_.vertex_alive(top.vertex)) continue;
+        // The neighbourhood is unchanged since the evaluation (stamp), but other
+        // removals may have moved triangles near it: plan and test again.
+        const double cost = evaluate(top.vertex, plan_);
+        if (!std::isfinite(cost)) continue;
+        if (cost > top.cost + 1e-15 && !queue_.empty() && cost > queue_.top().cost) {
+            queue_.push({cost, top.vertex, stamp_[top.vertex]});
+            continue;
+        }
+        affected.clear();
+        for (int32_t t : plan_.removed_triangles)
+            for (int32_t u : mesh_.triangle(t))
+                if (u != top.vertex) affected.push_back(u);
+        const auto& x = original_.vertices;
+        for (int32_t t : plan_.removed_triangles) {
+            const Tri& c = mesh_.triangle(t);
+            grid_.remove(t, x[c[0]], x[c[1]], x[c[2]]);
+        }
+        const int32_t first_new = mesh_.triangle_capacity();
+        first_new_ = first_new;
+        commit_removal(mesh_, embedding_, plan_);
+        for (int32_t t = first_new; t < mesh_.triangle_capacity(); ++t) {
+            const Tri& c = mesh_.triangle(t);
+            grid_.insert(t, x[c[0]], x[c[1]], x[c[2]]);
+        }
+        ++stamp_[top.vertex];
+        ++result.removed;
+        if (options_.self_check) self_check(top.vertex, affected, result.removed);
+        if (mesh_.num_alive_triangles() * 4 < grid_built_at_) rebuild_grid();
+        std::sort(affected.begin(), affected.end());
+        affected.erase(std::unique(affected.begin(), affected.end()), affected.end());
+        for (int32_t u : affected) push(u);
+        if ((result.removed & 255) == 0) {
+            const double done = start_vertices > target
+                                    ? double(start_vertices - mesh_.num_vertices_alive()) / double(start_vertices - target)
+                                    : 1.0;
+            char line[128];
+            std::snprintf(line, sizeof line, "simplifying: %d vertices left", mesh_.num_vertices_alive());
+            context_.report(0.2 + 0.75 * std::min(done, 1.0), line);
+        }
+    }
+    if (mesh_.num_vertices_alive() <= target) {
+        result.target_reached = true;
+        stop = "target reached";
+    }
+    result.stop_reason = stop;
+    if (!result.target_reached) {
+        for (int32_t v = 0; v < nv; ++v) {
+            if (!mesh_.vertex_alive(v)) continue;
+            std::string why = last_reason_[v];
+            if (why.empty()) {
+                std::string reason;
+                remover_->plan(v, plan_);
+                why = plan_.valid ? "not reached" : plan_.reason;
+            }
+            ++result.blocked[why];
+        }
+    }
+
+    // Export.
+    context_.report(0.95, "writing the parametrization");
+    out = Parametrization();
+    out.original = original_;
+    out.coarse = mesh_.to_surface(out.coarse_vertex_origin);
+    out.node_offsets.push_back(0);
+    out.piece_offsets.push_back(0);
+    TriangleGraph graph;
+    std::vector<OverlayFace> faces;
+    std::vector<Tri> pieces;
+    std::vector<int32_t> piece_triangle;
+    double max_deviation = 0.0;
+    const auto& x = original_.vertices;
+    int32_t coarse_index = 0;
+    for (int32_t t = 0; t < mesh_.triangle_capacity(); ++t) {
+        if (!mesh_.alive(t)) continue;
+        build_triangle_graph(mesh_, embedding_, t, graph);
+        std::string why;
+        if (!compute_faces(graph, embedding_, sign_, faces, &why) ||
+            !triangulate_faces(graph, embedding_, sign_, faces, pieces, piece_triangle, &why))
+            throw AlgorithmError("internal error: coarse triangle " + std::to_string(coarse_index) +
+                                 " has an invalid parametrization (" + why + ")");
+        const Tri& c = mesh_.triangle(t);
+        for (const GraphNode& g : graph.nodes) {
+            out.node_barycentric.push_back(g.bary);
+            const Vec3 image = node_image(g, embedding_);
+            out.node_image.push_back(image);
+            max_deviation = std::max(max_deviation, distance(image, barycentric_point(x[c[0]], x[c[1]], x[c[2]], g.bary)));
+            out.node_kind.push_back(g.kind);
+            out.node_original_vertex.push_back(g.kind == NodeKind::EdgeCrossing ? -1 : g.vertex);
+            if (g.kind == NodeKind::EdgeCrossing) {
+                out.node_original_edge.push_back(embedding_.edges[g.edge]);
+                out.node_edge_parameter.push_back(g.sigma);
+            } else {
+                out.node_original_edge.push_back({-1, -1});
+                out.node_edge_parameter.push_back(std::nan(""));
+            }
+        }
+        out.pieces.insert(out.pieces.end(), pieces.begin(), pieces.end());
+        out.piece_original_triangle.insert(out.piece_original_triangle.end(), piece_triangle.begin(),
+                                           piece_triangle.end());
+        out.node_offsets.push_back(static_cast<int64_t>(out.node_kind.size()));
+        out.piece_offsets.push_back(static_cast<int64_t>(out.pieces.size()));
+        ++coarse_index;
+    }
+    result.output_vertices = out.coarse.num_vertices();
+    result.output_triangles = out.coarse.num_triangles();
+    result.max_error = diagonal_ > 0 ? max_deviation / diagonal_ : 0.0;
+    for (const Tri& t : out.coarse.triangles)
+        result.worst_aspect_ratio = std::max(
+            result.worst_aspect_ratio,
+            aspect_ratio(out.coarse.vertices[t[0]], out.coarse.vertices[t[1]], out.coarse.vertices[t[2]]));
+    result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    context_.report(1.0, "done");
+    return result;
+}
+
+}  // namespace
+
+SimplifyResult simplify(const Surface& original, const SimplifyOptions& options, const Context& context,
+                        Parametrization& out) {
+    if (options.target_ratio < 0 || options.target_ratio > 1)
+        throw OptionError("--ratio must be between 0 and 1, got " + std::to_string(options.target_ratio));
+    if (options.target_vertices < 0) throw OptionError("--vertices must not be negative");
+    if (!(options.max_error >= 0)) throw OptionError("--max-error must not be negative");
+    if (!(options.max_edge_length > 0)) throw OptionError("--max-edge-length must be positive");
+    if (!(options.feature_angle_degrees >= 0 && options.feature_angle_degrees <= 180))
+        throw OptionError("--feature-angle must be between 0 and 180 degrees");
+    Simplifier simplifier(original, options, context);
+    return simplifier.run(out);
+}
+
+}  // namespace bpm

@@ -1,0 +1,294 @@
+// Surface basics: extent, validation against bpm's input rules, and the two repairs.
+#include "bpm/surface.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <numeric>
+#include <string>
+
+#include "bpm/predicates.h"
+
+namespace bpm {
+
+namespace {
+
+bool finite(const Vec3& p) { return std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]); }
+
+// Lexicographic order of positions; -0 and +0 compare equal, as exact equality wants.
+bool position_less(const Vec3& a, const Vec3& b) {
+    if (a[0] != b[0]) return a[0] < b[0];
+    if (a[1] != b[1]) return a[1] < b[1];
+    return a[2] < b[2];
+}
+
+// For each vertex, the smallest index of a vertex at the same position (itself if none).
+// Vertices with a NaN or infinite coordinate are never merged.
+std::vector<int32_t> first_at_same_position(const std::vector<Vec3>& vertices) {
+    std::vector<int32_t> order;
+    order.reserve(vertices.size());
+    for (size_t i = 0; i < vertices.size(); ++i) {
+        if (finite(vertices[i])) order.push_back(static_cast<int32_t>(i));
+    }
+    std::stable_sort(order.begin(), order.end(),
+                     [&](int32_t a, int32_t b) { return position_less(vertices[a], vertices[b]); });
+    std::vector<int32_t> first(vertices.size());
+    std::iota(first.begin(), first.end(), 0);
+    for (size_t i = 1; i < order.size(); ++i) {
+        const Vec3& a = vertices[order[i - 1]];
+        const Vec3& b = vertices[order[i]];
+        // stable_sort keeps equal positions in index order, so the run's first is its smallest.
+        if (a[0] == b[0] && a[1] == b[1] && a[2] == b[2]) first[order[i]] = first[order[i - 1]];
+    }
+    return first;
+}
+
+}  // namespace
+
+double bounding_box_diagonal(const std::vector<Vec3>& points) {
+    if (points.empty()) return 0.0;
+    Vec3 lo = points[0], hi = points[0];
+    for (const Vec3& p : points) {
+        for (int k = 0; k < 3; ++k) {
+            lo[k] = std::min(lo[k], p[k]);
+            hi[k] = std::max(hi[k], p[k]);
+        }
+    }
+    return norm(hi - lo);
+}
+
+double bounding_box_diagonal(const Surface& surface) { return bounding_box_diagonal(surface.vertices); }
+
+std::string SurfaceProblem::describe() const {
+    const std::string e = std::to_string(element);
+    const std::string o = std::to_string(other);
+    switch (kind) {
+        case Kind::NonFiniteCoordinate: return "vertex " + e + ": coordinate is NaN or infinite";
+        case Kind::IndexOutOfRange: return "triangle " + e + ": vertex index " + o + " is out of range";
+        case Kind::RepeatedCorner: return "triangle " + e + ": two corners are the same vertex " + o;
+        case Kind::ZeroArea: return "triangle " + e + ": zero area (its three corners are collinear)";
+        case Kind::DuplicateTriangle: return "triangle " + e + ": same three vertices as triangle " + o;
+        case Kind::UnreferencedVertex: return "vertex " + e + ": not used by any triangle";
+        case Kind::DuplicateVertex: return "vertex " + e + ": same position as vertex " + o;
+        case Kind::PatchCountMismatch: return e + " patch ids for " + o + " triangles";
+    }
+    return "unknown problem";
+}
+
+std::string describe_problem(const SurfaceProblem& problem, const Surface& surface) {
+    using Kind = SurfaceProblem::Kind;
+    const auto& V = surface.vertices;
+    const auto& T = surface.triangles;
+    const int64_t e = problem.element;
+    const bool vertex_ok = e >= 0 && e < static_cast<int64_t>(V.size());
+    const bool triangle_ok = e >= 0 && e < static_cast<int64_t>(T.size());
+    auto corners = [&](const Tri& t) {
+        return " (vertices " + std::to_string(t[0]) + ", " + std::to_string(t[1]) + ", " + std::to_string(t[2]) + ")";
+    };
+    auto position = [](const Vec3& p) {
+        char buffer[96];
+        std::snprintf(buffer, sizeof buffer, "(%.17g, %.17g, %.17g)", p[0], p[1], p[2]);
+        return std::string(buffer);
+    };
+    switch (problem.kind) {
+        case Kind::NonFiniteCoordinate:
+            if (vertex_ok) {
+                const Vec3& p = V[static_cast<size_t>(e)];
+                for (int k = 0; k < 3; ++k) {
+                    if (!std::isfinite(p[k])) {
+                        return "vertex " + std::to_string(e) + ": coordinate " + "xyz"[k] + " is " +
+                               (std::isnan(p[k]) ? "NaN" : "infinite");
+                    }
+                }
+            }
+            break;
+        case Kind::IndexOutOfRange:
+            if (triangle_ok) {
+                return "triangle " + std::to_string(e) + corners(T[static_cast<size_t>(e)]) + ": vertex index " +
+                       std::to_string(problem.other) + " is out of range (" + std::to_string(V.size()) + " vertices)";
+            }
+            break;
+        case Kind::RepeatedCorner:
+            if (triangle_ok) {
+                const Tri& t = T[static_cast<size_t>(e)];
+                const int a = t[0] == t[1] || t[0] == t[2] ? 0 : 1;
+                const int b = t[0] == t[1] ? 1 : 2;
+                return "triangle " + std::to_string(e) + corners(t) + ": corners " + std::to_string(a) + " and " +
+                       std::to_string(b) + " are the same vertex";
+            }
+            break;
+        case Kind::ZeroArea:
+            if (triangle_ok) {
+                return "triangle " + std::to_string(e) + corners(T[static_cast<size_t>(e)]) +
+                       ": zero area (its three corners are collinear)";
+            }
+            break;
+        case Kind::DuplicateTriangle:
+            if (triangle_ok) {
+                return "triangle " + std::to_string(e) + corners(T[static_cast<size_t>(e)]) +
+                       ": same three vertices as triangle " + std::to_string(problem.other);
+            }
+            break;
+        case Kind::DuplicateVertex:
+            if (vertex_ok) {
+                return "vertex " + std::to_string(e) + ": same position " + position(V[static_cast<size_t>(e)]) +
+                       " as vertex " + std::to_string(problem.other);
+            }
+            break;
+        case Kind::UnreferencedVertex:
+        case Kind::PatchCountMismatch: break;
+    }
+    return problem.describe();
+}
+
+std::vector<SurfaceProblem> validate_surface(const Surface& surface, const ValidateOptions& options) {
+    using Kind = SurfaceProblem::Kind;
+    std::vector<SurfaceProblem> problems;
+    const size_t limit = options.max_problems == 0 ? std::numeric_limits<size_t>::max() : options.max_problems;
+    auto add = [&](Kind kind, int64_t element, int64_t other = -1) {
+        problems.push_back({kind, element, other});
+        return problems.size() >= limit;
+    };
+    const auto& V = surface.vertices;
+    const auto& T = surface.triangles;
+    const int64_t nv = static_cast<int64_t>(V.size());
+
+    if (surface.patches.size() != T.size()) {
+        if (add(Kind::PatchCountMismatch, static_cast<int64_t>(surface.patches.size()), static_cast<int64_t>(T.size()))) {
+            return problems;
+        }
+    }
+    for (size_t v = 0; v < V.size(); ++v) {
+        if (!finite(V[v]) && add(Kind::NonFiniteCoordinate, static_cast<int64_t>(v))) return problems;
+    }
+
+    // Per triangle: indices, repeated corners, then (only for a well-formed triangle with
+    // finite corners) the exact collinearity test.
+    std::vector<char> usable(T.size(), 0);
+    for (size_t t = 0; t < T.size(); ++t) {
+        const Tri& tri = T[t];
+        bool ok = true;
+        for (int k = 0; k < 3 && ok; ++k) {
+            if (tri[k] < 0 || tri[k] >= nv) {
+                ok = false;
+                if (add(Kind::IndexOutOfRange, static_cast<int64_t>(t), tri[k])) return problems;
+            }
+        }
+        if (!ok) continue;
+        if (tri[0] == tri[1] || tri[0] == tri[2] || tri[1] == tri[2]) {
+            const int32_t same = tri[0] == tri[1] || tri[0] == tri[2] ? tri[0] : tri[1];
+            if (add(Kind::RepeatedCorner, static_cast<int64_t>(t), same)) return problems;
+            continue;
+        }
+        usable[t] = 1;
+        const Vec3 &a = V[tri[0]], &b = V[tri[1]], &c = V[tri[2]];
+        if (finite(a) && finite(b) && finite(c) && collinear3d(a, b, c)) {
+            if (add(Kind::ZeroArea, static_cast<int64_t>(t))) return problems;
+        }
+    }
+
+    // Duplicate triangles: the same vertex set in any order and orientation.
+    {
+        std::vector<std::pair<Tri, int32_t>> keys;
+        keys.reserve(T.size());
+        for (size_t t = 0; t < T.size(); ++t) {
+            if (!usable[t]) continue;
+            Tri k = T[t];
+            std::sort(k.begin(), k.end());
+            keys.push_back({k, static_cast<int32_t>(t)});
+        }
+        std::sort(keys.begin(), keys.end());
+        std::vector<SurfaceProblem> duplicates;
+        size_t run = 0;  // first entry of the current run of equal vertex sets (smallest index)
+        for (size_t i = 1; i < keys.size(); ++i) {
+            if (keys[i].first != keys[run].first) {
+                run = i;
+                continue;
+            }
+            duplicates.push_back({Kind::DuplicateTriangle, keys[i].second, keys[run].second});
+        }
+        std::sort(duplicates.begin(), duplicates.end(),
+                  [](const SurfaceProblem& a, const SurfaceProblem& b) { return a.element < b.element; });
+        for (const SurfaceProblem& p : duplicates) {
+            if (add(p.kind, p.element, p.other)) return problems;
+        }
+    }
+
+    if (!options.allow_unreferenced_vertices) {
+        std::vector<char> used(V.size(), 0);
+        for (const Tri& tri : T) {
+            for (int32_t v : tri) {
+                if (v >= 0 && v < nv) used[static_cast<size_t>(v)] = 1;
+            }
+        }
+        for (size_t v = 0; v < V.size(); ++v) {
+            if (!used[v] && add(Kind::UnreferencedVertex, static_cast<int64_t>(v))) return problems;
+        }
+    }
+
+    if (!options.allow_duplicate_vertices) {
+        const std::vector<int32_t> first = first_at_same_position(V);
+        for (size_t v = 0; v < V.size(); ++v) {
+            if (first[v] != static_cast<int32_t>(v) && add(Kind::DuplicateVertex, static_cast<int64_t>(v), first[v])) {
+                return problems;
+            }
+        }
+    }
+    return problems;
+}
+
+namespace {
+
+// Keeps the vertices with keep[v] (in their order) and renumbers the triangles through
+// `target` (old index -> old index of the vertex that replaces it). Indices that were
+// out of range become -1, which validate_surface() still reports.
+void compact_vertices(Surface& surface, const std::vector<char>& keep, const std::vector<int32_t>& target) {
+    const size_t nv = surface.vertices.size();
+    std::vector<int32_t> new_index(nv, -1);
+    size_t next = 0;
+    for (size_t v = 0; v < nv; ++v) {
+        if (!keep[v]) continue;
+        new_index[v] = static_cast<int32_t>(next);
+        surface.vertices[next++] = surface.vertices[v];
+    }
+    surface.vertices.resize(next);
+    for (Tri& tri : surface.triangles) {
+        for (int32_t& v : tri) {
+            v = v >= 0 && static_cast<size_t>(v) < nv ? new_index[static_cast<size_t>(target[static_cast<size_t>(v)])] : -1;
+        }
+    }
+}
+
+}  // namespace
+
+int64_t merge_duplicate_vertices(Surface& surface) {
+    const std::vector<int32_t> first = first_at_same_position(surface.vertices);
+    std::vector<char> keep(first.size());
+    int64_t merged = 0;
+    for (size_t v = 0; v < first.size(); ++v) {
+        keep[v] = first[v] == static_cast<int32_t>(v);
+        merged += keep[v] ? 0 : 1;
+    }
+    if (merged > 0) compact_vertices(surface, keep, first);
+    return merged;
+}
+
+int64_t drop_unreferenced_vertices(Surface& surface) {
+    const size_t nv = surface.vertices.size();
+    std::vector<char> keep(nv, 0);
+    for (const Tri& tri : surface.triangles) {
+        for (int32_t v : tri) {
+            if (v >= 0 && static_cast<size_t>(v) < nv) keep[static_cast<size_t>(v)] = 1;
+        }
+    }
+    const int64_t dropped = std::count(keep.begin(), keep.end(), 0);
+    if (dropped > 0) {
+        std::vector<int32_t> identity(nv);
+        std::iota(identity.begin(), identity.end(), 0);
+        compact_vertices(surface, keep, identity);
+    }
+    return dropped;
+}
+
+}  // namespace bpm

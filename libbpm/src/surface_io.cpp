@@ -1,0 +1,334 @@
+// Reading and writing surfaces: format choice, the read pipeline (parse, requested
+// repairs, validation) and the writers. The parsers live in read_<format>.cpp.
+#include "bpm/surface_io.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdarg>
+#include <cstdio>
+#include <cstring>
+#include <limits>
+#include <map>
+
+#include "bpm/errors.h"
+#include "file_util.h"
+#include "surface_readers.h"
+
+namespace bpm {
+
+namespace {
+
+std::string lower(std::string s) {
+    for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return s;
+}
+
+const char* format_name(SurfaceFormat f) {
+    switch (f) {
+        case SurfaceFormat::Off: return "OFF";
+        case SurfaceFormat::Obj: return "OBJ";
+        case SurfaceFormat::Stl: return "STL";
+        case SurfaceFormat::Ply: return "PLY";
+        case SurfaceFormat::Msh: return "MSH";
+    }
+    return "?";
+}
+
+// A hint for an error on a file that is plainly of another format than the one chosen.
+std::string sniffed_format_hint(std::string_view bytes, SurfaceFormat chosen) {
+    std::optional<SurfaceFormat> seen;
+    const std::string_view head = bytes.substr(0, 64);
+    if (head.substr(0, 3) == "ply") seen = SurfaceFormat::Ply;
+    else if (head.substr(0, 11) == "$MeshFormat") seen = SurfaceFormat::Msh;
+    else if (head.substr(0, 3) == "OFF" || head.substr(0, 4) == "COFF" || head.substr(0, 4) == "NOFF") seen = SurfaceFormat::Off;
+    else if (head.substr(0, 5) == "solid") seen = SurfaceFormat::Stl;
+    if (!seen || *seen == chosen) return "";
+    return std::string(" (the file looks like ") + format_name(*seen) + ", not " + format_name(chosen) + ")";
+}
+
+// Why a surface that parsed is still unusable, with the repair that would help.
+std::string problems_message(const std::vector<SurfaceProblem>& problems, const Surface& surface, size_t limit) {
+    using Kind = SurfaceProblem::Kind;
+    std::string message;
+    const size_t shown = std::min<size_t>(problems.size(), 3);
+    for (size_t i = 0; i < shown; ++i) {
+        if (i > 0) message += "; ";
+        message += describe_problem(problems[i], surface);
+        if (problems[i].kind == Kind::UnreferencedVertex) {
+            message += " (the drop-unreferenced-vertices repair removes such vertices)";
+        } else if (problems[i].kind == Kind::DuplicateVertex) {
+            message += " (the merge-duplicate-vertices repair merges them)";
+        }
+    }
+    if (problems.size() > shown) {
+        message += problems.size() >= limit ? "; and more problems"
+                                            : "; and " + std::to_string(problems.size() - shown) + " more problems";
+    }
+    return message;
+}
+
+}  // namespace
+
+std::optional<SurfaceFormat> surface_format_from_name(const std::string& name) {
+    const std::string n = lower(name);
+    if (n == "off") return SurfaceFormat::Off;
+    if (n == "obj") return SurfaceFormat::Obj;
+    if (n == "stl") return SurfaceFormat::Stl;
+    if (n == "ply") return SurfaceFormat::Ply;
+    if (n == "msh") return SurfaceFormat::Msh;
+    return std::nullopt;
+}
+
+std::optional<SurfaceFormat> surface_format_from_path(const std::string& path) {
+    const size_t slash = path.find_last_of('/');
+    const size_t dot = path.find_last_of('.');
+    if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return std::nullopt;
+    return surface_format_from_name(path.substr(dot + 1));
+}
+
+Surface read_surface_from_memory(const std::string& bytes, SurfaceFormat format, const std::string& name,
+                                 const SurfaceReadOptions& options, SurfaceReadReport* report) {
+    detail::ReaderOutput parsed;
+    try {
+        switch (format) {
+            case SurfaceFormat::Off: parsed = detail::read_off(bytes, name); break;
+            case SurfaceFormat::Obj: parsed = detail::read_obj(bytes, name); break;
+            case SurfaceFormat::Stl: parsed = detail::read_stl(bytes, name); break;
+            case SurfaceFormat::Ply: parsed = detail::read_ply(bytes, name); break;
+            case SurfaceFormat::Msh: parsed = detail::read_msh(bytes, name); break;
+        }
+    } catch (const InputError& e) {
+        const std::string hint = sniffed_format_hint(bytes, format);
+        if (hint.empty()) throw;
+        throw InputError(e.where(), e.what() + hint);
+    }
+    Surface surface = std::move(parsed.surface);
+
+    SurfaceReadReport local;
+    SurfaceReadReport& r = report ? *report : local;
+    r = SurfaceReadReport{};
+    r.format = format;
+    r.skipped_elements = parsed.skipped_elements;
+    r.notes = std::move(parsed.notes);
+    if (options.merge_duplicate_vertices) r.merged_vertices = merge_duplicate_vertices(surface);
+    if (options.drop_unreferenced_vertices) r.dropped_vertices = drop_unreferenced_vertices(surface);
+
+    if (surface.triangles.empty()) {
+        std::string message = "the surface has no triangles";
+        if (!surface.vertices.empty() || r.dropped_vertices > 0) {
+            message += " (" + std::to_string(surface.vertices.size() + static_cast<size_t>(r.dropped_vertices)) +
+                       " vertices and no faces: a point cloud?)";
+        }
+        if (r.skipped_elements > 0) message += "; " + std::to_string(r.skipped_elements) + " non-triangle elements were skipped";
+        throw InputError(name, message);
+    }
+    ValidateOptions validate;
+    validate.max_problems = 100;
+    const std::vector<SurfaceProblem> problems = validate_surface(surface, validate);
+    if (!problems.empty()) throw InputError(name, problems_message(problems, surface, validate.max_problems));
+    return surface;
+}
+
+Surface read_surface(const std::string& path, const SurfaceReadOptions& options, SurfaceReadReport* report) {
+    const std::string name = detail::display_name(path);
+    std::optional<SurfaceFormat> format = options.format;
+    if (!format) format = surface_format_from_path(path);
+    if (!format) {
+        throw InputError(name, path == "-" ? "the format of standard input must be given explicitly"
+                                           : "cannot tell the surface format from the file name; expected the "
+                                             "extension .off, .obj, .stl, .ply or .msh, or an explicit format");
+    }
+    const std::string bytes = detail::read_whole_input(path);
+    return read_surface_from_memory(bytes, *format, name, options, report);
+}
+
+// ---- writing ----------------------------------------------------------------------
+
+namespace {
+
+void appendf(std::string& out, const char* format, ...) __attribute__((format(printf, 2, 3)));
+void appendf(std::string& out, const char* format, ...) {
+    char buffer[256];
+    va_list args;
+    va_start(args, format);
+    const int n = std::vsnprintf(buffer, sizeof buffer, format, args);
+    va_end(args);
+    if (n > 0) out.append(buffer, std::min(static_cast<size_t>(n), sizeof buffer - 1));
+}
+
+template <class T>
+void put_le(std::string& out, T value) {
+    unsigned char raw[sizeof(T)];
+    std::memcpy(raw, &value, sizeof(T));
+    if (detail::InputCursor::host_is_big_endian()) std::reverse(raw, raw + sizeof(T));
+    out.append(reinterpret_cast<const char*>(raw), sizeof(T));
+}
+
+std::string write_off(const Surface& s) {
+    std::string out;
+    appendf(out, "OFF\n%d %d 0\n", s.num_vertices(), s.num_triangles());
+    for (const Vec3& p : s.vertices) appendf(out, "%.17g %.17g %.17g\n", p[0], p[1], p[2]);
+    for (const Tri& t : s.triangles) appendf(out, "3 %d %d %d\n", t[0], t[1], t[2]);
+    return out;
+}
+
+std::string write_obj(const Surface& s) {
+    std::string out;
+    appendf(out, "# bpm surface: %d vertices, %d triangles; groups patch_N are patch ids\n", s.num_vertices(),
+            s.num_triangles());
+    for (const Vec3& p : s.vertices) appendf(out, "v %.17g %.17g %.17g\n", p[0], p[1], p[2]);
+    for (size_t t = 0; t < s.triangles.size(); ++t) {
+        if (t == 0 || s.patches[t] != s.patches[t - 1]) appendf(out, "g patch_%d\n", s.patches[t]);
+        const Tri& tri = s.triangles[t];
+        appendf(out, "f %d %d %d\n", tri[0] + 1, tri[1] + 1, tri[2] + 1);
+    }
+    return out;
+}
+
+std::string write_stl(const Surface& s) {
+    std::string out;
+    std::string header = "binary STL written by bpm";
+    header.resize(80, ' ');
+    out += header;
+    put_le<uint32_t>(out, static_cast<uint32_t>(s.triangles.size()));
+    for (const Tri& t : s.triangles) {
+        const Vec3 n = triangle_normal(s.vertices[t[0]], s.vertices[t[1]], s.vertices[t[2]]);
+        for (double x : n) put_le<float>(out, static_cast<float>(x));
+        for (int32_t v : t) {
+            for (double x : s.vertices[v]) put_le<float>(out, static_cast<float>(x));
+        }
+        put_le<uint16_t>(out, 0);
+    }
+    return out;
+}
+
+std::string write_ply(const Surface& s) {
+    std::string out;
+    appendf(out,
+            "ply\nformat binary_little_endian 1.0\ncomment written by bpm\nelement vertex %d\n"
+            "property double x\nproperty double y\nproperty double z\nelement face %d\n"
+            "property list uchar int vertex_indices\nproperty int patch\nend_header\n",
+            s.num_vertices(), s.num_triangles());
+    for (const Vec3& p : s.vertices) {
+        for (double x : p) put_le<double>(out, x);
+    }
+    for (size_t t = 0; t < s.triangles.size(); ++t) {
+        put_le<uint8_t>(out, 3);
+        for (int32_t v : s.triangles[t]) put_le<int32_t>(out, v);
+        put_le<int32_t>(out, s.patches[t]);
+    }
+    return out;
+}
+
+// One surface entity per patch (tags 1, 2, ... in increasing patch order) whose physical
+// tag is the patch id; one element block per run of consecutive triangles of one patch,
+// so that the triangle order is kept exactly.
+std::string write_msh(const Surface& s) {
+    std::map<int32_t, int> entity_of_patch;
+    for (int32_t p : s.patches) entity_of_patch.emplace(p, 0);
+    int next_entity = 1;
+    for (auto& [patch, entity] : entity_of_patch) entity = next_entity++;
+
+    std::string out = "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Entities\n";
+    appendf(out, "0 0 %zu 0\n", entity_of_patch.size());
+    for (const auto& [patch, entity] : entity_of_patch) {
+        Vec3 lo{0, 0, 0}, hi{0, 0, 0};
+        bool first = true;
+        for (size_t t = 0; t < s.triangles.size(); ++t) {
+            if (s.patches[t] != patch) continue;
+            for (int32_t v : s.triangles[t]) {
+                const Vec3& p = s.vertices[v];
+                for (int k = 0; k < 3; ++k) {
+                    lo[k] = first ? p[k] : std::min(lo[k], p[k]);
+                    hi[k] = first ? p[k] : std::max(hi[k], p[k]);
+                }
+                first = false;
+            }
+        }
+        appendf(out, "%d %.17g %.17g %.17g %.17g %.17g %.17g 1 %d 0\n", entity, lo[0], lo[1], lo[2], hi[0], hi[1],
+                hi[2], patch);
+    }
+    out += "$EndEntities\n$Nodes\n";
+    const int nv = s.num_vertices();
+    if (nv == 0) {
+        out += "0 0 0 0\n";
+    } else {
+        appendf(out, "1 %d 1 %d\n2 1 0 %d\n", nv, nv, nv);
+        for (int i = 1; i <= nv; ++i) appendf(out, "%d\n", i);
+        for (const Vec3& p : s.vertices) appendf(out, "%.17g %.17g %.17g\n", p[0], p[1], p[2]);
+    }
+    out += "$EndNodes\n$Elements\n";
+    const size_t nt = s.triangles.size();
+    size_t runs = 0;
+    for (size_t t = 0; t < nt; ++t) runs += (t == 0 || s.patches[t] != s.patches[t - 1]) ? 1 : 0;
+    if (nt == 0) {
+        out += "0 0 0 0\n";
+    } else {
+        appendf(out, "%zu %zu 1 %zu\n", runs, nt, nt);
+    }
+    for (size_t t = 0; t < nt;) {
+        size_t end = t;
+        while (end < nt && s.patches[end] == s.patches[t]) ++end;
+        appendf(out, "2 %d 2 %zu\n", entity_of_patch[s.patches[t]], end - t);
+        for (; t < end; ++t) {
+            const Tri& tri = s.triangles[t];
+            appendf(out, "%zu %d %d %d\n", t + 1, tri[0] + 1, tri[1] + 1, tri[2] + 1);
+        }
+    }
+    out += "$EndElements\n";
+    return out;
+}
+
+}  // namespace
+
+void write_surface(const std::string& path, const Surface& surface, std::optional<SurfaceFormat> format) {
+    const std::string where = path == "-" ? "<stdout>" : path;
+    if (!format) format = surface_format_from_path(path);
+    if (!format) {
+        throw OutputError(where, path == "-" ? "the format for standard output must be given explicitly"
+                                             : "cannot tell the surface format from the file name; expected the "
+                                               "extension .off, .obj, .stl, .ply or .msh, or an explicit format");
+    }
+    // Refuse what would make a file no reader (bpm's included) can read back.
+    if (surface.patches.size() != surface.triangles.size()) {
+        throw OutputError(where, "cannot write: the surface has " + std::to_string(surface.patches.size()) +
+                                     " patch ids for " + std::to_string(surface.triangles.size()) + " triangles");
+    }
+    for (size_t t = 0; t < surface.triangles.size(); ++t) {
+        for (int32_t v : surface.triangles[t]) {
+            if (v < 0 || v >= surface.num_vertices()) {
+                throw OutputError(where, "cannot write: triangle " + std::to_string(t) + " has vertex index " +
+                                             std::to_string(v) + " out of range");
+            }
+        }
+    }
+    for (size_t v = 0; v < surface.vertices.size(); ++v) {
+        for (double x : surface.vertices[v]) {
+            if (!std::isfinite(x)) {
+                throw OutputError(where, "cannot write: vertex " + std::to_string(v) + " has a NaN or infinite coordinate");
+            }
+        }
+    }
+    if (*format == SurfaceFormat::Stl) {
+        for (size_t v = 0; v < surface.vertices.size(); ++v) {
+            for (double x : surface.vertices[v]) {
+                if (std::fabs(x) > static_cast<double>(std::numeric_limits<float>::max())) {
+                    throw OutputError(where, "cannot write STL: vertex " + std::to_string(v) +
+                                                 " has a coordinate beyond the range of float");
+                }
+            }
+        }
+    }
+    std::string bytes;
+    switch (*format) {
+        case SurfaceFormat::Off: bytes = write_off(surface); break;
+        case SurfaceFormat::Obj: bytes = write_obj(surface); break;
+        case SurfaceFormat::Stl: bytes = write_stl(surface); break;
+        case SurfaceFormat::Ply: bytes = write_ply(surface); break;
+        case SurfaceFormat::Msh: bytes = write_msh(surface); break;
+    }
+    detail::write_file_atomically(path, bytes);
+}
+
+}  // namespace bpm

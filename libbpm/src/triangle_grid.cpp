@@ -1,0 +1,89 @@
+#include "triangle_grid.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace bpm::detail {
+
+namespace {
+inline uint64_t cell_key(int64_t x, int64_t y, int64_t z) {
+    // 21 bits per axis, wrapped: collisions only cost extra candidates.
+    const uint64_t m = (1u << 21) - 1;
+    return (uint64_t(x) & m) | ((uint64_t(y) & m) << 21) | ((uint64_t(z) & m) << 42);
+}
+}  // namespace
+
+template <class F>
+void TriangleGrid::for_cells(const Vec3& lo, const Vec3& hi, F&& f) const {
+    int64_t a[3], b[3];
+    for (int k = 0; k < 3; ++k) {
+        a[k] = static_cast<int64_t>(std::floor(lo[k] / cell_));
+        b[k] = static_cast<int64_t>(std::floor(hi[k] / cell_));
+    }
+    for (int64_t x = a[0]; x <= b[0]; ++x)
+        for (int64_t y = a[1]; y <= b[1]; ++y)
+            for (int64_t z = a[2]; z <= b[2]; ++z) f(cell_key(x, y, z));
+}
+
+namespace {
+void box_of(const Vec3& a, const Vec3& b, const Vec3& c, Vec3& lo, Vec3& hi) {
+    for (int k = 0; k < 3; ++k) {
+        lo[k] = std::min({a[k], b[k], c[k]});
+        hi[k] = std::max({a[k], b[k], c[k]});
+    }
+}
+}  // namespace
+
+bool TriangleGrid::oversized(const Vec3& lo, const Vec3& hi) const {
+    double cells = 1.0;
+    for (int k = 0; k < 3; ++k) cells *= std::floor(hi[k] / cell_) - std::floor(lo[k] / cell_) + 1.0;
+    return cells > 512.0;
+}
+
+void TriangleGrid::insert(int32_t id, const Vec3& a, const Vec3& b, const Vec3& c) {
+    Vec3 lo, hi;
+    box_of(a, b, c, lo, hi);
+    // Triangles much larger than a cell are kept in one list that every query sees.
+    if (oversized(lo, hi)) {
+        big_.push_back(id);
+        return;
+    }
+    for_cells(lo, hi, [&](uint64_t key) { cells_[key].push_back(id); });
+}
+
+void TriangleGrid::remove(int32_t id, const Vec3& a, const Vec3& b, const Vec3& c) {
+    Vec3 lo, hi;
+    box_of(a, b, c, lo, hi);
+    if (oversized(lo, hi)) {
+        auto pos = std::find(big_.begin(), big_.end(), id);
+        if (pos != big_.end()) big_.erase(pos);
+        return;
+    }
+    for_cells(lo, hi, [&](uint64_t key) {
+        auto it = cells_.find(key);
+        if (it == cells_.end()) return;
+        auto& list = it->second;
+        auto pos = std::find(list.begin(), list.end(), id);
+        if (pos != list.end()) {
+            *pos = list.back();
+            list.pop_back();
+        }
+        if (list.empty()) cells_.erase(it);
+    });
+}
+
+void TriangleGrid::query(const Vec3& lo, const Vec3& hi, std::vector<int32_t>& out) const {
+    out.assign(big_.begin(), big_.end());
+    if (oversized(lo, hi)) {
+        // A huge query box: every registered triangle is a candidate.
+        for (const auto& cell : cells_) out.insert(out.end(), cell.second.begin(), cell.second.end());
+    } else
+    for_cells(lo, hi, [&](uint64_t key) {
+        auto it = cells_.find(key);
+        if (it != cells_.end()) out.insert(out.end(), it->second.begin(), it->second.end());
+    });
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+}
+
+}  // namespace bpm::detail

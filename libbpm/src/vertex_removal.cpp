@@ -1,0 +1,1261 @@
+#include "vertex_removal.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <unordered_map>
+
+#include <Eigen/Sparse>
+#include <Eigen/SparseLU>
+
+#include "bpm/predicates.h"
+
+namespace bpm::detail {
+
+namespace {
+
+// One fan of triangles around the removed vertex v: the whole disk of a regular
+// vertex (closed) or one half-disk between the two feature edges (open).
+// Triangle i is (v, link[i], link[i+1]) (indices mod n when closed), counter-clockwise
+// in the stored orientation.
+struct Fan {
+    bool closed = true;
+    std::vector<int32_t> link;
+    std::vector<int32_t> triangles;
+};
+
+// What a point of an original edge's path is, relative to one fan.
+enum class PointRole : uint8_t { Outside, Boundary, Free, Dropped };
+
+struct StarNode {
+    Vec2 pos{};
+    bool free = false;
+    int32_t vertex = -1;     // original vertex, or -1 for a crossing
+    int32_t edge = -1;       // crossing: original edge
+    double sigma = 0.0;      // crossing: position on the original edge
+    int32_t poly_edge = -1;  // fixed node on polygon side i (q_i -> q_i+1): the side
+    double poly_t = 0.0;     // ... and its parameter along that side
+    int32_t poly_corner = -1;
+    // On a coarse edge (fixed nodes on sides, free nodes on diagonals): the stored,
+    // canonical form, edge (lo, hi) at parameter s from lo.
+    int32_t edge_lo = -1, edge_hi = -1;
+    double edge_s = 0.0;
+    // Location in the new triangulation (free nodes).
+    int32_t new_triangle = -1;  // inside this new triangle
+    int32_t diagonal = -1;      // or on this diagonal
+    double diagonal_t = 0.0;    // parameter from diagonal's first to second polygon corner
+};
+
+struct StraightSegment {
+    int32_t a, b;         // star nodes
+    int32_t edge;         // original edge
+    int32_t first, last;  // indices into the edge's point sequence replaced by this run
+    double sigma_a, sigma_b;
+};
+
+struct NewCrossing {
+    int32_t diagonal;
+    int32_t lo, hi;  // the diagonal as a coarse edge, lo < hi
+    double s;        // along it from lo
+    double sigma;  // along the original edge
+    int32_t edge;
+};
+
+inline int32_t mod(int32_t i, int32_t n) { return ((i % n) + n) % n; }
+
+// Rotates a triangle so that v is first; returns the other two in order.
+inline bool rotate_to(const Tri& t, int32_t v, int32_t& x, int32_t& y) {
+    for (int k = 0; k < 3; ++k)
+        if (t[k] == v) {
+            x = t[(k + 1) % 3];
+            y = t[(k + 2) % 3];
+            return true;
+        }
+    return false;
+}
+
+double angle_between(const Vec3& a, const Vec3& b) {
+    const double c = dot(a, b), s = norm(cross(a, b));
+    return std::atan2(s, c);
+}
+
+}  // namespace
+
+struct RemovalScratch {
+    std::vector<Fan> fans;
+    std::vector<int32_t> around;
+    std::vector<SurfacePoint> points;
+    std::vector<double> sigmas;
+};
+
+VertexRemover::VertexRemover(const CoarseMesh& mesh, const Embedding& embedding,
+                             const std::vector<int8_t>& orientation_sign)
+    : mesh_(mesh), embedding_(embedding), orientation_sign_(orientation_sign), scratch_(new RemovalScratch) {}
+
+VertexRemover::~VertexRemover() { delete scratch_; }
+
+namespace {
+
+// Builds the fans of v; returns the class. `why` says why a vertex is kept.
+VertexClass build_fans(const CoarseMesh& mesh, int32_t v, bool force_disk, std::vector<Fan>& fans,
+                       std::vector<int32_t>& around, bool& crease_line, std::string& why) {
+    crease_line = false;
+    fans.clear();
+    const auto& tris = mesh.triangles_of(v);
+    if (tris.empty()) {
+        why = "vertex already removed";
+        return VertexClass::Feature;
+    }
+    std::vector<int32_t> hard, crease;
+    for (int32_t t : tris)
+        for (int32_t x : mesh.triangle(t)) {
+            if (x == v) continue;
+            const auto kind = mesh.feature(v, x);
+            if (kind == CoarseMesh::Feature::Hard) hard.push_back(x);
+            if (kind == CoarseMesh::Feature::Crease) crease.push_back(x);
+        }
+    for (auto* list : {&hard, &crease}) {
+        std::sort(list->begin(), list->end());
+        list->erase(std::unique(list->begin(), list->end()), list->end());
+    }
+    // Hard feature lines are always kept. Creases are followed when exactly two meet
+    // here; otherwise (a crease ending, a junction of creases) the vertex is removed as
+    // a disk if the geometric error allows it.
+    std::vector<int32_t> features;
+    if (!hard.empty())
+        features = hard;
+    else if (crease.size() == 2 && !force_disk) {
+        features = crease;
+        crease_line = true;
+    }
+
+    auto next_across = [&](int32_t t, int32_t x) -> int32_t {  // other triangle on edge (v,x)
+        mesh.edge_triangles(v, x, around);
+        if (around.size() != 2) return -1;
+        return around[0] == t ? around[1] : around[0];
+    };
+
+    if (features.empty()) {
+        Fan fan;
+        fan.closed = true;
+        const int32_t t0 = *std::min_element(tris.begin(), tris.end());
+        int32_t x = -1, y = -1;
+        rotate_to(mesh.triangle(t0), v, x, y);
+        fan.link.push_back(x);
+        fan.triangles.push_back(t0);
+        int32_t t = t0, last = y;
+        while (true) {
+            const int32_t n = next_across(t, last);
+            if (n < 0) {
+                why = "non-manifold edge without feature mark";
+                return VertexClass::Feature;
+            }
+            if (n == t0) break;
+            int32_t nx = -1, ny = -1;
+            rotate_to(mesh.triangle(n), v, nx, ny);
+            if (nx != last) {
+                why = "inconsistent orientation in the star";
+                return VertexClass::Feature;
+            }
+            fan.link.push_back(last);
+            fan.triangles.push_back(n);
+            t = n;
+            last = ny;
+            if (fan.triangles.size() > tris.size()) {
+                why = "star is not a disk";
+                return VertexClass::Feature;
+            }
+        }
+        if (last != fan.link.front() || fan.triangles.size() != tris.size()) {
+            why = "star is not a single disk (non-manifold vertex)";
+            return VertexClass::Feature;
+        }
+        fans.push_back(std::move(fan));
+        return VertexClass::Regular;
+    }
+    if (features.size() != 2) {
+        why = features.size() == 1 ? "end of a feature line" : "meeting point of feature lines";
+        return VertexClass::Feature;
+    }
+    // Half-disks: start at every triangle on the first feature edge and walk across
+    // non-feature edges until the second feature edge.
+    const int32_t f0 = features[0], f1 = features[1];
+    std::vector<int32_t> starts;
+    mesh.edge_triangles(v, f0, starts);
+    size_t covered = 0;
+    for (int32_t t0 : starts) {
+        Fan fan;
+        fan.closed = false;
+        int32_t x = -1, y = -1;
+        rotate_to(mesh.triangle(t0), v, x, y);
+        const bool forward = x == f0;  // the stored orientation runs from f0 around v
+        std::vector<int32_t> link{f0}, triangles{t0};
+        int32_t t = t0, last = forward ? y : x;
+        while (true) {
+            link.push_back(last);
+            if (last == f1 || last == f0) break;
+            const int32_t n = next_across(t, last);
+            if (n < 0) {
+                why = "non-manifold edge without feature mark";
+                return VertexClass::Feature;
+            }
+            int32_t nx = -1, ny = -1;
+            rotate_to(mesh.triangle(n), v, nx, ny);
+            if ((forward ? nx : ny) != last) {
+                why = "inconsistent orientation in the star";
+                return VertexClass::Feature;
+            }
+            triangles.push_back(n);
+            t = n;
+            last = forward ? ny : nx;
+            if (triangles.size() > tris.size()) {
+                why = "star is not made of half-disks";
+                return VertexClass::Feature;
+            }
+        }
+        if (link.back() != f1) {
+            why = "half-disk does not reach the other feature edge";
+            return VertexClass::Feature;
+        }
+        if (!forward) {
+            std::reverse(link.begin(), link.end());
+            std::reverse(triangles.begin(), triangles.end());
+        }
+        covered += triangles.size();
+        fan.link = std::move(link);
+        fan.triangles = std::move(triangles);
+        fans.push_back(std::move(fan));
+    }
+    if (covered != tris.size()) {
+        why = "star is not made of half-disks";
+        return VertexClass::Feature;
+    }
+    return VertexClass::FeatureLine;
+}
+
+}  // namespace
+
+VertexClass VertexRemover::classify(int32_t v) const {
+    std::string why;
+    bool crease_line = false;
+    return build_fans(mesh_, v, false, scratch_->fans, scratch_->around, crease_line, why);
+}
+
+namespace {
+
+// Everything needed to process one fan.
+class FanPlanner {
+public:
+    FanPlanner(const CoarseMesh& mesh, const Embedding& emb, const std::vector<int8_t>& sign, int32_t v,
+               const Fan& fan, double radius_scale, const std::unordered_map<int32_t, double>* new_edge_params)
+        : mesh_(mesh), emb_(emb), sign_(sign), v_(v), fan_(fan), scale_(radius_scale),
+          new_edge_params_(new_edge_params) {}
+
+    bool run(std::string& why);
+
+    // Outputs.
+    std::vector<std::array<int32_t, 3>> new_tris;   // polygon corner indices, ccw
+    std::vector<std::array<int32_t, 2>> diagonals;  // polygon corner index pairs
+    struct PathEdit {
+        int32_t edge, first, last;
+        std::vector<Crossing> middle;  // new crossings between first and last
+    };
+    std::vector<PathEdit> path_edits;
+    std::vector<std::pair<int32_t, SurfacePoint>> locations;  // free vertices; Inside uses -1-local
+    double max_deviation = 0.0;
+    bool used_floater = false;
+
+private:
+    const CoarseMesh& mesh_;
+    const Embedding& emb_;
+    const std::vector<int8_t>& sign_;
+    int32_t v_;
+    const Fan& fan_;
+    double scale_;
+    // Open fans: canonical parameter (from the smaller end) of every vertex on the new edge.
+    const std::unordered_map<int32_t, double>* new_edge_params_;
+
+    int32_t n_ = 0;                // polygon corners
+    std::vector<Vec2> q_;          // polygon corners in 2D
+    std::vector<StarNode> nodes_;
+    std::unordered_map<int32_t, int32_t> vertex_node_;
+    std::unordered_map<int64_t, int32_t> crossing_node_;  // (edge << 20 | index) -> node
+    std::vector<StraightSegment> segments_;
+    std::vector<std::vector<int32_t>> side_nodes_;  // per polygon side: fixed nodes on it
+
+    Vec2 corner_pos(int32_t vertex) const {
+        if (vertex == v_) return {0.0, 0.0};
+        for (int32_t i = 0; i < n_; ++i)
+            if (fan_.link[i] == vertex) return q_[i];
+        return {std::nan(""), std::nan("")};
+    }
+    int32_t corner_index(int32_t vertex) const {
+        for (int32_t i = 0; i < n_; ++i)
+            if (fan_.link[i] == vertex) return i;
+        return -1;
+    }
+    bool flatten(std::string& why);
+    bool triangulate(std::string& why);
+    bool gather(std::string& why);
+    bool transfer(std::string& why);
+    bool floater(std::string& why);
+    // Interior edge (v, link[i]) of this fan? (in an open fan the first and last are the
+    // feature edges, which are boundary)
+    bool is_interior_spoke(int32_t i) const { return fan_.closed || (i > 0 && i < n_ - 1); }
+    int32_t fan_triangle_index(int32_t t) const {
+        for (size_t i = 0; i < fan_.triangles.size(); ++i)
+            if (fan_.triangles[i] == t) return static_cast<int32_t>(i);
+        return -1;
+    }
+    // Polygon side of link edge (x,y) of this fan, or -1.
+    int32_t link_side(int32_t x, int32_t y) const {
+        const int32_t sides = fan_.closed ? n_ : n_ - 1;
+        for (int32_t i = 0; i < sides; ++i) {
+            const int32_t a = fan_.link[i], b = fan_.link[mod(i + 1, n_)];
+            if ((a == x && b == y) || (a == y && b == x)) return i;
+        }
+        return -1;
+    }
+    int32_t spoke_index(int32_t x, int32_t y) const {
+        const int32_t other = x == v_ ? y : (y == v_ ? x : -1);
+        return other < 0 ? -1 : corner_index(other);
+    }
+    int32_t add_node(const StarNode& node) {
+        nodes_.push_back(node);
+        return static_cast<int32_t>(nodes_.size()) - 1;
+    }
+    PointRole role(const SurfacePoint& p, bool endpoint, int32_t edge, int32_t index, int32_t& node) const;
+};
+
+bool FanPlanner::flatten(std::string& why) {
+    const auto& x = mesh_.positions();
+    n_ = static_cast<int32_t>(fan_.link.size());
+    const int32_t ntri = static_cast<int32_t>(fan_.triangles.size());
+    std::vector<double> theta(ntri);
+    double total = 0.0;
+    for (int32_t i = 0; i < ntri; ++i) {
+        const Vec3 a = x[fan_.link[i]] - x[v_], b = x[fan_.link[mod(i + 1, n_)]] - x[v_];
+        theta[i] = angle_between(a, b);
+        if (!(theta[i] > 0.0)) {
+            why = "degenerate triangle in the star";
+            return false;
+        }
+        total += theta[i];
+    }
+    const double alpha = (fan_.closed ? 2.0 * M_PI : M_PI) / total;
+    q_.assign(n_, {0.0, 0.0});
+    std::vector<double> phi(n_, 0.0);
+    for (int32_t i = 1; i < n_; ++i) phi[i] = phi[i - 1] + alpha * theta[i - 1];
+    for (int32_t i = 0; i < ntri; ++i)
+        if (!(alpha * theta[i] < M_PI)) {
+            why = "flattened star angle too wide";
+            return false;
+        }
+    std::vector<double> r(n_);
+    for (int32_t i = 0; i < n_; ++i) r[i] = distance(x[fan_.link[i]], x[v_]) / scale_;
+    // Closed: the polar map z -> z^alpha (conformal). Open: angles scaled, radii kept,
+    // so that the position of v on the new edge is the same in every half-disk.
+    for (int32_t i = 0; i < n_; ++i) {
+        const double radius = fan_.closed ? std::pow(r[i], alpha) : r[i];
+        q_[i] = {radius * std::cos(phi[i]), radius * std::sin(phi[i])};
+    }
+    if (!fan_.closed) {
+        q_[0] = {r[0], 0.0};
+        q_[n_ - 1] = {-r[n_ - 1], 0.0};
+    }
+    auto convex = [&]() {
+        for (int32_t i = 0; i < n_; ++i)
+            if (orient2d(q_[mod(i - 1, n_)], q_[i], q_[mod(i + 1, n_)]) <= 0) return false;
+        return true;
+    };
+    if (!convex()) {
+        // A star-shaped but non-convex polygon cannot always carry the re-cut graph
+        // (paper §2.2.4); move the corners outwards onto a circle (closed) or a
+        // half-circle through the fixed ends (open), which is convex.
+        if (fan_.closed) {
+            for (int32_t i = 0; i < n_; ++i) q_[i] = {std::cos(phi[i]), std::sin(phi[i])};
+        } else {
+            const double c = 0.5 * (r[0] - r[n_ - 1]), R = 0.5 * (r[0] + r[n_ - 1]);
+            for (int32_t i = 1; i < n_ - 1; ++i) q_[i] = {c + R * std::cos(phi[i]), R * std::sin(phi[i])};
+        }
+        if (!convex()) {
+            why = "cannot flatten the star to a convex polygon";
+            return false;
+        }
+    }
+    return true;
+}
+
+bool FanPlanner::triangulate(std::string& why) {
+    const auto& x = mesh_.positions();
+    std::vector<int32_t> poly(n_);
+    for (int32_t i = 0; i < n_; ++i) poly[i] = i;
+    new_tris.clear();
+    diagonals.clear();
+    auto existing_edge = [&](int32_t i, int32_t j) { return mesh_.has_edge(fan_.link[i], fan_.link[j]); };
+    while (poly.size() > 3) {
+        const int32_t m = static_cast<int32_t>(poly.size());
+        int32_t best = -1;
+        bool best_delaunay = false;
+        double best_aspect = std::numeric_limits<double>::infinity();
+        for (int32_t c = 0; c < m; ++c) {
+            const int32_t a = poly[mod(c - 1, m)], b = poly[c], d = poly[mod(c + 1, m)];
+            if (existing_edge(a, d)) continue;  // topology condition (Conjecture 2.1)
+            const double aspect = aspect_ratio(x[fan_.link[a]], x[fan_.link[b]], x[fan_.link[d]]);
+            if (!std::isfinite(aspect)) continue;
+            bool delaunay = true;
+            for (int32_t o = 0; o < m && delaunay; ++o) {
+                const int32_t p = poly[o];
+                if (p == a || p == b || p == d) continue;
+                if (in_circle(q_[a], q_[b], q_[d], q_[p]) > 0) delaunay = false;
+            }
+            // Prefer Delaunay-admissible ears; among them the best 3D aspect ratio.
+            if ((delaunay && !best_delaunay) || (delaunay == best_delaunay && aspect < best_aspect)) {
+                best = c;
+                best_delaunay = delaunay;
+                best_aspect = aspect;
+            }
+        }
+        if (best < 0) {
+            why = "no admissible retriangulation (topology condition)";
+            return false;
+        }
+        const int32_t a = poly[mod(best - 1, m)], b = poly[best], d = poly[mod(best + 1, m)];
+        new_tris.push_back({a, b, d});
+        diagonals.push_back({a, d});
+        poly.erase(poly.begin() + best);
+    }
+    const Vec3& p0 = x[fan_.link[poly[0]]];
+    const Vec3& p1 = x[fan_.link[poly[1]]];
+    const Vec3& p2 = x[fan_.link[poly[2]]];
+    if (!std::isfinite(aspect_ratio(p0, p1, p2))) {
+        why = "retriangulation would create a degenerate triangle";
+        return false;
+    }
+    if (mesh_.find_triangle(fan_.link[poly[0]], fan_.link[poly[1]], fan_.link[poly[2]]) >= 0) {
+        why = "new triangle already exists (topology condition)";
+        return false;
+    }
+    new_tris.push_back({poly[0], poly[1], poly[2]});
+    return true;
+}
+
+PointRole FanPlanner::role(const SurfacePoint& p, bool endpoint, int32_t edge, int32_t index, int32_t& node) const {
+    node = -1;
+    auto lookup_vertex = [&](int32_t vertex) {
+        auto it = vertex_node_.find(vertex);
+        return it == vertex_node_.end() ? -1 : it->second;
+    };
+    switch (p.kind) {
+        case SurfacePoint::Corner: {
+            if (p.a == v_) {
+                node = lookup_vertex(v_);
+                return fan_.closed ? PointRole::Free : PointRole::Boundary;
+            }
+            if (corner_index(p.a) >= 0) {
+                node = lookup_vertex(p.a);
+                return PointRole::Boundary;
+            }
+            return PointRole::Outside;
+        }
+        case SurfacePoint::OnEdge: {
+            const int32_t spoke = spoke_index(p.a, p.b);
+            if (spoke >= 0) {
+                if (is_interior_spoke(spoke)) {
+                    if (!endpoint) return PointRole::Dropped;
+                    node = lookup_vertex(emb_.edges[edge][index == 0 ? 0 : 1]);
+                    return PointRole::Free;
+                }
+                if (!endpoint) return PointRole::Dropped;  // a crossing on a feature edge: invalid, caught later
+                node = lookup_vertex(emb_.edges[edge][index == 0 ? 0 : 1]);
+                return PointRole::Boundary;
+            }
+            if (link_side(p.a, p.b) >= 0) {
+                if (endpoint) {
+                    node = lookup_vertex(emb_.edges[edge][index == 0 ? 0 : 1]);
+                } else {
+                    auto it = crossing_node_.find((int64_t(edge) << 20) | (index - 1));
+                    node = it == crossing_node_.end() ? -1 : it->second;
+                }
+                return PointRole::Boundary;
+            }
+            return PointRole::Outside;
+        }
+        case SurfacePoint::Inside:
+            if (fan_triangle_index(p.a) >= 0) {
+                node = lookup_vertex(emb_.edges[edge][index == 0 ? 0 : 1]);
+                return PointRole::Free;
+            }
+            return PointRole::Outside;
+    }
+    return PointRole::Outside;
+}
+
+bool FanPlanner::gather(std::string& why) {
+    const int32_t sides = n_;  // open fans: side n-1 is the new edge (end -> start)
+    side_nodes_.assign(sides, {});
+    // Polygon corners.
+    for (int32_t i = 0; i < n_; ++i) {
+        StarNode c;
+        c.pos = q_[i];
+        c.vertex = fan_.link[i];
+        c.poly_corner = i;
+        vertex_node_[c.vertex] = add_node(c);
+    }
+    // Fixed nodes on the link edges.
+    for (int32_t i = 0; i < (fan_.closed ? n_ : n_ - 1); ++i) {
+        const int32_t a = fan_.link[i], b = fan_.link[mod(i + 1, n_)];
+        auto it = emb_.edge_content.find(edge_key(a, b));
+        if (it == emb_.edge_content.end()) continue;
+        auto t_of = [&](double s) { return a < b ? s : 1.0 - s; };  // from q_i to q_i+1
+        std::vector<int32_t> vs = it->second.vertices;
+        std::sort(vs.begin(), vs.end());
+        for (int32_t u : vs) {
+            StarNode s;
+            s.vertex = u;
+            s.poly_edge = i;
+            s.poly_t = t_of(emb_.location[u].s);
+            s.edge_lo = std::min(a, b);
+            s.edge_hi = std::max(a, b);
+            s.edge_s = emb_.location[u].s;
+            s.pos = (1.0 - s.poly_t) * q_[i] + s.poly_t * q_[mod(i + 1, n_)];
+            const int32_t id = add_node(s);
+            vertex_node_[u] = id;
+            side_nodes_[i].push_back(id);
+        }
+        std::vector<int32_t> es = it->second.crossing_edges;
+        std::sort(es.begin(), es.end());
+        es.erase(std::unique(es.begin(), es.end()), es.end());
+        const int64_t key = edge_key(a, b);
+        for (int32_t e : es) {
+            const auto& path = emb_.path[e];
+            for (int32_t j = 0; j < int32_t(path.size()); ++j) {
+                if (edge_key(path[j].a, path[j].b) != uint64_t(key)) continue;
+                StarNode s;
+                s.edge = e;
+                s.sigma = path[j].sigma;
+                s.poly_edge = i;
+                s.poly_t = t_of(path[j].s);
+                s.edge_lo = std::min(a, b);
+                s.edge_hi = std::max(a, b);
+                s.edge_s = path[j].s;
+                s.pos = (1.0 - s.poly_t) * q_[i] + s.poly_t * q_[mod(i + 1, n_)];
+                const int32_t id = add_node(s);
+                crossing_node_[(int64_t(e) << 20) | j] = id;
+                side_nodes_[i].push_back(id);
+            }
+        }
+    }
+    // v and the vertices on the two feature edges lie on the new edge of an open fan.
+    if (!fan_.closed) {
+        const int32_t side = n_ - 1;  // from q_{n-1} (x < 0) to q_0 (x > 0)
+        const double x0 = q_[n_ - 1][0], x1 = q_[0][0];
+        auto add_on_new_edge = [&](int32_t u, double x) {
+            StarNode s;
+            s.vertex = u;
+            s.poly_edge = side;
+            s.poly_t = (x - x0) / (x1 - x0);
+            s.pos = {x, 0.0};
+            auto it = new_edge_params_->find(u);
+            if (it == new_edge_params_->end()) return false;
+            s.edge_lo = std::min(fan_.link.front(), fan_.link.back());
+            s.edge_hi = std::max(fan_.link.front(), fan_.link.back());
+            s.edge_s = it->second;
+            const int32_t id = add_node(s);
+            vertex_node_[u] = id;
+            side_nodes_[side].push_back(id);
+            return true;
+        };
+        if (!add_on_new_edge(v_, 0.0)) {
+            why = "internal: vertex on the new feature edge without parameter";
+            return false;
+        }
+        for (int32_t end : {0, n_ - 1}) {
+            const int32_t w = fan_.link[end];
+            auto it = emb_.edge_content.find(edge_key(v_, w));
+            if (it == emb_.edge_content.end()) continue;
+            if (!it->second.crossing_edges.empty()) {
+                why = "an original edge crosses a feature line";
+                return false;
+            }
+            std::vector<int32_t> vs = it->second.vertices;
+            std::sort(vs.begin(), vs.end());
+            for (int32_t u : vs) {
+                const double from_v = v_ < w ? emb_.location[u].s : 1.0 - emb_.location[u].s;
+                if (!add_on_new_edge(u, from_v * q_[end][0])) {
+                    why = "internal: vertex on the new feature edge without parameter";
+                    return false;
+                }
+            }
+        }
+    }
+    // Free nodes: vertices inside the fan's triangles, on its interior spokes, and v of a disk.
+    std::vector<int32_t> free_vertices;
+    for (int32_t t : fan_.triangles)
+        if (t < int32_t(emb_.inside.size()))
+            free_vertices.insert(free_vertices.end(), emb_.inside[t].begin(), emb_.inside[t].end());
+    for (int32_t i = 0; i < n_; ++i) {
+        if (!is_interior_spoke(i)) continue;
+        auto it = emb_.edge_content.find(edge_key(v_, fan_.link[i]));
+        if (it == emb_.edge_content.end()) continue;
+        free_vertices.insert(free_vertices.end(), it->second.vertices.begin(), it->second.vertices.end());
+    }
+    if (fan_.closed) free_vertices.push_back(v_);
+    std::sort(free_vertices.begin(), free_vertices.end());
+    for (int32_t u : free_vertices) {
+        StarNode s;
+        s.free = true;
+        s.vertex = u;
+        const SurfacePoint& p = emb_.location[u];
+        if (p.kind == SurfacePoint::Inside) {
+            const Tri& c = mesh_.triangle(p.a);
+            s.pos = p.bary[0] * corner_pos(c[0]) + p.bary[1] * corner_pos(c[1]) + p.bary[2] * corner_pos(c[2]);
+        } else if (p.kind == SurfacePoint::OnEdge) {
+            s.pos = (1.0 - p.s) * corner_pos(p.a) + p.s * corner_pos(p.b);
+        } else {
+            s.pos = corner_pos(p.a);
+        }
+        vertex_node_[u] = add_node(s);
+    }
+
+    // Original edges that may pass through the fan, and their straightened runs.
+    std::vector<int32_t> candidates;
+    auto add_incident = [&](int32_t u) {
+        for (int32_t i = emb_.vertex_edge_offsets[u]; i < emb_.vertex_edge_offsets[u + 1]; ++i)
+            candidates.push_back(emb_.vertex_edges[i]);
+    };
+    for (int32_t u : free_vertices) add_incident(u);
+    add_incident(v_);
+    if (!fan_.closed)
+        for (int32_t id : side_nodes_[n_ - 1])
+            if (nodes_[id].vertex >= 0) add_incident(nodes_[id].vertex);
+    for (int32_t i = 0; i < n_; ++i) {
+        if (!is_interior_spoke(i)) continue;
+        auto it = emb_.edge_content.find(edge_key(v_, fan_.link[i]));
+        if (it != emb_.edge_content.end())
+            candidates.insert(candidates.end(), it->second.crossing_edges.begin(), it->second.crossing_edges.end());
+    }
+    std::sort(candidates.begin(), candidates.end());
+    candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
+
+    std::vector<SurfacePoint> points;
+    std::vector<double> sigmas;
+    std::vector<PointRole> roles;
+    std::vector<int32_t> node_of;
+    for (int32_t e : candidates) {
+        emb_.path_points(e, points, sigmas);
+        const int32_t last = static_cast<int32_t>(points.size()) - 1;
+        roles.resize(points.size());
+        node_of.resize(points.size());
+        for (int32_t j = 0; j <= last; ++j) roles[j] = role(points[j], j == 0 || j == last, e, j, node_of[j]);
+        // Is segment (j, j+1) inside the fan?
+        auto inside_fan = [&](int32_t j) {
+            const PointRole r0 = roles[j], r1 = roles[j + 1];
+            if (r0 == PointRole::Outside || r1 == PointRole::Outside) return false;
+            if (r0 != PointRole::Boundary || r1 != PointRole::Boundary) return true;
+            // Both on the polygon boundary: inside only if they are in one fan triangle
+            // without sharing a side of it.
+            const StarNode& a = nodes_[node_of[j]];
+            const StarNode& b = nodes_[node_of[j + 1]];
+            auto sides_of = [&](const StarNode& s, std::vector<int32_t>& out) {
+                out.clear();
+                if (s.poly_edge >= 0) out.push_back(s.poly_edge);
+                if (s.poly_corner >= 0) {
+                    out.push_back(s.poly_corner);
+                    out.push_back(mod(s.poly_corner - 1, n_));
+                }
+            };
+            std::vector<int32_t> sa, sb;
+            sides_of(a, sa);
+            sides_of(b, sb);
+            for (int32_t x : sa)
+                for (int32_t y : sb)
+                    if (x == y) return false;  // along one side of the polygon
+            return true;
+        };
+        int32_t j = 0;
+        while (j < last) {
+            if (!inside_fan(j)) {
+                ++j;
+                continue;
+            }
+            int32_t k = j + 1;
+            while (k < last && roles[k] == PointRole::Dropped) ++k;
+            if (roles[j] == PointRole::Dropped || roles[k] == PointRole::Dropped || node_of[j] < 0 || node_of[k] < 0) {
+                why = "an original edge runs along a removed edge in an unexpected way";
+                return false;
+            }
+            segments_.push_back({node_of[j], node_of[k], e, j, k, sigmas[j], sigmas[k]});
+            j = k;
+        }
+    }
+    return true;
+}
+
+bool FanPlanner::floater(std::string& why) {
+    // Floater's shape-preserving idea with mean value weights from the original surface:
+    // every free node becomes a convex combination of its neighbours in the straightened
+    // graph, with the polygon boundary fixed. On a convex polygon this embeds the graph
+    // without flips (Floater 1997/2003).
+    const auto& x = emb_.original->vertices;
+    std::vector<int32_t> index(nodes_.size(), -1);
+    int32_t count = 0;
+    for (size_t i = 0; i < nodes_.size(); ++i)
+        if (nodes_[i].free) index[i] = count++;
+    if (count == 0) return true;
+    // Neighbours with 3D positions of their images.
+    std::vector<std::vector<std::pair<int32_t, Vec3>>> neighbours(nodes_.size());
+    auto image = [&](int32_t node, int32_t edge, double sigma) {
+        const StarNode& s = nodes_[node];
+        if (s.vertex >= 0) return x[s.vertex];
+        const auto& e = emb_.edges[edge];
+        return (1.0 - sigma) * x[e[0]] + sigma * x[e[1]];
+    };
+    for (const StraightSegment& s : segments_) {
+        neighbours[s.a].push_back({s.b, image(s.b, s.edge, s.sigma_b)});
+        neighbours[s.b].push_back({s.a, image(s.a, s.edge, s.sigma_a)});
+    }
+    std::vector<Eigen::Triplet<double>> triplets;
+    Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(count, 2);
+    for (size_t i = 0; i < nodes_.size(); ++i) {
+        if (index[i] < 0) continue;
+        const Vec3 center = x[nodes_[i].vertex];
+        auto& nb = neighbours[i];
+        if (nb.size() < 2) {
+            why = "free node with fewer than two neighbours";
+            return false;
+        }
+        // Order the neighbours around the node by angle in a tangent frame of the
+        // original surface (the average of the directions' plane).
+        Vec3 normal{0, 0, 0};
+        for (size_t a = 0; a < nb.size(); ++a) {
+            const Vec3 d0 = nb[a].second - center, d1 = nb[(a + 1) % nb.size()].second - center;
+            normal = normal + cross(d0, d1);
+        }
+        // A robust frame: first direction, and normal from PCA-free accumulation.
+        Vec3 e0 = nb[0].second - center;
+        const double l0 = norm(e0);
+        if (!(l0 > 0)) {
+            why = "zero-length neighbour direction";
+            return false;
+        }
+        e0 = (1.0 / l0) * e0;
+        Vec3 nrm = normal;
+        if (!(norm(nrm) > 0)) nrm = cross(e0, Vec3{0.0, 0.0, 1.0});
+        if (!(norm(nrm) > 0)) nrm = cross(e0, Vec3{0.0, 1.0, 0.0});
+        nrm = (1.0 / norm(nrm)) * nrm;
+        const Vec3 e1 = cross(nrm, e0);
+        std::vector<std::pair<double, size_t>> order;
+        for (size_t a = 0; a < nb.size(); ++a) {
+            const Vec3 d = nb[a].second - center;
+            order.push_back({std::atan2(dot(d, e1), dot(d, e0)), a});
+        }
+        std::sort(order.begin(), order.end());
+        const size_t m = order.size();
+        std::vector<double> w(m, 0.0);
+        double total = 0.0;
+        for (size_t a = 0; a < m; ++a) {
+            const Vec3 dp = nb[order[(a + m - 1) % m].second].second - center;
+            const Vec3 d = nb[order[a].second].second - center;
+            const Vec3 dn = nb[order[(a + 1) % m].second].second - center;
+            const double len = norm(d);
+            const double t0 = std::tan(0.5 * angle_between(dp, d)), t1 = std::tan(0.5 * angle_between(d, dn));
+            w[a] = (len > 0 && std::isfinite(t0 + t1)) ? (t0 + t1) / len : 0.0;
+            if (!(w[a] > 0.0)) w[a] = len > 0 ? 1.0 / len : 1.0;  // fall back to positive weights
+            total += w[a];
+        }
+        const int32_t row = index[i];
+        triplets.push_back({row, row, 1.0});
+        for (size_t a = 0; a < m; ++a) {
+            const int32_t other = nb[order[a].second].first;
+            const double weight = w[a] / total;
+            if (index[other] >= 0)
+                triplets.push_back({row, index[other], -weight});
+            else {
+                rhs(row, 0) += weight * nodes_[other].pos[0];
+                rhs(row, 1) += weight * nodes_[other].pos[1];
+            }
+        }
+    }
+    Eigen::SparseMatrix<double> A(count, count);
+    A.setFromTriplets(triplets.begin(), triplets.end());
+    Eigen::SparseLU<Eigen::SparseMatrix<double>> solver;
+    solver.compute(A);
+    if (solver.info() != Eigen::Success) {
+        why = "shape-preserving map: singular system";
+        return false;
+    }
+    Eigen::MatrixXd sol = solver.solve(rhs);
+    if (solver.info() != Eigen::Success || !sol.allFinite()) {
+        why = "shape-preserving map: solve failed";
+        return false;
+    }
+    for (size_t i = 0; i < nodes_.size(); ++i)
+        if (index[i] >= 0) nodes_[i].pos = {sol(index[i], 0), sol(index[i], 1)};
+    return true;
+}
+
+bool FanPlanner::transfer(std::string& why) {
+    const auto& x = mesh_.positions();
+    const int32_t ntris = static_cast<int32_t>(new_tris.size());
+    // 1. Free nodes strictly inside the polygon, then located in the new triangulation.
+    for (StarNode& s : nodes_) {
+        if (!s.free) continue;
+        for (int32_t i = 0; i < n_; ++i)
+            if (orient2d(q_[i], q_[mod(i + 1, n_)], s.pos) <= 0) {
+                why = "an original vertex would leave the star";
+                return false;
+            }
+        s.new_triangle = -1;
+        s.diagonal = -1;
+        for (int32_t t = 0; t < ntris && s.new_triangle < 0 && s.diagonal < 0; ++t) {
+            const auto& c = new_tris[t];
+            int zero = -1, negative = 0;
+            for (int k = 0; k < 3; ++k) {
+                const int o = orient2d(q_[c[k]], q_[c[(k + 1) % 3]], s.pos);
+                if (o < 0) ++negative;
+                if (o == 0) zero = zero < 0 ? k : 3;
+            }
+            if (negative) continue;
+            if (zero < 0) {
+                s.new_triangle = t;
+            } else if (zero < 3) {
+                const int32_t a = c[zero], b = c[(zero + 1) % 3];
+                for (int32_t d = 0; d < int32_t(diagonals.size()); ++d) {
+                    const auto& dg = diagonals[d];
+                    if ((dg[0] == a && dg[1] == b) || (dg[0] == b && dg[1] == a)) {
+                        s.diagonal = d;
+                        const Vec2 p0 = q_[dg[0]], dir = q_[dg[1]] - q_[dg[0]];
+                        double t_along = dot(s.pos - p0, dir) / dot(dir, dir);
+                        t_along = std::min(std::max(t_along, 1e-300), std::nextafter(1.0, 0.0));
+                        s.diagonal_t = t_along;
+                        const SurfacePoint on = SurfacePoint::on_edge(fan_.link[dg[0]], fan_.link[dg[1]], t_along);
+                        s.edge_lo = on.a;
+                        s.edge_hi = on.b;
+                        s.edge_s = on.s;
+                    }
+                }
+            }
+        }
+        if (s.new_triangle < 0 && s.diagonal < 0) {
+            why = "cannot locate an original vertex in the new triangles";
+            return false;
+        }
+    }
+
+    // 2. Cut the straightened segments along the diagonals.
+    std::vector<std::vector<int32_t>> diagonal_triangles(diagonals.size());
+    std::vector<int32_t> side_triangle(n_, -1);
+    for (int32_t t = 0; t < ntris; ++t) {
+        const auto& c = new_tris[t];
+        for (int k = 0; k < 3; ++k) {
+            const int32_t a = c[k], b = c[(k + 1) % 3];
+            if (b == mod(a + 1, n_)) side_triangle[a] = t;
+            for (int32_t d = 0; d < int32_t(diagonals.size()); ++d)
+                if ((diagonals[d][0] == a && diagonals[d][1] == b) || (diagonals[d][0] == b && diagonals[d][1] == a))
+                    diagonal_triangles[d].push_back(t);
+        }
+    }
+    // Items in new triangles: star nodes (id) and new crossings (nodes_.size() + id).
+    std::vector<NewCrossing> crossings;
+    struct Piece {
+        int32_t triangle;
+        int64_t item0, item1;
+        int32_t edge;
+    };
+    std::vector<Piece> pieces;
+    path_edits.clear();
+    auto candidate_triangles = [&](int64_t item, std::vector<int32_t>& out) {
+        out.clear();
+        if (item >= int64_t(nodes_.size())) {
+            out = diagonal_triangles[crossings[item - nodes_.size()].diagonal];
+            return;
+        }
+        const StarNode& s = nodes_[item];
+        if (s.free) {
+            if (s.new_triangle >= 0)
+                out.push_back(s.new_triangle);
+            else
+                out = diagonal_triangles[s.diagonal];
+        } else if (s.poly_edge >= 0) {
+            out.push_back(side_triangle[s.poly_edge]);
+        } else {
+            for (int32_t t = 0; t < ntris; ++t)
+                for (int k = 0; k < 3; ++k)
+                    if (new_tris[t][k] == s.poly_corner) out.push_back(t);
+        }
+    };
+    std::vector<int32_t> ca, cb, common;
+    for (const StraightSegment& seg : segments_) {
+        const Vec2 A = nodes_[seg.a].pos, B = nodes_[seg.b].pos;
+        if (!(A[0] != B[0] || A[1] != B[1])) {
+            why = "degenerate straightened edge";
+            return false;
+        }
+        // Polygon corners strictly between A and B would put a coarse vertex on an
+        // original edge.
+        for (int32_t i = 0; i < n_; ++i) {
+            if (int32_t(i) == nodes_[seg.a].poly_corner || int32_t(i) == nodes_[seg.b].poly_corner) continue;
+            if (orient2d(A, B, q_[i]) == 0 && dot(q_[i] - A, q_[i] - B) < 0) {
+                why = "an original edge would pass through a coarse vertex";
+                return false;
+            }
+        }
+        std::vector<std::pair<double, int64_t>> cuts;
+        for (int32_t d = 0; d < int32_t(diagonals.size()); ++d) {
+            const Vec2 P = q_[diagonals[d][0]], Q = q_[diagonals[d][1]];
+            const int oa = orient2d(P, Q, A), ob = orient2d(P, Q, B);
+            if (oa == 0 || ob == 0 || oa == ob) continue;
+            const int op = orient2d(A, B, P), oq = orient2d(A, B, Q);
+            if (op == 0 || oq == 0 || op == oq) continue;
+            const Vec2 r = B - A, s = Q - P;
+            const double denom = cross(r, s);
+            double lambda = cross(P - A, s) / denom;  // along A->B
+            double mu = cross(P - A, r) / denom;      // along P->Q
+            lambda = std::min(std::max(lambda, 0.0), 1.0);
+            mu = std::min(std::max(mu, std::numeric_limits<double>::min()), std::nextafter(1.0, 0.0));
+            if (!(lambda > 0.0 && lambda < 1.0)) {
+                why = "a cut of an original edge falls on its end";
+                return false;
+            }
+            const SurfacePoint on = SurfacePoint::on_edge(fan_.link[diagonals[d][0]], fan_.link[diagonals[d][1]], mu);
+            crossings.push_back({d, on.a, on.b, on.s, seg.sigma_a + lambda * (seg.sigma_b - seg.sigma_a), seg.edge});
+            cuts.push_back({lambda, int64_t(nodes_.size() + crossings.size() - 1)});
+        }
+        std::sort(cuts.begin(), cuts.end());
+        // Sigma must increase strictly along the original edge.
+        for (size_t i = 0; i + 1 < cuts.size(); ++i)
+            if (!(cuts[i].first < cuts[i + 1].first)) {
+                why = "two cuts of an original edge coincide";
+                return false;
+            }
+        std::vector<int64_t> items;
+        items.push_back(seg.a);
+        for (auto& c : cuts) items.push_back(c.second);
+        items.push_back(seg.b);
+        for (size_t i = 0; i + 1 < items.size(); ++i) {
+            candidate_triangles(items[i], ca);
+            candidate_triangles(items[i + 1], cb);
+            common.clear();
+            for (int32_t t : ca)
+                if (std::find(cb.begin(), cb.end(), t) != cb.end()) common.push_back(t);
+            if (common.size() != 1) {
+                why = common.empty() ? "re-cut lost track of an original edge" : "original edge along a new edge";
+                return false;
+            }
+            pieces.push_back({common[0], items[i], items[i + 1], seg.edge});
+        }
+        // Path edit: the new crossings in order along the original edge (which runs
+        // from its smaller vertex; the segment may run the other way).
+        PathEdit edit{seg.edge, seg.first, seg.last, {}};
+        const bool increasing = seg.sigma_b > seg.sigma_a;
+        for (size_t i = 0; i < cuts.size(); ++i) {
+            const NewCrossing& c = crossings[cuts[increasing ? i : cuts.size() - 1 - i].second - nodes_.size()];
+            edit.middle.push_back({c.lo, c.hi, c.s, c.sigma});
+        }
+        path_edits.push_back(std::move(edit));
+    }
+
+    // 3. Graph of every new triangle, validated; and the deviation.
+    max_deviation = 0.0;
+    TriangleGraph graph;
+    std::vector<OverlayFace> faces;
+    std::unordered_map<int64_t, int32_t> local;
+    for (int32_t t = 0; t < ntris; ++t) {
+        const auto& c = new_tris[t];
+        graph.nodes.clear();
+        graph.segments.clear();
+        local.clear();
+        const Tri cv{fan_.link[c[0]], fan_.link[c[1]], fan_.link[c[2]]};
+        // Places a node stored as (lo, hi, s) on the side of this triangle it lies on.
+        auto on_side = [&](int32_t lo, int32_t hi, double s, GraphNode& g) {
+            const int k = local_edge(cv, lo, hi);
+            if (k < 0) return false;
+            g.bary = bary_on_side(cv, k, lo, s);
+            g.on_edge = static_cast<int8_t>(k);
+            return true;
+        };
+        auto add = [&](int64_t item, const GraphNode& g) {
+            local[item] = static_cast<int32_t>(graph.nodes.size());
+            graph.nodes.push_back(g);
+        };
+        for (int k = 0; k < 3; ++k) {
+            GraphNode g;
+            g.corner = static_cast<int8_t>(k);
+            g.kind = NodeKind::CoarseCorner;
+            g.vertex = fan_.link[c[k]];
+            g.bary = {0, 0, 0};
+            g.bary[k] = 1.0;
+            add(vertex_node_.at(g.vertex), g);
+        }
+        // Fixed nodes on polygon sides of this triangle.
+        for (int k = 0; k < 3; ++k) {
+            const int32_t a = c[k], b = c[(k + 1) % 3];
+            if (b != mod(a + 1, n_)) continue;
+            for (int32_t id : side_nodes_[a]) {
+                const StarNode& s = nodes_[id];
+                GraphNode g;
+                if (!on_side(s.edge_lo, s.edge_hi, s.edge_s, g)) {
+                    why = "fixed node without its edge";
+                    return false;
+                }
+                if (s.vertex >= 0) {
+                    g.kind = NodeKind::OriginalVertex;
+                    g.vertex = s.vertex;
+                } else {
+                    g.kind = NodeKind::EdgeCrossing;
+                    g.edge = s.edge;
+                    g.sigma = s.sigma;
+                }
+                add(id, g);
+            }
+        }
+        // Free nodes inside or on a diagonal of this triangle.
+        for (size_t id = 0; id < nodes_.size(); ++id) {
+            const StarNode& s = nodes_[id];
+            if (!s.free) continue;
+            GraphNode g;
+            g.kind = NodeKind::OriginalVertex;
+            g.vertex = s.vertex;
+            if (s.new_triangle == t) {
+                const Vec2 p0 = q_[c[0]], p1 = q_[c[1]], p2 = q_[c[2]];
+                const double area = cross(p1 - p0, p2 - p0);
+                const double b1 = cross(s.pos - p0, p2 - p0) / area;
+                const double b2 = cross(p1 - p0, s.pos - p0) / area;
+                const double b0 = 1.0 - b1 - b2;
+                if (!(b0 > 0 && b1 > 0 && b2 > 0)) {
+                    why = "barycentric coordinates lost to rounding";
+                    return false;
+                }
+                g.bary = {b0, b1, b2};
+                add(int64_t(id), g);
+            } else if (s.diagonal >= 0 && on_side(s.edge_lo, s.edge_hi, s.edge_s, g)) {
+                add(int64_t(id), g);
+            }
+        }
+        // New crossings on diagonals of this triangle.
+        for (size_t i = 0; i < crossings.size(); ++i) {
+            const NewCrossing& nc = crossings[i];
+            GraphNode g;
+            if (!on_side(nc.lo, nc.hi, nc.s, g)) continue;
+            g.kind = NodeKind::EdgeCrossing;
+            g.edge = nc.edge;
+            g.sigma = nc.sigma;
+            add(int64_t(nodes_.size() + i), g);
+        }
+        for (const Piece& p : pieces) {
+            if (p.triangle != t) continue;
+            auto i0 = local.find(p.item0), i1 = local.find(p.item1);
+            if (i0 == local.end() || i1 == local.end()) {
+                why = "segment end missing in its triangle";
+                return false;
+            }
+            graph.segments.push_back({i0->second, i1->second, p.edge});
+        }
+        std::string reason;
+        if (!compute_faces(graph, emb_, sign_, faces, &reason)) {
+            why = "invalid transfer: " + reason;
+            return false;
+        }
+        // Deviation |phi(x) - x| is piecewise linear; its maximum is at the nodes.
+        const Vec3 &x0 = x[fan_.link[c[0]]], &x1 = x[fan_.link[c[1]]], &x2 = x[fan_.link[c[2]]];
+        for (const GraphNode& g : graph.nodes)
+            max_deviation = std::max(max_deviation, distance(node_image(g, emb_), barycentric_point(x0, x1, x2, g.bary)));
+    }
+
+    // 4. New locations of the free vertices.
+    locations.clear();
+    for (const StarNode& s : nodes_) {
+        if (!s.free) continue;
+        if (s.new_triangle >= 0) {
+            const auto& c = new_tris[s.new_triangle];
+            const Vec2 p0 = q_[c[0]], p1 = q_[c[1]], p2 = q_[c[2]];
+            const double area = cross(p1 - p0, p2 - p0);
+            const double b1 = cross(s.pos - p0, p2 - p0) / area;
+            const double b2 = cross(p1 - p0, s.pos - p0) / area;
+            SurfacePoint p = SurfacePoint::inside(-1 - s.new_triangle, {1.0 - b1 - b2, b1, b2});
+            locations.push_back({s.vertex, p});
+        } else {
+            locations.push_back({s.vertex, SurfacePoint{SurfacePoint::OnEdge, s.edge_lo, s.edge_hi, s.edge_s, {}}});
+        }
+    }
+    return true;
+}
+
+bool FanPlanner::run(std::string& why) {
+    if (!flatten(why)) return false;
+    if (!triangulate(why)) return false;
+    if (!gather(why)) return false;
+    std::string first_reason;
+    if (transfer(first_reason)) return true;
+    // Straightening flipped or squeezed something: reposition with Floater's map.
+    if (!floater(why)) return false;
+    used_floater = true;
+    if (transfer(why)) return true;
+    why = "transfer failed (" + first_reason + "; after shape-preserving map: " + why + ")";
+    return false;
+}
+
+}  // namespace
+
+void VertexRemover::plan(int32_t v, RemovalPlan& plan) {
+    bool crease_line = false;
+    plan_once(v, false, plan, crease_line);
+    // A crease that cannot be followed here may still end here.
+    if (!plan.valid && crease_line) {
+        RemovalPlan disk;
+        plan_once(v, true, disk, crease_line);
+        if (disk.valid) plan = std::move(disk);
+    }
+}
+
+void VertexRemover::plan_once(int32_t v, bool force_disk, RemovalPlan& plan, bool& crease_line) {
+    plan = RemovalPlan();
+    plan.vertex = v;
+    auto& fans = scratch_->fans;
+    const VertexClass cls = build_fans(mesh_, v, force_disk, fans, scratch_->around, crease_line, plan.reason);
+    if (cls == VertexClass::Feature) return;
+    const auto& x = mesh_.positions();
+
+    double radius = 0.0;
+    int count = 0;
+    for (const Fan& fan : fans)
+        for (int32_t l : fan.link) {
+            radius += distance(x[l], x[v]);
+            ++count;
+        }
+    radius /= std::max(count, 1);
+    if (!(radius > 0)) {
+        plan.reason = "zero-length edges around the vertex";
+        return;
+    }
+
+    if (cls == VertexClass::FeatureLine) {
+        const int32_t a = fans[0].link.front(), b = fans[0].link.back();
+        if (mesh_.has_edge(a, b)) {
+            plan.reason = "feature line would get an edge that already exists (topology condition)";
+            return;
+        }
+        for (const Fan& fan : fans)
+            if (fan.triangles.size() < 2) {
+                plan.reason = "a half-disk with a single triangle";
+                return;
+            }
+        plan.feature_line = true;
+        plan.feature_a = a;
+        plan.feature_b = b;
+        plan.feature_kind = static_cast<uint8_t>(mesh_.feature(v, a));
+        plan.new_edges.push_back({std::min(a, b), std::max(a, b)});
+    }
+
+    std::vector<std::pair<int32_t, SurfacePoint>> locations;
+    std::unordered_map<int32_t, std::vector<FanPlanner::PathEdit>> edits;
+    // v and the vertices on its two feature edges end up on the new feature edge a--b,
+    // in the order a, ..., v, ..., b, at parameters proportional to 3D distance.
+    std::unordered_map<int32_t, double> new_edge_params;
+    if (plan.feature_line) {
+        const int32_t a = plan.feature_a, b = plan.feature_b;
+        const int32_t lo = std::min(a, b), hi = std::max(a, b);
+        const double la = distance(x[v], x[a]), lb = distance(x[v], x[b]);
+        const double v_from_a = la / (la + lb);
+        auto put = [&](int32_t u, double from_a) {
+            const double s = a == lo ? from_a : 1.0 - from_a;
+            new_edge_params[u] = s;
+            locations.push_back({u, SurfacePoint{SurfacePoint::OnEdge, lo, hi, s, {}}});
+        };
+        put(v, v_from_a);
+        for (int32_t end : {a, b}) {
+            auto it = embedding_.edge_content.find(edge_key(v, end));
+            if (it == embedding_.edge_content.end()) continue;
+            for (int32_t u : it->second.vertices) {
+                const double from_v = v < end ? embedding_.location[u].s : 1.0 - embedding_.location[u].s;
+                put(u, end == a ? v_from_a * (1.0 - from_v) : v_from_a + (1.0 - v_from_a) * from_v);
+            }
+        }
+    }
+    for (const Fan& fan : fans) {
+        for (int32_t t : fan.triangles) {
+            plan.removed_triangles.push_back(t);
+            const Tri& c = mesh_.triangle(t);
+            plan.worst_old_aspect = std::max(plan.worst_old_aspect, aspect_ratio(x[c[0]], x[c[1]], x[c[2]]));
+        }
+        FanPlanner planner(mesh_, embedding_, orientation_sign_, v, fan, radius, &new_edge_params);
+        std::string why;
+        if (!planner.run(why)) {
+            plan.reason = why;
+            return;
+        }
+        plan.used_floater = plan.used_floater || planner.used_floater;
+        plan.max_deviation = std::max(plan.max_deviation, planner.max_deviation);
+        const int32_t base = static_cast<int32_t>(plan.new_triangles.size());
+        const int32_t patch = mesh_.patch(fan.triangles[0]);
+        for (const auto& t : planner.new_tris) {
+            const Tri corners{fan.link[t[0]], fan.link[t[1]], fan.link[t[2]]};
+            plan.new_triangles.push_back(corners);
+            plan.new_patches.push_back(patch);
+            plan.worst_new_aspect = std::max(plan.worst_new_aspect, aspect_ratio(x[corners[0]], x[corners[1]], x[corners[2]]));
+        }
+        for (const auto& d : planner.diagonals) {
+            const int32_t a = fan.link[d[0]], b = fan.link[d[1]];
+            plan.new_edges.push_back({std::min(a, b), std::max(a, b)});
+        }
+        for (auto loc : planner.locations) {
+            if (loc.second.kind == SurfacePoint::Inside) loc.second.a = -1 - (base + (-1 - loc.second.a));
+            locations.push_back(loc);
+        }
+        for (auto& e : planner.path_edits) edits[e.edge].push_back(std::move(e));
+    }
+    std::sort(locations.begin(), locations.end(),
+              [](const auto& p, const auto& q) { return p.first < q.first; });
+    plan.new_locations = std::move(locations);
+
+    // Rewrite the paths of the edited edges.
+    std::vector<int32_t> edited;
+    for (const auto& kv : edits) edited.push_back(kv.first);
+    std::sort(edited.begin(), edited.end());
+    auto& points = scratch_->points;
+    auto& sigmas = scratch_->sigmas;
+    for (int32_t e : edited) {
+        auto& list = edits[e];
+        std::sort(list.begin(), list.end(), [](const auto& p, const auto& q) { return p.first < q.first; });
+        embedding_.path_points(e, points, sigmas);
+        std::vector<Crossing> crossings;
+        const int32_t last = static_cast<int32_t>(points.size()) - 1;
+        auto keep = [&](int32_t j) { crossings.push_back({points[j].a, points[j].b, points[j].s, sigmas[j]}); };
+        int32_t j = 1;  // next old middle point to copy; points[0] and points[last] are the vertices
+        for (const auto& edit : list) {
+            for (; j <= edit.first && j < last; ++j) keep(j);
+            crossings.insert(crossings.end(), edit.middle.begin(), edit.middle.end());
+            j = std::max(j, edit.last);
+        }
+        for (; j < last; ++j) keep(j);
+        plan.new_paths.push_back({e, std::move(crossings)});
+    }
+    for (const auto& ne : plan.new_edges)
+        plan.longest_new_edge = std::max(plan.longest_new_edge, distance(x[ne[0]], x[ne[1]]));
+    plan.valid = true;
+}
+
+void commit_removal(CoarseMesh& mesh, Embedding& embedding, const RemovalPlan& plan) {
+    // Unregister moved vertices first: their old triangles are about to disappear.
+    for (const auto& loc : plan.new_locations) embedding.clear_location(loc.first);
+    for (int32_t t : plan.removed_triangles) mesh.remove_triangle(t);
+    std::vector<int32_t> ids;
+    for (size_t i = 0; i < plan.new_triangles.size(); ++i)
+        ids.push_back(mesh.add_triangle(plan.new_triangles[i], plan.new_patches[i]));
+    embedding.ensure_triangle_capacity(mesh.triangle_capacity());
+    for (auto loc : plan.new_locations) {
+        if (loc.second.kind == SurfacePoint::Inside) loc.second.a = ids[-1 - loc.second.a];
+        // clear_location was already called; set without unregistering twice.
+        embedding.location[loc.first] = SurfacePoint::corner(loc.first);
+        embedding.set_location(loc.first, loc.second);
+    }
+    for (const auto& p : plan.new_paths) embedding.set_path(p.first, p.second);
+    // Edges at the removed vertex are gone, with their marks.
+    for (const Tri& t : plan.new_triangles)
+        for (int32_t x : t) mesh.set_feature_edge(plan.vertex, x, CoarseMesh::Feature::None);
+    if (plan.feature_line)
+        mesh.set_feature_edge(plan.feature_a, plan.feature_b, static_cast<CoarseMesh::Feature>(plan.feature_kind));
+}
+
+}  // namespace bpm::detail

@@ -1,0 +1,78 @@
+#pragma once
+// Point removal with phi kept bijective (Krause & Sander §2.2.4, §2.4): flatten the
+// star of a vertex with the polar map (a half-disk map per sector for vertices on
+// feature lines), retriangulate the hole greedily with Delaunay-admissible ears of
+// best 3D aspect ratio, and transfer the embedded original surface onto the new
+// triangles: merge, straighten, re-cut, and reposition with Floater's
+// shape-preserving map where straightening would flip pieces.
+//
+// plan_removal() only computes; commit_removal() applies. Everything a removal
+// changes is in the plan, so costs can be evaluated without touching the state.
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "coarse_mesh.h"
+#include "embedding.h"
+#include "overlay.h"
+
+namespace bpm::detail {
+
+enum class VertexClass : uint8_t {
+    Regular,      // manifold vertex off every feature line: removed as a disk
+    FeatureLine,  // exactly two feature edges: removed half-disk by half-disk
+    Feature,      // kept
+};
+
+struct RemovalPlan {
+    int32_t vertex = -1;
+    bool valid = false;
+    std::string reason;  // why not valid
+
+    std::vector<int32_t> removed_triangles;
+    std::vector<Tri> new_triangles;
+    std::vector<int32_t> new_patches;
+    std::vector<std::array<int32_t, 2>> new_edges;  // edges that did not exist before
+    bool feature_line = false;                      // a -- b replaces two feature edges
+    int32_t feature_a = -1, feature_b = -1;
+    uint8_t feature_kind = 0;                       // CoarseMesh::Feature of the new edge a -- b
+
+    // Embedding updates. Locations refer to new triangles by local index (>= 0) through
+    // SurfacePoint::Inside with a = -1 - local index, to be mapped at commit.
+    std::vector<std::pair<int32_t, SurfacePoint>> new_locations;
+    std::vector<std::pair<int32_t, std::vector<Crossing>>> new_paths;
+
+    // Costs.
+    double max_deviation = 0.0;     // max |phi(x) - x| over the new triangles (absolute units)
+    double worst_old_aspect = 0.0;  // max R/r of the removed triangles
+    double worst_new_aspect = 0.0;  // max R/r of the new triangles
+    double longest_new_edge = 0.0;
+    bool used_floater = false;
+};
+
+struct RemovalScratch;  // reusable buffers, defined in vertex_removal.cpp
+
+class VertexRemover {
+public:
+    VertexRemover(const CoarseMesh& mesh, const Embedding& embedding, const std::vector<int8_t>& orientation_sign);
+    ~VertexRemover();
+
+    VertexClass classify(int32_t v) const;
+    // Plans the removal of v. Checks everything local: classification, the topology
+    // condition (no new edge or triangle may already exist), flattening, a valid
+    // transfer of phi. Global checks (intersections with the rest of the surface)
+    // are the caller's.
+    void plan(int32_t v, RemovalPlan& plan);
+
+private:
+    void plan_once(int32_t v, bool force_disk, RemovalPlan& plan, bool& crease_line);
+    const CoarseMesh& mesh_;
+    const Embedding& embedding_;
+    const std::vector<int8_t>& orientation_sign_;
+    RemovalScratch* scratch_;
+};
+
+void commit_removal(CoarseMesh& mesh, Embedding& embedding, const RemovalPlan& plan);
+
+}  // namespace bpm::detail

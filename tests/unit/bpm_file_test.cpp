@@ -1,0 +1,388 @@
+// The bpm file format: round trips, determinism, the golden example, and malformed
+// files (each must give an InputError that names the dataset at fault).
+
+#include <hdf5.h>
+
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <sstream>
+#include <unistd.h>
+
+#include "bpm/bpm_file.h"
+#include "bpm/errors.h"
+#include "bpm/phi_evaluation.h"
+#include "bpm/version.h"
+#include "fixtures_phi.h"
+
+using namespace bpm;
+
+namespace {
+
+Surface two_triangle_surface() {
+    Surface s;
+    s.vertices = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0.5}, {0, 1, 0.25}};
+    s.triangles = {{0, 1, 2}, {0, 2, 3}};
+    s.patches = {3, 7};
+    return s;
+}
+
+bool same_double(double a, double b) { return (std::isnan(a) && std::isnan(b)) || a == b; }
+
+void require_equal(const Surface& a, const Surface& b) {
+    REQUIRE(a.vertices == b.vertices);
+    REQUIRE(a.triangles == b.triangles);
+    REQUIRE(a.patches == b.patches);
+}
+
+void require_equal(const BpmFile& a, const BpmFile& b) {
+    require_equal(a.param.original, b.param.original);
+    require_equal(a.param.coarse, b.param.coarse);
+    const Parametrization &p = a.param, &q = b.param;
+    REQUIRE(p.coarse_vertex_origin == q.coarse_vertex_origin);
+    REQUIRE(p.node_offsets == q.node_offsets);
+    REQUIRE(p.node_barycentric == q.node_barycentric);
+    REQUIRE(p.node_image == q.node_image);
+    REQUIRE(p.node_kind == q.node_kind);
+    REQUIRE(p.node_original_vertex == q.node_original_vertex);
+    REQUIRE(p.node_original_edge == q.node_original_edge);
+    REQUIRE(p.node_edge_parameter.size() == q.node_edge_parameter.size());
+    for (size_t i = 0; i < p.node_edge_parameter.size(); ++i)
+        REQUIRE(same_double(p.node_edge_parameter[i], q.node_edge_parameter[i]));
+    REQUIRE(p.piece_offsets == q.piece_offsets);
+    REQUIRE(p.pieces == q.pieces);
+    REQUIRE(p.piece_original_triangle == q.piece_original_triangle);
+    REQUIRE(a.units == b.units);
+    REQUIRE(a.provenance.size() == b.provenance.size());
+    for (size_t i = 0; i < a.provenance.size(); ++i) {
+        CHECK(a.provenance[i].tool == b.provenance[i].tool);
+        CHECK(a.provenance[i].version == b.provenance[i].version);
+        CHECK(a.provenance[i].arguments == b.provenance[i].arguments);
+        CHECK(a.provenance[i].timestamp == b.provenance[i].timestamp);
+    }
+}
+
+BpmFile with_provenance(Parametrization p) {
+    BpmFile f;
+    f.param = std::move(p);
+    f.units = "mm";
+    f.provenance.push_back({"bpm-simplify", "0.1.0", "bpm-simplify in.off -o out.bpm --target 100", "2026-11-22T03:00:00Z"});
+    f.provenance.push_back({"bpm-smooth", "0.1.0", "bpm-smooth out.bpm -o smooth.bpm \"quoted\" ünïcode", ""});
+    return f;
+}
+
+std::string read_file(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    std::ostringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+// ---- editing a file image with the HDF5 C API, to make malformed files ----
+
+struct Image {
+    hid_t file = -1;
+    explicit Image(const std::string& bytes) {
+        H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+        hid_t fapl = H5Pcreate(H5P_FILE_ACCESS);
+        H5Pset_fapl_core(fapl, 1 << 16, false);
+        H5Pset_file_image(fapl, const_cast<char*>(bytes.data()), bytes.size());
+        static int counter = 0;
+        const std::string name = "mutate-" + std::to_string(counter++) + ".h5";
+        file = H5Fopen(name.c_str(), H5F_ACC_RDWR, fapl);
+        H5Pclose(fapl);
+        REQUIRE(file >= 0);
+    }
+    ~Image() {
+        if (file >= 0) H5Fclose(file);
+    }
+    std::string bytes() {
+        REQUIRE(H5Fflush(file, H5F_SCOPE_GLOBAL) >= 0);
+        const ssize_t n = H5Fget_file_image(file, nullptr, 0);
+        std::string out(static_cast<size_t>(n), '\0');
+        REQUIRE(H5Fget_file_image(file, out.data(), out.size()) == n);
+        return out;
+    }
+    void remove(const char* path) { REQUIRE(H5Ldelete(file, path, H5P_DEFAULT) >= 0); }
+    // Replaces a dataset by one of the given type, shape and (raw, memory-typed) data.
+    void replace(const char* path, hid_t type, std::vector<hsize_t> dims, const void* data, bool allocate = true) {
+        remove(path);
+        hid_t space = H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr);
+        hid_t ds = H5Dcreate2(file, path, type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+        REQUIRE(ds >= 0);
+        if (allocate) REQUIRE(H5Dwrite(ds, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) >= 0);
+        H5Dclose(ds);
+        H5Sclose(space);
+    }
+    // Reads the whole dataset as `mem_type`, lets `edit` change it, writes it back.
+    template <typename T>
+    void edit(const char* path, hid_t mem_type, const std::function<void(std::vector<T>&)>& edit) {
+        hid_t ds = H5Dopen2(file, path, H5P_DEFAULT);
+        REQUIRE(ds >= 0);
+        hid_t space = H5Dget_space(ds);
+        std::vector<T> values(static_cast<size_t>(H5Sget_simple_extent_npoints(space)));
+        REQUIRE(H5Dread(ds, mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()) >= 0);
+        edit(values);
+        REQUIRE(H5Dwrite(ds, mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()) >= 0);
+        H5Sclose(space);
+        H5Dclose(ds);
+    }
+    void set_root_ints(const char* name, std::vector<int32_t> values) {
+        REQUIRE(H5Adelete(file, name) >= 0);
+        hsize_t n = values.size();
+        hid_t space = H5Screate_simple(1, &n, nullptr);
+        hid_t a = H5Acreate2(file, name, H5T_STD_I32LE, space, H5P_DEFAULT, H5P_DEFAULT);
+        REQUIRE(H5Awrite(a, H5T_NATIVE_INT32, values.data()) >= 0);
+        H5Aclose(a);
+        H5Sclose(space);
+    }
+};
+
+// Expects reading `bytes` to throw an InputError whose message contains every one of `parts`.
+void require_input_error(const std::string& bytes, std::vector<std::string> parts) {
+    try {
+        read_bpm_from_memory(bytes, "bad.bpm");
+        FAIL("no InputError; expected one mentioning " << parts.front());
+    } catch (const InputError& e) {
+        INFO("message: " << e.what());
+        CHECK(e.where() == "bad.bpm");
+        for (const auto& part : parts) CHECK(std::string(e.what()).find(part) != std::string::npos);
+    }
+}
+
+std::string valid_file() { return write_bpm_to_memory(with_provenance(test::make_height_field(4, 2, test::default_height))); }
+
+}  // namespace
+
+TEST_CASE("format version comes from the build", "[format]") {
+    CHECK(bpm_format_version().major == BPM_FORMAT_VERSION_MAJOR);
+    CHECK(bpm_format_version().minor == BPM_FORMAT_VERSION_MINOR);
+    CHECK(bpm_format_version().major == 1);
+}
+
+TEST_CASE("identity parametrization round-trips exactly", "[format]") {
+    const BpmFile f = with_provenance(make_identity_parametrization(two_triangle_surface()));
+    const BpmFile g = read_bpm_from_memory(write_bpm_to_memory(f), "mem");
+    require_equal(f, g);
+}
+
+TEST_CASE("fixtures with non-trivial phi round-trip exactly", "[format]") {
+    SECTION("subdivided octahedron") {
+        const BpmFile f = with_provenance(test::make_subdivided_octahedron(3));
+        require_equal(f, read_bpm_from_memory(write_bpm_to_memory(f), "mem"));
+    }
+    SECTION("height field with edge crossings") {
+        const BpmFile f = with_provenance(test::make_height_field(6, 3, test::default_height));
+        require_equal(f, read_bpm_from_memory(write_bpm_to_memory(f), "mem"));
+    }
+    SECTION("large enough to be chunked and compressed") {
+        const BpmFile f = with_provenance(test::make_height_field(60, 6, test::default_height));
+        REQUIRE(f.param.num_nodes() > 4096);
+        const std::string bytes = write_bpm_to_memory(f);
+        require_equal(f, read_bpm_from_memory(bytes, "mem"));
+    }
+    SECTION("empty provenance and units") {
+        BpmFile f;
+        f.param = make_identity_parametrization(two_triangle_surface());
+        require_equal(f, read_bpm_from_memory(write_bpm_to_memory(f), "mem"));
+    }
+}
+
+TEST_CASE("writing is deterministic and write_bpm writes the same bytes", "[format]") {
+    const BpmFile f = with_provenance(test::make_height_field(60, 6, test::default_height));
+    const std::string a = write_bpm_to_memory(f);
+    const std::string b = write_bpm_to_memory(f);
+    REQUIRE(a == b);
+    const auto dir = std::filesystem::temp_directory_path();
+    const std::string path = (dir / ("bpm_file_test_" + std::to_string(::getpid()) + ".bpm")).string();
+    write_bpm(path, f);
+    CHECK(read_file(path) == a);
+    require_equal(f, read_bpm(path));
+    std::filesystem::remove(path);
+}
+
+TEST_CASE("identity phi read from a file evaluates to the input exactly", "[format][phi]") {
+    const Surface s = two_triangle_surface();
+    const BpmFile g = read_bpm_from_memory(write_bpm_to_memory(with_provenance(make_identity_parametrization(s))), "m");
+    PhiEvaluator eval(g.param);
+    const Vec3 bs[] = {{0.2, 0.3, 0.5}, {1, 0, 0}, {0, 0.7, 0.3}, {0.1, 0.1, 0.8}};
+    for (int32_t t = 0; t < 2; ++t)
+        for (const Vec3& b : bs) {
+            const Tri& tri = s.triangles[static_cast<size_t>(t)];
+            const PhiSample r = eval.evaluate(t, b);
+            CHECK(r.position == barycentric_point(s.vertices[static_cast<size_t>(tri[0])],
+                                                  s.vertices[static_cast<size_t>(tri[1])],
+                                                  s.vertices[static_cast<size_t>(tri[2])], b));
+            CHECK(r.original_triangle == t);
+            CHECK(r.original_barycentric == b);
+        }
+}
+
+TEST_CASE("writer refuses an inconsistent parametrization", "[format]") {
+    BpmFile f = with_provenance(make_identity_parametrization(two_triangle_surface()));
+    f.param.pieces[0][1] = 5;
+    CHECK_THROWS_AS(write_bpm_to_memory(f), OutputError);
+    try {
+        write_bpm_to_memory(f);
+    } catch (const OutputError& e) {
+        CHECK(std::string(e.what()).find("/phi/pieces") != std::string::npos);
+    }
+}
+
+TEST_CASE("write_bpm into a missing directory is an OutputError", "[format]") {
+    const BpmFile f = with_provenance(make_identity_parametrization(two_triangle_surface()));
+    CHECK_THROWS_AS(write_bpm("/nonexistent-dir-bpm/x.bpm", f), OutputError);
+}
+
+TEST_CASE("the spec example is the golden file and reads", "[format]") {
+    const std::string path = std::string(BPM_SOURCE_DIR) + "/spec/examples/two_triangles.bpm";
+    const std::string committed = read_file(path);
+    REQUIRE(!committed.empty());
+    const BpmFile expected = test::make_two_triangles_example();
+    // Byte-identical: the writer is deterministic, and a change of layout must be a
+    // deliberate change of the spec example too (bpm-make-example two_triangles FILE).
+    CHECK(write_bpm_to_memory(expected) == committed);
+    const BpmFile read = read_bpm(path);
+    require_equal(expected, read);
+    CHECK(read.param.num_pieces() == 4);
+    int crossings = 0;
+    for (auto k : read.param.node_kind) crossings += k == NodeKind::EdgeCrossing;
+    CHECK(crossings == 2);
+}
+
+TEST_CASE("reading rejects inputs that are not bpm files", "[format]") {
+    require_input_error("", {"empty"});
+    require_input_error("solid x\nendsolid\n", {"not an HDF5 file"});
+    const std::string good = valid_file();
+    require_input_error(good.substr(0, good.size() / 2), {"HDF5"});
+    CHECK_THROWS_AS(read_bpm("/nonexistent-bpm-file.bpm"), InputError);
+}
+
+TEST_CASE("malformed files give an InputError naming the dataset", "[format]") {
+    const std::string good = valid_file();
+    REQUIRE_NOTHROW(read_bpm_from_memory(good, "good.bpm"));
+
+    SECTION("missing dataset") {
+        Image im(good);
+        im.remove("/phi/pieces");
+        require_input_error(im.bytes(), {"/phi/pieces", "missing"});
+    }
+    SECTION("missing group") {
+        Image im(good);
+        im.remove("/coarse");
+        require_input_error(im.bytes(), {"/coarse/", "missing"});
+    }
+    SECTION("wrong dtype") {
+        Image im(good);
+        const BpmFile f = read_bpm_from_memory(good, "x");
+        std::vector<double> tri;
+        for (auto& t : f.param.original.triangles) tri.insert(tri.end(), t.begin(), t.end());
+        im.replace("/original/triangles", H5T_NATIVE_DOUBLE, {f.param.original.triangles.size(), 3}, tri.data());
+        require_input_error(im.bytes(), {"/original/triangles", "datatype"});
+    }
+    SECTION("wrong shape") {
+        Image im(good);
+        const std::vector<double> xy(20, 0.5);
+        im.replace("/original/vertices", H5T_NATIVE_DOUBLE, {10, 2}, xy.data());
+        require_input_error(im.bytes(), {"/original/vertices", "shape"});
+    }
+    SECTION("row count that does not match") {
+        Image im(good);
+        const std::vector<int32_t> patches(3, 0);
+        im.replace("/coarse/patches", H5T_STD_I32LE, {3}, patches.data());
+        require_input_error(im.bytes(), {"/coarse/patches"});
+    }
+    SECTION("index out of range") {
+        Image im(good);
+        im.edit<int32_t>("/original/triangles", H5T_NATIVE_INT32, [](auto& v) { v[4] = 100000; });
+        require_input_error(im.bytes(), {"/original/triangles", "out of range", "100000"});
+    }
+    SECTION("index that does not fit int32") {
+        Image im(good);
+        const BpmFile f = read_bpm_from_memory(good, "x");
+        std::vector<int64_t> ot(f.param.piece_original_triangle.begin(), f.param.piece_original_triangle.end());
+        ot[0] = int64_t(1) << 40;
+        im.replace("/phi/piece_original_triangle", H5T_NATIVE_INT64, {ot.size()}, ot.data());
+        require_input_error(im.bytes(), {"/phi/piece_original_triangle"});
+    }
+    SECTION("piece corner out of its triangle's node range") {
+        Image im(good);
+        im.edit<int32_t>("/phi/pieces", H5T_NATIVE_INT32, [](auto& v) { v[0] = -1; });
+        require_input_error(im.bytes(), {"/phi/pieces", "out of range"});
+    }
+    SECTION("broken CSR offsets") {
+        Image im(good);
+        im.edit<int64_t>("/phi/node_offsets", H5T_NATIVE_INT64, [](auto& v) { v[1] = v[2] + 1; });
+        require_input_error(im.bytes(), {"/phi/node_offsets", "non-decreasing"});
+    }
+    SECTION("CSR offsets not starting at 0") {
+        Image im(good);
+        im.edit<int64_t>("/phi/piece_offsets", H5T_NATIVE_INT64, [](auto& v) { v[0] = 1; });
+        require_input_error(im.bytes(), {"/phi/piece_offsets", "must be 0"});
+    }
+    SECTION("CSR offsets not ending at the dataset length") {
+        Image im(good);
+        im.edit<int64_t>("/phi/node_offsets", H5T_NATIVE_INT64, [](auto& v) { v.back() -= 1; });
+        require_input_error(im.bytes(), {"/phi/node_offsets", "last entry"});
+    }
+    SECTION("invalid node kind") {
+        Image im(good);
+        im.edit<uint8_t>("/phi/node_kind", H5T_NATIVE_UINT8, [](auto& v) { v[2] = 7; });
+        require_input_error(im.bytes(), {"/phi/node_kind", "7"});
+    }
+    SECTION("NaN coordinate") {
+        Image im(good);
+        im.edit<double>("/original/vertices", H5T_NATIVE_DOUBLE, [](auto& v) { v[5] = std::nan(""); });
+        require_input_error(im.bytes(), {"/original/vertices", "not finite"});
+    }
+    SECTION("infinite image") {
+        Image im(good);
+        im.edit<double>("/phi/node_image", H5T_NATIVE_DOUBLE, [](auto& v) { v[0] = HUGE_VAL; });
+        require_input_error(im.bytes(), {"/phi/node_image", "not finite"});
+    }
+    SECTION("edge parameter outside [0, 1] for a crossing") {
+        const BpmFile f = read_bpm_from_memory(good, "x");
+        size_t crossing = 0;
+        while (f.param.node_kind[crossing] != NodeKind::EdgeCrossing) ++crossing;
+        Image im(good);
+        im.edit<double>("/phi/node_edge_parameter", H5T_NATIVE_DOUBLE, [&](auto& v) { v[crossing] = 1.5; });
+        require_input_error(im.bytes(), {"/phi/node_edge_parameter"});
+    }
+    SECTION("unknown major version") {
+        Image im(good);
+        im.set_root_ints("format_version", {2, 0});
+        require_input_error(im.bytes(), {"format_version", "2.0", "newer"});
+    }
+    SECTION("newer minor version is accepted") {
+        Image im(good);
+        im.set_root_ints("format_version", {1, 7});
+        CHECK_NOTHROW(read_bpm_from_memory(im.bytes(), "newer-minor.bpm"));
+    }
+    SECTION("wrong format attribute") {
+        Image im(good);
+        REQUIRE(H5Adelete(im.file, "format") >= 0);
+        require_input_error(im.bytes(), {"format", "missing"});
+    }
+    SECTION("unknown groups and attributes are ignored") {
+        Image im(good);
+        hid_t g = H5Gcreate2(im.file, "/tetmesh_future_thing", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+        H5Gclose(g);
+        im.set_root_ints("format_version", {1, 0});
+        hsize_t n = 1;
+        hid_t space = H5Screate_simple(1, &n, nullptr);
+        hid_t a = H5Acreate2(im.file, "some_future_attribute", H5T_STD_I32LE, space, H5P_DEFAULT, H5P_DEFAULT);
+        int32_t one = 1;
+        H5Awrite(a, H5T_NATIVE_INT32, &one);
+        H5Aclose(a);
+        H5Sclose(space);
+        CHECK_NOTHROW(read_bpm_from_memory(im.bytes(), "extended.bpm"));
+    }
+    SECTION("a huge declared dataset is refused before allocating") {
+        Image im(good);
+        im.replace("/original/vertices", H5T_NATIVE_DOUBLE, {hsize_t(1) << 32, 3}, nullptr, false);
+        require_input_error(im.bytes(), {"/original/vertices", "bytes"});
+    }
+}

@@ -1,0 +1,95 @@
+// bpm-check: validates a .bpm file (or, with --surface, a plain surface file).
+// Thin: options -> CheckSelection/CheckOptions -> run_checks -> text or JSON report.
+#include <iostream>
+#include <sstream>
+
+#include "bpm/bpm_file.h"
+#include "bpm/check.h"
+#include "bpm/errors.h"
+#include "bpm/surface_io.h"
+#include "common/tool_main.h"
+
+int main(int argc, char** argv) {
+    const std::string tool = "bpm-check";
+    CLI::App app{
+        "Validates a parametrized surface (.bpm) and exits 0 only if every requested check passes.\n"
+        "Checks:\n"
+        "  format         structural consistency: sizes, index ranges, CSR offsets, finite values,\n"
+        "                 node barycentrics and identities, images equal to the points they name\n"
+        "  intersections  the coarse surface has no self-intersections (coplanar overlaps included)\n"
+        "  topology       coarse and original surface agree per component in Euler characteristic,\n"
+        "                 orientability, boundary loops, Z2 Betti numbers and non-manifold structure\n"
+        "                 (feature vertices by original id, feature lines with their sheet counts)\n"
+        "  bijectivity    phi is a bijection: pieces tile every coarse and every original triangle\n"
+        "Exit codes: 0 all checks passed, 1 a check failed, 2 usage, 3 unreadable input.",
+        tool};
+    std::string input;
+    std::string checks = "format,intersections,topology,bijectivity";
+    bool original = false, json = false, surface_mode = false;
+    double max_aspect = 0, min_angle = 0;
+    size_t max_problems = 10;
+    std::string surface_format;
+    app.add_option("FILE", input, "Input .bpm file, or a surface file with --surface; '-' reads standard input")
+        ->required();
+    app.add_option("--checks", checks,
+                   "Comma-separated checks to run: format, intersections, topology, bijectivity "
+                   "(default: all). With --surface only intersections and topology apply")
+        ->capture_default_str();
+    app.add_flag("--original", original,
+                 "Also check the original surface S0 for self-intersections (reported as "
+                 "'original-intersections', so a faulty input is told apart from a faulty result)");
+    app.add_flag("--json", json, "Print the report as JSON on standard output (format: spec/check-report.md)");
+    auto* aspect_opt = app.add_option("--max-aspect", max_aspect,
+                                      "Fail if a coarse triangle has aspect ratio R/r above A (2 = equilateral)")
+                           ->check(CLI::PositiveNumber);
+    aspect_opt->type_name("A");
+    auto* angle_opt = app.add_option("--min-angle", min_angle, "Fail if a coarse triangle has an angle below D degrees")
+                          ->check(CLI::Range(0.0, 60.0));
+    angle_opt->type_name("D");
+    app.add_option("--max-problems", max_problems, "Offending elements listed per check")->capture_default_str();
+    app.add_flag("--surface", surface_mode,
+                 "FILE is a plain surface (OFF, OBJ, STL, PLY, MSH): run intersections and topology on it alone");
+    app.add_option("--format", surface_format, "Surface format for --surface when reading '-' (off, obj, stl, ply, msh)");
+    bpm::tools::add_version_flag(app, tool);
+
+    return bpm::tools::run(tool, argc, argv, app, [&]() {
+        bpm::CheckSelection sel;
+        sel.format = sel.intersections = sel.topology = sel.bijectivity = false;
+        std::stringstream list(checks);
+        std::string item;
+        while (std::getline(list, item, ',')) {
+            if (item == "format") sel.format = true;
+            else if (item == "intersections") sel.intersections = true;
+            else if (item == "topology") sel.topology = true;
+            else if (item == "bijectivity") sel.bijectivity = true;
+            else if (item == "all") sel.format = sel.intersections = sel.topology = sel.bijectivity = true;
+            else throw CLI::ValidationError("--checks", "unknown check '" + item + "'");
+        }
+        sel.original_intersections = original;
+        bpm::CheckOptions options;
+        options.max_problems = max_problems;
+        if (*aspect_opt) options.max_aspect_ratio = max_aspect;
+        if (*angle_opt) options.min_angle_degrees = min_angle;
+        const bpm::Context context = bpm::tools::make_context(tool, false, json);
+
+        bpm::CheckReport report;
+        if (surface_mode) {
+            if (sel.format || sel.bijectivity) {
+                if (app.count("--checks"))
+                    throw CLI::ValidationError("--checks", "format and bijectivity need a .bpm file, not --surface");
+                sel.format = sel.bijectivity = false;
+            }
+            bpm::SurfaceReadOptions read_options;
+            if (!surface_format.empty()) {
+                read_options.format = bpm::surface_format_from_name(surface_format);
+                if (!read_options.format) throw CLI::ValidationError("--format", "unknown surface format " + surface_format);
+            }
+            report = bpm::run_surface_checks(bpm::read_surface(input, read_options), sel, options, context);
+        } else {
+            report = bpm::run_checks(bpm::read_bpm(input), sel, options, context);
+        }
+        report.input = input;
+        std::cout << (json ? bpm::check_report_to_json(report) : bpm::check_report_to_text(report)) << std::flush;
+        return report.passed() ? bpm::tools::kOk : bpm::tools::kCheckFailed;
+    });
+}

@@ -1,0 +1,94 @@
+// bpm-simplify: coarse surface + bijective parametrization from a triangulated surface.
+#include <cstdio>
+#include <iostream>
+
+#include "bpm/bpm_file.h"
+#include "bpm/simplify.h"
+#include "bpm/surface_io.h"
+#include "common/tool_main.h"
+
+int main(int argc, char** argv) {
+    const std::string tool = "bpm-simplify";
+    CLI::App app{
+        "Simplify a triangulated surface by point removal, keeping a bijective piecewise-linear map phi from\n"
+        "the coarse surface onto the original (Krause & Sander). Writes a .bpm file (spec/bpm-format.md).\n"
+        "Stops at the first of --vertices / --ratio / --max-error that is reached.",
+        tool};
+    std::string input, output, format;
+    bpm::SimplifyOptions options;
+    bpm::SurfaceReadOptions read_options;
+    bool verbose = false, quiet = false, allow_intersections = false, deterministic = false;
+    std::string units;
+    app.add_option("INPUT", input, "Input surface (.off .obj .stl .ply .msh), or - for standard input")->required();
+    app.add_option("-o,--output", output, "Output .bpm file, or - for standard output")->required();
+    app.add_option("--format", format, "Input format when it cannot be told from the name: off, obj, stl, ply, msh");
+    app.add_option("--vertices", options.target_vertices, "Stop when the coarse surface has this many vertices")
+        ->check(CLI::NonNegativeNumber);
+    app.add_option("--ratio", options.target_ratio,
+                   "Stop at this fraction of the input vertices (0..1; e.g. 0.1 keeps 10%)")
+        ->check(CLI::Range(0.0, 1.0));
+    app.add_option("--max-error", options.max_error,
+                   "Never let max |phi(x) - x| exceed this fraction of the bounding-box diagonal (e.g. 0.005)")
+        ->check(CLI::NonNegativeNumber);
+    app.add_option("--max-edge-length", options.max_edge_length,
+                   "Longest edge a removal may create, as a fraction of the bounding-box diagonal")
+        ->check(CLI::PositiveNumber);
+    app.add_option("--aspect-weight", options.aspect_weight,
+                   "Weight of triangle shape (circumradius/inradius) against geometric error in the cost (default 1)")
+        ->check(CLI::NonNegativeNumber);
+    app.add_option("--feature-angle", options.feature_angle_degrees,
+                   "Keep edges whose normals differ by more than this many degrees as feature lines (default 60; "
+                   "180 = off). Boundaries, patch borders and edges of 3 or more sheets are always kept")
+        ->check(CLI::Range(0.0, 180.0));
+    app.add_flag("--allow-intersections", allow_intersections,
+                 "Do not refuse removals that make the surface intersect itself (faster; output may be unusable "
+                 "for mesh generators)");
+    app.add_flag("--merge-duplicate-vertices", read_options.merge_duplicate_vertices,
+                 "Repair: merge input vertices with identical coordinates (reported)");
+    app.add_flag("--drop-unreferenced-vertices", read_options.drop_unreferenced_vertices,
+                 "Repair: drop input vertices that no triangle uses (reported)");
+    app.add_option("--units", units, "Length unit of the coordinates, recorded in the file (e.g. mm)");
+    app.add_flag("--deterministic", deterministic, "Leave the timestamp out of the provenance (byte-identical output)");
+    app.add_flag("-v,--verbose", verbose, "More detail on standard error");
+    app.add_flag("-q,--quiet", quiet, "Only errors on standard error");
+    bpm::tools::add_version_flag(app, tool);
+
+    return bpm::tools::run(tool, argc, argv, app, [&]() {
+        bpm::tools::require_output_directory(output);
+        if (!format.empty()) {
+            read_options.format = bpm::surface_format_from_name(format);
+            if (!read_options.format) throw CLI::ValidationError("--format", "unknown format '" + format + "'");
+        }
+        if (options.target_vertices == 0 && options.target_ratio == 0 && !std::isfinite(options.max_error))
+            throw CLI::ValidationError("give at least one of --vertices, --ratio, --max-error");
+        options.prevent_intersections = !allow_intersections;
+        const bpm::Context context = bpm::tools::make_context(tool, verbose, quiet);
+
+        bpm::SurfaceReadReport report;
+        const bpm::Surface surface = bpm::read_surface(input, read_options, &report);
+        for (const auto& note : report.notes) context.info(note);
+        context.info("read " + std::to_string(surface.num_vertices()) + " vertices, " +
+                     std::to_string(surface.num_triangles()) + " triangles");
+
+        bpm::BpmFile file;
+        const bpm::SimplifyResult result = bpm::simplify(surface, options, context, file.param);
+        file.units = units;
+        file.provenance.push_back({tool, bpm::tools::version_line(tool), bpm::tools::command_line(argc, argv),
+                                   deterministic ? std::string() : bpm::tools::utc_timestamp()});
+        bpm::write_bpm(output, file);
+
+        char line[512];
+        std::snprintf(line, sizeof line,
+                      "%lld -> %lld vertices (%lld triangles), max error %.3g of diagonal, worst aspect ratio %.3g, "
+                      "%.2f s",
+                      (long long)result.input_vertices, (long long)result.output_vertices,
+                      (long long)result.output_triangles, result.max_error, result.worst_aspect_ratio, result.seconds);
+        context.info(line);
+        if (!result.target_reached) {
+            context.warn("stopped before the target: " + result.stop_reason);
+            for (const auto& [why, count] : result.blocked)
+                context.warn("  " + std::to_string(count) + " vertices kept: " + why);
+        }
+        return int(bpm::tools::kOk);
+    });
+}
