@@ -81,7 +81,10 @@ CheckResult check_bijectivity(const Parametrization& p, const CheckOptions& opti
     context.report(0.0, "checking the pieces of each coarse triangle");
     std::vector<DirectedEdge> edges;
     std::vector<std::pair<Vec2, int64_t>> sorted_nodes;
-    std::vector<int64_t> on_edge[3];
+    // Scratch buffers reused across triangles (no allocation per triangle).
+    std::vector<uint8_t> used;
+    std::vector<std::array<int64_t, 2>> boundary_found[3];
+    std::vector<std::pair<double, int64_t>> along;
     for (int32_t t = 0; t < nt; ++t) {
         if ((t & 0xfff) == 0) context.report(0.4 * t / std::max(nt, 1), "checking the pieces of each coarse triangle");
         const int64_t n0 = p.node_offsets[t], n1 = p.node_offsets[t + 1];
@@ -100,7 +103,7 @@ CheckResult check_bijectivity(const Parametrization& p, const CheckOptions& opti
                 add({{"coarse_triangle", t}, {"node", sorted_nodes[i].second}},
                     "same parameter point as node " + n_str(sorted_nodes[i - 1].second));
         // Orientation and area of each piece; used nodes.
-        std::vector<uint8_t> used(static_cast<size_t>(n1 - n0), 0);
+        used.assign(static_cast<size_t>(n1 - n0), 0);
         double area_sum = 0.0;
         edges.clear();
         for (int64_t q = q0; q < q1; ++q) {
@@ -134,7 +137,7 @@ CheckResult check_bijectivity(const Parametrization& p, const CheckOptions& opti
                                               " times the area of the parameter triangle (gap or overlap)");
         // Edge matching.
         std::sort(edges.begin(), edges.end());
-        std::vector<std::array<int64_t, 2>> boundary_found[3];
+        for (auto& f : boundary_found) f.clear();
         for (size_t i = 0; i < edges.size();) {
             size_t j = i;
             while (j < edges.size() && edges[j].lo == edges[i].lo && edges[j].hi == edges[i].hi) ++j;
@@ -171,7 +174,7 @@ CheckResult check_bijectivity(const Parametrization& p, const CheckOptions& opti
         // consecutive nodes along it, from corner k to corner k+1.
         for (int k = 0; k < 3; ++k) {
             const int z = (k + 2) % 3, s = (k + 1) % 3;
-            std::vector<std::pair<double, int64_t>> along;
+            along.clear();
             for (int64_t n = n0; n < n1; ++n)
                 if (p.node_barycentric[n][z] == 0) along.push_back({p.node_barycentric[n][s], n - n0});
             std::sort(along.begin(), along.end());
@@ -329,13 +332,51 @@ CheckResult check_bijectivity(const Parametrization& p, const CheckOptions& opti
         }
     }
 
-    // ---- D: every piece maps into its original triangle, positively oriented ----
+    // ---- D: every piece maps into its original triangle, with a consistent orientation ----
     context.report(0.6, "checking pieces against original triangles");
+    // Orientation of an image relative to its original triangle must be positive where
+    // the original surface is consistently oriented (orientation is preserved). On a
+    // component that is not (a Moebius strip, or an input with flipped triangles) no
+    // coarse surface can match it everywhere, so there a piece may be reversed as long
+    // as everything mapping into one original triangle agrees (checked in E; the pieces
+    // of one coarse triangle may differ: their original triangles may be oriented
+    // inconsistently with each other).
+    const SurfaceConnectivity original_conn = build_connectivity(p.original);
+    std::vector<uint8_t> original_consistent(p.original.num_triangles(), 1);
+    {
+        std::vector<int32_t> parent(p.original.num_triangles());
+        for (size_t i = 0; i < parent.size(); ++i) parent[i] = static_cast<int32_t>(i);
+        auto find = [&](int32_t x) {
+            while (parent[x] != x) x = parent[x] = parent[parent[x]];
+            return x;
+        };
+        std::vector<uint8_t> bad_edge(original_conn.num_edges(), 0);
+        for (int32_t e = 0; e < original_conn.num_edges(); ++e) {
+            const int64_t b = original_conn.edge_triangle_offsets[e], en = original_conn.edge_triangle_offsets[e + 1];
+            for (int64_t i = b + 1; i < en; ++i) {
+                const int32_t x = find(original_conn.edge_triangles[b]), y = find(original_conn.edge_triangles[i]);
+                if (x != y) parent[std::max(x, y)] = std::min(x, y);
+            }
+            if (en - b != 2) continue;
+            auto runs_forward = [&](int32_t t) {
+                for (int k = 0; k < 3; ++k)
+                    if (original_conn.triangle_edges[t][k] == e) return p.original.triangles[t][k] == original_conn.edges[e][0];
+                return false;
+            };
+            if (runs_forward(original_conn.edge_triangles[b]) == runs_forward(original_conn.edge_triangles[b + 1]))
+                bad_edge[e] = 1;
+        }
+        std::vector<uint8_t> root_ok(p.original.num_triangles(), 1);
+        for (int32_t e = 0; e < original_conn.num_edges(); ++e)
+            if (bad_edge[e]) root_ok[find(original_conn.edge_triangles[original_conn.edge_triangle_offsets[e]])] = 0;
+        for (int32_t o = 0; o < p.original.num_triangles(); ++o) original_consistent[o] = root_ok[find(o)];
+    }
+    std::vector<int8_t> piece_sign(np, 1);
+    int64_t reversed_pieces = 0;
     // Per piece corner: coordinates in the original triangle's chart and the set of
     // its corners with non-zero coefficient (bit mask).
     std::vector<std::array<Vec2, 3>> piece_chart(np);
     std::vector<std::array<uint8_t, 3>> piece_support(np);
-    std::vector<std::array<double, 3>> beta_full;  // scratch
     std::vector<uint8_t> piece_ok(np, 1);
     for (int32_t t = 0; t < nt; ++t) {
         const int64_t n0 = p.node_offsets[t];
@@ -388,12 +429,21 @@ CheckResult check_bijectivity(const Parametrization& p, const CheckOptions& opti
             for (uint8_t pair : {uint8_t(3), uint8_t(5), uint8_t(6)})
                 if ((sp[0] & ~pair) == 0 && (sp[1] & ~pair) == 0 && (sp[2] & ~pair) == 0) degenerate = true;
             const int orientation = degenerate ? 0 : orient2d(piece_chart[q][0], piece_chart[q][1], piece_chart[q][2]);
-            if (orientation <= 0) {
+            if (orientation == 0) {
                 add({{"coarse_triangle", t}, {"piece", q}},
-                    orientation == 0 ? "image in original triangle " + n_str(o) + " is degenerate (zero area)"
-                                     : "maps into original triangle " + n_str(o) + " with reversed orientation");
+                    "image in original triangle " + n_str(o) + " is degenerate (zero area)");
                 piece_ok[q] = 0;
+                continue;
             }
+            if (orientation < 0 && original_consistent[o]) {
+                add({{"coarse_triangle", t}, {"piece", q}},
+                    "maps into original triangle " + n_str(o) +
+                        " with reversed orientation (the original surface is consistently oriented there)");
+                piece_ok[q] = 0;
+                continue;
+            }
+            piece_sign[q] = static_cast<int8_t>(orientation);
+            reversed_pieces += orientation < 0;
         }
     }
 
@@ -416,17 +466,22 @@ CheckResult check_bijectivity(const Parametrization& p, const CheckOptions& opti
         auto corner_position = [&](int64_t q, int k) {
             return node_position[p.node_offsets[piece_coarse[q]] + p.pieces[q][k]];
         };
-        const SurfaceConnectivity original_conn = build_connectivity(p.original);
         // Per original edge: the sequence of positions along it (from its smaller vertex)
         // as seen from the first incident triangle, to compare the others with.
         std::vector<int32_t> edge_first_triangle(original_conn.num_edges(), -1);
-        std::vector<std::vector<int64_t>> edge_sequence(original_conn.num_edges());
+        // Flat storage: offset of the first triangle's sequence in `sequences`, -1 if none yet.
+        std::vector<int64_t> edge_sequence(original_conn.num_edges(), -1);
+        std::vector<int32_t> edge_sequence_length(original_conn.num_edges(), 0);
+        std::vector<int64_t> sequences;
         std::vector<DirectedEdge> tedges;
         struct Along {
             double s;
             int64_t position;
             bool operator<(const Along& o) const { return s != o.s ? s < o.s : position < o.position; }
         };
+        std::vector<Along> along_o[3];
+        std::vector<std::array<int64_t, 2>> boundary_o[3];
+        std::vector<int64_t> seq;
         for (int32_t o = 0; o < nt0; ++o) {
             if ((o & 0xfff) == 0) context.report(0.75 + 0.25 * o / std::max(nt0, 1), "checking coverage of the original triangles");
             if (off[o] == off[o + 1]) {
@@ -436,13 +491,21 @@ CheckResult check_bijectivity(const Parametrization& p, const CheckOptions& opti
             bool all_ok = true;
             for (int64_t i = off[o]; i < off[o + 1]; ++i) all_ok = all_ok && piece_ok[by_triangle[i]];
             if (!all_ok) continue;  // already reported per piece
+            const int8_t sign = piece_sign[by_triangle[off[o]]];
+            bool same_sign = true;
+            for (int64_t i = off[o]; i < off[o + 1]; ++i) same_sign = same_sign && piece_sign[by_triangle[i]] == sign;
+            if (!same_sign) {
+                add({{"original_triangle", o}}, "pieces map into it with both orientations (a fold)");
+                continue;
+            }
             double area_sum = 0.0;
             tedges.clear();
-            std::vector<Along> along[3];
+            for (auto& a : along_o) a.clear();
+            auto& along = along_o;
             for (int64_t i = off[o]; i < off[o + 1]; ++i) {
                 const int64_t q = by_triangle[i];
                 const auto& c = piece_chart[q];
-                area_sum += 0.5 * area2(c[0], c[1], c[2]);
+                area_sum += 0.5 * sign * area2(c[0], c[1], c[2]);
                 for (int k = 0; k < 3; ++k) {
                     const int64_t a = corner_position(q, k), b = corner_position(q, (k + 1) % 3);
                     tedges.push_back({std::min(a, b), std::max(a, b), a < b, q});
@@ -463,7 +526,8 @@ CheckResult check_bijectivity(const Parametrization& p, const CheckOptions& opti
                 add({{"original_triangle", o}}, "pieces cover " + detail::format_number(fraction) +
                                                     " times its area (gap or overlap on the original surface)");
             std::sort(tedges.begin(), tedges.end());
-            std::vector<std::array<int64_t, 2>> boundary_found[3];
+            auto& boundary_found = boundary_o;
+            for (auto& f : boundary_found) f.clear();
             for (size_t i = 0; i < tedges.size();) {
                 size_t j = i;
                 while (j < tedges.size() && tedges[j].lo == tedges[i].lo && tedges[j].hi == tedges[i].hi) ++j;
@@ -522,14 +586,18 @@ CheckResult check_bijectivity(const Parametrization& p, const CheckOptions& opti
                 }
                 // Compare the subdivision of this original edge with the other triangles'.
                 const int32_t u = ot[side], w = ot[(side + 1) % 3];
-                const int32_t e = original_conn.find_edge(u, w);
-                std::vector<int64_t> seq;
+                const int32_t e = original_conn.triangle_edges[o][side];
+                seq.clear();
                 for (auto& a : pts) seq.push_back(a.position);
                 if (u > w) std::reverse(seq.begin(), seq.end());
+                if (original_conn.edge_degree(e) < 2) continue;  // nothing to compare with
                 if (edge_first_triangle[e] < 0) {
                     edge_first_triangle[e] = o;
-                    edge_sequence[e] = std::move(seq);
-                } else if (edge_sequence[e] != seq) {
+                    edge_sequence[e] = static_cast<int64_t>(sequences.size());
+                    edge_sequence_length[e] = static_cast<int32_t>(seq.size());
+                    sequences.insert(sequences.end(), seq.begin(), seq.end());
+                } else if (edge_sequence_length[e] != static_cast<int32_t>(seq.size()) ||
+                           !std::equal(seq.begin(), seq.end(), sequences.begin() + edge_sequence[e])) {
                     add({{"original_triangle", o}},
                         "the points along its edge (" + n_str(std::min(u, w)) + ", " + n_str(std::max(u, w)) +
                             ") differ from those of original triangle " + n_str(edge_first_triangle[e]));
@@ -542,6 +610,7 @@ CheckResult check_bijectivity(const Parametrization& p, const CheckOptions& opti
     r.add_count("nodes", nn);
     r.add_count("pieces", np);
     r.add_count("original_triangles", p.original.num_triangles());
+    r.add_count("reversed_pieces", reversed_pieces);
     r.worst = WorstValue{"area_sum_deviation", worst, worst_ids};
     r.summary = std::to_string(nt) + " coarse triangles, " + std::to_string(np) + " pieces tile " +
                 std::to_string(p.original.num_triangles()) + " original triangles";

@@ -326,7 +326,6 @@ CheckResult check_format(const Parametrization& p, const CheckOptions& options, 
                 if (!(s > 0.0 && s < 1.0)) {
                     add(ids, "edge parameter " + detail::format_number(s) + " is not strictly between 0 and 1");
                 }
-                expected = (1.0 - s) * p.original.vertices[e[0]] + s * p.original.vertices[e[1]];
             } else {
                 if (p.node_original_edge[n] != std::array<int32_t, 2>{-1, -1})
                     add(ids, "vertex node names original edge (" + std::to_string(p.node_original_edge[n][0]) + ", " +
@@ -334,9 +333,10 @@ CheckResult check_format(const Parametrization& p, const CheckOptions& options, 
                 if (!std::isnan(p.node_edge_parameter[n]))
                     add(ids, "vertex node has edge parameter " + detail::format_number(p.node_edge_parameter[n]) +
                                  "; expected NaN");
-                expected = p.original.vertices[p.node_original_vertex[n]];
             }
             if (identity_ok) {
+                // Indices were range-checked by structure(); the writer uses the same function.
+                expected = node_image_from_kind(p, n);
                 const double d = distance(expected, p.node_image[n]);
                 deviation(d, ids);
                 if (!(d <= tolerance))

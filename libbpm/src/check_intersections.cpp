@@ -27,6 +27,15 @@ using Box = CGAL::Box_intersection_d::Box_with_info_d<double, 3, int32_t>;
 // coordinate plane onto which a's plane projects bijectively (checked exactly).
 // Returns -1 when undecided (b crosses a's plane transversally): the caller then uses
 // the general predicate.
+// orient3d with an exact shortcut for four points in one axis-aligned plane (flat
+// faces of CAD and voxel models), where the filtered predicate cannot certify the zero
+// and falls back to slow exact arithmetic.
+int orient3d_flat(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
+    for (int k = 0; k < 3; ++k)
+        if (a[k] == b[k] && a[k] == c[k] && a[k] == d[k]) return 0;
+    return orient3d(a, b, c, d);
+}
+
 int drop_axis(const Vec3& p, const Vec3& q, const Vec3& r) {
     const Vec3 n = cross(q - p, r - p);
     int order[3] = {0, 1, 2};
@@ -50,7 +59,7 @@ bool in_wedge(int k, const Vec3& s, const Vec3& a1, const Vec3& a2, const Vec3& 
 int one_shared_vertex(const Vec3 a[3], int ia, const Vec3 b[3], int ib) {
     const Vec3 &s = a[ia], &a1 = a[(ia + 1) % 3], &a2 = a[(ia + 2) % 3];
     const Vec3 &b1 = b[(ib + 1) % 3], &b2 = b[(ib + 2) % 3];
-    const int o1 = orient3d(s, a1, a2, b1), o2 = orient3d(s, a1, a2, b2);
+    const int o1 = orient3d_flat(s, a1, a2, b1), o2 = orient3d_flat(s, a1, a2, b2);
     if (o1 != 0 && o1 == o2) return 0;
     if (o1 == 0 || o2 == 0) {
         // b meets a's plane in a segment from s or in all of b (coplanar).
@@ -66,7 +75,7 @@ int one_shared_vertex(const Vec3 a[3], int ia, const Vec3 b[3], int ib) {
         return in_wedge(k, s, a1, a2, o1 == 0 ? b1 : b2) ? 1 : 0;
     }
     // b crosses a's plane; look from b's side.
-    const int p1 = orient3d(b[ib], b1, b2, a1), p2 = orient3d(b[ib], b1, b2, a2);
+    const int p1 = orient3d_flat(b[ib], b1, b2, a1), p2 = orient3d_flat(b[ib], b1, b2, a2);
     if (p1 != 0 && p1 == p2) return 0;
     if (p1 != 0 && p2 != 0) return -1;
     // a meets b's plane in a segment from s (p1 == p2 == 0 would make a and b coplanar).
@@ -74,6 +83,22 @@ int one_shared_vertex(const Vec3 a[3], int ia, const Vec3 b[3], int ib) {
     if (k < 0) return -1;
     return in_wedge(k, b[ib], b1, b2, p1 == 0 ? a1 : a2) ? 1 : 0;
 }
+// Triangles sharing the edge (p, q): they meet beyond it exactly when they are
+// coplanar and their third corners lie on the same side of the line pq.
+int shared_edge(const Vec3 a[3], const Vec3 b[3], const int shared[3]) {
+    int ia = 0;
+    while (shared[ia] >= 0) ++ia;
+    const int ip = (ia + 1) % 3, iq = (ia + 2) % 3;
+    const int ib = 3 - shared[ip] - shared[iq];
+    const Vec3 &p = a[ip], &q = a[iq], &ra = a[ia], &rb = b[ib];
+    if (orient3d_flat(p, q, ra, rb) != 0) return 0;
+    const int k = drop_axis(p, q, ra);
+    if (k < 0) return -1;
+    const int i = (k + 1) % 3, j = (k + 2) % 3;
+    const Vec2 P{p[i], p[j]}, Q{q[i], q[j]};
+    return orient2d(P, Q, {ra[i], ra[j]}) == orient2d(P, Q, {rb[i], rb[j]}) ? 1 : 0;
+}
+
 }  // namespace
 
 CheckResult check_intersections(const Surface& surface, const CheckOptions& options, const Context& context,
@@ -137,7 +162,9 @@ CheckResult check_intersections(const Surface& surface, const CheckOptions& opti
                 }
         const Vec3 a[3] = {V[A[0]], V[A[1]], V[A[2]]};
         const Vec3 b[3] = {V[B[0]], V[B[1]], V[B[2]]};
-        const int fast = count == 1 ? one_shared_vertex(a, shared_a, b, shared_b) : -1;
+        const int fast = count == 1 ? one_shared_vertex(a, shared_a, b, shared_b)
+                         : count == 2 ? shared_edge(a, b, shared)
+                                      : -1;
         if (fast == 0 || (fast < 0 && !triangles_intersect_improperly(a, b, shared))) return;
         ++intersecting;
         first_pairs.insert({ta, tb});

@@ -62,6 +62,10 @@ CheckResult check_quality(const Surface& surface, const CheckOptions& options, c
     }
     r.add_count("aspect_violations", aspect_violations);
     r.add_count("angle_violations", angle_violations);
+    if (surface.num_triangles() == 0) {
+        r.summary = "no triangles";
+        return r;
+    }
     if (options.min_angle_degrees && !options.max_aspect_ratio)
         r.worst = WorstValue{"min_angle_degrees", worst_angle, {{"triangle", worst_angle_t}}};
     else

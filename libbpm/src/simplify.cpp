@@ -71,11 +71,13 @@ private:
     RemovalPlan plan_;
     std::vector<int32_t> candidates_;
     int32_t first_new_ = 0;
+    int64_t plans_[2] = {0, 0};
 
     void rebuild_grid();
     bool intersects_rest(const RemovalPlan& plan);
     // Cost of removing v, +infinity if it cannot be removed now (reason recorded).
-    double evaluate(int32_t v, RemovalPlan& plan);
+    // `final` = about to commit: full validation and the intersection test.
+    double evaluate(int32_t v, bool final, RemovalPlan& plan);
     void push(int32_t v);
     void self_check(int32_t removed_vertex, const std::vector<int32_t>& link, int64_t step);
 };
@@ -174,8 +176,9 @@ bool Simplifier::intersects_rest(const RemovalPlan& plan) {
     return false;
 }
 
-double Simplifier::evaluate(int32_t v, RemovalPlan& plan) {
-    remover_->plan(v, plan);
+double Simplifier::evaluate(int32_t v, bool final, RemovalPlan& plan) {
+    remover_->plan(v, final, plan);
+    ++plans_[final ? 1 : 0];
     if (!plan.valid) {
         last_reason_[v] = plan.reason;
         return std::numeric_limits<double>::infinity();
@@ -189,7 +192,7 @@ double Simplifier::evaluate(int32_t v, RemovalPlan& plan) {
         last_reason_[v] = "edge length limit (--max-edge-length)";
         return std::numeric_limits<double>::infinity();
     }
-    if (options_.prevent_intersections && intersects_rest(plan)) {
+    if (final && options_.prevent_intersections && intersects_rest(plan)) {
         last_reason_[v] = "would create a self-intersection";
         return std::numeric_limits<double>::infinity();
     }
@@ -201,7 +204,7 @@ double Simplifier::evaluate(int32_t v, RemovalPlan& plan) {
 
 void Simplifier::push(int32_t v) {
     ++stamp_[v];
-    const double cost = evaluate(v, plan_);
+    const double cost = evaluate(v, false, plan_);
     if (std::isfinite(cost)) queue_.push({cost, v, stamp_[v]});
 }
 
@@ -237,7 +240,7 @@ SimplifyResult Simplifier::run(Parametrization& out) {
         if (top.stamp != stamp_[top.vertex] || !mesh_.vertex_alive(top.vertex)) continue;
         // The neighbourhood is unchanged since the evaluation (stamp), but other
         // removals may have moved triangles near it: plan and test again.
-        const double cost = evaluate(top.vertex, plan_);
+        const double cost = evaluate(top.vertex, true, plan_);
         if (!std::isfinite(cost)) continue;
         if (cost > top.cost + 1e-15 && !queue_.empty() && cost > queue_.top().cost) {
             queue_.push({cost, top.vertex, stamp_[top.vertex]});
@@ -286,7 +289,7 @@ SimplifyResult Simplifier::run(Parametrization& out) {
             std::string why = last_reason_[v];
             if (why.empty()) {
                 std::string reason;
-                remover_->plan(v, plan_);
+                remover_->plan(v, true, plan_);
                 why = plan_.valid ? "not reached" : plan_.reason;
             }
             ++result.blocked[why];
@@ -346,6 +349,7 @@ SimplifyResult Simplifier::run(Parametrization& out) {
             result.worst_aspect_ratio,
             aspect_ratio(out.coarse.vertices[t[0]], out.coarse.vertices[t[1]], out.coarse.vertices[t[2]]));
     result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    context_.debug("plans: " + std::to_string(plans_[0]) + " cheap, " + std::to_string(plans_[1]) + " full");
     context_.report(1.0, "done");
     return result;
 }

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <charconv>
 #include <cmath>
 #include <cstdarg>
 #include <cstdio>
@@ -157,6 +158,24 @@ void appendf(std::string& out, const char* format, ...) {
     if (n > 0) out.append(buffer, std::min(static_cast<size_t>(n), sizeof buffer - 1));
 }
 
+// A double with 17 significant digits (like "%.17g", so it reads back to the same
+// bits) and, unlike printf, independent of the C locale's decimal separator.
+void append_double(std::string& out, double x) {
+    char buffer[40];
+    const auto result = std::to_chars(buffer, buffer + sizeof buffer, x, std::chars_format::general, 17);
+    out.append(buffer, result.ptr);
+}
+
+// "x y z\n" after `prefix`.
+void append_point(std::string& out, const char* prefix, const Vec3& p) {
+    out += prefix;
+    for (int k = 0; k < 3; ++k) {
+        if (k > 0) out += ' ';
+        append_double(out, p[k]);
+    }
+    out += '\n';
+}
+
 template <class T>
 void put_le(std::string& out, T value) {
     unsigned char raw[sizeof(T)];
@@ -168,7 +187,7 @@ void put_le(std::string& out, T value) {
 std::string write_off(const Surface& s) {
     std::string out;
     appendf(out, "OFF\n%d %d 0\n", s.num_vertices(), s.num_triangles());
-    for (const Vec3& p : s.vertices) appendf(out, "%.17g %.17g %.17g\n", p[0], p[1], p[2]);
+    for (const Vec3& p : s.vertices) append_point(out, "", p);
     for (const Tri& t : s.triangles) appendf(out, "3 %d %d %d\n", t[0], t[1], t[2]);
     return out;
 }
@@ -177,7 +196,7 @@ std::string write_obj(const Surface& s) {
     std::string out;
     appendf(out, "# bpm surface: %d vertices, %d triangles; groups patch_N are patch ids\n", s.num_vertices(),
             s.num_triangles());
-    for (const Vec3& p : s.vertices) appendf(out, "v %.17g %.17g %.17g\n", p[0], p[1], p[2]);
+    for (const Vec3& p : s.vertices) append_point(out, "v ", p);
     for (size_t t = 0; t < s.triangles.size(); ++t) {
         if (t == 0 || s.patches[t] != s.patches[t - 1]) appendf(out, "g patch_%d\n", s.patches[t]);
         const Tri& tri = s.triangles[t];
@@ -246,8 +265,12 @@ std::string write_msh(const Surface& s) {
                 first = false;
             }
         }
-        appendf(out, "%d %.17g %.17g %.17g %.17g %.17g %.17g 1 %d 0\n", entity, lo[0], lo[1], lo[2], hi[0], hi[1],
-                hi[2], patch);
+        appendf(out, "%d ", entity);
+        for (double x : {lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]}) {
+            append_double(out, x);
+            out += ' ';
+        }
+        appendf(out, "1 %d 0\n", patch);
     }
     out += "$EndEntities\n$Nodes\n";
     const int nv = s.num_vertices();
@@ -256,7 +279,7 @@ std::string write_msh(const Surface& s) {
     } else {
         appendf(out, "1 %d 1 %d\n2 1 0 %d\n", nv, nv, nv);
         for (int i = 1; i <= nv; ++i) appendf(out, "%d\n", i);
-        for (const Vec3& p : s.vertices) appendf(out, "%.17g %.17g %.17g\n", p[0], p[1], p[2]);
+        for (const Vec3& p : s.vertices) append_point(out, "", p);
     }
     out += "$EndNodes\n$Elements\n";
     const size_t nt = s.triangles.size();

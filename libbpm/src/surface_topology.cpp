@@ -74,11 +74,6 @@ struct ParityUnionFind {
     }
 };
 
-inline uint64_t edge_key(int32_t a, int32_t b) {
-    if (a > b) std::swap(a, b);
-    return (static_cast<uint64_t>(static_cast<uint32_t>(a)) << 32) | static_cast<uint32_t>(b);
-}
-
 // Rank over GF(2) of the rows (sorted column lists). Rows are reduced by their
 // smallest column against the pivot rows found so far.
 int64_t gf2_rank(std::vector<std::vector<int32_t>> rows) {
@@ -119,38 +114,55 @@ SurfaceConnectivity build_connectivity(const Surface& surface) {
     SurfaceConnectivity c;
     const int32_t nt = surface.num_triangles();
     const int32_t nv = surface.num_vertices();
+    // Half-edges bucketed by their smaller vertex (counting sort), then each small
+    // bucket sorted by (larger vertex, triangle): edges come out in lexicographic order
+    // in linear time, which matters for million-triangle surfaces.
     struct Incidence {
-        uint64_t key;
+        int32_t other;
         int32_t triangle;
         int32_t local;
     };
-    std::vector<Incidence> inc;
-    inc.reserve(static_cast<size_t>(nt) * 3);
+    std::vector<int64_t> bucket(static_cast<size_t>(nv) + 1, 0);
     for (int32_t t = 0; t < nt; ++t) {
         const Tri& tri = surface.triangles[t];
         for (int k = 0; k < 3; ++k) {
             const int32_t a = tri[k], b = tri[(k + 1) % 3];
-            if (a == b) continue;
-            inc.push_back({edge_key(a, b), t, k});
+            if (a != b) ++bucket[std::min(a, b) + 1];
         }
     }
-    std::sort(inc.begin(), inc.end(), [](const Incidence& x, const Incidence& y) {
-        return x.key != y.key ? x.key < y.key : (x.triangle != y.triangle ? x.triangle < y.triangle : x.local < y.local);
-    });
+    for (int32_t v = 0; v < nv; ++v) bucket[v + 1] += bucket[v];
+    std::vector<Incidence> inc(static_cast<size_t>(bucket[nv]));
+    {
+        std::vector<int64_t> fill(bucket.begin(), bucket.end() - 1);
+        for (int32_t t = 0; t < nt; ++t) {
+            const Tri& tri = surface.triangles[t];
+            for (int k = 0; k < 3; ++k) {
+                const int32_t a = tri[k], b = tri[(k + 1) % 3];
+                if (a != b) inc[fill[std::min(a, b)]++] = {std::max(a, b), t, k};
+            }
+        }
+    }
     c.triangle_edges.assign(nt, {-1, -1, -1});
     c.edge_triangle_offsets.push_back(0);
     c.edge_triangles.reserve(inc.size());
-    for (size_t i = 0; i < inc.size();) {
-        size_t j = i;
-        const int32_t e = static_cast<int32_t>(c.edges.size());
-        c.edges.push_back({static_cast<int32_t>(inc[i].key >> 32), static_cast<int32_t>(inc[i].key & 0xffffffffu)});
-        for (; j < inc.size() && inc[j].key == inc[i].key; ++j) {
-            c.triangle_edges[inc[j].triangle][inc[j].local] = e;
-            // A triangle listed twice on one edge cannot happen without a repeated corner.
-            c.edge_triangles.push_back(inc[j].triangle);
+    c.edges.reserve(inc.size() / 2 + 1);
+    for (int32_t u = 0; u < nv; ++u) {
+        auto first = inc.begin() + bucket[u], last = inc.begin() + bucket[u + 1];
+        std::sort(first, last, [](const Incidence& x, const Incidence& y) {
+            return x.other != y.other ? x.other < y.other
+                                      : (x.triangle != y.triangle ? x.triangle < y.triangle : x.local < y.local);
+        });
+        for (auto i = first; i != last;) {
+            auto j = i;
+            const int32_t e = static_cast<int32_t>(c.edges.size());
+            c.edges.push_back({u, i->other});
+            for (; j != last && j->other == i->other; ++j) {
+                c.triangle_edges[j->triangle][j->local] = e;
+                c.edge_triangles.push_back(j->triangle);
+            }
+            c.edge_triangle_offsets.push_back(static_cast<int64_t>(c.edge_triangles.size()));
+            i = j;
         }
-        c.edge_triangle_offsets.push_back(static_cast<int64_t>(c.edge_triangles.size()));
-        i = j;
     }
     // Vertex -> triangles by counting sort (triangles come out ascending).
     c.vertex_triangle_offsets.assign(static_cast<size_t>(nv) + 1, 0);
@@ -665,6 +677,13 @@ std::vector<std::string> compare_topology(const SurfaceTopology& a, const Surfac
         // Feature lines: lines with inner vertices are matched through them; single-edge
         // lines by their ends. Every original line must be matched exactly once.
         std::vector<int32_t> matched_by(a.feature_lines.size(), -1);
+        // Open original lines by (ends, sheets, patches), for lines without inner vertices.
+        using EndKey = std::tuple<int32_t, int32_t, int32_t, std::vector<int32_t>>;
+        std::map<EndKey, std::vector<int32_t>> by_ends;
+        for (size_t i = a.feature_lines.size(); i-- > 0;) {
+            const FeatureLine& l = a.feature_lines[i];
+            if (!l.closed) by_ends[EndKey{l.first_vertex, l.last_vertex, l.sheets, l.patches}].push_back(static_cast<int32_t>(i));
+        }
         std::vector<size_t> order;
         for (size_t j = 0; j < b.feature_lines.size(); ++j)
             if (b.feature_lines[j].vertices.size() > (b.feature_lines[j].closed ? 0u : 2u)) order.push_back(j);
@@ -691,9 +710,13 @@ std::vector<std::string> compare_topology(const SurfaceTopology& a, const Surfac
                         candidate = -1;
                 }
                 if (candidate >= 0 && !fits(a.feature_lines[candidate])) candidate = -1;
-            } else {
-                for (size_t i = 0; i < a.feature_lines.size() && candidate < 0; ++i)
-                    if (matched_by[i] < 0 && fits(a.feature_lines[i])) candidate = static_cast<int32_t>(i);
+            } else if (!lb.closed) {
+                auto it = by_ends.find(EndKey{fa, la, lb.sheets, lb.patches});
+                if (it != by_ends.end()) {
+                    auto& list = it->second;  // smallest index last
+                    while (!list.empty() && matched_by[list.back()] >= 0) list.pop_back();
+                    if (!list.empty()) candidate = list.back();
+                }
             }
             if (candidate < 0) {
                 add("coarse " + line_name(lb) + " matches no original feature line (ends mapped to original " +

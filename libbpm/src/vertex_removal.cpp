@@ -41,7 +41,8 @@ struct StarNode {
     int32_t edge_lo = -1, edge_hi = -1;
     double edge_s = 0.0;
     // Location in the new triangulation (free nodes).
-    int32_t new_triangle = -1;  // inside this new triangle
+    int32_t new_triangle = -1;  // inside this new triangle, at `bary`
+    Vec3 bary{};
     int32_t diagonal = -1;      // or on this diagonal
     double diagonal_t = 0.0;    // parameter from diagonal's first to second polygon corner
 };
@@ -57,8 +58,37 @@ struct NewCrossing {
     int32_t diagonal;
     int32_t lo, hi;  // the diagonal as a coarse edge, lo < hi
     double s;        // along it from lo
-    double sigma;  // along the original edge
+    double sigma;    // along the original edge
     int32_t edge;
+    double lambda;   // along the straightened segment
+};
+
+struct Piece {
+    int32_t triangle;  // new triangle (polygon-local index)
+    int32_t item0, item1;  // star node id, or #nodes + new crossing index
+    int32_t edge;
+};
+
+// A map from original vertex to star node that is cleared in O(1).
+class VertexSlots {
+public:
+    void resize(size_t n) {
+        if (value_.size() < n) {
+            value_.resize(n, -1);
+            stamp_.resize(n, 0);
+        }
+    }
+    void clear() { ++current_; }
+    int32_t get(int32_t v) const { return stamp_[v] == current_ ? value_[v] : -1; }
+    void set(int32_t v, int32_t id) {
+        value_[v] = id;
+        stamp_[v] = current_;
+    }
+
+private:
+    std::vector<int32_t> value_;
+    std::vector<uint32_t> stamp_;
+    uint32_t current_ = 1;
 };
 
 inline int32_t mod(int32_t i, int32_t n) { return ((i % n) + n) % n; }
@@ -81,18 +111,7 @@ double angle_between(const Vec3& a, const Vec3& b) {
 
 }  // namespace
 
-struct RemovalScratch {
-    std::vector<Fan> fans;
-    std::vector<int32_t> around;
-    std::vector<SurfacePoint> points;
-    std::vector<double> sigmas;
-};
 
-VertexRemover::VertexRemover(const CoarseMesh& mesh, const Embedding& embedding,
-                             const std::vector<int8_t>& orientation_sign)
-    : mesh_(mesh), embedding_(embedding), orientation_sign_(orientation_sign), scratch_(new RemovalScratch) {}
-
-VertexRemover::~VertexRemover() { delete scratch_; }
 
 namespace {
 
@@ -106,7 +125,11 @@ VertexClass build_fans(const CoarseMesh& mesh, int32_t v, bool force_disk, std::
         why = "vertex already removed";
         return VertexClass::Feature;
     }
-    std::vector<int32_t> hard, crease;
+    static thread_local std::vector<int32_t> hard, crease, features, starts;
+    hard.clear();
+    crease.clear();
+    features.clear();
+    starts.clear();
     for (int32_t t : tris)
         for (int32_t x : mesh.triangle(t)) {
             if (x == v) continue;
@@ -121,7 +144,6 @@ VertexClass build_fans(const CoarseMesh& mesh, int32_t v, bool force_disk, std::
     // Hard feature lines are always kept. Creases are followed when exactly two meet
     // here; otherwise (a crease ending, a junction of creases) the vertex is removed as
     // a disk if the geometric error allows it.
-    std::vector<int32_t> features;
     if (!hard.empty())
         features = hard;
     else if (crease.size() == 2 && !force_disk) {
@@ -180,7 +202,6 @@ VertexClass build_fans(const CoarseMesh& mesh, int32_t v, bool force_disk, std::
     // Half-disks: start at every triangle on the first feature edge and walk across
     // non-feature edges until the second feature edge.
     const int32_t f0 = features[0], f1 = features[1];
-    std::vector<int32_t> starts;
     mesh.edge_triangles(v, f0, starts);
     size_t covered = 0;
     for (int32_t t0 : starts) {
@@ -235,21 +256,32 @@ VertexClass build_fans(const CoarseMesh& mesh, int32_t v, bool force_disk, std::
 
 }  // namespace
 
-VertexClass VertexRemover::classify(int32_t v) const {
-    std::string why;
-    bool crease_line = false;
-    return build_fans(mesh_, v, false, scratch_->fans, scratch_->around, crease_line, why);
-}
 
 namespace {
 
 // Everything needed to process one fan.
 class FanPlanner {
 public:
-    FanPlanner(const CoarseMesh& mesh, const Embedding& emb, const std::vector<int8_t>& sign, int32_t v,
-               const Fan& fan, double radius_scale, const std::unordered_map<int32_t, double>* new_edge_params)
-        : mesh_(mesh), emb_(emb), sign_(sign), v_(v), fan_(fan), scale_(radius_scale),
-          new_edge_params_(new_edge_params) {}
+    // Planners are reused across removals so that their buffers keep their capacity.
+    FanPlanner(const CoarseMesh& mesh, const Embedding& emb, const std::vector<int8_t>& sign)
+        : mesh_(mesh), emb_(emb), sign_(sign) {}
+    void reset(int32_t v, const Fan& fan, double radius_scale,
+               const std::unordered_map<int32_t, double>* new_edge_params, bool validate) {
+        v_ = v;
+        fan_ = &fan;
+        scale_ = radius_scale;
+        new_edge_params_ = new_edge_params;
+        validate_ = validate;
+        nodes_.clear();
+        segments_.clear();
+        crossing_node_.clear();
+        vertex_node_.resize(emb_.location.size());
+        vertex_node_.clear();
+        max_deviation = 0.0;
+        used_floater = false;
+        path_edits.clear();
+        locations.clear();
+    }
 
     bool run(std::string& why);
 
@@ -269,49 +301,69 @@ private:
     const CoarseMesh& mesh_;
     const Embedding& emb_;
     const std::vector<int8_t>& sign_;
-    int32_t v_;
-    const Fan& fan_;
-    double scale_;
+    int32_t v_ = -1;
+    const Fan* fan_ = nullptr;
+    double scale_ = 1.0;
     // Open fans: canonical parameter (from the smaller end) of every vertex on the new edge.
     const std::unordered_map<int32_t, double>* new_edge_params_;
+    bool validate_ = false;  // full validation of the new triangles' overlays (else: costs only)
 
     int32_t n_ = 0;                // polygon corners
     std::vector<Vec2> q_;          // polygon corners in 2D
     std::vector<StarNode> nodes_;
-    std::unordered_map<int32_t, int32_t> vertex_node_;
-    std::unordered_map<int64_t, int32_t> crossing_node_;  // (edge << 20 | index) -> node
+    VertexSlots vertex_node_;
+    std::vector<std::pair<int64_t, int32_t>> crossing_node_;  // ((edge << 20) | index, node)
+    int32_t find_crossing_node(int64_t key) const {
+        for (const auto& p : crossing_node_)
+            if (p.first == key) return p.second;
+        return -1;
+    }
+    // Buffers of transfer().
+    std::vector<NewCrossing> crossings_;
+    std::vector<int32_t> cut_begin_;
+    std::vector<std::array<int32_t, 2>> diagonal_triangles_;
+    std::vector<int32_t> side_triangle_;
+    std::vector<Piece> pieces_;
+    TriangleGraph graph_;
+    std::vector<int32_t> local_, touched_;
+    std::vector<OverlayFace> faces_;
+    std::vector<int32_t> free_vertices_;
     std::vector<StraightSegment> segments_;
     std::vector<std::vector<int32_t>> side_nodes_;  // per polygon side: fixed nodes on it
 
     Vec2 corner_pos(int32_t vertex) const {
         if (vertex == v_) return {0.0, 0.0};
         for (int32_t i = 0; i < n_; ++i)
-            if (fan_.link[i] == vertex) return q_[i];
+            if (fan_->link[i] == vertex) return q_[i];
         return {std::nan(""), std::nan("")};
     }
     int32_t corner_index(int32_t vertex) const {
         for (int32_t i = 0; i < n_; ++i)
-            if (fan_.link[i] == vertex) return i;
+            if (fan_->link[i] == vertex) return i;
         return -1;
     }
     bool flatten(std::string& why);
     bool triangulate(std::string& why);
-    bool gather(std::string& why);
+    // Nodes: polygon corners, fixed nodes on the sides, free nodes inside. Then the
+    // straightened runs of the original edges through the fan.
+    bool gather_nodes(std::string& why);
+    bool gather_segments(std::string& why);
+    bool locate_free_nodes(std::string& why);
     bool transfer(std::string& why);
     bool floater(std::string& why);
     // Interior edge (v, link[i]) of this fan? (in an open fan the first and last are the
     // feature edges, which are boundary)
-    bool is_interior_spoke(int32_t i) const { return fan_.closed || (i > 0 && i < n_ - 1); }
+    bool is_interior_spoke(int32_t i) const { return fan_->closed || (i > 0 && i < n_ - 1); }
     int32_t fan_triangle_index(int32_t t) const {
-        for (size_t i = 0; i < fan_.triangles.size(); ++i)
-            if (fan_.triangles[i] == t) return static_cast<int32_t>(i);
+        for (size_t i = 0; i < fan_->triangles.size(); ++i)
+            if (fan_->triangles[i] == t) return static_cast<int32_t>(i);
         return -1;
     }
     // Polygon side of link edge (x,y) of this fan, or -1.
     int32_t link_side(int32_t x, int32_t y) const {
-        const int32_t sides = fan_.closed ? n_ : n_ - 1;
+        const int32_t sides = fan_->closed ? n_ : n_ - 1;
         for (int32_t i = 0; i < sides; ++i) {
-            const int32_t a = fan_.link[i], b = fan_.link[mod(i + 1, n_)];
+            const int32_t a = fan_->link[i], b = fan_->link[mod(i + 1, n_)];
             if ((a == x && b == y) || (a == y && b == x)) return i;
         }
         return -1;
@@ -319,6 +371,17 @@ private:
     int32_t spoke_index(int32_t x, int32_t y) const {
         const int32_t other = x == v_ ? y : (y == v_ ? x : -1);
         return other < 0 ? -1 : corner_index(other);
+    }
+    // Does fixed node s lie on (the closure of) fan triangle i = (v, l_i, l_i+1)?
+    bool in_fan_triangle(const StarNode& s, int32_t i) const {
+        const int32_t next = mod(i + 1, n_);
+        if (s.poly_corner >= 0) return s.poly_corner == i || s.poly_corner == next;
+        if (!fan_->closed && s.poly_edge == n_ - 1) {
+            // On the new edge: v (x = 0) is in every triangle, the rest on spoke 0 or n-1.
+            if (s.pos[0] == 0.0) return true;
+            return s.pos[0] > 0.0 ? i == 0 : i == n_ - 2;
+        }
+        return s.poly_edge == i;
     }
     int32_t add_node(const StarNode& node) {
         nodes_.push_back(node);
@@ -329,12 +392,12 @@ private:
 
 bool FanPlanner::flatten(std::string& why) {
     const auto& x = mesh_.positions();
-    n_ = static_cast<int32_t>(fan_.link.size());
-    const int32_t ntri = static_cast<int32_t>(fan_.triangles.size());
+    n_ = static_cast<int32_t>(fan_->link.size());
+    const int32_t ntri = static_cast<int32_t>(fan_->triangles.size());
     std::vector<double> theta(ntri);
     double total = 0.0;
     for (int32_t i = 0; i < ntri; ++i) {
-        const Vec3 a = x[fan_.link[i]] - x[v_], b = x[fan_.link[mod(i + 1, n_)]] - x[v_];
+        const Vec3 a = x[fan_->link[i]] - x[v_], b = x[fan_->link[mod(i + 1, n_)]] - x[v_];
         theta[i] = angle_between(a, b);
         if (!(theta[i] > 0.0)) {
             why = "degenerate triangle in the star";
@@ -342,7 +405,7 @@ bool FanPlanner::flatten(std::string& why) {
         }
         total += theta[i];
     }
-    const double alpha = (fan_.closed ? 2.0 * M_PI : M_PI) / total;
+    const double alpha = (fan_->closed ? 2.0 * M_PI : M_PI) / total;
     q_.assign(n_, {0.0, 0.0});
     std::vector<double> phi(n_, 0.0);
     for (int32_t i = 1; i < n_; ++i) phi[i] = phi[i - 1] + alpha * theta[i - 1];
@@ -352,14 +415,14 @@ bool FanPlanner::flatten(std::string& why) {
             return false;
         }
     std::vector<double> r(n_);
-    for (int32_t i = 0; i < n_; ++i) r[i] = distance(x[fan_.link[i]], x[v_]) / scale_;
+    for (int32_t i = 0; i < n_; ++i) r[i] = distance(x[fan_->link[i]], x[v_]) / scale_;
     // Closed: the polar map z -> z^alpha (conformal). Open: angles scaled, radii kept,
     // so that the position of v on the new edge is the same in every half-disk.
     for (int32_t i = 0; i < n_; ++i) {
-        const double radius = fan_.closed ? std::pow(r[i], alpha) : r[i];
+        const double radius = fan_->closed ? std::pow(r[i], alpha) : r[i];
         q_[i] = {radius * std::cos(phi[i]), radius * std::sin(phi[i])};
     }
-    if (!fan_.closed) {
+    if (!fan_->closed) {
         q_[0] = {r[0], 0.0};
         q_[n_ - 1] = {-r[n_ - 1], 0.0};
     }
@@ -372,7 +435,7 @@ bool FanPlanner::flatten(std::string& why) {
         // A star-shaped but non-convex polygon cannot always carry the re-cut graph
         // (paper §2.2.4); move the corners outwards onto a circle (closed) or a
         // half-circle through the fixed ends (open), which is convex.
-        if (fan_.closed) {
+        if (fan_->closed) {
             for (int32_t i = 0; i < n_; ++i) q_[i] = {std::cos(phi[i]), std::sin(phi[i])};
         } else {
             const double c = 0.5 * (r[0] - r[n_ - 1]), R = 0.5 * (r[0] + r[n_ - 1]);
@@ -388,11 +451,12 @@ bool FanPlanner::flatten(std::string& why) {
 
 bool FanPlanner::triangulate(std::string& why) {
     const auto& x = mesh_.positions();
-    std::vector<int32_t> poly(n_);
+    static thread_local std::vector<int32_t> poly;
+    poly.resize(n_);
     for (int32_t i = 0; i < n_; ++i) poly[i] = i;
     new_tris.clear();
     diagonals.clear();
-    auto existing_edge = [&](int32_t i, int32_t j) { return mesh_.has_edge(fan_.link[i], fan_.link[j]); };
+    auto existing_edge = [&](int32_t i, int32_t j) { return mesh_.has_edge(fan_->link[i], fan_->link[j]); };
     while (poly.size() > 3) {
         const int32_t m = static_cast<int32_t>(poly.size());
         int32_t best = -1;
@@ -401,7 +465,7 @@ bool FanPlanner::triangulate(std::string& why) {
         for (int32_t c = 0; c < m; ++c) {
             const int32_t a = poly[mod(c - 1, m)], b = poly[c], d = poly[mod(c + 1, m)];
             if (existing_edge(a, d)) continue;  // topology condition (Conjecture 2.1)
-            const double aspect = aspect_ratio(x[fan_.link[a]], x[fan_.link[b]], x[fan_.link[d]]);
+            const double aspect = aspect_ratio(x[fan_->link[a]], x[fan_->link[b]], x[fan_->link[d]]);
             if (!std::isfinite(aspect)) continue;
             bool delaunay = true;
             for (int32_t o = 0; o < m && delaunay; ++o) {
@@ -425,14 +489,14 @@ bool FanPlanner::triangulate(std::string& why) {
         diagonals.push_back({a, d});
         poly.erase(poly.begin() + best);
     }
-    const Vec3& p0 = x[fan_.link[poly[0]]];
-    const Vec3& p1 = x[fan_.link[poly[1]]];
-    const Vec3& p2 = x[fan_.link[poly[2]]];
+    const Vec3& p0 = x[fan_->link[poly[0]]];
+    const Vec3& p1 = x[fan_->link[poly[1]]];
+    const Vec3& p2 = x[fan_->link[poly[2]]];
     if (!std::isfinite(aspect_ratio(p0, p1, p2))) {
         why = "retriangulation would create a degenerate triangle";
         return false;
     }
-    if (mesh_.find_triangle(fan_.link[poly[0]], fan_.link[poly[1]], fan_.link[poly[2]]) >= 0) {
+    if (mesh_.find_triangle(fan_->link[poly[0]], fan_->link[poly[1]], fan_->link[poly[2]]) >= 0) {
         why = "new triangle already exists (topology condition)";
         return false;
     }
@@ -443,14 +507,13 @@ bool FanPlanner::triangulate(std::string& why) {
 PointRole FanPlanner::role(const SurfacePoint& p, bool endpoint, int32_t edge, int32_t index, int32_t& node) const {
     node = -1;
     auto lookup_vertex = [&](int32_t vertex) {
-        auto it = vertex_node_.find(vertex);
-        return it == vertex_node_.end() ? -1 : it->second;
+        return vertex_node_.get(vertex);
     };
     switch (p.kind) {
         case SurfacePoint::Corner: {
             if (p.a == v_) {
                 node = lookup_vertex(v_);
-                return fan_.closed ? PointRole::Free : PointRole::Boundary;
+                return fan_->closed ? PointRole::Free : PointRole::Boundary;
             }
             if (corner_index(p.a) >= 0) {
                 node = lookup_vertex(p.a);
@@ -474,8 +537,7 @@ PointRole FanPlanner::role(const SurfacePoint& p, bool endpoint, int32_t edge, i
                 if (endpoint) {
                     node = lookup_vertex(emb_.edges[edge][index == 0 ? 0 : 1]);
                 } else {
-                    auto it = crossing_node_.find((int64_t(edge) << 20) | (index - 1));
-                    node = it == crossing_node_.end() ? -1 : it->second;
+                    node = find_crossing_node((int64_t(edge) << 20) | (index - 1));
                 }
                 return PointRole::Boundary;
             }
@@ -491,20 +553,22 @@ PointRole FanPlanner::role(const SurfacePoint& p, bool endpoint, int32_t edge, i
     return PointRole::Outside;
 }
 
-bool FanPlanner::gather(std::string& why) {
+bool FanPlanner::gather_nodes(std::string& why) {
     const int32_t sides = n_;  // open fans: side n-1 is the new edge (end -> start)
-    side_nodes_.assign(sides, {});
+    if (side_nodes_.size() < size_t(sides)) side_nodes_.resize(sides);
+    for (auto& list : side_nodes_) list.clear();
     // Polygon corners.
     for (int32_t i = 0; i < n_; ++i) {
         StarNode c;
         c.pos = q_[i];
-        c.vertex = fan_.link[i];
+        c.vertex = fan_->link[i];
         c.poly_corner = i;
-        vertex_node_[c.vertex] = add_node(c);
+        vertex_node_.set(c.vertex, add_node(c));
     }
-    // Fixed nodes on the link edges.
-    for (int32_t i = 0; i < (fan_.closed ? n_ : n_ - 1); ++i) {
-        const int32_t a = fan_.link[i], b = fan_.link[mod(i + 1, n_)];
+    // Fixed nodes on the link edges (only the full plan needs them: their place and
+    // deviation do not change).
+    for (int32_t i = 0; validate_ && i < (fan_->closed ? n_ : n_ - 1); ++i) {
+        const int32_t a = fan_->link[i], b = fan_->link[mod(i + 1, n_)];
         auto it = emb_.edge_content.find(edge_key(a, b));
         if (it == emb_.edge_content.end()) continue;
         auto t_of = [&](double s) { return a < b ? s : 1.0 - s; };  // from q_i to q_i+1
@@ -520,7 +584,7 @@ bool FanPlanner::gather(std::string& why) {
             s.edge_s = emb_.location[u].s;
             s.pos = (1.0 - s.poly_t) * q_[i] + s.poly_t * q_[mod(i + 1, n_)];
             const int32_t id = add_node(s);
-            vertex_node_[u] = id;
+            vertex_node_.set(u, id);
             side_nodes_[i].push_back(id);
         }
         std::vector<int32_t> es = it->second.crossing_edges;
@@ -541,13 +605,13 @@ bool FanPlanner::gather(std::string& why) {
                 s.edge_s = path[j].s;
                 s.pos = (1.0 - s.poly_t) * q_[i] + s.poly_t * q_[mod(i + 1, n_)];
                 const int32_t id = add_node(s);
-                crossing_node_[(int64_t(e) << 20) | j] = id;
+                crossing_node_.push_back({(int64_t(e) << 20) | j, id});
                 side_nodes_[i].push_back(id);
             }
         }
     }
     // v and the vertices on the two feature edges lie on the new edge of an open fan.
-    if (!fan_.closed) {
+    if (!fan_->closed) {
         const int32_t side = n_ - 1;  // from q_{n-1} (x < 0) to q_0 (x > 0)
         const double x0 = q_[n_ - 1][0], x1 = q_[0][0];
         auto add_on_new_edge = [&](int32_t u, double x) {
@@ -558,11 +622,11 @@ bool FanPlanner::gather(std::string& why) {
             s.pos = {x, 0.0};
             auto it = new_edge_params_->find(u);
             if (it == new_edge_params_->end()) return false;
-            s.edge_lo = std::min(fan_.link.front(), fan_.link.back());
-            s.edge_hi = std::max(fan_.link.front(), fan_.link.back());
+            s.edge_lo = std::min(fan_->link.front(), fan_->link.back());
+            s.edge_hi = std::max(fan_->link.front(), fan_->link.back());
             s.edge_s = it->second;
             const int32_t id = add_node(s);
-            vertex_node_[u] = id;
+            vertex_node_.set(u, id);
             side_nodes_[side].push_back(id);
             return true;
         };
@@ -571,7 +635,7 @@ bool FanPlanner::gather(std::string& why) {
             return false;
         }
         for (int32_t end : {0, n_ - 1}) {
-            const int32_t w = fan_.link[end];
+            const int32_t w = fan_->link[end];
             auto it = emb_.edge_content.find(edge_key(v_, w));
             if (it == emb_.edge_content.end()) continue;
             if (!it->second.crossing_edges.empty()) {
@@ -590,17 +654,18 @@ bool FanPlanner::gather(std::string& why) {
         }
     }
     // Free nodes: vertices inside the fan's triangles, on its interior spokes, and v of a disk.
-    std::vector<int32_t> free_vertices;
-    for (int32_t t : fan_.triangles)
+    auto& free_vertices = free_vertices_;
+    free_vertices.clear();
+    for (int32_t t : fan_->triangles)
         if (t < int32_t(emb_.inside.size()))
             free_vertices.insert(free_vertices.end(), emb_.inside[t].begin(), emb_.inside[t].end());
     for (int32_t i = 0; i < n_; ++i) {
         if (!is_interior_spoke(i)) continue;
-        auto it = emb_.edge_content.find(edge_key(v_, fan_.link[i]));
+        auto it = emb_.edge_content.find(edge_key(v_, fan_->link[i]));
         if (it == emb_.edge_content.end()) continue;
         free_vertices.insert(free_vertices.end(), it->second.vertices.begin(), it->second.vertices.end());
     }
-    if (fan_.closed) free_vertices.push_back(v_);
+    if (fan_->closed) free_vertices.push_back(v_);
     std::sort(free_vertices.begin(), free_vertices.end());
     for (int32_t u : free_vertices) {
         StarNode s;
@@ -615,33 +680,38 @@ bool FanPlanner::gather(std::string& why) {
         } else {
             s.pos = corner_pos(p.a);
         }
-        vertex_node_[u] = add_node(s);
+        vertex_node_.set(u, add_node(s));
     }
 
+    return true;
+}
+
+bool FanPlanner::gather_segments(std::string& why) {
     // Original edges that may pass through the fan, and their straightened runs.
-    std::vector<int32_t> candidates;
+    static thread_local std::vector<int32_t> candidates;
+    candidates.clear();
     auto add_incident = [&](int32_t u) {
         for (int32_t i = emb_.vertex_edge_offsets[u]; i < emb_.vertex_edge_offsets[u + 1]; ++i)
             candidates.push_back(emb_.vertex_edges[i]);
     };
-    for (int32_t u : free_vertices) add_incident(u);
+    for (int32_t u : free_vertices_) add_incident(u);
     add_incident(v_);
-    if (!fan_.closed)
+    if (!fan_->closed)
         for (int32_t id : side_nodes_[n_ - 1])
             if (nodes_[id].vertex >= 0) add_incident(nodes_[id].vertex);
     for (int32_t i = 0; i < n_; ++i) {
         if (!is_interior_spoke(i)) continue;
-        auto it = emb_.edge_content.find(edge_key(v_, fan_.link[i]));
+        auto it = emb_.edge_content.find(edge_key(v_, fan_->link[i]));
         if (it != emb_.edge_content.end())
             candidates.insert(candidates.end(), it->second.crossing_edges.begin(), it->second.crossing_edges.end());
     }
     std::sort(candidates.begin(), candidates.end());
     candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
 
-    std::vector<SurfacePoint> points;
-    std::vector<double> sigmas;
-    std::vector<PointRole> roles;
-    std::vector<int32_t> node_of;
+    static thread_local std::vector<SurfacePoint> points;
+    static thread_local std::vector<double> sigmas;
+    static thread_local std::vector<PointRole> roles;
+    static thread_local std::vector<int32_t> node_of;
     for (int32_t e : candidates) {
         emb_.path_points(e, points, sigmas);
         const int32_t last = static_cast<int32_t>(points.size()) - 1;
@@ -654,24 +724,20 @@ bool FanPlanner::gather(std::string& why) {
             if (r0 == PointRole::Outside || r1 == PointRole::Outside) return false;
             if (r0 != PointRole::Boundary || r1 != PointRole::Boundary) return true;
             // Both on the polygon boundary: inside only if they are in one fan triangle
-            // without sharing a side of it.
+            // without sharing a side of the polygon.
+            if (node_of[j] < 0 || node_of[j + 1] < 0) return true;  // reported below
             const StarNode& a = nodes_[node_of[j]];
             const StarNode& b = nodes_[node_of[j + 1]];
-            auto sides_of = [&](const StarNode& s, std::vector<int32_t>& out) {
-                out.clear();
-                if (s.poly_edge >= 0) out.push_back(s.poly_edge);
-                if (s.poly_corner >= 0) {
-                    out.push_back(s.poly_corner);
-                    out.push_back(mod(s.poly_corner - 1, n_));
-                }
+            auto on_side = [&](const StarNode& s, int32_t side) {
+                return s.poly_edge == side ||
+                       (s.poly_corner >= 0 && (s.poly_corner == side || mod(s.poly_corner - 1, n_) == side));
             };
-            std::vector<int32_t> sa, sb;
-            sides_of(a, sa);
-            sides_of(b, sb);
-            for (int32_t x : sa)
-                for (int32_t y : sb)
-                    if (x == y) return false;  // along one side of the polygon
-            return true;
+            for (int32_t side = 0; side < n_; ++side)
+                if (on_side(a, side) && on_side(b, side)) return false;
+            const int32_t ntri = static_cast<int32_t>(fan_->triangles.size());
+            for (int32_t i = 0; i < ntri; ++i)
+                if (in_fan_triangle(a, i) && in_fan_triangle(b, i)) return true;
+            return false;
         };
         int32_t j = 0;
         while (j < last) {
@@ -795,10 +861,9 @@ bool FanPlanner::floater(std::string& why) {
     return true;
 }
 
-bool FanPlanner::transfer(std::string& why) {
-    const auto& x = mesh_.positions();
+bool FanPlanner::locate_free_nodes(std::string& why) {
     const int32_t ntris = static_cast<int32_t>(new_tris.size());
-    // 1. Free nodes strictly inside the polygon, then located in the new triangulation.
+    // Free nodes strictly inside the polygon, then located in the new triangulation.
     for (StarNode& s : nodes_) {
         if (!s.free) continue;
         for (int32_t i = 0; i < n_; ++i)
@@ -811,7 +876,7 @@ bool FanPlanner::transfer(std::string& why) {
         for (int32_t t = 0; t < ntris && s.new_triangle < 0 && s.diagonal < 0; ++t) {
             const auto& c = new_tris[t];
             int zero = -1, negative = 0;
-            for (int k = 0; k < 3; ++k) {
+            for (int k = 0; k < 3 && !negative; ++k) {
                 const int o = orient2d(q_[c[k]], q_[c[(k + 1) % 3]], s.pos);
                 if (o < 0) ++negative;
                 if (o == 0) zero = zero < 0 ? k : 3;
@@ -828,8 +893,7 @@ bool FanPlanner::transfer(std::string& why) {
                         const Vec2 p0 = q_[dg[0]], dir = q_[dg[1]] - q_[dg[0]];
                         double t_along = dot(s.pos - p0, dir) / dot(dir, dir);
                         t_along = std::min(std::max(t_along, 1e-300), std::nextafter(1.0, 0.0));
-                        s.diagonal_t = t_along;
-                        const SurfacePoint on = SurfacePoint::on_edge(fan_.link[dg[0]], fan_.link[dg[1]], t_along);
+                        const SurfacePoint on = SurfacePoint::on_edge(fan_->link[dg[0]], fan_->link[dg[1]], t_along);
                         s.edge_lo = on.a;
                         s.edge_hi = on.b;
                         s.edge_s = on.s;
@@ -841,67 +905,48 @@ bool FanPlanner::transfer(std::string& why) {
             why = "cannot locate an original vertex in the new triangles";
             return false;
         }
+        if (s.new_triangle >= 0) {
+            const auto& c = new_tris[s.new_triangle];
+            const Vec2 p0 = q_[c[0]], p1 = q_[c[1]], p2 = q_[c[2]];
+            const double area = cross(p1 - p0, p2 - p0);
+            const double b1 = cross(s.pos - p0, p2 - p0) / area;
+            const double b2 = cross(p1 - p0, s.pos - p0) / area;
+            s.bary = {1.0 - b1 - b2, b1, b2};
+            if (!(s.bary[0] > 0 && b1 > 0 && b2 > 0)) {
+                why = "barycentric coordinates lost to rounding";
+                return false;
+            }
+        }
     }
 
+    return true;
+}
+
+bool FanPlanner::transfer(std::string& why) {
+    const auto& x = mesh_.positions();
+    const int32_t ntris = static_cast<int32_t>(new_tris.size());
+    const int32_t nnodes = static_cast<int32_t>(nodes_.size());
+    if (!locate_free_nodes(why)) return false;
+
     // 2. Cut the straightened segments along the diagonals.
-    std::vector<std::vector<int32_t>> diagonal_triangles(diagonals.size());
-    std::vector<int32_t> side_triangle(n_, -1);
-    for (int32_t t = 0; t < ntris; ++t) {
-        const auto& c = new_tris[t];
-        for (int k = 0; k < 3; ++k) {
-            const int32_t a = c[k], b = c[(k + 1) % 3];
-            if (b == mod(a + 1, n_)) side_triangle[a] = t;
-            for (int32_t d = 0; d < int32_t(diagonals.size()); ++d)
-                if ((diagonals[d][0] == a && diagonals[d][1] == b) || (diagonals[d][0] == b && diagonals[d][1] == a))
-                    diagonal_triangles[d].push_back(t);
-        }
-    }
-    // Items in new triangles: star nodes (id) and new crossings (nodes_.size() + id).
-    std::vector<NewCrossing> crossings;
-    struct Piece {
-        int32_t triangle;
-        int64_t item0, item1;
-        int32_t edge;
-    };
-    std::vector<Piece> pieces;
-    path_edits.clear();
-    auto candidate_triangles = [&](int64_t item, std::vector<int32_t>& out) {
-        out.clear();
-        if (item >= int64_t(nodes_.size())) {
-            out = diagonal_triangles[crossings[item - nodes_.size()].diagonal];
-            return;
-        }
-        const StarNode& s = nodes_[item];
-        if (s.free) {
-            if (s.new_triangle >= 0)
-                out.push_back(s.new_triangle);
-            else
-                out = diagonal_triangles[s.diagonal];
-        } else if (s.poly_edge >= 0) {
-            out.push_back(side_triangle[s.poly_edge]);
-        } else {
-            for (int32_t t = 0; t < ntris; ++t)
-                for (int k = 0; k < 3; ++k)
-                    if (new_tris[t][k] == s.poly_corner) out.push_back(t);
-        }
-    };
-    std::vector<int32_t> ca, cb, common;
+    crossings_.clear();
+    cut_begin_.clear();
     for (const StraightSegment& seg : segments_) {
+        cut_begin_.push_back(static_cast<int32_t>(crossings_.size()));
         const Vec2 A = nodes_[seg.a].pos, B = nodes_[seg.b].pos;
         if (!(A[0] != B[0] || A[1] != B[1])) {
             why = "degenerate straightened edge";
             return false;
         }
-        // Polygon corners strictly between A and B would put a coarse vertex on an
-        // original edge.
+        // Polygon corners on the segment would put a coarse vertex on an original edge.
         for (int32_t i = 0; i < n_; ++i) {
-            if (int32_t(i) == nodes_[seg.a].poly_corner || int32_t(i) == nodes_[seg.b].poly_corner) continue;
+            if (i == nodes_[seg.a].poly_corner || i == nodes_[seg.b].poly_corner) continue;
             if (orient2d(A, B, q_[i]) == 0 && dot(q_[i] - A, q_[i] - B) < 0) {
                 why = "an original edge would pass through a coarse vertex";
                 return false;
             }
         }
-        std::vector<std::pair<double, int64_t>> cuts;
+        const size_t first = crossings_.size();
         for (int32_t d = 0; d < int32_t(diagonals.size()); ++d) {
             const Vec2 P = q_[diagonals[d][0]], Q = q_[diagonals[d][1]];
             const int oa = orient2d(P, Q, A), ob = orient2d(P, Q, B);
@@ -910,63 +955,136 @@ bool FanPlanner::transfer(std::string& why) {
             if (op == 0 || oq == 0 || op == oq) continue;
             const Vec2 r = B - A, s = Q - P;
             const double denom = cross(r, s);
-            double lambda = cross(P - A, s) / denom;  // along A->B
-            double mu = cross(P - A, r) / denom;      // along P->Q
-            lambda = std::min(std::max(lambda, 0.0), 1.0);
-            mu = std::min(std::max(mu, std::numeric_limits<double>::min()), std::nextafter(1.0, 0.0));
+            const double lambda = cross(P - A, s) / denom;  // along A->B
+            double mu = cross(P - A, r) / denom;            // along P->Q
             if (!(lambda > 0.0 && lambda < 1.0)) {
                 why = "a cut of an original edge falls on its end";
                 return false;
             }
-            const SurfacePoint on = SurfacePoint::on_edge(fan_.link[diagonals[d][0]], fan_.link[diagonals[d][1]], mu);
-            crossings.push_back({d, on.a, on.b, on.s, seg.sigma_a + lambda * (seg.sigma_b - seg.sigma_a), seg.edge});
-            cuts.push_back({lambda, int64_t(nodes_.size() + crossings.size() - 1)});
+            mu = std::min(std::max(mu, std::numeric_limits<double>::min()), std::nextafter(1.0, 0.0));
+            const SurfacePoint on = SurfacePoint::on_edge(fan_->link[diagonals[d][0]], fan_->link[diagonals[d][1]], mu);
+            crossings_.push_back({d, on.a, on.b, on.s, seg.sigma_a + lambda * (seg.sigma_b - seg.sigma_a), seg.edge,
+                                  lambda});
         }
-        std::sort(cuts.begin(), cuts.end());
-        // Sigma must increase strictly along the original edge.
-        for (size_t i = 0; i + 1 < cuts.size(); ++i)
-            if (!(cuts[i].first < cuts[i + 1].first)) {
+        std::sort(crossings_.begin() + static_cast<long>(first), crossings_.end(),
+                  [](const NewCrossing& p, const NewCrossing& q) { return p.lambda < q.lambda; });
+        for (size_t i = first; i + 1 < crossings_.size(); ++i)
+            if (!(crossings_[i].lambda < crossings_[i + 1].lambda)) {
                 why = "two cuts of an original edge coincide";
                 return false;
             }
-        std::vector<int64_t> items;
-        items.push_back(seg.a);
-        for (auto& c : cuts) items.push_back(c.second);
-        items.push_back(seg.b);
-        for (size_t i = 0; i + 1 < items.size(); ++i) {
-            candidate_triangles(items[i], ca);
-            candidate_triangles(items[i + 1], cb);
-            common.clear();
-            for (int32_t t : ca)
-                if (std::find(cb.begin(), cb.end(), t) != cb.end()) common.push_back(t);
-            if (common.size() != 1) {
-                why = common.empty() ? "re-cut lost track of an original edge" : "original edge along a new edge";
+    }
+    cut_begin_.push_back(static_cast<int32_t>(crossings_.size()));
+
+    // Deviation |phi(x) - x| is piecewise linear; its maximum is at the nodes. Nodes on
+    // the link edges keep their place and their deviation, so only moved ones count.
+    max_deviation = 0.0;
+    auto deviation_on_side = [&](const Vec3& image, int32_t lo, int32_t hi, double s) {
+        return distance(image, (1.0 - s) * x[lo] + s * x[hi]);
+    };
+    auto image_of = [&](const StarNode& s) {
+        return x[s.vertex];  // free nodes and new-edge nodes are original vertices
+    };
+    for (const StarNode& s : nodes_) {
+        if (s.free && s.new_triangle >= 0) {
+            const auto& c = new_tris[s.new_triangle];
+            max_deviation = std::max(max_deviation, distance(image_of(s), barycentric_point(x[fan_->link[c[0]]], x[fan_->link[c[1]]],
+                                                                                                x[fan_->link[c[2]]], s.bary)));
+        } else if ((s.free && s.diagonal >= 0) || (!fan_->closed && s.poly_edge == n_ - 1)) {
+            max_deviation = std::max(max_deviation, deviation_on_side(image_of(s), s.edge_lo, s.edge_hi, s.edge_s));
+        }
+    }
+    const auto& ox = emb_.original->vertices;
+    for (const NewCrossing& c : crossings_) {
+        const auto& e = emb_.edges[c.edge];
+        const Vec3 image = (1.0 - c.sigma) * ox[e[0]] + c.sigma * ox[e[1]];
+        max_deviation = std::max(max_deviation, deviation_on_side(image, c.lo, c.hi, c.s));
+    }
+    if (!validate_) return true;
+
+    // 3. Full: which new triangle every piece of a cut segment lies in, the graph of
+    // every new triangle, validated exactly.
+    diagonal_triangles_.assign(diagonals.size(), {-1, -1});
+    side_triangle_.assign(n_, -1);
+    for (int32_t t = 0; t < ntris; ++t) {
+        const auto& c = new_tris[t];
+        for (int k = 0; k < 3; ++k) {
+            const int32_t a = c[k], b = c[(k + 1) % 3];
+            if (b == mod(a + 1, n_)) side_triangle_[a] = t;
+            for (int32_t d = 0; d < int32_t(diagonals.size()); ++d)
+                if ((diagonals[d][0] == a && diagonals[d][1] == b) || (diagonals[d][0] == b && diagonals[d][1] == a))
+                    (diagonal_triangles_[d][0] < 0 ? diagonal_triangles_[d][0] : diagonal_triangles_[d][1]) = t;
+        }
+    }
+    // Items: star nodes (id) and new crossings (nnodes + index).
+    auto candidates = [&](int32_t item, int32_t out[], int& count) {
+        count = 0;
+        if (item >= nnodes) {
+            const auto& dt = diagonal_triangles_[crossings_[item - nnodes].diagonal];
+            out[count++] = dt[0];
+            out[count++] = dt[1];
+            return;
+        }
+        const StarNode& s = nodes_[item];
+        if (s.free) {
+            if (s.new_triangle >= 0) {
+                out[count++] = s.new_triangle;
+            } else {
+                out[count++] = diagonal_triangles_[s.diagonal][0];
+                out[count++] = diagonal_triangles_[s.diagonal][1];
+            }
+        } else if (s.poly_edge >= 0) {
+            out[count++] = side_triangle_[s.poly_edge];
+        } else {
+            for (int32_t t = 0; t < ntris && count < 64; ++t)
+                for (int k = 0; k < 3; ++k)
+                    if (new_tris[t][k] == s.poly_corner) out[count++] = t;
+        }
+    };
+    pieces_.clear();
+    path_edits.clear();
+    int32_t ca[64], cb[64];
+    for (size_t si = 0; si < segments_.size(); ++si) {
+        const StraightSegment& seg = segments_[si];
+        const int32_t c0 = cut_begin_[si], c1 = cut_begin_[si + 1];
+        int32_t previous = seg.a;
+        for (int32_t i = c0; i <= c1; ++i) {
+            const int32_t item = i < c1 ? nnodes + i : seg.b;
+            int na, nb;
+            candidates(previous, ca, na);
+            candidates(item, cb, nb);
+            int32_t common = -1, count = 0;
+            for (int p = 0; p < na; ++p)
+                for (int q = 0; q < nb; ++q)
+                    if (ca[p] == cb[q] && ca[p] != common) {
+                        common = ca[p];
+                        ++count;
+                    }
+            if (count != 1) {
+                why = count == 0 ? "re-cut lost track of an original edge" : "original edge along a new edge";
                 return false;
             }
-            pieces.push_back({common[0], items[i], items[i + 1], seg.edge});
+            pieces_.push_back({common, previous, item, seg.edge});
+            previous = item;
         }
         // Path edit: the new crossings in order along the original edge (which runs
         // from its smaller vertex; the segment may run the other way).
         PathEdit edit{seg.edge, seg.first, seg.last, {}};
         const bool increasing = seg.sigma_b > seg.sigma_a;
-        for (size_t i = 0; i < cuts.size(); ++i) {
-            const NewCrossing& c = crossings[cuts[increasing ? i : cuts.size() - 1 - i].second - nodes_.size()];
+        for (int32_t i = 0; i < c1 - c0; ++i) {
+            const NewCrossing& c = crossings_[increasing ? c0 + i : c1 - 1 - i];
             edit.middle.push_back({c.lo, c.hi, c.s, c.sigma});
         }
         path_edits.push_back(std::move(edit));
     }
 
-    // 3. Graph of every new triangle, validated; and the deviation.
-    max_deviation = 0.0;
-    TriangleGraph graph;
-    std::vector<OverlayFace> faces;
-    std::unordered_map<int64_t, int32_t> local;
+    TriangleGraph& graph = graph_;
+    local_.assign(nnodes + crossings_.size(), -1);
     for (int32_t t = 0; t < ntris; ++t) {
         const auto& c = new_tris[t];
         graph.nodes.clear();
         graph.segments.clear();
-        local.clear();
-        const Tri cv{fan_.link[c[0]], fan_.link[c[1]], fan_.link[c[2]]};
+        const Tri cv{fan_->link[c[0]], fan_->link[c[1]], fan_->link[c[2]]};
         // Places a node stored as (lo, hi, s) on the side of this triangle it lies on.
         auto on_side = [&](int32_t lo, int32_t hi, double s, GraphNode& g) {
             const int k = local_edge(cv, lo, hi);
@@ -975,20 +1093,21 @@ bool FanPlanner::transfer(std::string& why) {
             g.on_edge = static_cast<int8_t>(k);
             return true;
         };
-        auto add = [&](int64_t item, const GraphNode& g) {
-            local[item] = static_cast<int32_t>(graph.nodes.size());
+        touched_.clear();
+        auto add = [&](int32_t item, const GraphNode& g) {
+            local_[item] = static_cast<int32_t>(graph.nodes.size());
+            touched_.push_back(item);
             graph.nodes.push_back(g);
         };
         for (int k = 0; k < 3; ++k) {
             GraphNode g;
             g.corner = static_cast<int8_t>(k);
             g.kind = NodeKind::CoarseCorner;
-            g.vertex = fan_.link[c[k]];
+            g.vertex = cv[k];
             g.bary = {0, 0, 0};
             g.bary[k] = 1.0;
-            add(vertex_node_.at(g.vertex), g);
+            add(vertex_node_.get(g.vertex), g);
         }
-        // Fixed nodes on polygon sides of this triangle.
         for (int k = 0; k < 3; ++k) {
             const int32_t a = c[k], b = c[(k + 1) % 3];
             if (b != mod(a + 1, n_)) continue;
@@ -1010,74 +1129,53 @@ bool FanPlanner::transfer(std::string& why) {
                 add(id, g);
             }
         }
-        // Free nodes inside or on a diagonal of this triangle.
-        for (size_t id = 0; id < nodes_.size(); ++id) {
+        for (int32_t id = 0; id < nnodes; ++id) {
             const StarNode& s = nodes_[id];
             if (!s.free) continue;
             GraphNode g;
             g.kind = NodeKind::OriginalVertex;
             g.vertex = s.vertex;
             if (s.new_triangle == t) {
-                const Vec2 p0 = q_[c[0]], p1 = q_[c[1]], p2 = q_[c[2]];
-                const double area = cross(p1 - p0, p2 - p0);
-                const double b1 = cross(s.pos - p0, p2 - p0) / area;
-                const double b2 = cross(p1 - p0, s.pos - p0) / area;
-                const double b0 = 1.0 - b1 - b2;
-                if (!(b0 > 0 && b1 > 0 && b2 > 0)) {
-                    why = "barycentric coordinates lost to rounding";
-                    return false;
-                }
-                g.bary = {b0, b1, b2};
-                add(int64_t(id), g);
+                g.bary = s.bary;
+                add(id, g);
             } else if (s.diagonal >= 0 && on_side(s.edge_lo, s.edge_hi, s.edge_s, g)) {
-                add(int64_t(id), g);
+                add(id, g);
             }
         }
-        // New crossings on diagonals of this triangle.
-        for (size_t i = 0; i < crossings.size(); ++i) {
-            const NewCrossing& nc = crossings[i];
+        for (size_t i = 0; i < crossings_.size(); ++i) {
+            const NewCrossing& nc = crossings_[i];
             GraphNode g;
             if (!on_side(nc.lo, nc.hi, nc.s, g)) continue;
             g.kind = NodeKind::EdgeCrossing;
             g.edge = nc.edge;
             g.sigma = nc.sigma;
-            add(int64_t(nodes_.size() + i), g);
+            add(nnodes + static_cast<int32_t>(i), g);
         }
-        for (const Piece& p : pieces) {
+        for (const Piece& p : pieces_) {
             if (p.triangle != t) continue;
-            auto i0 = local.find(p.item0), i1 = local.find(p.item1);
-            if (i0 == local.end() || i1 == local.end()) {
+            const int32_t i0 = local_[p.item0], i1 = local_[p.item1];
+            if (i0 < 0 || i1 < 0) {
                 why = "segment end missing in its triangle";
                 return false;
             }
-            graph.segments.push_back({i0->second, i1->second, p.edge});
+            graph.segments.push_back({i0, i1, p.edge});
         }
+        for (int32_t item : touched_) local_[item] = -1;
         std::string reason;
-        if (!compute_faces(graph, emb_, sign_, faces, &reason)) {
+        if (!compute_faces(graph, emb_, sign_, faces_, &reason)) {
             why = "invalid transfer: " + reason;
             return false;
         }
-        // Deviation |phi(x) - x| is piecewise linear; its maximum is at the nodes.
-        const Vec3 &x0 = x[fan_.link[c[0]]], &x1 = x[fan_.link[c[1]]], &x2 = x[fan_.link[c[2]]];
-        for (const GraphNode& g : graph.nodes)
-            max_deviation = std::max(max_deviation, distance(node_image(g, emb_), barycentric_point(x0, x1, x2, g.bary)));
     }
 
     // 4. New locations of the free vertices.
     locations.clear();
     for (const StarNode& s : nodes_) {
         if (!s.free) continue;
-        if (s.new_triangle >= 0) {
-            const auto& c = new_tris[s.new_triangle];
-            const Vec2 p0 = q_[c[0]], p1 = q_[c[1]], p2 = q_[c[2]];
-            const double area = cross(p1 - p0, p2 - p0);
-            const double b1 = cross(s.pos - p0, p2 - p0) / area;
-            const double b2 = cross(p1 - p0, s.pos - p0) / area;
-            SurfacePoint p = SurfacePoint::inside(-1 - s.new_triangle, {1.0 - b1 - b2, b1, b2});
-            locations.push_back({s.vertex, p});
-        } else {
+        if (s.new_triangle >= 0)
+            locations.push_back({s.vertex, SurfacePoint::inside(-1 - s.new_triangle, s.bary)});
+        else
             locations.push_back({s.vertex, SurfacePoint{SurfacePoint::OnEdge, s.edge_lo, s.edge_hi, s.edge_s, {}}});
-        }
     }
     return true;
 }
@@ -1085,7 +1183,26 @@ bool FanPlanner::transfer(std::string& why) {
 bool FanPlanner::run(std::string& why) {
     if (!flatten(why)) return false;
     if (!triangulate(why)) return false;
-    if (!gather(why)) return false;
+    if (!gather_nodes(why)) return false;
+    if (!validate_) {
+        // For ranking only: the deviation at the original vertices that move, placed by
+        // the flattening. The full plan adds the new edge crossings and validates.
+        if (!locate_free_nodes(why)) return false;
+        const auto& x = mesh_.positions();
+        max_deviation = 0.0;
+        for (const StarNode& s : nodes_) {
+            if (s.free && s.new_triangle >= 0) {
+                const auto& c = new_tris[s.new_triangle];
+                const Vec3 flat = barycentric_point(x[fan_->link[c[0]]], x[fan_->link[c[1]]], x[fan_->link[c[2]]], s.bary);
+                max_deviation = std::max(max_deviation, distance(x[s.vertex], flat));
+            } else if ((s.free && s.diagonal >= 0) || (!fan_->closed && s.poly_edge == n_ - 1)) {
+                const Vec3 flat = (1.0 - s.edge_s) * x[s.edge_lo] + s.edge_s * x[s.edge_hi];
+                max_deviation = std::max(max_deviation, distance(x[s.vertex], flat));
+            }
+        }
+        return true;
+    }
+    if (!gather_segments(why)) return false;
     std::string first_reason;
     if (transfer(first_reason)) return true;
     // Straightening flipped or squeezed something: reposition with Floater's map.
@@ -1098,18 +1215,40 @@ bool FanPlanner::run(std::string& why) {
 
 }  // namespace
 
-void VertexRemover::plan(int32_t v, RemovalPlan& plan) {
+struct RemovalScratch {
+    std::vector<Fan> fans;
+    std::vector<int32_t> around;
+    std::vector<SurfacePoint> points;
+    std::vector<double> sigmas;
+    FanPlanner planner;
+    RemovalScratch(const CoarseMesh& mesh, const Embedding& embedding, const std::vector<int8_t>& sign)
+        : planner(mesh, embedding, sign) {}
+};
+
+VertexRemover::VertexRemover(const CoarseMesh& mesh, const Embedding& embedding,
+                             const std::vector<int8_t>& orientation_sign)
+    : mesh_(mesh), embedding_(embedding), orientation_sign_(orientation_sign), scratch_(new RemovalScratch(mesh, embedding, orientation_sign)) {}
+
+VertexRemover::~VertexRemover() { delete scratch_; }
+
+VertexClass VertexRemover::classify(int32_t v) const {
+    std::string why;
     bool crease_line = false;
-    plan_once(v, false, plan, crease_line);
+    return build_fans(mesh_, v, false, scratch_->fans, scratch_->around, crease_line, why);
+}
+
+void VertexRemover::plan(int32_t v, bool validate, RemovalPlan& plan) {
+    bool crease_line = false;
+    plan_once(v, false, validate, plan, crease_line);
     // A crease that cannot be followed here may still end here.
     if (!plan.valid && crease_line) {
         RemovalPlan disk;
-        plan_once(v, true, disk, crease_line);
+        plan_once(v, true, validate, disk, crease_line);
         if (disk.valid) plan = std::move(disk);
     }
 }
 
-void VertexRemover::plan_once(int32_t v, bool force_disk, RemovalPlan& plan, bool& crease_line) {
+void VertexRemover::plan_once(int32_t v, bool force_disk, bool validate, RemovalPlan& plan, bool& crease_line) {
     plan = RemovalPlan();
     plan.vertex = v;
     auto& fans = scratch_->fans;
@@ -1149,10 +1288,12 @@ void VertexRemover::plan_once(int32_t v, bool force_disk, RemovalPlan& plan, boo
     }
 
     std::vector<std::pair<int32_t, SurfacePoint>> locations;
-    std::unordered_map<int32_t, std::vector<FanPlanner::PathEdit>> edits;
+    static thread_local std::unordered_map<int32_t, std::vector<FanPlanner::PathEdit>> edits;
+    edits.clear();
     // v and the vertices on its two feature edges end up on the new feature edge a--b,
     // in the order a, ..., v, ..., b, at parameters proportional to 3D distance.
-    std::unordered_map<int32_t, double> new_edge_params;
+    static thread_local std::unordered_map<int32_t, double> new_edge_params;
+    new_edge_params.clear();
     if (plan.feature_line) {
         const int32_t a = plan.feature_a, b = plan.feature_b;
         const int32_t lo = std::min(a, b), hi = std::max(a, b);
@@ -1179,7 +1320,8 @@ void VertexRemover::plan_once(int32_t v, bool force_disk, RemovalPlan& plan, boo
             const Tri& c = mesh_.triangle(t);
             plan.worst_old_aspect = std::max(plan.worst_old_aspect, aspect_ratio(x[c[0]], x[c[1]], x[c[2]]));
         }
-        FanPlanner planner(mesh_, embedding_, orientation_sign_, v, fan, radius, &new_edge_params);
+        FanPlanner& planner = scratch_->planner;
+        planner.reset(v, fan, radius, &new_edge_params, validate);
         std::string why;
         if (!planner.run(why)) {
             plan.reason = why;

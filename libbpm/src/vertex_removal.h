@@ -62,11 +62,12 @@ public:
     // Plans the removal of v. Checks everything local: classification, the topology
     // condition (no new edge or triangle may already exist), flattening, a valid
     // transfer of phi. Global checks (intersections with the rest of the surface)
-    // are the caller's.
-    void plan(int32_t v, RemovalPlan& plan);
+    // are the caller's. Without `validate` the overlays of the new triangles are not
+    // checked: cheaper, for ranking; a plan must be made with `validate` before commit.
+    void plan(int32_t v, bool validate, RemovalPlan& plan);
 
 private:
-    void plan_once(int32_t v, bool force_disk, RemovalPlan& plan, bool& crease_line);
+    void plan_once(int32_t v, bool force_disk, bool validate, RemovalPlan& plan, bool& crease_line);
     const CoarseMesh& mesh_;
     const Embedding& embedding_;
     const std::vector<int8_t>& orientation_sign_;

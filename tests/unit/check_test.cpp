@@ -108,6 +108,37 @@ TEST_CASE("the phi fixtures of the format tests pass every check", "[check]") {
     SECTION("height field with crossings") { require_all_pass(test::make_height_field(6, 2, test::default_height)); }
 }
 
+namespace {
+// Reverses coarse triangle t of an identity parametrization: corners (c0, c2, c1), so
+// its piece maps into the original triangle with negative orientation.
+void reverse_coarse_triangle(Parametrization& p, int32_t t) {
+    Tri& c = p.coarse.triangles[t];
+    std::swap(c[1], c[2]);
+    const int64_t n0 = p.node_offsets[t];
+    std::swap(p.node_original_vertex[n0 + 1], p.node_original_vertex[n0 + 2]);
+    fixtures::recompute_images(p);
+}
+}  // namespace
+
+TEST_CASE("reversed images are allowed only where the original is not consistently oriented", "[check]") {
+    SECTION("Moebius strip: a coarse triangle reversed against its original is fine") {
+        Parametrization p = fixtures::identity_parametrization(fixtures::moebius());
+        reverse_coarse_triangle(p, 5);
+        CHECK(check_format(p).passed);
+        const CheckResult r = check_bijectivity(p);
+        INFO(problems_text(r));
+        CHECK(r.passed);
+        CHECK(r.count("reversed_pieces") == 1);
+    }
+    SECTION("torus: the same is an orientation flip") {
+        Parametrization p = fixtures::identity_parametrization(fixtures::torus());
+        reverse_coarse_triangle(p, 5);
+        const CheckProblem e = first_problem(check_bijectivity(p));
+        CHECK(e.id("coarse_triangle") == 5);
+        CHECK(e.message.find("reversed orientation") != std::string::npos);
+    }
+}
+
 TEST_CASE("mutations fail the right check and name the right element", "[check]") {
     SECTION("flip a piece") {
         Parametrization p = fixtures::refined_parametrization(fixtures::cube());
@@ -378,7 +409,11 @@ TEST_CASE("run_checks runs the selection", "[check]") {
 
 TEST_CASE("self-intersections of the real meshes", "[check][meshes]") {
     const std::string dir = BPM_MESH_DIR;
-    for (const char* name : {"femur.off", "fandisk.off", "elephant.off", "armadillo.off", "mech-holes-shark.off"}) {
+    // Expected counts cross-checked with CGAL::Polygon_mesh_processing::self_intersections.
+    const std::vector<std::pair<const char*, int64_t>> meshes{
+        {"femur.off", 0},         {"fandisk.off", 0},          {"elephant.off", 0}, {"armadillo.off", 0},
+        {"mech-holes-shark.off", 0}, {"bones.off", 366}, {"man.off", 848}};
+    for (const auto& [name, expected] : meshes) {
         const std::string path = dir + "/" + name;
         if (!std::filesystem::exists(path)) {
             WARN("missing " << path);
@@ -400,6 +435,7 @@ TEST_CASE("self-intersections of the real meshes", "[check][meshes]") {
         WARN(name << ": " << r.summary << " (" << seconds << " s)"
                   << (r.problems.empty() ? "" : "; first: " + r.problems.front().describe()));
         CHECK(r.count("triangles") == s.num_triangles());
+        CHECK(r.count("intersecting_pairs") == expected);
         // with the plain loader, the result must not depend on how the file was read
         const CheckResult again = check_intersections(fixtures::load_off(path));
         CHECK(again.count("intersecting_pairs") == r.count("intersecting_pairs"));
@@ -435,4 +471,53 @@ TEST_CASE("parametrization checks on a million pieces", "[.perf]") {
                   << std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() << " s");
         CHECK(r.passed);
     }
+}
+
+TEST_CASE("random discrete mutations never pass and never crash", "[check]") {
+    // Every mutation below breaks phi (none is a no-op), so at least one of the
+    // parametrization checks must fail, whatever the element.
+    const Parametrization base = fixtures::refined_parametrization(fixtures::two_cubes());
+    uint32_t state = 777;
+    auto rnd = [&](int64_t n) {
+        state = state * 1664525u + 1013904223u;
+        return static_cast<int64_t>((state >> 8) % static_cast<uint32_t>(n));
+    };
+    int mutations = 0;
+    for (int iter = 0; iter < 300; ++iter) {
+        Parametrization p = base;
+        const int kind = iter % 4;
+        std::string what;
+        if (kind == 0) {  // one corner of one piece to another local node
+            const int64_t q = rnd(p.num_pieces());
+            const int32_t t = triangle_of_piece(p, q);
+            const int64_t count = p.node_offsets[t + 1] - p.node_offsets[t];
+            const int k = static_cast<int>(rnd(3));
+            const int32_t old = p.pieces[q][k];
+            const int32_t now = static_cast<int32_t>((old + 1 + rnd(count - 1)) % count);
+            p.pieces[q][k] = now;
+            what = "piece " + std::to_string(q) + " corner " + std::to_string(k);
+        } else if (kind == 1) {  // a piece into another original triangle
+            const int64_t q = rnd(p.num_pieces());
+            p.piece_original_triangle[q] =
+                static_cast<int32_t>((p.piece_original_triangle[q] + 1 + rnd(p.original.num_triangles() - 1)) %
+                                     p.original.num_triangles());
+            what = "piece " + std::to_string(q) + " original triangle";
+        } else if (kind == 2) {  // a node names another original vertex (image follows)
+            const int64_t n = rnd(p.num_nodes());
+            p.node_original_vertex[n] =
+                static_cast<int32_t>((p.node_original_vertex[n] + 1 + rnd(p.original.num_vertices() - 1)) %
+                                     p.original.num_vertices());
+            fixtures::recompute_images(p);
+            what = "node " + std::to_string(n) + " identity";
+        } else {  // two corners of a piece swapped
+            const int64_t q = rnd(p.num_pieces());
+            std::swap(p.pieces[q][0], p.pieces[q][2]);
+            what = "piece " + std::to_string(q) + " swapped";
+        }
+        INFO(what);
+        const bool all_pass = check_format(p).passed && check_topology(p).passed && check_bijectivity(p).passed;
+        CHECK_FALSE(all_pass);
+        ++mutations;
+    }
+    CHECK(mutations == 300);
 }

@@ -1,6 +1,7 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <cmath>
 
 #include "bpm/surface_topology.h"
 #include "fixtures_surfaces.h"
@@ -173,6 +174,49 @@ TEST_CASE("non-manifold surfaces", "[topology]") {
             CHECK(c.betti2 == 1);
             CHECK(c.manifold);
         }
+    }
+}
+
+TEST_CASE("feature structure of open surfaces", "[topology]") {
+    SECTION("disk with two patches: the interface meets the boundary at two feature vertices") {
+        Surface s = fixtures::disk(4);
+        for (int32_t t = 0; t < s.num_triangles(); ++t) {
+            const Tri& c = s.triangles[t];
+            const double x = (s.vertices[c[0]][0] + s.vertices[c[1]][0] + s.vertices[c[2]][0]) / 3;
+            s.patches[t] = x < 2 ? 0 : 1;
+        }
+        const SurfaceTopology t = compute_topology(s);
+        CHECK(t.feature_vertices == std::vector<int32_t>{2, 22});  // (2,0) and (2,4)
+        REQUIRE(t.feature_lines.size() == 3);
+        CHECK(lines_with_sheets(t, 1) == 2);
+        CHECK(lines_with_sheets(t, 2) == 1);
+        CHECK(t.boundary_loops == 1);
+        CHECK(t.components[0].sheets == 2);
+    }
+    SECTION("fin: three flaps on one edge") {
+        Surface s;
+        s.vertices = {{0, 0, 0}, {0, 0, 1}};
+        for (int i = 0; i < 3; ++i) {
+            const double a = 2.0943951023931953 * i;
+            s.vertices.push_back({std::cos(a), std::sin(a), 0});
+            s.vertices.push_back({std::cos(a), std::sin(a), 1});
+        }
+        for (int32_t i = 0; i < 3; ++i) {
+            const int32_t p = 2 + 2 * i, q = 3 + 2 * i;
+            s.triangles.push_back({0, p, q});
+            s.triangles.push_back({0, q, 1});
+        }
+        s.patches.assign(s.triangles.size(), 0);
+        const SurfaceTopology t = compute_topology(s);
+        CHECK(t.euler_characteristic == 1);
+        CHECK(t.betti1 == 0);
+        CHECK(t.betti2 == 0);
+        CHECK(t.feature_vertices == std::vector<int32_t>{0, 1});
+        CHECK(t.feature_lines.size() == 4);
+        CHECK(lines_with_sheets(t, 3) == 1);
+        CHECK(lines_with_sheets(t, 1) == 3);
+        CHECK(t.boundary_loops == 1);  // the three boundary arcs meet in one wedge at each end
+        CHECK_FALSE(t.manifold);
     }
 }
 

@@ -29,15 +29,26 @@ struct BpmFormatVersion {
 };
 BpmFormatVersion bpm_format_version();  // what this build writes
 
+// The functions below use the HDF5 library, which (as packaged by Debian) is not
+// thread-safe: do not call them from several threads at the same time.
+
 // Writes the file atomically (temporary name in the same directory, renamed when
-// complete); "-" writes the whole file to standard output. Throws bpm::OutputError.
+// complete); "-" writes the whole file to standard output. Throws bpm::OutputError,
+// also when `file` breaks a rule of the spec that the reader would reject (index out of
+// range, broken CSR offsets, ...), so that bpm never writes a file it cannot read.
+// Deterministic: the same BpmFile gives byte-identical output (no HDF5 timestamps;
+// the only time in the file is ProvenanceStep::timestamp, chosen by the caller).
 void write_bpm(const std::string& path, const BpmFile& file);
 // The exact bytes write_bpm would produce.
 std::string write_bpm_to_memory(const BpmFile& file);
 
 // Reads and checks structure (datasets, types, shapes, index ranges, CSR offsets,
 // finite values, version). Throws bpm::InputError with the dataset and element at fault.
-// "-" reads standard input.
+// "-" reads standard input. Accepts any minor version of major version 1 and ignores
+// groups and attributes it does not know (spec §2, §10); the /VTKHDF group is not read.
+// Does not check the geometry of phi (tiling, orientation, bijectivity): bpm-check does.
+// Memory use is bounded by a small multiple of the input size (dataset extents are
+// checked against the file size before anything is allocated).
 BpmFile read_bpm(const std::string& path);
 BpmFile read_bpm_from_memory(const std::string& bytes, const std::string& name);
 

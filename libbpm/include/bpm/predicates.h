@@ -8,7 +8,28 @@
 namespace bpm {
 
 // Sign of the signed area of (a,b,c): +1 counter-clockwise, -1 clockwise, 0 collinear.
-int orient2d(const Vec2& a, const Vec2& b, const Vec2& c);
+// Inline floating-point filter (Shewchuk's orient2d error bound); the rare uncertain
+// cases go to the exact predicate.
+int orient2d_exact(const Vec2& a, const Vec2& b, const Vec2& c);
+inline int orient2d(const Vec2& a, const Vec2& b, const Vec2& c) {
+    const double left = (a[0] - c[0]) * (b[1] - c[1]);
+    const double right = (a[1] - c[1]) * (b[0] - c[0]);
+    const double det = left - right;
+    double sum;
+    if (left > 0.0) {
+        if (right <= 0.0) return det > 0.0 ? 1 : (det < 0.0 ? -1 : 0);
+        sum = left + right;
+    } else if (left < 0.0) {
+        if (right >= 0.0) return det > 0.0 ? 1 : (det < 0.0 ? -1 : 0);
+        sum = -left - right;
+    } else {
+        return det > 0.0 ? 1 : (det < 0.0 ? -1 : 0);
+    }
+    const double bound = 3.3306690738754716e-16 * sum;  // (3 + 16 eps) eps
+    if (det >= bound) return 1;
+    if (-det >= bound) return -1;
+    return orient2d_exact(a, b, c);
+}
 // Sign of the signed volume of (a,b,c,d): +1 if d is below the plane of the
 // counter-clockwise triangle (a,b,c) (CGAL's POSITIVE), -1 above, 0 coplanar.
 int orient3d(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
