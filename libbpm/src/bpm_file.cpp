@@ -379,10 +379,43 @@ void write_surface(const Writer& w, hid_t group, const Surface& s) {
 
 std::atomic<unsigned> g_image_counter{0};
 
+// The optional /tetmesh group (spec/tetmesh.md); written only when the file has a mesh,
+// so files without one keep their exact bytes.
+void write_tetmesh_group(const Writer& w, hid_t f, const TetMesh& m) {
+    Handle g = w.create_group(f, "tetmesh");
+    w.write_int_attribute(g, "level", std::vector<int32_t>{m.level}, H5T_STD_I32LE, H5T_NATIVE_INT32);
+    const auto xyz = flatten(m.vertices);
+    w.write_dataset(g, "vertices", xyz.data(), m.vertices.size(), 3, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE);
+    std::vector<int32_t> tets;
+    tets.reserve(4 * m.tetrahedra.size());
+    for (const auto& t : m.tetrahedra) tets.insert(tets.end(), t.begin(), t.end());
+    w.write_dataset(g, "tetrahedra", tets.data(), m.tetrahedra.size(), 4, H5T_STD_I32LE, H5T_NATIVE_INT32);
+    w.write_dataset(g, "regions", m.regions.data(), m.regions.size(), 0, H5T_STD_I32LE, H5T_NATIVE_INT32);
+    const auto faces = flatten(m.faces);
+    w.write_dataset(g, "faces", faces.data(), m.faces.size(), 3, H5T_STD_I32LE, H5T_NATIVE_INT32);
+    w.write_dataset(g, "face_coarse_triangle", m.face_coarse_triangle.data(), m.face_coarse_triangle.size(), 0,
+                    H5T_STD_I32LE, H5T_NATIVE_INT32);
+    w.write_dataset(g, "face_patches", m.face_patches.data(), m.face_patches.size(), 0, H5T_STD_I32LE,
+                    H5T_NATIVE_INT32);
+    w.write_dataset(g, "vertex_coarse_vertex", m.vertex_coarse_vertex.data(), m.vertex_coarse_vertex.size(), 0,
+                    H5T_STD_I32LE, H5T_NATIVE_INT32);
+    w.write_dataset(g, "vertex_parameter_triangle", m.vertex_parameter_triangle.data(),
+                    m.vertex_parameter_triangle.size(), 0, H5T_STD_I32LE, H5T_NATIVE_INT32);
+    const auto bary = flatten(m.vertex_parameter_barycentric);
+    w.write_dataset(g, "vertex_parameter_barycentric", bary.data(), m.vertex_parameter_barycentric.size(), 3,
+                    H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE);
+    if (!m.tet_ancestor.empty())
+        w.write_dataset(g, "tet_ancestor", m.tet_ancestor.data(), m.tet_ancestor.size(), 0, H5T_STD_I32LE,
+                        H5T_NATIVE_INT32);
+}
+
 std::string build_image(const BpmFile& file, const std::string& where) {
     silence_hdf5();
     if (auto problem = find_inconsistency(file); !problem.empty())
         throw OutputError(where, "refusing to write an inconsistent parametrization: " + problem);
+    if (file.tetmesh)
+        if (auto problem = find_tetmesh_inconsistency(*file.tetmesh, file.param.coarse); !problem.empty())
+            throw OutputError(where, "refusing to write an inconsistent tetrahedral mesh: " + problem);
     const Parametrization& p = file.param;
     Writer w(where);
 
@@ -487,6 +520,7 @@ std::string build_image(const BpmFile& file, const std::string& where) {
         Handle pd = w.create_group(g, "PointData");
         Handle fd = w.create_group(g, "FieldData");
     }
+    if (file.tetmesh) write_tetmesh_group(w, f, *file.tetmesh);
 
     w.check(H5Fflush(f, H5F_SCOPE_GLOBAL), "cannot flush the in-memory file");
     const ssize_t size = H5Fget_file_image(f, nullptr, 0);
@@ -667,6 +701,22 @@ public:
         return std::string(buffer.data(), strnlen(buffer.data(), width));
     }
 
+    // An integer attribute of the object at `path` (a group or dataset).
+    std::vector<int64_t> read_object_int_attribute(const std::string& path, const std::string& name) const {
+        const std::string what = path + ": attribute '" + name + "'";
+        if (H5Aexists_by_name(file_, path.c_str(), name.c_str(), H5P_DEFAULT) <= 0) fail(what + ": missing");
+        Handle attr(H5Aopen_by_name(file_, path.c_str(), name.c_str(), H5P_DEFAULT, H5P_DEFAULT), H5Aclose);
+        if (!attr.valid()) fail(what + ": cannot open");
+        Handle ftype(H5Aget_type(attr), H5Tclose);
+        if (!ftype.valid() || H5Tget_class(ftype) != H5T_INTEGER) fail(what + ": wrong datatype, expected integers");
+        Handle space(H5Aget_space(attr), H5Sclose);
+        const hssize_t n = H5Sget_simple_extent_npoints(space);
+        if (n < 0 || n > 16) fail(what + ": unexpected number of entries");
+        std::vector<int64_t> out(static_cast<size_t>(n));
+        if (n > 0 && H5Aread(attr, H5T_NATIVE_INT64, out.data()) < 0) fail(what + ": cannot read");
+        return out;
+    }
+
     std::vector<int64_t> read_int_attribute(const std::string& name) const {
         Handle attr = open_attribute(name, true);
         Handle ftype(H5Aget_type(attr), H5Tclose);
@@ -734,6 +784,47 @@ Surface read_surface(const Reader& r, const std::string& group) {
     s.triangles = to_tri(tri);
     s.patches = patches;
     return s;
+}
+
+TetMesh read_tetmesh_group(const Reader& r, const Surface& coarse) {
+    TetMesh m;
+    const auto level = r.read_object_int_attribute("/tetmesh", "level");
+    if (level.size() != 1) r.fail("/tetmesh: attribute 'level' must hold one integer");
+    if (level[0] < 0 || level[0] > 64) r.fail("/tetmesh: attribute 'level' = " + num(level[0]) + " is out of range");
+    m.level = static_cast<int32_t>(level[0]);
+    hsize_t nv = 0, nt = 0, nf = 0, rows = 0;
+    const auto xyz = r.read_floats("/tetmesh/vertices", 3, "(#V, 3)", nv);
+    check_finite(r, xyz, "/tetmesh/vertices", 3);
+    if (nv > hsize_t(std::numeric_limits<int32_t>::max())) r.fail("/tetmesh/vertices: more than 2^31-1 vertices");
+    m.vertices = to_vec3(xyz);
+    const auto tets = narrow(r, r.read_ints("/tetmesh/tetrahedra", 4, "(#Tet, 4)", nt), "/tetmesh/tetrahedra");
+    m.tetrahedra.resize(static_cast<size_t>(nt));
+    for (size_t i = 0; i < m.tetrahedra.size(); ++i)
+        m.tetrahedra[i] = {tets[4 * i], tets[4 * i + 1], tets[4 * i + 2], tets[4 * i + 3]};
+    m.regions = narrow(r, r.read_ints("/tetmesh/regions", 0, "(#Tet,)", rows), "/tetmesh/regions");
+    expect_rows(r, rows, nt, "/tetmesh/regions", "one per row of /tetmesh/tetrahedra");
+    m.faces = to_tri(narrow(r, r.read_ints("/tetmesh/faces", 3, "(#F, 3)", nf), "/tetmesh/faces"));
+    m.face_coarse_triangle =
+        narrow(r, r.read_ints("/tetmesh/face_coarse_triangle", 0, "(#F,)", rows), "/tetmesh/face_coarse_triangle");
+    expect_rows(r, rows, nf, "/tetmesh/face_coarse_triangle", "one per row of /tetmesh/faces");
+    m.face_patches = narrow(r, r.read_ints("/tetmesh/face_patches", 0, "(#F,)", rows), "/tetmesh/face_patches");
+    expect_rows(r, rows, nf, "/tetmesh/face_patches", "one per row of /tetmesh/faces");
+    m.vertex_coarse_vertex =
+        narrow(r, r.read_ints("/tetmesh/vertex_coarse_vertex", 0, "(#V,)", rows), "/tetmesh/vertex_coarse_vertex");
+    expect_rows(r, rows, nv, "/tetmesh/vertex_coarse_vertex", "one per row of /tetmesh/vertices");
+    m.vertex_parameter_triangle = narrow(r, r.read_ints("/tetmesh/vertex_parameter_triangle", 0, "(#V,)", rows),
+                                         "/tetmesh/vertex_parameter_triangle");
+    expect_rows(r, rows, nv, "/tetmesh/vertex_parameter_triangle", "one per row of /tetmesh/vertices");
+    const auto bary = r.read_floats("/tetmesh/vertex_parameter_barycentric", 3, "(#V, 3)", rows);
+    expect_rows(r, rows, nv, "/tetmesh/vertex_parameter_barycentric", "one per row of /tetmesh/vertices");
+    check_finite(r, bary, "/tetmesh/vertex_parameter_barycentric", 3);
+    m.vertex_parameter_barycentric = to_vec3(bary);
+    if (r.exists("/tetmesh/tet_ancestor")) {
+        m.tet_ancestor = narrow(r, r.read_ints("/tetmesh/tet_ancestor", 0, "(#Tet,)", rows), "/tetmesh/tet_ancestor");
+        expect_rows(r, rows, nt, "/tetmesh/tet_ancestor", "one per row of /tetmesh/tetrahedra");
+    }
+    if (auto problem = find_tetmesh_inconsistency(m, coarse); !problem.empty()) r.fail(problem);
+    return m;
 }
 
 BpmFile read_image(const std::string& bytes, const std::string& where) {
@@ -832,6 +923,7 @@ BpmFile read_image(const std::string& bytes, const std::string& where) {
         out.provenance.push_back({std::move(tool[i]), std::move(ver[i]), std::move(args[i]), std::move(stamp[i])});
 
     if (auto problem = find_inconsistency(out); !problem.empty()) r.fail(problem);
+    if (r.exists("/tetmesh")) out.tetmesh = read_tetmesh_group(r, p.coarse);
     // Non-crossing nodes carry NaN as their edge parameter; normalise whatever the file
     // had so that a read file compares equal to what was written.
     for (size_t i = 0; i < p.node_edge_parameter.size(); ++i)

@@ -24,7 +24,7 @@ int orient3d(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
     return sign_of(CGAL::orientation(p3(a), p3(b), p3(c), p3(d)));
 }
 
-int in_circle(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d) {
+int in_circle_exact(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d) {
     // CGAL::side_of_oriented_circle is POSITIVE inside for counter-clockwise (a,b,c).
     return sign_of(CGAL::side_of_oriented_circle(p2(a), p2(b), p2(c), p2(d)));
 }

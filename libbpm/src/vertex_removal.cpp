@@ -310,6 +310,7 @@ private:
 
     int32_t n_ = 0;                // polygon corners
     std::vector<Vec2> q_;          // polygon corners in 2D
+    bool cocircular_ = false;      // q_ on a circle (the convex fallback flattening)
     std::vector<StarNode> nodes_;
     VertexSlots vertex_node_;
     std::vector<std::pair<int64_t, int32_t>> crossing_node_;  // ((edge << 20) | index, node)
@@ -406,6 +407,7 @@ bool FanPlanner::flatten(std::string& why) {
         total += theta[i];
     }
     const double alpha = (fan_->closed ? 2.0 * M_PI : M_PI) / total;
+    cocircular_ = false;
     q_.assign(n_, {0.0, 0.0});
     std::vector<double> phi(n_, 0.0);
     for (int32_t i = 1; i < n_; ++i) phi[i] = phi[i - 1] + alpha * theta[i - 1];
@@ -435,6 +437,7 @@ bool FanPlanner::flatten(std::string& why) {
         // A star-shaped but non-convex polygon cannot always carry the re-cut graph
         // (paper §2.2.4); move the corners outwards onto a circle (closed) or a
         // half-circle through the fixed ends (open), which is convex.
+        cocircular_ = true;  // every ear is Delaunay-admissible on a circle
         if (fan_->closed) {
             for (int32_t i = 0; i < n_; ++i) q_[i] = {std::cos(phi[i]), std::sin(phi[i])};
         } else {
@@ -468,7 +471,7 @@ bool FanPlanner::triangulate(std::string& why) {
             const double aspect = aspect_ratio(x[fan_->link[a]], x[fan_->link[b]], x[fan_->link[d]]);
             if (!std::isfinite(aspect)) continue;
             bool delaunay = true;
-            for (int32_t o = 0; o < m && delaunay; ++o) {
+            for (int32_t o = 0; o < m && delaunay && !cocircular_; ++o) {
                 const int32_t p = poly[o];
                 if (p == a || p == b || p == d) continue;
                 if (in_circle(q_[a], q_[b], q_[d], q_[p]) > 0) delaunay = false;

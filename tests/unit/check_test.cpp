@@ -521,3 +521,48 @@ TEST_CASE("random discrete mutations never pass and never crash", "[check]") {
     }
     CHECK(mutations == 300);
 }
+
+TEST_CASE("surface-level intersection cases", "[check]") {
+    SECTION("a duplicate triangle") {
+        Surface s = fixtures::cube();
+        s.triangles.push_back({s.triangles[3][1], s.triangles[3][2], s.triangles[3][0]});
+        s.patches.push_back(1);
+        const CheckResult r = check_intersections(s);
+        const CheckProblem e = first_problem(r);
+        CHECK(e.id("triangle") == 3);
+        CHECK(e.id("other_triangle") == 12);
+        CHECK(e.message.find("same three vertices") != std::string::npos);
+    }
+    SECTION("a coplanar fold over an edge") {
+        Surface s = fixtures::disk(2);
+        // fold the last triangle's free corner back over its neighbour, in the plane
+        s.vertices[s.triangles.back()[2]] = {1.5, 1.2, 0.0};
+        const CheckResult r = check_intersections(s);
+        CHECK_FALSE(r.passed);
+    }
+    SECTION("a degenerate triangle is reported once, not paired") {
+        Surface s = fixtures::disk(2);
+        s.vertices.push_back({0.5, 0.0, 0.0});  // on the edge (0,0)-(1,0)
+        s.triangles.push_back({0, 1, static_cast<int32_t>(s.vertices.size() - 1)});
+        s.patches.push_back(0);
+        const CheckResult r = check_intersections(s);
+        const CheckProblem e = first_problem(r);
+        CHECK(e.id("triangle") == s.num_triangles() - 1);
+        CHECK(e.message.find("degenerate") != std::string::npos);
+        CHECK(r.count("degenerate_triangles") == 1);
+    }
+    SECTION("two surfaces touching at a point without sharing the vertex") {
+        Surface s = fixtures::tetrahedron();
+        Surface t = fixtures::tetrahedron();
+        const int32_t off = s.num_vertices();
+        for (auto v : t.vertices) s.vertices.push_back({-v[0], -v[1], -v[2]});  // touches at the origin
+        for (auto tri : t.triangles) s.triangles.push_back({tri[0] + off, tri[2] + off, tri[1] + off});
+        s.patches.resize(s.triangles.size(), 0);
+        CHECK_FALSE(check_intersections(s).passed);
+        // merging the two origin vertices makes it a proper vertex contact (an hourglass)
+        for (auto& tri : s.triangles)
+            for (auto& v : tri)
+                if (v == off) v = 0;
+        CHECK(check_intersections(s).passed);
+    }
+}

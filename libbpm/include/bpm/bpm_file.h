@@ -2,10 +2,12 @@
 // The bpm file format v1 (spec/bpm-format.md is normative): one HDF5 file holding a
 // parametrized surface, its provenance, and room for later groups.
 
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "bpm/parametrization.h"
+#include "bpm/tetmesh.h"
 
 namespace bpm {
 
@@ -21,6 +23,9 @@ struct BpmFile {
     Parametrization param;
     std::vector<ProvenanceStep> provenance;  // oldest first
     std::string units;                        // free text, e.g. "mm"; empty if unknown
+    // A tetrahedral mesh of the volume bounded by the coarse surface (bpm-mesh), stored
+    // in the optional /tetmesh group (spec/tetmesh.md). Files without one are unchanged.
+    std::optional<TetMesh> tetmesh;
 };
 
 struct BpmFormatVersion {

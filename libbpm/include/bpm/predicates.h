@@ -3,6 +3,8 @@
 // Exact_predicates_inexact_constructions_kernel underneath, kept out of this header).
 // Every decision that changes topology or validity goes through these.
 
+#include <cmath>
+
 #include "bpm/geometry.h"
 
 namespace bpm {
@@ -34,7 +36,24 @@ inline int orient2d(const Vec2& a, const Vec2& b, const Vec2& c) {
 // counter-clockwise triangle (a,b,c) (CGAL's POSITIVE), -1 above, 0 coplanar.
 int orient3d(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
 // +1 if d is strictly inside the circle through counter-clockwise (a,b,c), 0 on it, -1 outside.
-int in_circle(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d);
+// Inline floating-point filter (Shewchuk's incircle error bound), exact otherwise.
+int in_circle_exact(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d);
+inline int in_circle(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d) {
+    const double adx = a[0] - d[0], ady = a[1] - d[1];
+    const double bdx = b[0] - d[0], bdy = b[1] - d[1];
+    const double cdx = c[0] - d[0], cdy = c[1] - d[1];
+    const double bdxcdy = bdx * cdy, cdxbdy = cdx * bdy, alift = adx * adx + ady * ady;
+    const double cdxady = cdx * ady, adxcdy = adx * cdy, blift = bdx * bdx + bdy * bdy;
+    const double adxbdy = adx * bdy, bdxady = bdx * ady, clift = cdx * cdx + cdy * cdy;
+    const double det = alift * (bdxcdy - cdxbdy) + blift * (cdxady - adxcdy) + clift * (adxbdy - bdxady);
+    const double permanent = (std::abs(bdxcdy) + std::abs(cdxbdy)) * alift +
+                             (std::abs(cdxady) + std::abs(adxcdy)) * blift +
+                             (std::abs(adxbdy) + std::abs(bdxady)) * clift;
+    const double bound = 1.1102230246251577e-15 * permanent;  // (10 + 96 eps) eps
+    if (det > bound) return 1;
+    if (-det > bound) return -1;
+    return in_circle_exact(a, b, c, d);
+}
 // Exact: are the three points collinear?
 bool collinear3d(const Vec3& a, const Vec3& b, const Vec3& c);
 

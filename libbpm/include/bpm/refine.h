@@ -1,0 +1,106 @@
+#pragma once
+// Refinement of the coarse surface S through phi: every coarse triangle is subdivided in
+// its parameter triangle, and every new vertex is placed at phi of its parameter
+// position, i.e. on the original surface S0 (Krause & Sander §1: the coarse grid of a
+// multigrid hierarchy is refined and the new vertices are moved onto the boundary with
+// the boundary parametrization). How a solver places a vertex itself is described in
+// spec/refinement.md.
+//
+// Uniform refinement splits each coarse triangle into 4^levels congruent triangles in
+// parameter space (red refinement at edge midpoints; a midpoint of an edge shared by
+// two triangles is one vertex). Adaptive refinement red-refines only triangles whose
+// phi-image deviates from the flat triangle by more than a tolerance (estimated by
+// evaluating phi at sample points), keeps the mesh 1-irregular, and closes it with green
+// bisections at the end, so the result is conforming (no hanging nodes).
+
+#include <array>
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "bpm/context.h"
+#include "bpm/parametrization.h"
+#include "bpm/surface.h"
+
+namespace bpm {
+
+struct RefineOptions {
+    // Uniform: each coarse triangle into 4^levels triangles. -1 = adaptive (tolerance).
+    int levels = -1;
+    // Adaptive: split triangles whose phi-image deviates from the flat triangle by more
+    // than this fraction of the bounding-box diagonal of S0 (> 0).
+    double tolerance = 0.0;
+    // Adaptive: never refine a coarse triangle more than this many times.
+    int max_level = 6;
+};
+
+// A refined surface and where each of its vertices / triangles comes from.
+struct RefinedSurface {
+    Surface surface;  // vertices at phi of their parameter positions; patch of the coarse triangle
+    // Per vertex (#V): one coarse triangle containing it and the barycentric coordinates there.
+    std::vector<int32_t> vertex_coarse_triangle;
+    std::vector<Vec3> vertex_barycentric;
+    // Per vertex (#V): the original triangle containing its image and the barycentric
+    // coordinates there (PhiSample), for interpolating data given at original vertices.
+    std::vector<int32_t> vertex_original_triangle;
+    std::vector<Vec3> vertex_original_barycentric;
+    // Per triangle (#T): its coarse triangle, its corners' barycentric coordinates in that
+    // coarse triangle (exact dyadic fractions), and its refinement level (green halves
+    // have the level of the triangle they split).
+    std::vector<int32_t> triangle_coarse;
+    std::vector<std::array<Vec3, 3>> triangle_barycentric;
+    std::vector<int32_t> triangle_level;
+};
+
+struct RefineResult {
+    int64_t coarse_triangles = 0;
+    int64_t vertices = 0, triangles = 0;
+    int32_t max_level = 0;            // deepest level reached
+    double max_estimated_error = 0.0; // max over refined triangles of the sampled deviation / diagonal
+    int64_t triangles_at_max_level_above_tolerance = 0;  // adaptive: could not meet the tolerance
+    double seconds = 0.0;
+};
+
+// \pre `param` passed check_format (e.g. read with read_bpm or made by simplify).
+// \throw bpm::OptionError if neither levels >= 0 nor tolerance > 0 is given, or levels > 10.
+// Coarse vertices keep their positions exactly (levels = 0 returns the coarse surface).
+RefineResult refine(const Parametrization& param, const RefineOptions& options, const Context& context,
+                    RefinedSurface& out);
+
+// The refined surface as a new parametrized surface: S' = refined.surface is the coarse
+// surface and phi' = phi o (S' -> S). The .bpm format needs every coarse vertex to be an
+// original vertex and every piece to map into one original triangle, so the original
+// surface of the result is S0 re-triangulated (same geometry, every triangle of S0
+// subdivided flat) by the overlay of the pieces of phi and the refined triangles: its
+// vertices are those of S0 (same indices first), then the former edge crossings of phi,
+// the refined vertices and the points where refined edges cross piece edges. Each piece
+// of phi' is one triangle of that surface, so phi' has only CoarseCorner and
+// OriginalVertex nodes. Patches are kept.
+// \throw bpm::AlgorithmError if the overlay could not be built consistently.
+Parametrization refined_parametrization(const Parametrization& param, const RefinedSurface& refined,
+                                        const Context& context = {});
+
+// Area-weighted vertex normals of a surface (unit length; zero for unreferenced vertices).
+std::vector<Vec3> vertex_normals(const Surface& surface);
+
+// Interpolates per-original-vertex data (#V0 rows of `components` values, row-major)
+// onto the refined vertices through phi (original triangle + barycentric coordinates).
+// \throw std::invalid_argument if data.size() != #V0 * components.
+std::vector<double> transfer_vertex_data(const RefinedSurface& refined, const Surface& original,
+                                         const std::vector<double>& data, int components);
+
+// Named data arrays for write_vtu.
+struct VtuArray {
+    std::string name;
+    int components = 1;
+    std::vector<double> values;  // #elements * components, row-major
+};
+
+// Writes an unstructured grid of triangles as VTK XML (.vtu, ASCII), atomically; "-"
+// writes standard output. Patch ids are written as the Int32 cell array "patch".
+// \throw bpm::OutputError
+void write_vtu(const std::string& path, const Surface& surface, const std::vector<VtuArray>& point_data,
+               const std::vector<VtuArray>& cell_data);
+
+}  // namespace bpm

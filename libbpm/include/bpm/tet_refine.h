@@ -1,0 +1,72 @@
+#pragma once
+// Uniform red refinement of a tetrahedral mesh whose boundary is the coarse surface S,
+// with the new boundary vertices moved onto the original surface S0 through phi
+// (Krause & Sander §3, §3.3).
+//
+// Each level splits every tetrahedron into 8 by Bey's rule (J. Bey, "Simplicial grid
+// refinement: on Freudenthal's algorithm and the optimal number of congruence classes",
+// Numer. Math. 85, 2000: children ordered so that repeated refinement produces at most 3
+// similarity classes per initial tetrahedron) and every face on S into 4. A new vertex is
+// the midpoint x of an edge of the current (already moved) mesh. If the edge lies on S,
+// the vertex's parameter position (a coarse triangle and barycentric coordinates there,
+// the midpoint of its ends' parameter positions) is known exactly, and the vertex is moved
+// to phi of it. Where that would invert a tetrahedron, the §3.3 remedy places the vertex
+// at lambda*x + (1-lambda)*phi(x) instead, with the largest fraction 1-lambda in [0, 1]
+// (bisection) that keeps every tetrahedron around it positively oriented (exact orient3d);
+// lambda = 1 is plain red refinement, which is always valid because the children of a
+// positive tetrahedron are positive. (The paper writes "lambda = 0 corresponds to standard
+// red-green refinement"; with its formula that is lambda = 1.)
+//
+// Typical use (bpm-refine on a .bpm file that has a tet mesh):
+//     bpm::BpmFile file = bpm::read_bpm(in);
+//     bpm::TetMesh fine;
+//     bpm::TetRefineOptions o;  o.levels = 2;
+//     bpm::TetRefineResult r = bpm::refine_tetmesh(file.param, *file.tetmesh, o, context, fine);
+//     file.tetmesh = std::move(fine);             // then write_bpm, or write_tetmesh for .msh/.vtu/.mesh
+
+#include <cstdint>
+#include <vector>
+
+#include "bpm/context.h"
+#include "bpm/parametrization.h"
+#include "bpm/tetmesh.h"
+
+namespace bpm {
+
+struct TetRefineOptions {
+    int levels = 1;                // K >= 0 uniform refinement steps (each multiplies #Tet by 8)
+    bool move_to_surface = true;   // false: plain red refinement, boundary vertices stay on S
+    int bisection_steps = 30;      // for the largest admissible 1-lambda
+};
+
+struct TetRefineLevel {
+    int64_t vertices = 0, tetrahedra = 0;
+    int64_t new_boundary_vertices = 0;  // created on S at this level
+    int64_t remedied_vertices = 0;      // of those, placed at lambda*x + (1-lambda)*phi(x) with lambda > 0
+    int64_t flat_vertices = 0;          // of those, left at x (lambda = 1, nothing of phi admissible)
+};
+
+struct TetRefineResult {
+    std::vector<TetRefineLevel> levels;  // one per refinement step
+    int64_t vertices = 0, tetrahedra = 0, faces = 0;
+    int64_t boundary_vertices = 0;       // vertices on S at the finest level (coarse ones included)
+    int64_t remedied_vertices = 0;       // all levels; these stay off S0
+    double max_remedy_distance = 0;      // largest |v - phi(x)| of a remedied vertex, model units
+    double max_remedy_distance_relative = 0;  // the same over the bounding-box diagonal of S0
+    double min_phi_fraction = 1;         // smallest 1-lambda used (1 = all on S0)
+    int64_t inverted = 0;                // tetrahedra not positively oriented at the end (0 unless the input had some)
+    double seconds = 0;
+};
+
+// Refines `coarse` (a mesh of param.coarse, e.g. from generate_tetmesh or a .bpm file)
+// `options.levels` times; `out` gets the finest level with regions, faces on S (with their
+// coarse triangles and patches), the parameter position of every boundary vertex,
+// level = coarse.level + K, and tet_ancestor = the level-0 tetrahedron of each tetrahedron.
+// Vertices keep their indices (new ones are appended); tetrahedra are written positively
+// oriented. \pre coarse passes find_tetmesh_inconsistency and is positively oriented.
+// \throw OptionError for levels < 0 or a result beyond 2^31-1 tetrahedra,
+//        AlgorithmError if `coarse` does not fit param, Cancelled through the progress callback.
+TetRefineResult refine_tetmesh(const Parametrization& param, const TetMesh& coarse, const TetRefineOptions& options,
+                               const Context& context, TetMesh& out);
+
+}  // namespace bpm

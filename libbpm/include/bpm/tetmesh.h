@@ -1,0 +1,136 @@
+#pragma once
+// Tetrahedral volume meshes whose boundary is the coarse surface S (bpm-mesh).
+//
+// generate_tetmesh() writes S as a TetGen piecewise linear complex (one facet per coarse
+// triangle, facet marker = patch id, one region point strictly inside every bounded
+// region), runs the `tetgen` executable (Debian package `tetgen`) with -p -Y -q -A, and
+// reads the mesh back. -Y keeps S exactly: every coarse triangle is a face of the tet
+// mesh, and the first #S.V tet-mesh vertices are the coarse vertices, in order.
+//
+// Regions are the connected components of R^3 minus S; the unbounded one is not meshed.
+// They are numbered 1, 2, ... in the order of the first coarse triangle side that bounds
+// them: side 2t is the front of coarse triangle t (where its normal points), 2t+1 the back.
+// For a single closed outward-oriented surface the one region is 1.
+//
+// References: H. Si, "TetGen, a Delaunay-based quality tetrahedral mesh generator",
+// ACM TOMS 41(2), 2015 (the .poly/.node/.ele formats); spec/tetmesh.md for the /tetmesh
+// group of a .bpm file.
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "bpm/context.h"
+#include "bpm/geometry.h"
+#include "bpm/parametrization.h"
+#include "bpm/surface.h"
+
+namespace bpm {
+
+using Tet = std::array<int32_t, 4>;
+
+// In-memory twin of the /tetmesh group (spec/tetmesh.md); names match the datasets.
+// Every tetrahedron is positively oriented: det[x1-x0, x2-x0, x3-x0] > 0, i.e.
+// orient3d(x0, x1, x2, x3) == -1 in the convention of bpm/predicates.h.
+struct TetMesh {
+    std::vector<Vec3> vertices;             // #V positions
+    std::vector<Tet> tetrahedra;            // #Tet four vertex indices, positive orientation
+    std::vector<int32_t> regions;           // #Tet region id >= 1 of each tetrahedron
+    // Boundary and interface faces: every face of the mesh that lies on S, once, oriented
+    // like the coarse triangle it lies on (each coarse triangle exactly, at level 0; its
+    // 4^level red-refinement children after tet_refine).
+    std::vector<Tri> faces;                 // #F
+    std::vector<int32_t> face_coarse_triangle;  // #F the coarse triangle the face lies on
+    std::vector<int32_t> face_patches;          // #F = coarse patch of face_coarse_triangle
+    // Where each vertex sits on S, so that a solver can apply phi (bpm/phi_evaluation.h):
+    std::vector<int32_t> vertex_coarse_vertex;        // #V the coarse vertex it is, or -1
+    std::vector<int32_t> vertex_parameter_triangle;   // #V a coarse triangle containing it, -1 for interior vertices
+    std::vector<Vec3> vertex_parameter_barycentric;   // #V its barycentric coordinates there ({0,0,0} for interior)
+    // Refinement level (0 = TetGen's mesh) and, for refined meshes, the level-0
+    // tetrahedron each tetrahedron descends from (empty at level 0).
+    int32_t level = 0;
+    std::vector<int32_t> tet_ancestor;      // #Tet or empty
+
+    int32_t num_vertices() const { return static_cast<int32_t>(vertices.size()); }
+    int32_t num_tetrahedra() const { return static_cast<int32_t>(tetrahedra.size()); }
+    int32_t num_regions() const;  // largest region id (ids are 1..R)
+};
+
+struct TetMeshOptions {
+    double quality = 1.414;          // TetGen -q: maximum radius-edge ratio (> 1.0 recommended >= 1.2)
+    std::optional<double> max_volume;  // TetGen -a: maximum tetrahedron volume, in units^3
+    std::string tetgen = "tetgen";   // executable: a name looked up on PATH, or a path
+    // Keep TetGen's temporary directory (its path is logged) instead of deleting it.
+    bool keep_temporary = false;
+};
+
+struct TetMeshResult {
+    int64_t vertices = 0, tetrahedra = 0, faces = 0, regions = 0;
+    int64_t steiner_points = 0;      // vertices TetGen added (all strictly inside regions)
+    double tetgen_seconds = 0.0;     // wall time of the TetGen runs
+    double seconds = 0.0;            // wall time of the whole call
+    std::string tetgen_command;      // the final command line as run
+};
+
+// Problems that make TetGen refuse or mangle a surface, found before TetGen runs:
+// invalid triangles (validate_surface), boundary edges (an open surface), improper
+// self-intersections and touching sheets (check_intersections). Throws
+// bpm::AlgorithmError naming the first problem and where it is, e.g.
+// "surface has 12 boundary edges, first at vertices 3-17 (TetGen needs closed surfaces)".
+void check_meshable(const Surface& surface, const Context& context = {});
+
+// The surface as a TetGen .poly file (0-based, facet markers = patch ids), with the given
+// region points (`region_points[r]` gets region attribute r + 1).
+std::string tetgen_poly(const Surface& surface, const std::vector<Vec3>& region_points);
+
+// Meshes the volume bounded by param.coarse (see the top of this file).
+// \throw AlgorithmError if check_meshable fails or TetGen's mesh does not contain S
+//        exactly; ExternalToolError if tetgen is missing (naming the Debian package) or
+//        fails (with TetGen's own error output); Cancelled through the progress callback.
+TetMeshResult generate_tetmesh(const Parametrization& param, const TetMeshOptions& options, const Context& context,
+                               TetMesh& out);
+
+// Structural consistency (sizes, index ranges, region ids >= 1, face patches equal to the
+// coarse patches, finite values, barycentrics >= 0 summing to 1 within 1e-9); empty when
+// fine, otherwise the first problem, starting with the /tetmesh dataset name. The .bpm
+// reader and writer use it.
+std::string find_tetmesh_inconsistency(const TetMesh& mesh, const Surface& coarse);
+
+// --- measurements ---------------------------------------------------------------
+
+struct TetMeshStats {
+    int64_t inverted = 0;            // tetrahedra that are not positively oriented (exact orient3d)
+    double min_dihedral_degrees = 0; // smallest dihedral angle over all tetrahedra
+    double max_dihedral_degrees = 0;
+    std::vector<double> region_volumes;  // [r-1] = volume of region r (sum of signed tet volumes)
+};
+TetMeshStats tetmesh_stats(const TetMesh& mesh);
+
+// For every region r (index r-1), the volume enclosed by the image phi(S) = S0 of its
+// boundary: the sum over the coarse triangle sides bounding r of the signed cone volumes of
+// phi's pieces. Compares the meshed volume with the volume of the original surface.
+std::vector<double> region_volumes_on_original(const Parametrization& param, const TetMesh& mesh);
+
+// --- export -------------------------------------------------------------------
+
+enum class TetMeshFormat { Bpm, Msh, Vtu, Medit };
+// "bpm", "msh", "vtu", "mesh" (case-insensitive) -> format; nullopt otherwise.
+std::optional<TetMeshFormat> tetmesh_format_from_name(const std::string& name);
+std::optional<TetMeshFormat> tetmesh_format_from_path(const std::string& path);
+
+// Writes `mesh` atomically ("-" = standard output) as
+//   Msh    Gmsh MSH 4.1 ASCII: one volume entity per region (physical tag = region id,
+//          name "region_<id>"), one surface entity per patch (physical tag = patch id, name
+//          "patch_<id>"); tets (type 4) and boundary triangles (type 2); node tags = index+1
+//   Vtu    VTK XML UnstructuredGrid, ASCII: tetrahedra (type 10) with cell data "region"
+//          (and "ancestor" if present), point data "coarse_vertex"
+//   Medit  INRIA .mesh (MeshVersionFormatted 2): Vertices (ref 1 on S, 0 inside),
+//          Tetrahedra with ref = region, Triangles with ref = patch
+// The .bpm format needs the whole BpmFile: use write_bpm (bpm/bpm_file.h).
+// \throw OutputError (unwritable path, or format Bpm).
+void write_tetmesh(const std::string& path, const TetMesh& mesh, TetMeshFormat format);
+std::string write_tetmesh_to_string(const TetMesh& mesh, TetMeshFormat format);
+
+}  // namespace bpm

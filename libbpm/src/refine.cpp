@@ -1,0 +1,303 @@
+// Refinement of the coarse surface through phi (Krause & Sander §1, §2.2.3): subdivide
+// in parameter space, place every new vertex at phi of its parameter position.
+//
+// Uniform refinement is red refinement (1 -> 4 at edge midpoints) of every triangle,
+// `levels` times. Adaptive refinement follows the classic red-green scheme (Bank,
+// Sherman & Weiser 1983): red-refine triangles whose sampled deviation exceeds the
+// tolerance, red-refine further triangles until the mesh is 1-irregular (no triangle
+// with two split edges, no split edge whose halves are split again), then close it
+// with green bisections of the triangles that have exactly one split edge.
+//
+// All parameter positions are averages of parameter positions, i.e. dyadic fractions of
+// the coarse corners: exact in double precision for any practical level, so a vertex on
+// a coarse edge has an exactly zero barycentric coordinate, and the same vertex seen
+// from the two coarse triangles of an edge has the same (permuted) coordinates.
+
+#include "bpm/refine.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+#include <unordered_map>
+
+#include "bpm/errors.h"
+#include "bpm/phi_evaluation.h"
+
+namespace bpm {
+
+namespace {
+
+struct RTri {
+    int32_t coarse;
+    std::array<int32_t, 3> v;
+    std::array<Vec3, 3> b;
+    int32_t level;
+    double error = -1;  // sampled deviation, -1 = not yet computed
+};
+
+inline uint64_t edge_key(int32_t a, int32_t b) {
+    if (a > b) std::swap(a, b);
+    return (uint64_t(uint32_t(a)) << 32) | uint64_t(uint32_t(b));
+}
+
+inline Vec3 mid(const Vec3& a, const Vec3& b) { return {0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1]), 0.5 * (a[2] + b[2])}; }
+
+class Refiner {
+public:
+    Refiner(const Parametrization& p, const PhiEvaluator& phi, RefinedSurface& out)
+        : p_(p), phi_(phi), out_(out) {
+        diagonal_ = bounding_box_diagonal(p.original);
+        if (!(diagonal_ > 0)) diagonal_ = 1;
+    }
+
+    void init() {
+        const Surface& c = p_.coarse;
+        out_.surface.vertices = c.vertices;  // coarse vertices keep their positions exactly
+        const size_t nv = c.vertices.size();
+        out_.vertex_coarse_triangle.assign(nv, -1);
+        out_.vertex_barycentric.assign(nv, Vec3{0, 0, 0});
+        for (int32_t t = 0; t < c.num_triangles(); ++t) {
+            RTri r;
+            r.coarse = t;
+            r.level = 0;
+            for (int k = 0; k < 3; ++k) {
+                r.v[size_t(k)] = c.triangles[size_t(t)][size_t(k)];
+                Vec3 e{0, 0, 0};
+                e[size_t(k)] = 1;
+                r.b[size_t(k)] = e;
+                if (out_.vertex_coarse_triangle[size_t(r.v[size_t(k)])] < 0) {
+                    out_.vertex_coarse_triangle[size_t(r.v[size_t(k)])] = t;
+                    out_.vertex_barycentric[size_t(r.v[size_t(k)])] = e;
+                }
+            }
+            tris_.push_back(r);
+        }
+    }
+
+    int32_t midpoint(const RTri& r, int k, bool create) {
+        const int32_t a = r.v[size_t(k)], b = r.v[size_t((k + 1) % 3)];
+        auto it = mids_.find(edge_key(a, b));
+        if (it != mids_.end()) return it->second;
+        if (!create) return -1;
+        const Vec3 bm = mid(r.b[size_t(k)], r.b[size_t((k + 1) % 3)]);
+        const int32_t id = int32_t(out_.surface.vertices.size());
+        out_.surface.vertices.push_back(phi_.evaluate(r.coarse, bm).position);
+        out_.vertex_coarse_triangle.push_back(r.coarse);
+        out_.vertex_barycentric.push_back(bm);
+        mids_.emplace(edge_key(a, b), id);
+        return id;
+    }
+
+    // Replaces tris_[i] by its first red child and appends the other three.
+    void red(size_t i) {
+        const RTri r = tris_[i];
+        std::array<int32_t, 3> m;
+        std::array<Vec3, 3> bm;
+        for (int k = 0; k < 3; ++k) {
+            m[size_t(k)] = midpoint(r, k, true);
+            bm[size_t(k)] = mid(r.b[size_t(k)], r.b[size_t((k + 1) % 3)]);
+        }
+        auto child = [&](int32_t a, int32_t b, int32_t c, const Vec3& ba, const Vec3& bb, const Vec3& bc) {
+            RTri x;
+            x.coarse = r.coarse;
+            x.v = {a, b, c};
+            x.b = {ba, bb, bc};
+            x.level = r.level + 1;
+            return x;
+        };
+        tris_[i] = child(r.v[0], m[0], m[2], r.b[0], bm[0], bm[2]);
+        tris_.push_back(child(m[0], r.v[1], m[1], bm[0], r.b[1], bm[1]));
+        tris_.push_back(child(m[2], m[1], r.v[2], bm[2], bm[1], r.b[2]));
+        tris_.push_back(child(m[0], m[1], m[2], bm[0], bm[1], bm[2]));
+    }
+
+    // Number of split edges of a triangle; sets `deep` if a half of a split edge is split again.
+    int split_edges(const RTri& r, bool& deep, int& which) const {
+        int count = 0;
+        deep = false;
+        for (int k = 0; k < 3; ++k) {
+            const int32_t a = r.v[size_t(k)], b = r.v[size_t((k + 1) % 3)];
+            auto it = mids_.find(edge_key(a, b));
+            if (it == mids_.end()) continue;
+            ++count;
+            which = k;
+            if (mids_.count(edge_key(a, it->second)) || mids_.count(edge_key(it->second, b))) deep = true;
+        }
+        return count;
+    }
+
+    // Red-refines until 1-irregular.
+    void close_red() {
+        for (bool changed = true; changed;) {
+            changed = false;
+            const size_t n = tris_.size();
+            for (size_t i = 0; i < n; ++i) {
+                bool deep;
+                int which;
+                const int count = split_edges(tris_[i], deep, which);
+                if (count >= 2 || deep) {
+                    red(i);
+                    changed = true;
+                }
+            }
+        }
+    }
+
+    void close_green() {
+        const size_t n = tris_.size();
+        for (size_t i = 0; i < n; ++i) {
+            bool deep;
+            int k = -1;
+            if (split_edges(tris_[i], deep, k) != 1) continue;
+            const RTri r = tris_[i];
+            const int32_t m = midpoint(r, k, false);
+            const Vec3 bm = mid(r.b[size_t(k)], r.b[size_t((k + 1) % 3)]);
+            const size_t k1 = size_t((k + 1) % 3), k2 = size_t((k + 2) % 3);
+            RTri a = r, b = r;
+            a.v = {r.v[size_t(k)], m, r.v[k2]};
+            a.b = {r.b[size_t(k)], bm, r.b[k2]};
+            b.v = {m, r.v[k1], r.v[k2]};
+            b.b = {bm, r.b[k1], r.b[k2]};
+            a.error = b.error = -1;
+            tris_[i] = a;
+            tris_.push_back(b);
+        }
+    }
+
+    // Sampled deviation of phi from the flat triangle, relative to the diagonal.
+    double error(const RTri& r) const {
+        static const Vec3 samples[] = {{0.5, 0.5, 0},       {0, 0.5, 0.5},       {0.5, 0, 0.5},
+                                       {0.5, 0.25, 0.25},   {0.25, 0.5, 0.25},   {0.25, 0.25, 0.5},
+                                       {1. / 3, 1. / 3, 1. / 3}};
+        const auto& x = out_.surface.vertices;
+        double worst = 0;
+        for (const Vec3& s : samples) {
+            const Vec3 b = barycentric_point(r.b[0], r.b[1], r.b[2], s);
+            const Vec3 flat = barycentric_point(x[size_t(r.v[0])], x[size_t(r.v[1])], x[size_t(r.v[2])], s);
+            worst = std::max(worst, distance(phi_.evaluate(r.coarse, b).position, flat));
+        }
+        return worst / diagonal_;
+    }
+
+    RefineResult run(const RefineOptions& options, const Context& context) {
+        init();
+        RefineResult result;
+        result.coarse_triangles = int64_t(tris_.size());
+        const bool uniform = options.levels >= 0;
+        const int max_level = uniform ? options.levels : options.max_level;
+        for (int round = 0; round < max_level; ++round) {
+            context.report(double(round) / std::max(1, max_level), "refining");
+            std::vector<size_t> marked;
+            for (size_t i = 0; i < tris_.size(); ++i) {
+                RTri& r = tris_[i];
+                if (r.level >= max_level) continue;
+                if (!uniform) {
+                    if (r.error < 0) r.error = error(r);
+                    if (r.error <= options.tolerance) continue;
+                }
+                marked.push_back(i);
+            }
+            if (marked.empty()) break;
+            for (size_t i : marked) red(i);
+            if (!uniform) close_red();
+            context.debug("level " + std::to_string(round + 1) + ": " + std::to_string(marked.size()) +
+                          " triangles split, " + std::to_string(tris_.size()) + " triangles");
+        }
+        if (!uniform) close_green();
+
+        // Final triangles, data and statistics.
+        Surface& s = out_.surface;
+        s.triangles.clear();
+        s.patches.clear();
+        out_.triangle_coarse.clear();
+        out_.triangle_barycentric.clear();
+        out_.triangle_level.clear();
+        for (const RTri& r : tris_) {
+            s.triangles.push_back(Tri{r.v[0], r.v[1], r.v[2]});
+            s.patches.push_back(p_.coarse.patches[size_t(r.coarse)]);
+            out_.triangle_coarse.push_back(r.coarse);
+            out_.triangle_barycentric.push_back(r.b);
+            out_.triangle_level.push_back(r.level);
+            result.max_level = std::max(result.max_level, r.level);
+            if (max_level > 0 || !uniform) {
+                const double e = error(r);
+                result.max_estimated_error = std::max(result.max_estimated_error, e);
+                if (!uniform && e > options.tolerance) ++result.triangles_at_max_level_above_tolerance;
+            }
+        }
+        const size_t nv = s.vertices.size();
+        out_.vertex_original_triangle.resize(nv);
+        out_.vertex_original_barycentric.resize(nv);
+        for (size_t v = 0; v < nv; ++v) {
+            const PhiSample sample = phi_.evaluate(out_.vertex_coarse_triangle[v], out_.vertex_barycentric[v]);
+            out_.vertex_original_triangle[v] = sample.original_triangle;
+            out_.vertex_original_barycentric[v] = sample.original_barycentric;
+        }
+        result.vertices = int64_t(nv);
+        result.triangles = int64_t(s.triangles.size());
+        return result;
+    }
+
+private:
+    const Parametrization& p_;
+    const PhiEvaluator& phi_;
+    RefinedSurface& out_;
+    double diagonal_ = 1;
+    std::vector<RTri> tris_;
+    std::unordered_map<uint64_t, int32_t> mids_;
+};
+
+}  // namespace
+
+RefineResult refine(const Parametrization& param, const RefineOptions& options, const Context& context,
+                    RefinedSurface& out) {
+    const auto start = std::chrono::steady_clock::now();
+    if (options.levels > 10) throw OptionError("refine: levels must be at most 10 (4^10 triangles per coarse triangle)");
+    if (options.levels < 0 && !(options.tolerance > 0))
+        throw OptionError("refine: give levels >= 0 (uniform) or a tolerance > 0 (adaptive)");
+    if (options.levels < 0 && (options.max_level < 0 || options.max_level > 10))
+        throw OptionError("refine: max_level must be in 0..10");
+    const PhiEvaluator phi(param);
+    out = RefinedSurface{};
+    Refiner refiner(param, phi, out);
+    RefineResult result = refiner.run(options, context);
+    result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    context.report(1.0, "refining");
+    return result;
+}
+
+std::vector<Vec3> vertex_normals(const Surface& surface) {
+    std::vector<Vec3> n(surface.vertices.size(), Vec3{0, 0, 0});
+    for (const Tri& t : surface.triangles) {
+        const Vec3& a = surface.vertices[size_t(t[0])];
+        const Vec3& b = surface.vertices[size_t(t[1])];
+        const Vec3& c = surface.vertices[size_t(t[2])];
+        const Vec3 w = cross(b - a, c - a);  // length = 2 * area: area weighting
+        for (int32_t v : t) n[size_t(v)] = n[size_t(v)] + w;
+    }
+    for (Vec3& x : n) {
+        const double l = norm(x);
+        if (l > 0) x = (1.0 / l) * x;
+    }
+    return n;
+}
+
+std::vector<double> transfer_vertex_data(const RefinedSurface& refined, const Surface& original,
+                                         const std::vector<double>& data, int components) {
+    if (components < 1 || data.size() != original.vertices.size() * size_t(components))
+        throw std::invalid_argument("transfer_vertex_data: data must have #V0 * components values");
+    const size_t nv = refined.surface.vertices.size();
+    std::vector<double> out(nv * size_t(components), 0.0);
+    for (size_t v = 0; v < nv; ++v) {
+        const Tri& t = original.triangles[size_t(refined.vertex_original_triangle[v])];
+        const Vec3& beta = refined.vertex_original_barycentric[v];
+        for (int k = 0; k < 3; ++k)
+            for (int c = 0; c < components; ++c)
+                out[v * size_t(components) + size_t(c)] +=
+                    beta[size_t(k)] * data[size_t(t[size_t(k)]) * size_t(components) + size_t(c)];
+    }
+    return out;
+}
+
+}  // namespace bpm

@@ -1,0 +1,364 @@
+// Uniform red refinement with boundary vertices moved to phi (bpm/tet_refine.h).
+//
+// References: J. Bey, "Simplicial grid refinement: on Freudenthal's algorithm and the
+// optimal number of congruence classes", Numer. Math. 85 (2000) 1-29 (the child
+// ordering below); Krause & Sander §3.3 (the lambda remedy).
+
+#include "bpm/tet_refine.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+#include "bpm/errors.h"
+#include "bpm/phi_evaluation.h"
+#include "bpm/predicates.h"
+#include "tetmesh_internal.h"
+
+namespace bpm {
+
+namespace {
+
+using Edge = std::array<int32_t, 2>;
+
+// Bey's children of (x0, x1, x2, x3) in terms of local indices: 0..3 corners, 4 + e the
+// midpoint of edge e in the order 01, 02, 03, 12, 13, 23.
+enum : int { X0, X1, X2, X3, M01, M02, M03, M12, M13, M23 };
+const int kChildren[8][4] = {
+    {X0, M01, M02, M03}, {M01, X1, M12, M13}, {M02, M12, X2, M23}, {M03, M13, M23, X3},
+    {M01, M02, M03, M13}, {M01, M02, M12, M13}, {M02, M03, M13, M23}, {M02, M12, M13, M23},
+};
+const int kEdges[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}};
+
+// Does child k have the opposite orientation of its parent? Computed once on a reference
+// tetrahedron (an affine property of the rule, independent of the geometry).
+std::array<bool, 8> child_flips() {
+    const Vec3 x[4] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    Vec3 p[10];
+    for (int i = 0; i < 4; ++i) p[i] = x[i];
+    for (int e = 0; e < 6; ++e) p[4 + e] = 0.5 * (x[kEdges[e][0]] + x[kEdges[e][1]]);
+    const int parent = orient3d(x[0], x[1], x[2], x[3]);
+    std::array<bool, 8> flips{};
+    for (int k = 0; k < 8; ++k)
+        flips[k] = orient3d(p[kChildren[k][0]], p[kChildren[k][1]], p[kChildren[k][2]], p[kChildren[k][3]]) != parent;
+    return flips;
+}
+
+Edge make_edge(int32_t a, int32_t b) { return a < b ? Edge{a, b} : Edge{b, a}; }
+
+struct State {
+    std::vector<Vec3> x;
+    std::vector<Tet> tets;               // in Bey order
+    std::vector<bool> negative;          // Bey order is negatively oriented
+    std::vector<int32_t> regions, ancestor;
+    std::vector<Tri> faces;
+    std::vector<int32_t> face_triangle;
+    std::vector<std::array<Vec3, 3>> face_bary;  // corners' barycentrics in the face's coarse triangle
+    std::vector<int32_t> coarse_vertex, param_triangle;
+    std::vector<Vec3> param_bary;
+};
+
+bool positive(const State& s, size_t t) {
+    const Tet& x = s.tets[t];
+    const int o = orient3d(s.x[x[0]], s.x[x[1]], s.x[x[2]], s.x[x[3]]);
+    return s.negative[t] ? o == 1 : o == -1;
+}
+
+}  // namespace
+
+TetRefineResult refine_tetmesh(const Parametrization& param, const TetMesh& coarse, const TetRefineOptions& options,
+                               const Context& context, TetMesh& out) {
+    using clock = std::chrono::steady_clock;
+    const auto start = clock::now();
+    if (options.levels < 0) throw OptionError("the number of refinement levels must be >= 0");
+    if (options.bisection_steps < 1) throw OptionError("bisection_steps must be >= 1");
+    const double final_tets = double(coarse.tetrahedra.size()) * std::pow(8.0, options.levels);
+    if (final_tets > double(std::numeric_limits<int32_t>::max()))
+        throw OptionError("refining " + std::to_string(coarse.tetrahedra.size()) + " tetrahedra " +
+                          std::to_string(options.levels) + " times gives more than 2^31-1 tetrahedra");
+    if (auto problem = find_tetmesh_inconsistency(coarse, param.coarse); !problem.empty())
+        throw AlgorithmError("the tetrahedral mesh does not fit the parametrization: " + problem);
+
+    static const std::array<bool, 8> kFlip = child_flips();
+    const Surface& S = param.coarse;
+    State s;
+    s.x = coarse.vertices;
+    s.tets = coarse.tetrahedra;
+    s.negative.assign(s.tets.size(), false);
+    s.regions = coarse.regions;
+    s.ancestor = coarse.tet_ancestor;
+    if (s.ancestor.empty()) {
+        s.ancestor.resize(s.tets.size());
+        for (size_t t = 0; t < s.tets.size(); ++t) s.ancestor[t] = static_cast<int32_t>(t);
+    }
+    s.faces = coarse.faces;
+    s.face_triangle = coarse.face_coarse_triangle;
+    s.coarse_vertex = coarse.vertex_coarse_vertex;
+    s.param_triangle = coarse.vertex_parameter_triangle;
+    s.param_bary = coarse.vertex_parameter_barycentric;
+    // Barycentrics of each face corner in the face's own coarse triangle: at level 0 the
+    // faces are the coarse triangles (unit vectors); for a refined input, locate the corner
+    // parameter positions in the face's triangle.
+    s.face_bary.resize(s.faces.size());
+    for (size_t f = 0; f < s.faces.size(); ++f) {
+        const int32_t t = s.face_triangle[f];
+        for (int c = 0; c < 3; ++c) {
+            const int32_t v = s.faces[f][c];
+            if (s.param_triangle[v] < 0)
+                throw AlgorithmError("vertex " + std::to_string(v) + " of boundary face " + std::to_string(f) +
+                                     " has no parameter position");
+            if (s.param_triangle[v] == t) {
+                s.face_bary[f][c] = s.param_bary[v];
+                continue;
+            }
+            // Same point expressed in triangle t: map through the coarse vertices.
+            const Tri& from = S.triangles[s.param_triangle[v]];
+            const Tri& to = S.triangles[t];
+            Vec3 b{0, 0, 0};
+            for (int i = 0; i < 3; ++i) {
+                if (s.param_bary[v][i] == 0) continue;
+                int j = -1;
+                for (int k = 0; k < 3; ++k)
+                    if (to[k] == from[i]) j = k;
+                if (j < 0)
+                    throw AlgorithmError("boundary vertex " + std::to_string(v) + " is not on coarse triangle " +
+                                         std::to_string(t) + " of its face");
+                b[j] = s.param_bary[v][i];
+            }
+            s.face_bary[f][c] = b;
+        }
+    }
+
+    PhiEvaluator phi(param);
+    const double diagonal = bounding_box_diagonal(param.original);
+    TetRefineResult result;
+    std::vector<double> phi_fraction(s.x.size(), 1.0);  // 1-lambda of every boundary vertex (1 for old ones)
+    std::vector<double> gap(s.x.size(), 0.0);            // |position - phi(parameter)|
+
+    for (int level = 0; level < options.levels; ++level) {
+        const double base = double(level) / options.levels;
+        context.report(base, "red refinement, level " + std::to_string(level + 1));
+        // 1. Edges and their midpoints.
+        std::vector<Edge> edges;
+        edges.reserve(s.tets.size() * 7);
+        for (const Tet& t : s.tets)
+            for (const auto& e : kEdges) edges.push_back(make_edge(t[e[0]], t[e[1]]));
+        std::sort(edges.begin(), edges.end());
+        edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+        const int32_t nv_old = static_cast<int32_t>(s.x.size());
+        if (double(nv_old) + double(edges.size()) > double(std::numeric_limits<int32_t>::max()))
+            throw OptionError("refinement gives more than 2^31-1 vertices");
+        auto midpoint = [&](int32_t a, int32_t b) {
+            const Edge e = make_edge(a, b);
+            return nv_old + static_cast<int32_t>(std::lower_bound(edges.begin(), edges.end(), e) - edges.begin());
+        };
+        const size_t nv = nv_old + edges.size();
+        std::vector<Vec3> flat(edges.size());
+        for (size_t e = 0; e < edges.size(); ++e) flat[e] = 0.5 * (s.x[edges[e][0]] + s.x[edges[e][1]]);
+        s.x.resize(nv);
+        for (size_t e = 0; e < edges.size(); ++e) s.x[nv_old + e] = flat[e];
+        s.coarse_vertex.resize(nv, -1);
+        s.param_triangle.resize(nv, -1);
+        s.param_bary.resize(nv, Vec3{0, 0, 0});
+        phi_fraction.resize(nv, 1.0);
+        gap.resize(nv, 0.0);
+
+        // 2. Faces on S: 1 -> 4, and the parameter positions of the new boundary vertices.
+        std::vector<Tri> faces;
+        std::vector<int32_t> face_triangle;
+        std::vector<std::array<Vec3, 3>> face_bary;
+        faces.reserve(4 * s.faces.size());
+        face_triangle.reserve(4 * s.faces.size());
+        face_bary.reserve(4 * s.faces.size());
+        for (size_t f = 0; f < s.faces.size(); ++f) {
+            const Tri& F = s.faces[f];
+            const auto& B = s.face_bary[f];
+            const int32_t t = s.face_triangle[f];
+            const int32_t m[3] = {midpoint(F[0], F[1]), midpoint(F[1], F[2]), midpoint(F[2], F[0])};
+            Vec3 mb[3];
+            for (int k = 0; k < 3; ++k) {
+                const Vec3& a = B[k];
+                const Vec3& b = B[(k + 1) % 3];
+                mb[k] = {0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1]), 0.5 * (a[2] + b[2])};
+                if (s.param_triangle[m[k]] < 0) {
+                    s.param_triangle[m[k]] = t;
+                    s.param_bary[m[k]] = mb[k];
+                }
+            }
+            const Tri children[4] = {{F[0], m[0], m[2]}, {m[0], F[1], m[1]}, {m[2], m[1], F[2]}, {m[0], m[1], m[2]}};
+            const std::array<Vec3, 3> cb[4] = {
+                {B[0], mb[0], mb[2]}, {mb[0], B[1], mb[1]}, {mb[2], mb[1], B[2]}, {mb[0], mb[1], mb[2]}};
+            for (int k = 0; k < 4; ++k) {
+                faces.push_back(children[k]);
+                face_triangle.push_back(t);
+                face_bary.push_back(cb[k]);
+            }
+        }
+        s.faces = std::move(faces);
+        s.face_triangle = std::move(face_triangle);
+        s.face_bary = std::move(face_bary);
+
+        // 3. Tetrahedra: 1 -> 8 by Bey's rule.
+        std::vector<Tet> tets;
+        std::vector<bool> negative;
+        std::vector<int32_t> regions, ancestor;
+        tets.reserve(8 * s.tets.size());
+        negative.reserve(8 * s.tets.size());
+        regions.reserve(8 * s.tets.size());
+        ancestor.reserve(8 * s.tets.size());
+        for (size_t t = 0; t < s.tets.size(); ++t) {
+            const Tet& T = s.tets[t];
+            int32_t local[10];
+            for (int i = 0; i < 4; ++i) local[i] = T[i];
+            for (int e = 0; e < 6; ++e) local[4 + e] = midpoint(T[kEdges[e][0]], T[kEdges[e][1]]);
+            for (int k = 0; k < 8; ++k) {
+                tets.push_back({local[kChildren[k][0]], local[kChildren[k][1]], local[kChildren[k][2]],
+                                local[kChildren[k][3]]});
+                negative.push_back(s.negative[t] != kFlip[k]);
+                regions.push_back(s.regions[t]);
+                ancestor.push_back(s.ancestor[t]);
+            }
+        }
+        s.tets = std::move(tets);
+        s.negative = std::move(negative);
+        s.regions = std::move(regions);
+        s.ancestor = std::move(ancestor);
+
+        // 4. Move the new boundary vertices to phi, with the §3.3 remedy where needed.
+        TetRefineLevel info;
+        std::vector<int32_t> moved;
+        std::vector<Vec3> target;  // phi(parameter position), per entry of `moved`
+        std::vector<int32_t> moved_index(nv, -1);
+        for (size_t v = nv_old; v < nv; ++v)
+            if (s.param_triangle[v] >= 0) {
+                moved_index[v] = static_cast<int32_t>(moved.size());
+                moved.push_back(static_cast<int32_t>(v));
+            }
+        info.new_boundary_vertices = static_cast<int64_t>(moved.size());
+        target.resize(moved.size());
+        for (size_t i = 0; i < moved.size(); ++i) {
+            const int32_t v = moved[i];
+            target[i] = phi.evaluate(s.param_triangle[v], s.param_bary[v]).position;
+        }
+        std::vector<double> w(moved.size(), options.move_to_surface ? 1.0 : 0.0);
+        auto place = [&](size_t i) {
+            const int32_t v = moved[i];
+            const Vec3& x = flat[v - nv_old];
+            s.x[v] = w[i] == 1.0 ? target[i] : (w[i] == 0.0 ? x : (1 - w[i]) * x + w[i] * target[i]);
+        };
+        for (size_t i = 0; i < moved.size(); ++i) place(i);
+
+        if (options.move_to_surface && !moved.empty()) {
+            // Tetrahedra around each moved vertex (CSR).
+            std::vector<int64_t> offsets(moved.size() + 1, 0);
+            for (const Tet& t : s.tets)
+                for (int32_t v : t)
+                    if (moved_index[v] >= 0) ++offsets[moved_index[v] + 1];
+            for (size_t i = 0; i < moved.size(); ++i) offsets[i + 1] += offsets[i];
+            std::vector<int32_t> incident(static_cast<size_t>(offsets.back()));
+            std::vector<int64_t> fill(offsets.begin(), offsets.end() - 1);
+            for (size_t t = 0; t < s.tets.size(); ++t)
+                for (int32_t v : s.tets[t])
+                    if (moved_index[v] >= 0) incident[fill[moved_index[v]]++] = static_cast<int32_t>(t);
+            auto all_positive = [&](size_t i) {
+                for (int64_t k = offsets[i]; k < offsets[i + 1]; ++k)
+                    if (!positive(s, static_cast<size_t>(incident[k]))) return false;
+                return true;
+            };
+            // Passes over the vertices of inverted tetrahedra: each gets the largest 1-lambda
+            // that keeps its tetrahedra positive with its neighbours where they are now.
+            // 1-lambda only decreases, and all-zero is valid, so this terminates; after
+            // kMaxPasses the remaining offenders go flat at once.
+            constexpr int kMaxPasses = 20;
+            for (int pass = 0;; ++pass) {
+                std::vector<int32_t> candidates;
+                for (size_t t = 0; t < s.tets.size(); ++t)
+                    if (!positive(s, t))
+                        for (int32_t v : s.tets[t])
+                            if (moved_index[v] >= 0 && w[moved_index[v]] > 0) candidates.push_back(moved_index[v]);
+                if (candidates.empty()) break;
+                std::sort(candidates.begin(), candidates.end());
+                candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
+                for (int32_t i : candidates) {
+                    if (pass >= kMaxPasses) {
+                        w[i] = 0;
+                        place(i);
+                        continue;
+                    }
+                    if (all_positive(i)) continue;
+                    const double hi0 = w[i];
+                    w[i] = 0;
+                    place(i);
+                    if (!all_positive(i)) continue;  // a neighbour must give way first
+                    double lo = 0, hi = hi0;
+                    for (int step = 0; step < options.bisection_steps; ++step) {
+                        const double mid = 0.5 * (lo + hi);
+                        w[i] = mid;
+                        place(i);
+                        if (all_positive(i)) lo = mid;
+                        else hi = mid;
+                    }
+                    w[i] = lo;
+                    place(i);
+                }
+                context.report(base + 0.9 / options.levels, "level " + std::to_string(level + 1) +
+                                                                ": keeping tetrahedra positive");
+            }
+        }
+        for (size_t i = 0; i < moved.size(); ++i) {
+            const int32_t v = moved[i];
+            phi_fraction[v] = w[i];
+            gap[v] = (1 - w[i]) * distance(flat[v - nv_old], target[i]);
+            if (options.move_to_surface && w[i] < 1) {
+                ++info.remedied_vertices;
+                if (w[i] == 0) ++info.flat_vertices;
+            }
+        }
+        info.vertices = static_cast<int64_t>(s.x.size());
+        info.tetrahedra = static_cast<int64_t>(s.tets.size());
+        result.levels.push_back(info);
+        context.debug("level " + std::to_string(level + 1) + ": " + std::to_string(info.tetrahedra) + " tetrahedra, " +
+                      std::to_string(info.new_boundary_vertices) + " new boundary vertices, " +
+                      std::to_string(info.remedied_vertices) + " kept off the surface");
+    }
+
+    // Output, every tetrahedron positively oriented.
+    out = TetMesh{};
+    out.vertices = std::move(s.x);
+    out.tetrahedra = std::move(s.tets);
+    for (size_t t = 0; t < out.tetrahedra.size(); ++t)
+        if (s.negative[t]) std::swap(out.tetrahedra[t][2], out.tetrahedra[t][3]);
+    out.regions = std::move(s.regions);
+    out.faces = std::move(s.faces);
+    out.face_coarse_triangle = std::move(s.face_triangle);
+    out.face_patches.resize(out.faces.size());
+    for (size_t f = 0; f < out.faces.size(); ++f) out.face_patches[f] = S.patches[out.face_coarse_triangle[f]];
+    out.vertex_coarse_vertex = std::move(s.coarse_vertex);
+    out.vertex_parameter_triangle = std::move(s.param_triangle);
+    out.vertex_parameter_barycentric = std::move(s.param_bary);
+    out.level = coarse.level + options.levels;
+    out.tet_ancestor = options.levels > 0 || !coarse.tet_ancestor.empty() ? std::move(s.ancestor) : std::vector<int32_t>();
+
+    result.vertices = out.num_vertices();
+    result.tetrahedra = out.num_tetrahedra();
+    result.faces = static_cast<int64_t>(out.faces.size());
+    for (int32_t t : out.vertex_parameter_triangle) result.boundary_vertices += t >= 0;
+    for (const auto& l : result.levels) result.remedied_vertices += l.remedied_vertices;
+    for (size_t v = 0; v < gap.size(); ++v) {
+        if (phi_fraction[v] < 1 && options.move_to_surface) {
+            result.max_remedy_distance = std::max(result.max_remedy_distance, gap[v]);
+            result.min_phi_fraction = std::min(result.min_phi_fraction, phi_fraction[v]);
+        }
+    }
+    if (!options.move_to_surface) result.min_phi_fraction = options.levels > 0 ? 0 : 1;
+    result.max_remedy_distance_relative = diagonal > 0 ? result.max_remedy_distance / diagonal : 0;
+    for (const Tet& t : out.tetrahedra)
+        if (orient3d(out.vertices[t[0]], out.vertices[t[1]], out.vertices[t[2]], out.vertices[t[3]]) != -1)
+            ++result.inverted;
+    result.seconds = std::chrono::duration<double>(clock::now() - start).count();
+    context.report(1.0, "refinement done");
+    return result;
+}
+
+}  // namespace bpm

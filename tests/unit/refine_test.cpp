@@ -1,0 +1,227 @@
+// Refinement through phi: K = 0 is the coarse surface, new vertices lie on S0, the
+// refined surfaces are conforming and free of self-intersections, adaptive refinement
+// meets its tolerance, and the refined .bpm is a valid parametrization.
+
+#include <catch2/catch.hpp>
+
+#include <filesystem>
+#include <map>
+
+#include "bpm/bpm_file.h"
+#include "bpm/check.h"
+#include "bpm/errors.h"
+#include "bpm/refine.h"
+#include "bpm/simplify.h"
+#include "bpm/surface_io.h"
+#include "fixtures_phi.h"
+#include "fixtures_surfaces.h"
+
+using namespace bpm;
+
+namespace {
+
+std::string text(const CheckResult& r) {
+    std::string s = r.name + (r.passed ? " passed" : " failed") + ": " + r.summary;
+    for (auto& p : r.problems) s += "\n  " + p.describe();
+    return s;
+}
+
+// femur simplified to 10% (once per test run); empty if the mesh is missing.
+const Parametrization* femur() {
+    static bool done = false;
+    static Parametrization p;
+    if (!done) {
+        done = true;
+        const std::string path = std::string(BPM_MESH_DIR) + "/femur.off";
+        if (std::filesystem::exists(path)) {
+            SimplifyOptions options;
+            options.target_ratio = 0.1;
+            simplify(read_surface(path), options, Context{}, p);
+        }
+    }
+    return p.coarse.num_triangles() > 0 ? &p : nullptr;
+}
+
+struct Case {
+    std::string name;
+    Parametrization param;
+};
+
+std::vector<Case> cases(bool with_real = true) {
+    std::vector<Case> c;
+    c.push_back({"octahedron", test::make_subdivided_octahedron(3)});
+    c.push_back({"height field", test::make_height_field(12, 3, test::default_height)});
+    c.push_back({"refined cube", fixtures::refined_parametrization(fixtures::cube())});
+    if (with_real) {
+        if (const Parametrization* f = femur()) c.push_back({"femur", *f});
+        else WARN("femur.off missing: real-mesh cases skipped");
+    }
+    return c;
+}
+
+// Largest distance of a refined vertex from the point its original triangle and
+// barycentric coordinates describe, relative to the diagonal of S0.
+double max_off_surface(const Parametrization& p, const RefinedSurface& r) {
+    double worst = 0;
+    for (size_t v = 0; v < r.surface.vertices.size(); ++v) {
+        const Tri& t = p.original.triangles[size_t(r.vertex_original_triangle[v])];
+        const Vec3 x = barycentric_point(p.original.vertices[size_t(t[0])], p.original.vertices[size_t(t[1])],
+                                         p.original.vertices[size_t(t[2])], r.vertex_original_barycentric[v]);
+        worst = std::max(worst, distance(x, r.surface.vertices[v]));
+    }
+    return worst / bounding_box_diagonal(p.original);
+}
+
+// Conforming: every directed edge appears once, and every undirected edge has as many
+// triangles as the same edge... checked as: the number of triangles per undirected edge
+// is the same as for the coarse edge it lies on (1 on boundaries, 2 inside, more on
+// non-manifold edges) -- here simply: no edge is used by exactly one triangle unless the
+// coarse surface has boundary edges.
+int64_t single_edges(const Surface& s) {
+    std::map<std::pair<int32_t, int32_t>, int> uses;
+    for (const Tri& t : s.triangles)
+        for (int k = 0; k < 3; ++k) {
+            int32_t a = t[size_t(k)], b = t[size_t((k + 1) % 3)];
+            if (a > b) std::swap(a, b);
+            ++uses[{a, b}];
+        }
+    int64_t n = 0;
+    for (auto& [e, u] : uses) n += u == 1;
+    return n;
+}
+
+}  // namespace
+
+TEST_CASE("refine with 0 levels reproduces the coarse surface exactly", "[refine]") {
+    for (const Case& c : cases()) {
+        INFO(c.name);
+        RefinedSurface r;
+        RefineOptions o;
+        o.levels = 0;
+        refine(c.param, o, Context{}, r);
+        CHECK(r.surface.vertices == c.param.coarse.vertices);
+        CHECK(r.surface.triangles == c.param.coarse.triangles);
+        CHECK(r.surface.patches == c.param.coarse.patches);
+    }
+}
+
+TEST_CASE("refine rejects missing or out-of-range options", "[refine]") {
+    const Parametrization p = test::make_subdivided_octahedron(1);
+    RefinedSurface r;
+    CHECK_THROWS_AS(refine(p, RefineOptions{}, Context{}, r), OptionError);
+    RefineOptions o;
+    o.levels = 11;
+    CHECK_THROWS_AS(refine(p, o, Context{}, r), OptionError);
+}
+
+TEST_CASE("uniformly refined vertices lie on the original surface and the mesh is conforming", "[refine]") {
+    for (const Case& c : cases()) {
+        for (int levels : {1, 2, 3}) {
+            INFO(c.name << " levels " << levels);
+            RefinedSurface r;
+            RefineOptions o;
+            o.levels = levels;
+            const RefineResult res = refine(c.param, o, Context{}, r);
+            CHECK(res.triangles == c.param.coarse.num_triangles() * (int64_t(1) << (2 * levels)));
+            CHECK(max_off_surface(c.param, r) < 1e-12);
+            CHECK(single_edges(r.surface) == single_edges(c.param.coarse) * (int64_t(1) << levels));
+            CHECK(validate_surface(r.surface).empty());
+        }
+    }
+}
+
+TEST_CASE("refined synthetic surfaces do not intersect themselves", "[refine]") {
+    for (const Case& c : cases(false)) {
+        INFO(c.name);
+        RefinedSurface r;
+        RefineOptions o;
+        o.levels = 2;
+        refine(c.param, o, Context{}, r);
+        const CheckResult res = check_intersections(r.surface);
+        INFO(text(res));
+        CHECK(res.passed);
+    }
+}
+
+TEST_CASE("adaptive refinement meets its tolerance and is conforming", "[refine]") {
+    for (const Case& c : cases()) {
+        for (double tolerance : {1e-2, 2e-3}) {
+            INFO(c.name << " tolerance " << tolerance);
+            RefinedSurface r;
+            RefineOptions o;
+            o.tolerance = tolerance;
+            o.max_level = 8;
+            const RefineResult res = refine(c.param, o, Context{}, r);
+            INFO(res.triangles << " triangles, level " << res.max_level << ", error " << res.max_estimated_error);
+            CHECK(res.triangles_at_max_level_above_tolerance == 0);
+            CHECK(res.max_estimated_error <= tolerance);
+            CHECK(max_off_surface(c.param, r) < 1e-12);
+            CHECK(single_edges(r.surface) >= single_edges(c.param.coarse));
+            CHECK(validate_surface(r.surface).empty());
+            // No hanging nodes: the number of single edges equals that of the boundary only.
+            if (single_edges(c.param.coarse) == 0) CHECK(single_edges(r.surface) == 0);
+        }
+    }
+}
+
+TEST_CASE("the refined parametrization is valid", "[refine]") {
+    for (const Case& c : cases()) {
+        for (int levels : {0, 1, 2}) {
+            INFO(c.name << " levels " << levels);
+            RefinedSurface r;
+            RefineOptions o;
+            o.levels = levels;
+            refine(c.param, o, Context{}, r);
+            const Parametrization p = refined_parametrization(c.param, r);
+            CHECK(p.coarse.triangles == r.surface.triangles);
+            const CheckResult format = check_format(p);
+            INFO(text(format));
+            REQUIRE(format.passed);
+            const CheckResult bij = check_bijectivity(p);
+            INFO(text(bij));
+            CHECK(bij.passed);
+            const CheckResult topo = check_topology(p);
+            INFO(text(topo));
+            CHECK(topo.passed);
+            // Round trip through the file format.
+            const BpmFile back = read_bpm_from_memory(write_bpm_to_memory(BpmFile{p, {}, ""}), "refined");
+            CHECK(back.param.num_pieces() == p.num_pieces());
+        }
+    }
+}
+
+TEST_CASE("adaptively refined parametrization is valid", "[refine]") {
+    for (const Case& c : cases()) {
+        INFO(c.name);
+        RefinedSurface r;
+        RefineOptions o;
+        o.tolerance = 3e-3;
+        refine(c.param, o, Context{}, r);
+        const Parametrization p = refined_parametrization(c.param, r);
+        const CheckResult format = check_format(p);
+        INFO(text(format));
+        REQUIRE(format.passed);
+        const CheckResult bij = check_bijectivity(p);
+        INFO(text(bij));
+        CHECK(bij.passed);
+    }
+}
+
+TEST_CASE("normals of the original surface are carried onto refined vertices", "[refine]") {
+    const Parametrization p = test::make_subdivided_octahedron(2, 0.0);  // flat faces: normals exact per face
+    RefinedSurface r;
+    RefineOptions o;
+    o.levels = 2;
+    refine(p, o, Context{}, r);
+    std::vector<double> ones(p.original.vertices.size(), 1.0);
+    const std::vector<double> one = transfer_vertex_data(r, p.original, ones, 1);
+    for (double x : one) CHECK(x == Approx(1.0));
+    std::vector<double> xyz;
+    for (const Vec3& x : p.original.vertices) xyz.insert(xyz.end(), x.begin(), x.end());
+    const std::vector<double> pos = transfer_vertex_data(r, p.original, xyz, 3);
+    for (size_t v = 0; v < r.surface.vertices.size(); ++v)
+        for (int k = 0; k < 3; ++k) CHECK(pos[3 * v + size_t(k)] == Approx(r.surface.vertices[v][size_t(k)]).margin(1e-12));
+    CHECK_THROWS_AS(transfer_vertex_data(r, p.original, one, 1), std::invalid_argument);
+    const std::vector<Vec3> n = vertex_normals(p.original);
+    for (const Vec3& x : n) CHECK(norm(x) == Approx(1.0));
+}

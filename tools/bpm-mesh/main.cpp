@@ -1,0 +1,143 @@
+// bpm-mesh: tetrahedral mesh of the volume bounded by the coarse surface of a .bpm file
+// (TetGen), optionally red-refined with boundary vertices moved onto the original surface.
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+
+#include "bpm/bpm_file.h"
+#include "bpm/tet_refine.h"
+#include "bpm/tetmesh.h"
+#include "common/tool_main.h"
+
+namespace {
+
+std::string json_double(double v) {
+    if (!std::isfinite(v)) return "null";
+    char buffer[40];
+    std::snprintf(buffer, sizeof buffer, "%.10g", v);
+    return buffer;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    const std::string tool = "bpm-mesh";
+    CLI::App app{
+        "Tetrahedral mesh of the volume bounded by the coarse surface of a .bpm file, made by TetGen (Debian\n"
+        "package 'tetgen', found on PATH) with the surface kept exactly (-p -Y -q -A). Every enclosed region of\n"
+        "a multi-material surface gets its own region id (1, 2, ...); the outside is not meshed.\n"
+        "Output by extension: .bpm (the input file plus a /tetmesh group, spec/tetmesh.md), .msh (Gmsh 4.1),\n"
+        ".vtu (VTK), .mesh (MEDIT). With --refine K the mesh is red-refined K times and new boundary vertices\n"
+        "are moved onto the original surface through phi (Krause & Sander §3.3).",
+        tool};
+    std::string input, output, format;
+    bpm::TetMeshOptions options;
+    double max_volume = 0;
+    int refine_levels = 0;
+    bool existing = false, flat = false, json = false, verbose = false, quiet = false, deterministic = false;
+    app.add_option("INPUT", input, "Input .bpm file, or - for standard input")->required();
+    app.add_option("-o,--output", output, "Output .bpm .msh .vtu .mesh, or - for standard output (see --format)")
+        ->required();
+    app.add_option("--format", format, "Output format when it cannot be told from the name: bpm, msh, vtu, mesh");
+    app.add_option("--quality", options.quality, "TetGen -q: maximum radius-edge ratio (default 1.414)")
+        ->check(CLI::PositiveNumber);
+    app.add_option("--max-volume", max_volume, "TetGen -a: maximum tetrahedron volume, in the file's units^3")
+        ->check(CLI::PositiveNumber);
+    app.add_option("--refine", refine_levels, "Red-refine the mesh K times, moving new boundary vertices to phi")
+        ->check(CLI::Range(0, 8));
+    app.add_flag("--existing", existing, "Use the tetrahedral mesh already in INPUT instead of running TetGen");
+    app.add_flag("--flat", flat, "With --refine: leave new boundary vertices on the coarse surface (plain red refinement)");
+    app.add_option("--tetgen", options.tetgen, "TetGen executable (default: tetgen on PATH)");
+    app.add_flag("--keep-temporary", options.keep_temporary, "Keep TetGen's input and output files (path on stderr)");
+    app.add_flag("--json", json, "Print a JSON report (counts, timings, region volumes, quality) on standard output");
+    app.add_flag("--deterministic", deterministic, "Leave the timestamp out of the provenance (byte-identical output)");
+    app.add_flag("-v,--verbose", verbose, "More detail on standard error");
+    app.add_flag("-q,--quiet", quiet, "Only errors on standard error");
+    bpm::tools::add_version_flag(app, tool);
+
+    return bpm::tools::run(tool, argc, argv, app, [&]() {
+        bpm::tools::require_output_directory(output);
+        std::optional<bpm::TetMeshFormat> out_format =
+            format.empty() ? (output == "-" ? std::optional(bpm::TetMeshFormat::Bpm) : bpm::tetmesh_format_from_path(output))
+                           : bpm::tetmesh_format_from_name(format);
+        if (!out_format)
+            throw CLI::ValidationError("--output", format.empty() ? "cannot tell the format from '" + output +
+                                                                        "': use .bpm .msh .vtu .mesh or --format"
+                                                                  : "unknown format '" + format + "'");
+        if (json && output == "-") throw CLI::ValidationError("--json", "needs an output file (stdout carries the JSON)");
+        if (max_volume > 0) options.max_volume = max_volume;
+        const bpm::Context context = bpm::tools::make_context(tool, verbose, quiet);
+
+        bpm::BpmFile file = bpm::read_bpm(input);
+        bpm::TetMeshResult mesh_result;
+        if (existing) {
+            if (!file.tetmesh) throw bpm::InputError(input, "--existing: the file has no /tetmesh group");
+        } else {
+            bpm::TetMesh mesh;
+            mesh_result = bpm::generate_tetmesh(file.param, options, context, mesh);
+            file.tetmesh = std::move(mesh);
+            char line[256];
+            std::snprintf(line, sizeof line, "%lld vertices (%lld Steiner), %lld tetrahedra, %lld regions, %.2f s",
+                          (long long)mesh_result.vertices, (long long)mesh_result.steiner_points,
+                          (long long)mesh_result.tetrahedra, (long long)mesh_result.regions, mesh_result.seconds);
+            context.info(line);
+        }
+        const bpm::TetMeshStats coarse_stats = bpm::tetmesh_stats(*file.tetmesh);
+        bpm::TetRefineResult refine_result;
+        if (refine_levels > 0) {
+            bpm::TetRefineOptions ro;
+            ro.levels = refine_levels;
+            ro.move_to_surface = !flat;
+            bpm::TetMesh fine;
+            refine_result = bpm::refine_tetmesh(file.param, *file.tetmesh, ro, context, fine);
+            file.tetmesh = std::move(fine);
+            char line[256];
+            std::snprintf(line, sizeof line,
+                          "refined %d levels: %lld tetrahedra; %lld boundary vertices kept off the surface by the "
+                          "lambda remedy (max distance %.3g = %.3g of the diagonal), %.2f s",
+                          refine_levels, (long long)refine_result.tetrahedra,
+                          (long long)refine_result.remedied_vertices, refine_result.max_remedy_distance,
+                          refine_result.max_remedy_distance_relative, refine_result.seconds);
+            context.info(line);
+        }
+        const bpm::TetMeshStats stats = bpm::tetmesh_stats(*file.tetmesh);
+        if (stats.inverted > 0) context.warn(std::to_string(stats.inverted) + " inverted tetrahedra");
+
+        if (*out_format == bpm::TetMeshFormat::Bpm) {
+            file.provenance.push_back({tool, bpm::tools::version_line(tool), bpm::tools::command_line(argc, argv),
+                                       deterministic ? std::string() : bpm::tools::utc_timestamp()});
+            bpm::write_bpm(output, file);
+        } else {
+            bpm::write_tetmesh(output, *file.tetmesh, *out_format);
+        }
+
+        if (json) {
+            const auto original = bpm::region_volumes_on_original(file.param, *file.tetmesh);
+            const bpm::TetMesh& m = *file.tetmesh;
+            std::string j = "{\"input\": \"" + input + "\", \"level\": " + std::to_string(m.level) +
+                            ", \"vertices\": " + std::to_string(m.num_vertices()) +
+                            ", \"tetrahedra\": " + std::to_string(m.num_tetrahedra()) +
+                            ", \"faces\": " + std::to_string(m.faces.size()) +
+                            ", \"coarse_triangles\": " + std::to_string(file.param.coarse.num_triangles()) +
+                            ", \"mesh_seconds\": " + json_double(mesh_result.seconds) +
+                            ", \"tetgen_seconds\": " + json_double(mesh_result.tetgen_seconds) +
+                            ", \"inverted\": " + std::to_string(stats.inverted) +
+                            ", \"min_dihedral_degrees\": " + json_double(stats.min_dihedral_degrees) +
+                            ", \"max_dihedral_degrees\": " + json_double(stats.max_dihedral_degrees) +
+                            ", \"remedied_vertices\": " + std::to_string(refine_result.remedied_vertices) +
+                            ", \"max_remedy_distance_relative\": " +
+                            json_double(refine_result.max_remedy_distance_relative) +
+                            ", \"refine_seconds\": " + json_double(refine_result.seconds) + ", \"regions\": [";
+            for (size_t r = 0; r < stats.region_volumes.size(); ++r) {
+                j += std::string(r ? ", " : "") + "{\"id\": " + std::to_string(r + 1) +
+                     ", \"volume\": " + json_double(stats.region_volumes[r]) +
+                     ", \"coarse_volume\": " +
+                     json_double(r < coarse_stats.region_volumes.size() ? coarse_stats.region_volumes[r] : NAN) +
+                     ", \"original_volume\": " + json_double(r < original.size() ? original[r] : NAN) + "}";
+            }
+            j += "]}";
+            std::cout << j << std::endl;
+        }
+        return int(bpm::tools::kOk);
+    });
+}

@@ -1,0 +1,139 @@
+// bpm-refine: refine the coarse surface of a .bpm file through phi (new vertices on S0).
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+
+#include "bpm/bpm_file.h"
+#include "bpm/refine.h"
+#include "bpm/surface_io.h"
+#include "common/tool_main.h"
+
+namespace {
+
+std::string extension_of(const std::string& path) {
+    const auto dot = path.find_last_of('.');
+    if (dot == std::string::npos || path.find_last_of('/') != std::string::npos && dot < path.find_last_of('/'))
+        return "";
+    std::string e = path.substr(dot + 1);
+    std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    return e;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    const std::string tool = "bpm-refine";
+    CLI::App app{
+        "Refine the coarse surface of a .bpm file: uniformly (--levels K, 4^K triangles per coarse triangle) or\n"
+        "adaptively (--tolerance T), placing every new vertex at phi of its parameter position, i.e. on the\n"
+        "original surface. Output format by extension: .off .obj .ply .stl .vtu, or .bpm (the refined surface\n"
+        "with its own phi; see spec/refinement.md).",
+        tool};
+    std::string input, output, format;
+    bpm::RefineOptions options;
+    int levels = -1;
+    double tolerance = 0;
+    bool data = false, verbose = false, quiet = false, deterministic = false;
+    app.add_option("INPUT", input, "Input .bpm file, or - for standard input")->required();
+    app.add_option("-o,--output", output, "Output file (.off .obj .ply .stl .vtu .bpm), or - for standard output")
+        ->required();
+    app.add_option("--format", format, "Output format when it cannot be told from the name: off, obj, ply, stl, vtu, bpm");
+    auto* lv = app.add_option("--levels", levels, "Uniform refinement: each coarse triangle into 4^K triangles (0..10)")
+                   ->check(CLI::Range(0, 10));
+    auto* tol = app.add_option("--tolerance", tolerance,
+                               "Adaptive refinement: split triangles whose image deviates from flat by more than this "
+                               "fraction of the bounding-box diagonal (e.g. 0.001)")
+                    ->check(CLI::PositiveNumber);
+    lv->excludes(tol);
+    app.add_option("--max-level", options.max_level, "Adaptive: at most this many levels (default 6)")
+        ->check(CLI::Range(0, 10));
+    app.add_flag("--data", data,
+                 "Carry vertex data of the original surface onto the refined vertices (VTU point data): the vertex "
+                 "normals of S0 interpolated through phi, the parameter position and the original triangle");
+    app.add_flag("--deterministic", deterministic, "Leave the timestamp out of the provenance (.bpm output)");
+    app.add_flag("-v,--verbose", verbose, "More detail on standard error");
+    app.add_flag("-q,--quiet", quiet, "Only errors on standard error");
+    bpm::tools::add_version_flag(app, tool);
+
+    return bpm::tools::run(tool, argc, argv, app, [&]() {
+        bpm::tools::require_output_directory(output);
+        if (levels < 0 && tolerance <= 0) throw CLI::ValidationError("give one of --levels, --tolerance");
+        options.levels = levels;
+        options.tolerance = tolerance;
+        std::string kind = format.empty() ? extension_of(output) : format;
+        std::transform(kind.begin(), kind.end(), kind.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+        if (output == "-" && format.empty()) throw CLI::ValidationError("--format", "writing to - needs --format");
+        const bool is_bpm = kind == "bpm", is_vtu = kind == "vtu";
+        const auto surface_format = bpm::surface_format_from_name(kind);
+        if (!is_bpm && !is_vtu && (!surface_format || *surface_format == bpm::SurfaceFormat::Msh))
+            throw CLI::ValidationError("--output", "unknown output format '" + kind +
+                                                       "' (use .off .obj .ply .stl .vtu .bpm or --format)");
+        if (data && !is_vtu) throw CLI::ValidationError("--data", "--data needs .vtu output (the other formats hold no point data)");
+        const bpm::Context context = bpm::tools::make_context(tool, verbose, quiet);
+
+        bpm::BpmFile file = bpm::read_bpm(input);
+        const bpm::Parametrization& param = file.param;
+        bpm::RefinedSurface refined;
+        const bpm::RefineResult result = bpm::refine(param, options, context, refined);
+        char line[512];
+        std::snprintf(line, sizeof line,
+                      "%lld coarse triangles -> %lld vertices, %lld triangles (level %d), estimated max deviation "
+                      "%.3g of diagonal, %.2f s",
+                      (long long)result.coarse_triangles, (long long)result.vertices, (long long)result.triangles,
+                      result.max_level, result.max_estimated_error, result.seconds);
+        context.info(line);
+        if (result.triangles_at_max_level_above_tolerance > 0)
+            context.warn(std::to_string(result.triangles_at_max_level_above_tolerance) +
+                         " triangles still deviate more than the tolerance at --max-level " +
+                         std::to_string(options.max_level));
+
+        if (is_bpm) {
+            bpm::BpmFile out;
+            out.param = bpm::refined_parametrization(param, refined, context);
+            out.units = file.units;
+            out.provenance = file.provenance;
+            out.provenance.push_back({tool, bpm::tools::version_line(tool), bpm::tools::command_line(argc, argv),
+                                      deterministic ? std::string() : bpm::tools::utc_timestamp()});
+            context.info("refined phi: " + std::to_string(out.param.num_nodes()) + " nodes, " +
+                         std::to_string(out.param.num_pieces()) + " pieces; original surface cut into " +
+                         std::to_string(out.param.original.num_triangles()) + " triangles");
+            bpm::write_bpm(output, out);
+        } else if (is_vtu) {
+            std::vector<bpm::VtuArray> point_data, cell_data;
+            if (data) {
+                const std::vector<bpm::Vec3> n0 = bpm::vertex_normals(param.original);
+                std::vector<double> flat;
+                for (const auto& n : n0) flat.insert(flat.end(), n.begin(), n.end());
+                std::vector<double> n = bpm::transfer_vertex_data(refined, param.original, flat, 3);
+                for (size_t v = 0; v + 2 < n.size(); v += 3) {
+                    const double l = std::sqrt(n[v] * n[v] + n[v + 1] * n[v + 1] + n[v + 2] * n[v + 2]);
+                    if (l > 0) n[v] /= l, n[v + 1] /= l, n[v + 2] /= l;
+                }
+                point_data.push_back({"original_normal", 3, std::move(n)});
+                bpm::VtuArray tri{"coarse_triangle", 1, {}}, bary{"coarse_barycentric", 3, {}};
+                bpm::VtuArray otri{"original_triangle", 1, {}};
+                for (size_t v = 0; v < refined.vertex_coarse_triangle.size(); ++v) {
+                    tri.values.push_back(refined.vertex_coarse_triangle[v]);
+                    otri.values.push_back(refined.vertex_original_triangle[v]);
+                    bary.values.insert(bary.values.end(), refined.vertex_barycentric[v].begin(),
+                                       refined.vertex_barycentric[v].end());
+                }
+                point_data.push_back(std::move(tri));
+                point_data.push_back(std::move(bary));
+                point_data.push_back(std::move(otri));
+            }
+            bpm::VtuArray ct{"coarse_triangle", 1, {}}, lvl{"level", 1, {}};
+            for (size_t t = 0; t < refined.triangle_coarse.size(); ++t) {
+                ct.values.push_back(refined.triangle_coarse[t]);
+                lvl.values.push_back(refined.triangle_level[t]);
+            }
+            cell_data.push_back(std::move(ct));
+            cell_data.push_back(std::move(lvl));
+            bpm::write_vtu(output, refined.surface, point_data, cell_data);
+        } else {
+            bpm::write_surface(output, refined.surface, surface_format);
+        }
+        return int(bpm::tools::kOk);
+    });
+}
