@@ -87,22 +87,24 @@ def off_to_msh22(off_path, msh_path):
 
 
 def timed(cmd, log_path, timeout, cwd=None):
-    """Runs cmd under `timeout` and /usr/bin/time; returns dict(status, seconds, peak_mb, exit, message)."""
+    """Runs cmd under `timeout` and /usr/bin/time; returns dict(status, seconds (wall), cpu_seconds (user + system),
+    peak_mb (maximum resident set size), exit, message)."""
     time_file = log_path + ".time"
     if os.path.exists(time_file):
         os.remove(time_file)
-    full = ["/usr/bin/time", "-f", "%e %M", "-o", time_file, "timeout", "--kill-after=10", str(timeout)] + cmd
+    full = ["/usr/bin/time", "-f", "%e %M %U %S", "-o", time_file, "timeout", "--kill-after=10", str(timeout)] + cmd
     with open(log_path, "w") as lf:
         lf.write("$ " + " ".join(cmd) + "\n")
         lf.flush()
         start = time.monotonic()
         proc = subprocess.run(full, stdout=lf, stderr=subprocess.STDOUT, cwd=cwd)
         wall = time.monotonic() - start
-    r = {"exit": proc.returncode, "seconds": None, "peak_mb": None, "message": ""}
+    r = {"exit": proc.returncode, "seconds": None, "cpu_seconds": None, "peak_mb": None, "message": ""}
     try:
         with open(time_file) as tf:
             line = [l for l in tf.read().splitlines() if l.strip()][-1].split()
             r["seconds"], r["peak_mb"] = float(line[0]), float(line[1]) / 1024.0
+            r["cpu_seconds"] = float(line[2]) + float(line[3])
     except (OSError, IndexError, ValueError):
         r["seconds"] = wall
     if proc.returncode == 0:
@@ -182,8 +184,8 @@ def metrics_cell(m):
 
 def simplify_suite(args, bins, work):
     rows = []
-    json_path = os.path.join(RESULTS, "simplify.json")
-    md_path = os.path.join(RESULTS, "simplify.md")
+    json_path = os.path.join(RESULTS, f"simplify{args.suffix}.json")
+    md_path = os.path.join(RESULTS, f"simplify{args.suffix}.md")
     header = {"date": machine_line(), "commit": git_commit(), "timeout_s": args.timeout,
               "metrics_samples": args.samples, "psurface_flags": args.psurface_flags}
     for name in args.meshes:
@@ -197,7 +199,7 @@ def simplify_suite(args, bins, work):
         for label, target in (("10%", max(4, round(0.1 * nv))), ("1000", 1000)):
             row = {"mesh": name, "input_vertices": nv, "input_triangles": nt, "target_label": label,
                    "target_vertices": target}
-            stem = os.path.join(work, f"{name}-{target}")
+            stem = os.path.join(work, f"{name}-{target}{args.suffix}")
             if target >= nv:
                 row["error"] = f"target {target} >= input vertices {nv}"
                 rows.append(row)
@@ -262,32 +264,45 @@ def simplify_markdown(header, rows):
            "see bench/README.md for what each column means.", "",
            f"Both tools get the same target vertex count (psurface: `-c <input vertices - target>` "
            f"{('with flags `' + header['psurface_flags'] + '`') if header['psurface_flags'] else 'with default flags'}). "
-           f"Time = wall-clock seconds, memory = peak resident set (MB), both from `/usr/bin/time -f \"%e %M\"`; "
+           f"Memory = peak resident set (MB), times from `/usr/bin/time -f \"%e %M %U %S\"`; "
            f"timeout {header['timeout_s']} s per run. The machine is shared, so times carry noise.", "",
            "## Time and memory", "",
-           "| mesh | input V | target V | bpm s | bpm MB | psurface s | psurface MB | psurface/bpm time |",
-           "|---|---:|---:|---:|---:|---:|---:|---:|"]
-    ratios = []
+           "Wall = elapsed seconds; CPU = user + system seconds (less sensitive to other load on the machine; both "
+           "tools are single-threaded, so CPU ≈ wall on an idle machine).", "",
+           "| mesh | input V | target V | bpm wall s | bpm CPU s | bpm MB | psurface wall s | psurface CPU s | psurface MB "
+           "| psurface/bpm wall | psurface/bpm CPU |",
+           "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
+    ratios, cpu_ratios = [], []
     for r in rows:
         if "bpm" not in r:
             out.append(f"| {r['mesh']} | {r.get('input_vertices', '—')} | {r.get('target_vertices', '—')} | "
-                       f"{r.get('error', 'not run')} | | | | |")
+                       f"{r.get('error', 'not run')} | | | | | | | |")
             continue
         b, p = r["bpm"], r["psurface"]
 
-        def t(res):
-            return fmt(res["seconds"], ".2f") if res["status"] == "ok" else f"**{res['status']}**"
+        def t(res, key):
+            return fmt(res.get(key), ".2f") if res["status"] == "ok" else f"**{res['status']}**"
 
         def m(res):
             return fmt(res["peak_mb"], ".0f") if res["status"] == "ok" else "—"
         ratio = r.get("time_ratio")
         if ratio is not None:
             ratios.append(ratio)
-        out.append(f"| {r['mesh']} | {r['input_vertices']} | {r['target_vertices']} ({r['target_label']}) | {t(b)} | {m(b)} "
-                   f"| {t(p)} | {m(p)} | {fmt(ratio, '.2f')} |")
+        cpu_ratio = None
+        if b["status"] == p["status"] == "ok" and b.get("cpu_seconds") is not None and p.get("cpu_seconds") is not None:
+            cpu_ratio = p["cpu_seconds"] / max(b["cpu_seconds"], 0.01)
+            cpu_ratios.append(cpu_ratio)
+        out.append(f"| {r['mesh']} | {r['input_vertices']} | {r['target_vertices']} ({r['target_label']}) "
+                   f"| {t(b, 'seconds')} | {t(b, 'cpu_seconds')} | {m(b)} "
+                   f"| {t(p, 'seconds')} | {t(p, 'cpu_seconds')} | {m(p)} | {fmt(ratio, '.2f')} | {fmt(cpu_ratio, '.2f')} |")
     med = statistics.median(ratios) if ratios else None
-    out += ["", f"Median time ratio psurface/bpm over {len(ratios)} rows where both succeeded: **{fmt(med, '.2f')}** "
-                "(> 1: bpm is faster).", ""]
+    cpu_med = statistics.median(cpu_ratios) if cpu_ratios else None
+    out += ["", f"Median time ratio psurface/bpm over the {len(ratios)} rows where both succeeded: "
+                f"**{fmt(med, '.2f')}** (wall), **{fmt(cpu_med, '.2f')}** (CPU); > 1 means bpm is faster.", ""]
+    failures = [f"- {r['mesh']} → {r['target_vertices']}, {tool}: {r[tool]['status']} — {r[tool]['message']}"
+                for r in rows if "bpm" in r for tool in ("bpm", "psurface") if r[tool]["status"] != "ok"]
+    if failures:
+        out += ["Runs that did not finish:", ""] + failures + [""]
 
     out += ["## Quality of the coarse surfaces", "",
             "Hausdorff = two-sided sampled Hausdorff distance / bounding-box diagonal of the original; mean = mean of the "
@@ -343,8 +358,8 @@ def simplify_markdown(header, rows):
 def scaling_suite(args, bins, work):
     base = os.path.join(MESHES, "armadillo.off")
     rows = []
-    json_path = os.path.join(RESULTS, "scaling.json")
-    md_path = os.path.join(RESULTS, "scaling.md")
+    json_path = os.path.join(RESULTS, f"scaling{args.suffix}.json")
+    md_path = os.path.join(RESULTS, f"scaling{args.suffix}.md")
     header = {"date": machine_line(), "commit": git_commit(), "timeout_s": args.scaling_timeout,
               "target_vertices": args.scaling_target}
     for level in args.levels:
@@ -376,23 +391,29 @@ def scaling_markdown(header, rows):
            f"{header['timeout_s']} s. n = input triangles; the last column is time / (n log2 n), normalised to 1 "
            "for the first row that finished (≈ 1 on every row means O(n log n)).", "",
            "Target (issue): 830k triangles → 10k vertices in ≤ 60 s and ≤ 2 GB.", "",
-           "| input | V | T (n) | status | time s | peak MB | µs per triangle | time/(n log n), normalised |",
-           "|---|---:|---:|---|---:|---:|---:|---:|"]
-    ref = None
+           "| input | V | T (n) | status | wall s | CPU s | peak MB | µs per triangle (wall) "
+           "| wall/(n log n), normalised | CPU/(n log n), normalised |",
+           "|---|---:|---:|---|---:|---:|---:|---:|---:|---:|"]
+    ref = cpu_ref = None
     for r in rows:
         if r["status"] == "ok" and r["seconds"]:
             ref = r["seconds"] / (r["triangles"] * math.log2(r["triangles"]))
+            if r.get("cpu_seconds"):
+                cpu_ref = r["cpu_seconds"] / (r["triangles"] * math.log2(r["triangles"]))
             break
     for r in rows:
         ok = r["status"] == "ok"
         norm = (r["seconds"] / (r["triangles"] * math.log2(r["triangles"])) / ref) if ok and ref else None
+        cpu_norm = (r["cpu_seconds"] / (r["triangles"] * math.log2(r["triangles"])) / cpu_ref
+                    if ok and cpu_ref and r.get("cpu_seconds") else None)
         per = 1e6 * r["seconds"] / r["triangles"] if ok else None
         status = "ok" if ok else f"**{r['status']}** {r['message']}"
         mem = fmt(r["peak_mb"], ".0f") if r["peak_mb"] is not None and ok else (
             f"≥ {r['peak_mb']:.0f}" if r["peak_mb"] else "—")
         secs = fmt(r["seconds"], ".1f") if ok else f"> {r['seconds']:.0f}" if r["status"] == "timeout" else fmt(r["seconds"], ".1f")
-        out.append(f"| {r['input']} | {r['vertices']} | {r['triangles']} | {status} | {secs} | {mem} | "
-                   f"{fmt(per, '.1f')} | {fmt(norm, '.2f')} |")
+        cpu = fmt(r.get("cpu_seconds"), ".1f") if ok else "—"
+        out.append(f"| {r['input']} | {r['vertices']} | {r['triangles']} | {status} | {secs} | {cpu} | {mem} | "
+                   f"{fmt(per, '.1f')} | {fmt(norm, '.2f')} | {fmt(cpu_norm, '.2f')} |")
     big = [r for r in rows if r["triangles"] > 800000]
     if big:
         r = big[-1]
@@ -418,6 +439,7 @@ def main():
     ap.add_argument("--timeout", type=int, default=900, help="seconds per tool run in the simplify suite")
     ap.add_argument("--samples", type=int, default=500000, help="bpm-bench-metrics --samples")
     ap.add_argument("--psurface-flags", default="", help="extra psurface-simplify flags, e.g. '-s'")
+    ap.add_argument("--suffix", default="", help="results go to results/simplify<SUFFIX>.md etc. (e.g. '-psurface-s')")
     ap.add_argument("--levels", default="0,1,2", help="Loop subdivision levels for the scaling suite")
     ap.add_argument("--scaling-target", type=int, default=10000)
     ap.add_argument("--scaling-timeout", type=int, default=900)

@@ -13,6 +13,7 @@
 
 #include "bpm/bpm_file.h"
 #include "bpm/check.h"
+#include "bpm/errors.h"
 #include "bpm/surface_io.h"
 #include "bpm/surface_topology.h"
 #include "common/tool_main.h"

@@ -56,6 +56,7 @@ void Embedding::init_identity(const Surface& s, int32_t triangle_capacity) {
     location.assign(nv, SurfacePoint());
     for (int32_t v = 0; v < nv; ++v) location[v] = SurfacePoint::corner(v);
     path.assign(edges.size(), {});
+    path_version.assign(edges.size(), 0);
     inside.assign(triangle_capacity, {});
     edge_content.clear();
 }
@@ -124,6 +125,7 @@ void Embedding::set_path(int32_t e, std::vector<Crossing> crossings) {
         if (it->second.vertices.empty() && it->second.crossing_edges.empty()) edge_content.erase(it);
     }
     path[e] = std::move(crossings);
+    ++path_version[e];
     for (const Crossing& c : path[e]) edge_content[edge_key(c.a, c.b)].crossing_edges.push_back(e);
 }
 

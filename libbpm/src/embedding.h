@@ -58,6 +58,7 @@ struct Embedding {
 
     std::vector<SurfacePoint> location;          // per original vertex
     std::vector<std::vector<Crossing>> path;     // per original edge, ordered from u to w
+    std::vector<uint32_t> path_version;          // per original edge, bumped by set_path
     std::vector<std::vector<int32_t>> inside;    // per coarse triangle id: vertices located Inside
     std::unordered_map<uint64_t, EdgeContent> edge_content;
 

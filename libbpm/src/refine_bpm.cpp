@@ -74,7 +74,7 @@ public:
 
     void run(const Context& context) {
         const int32_t nct = p_.coarse.num_triangles();
-        std::vector<std::vector<int32_t>> by_coarse(size_t(nct));
+        std::vector<std::vector<int32_t>> by_coarse(static_cast<size_t>(nct));
         for (size_t i = 0; i < r_.triangle_coarse.size(); ++i) by_coarse[size_t(r_.triangle_coarse[i])].push_back(int32_t(i));
         const size_t nrt = r_.triangle_coarse.size();
         polys_.assign(nrt, {});

@@ -53,7 +53,7 @@ void write_vtu(const std::string& path, const Surface& surface, const std::vecto
     for (const VtuArray& a : cell_data) write_array(os, a, nt, where);
     os << "      </CellData>\n      <Points>\n"
        << "        <DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n";
-    char buf[80];
+    char buf[160];
     for (const Vec3& x : surface.vertices) {
         std::snprintf(buf, sizeof buf, "          %.17g %.17g %.17g\n", x[0], x[1], x[2]);
         os << buf;

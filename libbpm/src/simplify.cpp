@@ -10,6 +10,7 @@
 #include <cstdlib>
 #include <memory>
 #include <queue>
+#include <unordered_map>
 
 #include "bpm/errors.h"
 #include "bpm/predicates.h"
@@ -72,12 +73,23 @@ private:
     std::vector<int32_t> candidates_;
     int32_t first_new_ = 0;
     int64_t plans_[2] = {0, 0};
+    bool debug_trace_ = std::getenv("BPM_TRACE") != nullptr;
+    int32_t debug_vertex_ = std::getenv("BPM_TRACE_VERTEX") ? std::atoi(std::getenv("BPM_TRACE_VERTEX")) : -1;
 
     void rebuild_grid();
     bool intersects_rest(const RemovalPlan& plan);
     // Cost of removing v, +infinity if it cannot be removed now (reason recorded).
-    // `final` = about to commit: full validation and the intersection test.
+    // `final` = full validation of the transfer (needed before commit). The global
+    // intersection test is separate (admissible_globally).
     double evaluate(int32_t v, bool final, RemovalPlan& plan);
+    double judge(int32_t v, const RemovalPlan& plan);
+    bool admissible_globally(int32_t v, const RemovalPlan& plan);
+    // A full plan made earlier is still exact if its star is unchanged (stamp), no
+    // edited path changed elsewhere, and its new edges still do not exist.
+    bool still_current(const RemovalPlan& plan) const;
+    // Full plans of entries pushed back because their real cost was higher than the
+    // estimate; reused when the entry comes back with the same stamp.
+    std::unordered_map<int32_t, std::pair<uint32_t, RemovalPlan>> full_plans_;
     void push(int32_t v);
     void self_check(int32_t removed_vertex, const std::vector<int32_t>& link, int64_t step);
 };
@@ -146,12 +158,31 @@ bool Simplifier::intersects_rest(const RemovalPlan& plan) {
         }
         auto test = [&](const Tri& b) {
             int shared[3];
+            int count = 0;
             for (int k = 0; k < 3; ++k) {
                 shared[k] = -1;
                 for (int j = 0; j < 3; ++j)
-                    if (a[k] == b[j]) shared[k] = j;
+                    if (a[k] == b[j]) {
+                        shared[k] = j;
+                        ++count;
+                    }
             }
             const Vec3 pb[3] = {x[b[0]], x[b[1]], x[b[2]]};
+            // Fast exact rejection: the unshared corners of one triangle strictly on one
+            // side of the other's plane means they meet at most in what they share.
+            if (count < 2) {
+                auto one_side = [&](const Vec3 p[3], const Vec3 q[3], const Tri& tq, const Tri& tp) {
+                    int side = 0;
+                    for (int j = 0; j < 3; ++j) {
+                        if (tq[j] == tp[0] || tq[j] == tp[1] || tq[j] == tp[2]) continue;
+                        const int o = orient3d(p[0], p[1], p[2], q[j]);
+                        if (o == 0 || (side != 0 && o != side)) return false;
+                        side = o;
+                    }
+                    return side != 0;
+                };
+                if (one_side(pa, pb, b, a) || one_side(pb, pa, a, b)) return false;
+            }
             return triangles_intersect_improperly(pa, pb, shared);
         };
         grid_.query(lo, hi, candidates_);
@@ -179,6 +210,30 @@ bool Simplifier::intersects_rest(const RemovalPlan& plan) {
 double Simplifier::evaluate(int32_t v, bool final, RemovalPlan& plan) {
     remover_->plan(v, final, plan);
     ++plans_[final ? 1 : 0];
+    return judge(v, plan);
+}
+
+bool Simplifier::still_current(const RemovalPlan& plan) const {
+    for (size_t i = 0; i < plan.new_paths.size(); ++i)
+        if (embedding_.path_version[plan.new_paths[i].first] != plan.path_versions[i]) return false;
+    for (const auto& e : plan.new_edges)
+        if (mesh_.has_edge(e[0], e[1])) return false;
+    for (const Tri& t : plan.new_triangles)
+        if (mesh_.find_triangle(t[0], t[1], t[2]) >= 0) return false;
+    return true;
+}
+
+bool Simplifier::admissible_globally(int32_t v, const RemovalPlan& plan) {
+    if (options_.prevent_intersections && intersects_rest(plan)) {
+        last_reason_[v] = "would create a self-intersection";
+        return false;
+    }
+    return true;
+}
+
+double Simplifier::judge(int32_t v, const RemovalPlan& plan) {
+    if (debug_vertex_ == v)
+        std::fprintf(stderr, "vertex %d: valid %d reason '%s' dev %.17g\n", v, int(plan.valid), plan.reason.c_str(), plan.max_deviation);
     if (!plan.valid) {
         last_reason_[v] = plan.reason;
         return std::numeric_limits<double>::infinity();
@@ -192,18 +247,18 @@ double Simplifier::evaluate(int32_t v, bool final, RemovalPlan& plan) {
         last_reason_[v] = "edge length limit (--max-edge-length)";
         return std::numeric_limits<double>::infinity();
     }
-    if (final && options_.prevent_intersections && intersects_rest(plan)) {
-        last_reason_[v] = "would create a self-intersection";
-        return std::numeric_limits<double>::infinity();
-    }
     last_reason_[v].clear();
     const double aspect_term = std::log2(std::max(plan.worst_new_aspect, 2.0) / 2.0) -
                                0.5 * std::log2(std::max(plan.worst_old_aspect, 2.0) / 2.0);
-    return error + options_.aspect_weight * 1e-3 * aspect_term;
+    // Costs are compared after rounding to 1e-10 (relative to the diagonal), so that
+    // rounding noise, e.g. between a model and its scaled copy, does not reorder
+    // removals; exact ties go to the smaller vertex id.
+    return std::round((error + options_.aspect_weight * 1e-3 * aspect_term) * 1e10) * 1e-10;
 }
 
 void Simplifier::push(int32_t v) {
     ++stamp_[v];
+    full_plans_.erase(v);
     const double cost = evaluate(v, false, plan_);
     if (std::isfinite(cost)) queue_.push({cost, v, stamp_[v]});
 }
@@ -240,12 +295,24 @@ SimplifyResult Simplifier::run(Parametrization& out) {
         if (top.stamp != stamp_[top.vertex] || !mesh_.vertex_alive(top.vertex)) continue;
         // The neighbourhood is unchanged since the evaluation (stamp), but other
         // removals may have moved triangles near it: plan and test again.
-        const double cost = evaluate(top.vertex, true, plan_);
+        double cost;
+        auto cached = full_plans_.find(top.vertex);
+        if (cached != full_plans_.end() && cached->second.first == stamp_[top.vertex] &&
+            still_current(cached->second.second)) {
+            plan_ = std::move(cached->second.second);
+            full_plans_.erase(cached);
+            cost = judge(top.vertex, plan_);
+        } else {
+            cost = evaluate(top.vertex, true, plan_);
+        }
         if (!std::isfinite(cost)) continue;
         if (cost > top.cost + 1e-15 && !queue_.empty() && cost > queue_.top().cost) {
+            full_plans_[top.vertex] = {stamp_[top.vertex], std::move(plan_)};
             queue_.push({cost, top.vertex, stamp_[top.vertex]});
             continue;
         }
+        if (!admissible_globally(top.vertex, plan_)) continue;
+        if (debug_trace_) std::fprintf(stderr, "remove %d cost %.12g err %.12g new %.12g old %.12g\n", top.vertex, cost, plan_.max_deviation / diagonal_, plan_.worst_new_aspect, plan_.worst_old_aspect);
         affected.clear();
         for (int32_t t : plan_.removed_triangles)
             for (int32_t u : mesh_.triangle(t))

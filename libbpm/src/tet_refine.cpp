@@ -62,7 +62,12 @@ struct State {
 bool positive(const State& s, size_t t) {
     const Tet& x = s.tets[t];
     const int o = orient3d(s.x[x[0]], s.x[x[1]], s.x[x[2]], s.x[x[3]]);
-    return s.negative[t] ? o == 1 : o == -1;
+    return s.negative[t] ? o == -1 : o == 1;
+}
+
+double oriented_volume(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, bool negative) {
+    const double v = dot(b - a, cross(c - a, d - a));
+    return negative ? -v : v;
 }
 
 }  // namespace
@@ -73,6 +78,8 @@ TetRefineResult refine_tetmesh(const Parametrization& param, const TetMesh& coar
     const auto start = clock::now();
     if (options.levels < 0) throw OptionError("the number of refinement levels must be >= 0");
     if (options.bisection_steps < 1) throw OptionError("bisection_steps must be >= 1");
+    if (!(options.min_volume_fraction >= 0 && options.min_volume_fraction < 1))
+        throw OptionError("min_volume_fraction must be in [0, 1)");
     const double final_tets = double(coarse.tetrahedra.size()) * std::pow(8.0, options.levels);
     if (final_tets > double(std::numeric_limits<int32_t>::max()))
         throw OptionError("refining " + std::to_string(coarse.tetrahedra.size()) + " tetrahedra " +
@@ -261,9 +268,22 @@ TetRefineResult refine_tetmesh(const Parametrization& param, const TetMesh& coar
             for (size_t t = 0; t < s.tets.size(); ++t)
                 for (int32_t v : s.tets[t])
                     if (moved_index[v] >= 0) incident[fill[moved_index[v]]++] = static_cast<int32_t>(t);
+            // Admissible: positively oriented (exact), and at least min_volume_fraction of the
+            // volume the tetrahedron has with its new vertices at their midpoints x.
+            const double fraction = options.min_volume_fraction;
+            auto reference = [&](int32_t v) -> const Vec3& { return v >= nv_old ? flat[v - nv_old] : s.x[v]; };
+            auto acceptable = [&](size_t t) {
+                if (!positive(s, t)) return false;
+                if (fraction <= 0) return true;
+                const Tet& x = s.tets[t];
+                const double now = oriented_volume(s.x[x[0]], s.x[x[1]], s.x[x[2]], s.x[x[3]], s.negative[t]);
+                const double ref = oriented_volume(reference(x[0]), reference(x[1]), reference(x[2]),
+                                                   reference(x[3]), s.negative[t]);
+                return now >= fraction * ref;
+            };
             auto all_positive = [&](size_t i) {
                 for (int64_t k = offsets[i]; k < offsets[i + 1]; ++k)
-                    if (!positive(s, static_cast<size_t>(incident[k]))) return false;
+                    if (!acceptable(static_cast<size_t>(incident[k]))) return false;
                 return true;
             };
             // Passes over the vertices of inverted tetrahedra: each gets the largest 1-lambda
@@ -274,7 +294,7 @@ TetRefineResult refine_tetmesh(const Parametrization& param, const TetMesh& coar
             for (int pass = 0;; ++pass) {
                 std::vector<int32_t> candidates;
                 for (size_t t = 0; t < s.tets.size(); ++t)
-                    if (!positive(s, t))
+                    if (!acceptable(t))
                         for (int32_t v : s.tets[t])
                             if (moved_index[v] >= 0 && w[moved_index[v]] > 0) candidates.push_back(moved_index[v]);
                 if (candidates.empty()) break;
@@ -354,7 +374,7 @@ TetRefineResult refine_tetmesh(const Parametrization& param, const TetMesh& coar
     if (!options.move_to_surface) result.min_phi_fraction = options.levels > 0 ? 0 : 1;
     result.max_remedy_distance_relative = diagonal > 0 ? result.max_remedy_distance / diagonal : 0;
     for (const Tet& t : out.tetrahedra)
-        if (orient3d(out.vertices[t[0]], out.vertices[t[1]], out.vertices[t[2]], out.vertices[t[3]]) != -1)
+        if (orient3d(out.vertices[t[0]], out.vertices[t[1]], out.vertices[t[2]], out.vertices[t[3]]) != 1)
             ++result.inverted;
     result.seconds = std::chrono::duration<double>(clock::now() - start).count();
     context.report(1.0, "refinement done");

@@ -304,7 +304,7 @@ Regions find_regions(const Surface& s, const std::vector<Vec3>& nodes, std::vect
         Tet& x = tets[t];
         const int o = orient3d(nodes[x[0]], nodes[x[1]], nodes[x[2]], nodes[x[3]]);
         if (o == 0) throw AlgorithmError("TetGen produced a flat tetrahedron (" + num(t) + ")");
-        if (o > 0) std::swap(x[2], x[3]);
+        if (o < 0) std::swap(x[2], x[3]);
     }
     std::map<FaceKey, int32_t> coarse;
     for (int32_t t = 0; t < s.num_triangles(); ++t) {
@@ -402,6 +402,13 @@ std::string format_double(double v) {
     return buffer;
 }
 
+// A number for a TetGen switch: short, but exact for the values people type.
+std::string format_switch(double v) {
+    char buffer[40];
+    std::snprintf(buffer, sizeof buffer, "%.12g", v);
+    return buffer;
+}
+
 }  // namespace
 
 // ---------------------------------------------------------------------------
@@ -468,6 +475,8 @@ TetMeshResult generate_tetmesh(const Parametrization& param, const TetMeshOption
         throw OptionError("quality (radius-edge ratio) must be a positive number");
     if (options.max_volume && !(*options.max_volume > 0 && std::isfinite(*options.max_volume)))
         throw OptionError("max volume must be a positive number");
+    if (options.min_dihedral_degrees && !(*options.min_dihedral_degrees >= 0 && *options.min_dihedral_degrees < 70))
+        throw OptionError("min dihedral angle must be in [0, 70) degrees");
     context.report(0.0, "checking the coarse surface");
     check_meshable(s, context);
 
@@ -508,8 +517,11 @@ TetMeshResult generate_tetmesh(const Parametrization& param, const TetMeshOption
     context.debug("found " + num(r1.count) + " region(s)");
 
     context.report(0.2, "TetGen pass 2: quality mesh");
-    std::vector<std::string> switches{"-pYzA", "-q" + format_double(options.quality)};
-    if (options.max_volume) switches.push_back("-a" + format_double(*options.max_volume));
+    std::vector<std::string> switches{"-pYzA", "-q" + format_switch(options.quality) +
+                                                (options.min_dihedral_degrees
+                                                     ? "/" + format_switch(*options.min_dihedral_degrees)
+                                                     : std::string())};
+    if (options.max_volume) switches.push_back("-a" + format_switch(*options.max_volume));
     TetgenMesh m = run("mesh", seeds, switches);
     context.report(0.8, "reading the tetrahedral mesh");
     const Regions r = find_regions(s, m.nodes, m.tets);
@@ -641,7 +653,7 @@ TetMeshStats tetmesh_stats(const TetMesh& m) {
     for (int32_t t = 0; t < m.num_tetrahedra(); ++t) {
         const Tet& x = m.tetrahedra[t];
         const Vec3 p[4] = {m.vertices[x[0]], m.vertices[x[1]], m.vertices[x[2]], m.vertices[x[3]]};
-        if (orient3d(p[0], p[1], p[2], p[3]) != -1) ++st.inverted;
+        if (orient3d(p[0], p[1], p[2], p[3]) != 1) ++st.inverted;
         if (m.regions[t] >= 1) st.region_volumes[m.regions[t] - 1] += detail::signed_volume(p[0], p[1], p[2], p[3]);
         // Outward normals of the four faces (face k opposite vertex k).
         Vec3 n[4];

@@ -104,6 +104,21 @@ inline bool rotate_to(const Tri& t, int32_t v, int32_t& x, int32_t& y) {
     return false;
 }
 
+// Delaunay admissibility is a quality heuristic, not a validity decision: points within
+// rounding distance of the circle count as on it, so that the choice does not depend on
+// the model's units.
+bool clearly_in_circle(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d) {
+    const double adx = a[0] - d[0], ady = a[1] - d[1];
+    const double bdx = b[0] - d[0], bdy = b[1] - d[1];
+    const double cdx = c[0] - d[0], cdy = c[1] - d[1];
+    const double alift = adx * adx + ady * ady, blift = bdx * bdx + bdy * bdy, clift = cdx * cdx + cdy * cdy;
+    const double det = alift * (bdx * cdy - cdx * bdy) + blift * (cdx * ady - adx * cdy) + clift * (adx * bdy - bdx * ady);
+    const double permanent = (std::abs(bdx * cdy) + std::abs(cdx * bdy)) * alift +
+                             (std::abs(cdx * ady) + std::abs(adx * cdy)) * blift +
+                             (std::abs(adx * bdy) + std::abs(bdx * ady)) * clift;
+    return det > 1e-9 * permanent;
+}
+
 double angle_between(const Vec3& a, const Vec3& b) {
     const double c = dot(a, b), s = norm(cross(a, b));
     return std::atan2(s, c);
@@ -474,10 +489,12 @@ bool FanPlanner::triangulate(std::string& why) {
             for (int32_t o = 0; o < m && delaunay && !cocircular_; ++o) {
                 const int32_t p = poly[o];
                 if (p == a || p == b || p == d) continue;
-                if (in_circle(q_[a], q_[b], q_[d], q_[p]) > 0) delaunay = false;
+                if (clearly_in_circle(q_[a], q_[b], q_[d], q_[p])) delaunay = false;
             }
             // Prefer Delaunay-admissible ears; among them the best 3D aspect ratio.
-            if ((delaunay && !best_delaunay) || (delaunay == best_delaunay && aspect < best_aspect)) {
+            // Near-ties count as ties (first ear wins), so that rounding differences, e.g.
+            // between a model and its scaled copy, do not change the triangulation.
+            if ((delaunay && !best_delaunay) || (delaunay == best_delaunay && aspect < best_aspect * (1.0 - 1e-9))) {
                 best = c;
                 best_delaunay = delaunay;
                 best_aspect = aspect;
@@ -1375,6 +1392,7 @@ void VertexRemover::plan_once(int32_t v, bool force_disk, bool validate, Removal
         }
         for (; j < last; ++j) keep(j);
         plan.new_paths.push_back({e, std::move(crossings)});
+        plan.path_versions.push_back(embedding_.path_version[e]);
     }
     for (const auto& ne : plan.new_edges)
         plan.longest_new_edge = std::max(plan.longest_new_edge, distance(x[ne[0]], x[ne[1]]));

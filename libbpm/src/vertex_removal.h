@@ -42,6 +42,7 @@ struct RemovalPlan {
     // SurfacePoint::Inside with a = -1 - local index, to be mapped at commit.
     std::vector<std::pair<int32_t, SurfacePoint>> new_locations;
     std::vector<std::pair<int32_t, std::vector<Crossing>>> new_paths;
+    std::vector<uint32_t> path_versions;  // Embedding::path_version of each edited edge when planned
 
     // Costs.
     double max_deviation = 0.0;     // max |phi(x) - x| over the new triangles (absolute units)

@@ -2,9 +2,11 @@
 // parametrization (format, bijectivity, topology, no intersections).
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <filesystem>
 
 #include "bpm/check.h"
+#include "bpm/errors.h"
 #include "bpm/simplify.h"
 #include "bpm/surface_io.h"
 #include "fixtures_surfaces.h"
@@ -81,5 +83,68 @@ TEST_CASE("simplify keeps a valid parametrization on real meshes", "[simplify][r
         const Parametrization p = run(s, options, &result);
         INFO(name << ": " << result.input_vertices << " -> " << result.output_vertices << " error " << result.max_error);
         require_valid(p, name);
+    }
+}
+
+namespace {
+Surface scaled(Surface s, double factor) {
+    for (auto& v : s.vertices) v = factor * v;
+    return s;
+}
+std::vector<int32_t> kept_vertices(const Parametrization& p) {
+    std::vector<int32_t> kept = p.coarse_vertex_origin;
+    std::sort(kept.begin(), kept.end());
+    return kept;
+}
+}  // namespace
+
+TEST_CASE("simplify keeps the same vertices when the model is scaled", "[simplify]") {
+    const std::string path = std::string(BPM_MESH_DIR) + "/elephant.off";
+    if (!std::filesystem::exists(path)) {
+        WARN("missing " << path);
+        return;
+    }
+    const Surface s = read_surface(path);
+    SimplifyOptions options;
+    options.target_ratio = 0.1;
+    const auto reference = kept_vertices(run(s, options));
+    CHECK(kept_vertices(run(scaled(s, 1e-3), options)) == reference);
+    CHECK(kept_vertices(run(scaled(s, 1e4), options)) == reference);
+}
+
+TEST_CASE("simplify is deterministic", "[simplify]") {
+    const Surface s = fixtures::torus(30, 20);
+    SimplifyOptions options;
+    options.target_vertices = 60;
+    const Parametrization a = run(s, options), b = run(s, options);
+    CHECK(a.coarse.triangles == b.coarse.triangles);
+    CHECK(a.pieces == b.pieces);
+    CHECK(a.node_barycentric == b.node_barycentric);
+}
+
+TEST_CASE("simplify honours its stopping rules", "[simplify]") {
+    const Surface s = fixtures::torus(30, 20);  // 600 vertices
+    SECTION("vertex target") {
+        SimplifyOptions options;
+        options.target_vertices = 100;
+        SimplifyResult r;
+        const Parametrization p = run(s, options, &r);
+        CHECK(r.target_reached);
+        CHECK(p.coarse.num_vertices() == 100);
+    }
+    SECTION("error limit is never exceeded") {
+        SimplifyOptions options;
+        options.max_error = 0.01;
+        SimplifyResult r;
+        const Parametrization p = run(s, options, &r);
+        CHECK(r.max_error <= 0.01);
+        CHECK(p.coarse.num_vertices() < 600);
+        require_valid(p, "torus with error limit");
+    }
+    SECTION("bad options are refused") {
+        SimplifyOptions options;
+        options.target_ratio = 1.5;
+        Parametrization p;
+        CHECK_THROWS_AS(simplify(s, options, Context{}, p), OptionError);
     }
 }

@@ -5,6 +5,7 @@
 #include <iostream>
 
 #include "bpm/bpm_file.h"
+#include "bpm/errors.h"
 #include "bpm/tet_refine.h"
 #include "bpm/tetmesh.h"
 #include "common/tool_main.h"
@@ -41,10 +42,19 @@ int main(int argc, char** argv) {
     app.add_option("--format", format, "Output format when it cannot be told from the name: bpm, msh, vtu, mesh");
     app.add_option("--quality", options.quality, "TetGen -q: maximum radius-edge ratio (default 1.414)")
         ->check(CLI::PositiveNumber);
+    double min_dihedral = -1;
+    app.add_option("--min-dihedral", min_dihedral, "TetGen -q<quality>/<angle>: minimum dihedral angle in degrees to aim for")
+        ->check(CLI::Range(0.0, 70.0));
     app.add_option("--max-volume", max_volume, "TetGen -a: maximum tetrahedron volume, in the file's units^3")
         ->check(CLI::PositiveNumber);
     app.add_option("--refine", refine_levels, "Red-refine the mesh K times, moving new boundary vertices to phi")
         ->check(CLI::Range(0, 8));
+    double min_volume_fraction = 0.1;
+    app.add_option("--min-volume-fraction", min_volume_fraction,
+                   "With --refine: a boundary vertex is pulled back from the original surface until every "
+                   "tetrahedron around it keeps this fraction of its plain-refinement volume (0 = just positive; "
+                   "default 0.1)")
+        ->check(CLI::Range(0.0, 0.99));
     app.add_flag("--existing", existing, "Use the tetrahedral mesh already in INPUT instead of running TetGen");
     app.add_flag("--flat", flat, "With --refine: leave new boundary vertices on the coarse surface (plain red refinement)");
     app.add_option("--tetgen", options.tetgen, "TetGen executable (default: tetgen on PATH)");
@@ -66,6 +76,7 @@ int main(int argc, char** argv) {
                                                                   : "unknown format '" + format + "'");
         if (json && output == "-") throw CLI::ValidationError("--json", "needs an output file (stdout carries the JSON)");
         if (max_volume > 0) options.max_volume = max_volume;
+        if (min_dihedral >= 0) options.min_dihedral_degrees = min_dihedral;
         const bpm::Context context = bpm::tools::make_context(tool, verbose, quiet);
 
         bpm::BpmFile file = bpm::read_bpm(input);
@@ -88,6 +99,7 @@ int main(int argc, char** argv) {
             bpm::TetRefineOptions ro;
             ro.levels = refine_levels;
             ro.move_to_surface = !flat;
+            ro.min_volume_fraction = min_volume_fraction;
             bpm::TetMesh fine;
             refine_result = bpm::refine_tetmesh(file.param, *file.tetmesh, ro, context, fine);
             file.tetmesh = std::move(fine);

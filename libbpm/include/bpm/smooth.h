@@ -16,6 +16,8 @@
 // edge crossings on E and a dihedral angle of S0 along it above feature_angle_degrees).
 
 #include <cstdint>
+#include <map>
+#include <string>
 
 #include "bpm/context.h"
 #include "bpm/parametrization.h"
@@ -41,7 +43,8 @@ struct RefinedQuality {
 struct SmoothResult {
     int sweeps = 0;
     int64_t pairs = 0;             // pairs considered per sweep
-    int64_t skipped = 0;           // pairs left alone per sweep (patch borders, features, ...)
+    int64_t skipped = 0;           // pairs left alone in the last sweep (patch borders, features, ...)
+    std::map<std::string, int64_t> skipped_reasons;  // the same, counted by reason
     int64_t updates = 0;           // accepted updates, all sweeps
     int64_t rejected = 0;          // updates rejected because a piece would flip, all sweeps
     double last_change = 0.0;      // largest move in the last sweep (fraction of edge length)

@@ -14,7 +14,9 @@
 // at lambda*x + (1-lambda)*phi(x) instead, with the largest fraction 1-lambda in [0, 1]
 // (bisection) that keeps every tetrahedron around it positively oriented (exact orient3d);
 // lambda = 1 is plain red refinement, which is always valid because the children of a
-// positive tetrahedron are positive. (The paper writes "lambda = 0 corresponds to standard
+// positive tetrahedron are positive. To avoid nearly flat elements at the bisection's
+// limit, "admissible" also asks each tetrahedron to keep a fraction of its red-refinement
+// volume (TetRefineOptions::min_volume_fraction; 0 = positivity only, as in the paper). (The paper writes "lambda = 0 corresponds to standard
 // red-green refinement"; with its formula that is lambda = 1.)
 //
 // Typical use (bpm-refine on a .bpm file that has a tet mesh):
@@ -37,6 +39,12 @@ struct TetRefineOptions {
     int levels = 1;                // K >= 0 uniform refinement steps (each multiplies #Tet by 8)
     bool move_to_surface = true;   // false: plain red refinement, boundary vertices stay on S
     int bisection_steps = 30;      // for the largest admissible 1-lambda
+    // A position is admissible when every tetrahedron around the vertex is positively
+    // oriented (exact orient3d) and keeps at least this fraction of the volume it has in
+    // plain red refinement (its new vertices at the edge midpoints x). 0 is the paper's
+    // rule (positive volume only), which lets the bisection stop at nearly flat slivers;
+    // the default keeps a margin. Relative to each element, so independent of units.
+    double min_volume_fraction = 0.1;
 };
 
 struct TetRefineLevel {

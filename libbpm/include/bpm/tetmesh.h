@@ -33,7 +33,8 @@ using Tet = std::array<int32_t, 4>;
 
 // In-memory twin of the /tetmesh group (spec/tetmesh.md); names match the datasets.
 // Every tetrahedron is positively oriented: det[x1-x0, x2-x0, x3-x0] > 0, i.e.
-// orient3d(x0, x1, x2, x3) == -1 in the convention of bpm/predicates.h.
+// orient3d(x0, x1, x2, x3) == +1 (CGAL::POSITIVE; e.g. (0,0,0), e1, e2, e3), as Gmsh, VTK
+// and MEDIT expect.
 struct TetMesh {
     std::vector<Vec3> vertices;             // #V positions
     std::vector<Tet> tetrahedra;            // #Tet four vertex indices, positive orientation
@@ -60,6 +61,7 @@ struct TetMesh {
 
 struct TetMeshOptions {
     double quality = 1.414;          // TetGen -q: maximum radius-edge ratio (> 1.0 recommended >= 1.2)
+    std::optional<double> min_dihedral_degrees;  // TetGen -q<quality>/<angle>: minimum dihedral angle to aim for
     std::optional<double> max_volume;  // TetGen -a: maximum tetrahedron volume, in units^3
     std::string tetgen = "tetgen";   // executable: a name looked up on PATH, or a path
     // Keep TetGen's temporary directory (its path is logged) instead of deleting it.

@@ -1,0 +1,752 @@
+// Parametrization smoothing by edge relaxation (Krause & Sander §2.5).
+//
+// For a pair of coarse triangles A, B sharing edge E = (p, q):
+//  1. Unfold A ∪ B isometrically into the plane (p at the origin, q on the x axis, A
+//     above); if a corner at p or q is reflex, move it along the continuation of E until
+//     the quadrangle is convex. Parameter points map to this "domain" affinely per
+//     triangle through their barycentric coordinates.
+//  2. The graph: for every original triangle T that phi maps pieces of A ∪ B into, its
+//     region T ∩ phi(A ∪ B) is a convex polygon whose corners are the vertices of T inside
+//     the quadrangle and the edge crossings on the four outer edges (crossings on E are
+//     dropped: the original edges become straight). Its corners are ordered in T's own
+//     barycentric plane. Nodes on the outer edges are fixed; the original vertices inside
+//     A, inside B or on E are free.
+//  3. Free vertices are placed by mean value coordinates (Floater 2003) computed from the
+//     3D star in S0: the weight of a neighbour along original edge (v, u) is
+//     (tan(a1/2) + tan(a2/2)) / |y - x_v|, a1, a2 the angles of the triangles at v beside
+//     that edge. Positive weights and a convex boundary make every region convex again
+//     (Tutte, Floater). One sparse LU solve (Eigen) per pair.
+//  4. Each region is cut by the line E (new EdgeCrossing nodes where an original edge
+//     crosses it; region edges are original edges or lie on outer coarse edges, so every
+//     crossing is on an original edge) and each side is triangulated by ear clipping in
+//     T's barycentric plane: new pieces of A and B.
+//  5. The update is kept only if every free vertex is strictly inside the quadrangle,
+//     every region stays strictly convex and every new piece is positively oriented both
+//     in its coarse triangle and in T (exact predicates); otherwise the pair is left as it
+//     was. Node images never change, so phi(S) stays S0 exactly.
+
+#include "bpm/smooth.h"
+
+#include <Eigen/Sparse>
+#include <Eigen/SparseLU>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <map>
+#include <unordered_map>
+
+#include "bpm/errors.h"
+#include "bpm/predicates.h"
+#include "bpm/refine.h"
+
+namespace bpm {
+
+namespace {
+
+int orient_bary(const Vec3& p, const Vec3& q, const Vec3& x) {
+    static const int sign = orient3d({0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1});
+    return sign * orient3d({0, 0, 0}, p, q, x);
+}
+
+double tri_area_b(const Vec3& a, const Vec3& b, const Vec3& c) {  // signed, (b1, b2) plane
+    return 0.5 * ((b[1] - a[1]) * (c[2] - a[2]) - (b[2] - a[2]) * (c[1] - a[1]));
+}
+
+// phi of one coarse triangle, editable.
+struct TriPhi {
+    std::vector<Vec3> b, image;
+    std::vector<NodeKind> kind;
+    std::vector<int32_t> ov;
+    std::vector<std::array<int32_t, 2>> edge;
+    std::vector<double> s;
+    std::vector<Tri> pieces;
+    std::vector<int32_t> piece_tri;
+};
+
+// Smallest barycentric distance of a moved node from a coarse edge or another node on E.
+constexpr double kMinGap = 1e-10;
+
+using NodeId = std::array<int64_t, 3>;  // {-1, v, 0} for a vertex, {u, w, bits(s)} for a crossing
+
+NodeId node_id(const TriPhi& t, size_t i) {
+    if (t.kind[i] != NodeKind::EdgeCrossing) return {-1, t.ov[i], 0};
+    int64_t bits;
+    std::memcpy(&bits, &t.s[i], sizeof bits);
+    return {t.edge[i][0], t.edge[i][1], bits};
+}
+
+struct QNode {
+    NodeId id;
+    NodeKind kind;
+    int32_t ov;
+    std::array<int32_t, 2> edge;
+    double s;
+    Vec3 image;
+    bool fixed = false;
+    bool has_old[2] = {false, false};
+    Vec3 old_b[2];   // old barycentrics in A (0) and B (1)
+    Vec2 pos;        // domain position (new for free nodes after the solve)
+    Vec2 old_pos;
+    int side = 0;    // orientation against E: +1 in A, -1 in B, 0 on E
+    double mu = -1;  // position along E from p to q, for nodes on E that are not corners
+    bool on_e = false;  // free vertex snapped onto E
+};
+
+class Smoother {
+public:
+    Smoother(Parametrization& p, const SmoothOptions& o) : p_(p), o_(o) {
+        const int32_t nt = p.coarse.num_triangles();
+        tris_.resize(size_t(nt));
+        for (int32_t t = 0; t < nt; ++t) {
+            TriPhi& x = tris_[size_t(t)];
+            for (int64_t n = p.node_offsets[size_t(t)]; n < p.node_offsets[size_t(t) + 1]; ++n) {
+                x.b.push_back(p.node_barycentric[size_t(n)]);
+                x.image.push_back(p.node_image[size_t(n)]);
+                x.kind.push_back(p.node_kind[size_t(n)]);
+                x.ov.push_back(p.node_original_vertex[size_t(n)]);
+                x.edge.push_back(p.node_original_edge[size_t(n)]);
+                x.s.push_back(p.node_edge_parameter[size_t(n)]);
+            }
+            for (int64_t q = p.piece_offsets[size_t(t)]; q < p.piece_offsets[size_t(t) + 1]; ++q) {
+                x.pieces.push_back(p.pieces[size_t(q)]);
+                x.piece_tri.push_back(p.piece_original_triangle[size_t(q)]);
+            }
+        }
+        // Original edges -> triangles, vertex -> triangles.
+        vertex_tris_.resize(p.original.vertices.size());
+        for (int32_t t = 0; t < p.original.num_triangles(); ++t) {
+            const Tri& tri = p.original.triangles[size_t(t)];
+            for (int k = 0; k < 3; ++k) {
+                vertex_tris_[size_t(tri[size_t(k)])].push_back(t);
+                original_edges_[key(tri[size_t(k)], tri[size_t((k + 1) % 3)])].push_back(t);
+            }
+        }
+        // Coarse edges with exactly two triangles.
+        std::map<uint64_t, std::vector<std::pair<int32_t, int>>> ce;
+        for (int32_t t = 0; t < nt; ++t) {
+            const Tri& tri = p.coarse.triangles[size_t(t)];
+            for (int k = 0; k < 3; ++k) ce[key(tri[size_t(k)], tri[size_t((k + 1) % 3)])].push_back({t, k});
+        }
+        for (auto& [k, list] : ce) {
+            if (list.size() != 2) {
+                ++skipped_static_;
+                continue;
+            }
+            auto [ta, ka] = list[0];
+            auto [tb, kb] = list[1];
+            const Tri& A = p.coarse.triangles[size_t(ta)];
+            const Tri& B = p.coarse.triangles[size_t(tb)];
+            if (A[size_t(ka)] != B[size_t((kb + 1) % 3)] || p.coarse.patches[size_t(ta)] != p.coarse.patches[size_t(tb)]) {
+                ++skipped_static_;
+                continue;
+            }
+            pairs_.push_back({ta, ka, tb, kb});
+        }
+    }
+
+    static uint64_t key(int32_t a, int32_t b) {
+        if (a > b) std::swap(a, b);
+        return (uint64_t(uint32_t(a)) << 32) | uint64_t(uint32_t(b));
+    }
+
+    struct Pair {
+        int32_t a;
+        int ka;
+        int32_t b;
+        int kb;
+    };
+
+    SmoothResult run(const Context& context) {
+        SmoothResult result;
+        result.pairs = int64_t(pairs_.size()) + skipped_static_;
+        for (int sweep = 0; sweep < o_.iterations; ++sweep) {
+            context.report(double(sweep) / std::max(1, o_.iterations), "smoothing");
+            double change = 0;
+            int64_t skipped = skipped_static_;
+            reasons_.clear();
+            if (skipped_static_ > 0) reasons_["edge not shared by two triangles of one patch"] = skipped_static_;
+            for (const Pair& pr : pairs_) {
+                double c = 0;
+                const int r = relax(pr, c);
+                if (r == 1) ++result.updates, change = std::max(change, c);
+                else if (r == 0) ++skipped;
+                else ++result.rejected;
+            }
+            result.skipped = skipped;
+            result.sweeps = sweep + 1;
+            result.last_change = change;
+            context.info("sweep " + std::to_string(sweep + 1) + ": largest move " + std::to_string(change) +
+                         " of the edge length, " + std::to_string(result.rejected) + " updates rejected so far");
+            if (change < o_.tolerance) break;
+        }
+        write_back();
+        return result;
+    }
+
+private:
+    int skip(const char* reason) {
+        ++reasons_[reason];
+        return 0;
+    }
+
+    // 1 = updated, 0 = left alone (not applicable), -1 = rejected (would break phi).
+    int relax(const Pair& pr, double& change) {
+        TriPhi* X[2] = {&tris_[size_t(pr.a)], &tris_[size_t(pr.b)]};
+        const int kx[2] = {pr.ka, pr.kb};
+        const Tri& A = p_.coarse.triangles[size_t(pr.a)];
+        const Tri& B = p_.coarse.triangles[size_t(pr.b)];
+        const auto& cv = p_.coarse.vertices;
+        const Vec3 xp = cv[size_t(A[size_t(pr.ka)])], xq = cv[size_t(A[size_t((pr.ka + 1) % 3)])];
+        const Vec3 xa = cv[size_t(A[size_t((pr.ka + 2) % 3)])], xb = cv[size_t(B[size_t((pr.kb + 2) % 3)])];
+        const double L = distance(xp, xq);
+        if (!(L > 0)) return skip("degenerate pair");
+        auto place = [&](const Vec3& x, double sign) -> Vec2 {
+            const double dp = distance(x, xp), dq = distance(x, xq);
+            const double u = (L * L + dp * dp - dq * dq) / (2 * L);
+            return {u, sign * std::sqrt(std::max(dp * dp - u * u, 0.0))};
+        };
+        Vec2 P{0, 0}, Q{L, 0};
+        const Vec2 Da = place(xa, 1), Db = place(xb, -1);
+        if (!(Da[1] > 0) || !(Db[1] < 0)) return skip("degenerate pair");
+        const double x_cross = Da[0] + (Db[0] - Da[0]) * (Da[1] / (Da[1] - Db[1]));  // line ab meets the x axis
+        if (orient2d(Da, P, Db) <= 0) P[0] = std::min(0.0, x_cross) - 0.25 * L;
+        if (orient2d(Db, Q, Da) <= 0) Q[0] = std::max(L, x_cross) + 0.25 * L;
+        if (orient2d(Da, P, Db) <= 0 || orient2d(Db, Q, Da) <= 0) return skip("degenerate pair");
+        // Domain corners per triangle, in corner order.
+        std::array<Vec2, 3> D[2];
+        D[0][size_t(pr.ka)] = P, D[0][size_t((pr.ka + 1) % 3)] = Q, D[0][size_t((pr.ka + 2) % 3)] = Da;
+        D[1][size_t(pr.kb)] = Q, D[1][size_t((pr.kb + 1) % 3)] = P, D[1][size_t((pr.kb + 2) % 3)] = Db;
+        auto to_domain = [&](int s, const Vec3& b) -> Vec2 {
+            return {b[0] * D[s][0][0] + b[1] * D[s][1][0] + b[2] * D[s][2][0],
+                    b[0] * D[s][0][1] + b[1] * D[s][1][1] + b[2] * D[s][2][1]};
+        };
+
+        // Nodes.
+        std::vector<QNode> nodes;
+        std::map<NodeId, int> index;
+        std::vector<std::vector<int>> local[2];  // per triangle: node -> QNode index (-1 for E crossings)
+        bool e_has_crossing = false;
+        std::vector<int> e_chain;  // QNodes on E (for the feature test)
+        for (int s = 0; s < 2; ++s) {
+            const TriPhi& t = *X[s];
+            local[s].push_back({});
+            auto& loc = local[s][0];
+            loc.assign(t.b.size(), -1);
+            const size_t ke = size_t((kx[s] + 2) % 3), k0 = size_t(kx[s]), k1 = size_t((kx[s] + 1) % 3);
+            for (size_t i = 0; i < t.b.size(); ++i) {
+                const bool on_e = t.b[i][ke] == 0;
+                const bool outer = t.b[i][k0] == 0 || t.b[i][k1] == 0;
+                if (on_e && !outer && t.kind[i] == NodeKind::EdgeCrossing) {
+                    e_has_crossing = true;
+                    continue;
+                }
+                const NodeId id = node_id(t, i);
+                auto it = index.find(id);
+                int qi;
+                if (it == index.end()) {
+                    qi = int(nodes.size());
+                    index.emplace(id, qi);
+                    QNode n;
+                    n.id = id;
+                    n.kind = t.kind[i];
+                    n.ov = t.ov[i];
+                    n.edge = t.edge[i];
+                    n.s = t.s[i];
+                    n.image = t.image[i];
+                    n.fixed = outer;
+                    n.pos = n.old_pos = to_domain(s, t.b[i]);
+                    nodes.push_back(n);
+                    if (on_e) e_chain.push_back(qi);
+                } else {
+                    qi = it->second;
+                }
+                nodes[size_t(qi)].has_old[s] = true;
+                nodes[size_t(qi)].old_b[s] = t.b[i];
+                loc[i] = qi;
+            }
+        }
+        // Leave feature lines of S0 alone: E runs along original edges that are sharp.
+        if (!e_has_crossing) {
+            std::sort(e_chain.begin(), e_chain.end(),
+                      [&](int i, int j) { return nodes[size_t(i)].old_pos[0] < nodes[size_t(j)].old_pos[0]; });
+            for (size_t i = 0; i + 1 < e_chain.size(); ++i) {
+                const int32_t u = nodes[size_t(e_chain[i])].ov, w = nodes[size_t(e_chain[i + 1])].ov;
+                if (u < 0 || w < 0) return skip("feature line");
+                auto it = original_edges_.find(key(u, w));
+                if (it == original_edges_.end()) continue;
+                if (it->second.size() != 2) return skip("feature line");
+                const auto& x = p_.original.vertices;
+                const Tri& t0 = p_.original.triangles[size_t(it->second[0])];
+                const Tri& t1 = p_.original.triangles[size_t(it->second[1])];
+                const Vec3 n0 = triangle_normal(x[size_t(t0[0])], x[size_t(t0[1])], x[size_t(t0[2])]);
+                const Vec3 n1 = triangle_normal(x[size_t(t1[0])], x[size_t(t1[1])], x[size_t(t1[2])]);
+                const double angle = std::acos(std::max(-1.0, std::min(1.0, dot(n0, n1)))) * 180.0 / M_PI;
+                if (angle > o_.feature_angle_degrees) return skip("feature line");
+            }
+        }
+        std::vector<int> free;
+        std::vector<int> free_index(nodes.size(), -1);
+        for (size_t i = 0; i < nodes.size(); ++i)
+            if (!nodes[i].fixed) {
+                if (nodes[i].kind != NodeKind::OriginalVertex) return skip("degenerate pair");
+                free_index[i] = int(free.size());
+                free.push_back(int(i));
+            }
+        if (free.empty()) return skip("no original vertex inside");
+
+        // Regions per original triangle, in T's barycentric plane.
+        struct Region {
+            int32_t T;
+            std::vector<int> ring;
+            std::vector<Vec3> beta;  // parallel to ring
+            double piece_area = 0;
+        };
+        std::map<int32_t, Region> regions;
+        auto beta_of = [&](int32_t T, const NodeId& id, Vec3& out) -> bool {
+            const Tri& tri = p_.original.triangles[size_t(T)];
+            out = {0, 0, 0};
+            if (id[0] < 0) {
+                for (int k = 0; k < 3; ++k)
+                    if (tri[size_t(k)] == id[1]) return out[size_t(k)] = 1, true;
+                return false;
+            }
+            double s;
+            std::memcpy(&s, &id[2], sizeof s);
+            int ku = -1, kw = -1;
+            for (int k = 0; k < 3; ++k) {
+                if (tri[size_t(k)] == id[0]) ku = k;
+                if (tri[size_t(k)] == id[1]) kw = k;
+            }
+            if (ku < 0 || kw < 0) return false;
+            out[size_t(ku)] = 1 - s;
+            out[size_t(kw)] = s;
+            return true;
+        };
+        for (int s = 0; s < 2; ++s) {
+            const TriPhi& t = *X[s];
+            for (size_t q = 0; q < t.pieces.size(); ++q) {
+                const int32_t T = t.piece_tri[q];
+                Region& r = regions[T];
+                r.T = T;
+                Vec3 bc[3];
+                for (int k = 0; k < 3; ++k) {
+                    const size_t i = size_t(t.pieces[q][size_t(k)]);
+                    if (!beta_of(T, node_id(t, i), bc[k])) return skip("inconsistent node");
+                    const int qi = local[s][0][i];
+                    if (qi >= 0 && std::find(r.ring.begin(), r.ring.end(), qi) == r.ring.end()) {
+                        r.ring.push_back(qi);
+                        r.beta.push_back(bc[k]);
+                    }
+                }
+                r.piece_area += tri_area_b(bc[0], bc[1], bc[2]);
+            }
+        }
+        for (auto& [T, r] : regions) {
+            if (r.ring.size() < 3) return skip("region not convex or not connected");
+            double c1 = 0, c2 = 0;
+            for (const Vec3& b : r.beta) c1 += b[1], c2 += b[2];
+            c1 /= double(r.beta.size()), c2 /= double(r.beta.size());
+            std::vector<size_t> order(r.ring.size());
+            for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+            std::vector<double> ang(order.size());
+            for (size_t i = 0; i < order.size(); ++i) ang[i] = std::atan2(r.beta[i][2] - c2, r.beta[i][1] - c1);
+            std::sort(order.begin(), order.end(), [&](size_t i, size_t j) { return ang[i] < ang[j]; });
+            std::vector<int> ring;
+            std::vector<Vec3> beta;
+            for (size_t i : order) ring.push_back(r.ring[i]), beta.push_back(r.beta[i]);
+            r.ring = ring, r.beta = beta;
+            double area = 0;
+            const size_t n = ring.size();
+            for (size_t i = 0; i < n; ++i) {
+                if (orient_bary(beta[(i + n - 1) % n], beta[i], beta[(i + 1) % n]) <= 0) return skip("region not convex or not connected");  // not strictly convex
+                area += tri_area_b(beta[0], beta[i], beta[(i + 1) % n]);
+            }
+            if (std::abs(area - r.piece_area) > 1e-9 * 0.5) return skip("region not convex or not connected");  // region not convex / connected
+        }
+
+        // Mean value weights from the 3D stars; one sparse solve.
+        const auto& x0 = p_.original.vertices;
+        const size_t nf = free.size();
+        std::vector<Eigen::Triplet<double>> trip;
+        Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(long(nf), 2);
+        std::vector<double> diag(nf, 0.0);
+        std::vector<int> seen_tris(nf, 0);
+        for (auto& [T, r] : regions) {
+            const Tri& tri = p_.original.triangles[size_t(T)];
+            const size_t n = r.ring.size();
+            for (size_t i = 0; i < n; ++i) {
+                const QNode& v = nodes[size_t(r.ring[i])];
+                if (v.fixed) continue;
+                const int row = free_index[size_t(r.ring[i])];
+                int j = -1;
+                for (int k = 0; k < 3; ++k)
+                    if (tri[size_t(k)] == v.ov) j = k;
+                if (j < 0) return skip("inconsistent node");
+                ++seen_tris[size_t(row)];
+                const Vec3 e1 = x0[size_t(tri[size_t((j + 1) % 3)])] - x0[size_t(v.ov)];
+                const Vec3 e2 = x0[size_t(tri[size_t((j + 2) % 3)])] - x0[size_t(v.ov)];
+                const double sn = norm(cross(e1, e2));
+                if (!(sn > 0)) return skip("degenerate original triangle");
+                const double tan_half = (norm(e1) * norm(e2) - dot(e1, e2)) / sn;
+                for (int nb : {r.ring[(i + n - 1) % n], r.ring[(i + 1) % n]}) {
+                    const double d = distance(nodes[size_t(nb)].image, x0[size_t(v.ov)]);
+                    if (!(d > 0)) return skip("degenerate original triangle");
+                    const double w = tan_half / d;
+                    diag[size_t(row)] += w;
+                    if (nodes[size_t(nb)].fixed) {
+                        rhs(row, 0) += w * nodes[size_t(nb)].pos[0];
+                        rhs(row, 1) += w * nodes[size_t(nb)].pos[1];
+                    } else {
+                        trip.emplace_back(row, free_index[size_t(nb)], -w);
+                    }
+                }
+            }
+        }
+        for (size_t i = 0; i < nf; ++i) {
+            if (seen_tris[i] != int(vertex_tris_[size_t(nodes[size_t(free[i])].ov)].size())) return skip("star leaves the quadrangle");
+            trip.emplace_back(int(i), int(i), diag[i]);
+        }
+        Eigen::SparseMatrix<double> M(static_cast<long>(nf), static_cast<long>(nf));
+        M.setFromTriplets(trip.begin(), trip.end());
+        Eigen::SparseLU<Eigen::SparseMatrix<double>> lu;
+        lu.compute(M);
+        if (lu.info() != Eigen::Success) return -1;
+        const Eigen::MatrixXd sol = lu.solve(rhs);
+        if (lu.info() != Eigen::Success) return -1;
+        double moved = 0;
+        for (size_t i = 0; i < nf; ++i) {
+            QNode& v = nodes[size_t(free[i])];
+            v.pos = {sol(long(i), 0), sol(long(i), 1)};
+            if (!std::isfinite(v.pos[0]) || !std::isfinite(v.pos[1])) return -1;
+            moved = std::max(moved, std::hypot(v.pos[0] - v.old_pos[0], v.pos[1] - v.old_pos[1]) / L);
+            // Strictly inside the quadrangle P, b, Q, a.
+            if (orient2d(P, Db, v.pos) <= 0 || orient2d(Db, Q, v.pos) <= 0 || orient2d(Q, Da, v.pos) <= 0 ||
+                orient2d(Da, P, v.pos) <= 0)
+                return -1;
+            // A vertex within rounding distance of E goes onto E: otherwise the crossings of
+            // its edges with E would coincide in floating point.
+            const double ex = Q[0] - P[0], ey = Q[1] - P[1];
+            const double mu = ((v.pos[0] - P[0]) * ex + (v.pos[1] - P[1]) * ey) / (ex * ex + ey * ey);
+            const double dist = std::abs(ex * (v.pos[1] - P[1]) - ey * (v.pos[0] - P[0])) / std::sqrt(ex * ex + ey * ey);
+            if (dist < 1e-9 * L && mu > 0 && mu < 1) {
+                v.on_e = true;
+                v.mu = mu;
+                v.pos = {P[0] + mu * ex, P[1] + mu * ey};
+            }
+        }
+        for (auto& [T, r] : regions) {
+            const size_t n = r.ring.size();
+            for (size_t i = 0; i < n; ++i)
+                if (orient2d(nodes[size_t(r.ring[(i + n - 1) % n])].pos, nodes[size_t(r.ring[i])].pos,
+                             nodes[size_t(r.ring[(i + 1) % n])].pos) <= 0)
+                    return -1;
+        }
+        // Sides of E, positions along E.
+        const double LL = (Q[0] - P[0]) * (Q[0] - P[0]) + (Q[1] - P[1]) * (Q[1] - P[1]);
+        for (QNode& v : nodes) {
+            if (v.fixed) {  // known from the triangle it belongs to
+                v.side = v.has_old[0] && v.has_old[1] ? 0 : (v.has_old[0] ? 1 : -1);
+                continue;
+            }
+            v.side = v.on_e ? 0 : orient2d(P, Q, v.pos);
+            if (v.side == 0 && !v.on_e) {
+                v.mu = ((v.pos[0] - P[0]) * (Q[0] - P[0]) + (v.pos[1] - P[1]) * (Q[1] - P[1])) / LL;
+                if (!(v.mu > 0 && v.mu < 1)) return -1;
+            }
+        }
+        // Cut the regions along E.
+        std::map<uint64_t, int> crossings;
+        struct Poly {
+            int32_t T;
+            int side;  // 0 = A, 1 = B
+            std::vector<int> ring;
+            std::vector<Vec3> beta;
+        };
+        std::vector<Poly> polys;
+        for (auto& [T, r] : regions) {
+            const Tri& tri = p_.original.triangles[size_t(T)];
+            Poly pa{T, 0, {}, {}}, pb{T, 1, {}, {}};
+            const size_t n = r.ring.size();
+            for (size_t i = 0; i < n; ++i) {
+                const int xi = r.ring[i], yi = r.ring[(i + 1) % n];
+                const QNode& xn = nodes[size_t(xi)];
+                const QNode& yn = nodes[size_t(yi)];
+                if (xn.side >= 0) pa.ring.push_back(xi), pa.beta.push_back(r.beta[i]);
+                if (xn.side <= 0) pb.ring.push_back(xi), pb.beta.push_back(r.beta[i]);
+                if (xn.side * yn.side >= 0) continue;
+                const Vec3& bx = r.beta[i];
+                const Vec3& by = r.beta[(i + 1) % n];
+                int kz = -1;
+                for (int k = 0; k < 3; ++k)
+                    if (bx[size_t(k)] == 0 && by[size_t(k)] == 0) kz = k;
+                if (kz < 0) return -1;
+                int32_t u = tri[size_t((kz + 1) % 3)], w = tri[size_t((kz + 2) % 3)];
+                int ku = (kz + 1) % 3, kw = (kz + 2) % 3;
+                if (u > w) std::swap(u, w), std::swap(ku, kw);
+                const uint64_t ek = key(u, w);
+                auto it = crossings.find(ek);
+                int ci;
+                if (it != crossings.end()) {
+                    ci = it->second;
+                } else {
+                    // Canonical direction: from the node with the smaller id.
+                    const bool fwd = xn.id < yn.id;
+                    const QNode& s0 = fwd ? xn : yn;
+                    const QNode& s1 = fwd ? yn : xn;
+                    const Vec3& b0 = fwd ? bx : by;
+                    const Vec3& b1 = fwd ? by : bx;
+                    auto cr = [&](const Vec2& z) {
+                        return (Q[0] - P[0]) * (z[1] - P[1]) - (Q[1] - P[1]) * (z[0] - P[0]);
+                    };
+                    const double d0 = cr(s0.pos), d1 = cr(s1.pos);
+                    const double t = d0 / (d0 - d1);
+                    if (!(t > 0 && t < 1)) return -1;
+                    const Vec2 z = s0.pos + t * (s1.pos - s0.pos);
+                    const double sw = b0[size_t(kw)] + t * (b1[size_t(kw)] - b0[size_t(kw)]);
+                    if (!(sw > 0 && sw < 1)) return -1;
+                    QNode c;
+                    c.kind = NodeKind::EdgeCrossing;
+                    c.ov = -1;
+                    c.edge = {u, w};
+                    c.s = sw;
+                    const Vec3& xu = x0[size_t(u)];
+                    const Vec3& xw = x0[size_t(w)];
+                    c.image = {(1 - sw) * xu[0] + sw * xw[0], (1 - sw) * xu[1] + sw * xw[1],
+                               (1 - sw) * xu[2] + sw * xw[2]};
+                    int64_t bits;
+                    std::memcpy(&bits, &sw, sizeof bits);
+                    c.id = {u, w, bits};
+                    c.pos = c.old_pos = z;
+                    c.side = 0;
+                    c.mu = ((z[0] - P[0]) * (Q[0] - P[0]) + (z[1] - P[1]) * (Q[1] - P[1])) / LL;
+                    if (!(c.mu > 0 && c.mu < 1)) return -1;
+                    ci = int(nodes.size());
+                    nodes.push_back(c);
+                    crossings.emplace(ek, ci);
+                }
+                Vec3 bc{0, 0, 0};
+                bc[size_t(ku)] = 1 - nodes[size_t(ci)].s;
+                bc[size_t(kw)] = nodes[size_t(ci)].s;
+                pa.ring.push_back(ci), pa.beta.push_back(bc);
+                pb.ring.push_back(ci), pb.beta.push_back(bc);
+            }
+            if (pa.ring.size() >= 3) polys.push_back(pa);
+            if (pb.ring.size() >= 3) polys.push_back(pb);
+        }
+
+        // New phi of A and B.
+        TriPhi out[2];
+        std::vector<int> loc[2];
+        loc[0].assign(nodes.size(), -1);
+        loc[1].assign(nodes.size(), -1);
+        auto bary_in = [&](int s, const QNode& v, Vec3& b) -> bool {
+            if (v.fixed) {
+                if (!v.has_old[s]) return false;
+                b = v.old_b[s];
+                return true;
+            }
+            const size_t k0 = size_t(kx[s]), k1 = size_t((kx[s] + 1) % 3), k2 = size_t((kx[s] + 2) % 3);
+            if (v.side == 0) {
+                b[k2] = 0;
+                // A: corners (p, q) = (k0, k1); B: (q, p).
+                b[k0] = s == 0 ? 1 - v.mu : v.mu;
+                b[k1] = s == 0 ? v.mu : 1 - v.mu;
+                return true;
+            }
+            const auto& d = D[s];
+            const double u1 = d[1][0] - d[0][0], u2 = d[1][1] - d[0][1];
+            const double w1 = d[2][0] - d[0][0], w2 = d[2][1] - d[0][1];
+            const double z1 = v.pos[0] - d[0][0], z2 = v.pos[1] - d[0][1];
+            const double det = u1 * w2 - u2 * w1;
+            const double l1 = (z1 * w2 - z2 * w1) / det, l2 = (u1 * z2 - u2 * z1) / det;
+            b = {1 - l1 - l2, l1, l2};
+            // Keep clear of the edges by more than rounding (nearly degenerate pieces).
+            return b[0] > kMinGap && b[1] > kMinGap && b[2] > kMinGap;
+        };
+        auto add = [&](int s, int qi) -> int {
+            if (loc[s][size_t(qi)] >= 0) return loc[s][size_t(qi)];
+            const QNode& v = nodes[size_t(qi)];
+            Vec3 b;
+            if (!bary_in(s, v, b)) return -1;
+            TriPhi& t = out[s];
+            loc[s][size_t(qi)] = int(t.b.size());
+            t.b.push_back(b);
+            t.image.push_back(v.image);
+            t.kind.push_back(v.kind);
+            t.ov.push_back(v.ov);
+            t.edge.push_back(v.edge);
+            t.s.push_back(v.s);
+            return loc[s][size_t(qi)];
+        };
+        // Corners first, in corner order.
+        for (int s = 0; s < 2; ++s) {
+            const TriPhi& t = *X[s];
+            for (int k = 0; k < 3; ++k)
+                for (size_t i = 0; i < t.b.size(); ++i)
+                    if (t.kind[i] == NodeKind::CoarseCorner && t.b[i][size_t(k)] == 1)
+                        if (add(s, local[s][0][i]) < 0) return -1;
+        }
+        for (Poly& poly : polys) {
+            const int s = poly.side;
+            std::vector<int> ring = poly.ring;
+            std::vector<Vec3> beta = poly.beta;
+            auto emit = [&](size_t a, size_t b, size_t c) -> bool {
+                int l[3] = {add(s, ring[a]), add(s, ring[b]), add(s, ring[c])};
+                if (l[0] < 0 || l[1] < 0 || l[2] < 0) return false;
+                TriPhi& t = out[s];
+                if (orient_bary(t.b[size_t(l[0])], t.b[size_t(l[1])], t.b[size_t(l[2])]) <= 0) return false;
+                t.pieces.push_back(Tri{l[0], l[1], l[2]});
+                t.piece_tri.push_back(poly.T);
+                return true;
+            };
+            // Drop consecutive points that coincide in T (cannot happen; be safe) and check area.
+            double area = 0;
+            for (size_t i = 0; i < beta.size(); ++i) area += tri_area_b(beta[0], beta[i], beta[(i + 1) % beta.size()]);
+            if (!(area > 0)) {
+                bool flat = true;
+                for (size_t i = 2; i < beta.size(); ++i)
+                    if (orient_bary(beta[0], beta[1], beta[i]) != 0) flat = false;
+                if (flat) continue;  // a region touching E only along an edge or a point
+                return -1;
+            }
+            while (ring.size() > 3) {
+                const size_t n = ring.size();
+                bool cut = false;
+                for (size_t i = 0; i < n && !cut; ++i) {
+                    const size_t a = (i + n - 1) % n, c = (i + 1) % n;
+                    if (orient_bary(beta[a], beta[i], beta[c]) <= 0) continue;
+                    bool flat = true;
+                    for (size_t k = 0; k < n && flat; ++k)
+                        if (k != i && k != a && k != c && orient_bary(beta[a], beta[c], beta[k]) != 0) flat = false;
+                    if (flat) continue;
+                    if (!emit(a, i, c)) return -1;
+                    ring.erase(ring.begin() + long(i));
+                    beta.erase(beta.begin() + long(i));
+                    cut = true;
+                }
+                if (!cut) return -1;
+            }
+            if (orient_bary(beta[0], beta[1], beta[2]) <= 0) {
+                if (orient_bary(beta[0], beta[1], beta[2]) == 0) continue;
+                return -1;
+            }
+            if (!emit(0, 1, 2)) return -1;
+        }
+        // Nodes on E well apart (no nearly coincident crossings).
+        {
+            std::vector<double> mus = {0.0, 1.0};
+            for (const QNode& v : nodes)
+                if (!v.fixed && v.side == 0) mus.push_back(v.mu);
+            std::sort(mus.begin(), mus.end());
+            for (size_t i = 0; i + 1 < mus.size(); ++i)
+                if (!(mus[i + 1] - mus[i] > kMinGap)) return -1;
+        }
+        // Every node must be used by a piece; the pieces must cover both triangles; no two
+        // nodes at the same parameter point.
+        for (int s = 0; s < 2; ++s) {
+            std::vector<Vec3> sorted = out[s].b;
+            std::sort(sorted.begin(), sorted.end());
+            if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end()) return -1;
+            std::vector<char> used(out[s].b.size(), 0);
+            double area = 0;
+            for (const Tri& t : out[s].pieces) {
+                for (int32_t i : t) used[size_t(i)] = 1;
+                area += tri_area_b(out[s].b[size_t(t[0])], out[s].b[size_t(t[1])], out[s].b[size_t(t[2])]);
+            }
+            if (std::find(used.begin(), used.end(), 0) != used.end()) return -1;
+            if (std::abs(area - 0.5) > 1e-9) return -1;
+        }
+        *X[0] = std::move(out[0]);
+        *X[1] = std::move(out[1]);
+        change = moved;
+        return 1;
+    }
+
+    void write_back() {
+        Parametrization& p = p_;
+        p.node_offsets.assign(1, 0);
+        p.piece_offsets.assign(1, 0);
+        p.node_barycentric.clear();
+        p.node_image.clear();
+        p.node_kind.clear();
+        p.node_original_vertex.clear();
+        p.node_original_edge.clear();
+        p.node_edge_parameter.clear();
+        p.pieces.clear();
+        p.piece_original_triangle.clear();
+        for (const TriPhi& t : tris_) {
+            p.node_barycentric.insert(p.node_barycentric.end(), t.b.begin(), t.b.end());
+            p.node_image.insert(p.node_image.end(), t.image.begin(), t.image.end());
+            p.node_kind.insert(p.node_kind.end(), t.kind.begin(), t.kind.end());
+            p.node_original_vertex.insert(p.node_original_vertex.end(), t.ov.begin(), t.ov.end());
+            p.node_original_edge.insert(p.node_original_edge.end(), t.edge.begin(), t.edge.end());
+            p.node_edge_parameter.insert(p.node_edge_parameter.end(), t.s.begin(), t.s.end());
+            p.pieces.insert(p.pieces.end(), t.pieces.begin(), t.pieces.end());
+            p.piece_original_triangle.insert(p.piece_original_triangle.end(), t.piece_tri.begin(), t.piece_tri.end());
+            p.node_offsets.push_back(int64_t(p.node_kind.size()));
+            p.piece_offsets.push_back(int64_t(p.pieces.size()));
+        }
+    }
+
+    Parametrization& p_;
+    const SmoothOptions& o_;
+    std::vector<TriPhi> tris_;
+    std::vector<std::vector<int32_t>> vertex_tris_;
+    std::unordered_map<uint64_t, std::vector<int32_t>> original_edges_;
+    std::vector<Pair> pairs_;
+    int64_t skipped_static_ = 0;
+
+public:
+    std::map<std::string, int64_t> reasons_;  // why pairs were left alone (last sweep)
+};
+
+}  // namespace
+
+RefinedQuality refined_quality(const Parametrization& param, int levels) {
+    RefinedSurface r;
+    RefineOptions o;
+    o.levels = levels;
+    refine(param, o, Context{}, r);
+    std::vector<double> q;
+    q.reserve(r.surface.triangles.size());
+    for (const Tri& t : r.surface.triangles)
+        q.push_back(aspect_ratio(r.surface.vertices[size_t(t[0])], r.surface.vertices[size_t(t[1])],
+                                 r.surface.vertices[size_t(t[2])]));
+    RefinedQuality out;
+    if (q.empty()) return out;
+    std::sort(q.begin(), q.end());
+    out.max_aspect_ratio = q.back();
+    out.p99_aspect_ratio = q[std::min(q.size() - 1, size_t(0.99 * double(q.size())))];
+    double sum = 0;
+    for (double x : q) sum += std::isfinite(x) ? x : 0;
+    out.mean_aspect_ratio = sum / double(q.size());
+    return out;
+}
+
+SmoothResult smooth(Parametrization& param, const SmoothOptions& options, const Context& context) {
+    const auto start = std::chrono::steady_clock::now();
+    if (options.iterations < 0) throw OptionError("smooth: iterations must be >= 0");
+    if (!(options.tolerance >= 0)) throw OptionError("smooth: tolerance must be >= 0");
+    if (options.measure_quality && (options.quality_levels < 0 || options.quality_levels > 6))
+        throw OptionError("smooth: quality_levels must be in 0..6");
+    SmoothResult result;
+    if (options.measure_quality) result.before = refined_quality(param, options.quality_levels);
+    {
+        Smoother smoother(param, options);
+        const SmoothResult r = smoother.run(context);
+        result.sweeps = r.sweeps;
+        result.pairs = r.pairs;
+        result.skipped = r.skipped;
+        result.updates = r.updates;
+        result.rejected = r.rejected;
+        result.last_change = r.last_change;
+        result.skipped_reasons = smoother.reasons_;
+    }
+    if (options.measure_quality) result.after = refined_quality(param, options.quality_levels);
+    result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    context.report(1.0, "smoothing");
+    return result;
+}
+
+}  // namespace bpm

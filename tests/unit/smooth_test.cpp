@@ -1,0 +1,142 @@
+// Smoothing phi by edge relaxation: phi stays a valid bijection, node images stay on the
+// original surface (in fact unchanged points of S0), the coarse surface never moves, and
+// the refined-triangle quality improves on a real mesh.
+
+#include <catch2/catch.hpp>
+
+#include <filesystem>
+
+#include "bpm/check.h"
+#include "bpm/errors.h"
+#include "bpm/phi_evaluation.h"
+#include "bpm/refine.h"
+#include "bpm/simplify.h"
+#include "bpm/smooth.h"
+#include "bpm/surface_io.h"
+#include "fixtures_phi.h"
+#include "fixtures_surfaces.h"
+
+using namespace bpm;
+
+namespace {
+
+std::string text(const CheckResult& r) {
+    std::string s = r.name + (r.passed ? " passed" : " failed") + ": " + r.summary;
+    for (auto& p : r.problems) s += "\n  " + p.describe();
+    return s;
+}
+
+void require_valid(const Parametrization& p) {
+    const CheckResult format = check_format(p);
+    INFO(text(format));
+    REQUIRE(format.passed);
+    const CheckResult bij = check_bijectivity(p);
+    INFO(text(bij));
+    CHECK(bij.passed);
+    const CheckResult topo = check_topology(p);
+    INFO(text(topo));
+    CHECK(topo.passed);
+}
+
+// Every node image is what its kind says (a vertex of S0 or a point on an edge of S0).
+double max_image_error(const Parametrization& p) {
+    double worst = 0;
+    for (int64_t n = 0; n < p.num_nodes(); ++n) worst = std::max(worst, distance(p.node_image[size_t(n)], node_image_from_kind(p, n)));
+    return worst;
+}
+
+Parametrization simplified(const Surface& s, double ratio) {
+    Parametrization p;
+    SimplifyOptions o;
+    o.target_ratio = ratio;
+    simplify(s, o, Context{}, p);
+    return p;
+}
+
+}  // namespace
+
+TEST_CASE("smoothing keeps phi a bijection on synthetic parametrizations", "[smooth]") {
+    struct Case {
+        std::string name;
+        Parametrization param;
+    };
+    std::vector<Case> cases;
+    cases.push_back({"height field", test::make_height_field(12, 3, test::default_height)});
+    cases.push_back({"octahedron", test::make_subdivided_octahedron(3)});
+    cases.push_back({"torus simplified", simplified(fixtures::torus(24, 16), 0.15)});
+    cases.push_back({"two cubes simplified", simplified(fixtures::two_cubes(5), 0.2)});
+    for (Case& c : cases) {
+        INFO(c.name);
+        const Surface coarse = c.param.coarse;
+        const Surface original = c.param.original;
+        SmoothOptions o;
+        o.iterations = 4;
+        o.quality_levels = 2;
+        const SmoothResult r = smooth(c.param, o, Context{});
+        INFO(r.updates << " updates, " << r.rejected << " rejected, " << r.skipped << " left alone");
+        CHECK(c.param.coarse.vertices == coarse.vertices);
+        CHECK(c.param.coarse.triangles == coarse.triangles);
+        CHECK(c.param.original.vertices == original.vertices);
+        CHECK(max_image_error(c.param) == 0.0);
+        require_valid(c.param);
+    }
+}
+
+TEST_CASE("smoothing a perfect map changes nothing of substance", "[smooth]") {
+    // The octahedron fixture maps each face onto a subdivided face: smoothing must keep
+    // it valid and the refined quality must not get worse.
+    Parametrization p = test::make_subdivided_octahedron(2, 0.0);
+    SmoothOptions o;
+    o.quality_levels = 2;
+    const SmoothResult r = smooth(p, o, Context{});
+    CHECK(r.after.max_aspect_ratio <= r.before.max_aspect_ratio * 1.01);
+    require_valid(p);
+}
+
+TEST_CASE("smoothing rejects bad options", "[smooth]") {
+    Parametrization p = test::make_subdivided_octahedron(1);
+    SmoothOptions o;
+    o.iterations = -1;
+    CHECK_THROWS_AS(smooth(p, o, Context{}), OptionError);
+}
+
+TEST_CASE("smoothing improves the refined femur and keeps phi valid", "[smooth][real]") {
+    const std::string path = std::string(BPM_MESH_DIR) + "/femur.off";
+    if (!std::filesystem::exists(path)) {
+        WARN("missing " << path);
+        return;
+    }
+    Parametrization p = simplified(read_surface(path), 0.1);
+    const Surface coarse = p.coarse;
+    SmoothOptions o;
+    o.iterations = 5;
+    const SmoothResult r = smooth(p, o, Context{});
+    INFO("aspect ratio K=3: max " << r.before.max_aspect_ratio << " -> " << r.after.max_aspect_ratio << ", p99 "
+                                  << r.before.p99_aspect_ratio << " -> " << r.after.p99_aspect_ratio << ", mean "
+                                  << r.before.mean_aspect_ratio << " -> " << r.after.mean_aspect_ratio);
+    CHECK(r.updates > 0);
+    CHECK(r.after.p99_aspect_ratio < r.before.p99_aspect_ratio);
+    CHECK(r.after.mean_aspect_ratio < r.before.mean_aspect_ratio);
+    CHECK(p.coarse.vertices == coarse.vertices);
+    CHECK(max_image_error(p) == 0.0);
+    require_valid(p);
+    const CheckResult inter = check_intersections(p.coarse);
+    CHECK(inter.passed);
+
+    // Refining the smoothed map: vertices on S0, a valid refined .bpm.
+    RefinedSurface refined;
+    RefineOptions ro;
+    ro.levels = 2;
+    refine(p, ro, Context{}, refined);
+    const PhiEvaluator phi(p);
+    const double diagonal = bounding_box_diagonal(p.original);
+    double worst = 0;
+    for (size_t v = 0; v < refined.surface.vertices.size(); ++v) {
+        const Tri& t = p.original.triangles[size_t(refined.vertex_original_triangle[v])];
+        const Vec3 x = barycentric_point(p.original.vertices[size_t(t[0])], p.original.vertices[size_t(t[1])],
+                                         p.original.vertices[size_t(t[2])], refined.vertex_original_barycentric[v]);
+        worst = std::max(worst, distance(x, refined.surface.vertices[v]) / diagonal);
+    }
+    CHECK(worst < 1e-12);
+    require_valid(refined_parametrization(p, refined));
+}

@@ -1,0 +1,64 @@
+// bpm-smooth: improve phi by edge relaxation (Krause & Sander §2.5); the surfaces do not move.
+#include <cstdio>
+
+#include "bpm/bpm_file.h"
+#include "bpm/smooth.h"
+#include "common/tool_main.h"
+
+int main(int argc, char** argv) {
+    const std::string tool = "bpm-smooth";
+    CLI::App app{
+        "Smooth the parametrization phi of a .bpm file by edge relaxation: for every pair of coarse triangles\n"
+        "sharing an edge, re-place the original vertices inside by a shape-preserving (mean value) map and cut\n"
+        "along the edge again. The coarse and the original surface do not change; updates that would flip a\n"
+        "piece are rejected. Pairs across patch borders or along feature lines are left alone.",
+        tool};
+    std::string input, output;
+    bpm::SmoothOptions options;
+    bool verbose = false, quiet = false, deterministic = false, no_quality = false;
+    app.add_option("INPUT", input, "Input .bpm file, or - for standard input")->required();
+    app.add_option("-o,--output", output, "Output .bpm file, or - for standard output")->required();
+    app.add_option("--iterations", options.iterations, "At most this many sweeps over all pairs (default 10)")
+        ->check(CLI::NonNegativeNumber);
+    app.add_option("--tolerance", options.tolerance,
+                   "Stop when no vertex moved more than this fraction of its pair's edge length in a sweep "
+                   "(default 0.001)")
+        ->check(CLI::NonNegativeNumber);
+    app.add_option("--feature-angle", options.feature_angle_degrees,
+                   "Leave coarse edges along original edges sharper than this many degrees alone (default 60)")
+        ->check(CLI::Range(0.0, 180.0));
+    app.add_flag("--no-quality", no_quality, "Do not measure the refined-triangle quality before and after");
+    app.add_flag("--deterministic", deterministic, "Leave the timestamp out of the provenance (byte-identical output)");
+    app.add_flag("-v,--verbose", verbose, "More detail on standard error");
+    app.add_flag("-q,--quiet", quiet, "Only errors on standard error");
+    bpm::tools::add_version_flag(app, tool);
+
+    return bpm::tools::run(tool, argc, argv, app, [&]() {
+        bpm::tools::require_output_directory(output);
+        options.measure_quality = !no_quality;
+        const bpm::Context context = bpm::tools::make_context(tool, verbose, quiet);
+        bpm::BpmFile file = bpm::read_bpm(input);
+        const bpm::SmoothResult r = bpm::smooth(file.param, options, context);
+        file.provenance.push_back({tool, bpm::tools::version_line(tool), bpm::tools::command_line(argc, argv),
+                                   deterministic ? std::string() : bpm::tools::utc_timestamp()});
+        bpm::write_bpm(output, file);
+        char line[512];
+        std::snprintf(line, sizeof line,
+                      "%d sweeps over %lld pairs (%lld left alone): %lld updates, %lld rejected, last move %.3g, "
+                      "%.2f s",
+                      r.sweeps, (long long)r.pairs, (long long)r.skipped, (long long)r.updates,
+                      (long long)r.rejected, r.last_change, r.seconds);
+        context.info(line);
+        for (const auto& [why, count] : r.skipped_reasons) context.info("  " + std::to_string(count) + " pairs left alone: " + why);
+        if (options.measure_quality) {
+            std::snprintf(line, sizeof line,
+                          "aspect ratio of the %d-times refined surface: max %.3g -> %.3g, 99%% %.3g -> %.3g, "
+                          "mean %.3g -> %.3g",
+                          options.quality_levels, r.before.max_aspect_ratio, r.after.max_aspect_ratio,
+                          r.before.p99_aspect_ratio, r.after.p99_aspect_ratio, r.before.mean_aspect_ratio,
+                          r.after.mean_aspect_ratio);
+            context.info(line);
+        }
+        return int(bpm::tools::kOk);
+    });
+}
