@@ -21,7 +21,8 @@ CoarseMesh::CoarseMesh(const Surface& original)
       patches_(original.patches),
       alive_(original.triangles.size(), 1),
       initially_flipped_(original.triangles.size(), 0),
-      vertex_triangles_(original.vertices.size()) {
+      vertex_triangles_(original.vertices.size()),
+      feature_degree_(original.vertices.size(), 0) {
     if (patches_.size() != triangles_.size()) patches_.assign(triangles_.size(), 0);
     for (int32_t t = 0; t < int32_t(triangles_.size()); ++t)
         for (int32_t v : triangles_[t]) vertex_triangles_[v].push_back(t);
@@ -87,11 +88,23 @@ int32_t CoarseMesh::find_triangle(int32_t a, int32_t b, int32_t c) const {
     return -1;
 }
 
-void CoarseMesh::set_feature_edge(int32_t a, int32_t b, Feature kind) {
-    if (kind != Feature::None)
+void CoarseMesh::set_feature_edge(int32_t a, int32_t b, Feature kind) { mark(a, b, kind); }
+
+void CoarseMesh::mark(int32_t a, int32_t b, Feature kind) {
+    auto it = feature_edges_.find(edge_key(a, b));
+    if (it != feature_edges_.end()) {
+        if (kind != Feature::None) {
+            it->second = kind;
+            return;
+        }
+        feature_edges_.erase(it);
+        --feature_degree_[a];
+        --feature_degree_[b];
+    } else if (kind != Feature::None) {
         feature_edges_[edge_key(a, b)] = kind;
-    else
-        feature_edges_.erase(edge_key(a, b));
+        ++feature_degree_[a];
+        ++feature_degree_[b];
+    }
 }
 
 int32_t CoarseMesh::add_triangle(const Tri& corners, int32_t patch) {
@@ -132,7 +145,7 @@ void CoarseMesh::mark_feature_edges(double feature_angle_degrees) {
             bool feature = around.size() != 2;
             if (!feature && patches_[around[0]] != patches_[around[1]]) feature = true;
             if (feature) {
-                feature_edges_[edge_key(a, b)] = Feature::Hard;
+                mark(a, b, Feature::Hard);
                 continue;
             }
             if (feature_angle_degrees < 180.0) {
@@ -142,7 +155,7 @@ void CoarseMesh::mark_feature_edges(double feature_angle_degrees) {
                 const Vec3 n1 = triangle_normal(p[t1[0]], p[t1[1]], p[t1[2]]);
                 // Within a sheet the triangles are consistently oriented (constructor),
                 // so the normals are directly comparable.
-                if (dot(n0, n1) < cos_limit) feature_edges_[edge_key(a, b)] = Feature::Crease;
+                if (dot(n0, n1) < cos_limit) mark(a, b, Feature::Crease);
             }
         }
     }

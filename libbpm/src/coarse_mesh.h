@@ -52,6 +52,7 @@ public:
     // geometric error allows it (noisy scans have many short "creases").
     enum class Feature : uint8_t { None = 0, Hard = 1, Crease = 2 };
     Feature feature(int32_t a, int32_t b) const {
+        if (feature_degree_[a] == 0 || feature_degree_[b] == 0) return Feature::None;  // the common case
         auto it = feature_edges_.find(edge_key(a, b));
         return it == feature_edges_.end() ? Feature::None : it->second;
     }
@@ -78,6 +79,8 @@ private:
     std::vector<uint8_t> initially_flipped_;
     std::vector<std::vector<int32_t>> vertex_triangles_;
     std::unordered_map<uint64_t, Feature> feature_edges_;
+    std::vector<int32_t> feature_degree_;  // feature edges at each vertex
+    void mark(int32_t a, int32_t b, Feature kind);
     int32_t num_alive_ = 0;
     int32_t num_vertices_alive_ = 0;
 };

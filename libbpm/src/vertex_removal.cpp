@@ -883,10 +883,11 @@ bool FanPlanner::floater(std::string& why) {
 
 bool FanPlanner::locate_free_nodes(std::string& why) {
     const int32_t ntris = static_cast<int32_t>(new_tris.size());
-    // Free nodes strictly inside the polygon, then located in the new triangulation.
+    // Free nodes strictly inside the polygon (by construction before straightening, so
+    // only the full plan checks), then located in the new triangulation.
     for (StarNode& s : nodes_) {
         if (!s.free) continue;
-        for (int32_t i = 0; i < n_; ++i)
+        for (int32_t i = 0; validate_ && i < n_; ++i)
             if (orient2d(q_[i], q_[mod(i + 1, n_)], s.pos) <= 0) {
                 why = "an original vertex would leave the star";
                 return false;
