@@ -1,0 +1,73 @@
+#!/usr/bin/env bash
+# bpm-simplify end to end: pipes through standard input/output, exit codes, no partial
+# output on failure, byte-identical output for identical runs.
+# Usage: simplify_pipeline.sh TOOL_DIR SOURCE_DIR WORK_DIR
+set -u
+tools=$1
+src=$2
+work=$3
+rm -rf "$work"
+mkdir -p "$work"
+simplify=$tools/bpm-simplify
+check=$tools/bpm-check
+femur=$src/.data/meshes/femur.off
+failures=0
+passes=0
+
+expect() {  # expect CODE DESCRIPTION -- command...
+    local want=$1 what=$2
+    shift 3
+    "$@" >"$work/out" 2>"$work/err"
+    local got=$?
+    if [ "$got" -eq "$want" ]; then
+        passes=$((passes + 1))
+    else
+        failures=$((failures + 1))
+        echo "FAILED: $what: exit $got, expected $want"
+        sed 's/^/  stderr: /' "$work/err" | head -5
+    fi
+}
+ok() {  # ok CONDITION-DESCRIPTION -- test-args
+    local what=$1
+    shift 2
+    if "$@"; then passes=$((passes + 1)); else failures=$((failures + 1)); echo "FAILED: $what"; fi
+}
+
+if [ ! -f "$femur" ]; then
+    echo "missing $femur (run scripts/setup.sh)"
+    exit 1
+fi
+
+# A pipe: surface on stdin, .bpm on stdout, checked from stdin.
+"$simplify" - --format off -o - --ratio 0.2 -q <"$femur" >"$work/pipe.bpm" 2>"$work/err"
+ok "simplify from stdin to stdout exits 0" -- test $? -eq 0
+expect 0 "pipe output passes bpm-check" -- "$check" - <"$work/pipe.bpm"
+"$simplify" - --format off -o - --ratio 0.2 -q <"$femur" | "$check" - >"$work/out" 2>&1
+ok "simplify | check in one pipe" -- test $? -eq 0
+
+# Files, and determinism.
+expect 0 "simplify to a file" -- "$simplify" "$femur" -o "$work/a.bpm" --vertices 500 --deterministic -q
+expect 0 "same run again" -- "$simplify" "$femur" -o "$work/b.bpm" --vertices 500 --deterministic -q
+ok "identical runs give identical bytes except the file name in provenance" -- \
+    test "$(cmp -l "$work/a.bpm" "$work/b.bpm" | wc -l)" -le 2
+expect 0 "file passes bpm-check" -- "$check" "$work/a.bpm"
+
+# Usage errors (2) before any work, input errors (3), nothing left behind.
+expect 2 "no stopping rule" -- "$simplify" "$femur" -o "$work/x.bpm"
+expect 2 "ratio out of range" -- "$simplify" "$femur" -o "$work/x.bpm" --ratio 1.5
+expect 2 "negative vertex count" -- "$simplify" "$femur" -o "$work/x.bpm" --vertices -5
+expect 2 "output directory missing" -- "$simplify" "$femur" -o "$work/missing/x.bpm" --ratio 0.5
+expect 2 "unknown format" -- "$simplify" - --format xyz -o "$work/x.bpm" --ratio 0.5
+expect 3 "missing input" -- "$simplify" "$work/nope.off" -o "$work/x.bpm" --ratio 0.5
+printf 'OFF\n3 1 0\n0 0 0\n1 0 0\nnan 1 0\n3 0 1 2\n' >"$work/nan.off"
+expect 3 "NaN coordinate" -- "$simplify" "$work/nan.off" -o "$work/x.bpm" --ratio 0.5
+ok "the NaN message names the vertex" -- grep -q "vertex 2" "$work/err"
+expect 3 "directory as input" -- "$simplify" "$work" --format off -o "$work/x.bpm" --ratio 0.5
+ok "no output file after failures" -- test ! -e "$work/x.bpm"
+ok "no temporary files left" -- test -z "$(ls -A "$work" | grep '\.tmp')"
+expect 0 "--help" -- "$simplify" --help
+expect 0 "--version" -- "$simplify" --version
+ok "--version names the format version" -- grep -q "bpm format 1" "$work/out"
+
+echo "$passes passed, $failures failed"
+[ "$failures" -eq 0 ]
