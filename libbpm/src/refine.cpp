@@ -165,6 +165,19 @@ public:
         }
     }
 
+    // Largest sampled deviation of the two green halves of r split at edge k.
+    double green_error(const RTri& r, int k) const {
+        const int32_t m = mids_.at(edge_key(r.v[size_t(k)], r.v[size_t((k + 1) % 3)]));
+        const Vec3 bm = mid(r.b[size_t(k)], r.b[size_t((k + 1) % 3)]);
+        const size_t k1 = size_t((k + 1) % 3), k2 = size_t((k + 2) % 3);
+        RTri a = r, b = r;
+        a.v = {r.v[size_t(k)], m, r.v[k2]};
+        a.b = {r.b[size_t(k)], bm, r.b[k2]};
+        b.v = {m, r.v[k1], r.v[k2]};
+        b.b = {bm, r.b[k1], r.b[k2]};
+        return std::max(error(a), error(b));
+    }
+
     // Sampled deviation of phi from the flat triangle, relative to the diagonal.
     double error(const RTri& r) const {
         static const Vec3 samples[] = {{0.5, 0.5, 0},       {0, 0.5, 0.5},       {0.5, 0, 0.5},
@@ -204,7 +217,41 @@ public:
             context.debug("level " + std::to_string(round + 1) + ": " + std::to_string(marked.size()) +
                           " triangles split, " + std::to_string(tris_.size()) + " triangles");
         }
-        if (!uniform) close_green();
+        if (!uniform) {
+            // A green half may still deviate more than the tolerance: then its parent is
+            // red-refined instead, and the loop continues until every green half is fine.
+            for (bool again = true; again;) {
+                again = false;
+                const size_t n = tris_.size();
+                for (size_t i = 0; i < n; ++i) {
+                    RTri& r = tris_[i];
+                    if (r.level >= max_level) continue;
+                    bool deep;
+                    int k = -1;
+                    if (split_edges(r, deep, k) != 1) continue;
+                    if (green_error(r, k) <= options.tolerance) continue;
+                    red(i);
+                    again = true;
+                }
+                if (!again) break;
+                close_red();
+                // New red triangles may need splitting themselves.
+                for (bool marked = true; marked;) {
+                    marked = false;
+                    const size_t m = tris_.size();
+                    for (size_t i = 0; i < m; ++i) {
+                        RTri& r = tris_[i];
+                        if (r.level >= max_level) continue;
+                        if (r.error < 0) r.error = error(r);
+                        if (r.error <= options.tolerance) continue;
+                        red(i);
+                        marked = true;
+                    }
+                    if (marked) close_red();
+                }
+            }
+            close_green();
+        }
 
         // Final triangles, data and statistics.
         Surface& s = out_.surface;

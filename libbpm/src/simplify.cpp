@@ -243,6 +243,10 @@ double Simplifier::judge(int32_t v, const RemovalPlan& plan) {
         last_reason_[v] = "geometric error limit (--max-error)";
         return std::numeric_limits<double>::infinity();
     }
+    if (plan.worst_new_aspect > std::max(options_.max_aspect_ratio, plan.worst_old_aspect)) {
+        last_reason_[v] = "triangle shape limit (--max-aspect)";
+        return std::numeric_limits<double>::infinity();
+    }
     if (plan.longest_new_edge > options_.max_edge_length * diagonal_) {
         last_reason_[v] = "edge length limit (--max-edge-length)";
         return std::numeric_limits<double>::infinity();
@@ -430,6 +434,7 @@ SimplifyResult simplify(const Surface& original, const SimplifyOptions& options,
     if (options.target_vertices < 0) throw OptionError("--vertices must not be negative");
     if (!(options.max_error >= 0)) throw OptionError("--max-error must not be negative");
     if (!(options.max_edge_length > 0)) throw OptionError("--max-edge-length must be positive");
+    if (!(options.max_aspect_ratio >= 2)) throw OptionError("--max-aspect must be at least 2 (equilateral)");
     if (!(options.feature_angle_degrees >= 0 && options.feature_angle_degrees <= 180))
         throw OptionError("--feature-angle must be between 0 and 180 degrees");
     Simplifier simplifier(original, options, context);

@@ -330,7 +330,7 @@ TetRefineResult refine_tetmesh(const Parametrization& param, const TetMesh& coar
             const int32_t v = moved[i];
             phi_fraction[v] = w[i];
             gap[v] = (1 - w[i]) * distance(flat[v - nv_old], target[i]);
-            if (options.move_to_surface && w[i] < 1) {
+            if (options.move_to_surface && w[i] < 1 && gap[v] > 0) {
                 ++info.remedied_vertices;
                 if (w[i] == 0) ++info.flat_vertices;
             }
@@ -366,7 +366,7 @@ TetRefineResult refine_tetmesh(const Parametrization& param, const TetMesh& coar
     for (int32_t t : out.vertex_parameter_triangle) result.boundary_vertices += t >= 0;
     for (const auto& l : result.levels) result.remedied_vertices += l.remedied_vertices;
     for (size_t v = 0; v < gap.size(); ++v) {
-        if (phi_fraction[v] < 1 && options.move_to_surface) {
+        if (phi_fraction[v] < 1 && gap[v] > 0 && options.move_to_surface) {
             result.max_remedy_distance = std::max(result.max_remedy_distance, gap[v]);
             result.min_phi_fraction = std::min(result.min_phi_fraction, phi_fraction[v]);
         }

@@ -33,6 +33,10 @@ int main(int argc, char** argv) {
     app.add_option("--max-edge-length", options.max_edge_length,
                    "Longest edge a removal may create, as a fraction of the bounding-box diagonal")
         ->check(CLI::PositiveNumber);
+    app.add_option("--max-aspect", options.max_aspect_ratio,
+                   "Refuse removals that create a triangle with circumradius/inradius above this (2 = equilateral; "
+                   "default 30), unless the removed triangles were worse")
+        ->check(CLI::Range(2.0, 1e300));
     app.add_option("--aspect-weight", options.aspect_weight,
                    "Weight of triangle shape (circumradius/inradius) against geometric error in the cost (default 1)")
         ->check(CLI::NonNegativeNumber);

@@ -31,6 +31,10 @@ struct SimplifyOptions {
     // Cost = error/diagonal + aspect_weight * 1e-3 * (log2(worst new R/r / 2)
     //                                                - 0.5 log2(worst removed R/r / 2))
     double aspect_weight = 1.0;
+    // Worst triangle shape (circumradius / inradius; 2 = equilateral) a removal may
+    // create, unless the triangles it removes were already worse. Mesh generators need
+    // bounded aspect ratios; infinity disables.
+    double max_aspect_ratio = 30.0;
     // Longest edge a removal may create, relative to the diagonal.
     double max_edge_length = std::numeric_limits<double>::infinity();
     // Edges whose dihedral angle (between normals) exceeds this are creases, kept as
