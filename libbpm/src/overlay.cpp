@@ -74,7 +74,6 @@ bool image_barycentric(const GraphNode& n, const Embedding& embedding, int32_t o
 
 bool compute_faces(const TriangleGraph& graph, const Embedding& embedding, const std::vector<int8_t>& orientation_sign,
                    std::vector<OverlayFace>& faces, std::string* why) {
-    faces.clear();
     const auto& nodes = graph.nodes;
     const int32_t n = static_cast<int32_t>(nodes.size());
 
@@ -85,9 +84,20 @@ bool compute_faces(const TriangleGraph& graph, const Embedding& embedding, const
         bool boundary_ccw;  // a side of the triangle traversed counter-clockwise
         bool boundary_cw;   // the same side traversed the other way (outer face)
     };
-    std::vector<std::vector<Link>> links(n);
+    // Directed links in CSR form (thread-local buffers: this runs for every candidate
+    // removal, so it must not allocate).
+    struct Directed {
+        int32_t from;
+        Link link;
+    };
+    static thread_local std::vector<Directed> directed;
+    static thread_local std::vector<Link> flat;
+    static thread_local std::vector<int32_t> offset;
+    static thread_local std::vector<uint8_t> used_flat;
+    static thread_local std::vector<int32_t> side;
+    directed.clear();
     int32_t num_edges = 0;
-    std::vector<int32_t> corner_node(3, -1);
+    int32_t corner_node[3] = {-1, -1, -1};
     for (int32_t i = 0; i < n; ++i)
         if (nodes[i].corner >= 0) corner_node[nodes[i].corner] = i;
     for (int k = 0; k < 3; ++k)
@@ -95,7 +105,6 @@ bool compute_faces(const TriangleGraph& graph, const Embedding& embedding, const
             set_reason(why, "corner node missing");
             return false;
         }
-    std::vector<int32_t> side;
     for (int k = 0; k < 3; ++k) {
         side.clear();
         for (int32_t i = 0; i < n; ++i)
@@ -113,8 +122,8 @@ bool compute_faces(const TriangleGraph& graph, const Embedding& embedding, const
         side.push_back(corner_node[(k + 1) % 3]);
         for (size_t j = 0; j + 1 < side.size(); ++j) {
             const int32_t a = side[j], b = side[j + 1];
-            links[a].push_back({b, -1, true, false});
-            links[b].push_back({a, -1, false, true});
+            directed.push_back({a, {b, -1, true, false}});
+            directed.push_back({b, {a, -1, false, true}});
             ++num_edges;
         }
     }
@@ -123,10 +132,22 @@ bool compute_faces(const TriangleGraph& graph, const Embedding& embedding, const
             set_reason(why, "degenerate segment");
             return false;
         }
-        links[s.n0].push_back({s.n1, s.edge, false, false});
-        links[s.n1].push_back({s.n0, s.edge, false, false});
+        directed.push_back({s.n0, {s.n1, s.edge, false, false}});
+        directed.push_back({s.n1, {s.n0, s.edge, false, false}});
         ++num_edges;
     }
+    offset.assign(n + 1, 0);
+    for (const Directed& d : directed) ++offset[d.from + 1];
+    for (int32_t i = 0; i < n; ++i) offset[i + 1] += offset[i];
+    flat.resize(directed.size());
+    {
+        static thread_local std::vector<int32_t> fill;
+        fill.assign(offset.begin(), offset.end() - 1);
+        for (const Directed& d : directed) flat[fill[d.from]++] = d.link;
+    }
+    // links of node i: flat[offset[i] .. offset[i+1])
+    auto begin_of = [&](int32_t i) { return flat.begin() + offset[i]; };
+    auto end_of = [&](int32_t i) { return flat.begin() + offset[i + 1]; };
 
     // Sort the links of every node counter-clockwise, exactly: first by half-plane
     // (angle in [0, pi) or [pi, 2 pi)), then by orientation. Collinear overlapping links
@@ -134,15 +155,16 @@ bool compute_faces(const TriangleGraph& graph, const Embedding& embedding, const
     for (int32_t i = 0; i < n; ++i) {
         const Vec2 p = param_point(nodes[i]);
         auto half = [&](const Vec2& q) { return (q[1] > p[1] || (q[1] == p[1] && q[0] > p[0])) ? 0 : 1; };
-        std::sort(links[i].begin(), links[i].end(), [&](const Link& a, const Link& b) {
+        std::sort(begin_of(i), end_of(i), [&](const Link& a, const Link& b) {
             const Vec2 qa = param_point(nodes[a.to]), qb = param_point(nodes[b.to]);
             const int ha = half(qa), hb = half(qb);
             if (ha != hb) return ha < hb;
             return orient2d(p, qa, qb) > 0;
         });
-        const size_t m = links[i].size();
+        const Link* li = &flat[offset[i]];
+        const size_t m = static_cast<size_t>(offset[i + 1] - offset[i]);
         for (size_t j = 0; m > 1 && j < m; ++j) {
-            const int32_t a = links[i][j].to, b = links[i][(j + 1) % m].to;
+            const int32_t a = li[j].to, b = li[(j + 1) % m].to;
             if (a == b) {
                 set_reason(why, "duplicate edge");
                 return false;
@@ -157,34 +179,33 @@ bool compute_faces(const TriangleGraph& graph, const Embedding& embedding, const
 
     // Face traversal, face on the left: after arriving at w from u, leave along the
     // link that precedes (w->u) in counter-clockwise order.
-    std::vector<std::vector<uint8_t>> used(n);
-    for (int32_t i = 0; i < n; ++i) used[i].assign(links[i].size(), 0);
+    used_flat.assign(flat.size(), 0);
     auto position_of = [&](int32_t w, int32_t u) -> int32_t {
-        for (size_t j = 0; j < links[w].size(); ++j)
-            if (links[w][j].to == u) return static_cast<int32_t>(j);
+        for (int32_t j = offset[w]; j < offset[w + 1]; ++j)
+            if (flat[j].to == u) return j - offset[w];
         return -1;
     };
     int32_t num_faces = 0;
-    std::vector<int32_t> corners;
-    std::vector<int32_t> face_edges, face_vertices;
+    static thread_local std::vector<int32_t> corners, face_edges, face_vertices;
+    size_t face_count = 0;
     for (int32_t start = 0; start < n; ++start) {
-        for (size_t js = 0; js < links[start].size(); ++js) {
-            if (used[start][js]) continue;
+        for (size_t js = 0; js < size_t(offset[start + 1] - offset[start]); ++js) {
+            if (used_flat[offset[start] + js]) continue;
             corners.clear();
             face_edges.clear();
             bool outer = false;
             int32_t u = start;
             size_t j = js;
             size_t guard = 0;
-            while (!used[u][j]) {
-                used[u][j] = 1;
-                const Link& l = links[u][j];
+            while (!used_flat[offset[u] + j]) {
+                used_flat[offset[u] + j] = 1;
+                const Link& l = flat[offset[u] + j];
                 corners.push_back(u);
                 if (l.boundary_cw) outer = true;
                 if (l.edge >= 0) face_edges.push_back(l.edge);
                 const int32_t w = l.to;
                 const int32_t back = position_of(w, u);
-                const int32_t m = static_cast<int32_t>(links[w].size());
+                const int32_t m = offset[w + 1] - offset[w];
                 j = static_cast<size_t>((back - 1 + m) % m);
                 u = w;
                 if (++guard > 4 * size_t(num_edges) + 8) {
@@ -204,8 +225,9 @@ bool compute_faces(const TriangleGraph& graph, const Embedding& embedding, const
                 return false;
             }
             // Strictly convex and counter-clockwise, except for runs of nodes along one
-            // side of the coarse triangle; winding once around.
-            double turning = 0.0;
+            // side of the coarse triangle; winding once around: a polygon that only turns
+            // left winds k times if its edge direction enters the upper half-plane k times.
+            int windings = 0;
             for (size_t c = 0; c < m; ++c) {
                 const GraphNode& a = nodes[corners[(c + m - 1) % m]];
                 const GraphNode& b = nodes[corners[c]];
@@ -216,9 +238,10 @@ bool compute_faces(const TriangleGraph& graph, const Embedding& embedding, const
                     return false;
                 }
                 const Vec2 e0 = pb - pa, e1 = pd - pb;
-                turning += std::atan2(cross(e0, e1), dot(e0, e1));
+                auto upper = [](const Vec2& e) { return e[1] > 0.0 || (e[1] == 0.0 && e[0] > 0.0); };
+                if (!upper(e0) && upper(e1)) ++windings;
             }
-            if (turning > 3.0 * M_PI) {
+            if (windings > 1) {
                 set_reason(why, "face winds more than once");
                 return false;
             }
@@ -259,7 +282,8 @@ bool compute_faces(const TriangleGraph& graph, const Embedding& embedding, const
             // orientation the coarse surface has relative to it.
             Vec3 beta;
             double image_area2 = 0.0;
-            std::vector<Vec2> image(m);
+            static thread_local std::vector<Vec2> image;
+            image.resize(m);
             for (size_t c = 0; c < m; ++c) {
                 if (!image_barycentric(nodes[corners[c]], embedding, tri, beta)) {
                     set_reason(why, "face corner not on its original triangle");
@@ -272,9 +296,14 @@ bool compute_faces(const TriangleGraph& graph, const Embedding& embedding, const
                 set_reason(why, "face image flipped or degenerate");
                 return false;
             }
-            faces.push_back({corners, tri});
+            // Reuse the face objects of earlier calls (their corner lists keep capacity).
+            if (face_count == faces.size()) faces.emplace_back();
+            faces[face_count].corners.assign(corners.begin(), corners.end());
+            faces[face_count].original_triangle = tri;
+            ++face_count;
         }
     }
+    faces.resize(face_count);
     // A connected plane graph has V - E + F = 2; otherwise something floats in a face.
     if (n - num_edges + num_faces != 2) {
         set_reason(why, "overlay is not a connected plane graph");
