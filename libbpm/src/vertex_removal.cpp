@@ -474,7 +474,12 @@ bool FanPlanner::triangulate(std::string& why) {
     for (int32_t i = 0; i < n_; ++i) poly[i] = i;
     new_tris.clear();
     diagonals.clear();
-    auto existing_edge = [&](int32_t i, int32_t j) { return mesh_.has_edge(fan_->link[i], fan_->link[j]); };
+    // The ear at a corner only changes when a neighbouring ear is cut, so its aspect
+    // ratio and whether its diagonal already exists are cached per corner.
+    static thread_local std::vector<double> ear_aspect;
+    static thread_local std::vector<int8_t> ear_blocked;  // -1 unknown, 0 free, 1 edge exists / degenerate
+    ear_aspect.assign(n_, 0.0);
+    ear_blocked.assign(n_, -1);
     while (poly.size() > 3) {
         const int32_t m = static_cast<int32_t>(poly.size());
         int32_t best = -1;
@@ -482,9 +487,13 @@ bool FanPlanner::triangulate(std::string& why) {
         double best_aspect = std::numeric_limits<double>::infinity();
         for (int32_t c = 0; c < m; ++c) {
             const int32_t a = poly[mod(c - 1, m)], b = poly[c], d = poly[mod(c + 1, m)];
-            if (existing_edge(a, d)) continue;  // topology condition (Conjecture 2.1)
-            const double aspect = aspect_ratio(x[fan_->link[a]], x[fan_->link[b]], x[fan_->link[d]]);
-            if (!std::isfinite(aspect)) continue;
+            if (ear_blocked[b] < 0) {
+                // Topology condition (Conjecture 2.1): the new edge must not exist yet.
+                ear_aspect[b] = aspect_ratio(x[fan_->link[a]], x[fan_->link[b]], x[fan_->link[d]]);
+                ear_blocked[b] = mesh_.has_edge(fan_->link[a], fan_->link[d]) || !std::isfinite(ear_aspect[b]);
+            }
+            if (ear_blocked[b]) continue;
+            const double aspect = ear_aspect[b];
             bool delaunay = true;
             for (int32_t o = 0; o < m && delaunay && !cocircular_; ++o) {
                 const int32_t p = poly[o];
@@ -508,6 +517,7 @@ bool FanPlanner::triangulate(std::string& why) {
         new_tris.push_back({a, b, d});
         diagonals.push_back({a, d});
         poly.erase(poly.begin() + best);
+        ear_blocked[a] = ear_blocked[d] = -1;
     }
     const Vec3& p0 = x[fan_->link[poly[0]]];
     const Vec3& p1 = x[fan_->link[poly[1]]];
