@@ -44,6 +44,7 @@ struct OverlayPoint {
     int32_t vertex;   // vertex of the new original surface
     int corner = -1;  // corner of the refined triangle, or -1
     int on_edge[3] = {0, 0, 0};  // on local edge k of the refined triangle
+    int strict[3] = {0, 0, 0};   // strictly inside with respect to local edge k (exact decision)
 };
 
 class Overlay {
@@ -131,13 +132,23 @@ private:
             std::vector<OverlayPoint> pts;
             // Piece nodes inside or on the refined triangle.
             for (int k = 0; k < 3; ++k) {
+                // A node that is a corner of the refined triangle is that corner, even if the
+                // node's coordinates in this coarse triangle differ from the corner's by rounding.
+                int corner = -1;
+                for (int j = 0; j < 3; ++j)
+                    if (id[k] == rc[j]) corner = j;
+                if (corner >= 0) {
+                    OverlayPoint x{R[size_t(corner)], I[k], id[k]};
+                    x.corner = corner;
+                    x.on_edge[corner] = x.on_edge[(corner + 2) % 3] = 1;
+                    pts.push_back(x);
+                    continue;
+                }
                 int o[3];
                 for (int j = 0; j < 3; ++j) o[j] = orient_bary(R[size_t(j)], R[size_t((j + 1) % 3)], N[k]);
                 if (o[0] < 0 || o[1] < 0 || o[2] < 0) continue;
                 OverlayPoint x{N[k], I[k], id[k]};
-                for (int j = 0; j < 3; ++j) x.on_edge[j] = o[j] == 0;
-                for (int j = 0; j < 3; ++j)
-                    if (id[k] == rc[j]) x.corner = j;
+                for (int j = 0; j < 3; ++j) x.on_edge[j] = o[j] == 0, x.strict[j] = o[j] > 0;
                 pts.push_back(x);
             }
             // Refined corners inside or on the piece (unless they are one of its nodes).
@@ -174,6 +185,7 @@ private:
                     const int32_t rb = std::max(rt[size_t(j)], rt[size_t(j1)]);
                     OverlayPoint x{b, image, vertex_for({3, id[ka], id[kb], ra, rb}, image)};
                     x.on_edge[j] = 1;
+                    x.strict[j1] = x.strict[(j + 2) % 3] = 1;
                     pts.push_back(x);
                 }
             }
@@ -226,6 +238,11 @@ private:
         for (double& c : l) c /= sum;
         for (int k = 0; k < 3; ++k)
             if (x.on_edge[k]) l[size_t((k + 2) % 3)] = 0;
+        // A point decided (exactly) to be strictly inside keeps a positive coordinate even
+        // when it is within rounding of the edge, so that thin overlay pieces keep their
+        // orientation.
+        for (int k = 0; k < 3; ++k)
+            if (x.strict[k] && !(l[size_t((k + 2) % 3)] > 0)) l[size_t((k + 2) % 3)] = 1e-300;
         return l;
     }
 
@@ -260,8 +277,7 @@ private:
                 for (const auto& poly : polys_[ri])
                     for (const auto& x : poly.points)
                         if (x.corner == k) v = x.vertex;
-                if (v < 0) throw AlgorithmError("refine: corner " + std::to_string(k) + " of refined triangle " +
-                                                std::to_string(ri) + " is in no piece of phi");
+                if (v < 0) throw AlgorithmError(degenerate_message(ri));  // its pieces were all too thin
                 OverlayPoint c{R[size_t(k)], {}, v};
                 c.corner = k;
                 add_node(c, NodeKind::CoarseCorner);
@@ -284,6 +300,12 @@ private:
             if (o.coarse_vertex_origin[v] < 0) throw AlgorithmError("refine: refined vertex " + std::to_string(v) + " unused");
             o.coarse.vertices[v] = o.original.vertices[size_t(o.coarse_vertex_origin[v])];
         }
+    }
+
+    static std::string degenerate_message(size_t ri) {
+        return "refine: cannot express the refined phi as a .bpm file: in refined triangle " + std::to_string(ri) +
+               " a piece of phi and the refined triangle overlap in a sliver too thin for double precision (the "
+               "input phi has a node within rounding distance of a refined edge); write a surface format instead";
     }
 
     // Ear clipping of a convex polygon whose boundary may hold collinear points: cut
@@ -318,11 +340,10 @@ private:
                 verts.erase(verts.begin() + long(i));
                 cut = true;
             }
-            if (!cut) throw AlgorithmError("refine: could not triangulate an overlay polygon in refined triangle " +
-                                           std::to_string(ri));
+            if (!cut) throw AlgorithmError(degenerate_message(ri));
         }
         if (o2(0, 1, 2) <= 0)
-            throw AlgorithmError("refine: degenerate overlay piece in refined triangle " + std::to_string(ri));
+            throw AlgorithmError(degenerate_message(ri));
         emit(0, 1, 2);
     }
 

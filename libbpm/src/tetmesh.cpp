@@ -471,8 +471,11 @@ TetMeshResult generate_tetmesh(const Parametrization& param, const TetMeshOption
     using clock = std::chrono::steady_clock;
     const auto start = clock::now();
     const Surface& s = param.coarse;
-    if (!(options.quality > 0) || !std::isfinite(options.quality))
-        throw OptionError("quality (radius-edge ratio) must be a positive number");
+    // TetGen does not terminate for radius-edge bounds at or below 1 (its manual: the
+    // bound should be larger than 1; about 1.1 is the practical limit).
+    if (!(options.quality > 1.0) || !std::isfinite(options.quality))
+        throw OptionError("quality (TetGen's radius-edge ratio bound) must be larger than 1.0 (e.g. 1.414); "
+                          "TetGen does not terminate for smaller bounds");
     if (options.max_volume && !(*options.max_volume > 0 && std::isfinite(*options.max_volume)))
         throw OptionError("max volume must be a positive number");
     if (options.min_dihedral_degrees && !(*options.min_dihedral_degrees >= 0 && *options.min_dihedral_degrees < 70))

@@ -221,7 +221,7 @@ TEST_CASE("normals of the original surface are carried onto refined vertices", "
     const std::vector<double> pos = transfer_vertex_data(r, p.original, xyz, 3);
     for (size_t v = 0; v < r.surface.vertices.size(); ++v)
         for (int k = 0; k < 3; ++k) CHECK(pos[3 * v + size_t(k)] == Approx(r.surface.vertices[v][size_t(k)]).margin(1e-12));
-    CHECK_THROWS_AS(transfer_vertex_data(r, p.original, one, 1), std::invalid_argument);
+    CHECK_THROWS_AS(transfer_vertex_data(r, p.original, std::vector<double>(3, 0.0), 1), std::invalid_argument);
     const std::vector<Vec3> n = vertex_normals(p.original);
     for (const Vec3& x : n) CHECK(norm(x) == Approx(1.0));
 }

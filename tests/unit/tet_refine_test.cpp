@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <set>
 
+#include "bpm/bpm_file.h"
 #include "bpm/errors.h"
 #include "bpm/phi_evaluation.h"
 #include "bpm/predicates.h"
@@ -153,8 +154,18 @@ TEST_CASE("tet_refine: boundary vertices move onto a curved original surface", "
 TEST_CASE("tet_refine: the lambda remedy keeps every tetrahedron positive at a concave surface", "[tet_refine]") {
     REQUIRE_TETGEN();
     const Surface cube = fixtures::cube(1);
-    // Pull all new boundary points far into the cube: moving them fully would invert elements.
-    const Parametrization p = bent(cube, {0.5, 0.5, 0.5}, 0.2);
+    // Dent every face deeply: each original vertex that is not a coarse vertex moves along
+    // the normal of its face, past the centre plane. Moving new boundary vertices all the
+    // way would invert elements.
+    Parametrization p = fixtures::refined_parametrization(cube);
+    for (int32_t v = cube.num_vertices(); v < p.original.num_vertices(); ++v) {
+        Vec3& x = p.original.vertices[v];
+        int axis = 0;
+        for (int k = 1; k < 3; ++k)
+            if (std::fabs(x[k] - 0.5) > std::fabs(x[axis] - 0.5)) axis = k;
+        x[axis] = 0.5 - 0.3 * (x[axis] - 0.5);
+    }
+    fixtures::recompute_images(p);
     const TetMesh coarse = mesh_of(p);
 
     TetRefineOptions o;
@@ -214,6 +225,24 @@ TEST_CASE("tet_refine: multi-material meshes keep their regions and interface fa
     const auto original = region_volumes_on_original(p, fine);
     const auto st = tetmesh_stats(fine);
     for (size_t i = 0; i < original.size(); ++i) CHECK(st.region_volumes[i] == Approx(original[i]).epsilon(1e-9));
+    // The refined mesh goes into a .bpm file and comes back with its level and ancestry.
+    BpmFile file;
+    file.param = p;
+    file.tetmesh = fine;
+    const BpmFile back = read_bpm_from_memory(write_bpm_to_memory(file), "mem");
+    REQUIRE(back.tetmesh.has_value());
+    CHECK(back.tetmesh->level == 2);
+    CHECK(back.tetmesh->tet_ancestor == fine.tet_ancestor);
+    CHECK(back.tetmesh->vertices == fine.vertices);
+    CHECK(back.tetmesh->vertex_parameter_barycentric == fine.vertex_parameter_barycentric);
+    // Refining the refined mesh again continues from its parameter positions.
+    TetMesh finer;
+    TetRefineOptions one;
+    one.levels = 1;
+    const TetRefineResult r3 = refine_tetmesh(p, *back.tetmesh, one, {}, finer);
+    CHECK(finer.level == 3);
+    CHECK(count_inverted(finer) == 0);
+    CHECK(count_off_surface(p, finer) >= r3.remedied_vertices);
     // Options are checked.
     o.levels = -1;
     CHECK_THROWS_AS(refine_tetmesh(p, coarse, o, {}, fine), OptionError);

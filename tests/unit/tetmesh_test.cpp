@@ -154,16 +154,29 @@ TEST_CASE("tetmesh: regions of multi-material surfaces have the right count and 
     // [0,1]^3 and [1,2]x[0,1]^2 are different regions.
     const Parametrization p = fixtures::identity_parametrization(fixtures::two_cubes());
     const TetMesh m = mesh_of(p);
-    std::map<int32_t, double> min_x;
+    std::set<int32_t> left, right;
     for (size_t t = 0; t < m.tetrahedra.size(); ++t) {
         double cx = 0;
         for (int32_t v : m.tetrahedra[t]) cx += 0.25 * m.vertices[v][0];
-        CHECK((cx < 1) == (m.regions[t] == m.regions[0] ? (cx < 1) : !(cx < 1)));
-        min_x[m.regions[t]] = std::min(min_x.count(m.regions[t]) ? min_x[m.regions[t]] : 9.0, cx);
+        (cx < 1 ? left : right).insert(m.regions[t]);
     }
-    REQUIRE(min_x.size() == 2);
-    CHECK(std::min(min_x[1], min_x[2]) < 1);
-    CHECK(std::max(min_x[1], min_x[2]) > 1);
+    REQUIRE(left.size() == 1);
+    REQUIRE(right.size() == 1);
+    CHECK(*left.begin() != *right.begin());
+}
+
+TEST_CASE("tetmesh: components touching at a vertex (hourglass) are two regions", "[tetmesh]") {
+    REQUIRE_TETGEN();
+    const Parametrization p = fixtures::identity_parametrization(fixtures::hourglass());
+    const TetMesh m = mesh_of(p);
+    REQUIRE(m.num_regions() == 2);
+    const auto st = tetmesh_stats(m);
+    const auto on_original = region_volumes_on_original(p, m);
+    CHECK(st.inverted == 0);
+    for (int r = 0; r < 2; ++r) {
+        CHECK(st.region_volumes[r] > 0);
+        CHECK(st.region_volumes[r] == Approx(on_original[r]).epsilon(1e-12));
+    }
 }
 
 TEST_CASE("tetmesh: surfaces TetGen cannot mesh are refused before TetGen runs, saying where", "[tetmesh]") {

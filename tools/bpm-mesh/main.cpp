@@ -40,7 +40,7 @@ int main(int argc, char** argv) {
     app.add_option("-o,--output", output, "Output .bpm .msh .vtu .mesh, or - for standard output (see --format)")
         ->required();
     app.add_option("--format", format, "Output format when it cannot be told from the name: bpm, msh, vtu, mesh");
-    app.add_option("--quality", options.quality, "TetGen -q: maximum radius-edge ratio (default 1.414)")
+    app.add_option("--quality", options.quality, "TetGen -q: maximum radius-edge ratio, > 1.0 (default 1.414)")
         ->check(CLI::PositiveNumber);
     double min_dihedral = -1;
     app.add_option("--min-dihedral", min_dihedral, "TetGen -q<quality>/<angle>: minimum dihedral angle in degrees to aim for")
@@ -131,6 +131,7 @@ int main(int argc, char** argv) {
                             ", \"tetrahedra\": " + std::to_string(m.num_tetrahedra()) +
                             ", \"faces\": " + std::to_string(m.faces.size()) +
                             ", \"coarse_triangles\": " + std::to_string(file.param.coarse.num_triangles()) +
+                            ", \"steiner_points\": " + std::to_string(mesh_result.steiner_points) +
                             ", \"mesh_seconds\": " + json_double(mesh_result.seconds) +
                             ", \"tetgen_seconds\": " + json_double(mesh_result.tetgen_seconds) +
                             ", \"inverted\": " + std::to_string(stats.inverted) +

@@ -5,6 +5,8 @@
 #include <cstdio>
 
 #include "bpm/bpm_file.h"
+#include "bpm/check.h"
+#include "bpm/errors.h"
 #include "bpm/refine.h"
 #include "bpm/surface_io.h"
 #include "common/tool_main.h"
@@ -34,7 +36,7 @@ int main(int argc, char** argv) {
     bpm::RefineOptions options;
     int levels = -1;
     double tolerance = 0;
-    bool data = false, verbose = false, quiet = false, deterministic = false;
+    bool data = false, verbose = false, quiet = false, deterministic = false, no_verify = false;
     app.add_option("INPUT", input, "Input .bpm file, or - for standard input")->required();
     app.add_option("-o,--output", output, "Output file (.off .obj .ply .stl .vtu .bpm), or - for standard output")
         ->required();
@@ -51,6 +53,8 @@ int main(int argc, char** argv) {
     app.add_flag("--data", data,
                  "Carry vertex data of the original surface onto the refined vertices (VTU point data): the vertex "
                  "normals of S0 interpolated through phi, the parameter position and the original triangle");
+    app.add_flag("--no-verify", no_verify,
+                 ".bpm output: skip the format and bijectivity checks run before writing (faster)");
     app.add_flag("--deterministic", deterministic, "Leave the timestamp out of the provenance (.bpm output)");
     app.add_flag("-v,--verbose", verbose, "More detail on standard error");
     app.add_flag("-q,--quiet", quiet, "Only errors on standard error");
@@ -98,6 +102,15 @@ int main(int argc, char** argv) {
             context.info("refined phi: " + std::to_string(out.param.num_nodes()) + " nodes, " +
                          std::to_string(out.param.num_pieces()) + " pieces; original surface cut into " +
                          std::to_string(out.param.original.num_triangles()) + " triangles");
+            if (!no_verify) {
+                // The overlay is built in floating point; never write a file bpm-check would reject.
+                for (const bpm::CheckResult& r : {bpm::check_format(out.param), bpm::check_bijectivity(out.param)})
+                    if (!r.passed)
+                        throw bpm::AlgorithmError("the refined phi failed its " + r.name + " check (" +
+                                                  (r.problems.empty() ? r.summary : r.problems.front().describe()) +
+                                                  "); not written");
+                context.info("refined phi passed the format and bijectivity checks");
+            }
             bpm::write_bpm(output, out);
         } else if (is_vtu) {
             std::vector<bpm::VtuArray> point_data, cell_data;

@@ -77,7 +77,9 @@ RefineResult refine(const Parametrization& param, const RefineOptions& options, 
 // the refined vertices and the points where refined edges cross piece edges. Each piece
 // of phi' is one triangle of that surface, so phi' has only CoarseCorner and
 // OriginalVertex nodes. Patches are kept.
-// \throw bpm::AlgorithmError if the overlay could not be built consistently.
+// \throw bpm::AlgorithmError if the overlay could not be built consistently, in practice
+//        when a node of phi lies within rounding distance of a refined edge without being
+//        on it (the polygon between them is too thin for double precision).
 Parametrization refined_parametrization(const Parametrization& param, const RefinedSurface& refined,
                                         const Context& context = {});
 

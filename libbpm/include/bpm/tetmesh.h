@@ -60,7 +60,7 @@ struct TetMesh {
 };
 
 struct TetMeshOptions {
-    double quality = 1.414;          // TetGen -q: maximum radius-edge ratio (> 1.0 recommended >= 1.2)
+    double quality = 1.414;          // TetGen -q: maximum radius-edge ratio, > 1.0 (about 1.1 is the practical limit)
     std::optional<double> min_dihedral_degrees;  // TetGen -q<quality>/<angle>: minimum dihedral angle to aim for
     std::optional<double> max_volume;  // TetGen -a: maximum tetrahedron volume, in units^3
     std::string tetgen = "tetgen";   // executable: a name looked up on PATH, or a path
