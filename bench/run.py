@@ -355,11 +355,14 @@ def simplify_markdown(header, rows):
             if not res:
                 continue
             m = res.get("metrics")
+            if m and m["coarse"]["vertices"] != r["target_vertices"]:
+                notes.append(f"- {r['mesh']} → {r['target_vertices']}, {tool}: stopped at {m['coarse']['vertices']} "
+                             "vertices, not the target (its time is for less work)")
             if m and not m["topology_preserved"]:
                 notes.append(f"- {r['mesh']} → {r['target_vertices']}, {tool}: topology differs: "
                              + "; ".join(m["topology_differences"][:3]))
     if notes:
-        out += ["", "Topology differences:", ""] + notes
+        out += ["", "Notes:", ""] + notes
     out += ["", "psurface writes Float32 coordinates to its .vtu; its coarse vertices are therefore rounded to single "
                 "precision before they are measured.", ""]
     return "\n".join(out)

@@ -943,8 +943,9 @@ bool FanPlanner::locate_free_nodes(std::string& why) {
             const double b1 = cross(s.pos - p0, p2 - p0) / area;
             const double b2 = cross(p1 - p0, s.pos - p0) / area;
             s.bary = {1.0 - b1 - b2, b1, b2};
-            if (!(s.bary[0] > 0 && b1 > 0 && b2 > 0)) {
-                why = "barycentric coordinates lost to rounding";
+            // Strictly inside, and not within rounding distance of a side (see the cuts).
+            if (!(s.bary[0] > 1e-9 && b1 > 1e-9 && b2 > 1e-9)) {
+                why = "an original vertex would sit (almost) on a new edge";
                 return false;
             }
         }
@@ -988,8 +989,13 @@ bool FanPlanner::transfer(std::string& why) {
             const double denom = cross(r, s);
             const double lambda = cross(P - A, s) / denom;  // along A->B
             double mu = cross(P - A, r) / denom;            // along P->Q
-            if (!(lambda > 0.0 && lambda < 1.0)) {
-                why = "a cut of an original edge falls on its end";
+            // Cuts within rounding distance of an end of the segment or of the diagonal
+            // would make pieces too thin for double precision downstream (evaluation,
+            // refinement); such a transfer is refused, and the shape-preserving map gets a
+            // chance to move the nodes away.
+            constexpr double kMargin = 1e-9;
+            if (!(lambda > kMargin && lambda < 1.0 - kMargin) || !(mu > kMargin && mu < 1.0 - kMargin)) {
+                why = "a cut of an original edge falls (almost) on a node";
                 return false;
             }
             mu = std::min(std::max(mu, std::numeric_limits<double>::min()), std::nextafter(1.0, 0.0));
