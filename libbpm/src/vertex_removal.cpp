@@ -943,10 +943,46 @@ bool FanPlanner::locate_free_nodes(std::string& why) {
             const double b1 = cross(s.pos - p0, p2 - p0) / area;
             const double b2 = cross(p1 - p0, s.pos - p0) / area;
             s.bary = {1.0 - b1 - b2, b1, b2};
-            // Strictly inside, and not within rounding distance of a side (see the cuts).
-            if (!(s.bary[0] > 1e-9 && b1 > 1e-9 && b2 > 1e-9)) {
-                why = "an original vertex would sit (almost) on a new edge";
+            // Within rounding distance of a side, a node would make slivers too thin for
+            // double precision downstream. Near a new edge (diagonal) it is put on it
+            // (symmetric stars put v exactly there); near a link edge, or a corner, the
+            // transfer is refused.
+            constexpr double kMargin = 1e-9;
+            int near = -1, count = 0;
+            for (int k = 0; k < 3; ++k)
+                if (!(s.bary[k] > kMargin)) {
+                    near = k;
+                    ++count;
+                }
+            if (count > 1) {
+                why = "an original vertex would sit (almost) on a coarse vertex";
                 return false;
+            }
+            if (count == 1) {
+                const int32_t a = c[(near + 1) % 3], b = c[(near + 2) % 3];
+                int32_t on = -1;
+                for (int32_t d = 0; d < int32_t(diagonals.size()); ++d)
+                    if ((diagonals[d][0] == a && diagonals[d][1] == b) || (diagonals[d][0] == b && diagonals[d][1] == a))
+                        on = d;
+                if (on < 0) {
+                    why = "an original vertex would sit (almost) on a link edge";
+                    return false;
+                }
+                const double ba = s.bary[(near + 1) % 3], bb = s.bary[(near + 2) % 3];
+                double t_along = diagonals[on][0] == a ? bb / (ba + bb) : ba / (ba + bb);
+                if (!(t_along > kMargin && t_along < 1.0 - kMargin)) {
+                    why = "an original vertex would sit (almost) on a coarse vertex";
+                    return false;
+                }
+                s.new_triangle = -1;
+                s.diagonal = on;
+                s.diagonal_t = t_along;
+                const SurfacePoint p = SurfacePoint::on_edge(fan_->link[diagonals[on][0]], fan_->link[diagonals[on][1]], t_along);
+                s.edge_lo = p.a;
+                s.edge_hi = p.b;
+                s.edge_s = p.s;
+                // The straight-line position on the diagonal, for the cuts.
+                s.pos = (1.0 - t_along) * q_[diagonals[on][0]] + t_along * q_[diagonals[on][1]];
             }
         }
     }
@@ -980,6 +1016,9 @@ bool FanPlanner::transfer(std::string& why) {
         }
         const size_t first = crossings_.size();
         for (int32_t d = 0; d < int32_t(diagonals.size()); ++d) {
+            // A segment that starts on a diagonal does not cut it (it leaves it).
+            if ((nodes_[seg.a].free && nodes_[seg.a].diagonal == d) || (nodes_[seg.b].free && nodes_[seg.b].diagonal == d))
+                continue;
             const Vec2 P = q_[diagonals[d][0]], Q = q_[diagonals[d][1]];
             const int oa = orient2d(P, Q, A), ob = orient2d(P, Q, B);
             if (oa == 0 || ob == 0 || oa == ob) continue;
