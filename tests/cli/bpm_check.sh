@@ -6,35 +6,11 @@ tools=$1
 src=$2
 work=$3
 mkdir -p "$work"
+source "$(dirname "$0")/lib/harness.bash"
 check=$tools/bpm-check
 example=$src/spec/examples/two_triangles.bpm
 meshes=$src/.data/meshes
-failures=0
-passes=0
 
-expect() {  # expect CODE DESCRIPTION -- command...
-    local want=$1 what=$2
-    shift 3
-    "$@" >"$work/out" 2>"$work/err"
-    local got=$?
-    if [ "$got" -eq "$want" ]; then
-        passes=$((passes + 1))
-    else
-        failures=$((failures + 1))
-        echo "FAILED: $what: exit $got, expected $want"
-        sed 's/^/  stdout: /' "$work/out" | head -5
-        sed 's/^/  stderr: /' "$work/err" | head -5
-    fi
-}
-contains() {  # contains FILE TEXT DESCRIPTION
-    if grep -qF -- "$2" "$1"; then
-        passes=$((passes + 1))
-    else
-        failures=$((failures + 1))
-        echo "FAILED: $3: '$2' not in output"
-        head -5 "$1" | sed 's/^/  /'
-    fi
-}
 
 expect 0 "help" -- "$check" --help
 contains "$work/out" "--original" "help mentions --original"
@@ -68,5 +44,4 @@ if [ -f "$meshes/tetra_intersected_by_triangle.off" ]; then
     contains "$work/out" "PASS topology  1 component, chi -4" "elephant topology"
 fi
 
-echo "bpm-check: $passes passed, $failures failed"
-[ "$failures" -eq 0 ]
+finish

@@ -7,34 +7,10 @@ tools=$1
 src=$2
 work=$3
 mkdir -p "$work"
+source "$(dirname "$0")/lib/harness.bash"
 meshes=$src/.data/meshes
 example=$src/spec/examples/two_triangles.bpm
-failures=0
-passes=0
 
-expect() {  # expect CODE DESCRIPTION -- command...
-    local want=$1 what=$2
-    shift 3
-    "$@" >"$work/out" 2>"$work/err"
-    local got=$?
-    if [ "$got" -eq "$want" ]; then
-        passes=$((passes + 1))
-    else
-        failures=$((failures + 1))
-        echo "FAILED: $what: exit $got, expected $want"
-        sed 's/^/  stdout: /' "$work/out" | head -5
-        sed 's/^/  stderr: /' "$work/err" | head -5
-    fi
-}
-contains() {  # contains FILE TEXT DESCRIPTION
-    if grep -qF -- "$2" "$1"; then
-        passes=$((passes + 1))
-    else
-        failures=$((failures + 1))
-        echo "FAILED: $3: '$2' not in output"
-        head -5 "$1" | sed 's/^/  /'
-    fi
-}
 
 refine=$tools/bpm-refine
 smooth=$tools/bpm-smooth
@@ -82,5 +58,4 @@ else
     echo "skipping femur: $meshes/femur.off missing"
 fi
 
-echo "refine_smooth: $passes passed, $failures failed"
-[ "$failures" -eq 0 ]
+finish

@@ -8,30 +8,11 @@ src=$2
 work=$3
 rm -rf "$work"
 mkdir -p "$work"
+source "$(dirname "$0")/lib/harness.bash"
 simplify=$tools/bpm-simplify
 check=$tools/bpm-check
 femur=$src/.data/meshes/femur.off
-failures=0
-passes=0
 
-expect() {  # expect CODE DESCRIPTION -- command...
-    local want=$1 what=$2
-    shift 3
-    "$@" >"$work/out" 2>"$work/err"
-    local got=$?
-    if [ "$got" -eq "$want" ]; then
-        passes=$((passes + 1))
-    else
-        failures=$((failures + 1))
-        echo "FAILED: $what: exit $got, expected $want"
-        sed 's/^/  stderr: /' "$work/err" | head -5
-    fi
-}
-ok() {  # ok CONDITION-DESCRIPTION -- test-args
-    local what=$1
-    shift 2
-    if "$@"; then passes=$((passes + 1)); else failures=$((failures + 1)); echo "FAILED: $what"; fi
-}
 
 if [ ! -f "$femur" ]; then
     echo "missing $femur (run scripts/setup.sh)"
@@ -69,5 +50,4 @@ expect 0 "--help" -- "$simplify" --help
 expect 0 "--version" -- "$simplify" --version
 ok "--version names the format version" -- grep -q "bpm format 1" "$work/out"
 
-echo "$passes passed, $failures failed"
-[ "$failures" -eq 0 ]
+finish
