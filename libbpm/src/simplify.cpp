@@ -7,7 +7,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <memory>
 #include <queue>
 #include <unordered_map>
@@ -73,8 +72,6 @@ private:
     std::vector<int32_t> candidates_;
     int32_t first_new_ = 0;
     int64_t plans_[2] = {0, 0};
-    bool debug_trace_ = std::getenv("BPM_TRACE") != nullptr;
-    int32_t debug_vertex_ = std::getenv("BPM_TRACE_VERTEX") ? std::atoi(std::getenv("BPM_TRACE_VERTEX")) : -1;
 
     void rebuild_grid();
     bool intersects_rest(const RemovalPlan& plan);
@@ -109,12 +106,6 @@ void Simplifier::self_check(int32_t removed_vertex, const std::vector<int32_t>& 
         if (!compute_faces(graph, embedding_, sign_, faces, &why) ||
             !triangulate_faces(graph, embedding_, sign_, faces, pieces, piece_triangle, &why)) {
             const Tri& c = mesh_.triangle(t);
-            if (std::getenv("BPM_DEBUG")) {
-                for (const auto& g : graph.nodes)
-                    std::fprintf(stderr, "node kind %d v %d e %d sigma %.17g bary %.17g %.17g %.17g edge %d corner %d\n",
-                                 int(g.kind), g.vertex, g.edge, g.sigma, g.bary[0], g.bary[1], g.bary[2], g.on_edge, g.corner);
-                for (const auto& sg : graph.segments) std::fprintf(stderr, "seg %d %d e %d\n", sg.n0, sg.n1, sg.edge);
-            }
             throw AlgorithmError("self-check after removal " + std::to_string(step) + " of vertex " +
                                  std::to_string(removed_vertex) + ": triangle " + std::to_string(t) + " (" +
                                  std::to_string(c[0]) + "," + std::to_string(c[1]) + "," + std::to_string(c[2]) +
@@ -232,8 +223,6 @@ bool Simplifier::admissible_globally(int32_t v, const RemovalPlan& plan) {
 }
 
 double Simplifier::judge(int32_t v, const RemovalPlan& plan) {
-    if (debug_vertex_ == v)
-        std::fprintf(stderr, "vertex %d: valid %d reason '%s' dev %.17g\n", v, int(plan.valid), plan.reason.c_str(), plan.max_deviation);
     if (!plan.valid) {
         last_reason_[v] = plan.reason;
         return std::numeric_limits<double>::infinity();
@@ -316,7 +305,12 @@ SimplifyResult Simplifier::run(Parametrization& out) {
             continue;
         }
         if (!admissible_globally(top.vertex, plan_)) continue;
-        if (debug_trace_) std::fprintf(stderr, "remove %d cost %.12g err %.12g new %.12g old %.12g\n", top.vertex, cost, plan_.max_deviation / diagonal_, plan_.worst_new_aspect, plan_.worst_old_aspect);
+        if (options_.trace_removals) {
+            char line[160];
+            std::snprintf(line, sizeof line, "remove vertex %d: cost %.10g, error %.6g, worst aspect %.4g (was %.4g)",
+                          top.vertex, cost, plan_.max_deviation / diagonal_, plan_.worst_new_aspect, plan_.worst_old_aspect);
+            context_.debug(line);
+        }
         affected.clear();
         for (int32_t t : plan_.removed_triangles)
             for (int32_t u : mesh_.triangle(t))

@@ -54,6 +54,7 @@ int main(int argc, char** argv) {
     app.add_option("--units", units, "Length unit of the coordinates, recorded in the file (e.g. mm)");
     app.add_flag("--deterministic", deterministic, "Leave the timestamp out of the provenance (byte-identical output)");
     app.add_flag("-v,--verbose", verbose, "More detail on standard error");
+    app.add_flag("--trace", options.trace_removals, "With -v: one line per removed vertex (cost, error, aspect ratio)");
     app.add_flag("-q,--quiet", quiet, "Only errors on standard error");
     bpm::tools::add_version_flag(app, tool);
 

@@ -47,6 +47,8 @@ struct SimplifyOptions {
     // triangles around it from the committed state (slow). Throws bpm::AlgorithmError
     // naming the removal that broke it.
     bool self_check = false;
+    // Log every removal (vertex, cost, error, aspect) through Context::debug.
+    bool trace_removals = false;
 };
 
 struct SimplifyResult {
