@@ -11,6 +11,7 @@
 #include <queue>
 #include <unordered_map>
 
+#include "bpm/check.h"
 #include "bpm/errors.h"
 #include "bpm/predicates.h"
 #include "coarse_mesh.h"
@@ -431,6 +432,17 @@ SimplifyResult simplify(const Surface& original, const SimplifyOptions& options,
     if (!(options.max_aspect_ratio >= 2)) throw OptionError("--max-aspect must be at least 2 (equilateral)");
     if (!(options.feature_angle_degrees >= 0 && options.feature_angle_degrees <= 180))
         throw OptionError("--feature-angle must be between 0 and 180 degrees");
+    if (options.reject_self_intersecting_input) {
+        context.report(0.0, "checking the input for self-intersections");
+        CheckOptions check_options;
+        check_options.max_problems = 1;
+        const CheckResult r = check_intersections(original, check_options, context, "input intersections");
+        if (!r.passed)
+            throw AlgorithmError("the input surface intersects itself (" + std::to_string(r.problem_count) +
+                                 " problems; first: " + (r.problems.empty() ? std::string("?") : r.problems[0].describe()) +
+                                 "); bpm needs a surface without self-intersections to produce a coarse surface "
+                                 "without them. Repair the input, or use --allow-self-intersecting-input");
+    }
     Simplifier simplifier(original, options, context);
     return simplifier.run(out);
 }

@@ -46,6 +46,12 @@ ok "the NaN message names the vertex" -- grep -q "vertex 2" "$work/err"
 expect 3 "directory as input" -- "$simplify" "$work" --format off -o "$work/x.bpm" --ratio 0.5
 ok "no output file after failures" -- test ! -e "$work/x.bpm"
 ok "no temporary files left" -- test -z "$(ls -A "$work" | grep '\.tmp')"
+crossed=$src/.data/meshes/tetra_intersected_by_triangle.off
+if [ -f "$crossed" ]; then
+    expect 5 "self-intersecting input is refused" -- "$simplify" "$crossed" -o "$work/x.bpm" --ratio 0.5
+    ok "the refusal names the intersecting triangles" -- grep -q "intersects itself" "$work/err"
+    expect 0 "... unless allowed" -- "$simplify" "$crossed" -o "$work/y.bpm" --ratio 0.9 --allow-self-intersecting-input
+fi
 expect 0 "--help" -- "$simplify" --help
 expect 0 "--version" -- "$simplify" --version
 ok "--version names the format version" -- grep -q "bpm format 1" "$work/out"

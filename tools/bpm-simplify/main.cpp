@@ -47,6 +47,10 @@ int main(int argc, char** argv) {
     app.add_flag("--allow-intersections", allow_intersections,
                  "Do not refuse removals that make the surface intersect itself (faster; output may be unusable "
                  "for mesh generators)");
+    bool allow_bad_input = false;
+    app.add_flag("--allow-self-intersecting-input", allow_bad_input,
+                 "Simplify an input that intersects itself instead of refusing it (the output will intersect "
+                 "itself too and fail bpm-check)");
     app.add_flag("--merge-duplicate-vertices", read_options.merge_duplicate_vertices,
                  "Repair: merge input vertices with identical coordinates (reported)");
     app.add_flag("--drop-unreferenced-vertices", read_options.drop_unreferenced_vertices,
@@ -67,6 +71,7 @@ int main(int argc, char** argv) {
         if (options.target_vertices == 0 && options.target_ratio == 0 && !std::isfinite(options.max_error))
             throw CLI::ValidationError("give at least one of --vertices, --ratio, --max-error");
         options.prevent_intersections = !allow_intersections;
+        options.reject_self_intersecting_input = !allow_bad_input;
         const bpm::Context context = bpm::tools::make_context(tool, verbose, quiet);
 
         bpm::SurfaceReadReport report;

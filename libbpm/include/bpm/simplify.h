@@ -43,6 +43,9 @@ struct SimplifyOptions {
     double feature_angle_degrees = 60.0;
     // Refuse removals whose new triangles would intersect the rest of the surface.
     bool prevent_intersections = true;
+    // Refuse an input that already intersects itself (bpm::AlgorithmError naming the first
+    // pair): its coarse surface could not be free of intersections either.
+    bool reject_self_intersecting_input = true;
     // Testing aid: after every removal, rebuild and validate the parametrization of all
     // triangles around it from the committed state (slow). Throws bpm::AlgorithmError
     // naming the removal that broke it.
@@ -65,7 +68,8 @@ struct SimplifyResult {
 };
 
 // \pre `original` passed validate_surface (finite, no degenerate or duplicate triangles).
-// \throw bpm::OptionError for contradictory options, bpm::Cancelled via the context.
+// \throw bpm::OptionError for contradictory options, bpm::AlgorithmError for a
+//        self-intersecting input (see SimplifyOptions), bpm::Cancelled via the context.
 // Fills `out` (original, coarse, phi) and returns what was achieved.
 SimplifyResult simplify(const Surface& original, const SimplifyOptions& options, const Context& context,
                         Parametrization& out);
