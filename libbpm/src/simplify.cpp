@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <memory>
 #include <queue>
+#include <thread>
 #include <unordered_map>
 
 #include "bpm/check.h"
@@ -271,9 +272,40 @@ SimplifyResult Simplifier::run(Parametrization& out) {
     last_reason_.assign(original_.vertices.size(), std::string());
 
     const int32_t nv = original_.num_vertices();
-    for (int32_t v = 0; v < nv; ++v) {
-        push(v);
-        if ((v & 1023) == 0) context_.report(0.2 * v / std::max(nv, 1), "evaluating vertices");
+    // First ranking of all vertices: independent read-only plans, so a second thread
+    // takes half of them (planners keep their buffers per thread).
+    {
+        std::vector<double> costs(nv, std::numeric_limits<double>::infinity());
+        auto rank = [&](VertexRemover& remover, int32_t first, int32_t step, bool report) {
+            RemovalPlan plan;
+            for (int32_t v = first; v < nv; v += step) {
+                remover.plan(v, false, plan);
+                costs[v] = judge(v, plan);
+                if (report && (v & 1023) == 0) context_.report(0.2 * v / std::max(nv, 1), "evaluating vertices");
+            }
+        };
+        VertexRemover helper_remover(mesh_, embedding_, sign_);
+        std::exception_ptr failure;
+        std::thread helper([&] {
+            try {
+                rank(helper_remover, 1, 2, false);
+            } catch (...) {
+                failure = std::current_exception();
+            }
+        });
+        try {
+            rank(*remover_, 0, 2, true);
+        } catch (...) {
+            helper.join();
+            throw;
+        }
+        helper.join();
+        if (failure) std::rethrow_exception(failure);
+        plans_[0] += nv;
+        for (int32_t v = 0; v < nv; ++v) {
+            ++stamp_[v];
+            if (std::isfinite(costs[v])) queue_.push({costs[v], v, stamp_[v]});
+        }
     }
     const int64_t start_vertices = mesh_.num_vertices_alive();
     std::vector<int32_t> affected;
