@@ -367,14 +367,8 @@ void build_triangle_graph(const CoarseMesh& mesh, const Embedding& embedding, in
     std::map<std::pair<int32_t, int32_t>, int32_t> crossing_node;  // (edge, crossing index) -> node
 
     for (int k = 0; k < 3; ++k) {
-        GraphNode g;
-        g.corner = static_cast<int8_t>(k);
-        g.kind = NodeKind::CoarseCorner;
-        g.vertex = c[k];
-        g.bary = {0, 0, 0};
-        g.bary[k] = 1.0;
         vertex_node[c[k]] = static_cast<int32_t>(graph.nodes.size());
-        graph.nodes.push_back(g);
+        graph.nodes.push_back(corner_node(k, c[k]));
     }
     std::vector<int32_t> candidates;
     for (int k = 0; k < 3; ++k) {

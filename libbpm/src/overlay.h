@@ -25,6 +25,17 @@ struct GraphNode {
     double sigma = 0.0;     // EdgeCrossing: position on the original edge
 };
 
+// The node at corner k of a coarse triangle whose corner is original vertex `vertex`.
+inline GraphNode corner_node(int k, int32_t vertex) {
+    GraphNode g;
+    g.corner = static_cast<int8_t>(k);
+    g.kind = NodeKind::CoarseCorner;
+    g.vertex = vertex;
+    g.bary = {0.0, 0.0, 0.0};
+    g.bary[k] = 1.0;
+    return g;
+}
+
 struct GraphSegment {
     int32_t n0, n1;  // node indices
     int32_t edge;    // original edge id this segment is part of

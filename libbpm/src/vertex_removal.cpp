@@ -1175,15 +1175,7 @@ bool FanPlanner::transfer(std::string& why) {
             touched_.push_back(item);
             graph.nodes.push_back(g);
         };
-        for (int k = 0; k < 3; ++k) {
-            GraphNode g;
-            g.corner = static_cast<int8_t>(k);
-            g.kind = NodeKind::CoarseCorner;
-            g.vertex = cv[k];
-            g.bary = {0, 0, 0};
-            g.bary[k] = 1.0;
-            add(vertex_node_.get(g.vertex), g);
-        }
+        for (int k = 0; k < 3; ++k) add(vertex_node_.get(cv[k]), corner_node(k, cv[k]));
         for (int k = 0; k < 3; ++k) {
             const int32_t a = c[k], b = c[(k + 1) % 3];
             if (b != mod(a + 1, n_)) continue;
