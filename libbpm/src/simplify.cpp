@@ -362,6 +362,7 @@ SimplifyResult Simplifier::run(Parametrization& out) {
         }
         ++stamp_[top.vertex];
         ++result.removed;
+        if (plan_.used_floater) ++result.shape_preserving_repairs;
         if (options_.self_check) self_check(top.vertex, affected, result.removed);
         if (mesh_.num_alive_triangles() * 4 < grid_built_at_) rebuild_grid();
         std::sort(affected.begin(), affected.end());
@@ -447,7 +448,8 @@ SimplifyResult Simplifier::run(Parametrization& out) {
             result.worst_aspect_ratio,
             aspect_ratio(out.coarse.vertices[t[0]], out.coarse.vertices[t[1]], out.coarse.vertices[t[2]]));
     result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    context_.debug("plans: " + std::to_string(plans_[0]) + " cheap, " + std::to_string(plans_[1]) + " full");
+    context_.debug("plans: " + std::to_string(plans_[0]) + " cheap, " + std::to_string(plans_[1]) + " full; " +
+                   std::to_string(result.shape_preserving_repairs) + " removals re-embedded with Floater's map");
     context_.report(1.0, "done");
     return result;
 }

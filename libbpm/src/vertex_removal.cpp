@@ -44,7 +44,6 @@ struct StarNode {
     int32_t new_triangle = -1;  // inside this new triangle, at `bary`
     Vec3 bary{};
     int32_t diagonal = -1;      // or on this diagonal
-    double diagonal_t = 0.0;    // parameter from diagonal's first to second polygon corner
 };
 
 struct StraightSegment {
@@ -976,7 +975,6 @@ bool FanPlanner::locate_free_nodes(std::string& why) {
                 }
                 s.new_triangle = -1;
                 s.diagonal = on;
-                s.diagonal_t = t_along;
                 const SurfacePoint p = SurfacePoint::on_edge(fan_->link[diagonals[on][0]], fan_->link[diagonals[on][1]], t_along);
                 s.edge_lo = p.a;
                 s.edge_hi = p.b;
@@ -1299,11 +1297,6 @@ VertexRemover::VertexRemover(const CoarseMesh& mesh, const Embedding& embedding,
 
 VertexRemover::~VertexRemover() { delete scratch_; }
 
-VertexClass VertexRemover::classify(int32_t v) const {
-    std::string why;
-    bool crease_line = false;
-    return build_fans(mesh_, v, false, scratch_->fans, scratch_->around, crease_line, why);
-}
 
 void VertexRemover::plan(int32_t v, bool validate, RemovalPlan& plan) {
     bool crease_line = false;

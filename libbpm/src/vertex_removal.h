@@ -59,7 +59,6 @@ public:
     VertexRemover(const CoarseMesh& mesh, const Embedding& embedding, const std::vector<int8_t>& orientation_sign);
     ~VertexRemover();
 
-    VertexClass classify(int32_t v) const;
     // Plans the removal of v. Checks everything local: classification, the topology
     // condition (no new edge or triangle may already exist), flattening, a valid
     // transfer of phi. Global checks (intersections with the rest of the surface)

@@ -58,6 +58,7 @@ struct SimplifyResult {
     int64_t input_vertices = 0, input_triangles = 0;
     int64_t output_vertices = 0, output_triangles = 0;
     int64_t removed = 0;
+    int64_t shape_preserving_repairs = 0;  // removals whose transfer needed Floater's map
     double max_error = 0.0;           // final max |phi(x) - x| / diagonal
     double worst_aspect_ratio = 0.0;  // of the coarse surface
     double seconds = 0.0;
