@@ -380,6 +380,10 @@ SimplifyResult Simplifier::run(Parametrization& out) {
     if (mesh_.num_vertices_alive() <= target) {
         result.target_reached = true;
         stop = "target reached";
+    } else if (target == 0 && std::isfinite(options_.max_error)) {
+        // Only an error limit was asked for: stopping at it is the goal.
+        result.target_reached = true;
+        stop = "every further removal would exceed the error limit or another limit";
     }
     result.stop_reason = stop;
     if (!result.target_reached) {
