@@ -60,10 +60,7 @@ int main(int argc, char** argv) {
     app.add_option("--tetgen", options.tetgen, "TetGen executable (default: tetgen on PATH)");
     app.add_flag("--keep-temporary", options.keep_temporary, "Keep TetGen's input and output files (path on stderr)");
     app.add_flag("--json", json, "Print a JSON report (counts, timings, region volumes, quality) on standard output");
-    app.add_flag("--deterministic", deterministic, "Leave the timestamp out of the provenance (byte-identical output)");
-    app.add_flag("-v,--verbose", verbose, "More detail on standard error");
-    app.add_flag("-q,--quiet", quiet, "Only errors on standard error");
-    bpm::tools::add_version_flag(app, tool);
+    bpm::tools::add_output_tool_flags(app, tool, deterministic, verbose, quiet);
 
     return bpm::tools::run(tool, argc, argv, app, [&]() {
         bpm::tools::require_output_directory(output);

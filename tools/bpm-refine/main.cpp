@@ -99,10 +99,7 @@ int main(int argc, char** argv) {
                  "invert. Output .bpm .msh .vtu .mesh");
     app.add_flag("--no-verify", no_verify,
                  ".bpm output: skip the format and bijectivity checks run before writing (faster)");
-    app.add_flag("--deterministic", deterministic, "Leave the timestamp out of the provenance (.bpm output)");
-    app.add_flag("-v,--verbose", verbose, "More detail on standard error");
-    app.add_flag("-q,--quiet", quiet, "Only errors on standard error");
-    bpm::tools::add_version_flag(app, tool);
+    bpm::tools::add_output_tool_flags(app, tool, deterministic, verbose, quiet);
 
     return bpm::tools::run(tool, argc, argv, app, [&]() {
         bpm::tools::require_output_directory(output);

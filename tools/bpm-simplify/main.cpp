@@ -56,11 +56,8 @@ int main(int argc, char** argv) {
     app.add_flag("--drop-unreferenced-vertices", read_options.drop_unreferenced_vertices,
                  "Repair: drop input vertices that no triangle uses (reported)");
     app.add_option("--units", units, "Length unit of the coordinates, recorded in the file (e.g. mm)");
-    app.add_flag("--deterministic", deterministic, "Leave the timestamp out of the provenance (byte-identical output)");
-    app.add_flag("-v,--verbose", verbose, "More detail on standard error");
     app.add_flag("--trace", options.trace_removals, "With -v: one line per removed vertex (cost, error, aspect ratio)");
-    app.add_flag("-q,--quiet", quiet, "Only errors on standard error");
-    bpm::tools::add_version_flag(app, tool);
+    bpm::tools::add_output_tool_flags(app, tool, deterministic, verbose, quiet);
 
     return bpm::tools::run(tool, argc, argv, app, [&]() {
         bpm::tools::require_output_directory(output);

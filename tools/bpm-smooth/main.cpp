@@ -28,10 +28,7 @@ int main(int argc, char** argv) {
                    "Leave coarse edges along original edges sharper than this many degrees alone (default 60)")
         ->check(CLI::Range(0.0, 180.0));
     app.add_flag("--no-quality", no_quality, "Do not measure the refined-triangle quality before and after");
-    app.add_flag("--deterministic", deterministic, "Leave the timestamp out of the provenance (byte-identical output)");
-    app.add_flag("-v,--verbose", verbose, "More detail on standard error");
-    app.add_flag("-q,--quiet", quiet, "Only errors on standard error");
-    bpm::tools::add_version_flag(app, tool);
+    bpm::tools::add_output_tool_flags(app, tool, deterministic, verbose, quiet);
 
     return bpm::tools::run(tool, argc, argv, app, [&]() {
         bpm::tools::require_output_directory(output);

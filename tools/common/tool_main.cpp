@@ -107,6 +107,14 @@ void add_version_flag(CLI::App& app, const std::string& tool) {
     (void)tool;
 }
 
+void add_output_tool_flags(CLI::App& app, const std::string& tool, bool& deterministic, bool& verbose, bool& quiet) {
+    app.add_flag("--deterministic", deterministic,
+                 "Leave the timestamp out of the provenance (byte-identical output for identical input)");
+    app.add_flag("-v,--verbose", verbose, "More detail on standard error");
+    app.add_flag("-q,--quiet", quiet, "Only errors on standard error");
+    add_version_flag(app, tool);
+}
+
 void require_output_directory(const std::string& path) {
     if (path.empty() || path == "-") return;
     std::filesystem::path parent = std::filesystem::path(path).parent_path();

@@ -37,6 +37,10 @@ std::string version_line(const std::string& tool);
 // Adds --version to the app (prints version_line and exits 0).
 void add_version_flag(CLI::App& app, const std::string& tool);
 
+// The flags every tool that writes a file has: --deterministic, -v/--verbose,
+// -q/--quiet and --version.
+void add_output_tool_flags(CLI::App& app, const std::string& tool, bool& deterministic, bool& verbose, bool& quiet);
+
 // Throws CLI::ValidationError if the directory of `path` does not exist (checked before
 // any expensive work); "-" is always accepted.
 void require_output_directory(const std::string& path);
