@@ -19,7 +19,7 @@ for mesh in .data/meshes/*; do
     start=$(date +%s.%N)
     timeout 600 "$bin/bpm-simplify" "$mesh" -o "$work/$name.bpm" --ratio 0.1 -q 2>"$work/err"
     code=$?
-    seconds=$(echo "$(date +%s.%N) - $start" | bc)
+    seconds=$(awk -v a="$start" -v b="$(date +%s.%N)" 'BEGIN { printf "%.1f", b - a }')
     reason=$(head -c 300 "$work/err" | tr '\n|' '  ')
     if [ $code -eq 0 ]; then
         "$bin/bpm-check" "$work/$name.bpm" >"$work/check" 2>&1
@@ -38,7 +38,7 @@ for mesh in .data/meshes/*; do
         broken=$((broken + 1))
         verdict="**exit $code**"
     fi
-    rows+="| $name | $verdict | $(printf %.1f "$seconds") | $reason |"$'\n'
+    rows+="| $name | $verdict | $seconds | $reason |"$'\n'
     rm -f "$work/$name.bpm"
 done
 {
