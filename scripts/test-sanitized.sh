@@ -1,0 +1,12 @@
+#!/usr/bin/env bash
+# The whole test suite again, built with AddressSanitizer + UndefinedBehaviorSanitizer
+# (leak detection on) in build-asan/. CI runs it after scripts/test.sh.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+./scripts/setup.sh
+jobs=$(nproc 2>/dev/null || echo 2)
+cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DBPM_SANITIZE=ON >/dev/null
+cmake --build build-asan -j "$jobs" >&2
+cd build-asan
+ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+    ctest --output-on-failure -j "$jobs" --timeout 1800 "$@"
