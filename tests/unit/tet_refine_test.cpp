@@ -2,6 +2,8 @@
 // onto the original surface through phi, and the lambda remedy of Krause & Sander §3.3.
 
 #include <catch2/catch.hpp>
+
+#include "test_support.h"
 #include <cmath>
 #include <cstdlib>
 #include <set>
@@ -18,18 +20,6 @@ using namespace bpm;
 
 namespace {
 
-bool have_tetgen() {
-    static const bool found = std::system("command -v tetgen >/dev/null 2>&1") == 0;
-    return found;
-}
-
-#define REQUIRE_TETGEN()                                                                       \
-    do {                                                                                       \
-        if (!have_tetgen()) {                                                                  \
-            WARN("SKIPPED: the tetgen executable (Debian package 'tetgen') is not on PATH"); \
-            return;                                                                            \
-        }                                                                                      \
-    } while (0)
 
 TetMesh mesh_of(const Parametrization& p) {
     TetMesh m;

@@ -7,6 +7,8 @@
 #include <unistd.h>
 
 #include <catch2/catch.hpp>
+
+#include "test_support.h"
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -26,18 +28,6 @@ using namespace bpm;
 
 namespace {
 
-bool have_tetgen() {
-    static const bool found = std::system("command -v tetgen >/dev/null 2>&1") == 0;
-    return found;
-}
-
-#define REQUIRE_TETGEN()                                                                          \
-    do {                                                                                          \
-        if (!have_tetgen()) {                                                                     \
-            WARN("SKIPPED: the tetgen executable (Debian package 'tetgen') is not on PATH");    \
-            return;                                                                               \
-        }                                                                                         \
-    } while (0)
 
 TetMesh mesh_of(const Parametrization& p, TetMeshResult* result = nullptr) {
     TetMesh m;
