@@ -151,14 +151,8 @@ public:
             int k = -1;
             if (split_edges(tris_[i], deep, k) != 1) continue;
             const RTri r = tris_[i];
-            const int32_t m = midpoint(r, k, false);
-            const Vec3 bm = mid(r.b[size_t(k)], r.b[size_t((k + 1) % 3)]);
-            const size_t k1 = size_t((k + 1) % 3), k2 = size_t((k + 2) % 3);
-            RTri a = r, b = r;
-            a.v = {r.v[size_t(k)], m, r.v[k2]};
-            a.b = {r.b[size_t(k)], bm, r.b[k2]};
-            b.v = {m, r.v[k1], r.v[k2]};
-            b.b = {bm, r.b[k1], r.b[k2]};
+            RTri a, b;
+            green_halves(r, k, midpoint(r, k, false), a, b);
             a.error = b.error = -1;
             tris_[i] = a;
             tris_.push_back(b);
@@ -167,15 +161,21 @@ public:
 
     // Largest sampled deviation of the two green halves of r split at edge k.
     double green_error(const RTri& r, int k) const {
-        const int32_t m = mids_.at(edge_key(r.v[size_t(k)], r.v[size_t((k + 1) % 3)]));
+        RTri a, b;
+        green_halves(r, k, mids_.at(edge_key(r.v[size_t(k)], r.v[size_t((k + 1) % 3)])), a, b);
+        return std::max(error(a), error(b));
+    }
+
+    // The two halves of r split at the midpoint m (vertex id) of its local edge k.
+    static void green_halves(const RTri& r, int k, int32_t m, RTri& a, RTri& b) {
         const Vec3 bm = mid(r.b[size_t(k)], r.b[size_t((k + 1) % 3)]);
-        const size_t k1 = size_t((k + 1) % 3), k2 = size_t((k + 2) % 3);
-        RTri a = r, b = r;
-        a.v = {r.v[size_t(k)], m, r.v[k2]};
-        a.b = {r.b[size_t(k)], bm, r.b[k2]};
+        const size_t k0 = size_t(k), k1 = size_t((k + 1) % 3), k2 = size_t((k + 2) % 3);
+        a = r;
+        b = r;
+        a.v = {r.v[k0], m, r.v[k2]};
+        a.b = {r.b[k0], bm, r.b[k2]};
         b.v = {m, r.v[k1], r.v[k2]};
         b.b = {bm, r.b[k1], r.b[k2]};
-        return std::max(error(a), error(b));
     }
 
     // Sampled deviation of phi from the flat triangle, relative to the diagonal.

@@ -15,16 +15,13 @@
 #include "bpm/surface_io.h"
 #include "fixtures_phi.h"
 #include "fixtures_surfaces.h"
+#include "test_support.h"
 
 using namespace bpm;
 
 namespace {
 
-std::string text(const CheckResult& r) {
-    std::string s = r.name + (r.passed ? " passed" : " failed") + ": " + r.summary;
-    for (auto& p : r.problems) s += "\n  " + p.describe();
-    return s;
-}
+using test_support::check_text;
 
 // femur simplified to 10% (once per test run); empty if the mesh is missing.
 const Parametrization* femur() {
@@ -138,7 +135,7 @@ TEST_CASE("refined synthetic surfaces do not intersect themselves", "[refine]") 
         o.levels = 2;
         refine(c.param, o, Context{}, r);
         const CheckResult res = check_intersections(r.surface);
-        INFO(text(res));
+        INFO(check_text(res));
         CHECK(res.passed);
     }
 }
@@ -174,15 +171,7 @@ TEST_CASE("the refined parametrization is valid", "[refine]") {
             refine(c.param, o, Context{}, r);
             const Parametrization p = refined_parametrization(c.param, r);
             CHECK(p.coarse.triangles == r.surface.triangles);
-            const CheckResult format = check_format(p);
-            INFO(text(format));
-            REQUIRE(format.passed);
-            const CheckResult bij = check_bijectivity(p);
-            INFO(text(bij));
-            CHECK(bij.passed);
-            const CheckResult topo = check_topology(p);
-            INFO(text(topo));
-            CHECK(topo.passed);
+            test_support::require_valid_parametrization(p);
             // Round trip through the file format.
             const BpmFile back = read_bpm_from_memory(write_bpm_to_memory(BpmFile{p, {}, ""}), "refined");
             CHECK(back.param.num_pieces() == p.num_pieces());
@@ -199,10 +188,10 @@ TEST_CASE("adaptively refined parametrization is valid", "[refine]") {
         refine(c.param, o, Context{}, r);
         const Parametrization p = refined_parametrization(c.param, r);
         const CheckResult format = check_format(p);
-        INFO(text(format));
+        INFO(check_text(format));
         REQUIRE(format.passed);
         const CheckResult bij = check_bijectivity(p);
-        INFO(text(bij));
+        INFO(check_text(bij));
         CHECK(bij.passed);
     }
 }

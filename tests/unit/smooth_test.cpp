@@ -15,28 +15,14 @@
 #include "bpm/surface_io.h"
 #include "fixtures_phi.h"
 #include "fixtures_surfaces.h"
+#include "test_support.h"
 
 using namespace bpm;
 
 namespace {
 
-std::string text(const CheckResult& r) {
-    std::string s = r.name + (r.passed ? " passed" : " failed") + ": " + r.summary;
-    for (auto& p : r.problems) s += "\n  " + p.describe();
-    return s;
-}
-
-void require_valid(const Parametrization& p) {
-    const CheckResult format = check_format(p);
-    INFO(text(format));
-    REQUIRE(format.passed);
-    const CheckResult bij = check_bijectivity(p);
-    INFO(text(bij));
-    CHECK(bij.passed);
-    const CheckResult topo = check_topology(p);
-    INFO(text(topo));
-    CHECK(topo.passed);
-}
+using test_support::check_text;
+using test_support::require_valid_parametrization;
 
 // Every node image is what its kind says (a vertex of S0 or a point on an edge of S0).
 double max_image_error(const Parametrization& p) {
@@ -78,7 +64,7 @@ TEST_CASE("smoothing keeps phi a bijection on synthetic parametrizations", "[smo
         CHECK(c.param.coarse.triangles == coarse.triangles);
         CHECK(c.param.original.vertices == original.vertices);
         CHECK(max_image_error(c.param) == 0.0);
-        require_valid(c.param);
+        require_valid_parametrization(c.param);
     }
 }
 
@@ -90,7 +76,7 @@ TEST_CASE("smoothing a perfect map changes nothing of substance", "[smooth]") {
     o.quality_levels = 2;
     const SmoothResult r = smooth(p, o, Context{});
     CHECK(r.after.max_aspect_ratio <= r.before.max_aspect_ratio * 1.01);
-    require_valid(p);
+    require_valid_parametrization(p);
 }
 
 TEST_CASE("smoothing rejects bad options", "[smooth]") {
@@ -119,7 +105,7 @@ TEST_CASE("smoothing improves the refined femur and keeps phi valid", "[smooth][
     CHECK(r.after.mean_aspect_ratio < r.before.mean_aspect_ratio);
     CHECK(p.coarse.vertices == coarse.vertices);
     CHECK(max_image_error(p) == 0.0);
-    require_valid(p);
+    require_valid_parametrization(p);
     const CheckResult inter = check_intersections(p.coarse);
     CHECK(inter.passed);
 
@@ -138,5 +124,5 @@ TEST_CASE("smoothing improves the refined femur and keeps phi valid", "[smooth][
         worst = std::max(worst, distance(x, refined.surface.vertices[v]) / diagonal);
     }
     CHECK(worst < 1e-12);
-    require_valid(refined_parametrization(p, refined));
+    require_valid_parametrization(refined_parametrization(p, refined));
 }

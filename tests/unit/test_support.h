@@ -4,8 +4,32 @@
 #include <catch2/catch.hpp>
 
 #include <cstdlib>
+#include <string>
+
+#include "bpm/check.h"
+#include "bpm/parametrization.h"
 
 namespace bpm::test_support {
+
+// A check result with its problems, for INFO().
+inline std::string check_text(const CheckResult& r) {
+    std::string s = r.name + (r.passed ? " passed" : " failed") + ": " + r.summary;
+    for (const auto& p : r.problems) s += "\n  " + p.describe();
+    return s;
+}
+
+// The parametrization passes the format, bijectivity and topology checks.
+inline void require_valid_parametrization(const Parametrization& p) {
+    const CheckResult format = check_format(p);
+    INFO(check_text(format));
+    REQUIRE(format.passed);
+    const CheckResult bijective = check_bijectivity(p);
+    INFO(check_text(bijective));
+    CHECK(bijective.passed);
+    const CheckResult topology = check_topology(p);
+    INFO(check_text(topology));
+    CHECK(topology.passed);
+}
 
 // Is the tetgen executable on PATH? (Debian package `tetgen`, installed by scripts/setup.sh)
 inline bool have_tetgen() {
