@@ -93,7 +93,7 @@ std::string hdf5_error_text() {
 
 constexpr hsize_t kChunkRows = 65536;    // rows per chunk of a large dataset
 constexpr hsize_t kChunkThreshold = 4096;  // datasets with more rows are chunked + compressed
-constexpr unsigned kDeflateLevel = 4;
+constexpr unsigned kDeflateLevel = 1;  // level 4 cost 3x the time for ~5% smaller files
 
 class Writer {
 public:

@@ -4,10 +4,15 @@
 #include "bpm/simplify.h"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
+#include <condition_variable>
 #include <cstdio>
+#include <exception>
+#include <functional>
 #include <memory>
+#include <mutex>
 #include <queue>
 #include <thread>
 #include <unordered_map>
@@ -36,6 +41,112 @@ struct QueueEntry {
     }
 };
 
+// Threads that share the planning work of one round. The caller runs tasks too; a
+// round returns when all its tasks are done. Which tasks a round has never depends on
+// timing, so results do not depend on the number of threads.
+//
+// Rounds are short (a few plans, tens of microseconds) and follow each other quickly,
+// so idle workers spin for a while before they sleep: waking a sleeping thread costs
+// about as much as a plan.
+class PlanningPool {
+public:
+    // `work(thread, task)` runs task `task` on thread `thread` (0 = the caller).
+    PlanningPool(int threads, std::function<void(int, size_t)> work) : work_(std::move(work)) {
+        for (int i = 1; i < threads; ++i) workers_.emplace_back([this, i] { serve(i); });
+    }
+    ~PlanningPool() {
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            stop_ = true;
+        }
+        wake_.notify_all();
+        for (auto& w : workers_) w.join();
+    }
+    int threads() const { return static_cast<int>(workers_.size()) + 1; }
+
+    void run_round(size_t tasks) {
+        if (workers_.empty() || tasks < 2) {
+            for (size_t i = 0; i < tasks; ++i) work_(0, i);
+            return;
+        }
+        failure_ = nullptr;
+        tasks_.store(tasks);
+        done_.store(0);
+        next_.store(0);
+        round_.fetch_add(1);
+        if (sleeping_.load() > 0) {
+            std::lock_guard<std::mutex> lock(mutex_);
+            wake_.notify_all();
+        }
+        take_tasks(0);
+        while (done_.load() < tasks) pause();
+        if (failure_) std::rethrow_exception(failure_);
+    }
+
+private:
+    std::function<void(int, size_t)> work_;
+    std::vector<std::thread> workers_;
+    std::atomic<uint64_t> round_{0};
+    std::atomic<size_t> tasks_{0}, next_{0}, done_{0};
+    std::atomic<int> sleeping_{0};
+    std::mutex mutex_;  // guards stop_ and the sleeping side of round_
+    std::condition_variable wake_;
+    bool stop_ = false;
+    std::mutex failure_mutex_;
+    std::exception_ptr failure_;
+
+    static void pause() {
+#if defined(__x86_64__) || defined(__i386__)
+        __builtin_ia32_pause();
+#else
+        std::this_thread::yield();
+#endif
+    }
+    void take_tasks(int thread) {
+        for (size_t i = next_.fetch_add(1); i < tasks_.load(); i = next_.fetch_add(1)) {
+            try {
+                work_(thread, i);
+            } catch (...) {
+                std::lock_guard<std::mutex> lock(failure_mutex_);
+                if (!failure_) failure_ = std::current_exception();
+            }
+            done_.fetch_add(1);
+        }
+    }
+    void serve(int thread) {
+        uint64_t seen = 0;
+        while (true) {
+            const auto spin_until = std::chrono::steady_clock::now() + std::chrono::microseconds(200);
+            bool spinning = true;
+            for (int k = 0; round_.load() == seen; ++k) {
+                if ((k & 255) == 255 && std::chrono::steady_clock::now() > spin_until) {
+                    spinning = false;
+                    break;
+                }
+                pause();
+            }
+            if (!spinning) {
+                std::unique_lock<std::mutex> lock(mutex_);
+                sleeping_.fetch_add(1);
+                wake_.wait(lock, [&] { return stop_ || round_.load() != seen; });
+                sleeping_.fetch_sub(1);
+                if (stop_) return;
+            }
+            seen = round_.load();
+            take_tasks(thread);
+        }
+    }
+};
+
+// A full plan made ahead of time for the vertex most likely removed next.
+struct SpeculativePlan {
+    uint32_t stamp = 0;      // stamp of the vertex when planned
+    int64_t made_at = -1;    // number of removals committed when planned
+    double cost = 0.0;
+    bool intersects = false; // intersects_rest, valid while no removal was committed since
+    RemovalPlan plan;
+};
+
 class Simplifier {
 public:
     Simplifier(const Surface& original, const SimplifyOptions& options, const Context& context)
@@ -50,6 +161,11 @@ public:
         for (int32_t t = 0; t < original.num_triangles(); ++t) sign_[t] = mesh_.flipped_initially(t) ? -1 : 1;
         embedding_.init_identity(original, mesh_.triangle_capacity());
         remover_ = std::make_unique<VertexRemover>(mesh_, embedding_, sign_);
+        int threads = options.threads > 0 ? options.threads
+                                          : static_cast<int>(std::min(2u, std::max(1u, std::thread::hardware_concurrency())));
+        threads = std::max(1, std::min(threads, 64));
+        for (int i = 1; i < threads; ++i) removers_.push_back(std::make_unique<VertexRemover>(mesh_, embedding_, sign_));
+        candidates_.resize(threads);
         stamp_.assign(original.vertices.size(), 0);
         rebuild_grid();
     }
@@ -71,16 +187,20 @@ private:
     std::priority_queue<QueueEntry, std::vector<QueueEntry>, std::greater<QueueEntry>> queue_;
     std::vector<std::string> last_reason_;
     RemovalPlan plan_;
-    std::vector<int32_t> candidates_;
+    std::vector<std::unique_ptr<VertexRemover>> removers_;  // of threads 1.. (thread 0 uses remover_)
+    std::vector<std::vector<int32_t>> candidates_;           // per thread, for intersects_rest
     int32_t first_new_ = 0;
-    int64_t plans_[2] = {0, 0};
+    std::atomic<int64_t> plans_[2] = {{0}, {0}};
+    int64_t commits_ = 0;
+    int64_t speculation_hits_ = 0;
 
+    VertexRemover& remover(int thread) { return thread == 0 ? *remover_ : *removers_[thread - 1]; }
     void rebuild_grid();
-    bool intersects_rest(const RemovalPlan& plan);
+    bool intersects_rest(const RemovalPlan& plan, std::vector<int32_t>& candidates) const;
     // Cost of removing v, +infinity if it cannot be removed now (reason recorded).
     // `final` = full validation of the transfer (needed before commit). The global
     // intersection test is separate (admissible_globally).
-    double evaluate(int32_t v, bool final, RemovalPlan& plan);
+    double evaluate(int32_t v, bool final, RemovalPlan& plan, int thread = 0);
     double judge(int32_t v, const RemovalPlan& plan);
     bool admissible_globally(int32_t v, const RemovalPlan& plan);
     // A full plan made earlier is still exact if its star is unchanged (stamp), no
@@ -88,8 +208,8 @@ private:
     bool still_current(const RemovalPlan& plan) const;
     // Full plans of entries pushed back because their real cost was higher than the
     // estimate; reused when the entry comes back with the same stamp.
-    std::unordered_map<int32_t, std::pair<uint32_t, RemovalPlan>> full_plans_;
-    void push(int32_t v);
+    // Also holds the speculative plans of the rounds (see run()).
+    std::unordered_map<int32_t, SpeculativePlan> full_plans_;
     void self_check(int32_t removed_vertex, const std::vector<int32_t>& link, int64_t step);
 };
 
@@ -139,7 +259,7 @@ void Simplifier::rebuild_grid() {
     grid_built_at_ = mesh_.num_alive_triangles();
 }
 
-bool Simplifier::intersects_rest(const RemovalPlan& plan) {
+bool Simplifier::intersects_rest(const RemovalPlan& plan, std::vector<int32_t>& candidates) const {
     const auto& x = original_.vertices;
     for (size_t i = 0; i < plan.new_triangles.size(); ++i) {
         const Tri& a = plan.new_triangles[i];
@@ -178,8 +298,8 @@ bool Simplifier::intersects_rest(const RemovalPlan& plan) {
             }
             return triangles_intersect_improperly(pa, pb, shared);
         };
-        grid_.query(lo, hi, candidates_);
-        for (int32_t t : candidates_) {
+        grid_.query(lo, hi, candidates);
+        for (int32_t t : candidates) {
             if (!mesh_.alive(t)) continue;
             if (std::find(plan.removed_triangles.begin(), plan.removed_triangles.end(), t) !=
                 plan.removed_triangles.end())
@@ -200,9 +320,9 @@ bool Simplifier::intersects_rest(const RemovalPlan& plan) {
     return false;
 }
 
-double Simplifier::evaluate(int32_t v, bool final, RemovalPlan& plan) {
-    remover_->plan(v, final, plan);
-    ++plans_[final ? 1 : 0];
+double Simplifier::evaluate(int32_t v, bool final, RemovalPlan& plan, int thread) {
+    remover(thread).plan(v, final, plan);
+    plans_[final ? 1 : 0].fetch_add(1, std::memory_order_relaxed);
     return judge(v, plan);
 }
 
@@ -217,7 +337,7 @@ bool Simplifier::still_current(const RemovalPlan& plan) const {
 }
 
 bool Simplifier::admissible_globally(int32_t v, const RemovalPlan& plan) {
-    if (options_.prevent_intersections && intersects_rest(plan)) {
+    if (options_.prevent_intersections && intersects_rest(plan, candidates_[0])) {
         last_reason_[v] = "would create a self-intersection";
         return false;
     }
@@ -251,12 +371,6 @@ double Simplifier::judge(int32_t v, const RemovalPlan& plan) {
     return std::round((error + options_.aspect_weight * 1e-3 * aspect_term) * 1e10) * 1e-10;
 }
 
-void Simplifier::push(int32_t v) {
-    ++stamp_[v];
-    full_plans_.erase(v);
-    const double cost = evaluate(v, false, plan_);
-    if (std::isfinite(cost)) queue_.push({cost, v, stamp_[v]});
-}
 
 SimplifyResult Simplifier::run(Parametrization& out) {
     const auto start = std::chrono::steady_clock::now();
@@ -272,35 +386,45 @@ SimplifyResult Simplifier::run(Parametrization& out) {
     last_reason_.assign(original_.vertices.size(), std::string());
 
     const int32_t nv = original_.num_vertices();
-    // First ranking of all vertices: independent read-only plans, so a second thread
-    // takes half of them (planners keep their buffers per thread).
-    {
-        std::vector<double> costs(nv, std::numeric_limits<double>::infinity());
-        auto rank = [&](VertexRemover& remover, int32_t first, int32_t step, bool report) {
-            RemovalPlan plan;
-            for (int32_t v = first; v < nv; v += step) {
-                remover.plan(v, false, plan);
-                costs[v] = judge(v, plan);
-                if (report && (v & 1023) == 0) context_.report(0.2 * v / std::max(nv, 1), "evaluating vertices");
-            }
-        };
-        VertexRemover helper_remover(mesh_, embedding_, sign_);
-        std::exception_ptr failure;
-        std::thread helper([&] {
-            try {
-                rank(helper_remover, 1, 2, false);
-            } catch (...) {
-                failure = std::current_exception();
-            }
-        });
-        try {
-            rank(*remover_, 0, 2, true);
-        } catch (...) {
-            helper.join();
-            throw;
+    // Every plan below reads the state and writes only its own outputs, so the planning
+    // of a round is shared by threads; the state changes only between rounds.
+    struct Task {
+        int32_t vertex = -1;
+        bool full = false;
+        double cost = 0.0;
+        SpeculativePlan* speculative = nullptr;
+    };
+    std::vector<Task> tasks;
+    std::vector<RemovalPlan> cheap_plans(removers_.size() + 1);
+    PlanningPool pool(static_cast<int>(removers_.size()) + 1, [&](int thread, size_t i) {
+        Task& task = tasks[i];
+        if (!task.full) {
+            task.cost = evaluate(task.vertex, false, cheap_plans[thread], thread);
+            return;
         }
-        helper.join();
-        if (failure) std::rethrow_exception(failure);
+        SpeculativePlan& sp = *task.speculative;
+        sp.cost = evaluate(task.vertex, true, sp.plan, thread);
+        sp.intersects = std::isfinite(sp.cost) && options_.prevent_intersections &&
+                        intersects_rest(sp.plan, candidates_[thread]);
+    });
+
+    // First ranking of all vertices, in chunks.
+    {
+        constexpr int32_t kChunk = 256;
+        tasks.clear();
+        for (int32_t v = 0; v < nv; v += kChunk) tasks.push_back(Task{v});
+        std::vector<double> costs(nv, std::numeric_limits<double>::infinity());
+        std::atomic<int32_t> ranked{0};
+        PlanningPool ranking(pool.threads(), [&](int thread, size_t i) {
+            const int32_t first = tasks[i].vertex, last = std::min(nv, first + kChunk);
+            for (int32_t v = first; v < last; ++v) {
+                remover(thread).plan(v, false, cheap_plans[thread]);
+                costs[v] = judge(v, cheap_plans[thread]);
+            }
+            const int32_t done = ranked.fetch_add(last - first) + (last - first);
+            if (thread == 0) context_.report(0.2 * done / std::max(nv, 1), "evaluating vertices");
+        });
+        ranking.run_round(tasks.size());
         plans_[0] += nv;
         for (int32_t v = 0; v < nv; ++v) {
             ++stamp_[v];
@@ -309,6 +433,7 @@ SimplifyResult Simplifier::run(Parametrization& out) {
     }
     const int64_t start_vertices = mesh_.num_vertices_alive();
     std::vector<int32_t> affected;
+    SpeculativePlan speculative_slot;  // filled by a round, then moved to full_plans_
     std::string stop = "no vertex can be removed any more";
     while (!queue_.empty()) {
         if (mesh_.num_vertices_alive() <= target) {
@@ -320,24 +445,38 @@ SimplifyResult Simplifier::run(Parametrization& out) {
         queue_.pop();
         if (top.stamp != stamp_[top.vertex] || !mesh_.vertex_alive(top.vertex)) continue;
         // The neighbourhood is unchanged since the evaluation (stamp), but other
-        // removals may have moved triangles near it: plan and test again.
+        // removals may have changed things near it: plan and test again, or reuse a
+        // full plan that is provably still the same.
         double cost;
+        int known_intersection = -1;  // -1 unknown, else whether it intersects the rest
         auto cached = full_plans_.find(top.vertex);
-        if (cached != full_plans_.end() && cached->second.first == stamp_[top.vertex] &&
-            still_current(cached->second.second)) {
-            plan_ = std::move(cached->second.second);
+        if (cached != full_plans_.end() && cached->second.stamp == stamp_[top.vertex] &&
+            (cached->second.plan.valid ? still_current(cached->second.plan) : cached->second.made_at == commits_)) {
+            SpeculativePlan& sp = cached->second;
+            if (sp.made_at == commits_ && std::isfinite(sp.cost)) known_intersection = sp.intersects;
+            plan_ = std::move(sp.plan);
             full_plans_.erase(cached);
             cost = judge(top.vertex, plan_);
+            ++speculation_hits_;
         } else {
             cost = evaluate(top.vertex, true, plan_);
         }
         if (!std::isfinite(cost)) continue;
         if (cost > top.cost + 1e-15 && !queue_.empty() && cost > queue_.top().cost) {
-            full_plans_[top.vertex] = {stamp_[top.vertex], std::move(plan_)};
+            SpeculativePlan& sp = full_plans_[top.vertex];
+            sp.stamp = stamp_[top.vertex];
+            sp.made_at = commits_;
+            sp.cost = cost;
+            sp.intersects = known_intersection == 1;
+            if (known_intersection < 0) sp.made_at = -1;  // intersections not tested yet
+            sp.plan = std::move(plan_);
             queue_.push({cost, top.vertex, stamp_[top.vertex]});
             continue;
         }
-        if (!admissible_globally(top.vertex, plan_)) continue;
+        if (known_intersection >= 0 ? known_intersection == 1 : !admissible_globally(top.vertex, plan_)) {
+            if (known_intersection == 1) last_reason_[top.vertex] = "would create a self-intersection";
+            continue;
+        }
         if (options_.trace_removals) {
             char line[160];
             std::snprintf(line, sizeof line, "remove vertex %d: cost %.10g, error %.6g, worst aspect %.4g (was %.4g)",
@@ -360,14 +499,49 @@ SimplifyResult Simplifier::run(Parametrization& out) {
             const Tri& c = mesh_.triangle(t);
             grid_.insert(t, x[c[0]], x[c[1]], x[c[2]]);
         }
+        ++commits_;
         ++stamp_[top.vertex];
+        full_plans_.erase(top.vertex);
         ++result.removed;
         if (plan_.used_floater) ++result.shape_preserving_repairs;
         if (options_.self_check) self_check(top.vertex, affected, result.removed);
         if (mesh_.num_alive_triangles() * 4 < grid_built_at_) rebuild_grid();
         std::sort(affected.begin(), affected.end());
         affected.erase(std::unique(affected.begin(), affected.end()), affected.end());
-        for (int32_t u : affected) push(u);
+
+        // The round: new costs of the vertices around the removal (their stars changed),
+        // and a full plan of the vertex now at the top of the queue, which is usually the
+        // next one removed.
+        tasks.clear();
+        for (int32_t u : affected) {
+            ++stamp_[u];
+            full_plans_.erase(u);
+            tasks.push_back(Task{u});
+        }
+        while (!queue_.empty() &&
+               (queue_.top().stamp != stamp_[queue_.top().vertex] || !mesh_.vertex_alive(queue_.top().vertex)))
+            queue_.pop();
+        SpeculativePlan* speculative = nullptr;
+        if (!queue_.empty() && mesh_.num_vertices_alive() > target && !removers_.empty()) {
+            const int32_t w = queue_.top().vertex;
+            auto it = full_plans_.find(w);
+            if (it == full_plans_.end() || it->second.stamp != stamp_[w]) {
+                speculative = &speculative_slot;
+                speculative->stamp = stamp_[w];
+                speculative->made_at = commits_;
+                Task task{w, true};
+                task.speculative = speculative;
+                tasks.insert(tasks.begin(), task);  // the longest task first
+            }
+        }
+        pool.run_round(tasks.size());
+        for (const Task& task : tasks) {
+            if (task.full) {
+                full_plans_[task.vertex] = std::move(*task.speculative);
+                continue;
+            }
+            if (std::isfinite(task.cost)) queue_.push({task.cost, task.vertex, stamp_[task.vertex]});
+        }
         if ((result.removed & 255) == 0) {
             const double done = start_vertices > target
                                     ? double(start_vertices - mesh_.num_vertices_alive()) / double(start_vertices - target)
@@ -452,7 +626,8 @@ SimplifyResult Simplifier::run(Parametrization& out) {
             result.worst_aspect_ratio,
             aspect_ratio(out.coarse.vertices[t[0]], out.coarse.vertices[t[1]], out.coarse.vertices[t[2]]));
     result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    context_.debug("plans: " + std::to_string(plans_[0]) + " cheap, " + std::to_string(plans_[1]) + " full; " +
+    context_.debug("plans: " + std::to_string(plans_[0].load()) + " cheap, " + std::to_string(plans_[1].load()) +
+                   " full (" + std::to_string(speculation_hits_) + " made ahead or reused); " +
                    std::to_string(result.shape_preserving_repairs) + " removals re-embedded with Floater's map");
     context_.report(1.0, "done");
     return result;

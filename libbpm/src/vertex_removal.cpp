@@ -133,9 +133,10 @@ namespace {
 VertexClass build_fans(const CoarseMesh& mesh, int32_t v, bool force_disk, std::vector<Fan>& fans,
                        std::vector<int32_t>& around, bool& crease_line, std::string& why) {
     crease_line = false;
-    fans.clear();
+    // `fans` keeps its elements' buffers between calls: resized, never cleared.
     const auto& tris = mesh.triangles_of(v);
     if (tris.empty()) {
+        fans.clear();
         why = "vertex already removed";
         return VertexClass::Feature;
     }
@@ -172,8 +173,11 @@ VertexClass build_fans(const CoarseMesh& mesh, int32_t v, bool force_disk, std::
     };
 
     if (features.empty()) {
-        Fan fan;
+        fans.resize(1);
+        Fan& fan = fans[0];
         fan.closed = true;
+        fan.link.clear();
+        fan.triangles.clear();
         const int32_t t0 = *std::min_element(tris.begin(), tris.end());
         int32_t x = -1, y = -1;
         rotate_to(mesh.triangle(t0), v, x, y);
@@ -206,7 +210,6 @@ VertexClass build_fans(const CoarseMesh& mesh, int32_t v, bool force_disk, std::
             why = "star is not a single disk (non-manifold vertex)";
             return VertexClass::Feature;
         }
-        fans.push_back(std::move(fan));
         return VertexClass::Regular;
     }
     if (features.size() != 2) {
@@ -218,13 +221,18 @@ VertexClass build_fans(const CoarseMesh& mesh, int32_t v, bool force_disk, std::
     const int32_t f0 = features[0], f1 = features[1];
     mesh.edge_triangles(v, f0, starts);
     size_t covered = 0;
-    for (int32_t t0 : starts) {
-        Fan fan;
+    fans.resize(starts.size());
+    for (size_t i = 0; i < starts.size(); ++i) {
+        const int32_t t0 = starts[i];
+        Fan& fan = fans[i];
         fan.closed = false;
         int32_t x = -1, y = -1;
         rotate_to(mesh.triangle(t0), v, x, y);
         const bool forward = x == f0;  // the stored orientation runs from f0 around v
-        std::vector<int32_t> link{f0}, triangles{t0};
+        auto& link = fan.link;
+        auto& triangles = fan.triangles;
+        link.assign(1, f0);
+        triangles.assign(1, t0);
         int32_t t = t0, last = forward ? y : x;
         while (true) {
             link.push_back(last);
@@ -257,9 +265,6 @@ VertexClass build_fans(const CoarseMesh& mesh, int32_t v, bool force_disk, std::
             std::reverse(triangles.begin(), triangles.end());
         }
         covered += triangles.size();
-        fan.link = std::move(link);
-        fan.triangles = std::move(triangles);
-        fans.push_back(std::move(fan));
     }
     if (covered != tris.size()) {
         why = "star is not made of half-disks";
@@ -343,6 +348,7 @@ private:
     std::vector<int32_t> local_, touched_;
     std::vector<OverlayFace> faces_;
     std::vector<int32_t> free_vertices_;
+    std::vector<int32_t> sorted_;  // scratch for sorted copies of edge contents
     std::vector<StraightSegment> segments_;
     std::vector<std::vector<int32_t>> side_nodes_;  // per polygon side: fixed nodes on it
 
@@ -477,8 +483,12 @@ bool FanPlanner::triangulate(std::string& why) {
     // ratio and whether its diagonal already exists are cached per corner.
     static thread_local std::vector<double> ear_aspect;
     static thread_local std::vector<int8_t> ear_blocked;  // -1 unknown, 0 free, 1 edge exists / degenerate
+    // Whether an ear is Delaunay-admissible: a cut only removes a test point, so an
+    // admissible ear stays admissible unless it is one of the two ears next to the cut.
+    static thread_local std::vector<int8_t> ear_delaunay;  // -1 unknown, 0 no, 1 yes
     ear_aspect.assign(n_, 0.0);
     ear_blocked.assign(n_, -1);
+    ear_delaunay.assign(n_, cocircular_ ? 1 : -1);
     while (poly.size() > 3) {
         const int32_t m = static_cast<int32_t>(poly.size());
         int32_t best = -1;
@@ -493,12 +503,16 @@ bool FanPlanner::triangulate(std::string& why) {
             }
             if (ear_blocked[b]) continue;
             const double aspect = ear_aspect[b];
-            bool delaunay = true;
-            for (int32_t o = 0; o < m && delaunay && !cocircular_; ++o) {
-                const int32_t p = poly[o];
-                if (p == a || p == b || p == d) continue;
-                if (clearly_in_circle(q_[a], q_[b], q_[d], q_[p])) delaunay = false;
+            if (ear_delaunay[b] < 0) {
+                bool admissible = true;
+                for (int32_t o = 0; o < m && admissible; ++o) {
+                    const int32_t p = poly[o];
+                    if (p == a || p == b || p == d) continue;
+                    if (clearly_in_circle(q_[a], q_[b], q_[d], q_[p])) admissible = false;
+                }
+                ear_delaunay[b] = admissible;
             }
+            const bool delaunay = ear_delaunay[b] != 0;
             // Prefer Delaunay-admissible ears; among them the best 3D aspect ratio.
             // Near-ties count as ties (first ear wins), so that rounding differences, e.g.
             // between a model and its scaled copy, do not change the triangulation.
@@ -517,6 +531,9 @@ bool FanPlanner::triangulate(std::string& why) {
         diagonals.push_back({a, d});
         poly.erase(poly.begin() + best);
         ear_blocked[a] = ear_blocked[d] = -1;
+        ear_delaunay[a] = ear_delaunay[d] = cocircular_ ? 1 : -1;
+        for (int32_t p : poly)
+            if (ear_delaunay[p] == 0) ear_delaunay[p] = -1;
     }
     const Vec3& p0 = x[fan_->link[poly[0]]];
     const Vec3& p1 = x[fan_->link[poly[1]]];
@@ -601,7 +618,8 @@ bool FanPlanner::gather_nodes(std::string& why) {
         auto it = emb_.edge_content.find(edge_key(a, b));
         if (it == emb_.edge_content.end()) continue;
         auto t_of = [&](double s) { return a < b ? s : 1.0 - s; };  // from q_i to q_i+1
-        std::vector<int32_t> vs = it->second.vertices;
+        auto& vs = sorted_;
+        vs.assign(it->second.vertices.begin(), it->second.vertices.end());
         std::sort(vs.begin(), vs.end());
         for (int32_t u : vs) {
             StarNode s;
@@ -616,7 +634,8 @@ bool FanPlanner::gather_nodes(std::string& why) {
             vertex_node_.set(u, id);
             side_nodes_[i].push_back(id);
         }
-        std::vector<int32_t> es = it->second.crossing_edges;
+        auto& es = sorted_;
+        es.assign(it->second.crossing_edges.begin(), it->second.crossing_edges.end());
         std::sort(es.begin(), es.end());
         es.erase(std::unique(es.begin(), es.end()), es.end());
         const int64_t key = edge_key(a, b);
@@ -671,7 +690,8 @@ bool FanPlanner::gather_nodes(std::string& why) {
                 why = "an original edge crosses a feature line";
                 return false;
             }
-            std::vector<int32_t> vs = it->second.vertices;
+            auto& vs = sorted_;
+            vs.assign(it->second.vertices.begin(), it->second.vertices.end());
             std::sort(vs.begin(), vs.end());
             for (int32_t u : vs) {
                 const double from_v = v_ < w ? emb_.location[u].s : 1.0 - emb_.location[u].s;
@@ -1309,8 +1329,26 @@ void VertexRemover::plan(int32_t v, bool validate, RemovalPlan& plan) {
     }
 }
 
+void RemovalPlan::clear() {
+    vertex = -1;
+    valid = false;
+    reason.clear();
+    removed_triangles.clear();
+    new_triangles.clear();
+    new_patches.clear();
+    new_edges.clear();
+    feature_line = false;
+    feature_a = feature_b = -1;
+    feature_kind = 0;
+    new_locations.clear();
+    new_paths.clear();
+    path_versions.clear();
+    max_deviation = worst_old_aspect = worst_new_aspect = longest_new_edge = 0.0;
+    used_floater = false;
+}
+
 void VertexRemover::plan_once(int32_t v, bool force_disk, bool validate, RemovalPlan& plan, bool& crease_line) {
-    plan = RemovalPlan();
+    plan.clear();
     plan.vertex = v;
     auto& fans = scratch_->fans;
     const VertexClass cls = build_fans(mesh_, v, force_disk, fans, scratch_->around, crease_line, plan.reason);
@@ -1348,8 +1386,10 @@ void VertexRemover::plan_once(int32_t v, bool force_disk, bool validate, Removal
         plan.new_edges.push_back({std::min(a, b), std::max(a, b)});
     }
 
-    std::vector<std::pair<int32_t, SurfacePoint>> locations;
-    static thread_local std::unordered_map<int32_t, std::vector<FanPlanner::PathEdit>> edits;
+    auto& locations = plan.new_locations;
+    // Path edits of all fans, grouped by edge below (a feature-line vertex has two fans
+    // that an original edge may both pass).
+    static thread_local std::vector<FanPlanner::PathEdit> edits;
     edits.clear();
     // v and the vertices on its two feature edges end up on the new feature edge a--b,
     // in the order a, ..., v, ..., b, at parameters proportional to 3D distance.
@@ -1406,27 +1446,28 @@ void VertexRemover::plan_once(int32_t v, bool force_disk, bool validate, Removal
             if (loc.second.kind == SurfacePoint::Inside) loc.second.a = -1 - (base + (-1 - loc.second.a));
             locations.push_back(loc);
         }
-        for (auto& e : planner.path_edits) edits[e.edge].push_back(std::move(e));
+        for (auto& e : planner.path_edits) edits.push_back(std::move(e));
     }
     std::sort(locations.begin(), locations.end(),
               [](const auto& p, const auto& q) { return p.first < q.first; });
-    plan.new_locations = std::move(locations);
 
-    // Rewrite the paths of the edited edges.
-    std::vector<int32_t> edited;
-    for (const auto& kv : edits) edited.push_back(kv.first);
-    std::sort(edited.begin(), edited.end());
+    // Rewrite the paths of the edited edges, in increasing edge order.
+    std::stable_sort(edits.begin(), edits.end(), [](const auto& p, const auto& q) {
+        return p.edge < q.edge || (p.edge == q.edge && p.first < q.first);
+    });
     auto& points = scratch_->points;
     auto& sigmas = scratch_->sigmas;
-    for (int32_t e : edited) {
-        auto& list = edits[e];
-        std::sort(list.begin(), list.end(), [](const auto& p, const auto& q) { return p.first < q.first; });
+    for (size_t begin = 0, end = 0; begin < edits.size(); begin = end) {
+        const int32_t e = edits[begin].edge;
+        for (end = begin; end < edits.size() && edits[end].edge == e; ++end) {
+        }
         embedding_.path_points(e, points, sigmas);
         std::vector<Crossing> crossings;
         const int32_t last = static_cast<int32_t>(points.size()) - 1;
         auto keep = [&](int32_t j) { crossings.push_back({points[j].a, points[j].b, points[j].s, sigmas[j]}); };
         int32_t j = 1;  // next old middle point to copy; points[0] and points[last] are the vertices
-        for (const auto& edit : list) {
+        for (size_t k = begin; k < end; ++k) {
+            const auto& edit = edits[k];
             for (; j <= edit.first && j < last; ++j) keep(j);
             crossings.insert(crossings.end(), edit.middle.begin(), edit.middle.end());
             j = std::max(j, edit.last);

@@ -50,6 +50,9 @@ struct RemovalPlan {
     double worst_new_aspect = 0.0;  // max R/r of the new triangles
     double longest_new_edge = 0.0;
     bool used_floater = false;
+
+    // Back to a fresh plan, keeping the buffers (plans are made millions of times).
+    void clear();
 };
 
 struct RemovalScratch;  // reusable buffers, defined in vertex_removal.cpp

@@ -52,6 +52,9 @@ struct SimplifyOptions {
     bool self_check = false;
     // Log every removal (vertex, cost, error, aspect) through Context::debug.
     bool trace_removals = false;
+    // Threads that share the planning (0 = up to 2, as the hardware allows). The output
+    // is the same for every thread count.
+    int threads = 0;
 };
 
 struct SimplifyResult {
