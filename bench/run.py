@@ -1,29 +1,47 @@
 #!/usr/bin/python3
 """bpm benchmark driver (bench/README.md).
 
-    /usr/bin/python3 bench/run.py [simplify | scaling | all] [options]
+    /usr/bin/python3 bench/run.py [simplify | scaling | check | all] [--quick] [options]
+    bench/all.sh [--quick] [options]          (= run.py all)
 
-simplify  bpm-simplify vs psurface-simplify on real meshes at 10 % of the input vertices
-          and at 1000 vertices: wall time, peak memory, bpm-bench-metrics on both outputs,
-          bpm-check on bpm's output -> bench/results/simplify.{md,json}
+simplify  bpm-simplify vs psurface-simplify vs CGAL's edge-collapse decimation (a plain
+          decimation without a parametrization, the reference) on real meshes at 10 % of
+          the input vertices and at 1000 vertices: time, peak memory, bpm-bench-metrics on
+          every output, bpm-check on bpm's output -> results/simplify.{md,json}
 scaling   bpm-simplify to 10,000 vertices on armadillo after 0, 1, 2 Loop subdivisions
-          (52k / 208k / 832k triangles) -> bench/results/scaling.{md,json}
+          (52k / 208k / 832k triangles) -> results/scaling.{md,json}
+check     bpm-check on the scaling suite's outputs (52k / 208k / 832k original triangles):
+          all four checks together and each alone, seconds and triangles / pieces per
+          second -> results/check.{md,json}
+all       the one command: builds every tool once in Release, runs simplify, scaling and
+          check (each as `run.py SUITE --no-build ...`), then bench/refine.py (refinement
+          convergence, shape, phi throughput; if present), bench/tetmesh.sh (tet meshes) and
+          bench/corpus.sh (the whole libcgal-demo corpus), and writes bench/RESULTS.md:
+          machine, date, commit, every command run, every table.
 
-Builds bpm-simplify, bpm-check and bpm-bench-metrics in Release first (--no-build skips
-that). Everything generated besides the results (converted meshes, subdivided meshes,
-.bpm/.vtu outputs, logs) goes to BUILD_DIR/bench-work, never into the source tree.
-Results are rewritten after every run, so an interrupted run leaves what it measured.
+--quick   fewer meshes, fewer subdivision levels, fewer samples, shorter timeouts, for
+          trying it out. Its tables go to BUILD_DIR/bench-quick/ (RESULTS.md and results/),
+          never over bench/results; see bench/README.md for the external scripts.
+
+A single suite builds only the tools it needs in Release first (--no-build skips that).
+Everything generated besides the results (converted meshes, subdivided meshes, .bpm / .vtu /
+.off outputs, logs) goes to BUILD_DIR/bench-work, never into the source tree. Results are
+rewritten after every run, so an interrupted run leaves what it measured.
 """
 import argparse
 import datetime
+import glob
 import json
 import math
 import os
 import platform
+import shlex
 import shutil
+import signal
 import statistics
 import subprocess
 import sys
+import threading
 import time
 
 BENCH = os.path.dirname(os.path.abspath(__file__))
@@ -32,21 +50,52 @@ MESHES = os.path.join(ROOT, ".data", "meshes")
 RESULTS = os.path.join(BENCH, "results")
 PYTHON = "/usr/bin/python3"
 DEFAULT_MESHES = ["femur", "fandisk", "elephant", "armadillo", "mech-holes-shark"]
+TOOLS = ("bpm", "psurface", "cgal")
+TOOL_LABEL = {"bpm": "bpm", "psurface": "psurface", "cgal": "CGAL (no φ)"}
+RATIO_LABEL = {"psurface": "psurface", "cgal": "CGAL"}
+CHECKS = ("format", "intersections", "topology", "bijectivity")
+SUITE_TARGETS = {
+    "simplify": ["bpm-simplify", "bpm-check", "bpm-bench-metrics", "bpm-bench-cgal-decimate"],
+    "scaling": ["bpm-simplify"],
+    "check": ["bpm-simplify", "bpm-check"],
+}
+
+# Values of the options that --quick changes, full run first. None in argparse means "not given".
+PROFILES = {
+    "meshes": (",".join(DEFAULT_MESHES), "femur,elephant"),
+    "timeout": (900, 300),
+    "samples": (500000, 100000),
+    "levels": ("0,1,2", "0,1"),
+    "scaling_timeout": (900, 300),
+    "check_levels": ("0,1,2", "0,1"),
+    "check_timeout": (900, 300),
+    "check_repeats": (3, 1),
+    "external_timeout": (7200, 1800),
+}
+QUICK_REFINE_MESHES = "femur"
+QUICK_TETMESH_MESHES = "femur,two_cubes"
+QUICK_MAX_TETS = "2000000"
 
 
 def log(msg):
-    sys.stderr.write(f"[{datetime.datetime.utcnow():%H:%M:%S}] {msg}\n")
+    sys.stderr.write(f"[{utcnow():%H:%M:%S}] {msg}\n")
     sys.stderr.flush()
+
+
+def utcnow():
+    return datetime.datetime.now(datetime.timezone.utc)
 
 
 # ---------------------------------------------------------------- helpers
 
-def build(build_dir, jobs):
-    log(f"building in {build_dir} (Release)")
-    subprocess.run(["cmake", "-S", ROOT, "-B", build_dir, "-DCMAKE_BUILD_TYPE=Release", "-DBPM_BUILD_TESTS=OFF"],
-                   check=True, stdout=subprocess.DEVNULL)
-    subprocess.run(["cmake", "--build", build_dir, f"-j{jobs}", "--target",
-                    "bpm-simplify", "bpm-check", "bpm-bench-metrics"], check=True, stdout=subprocess.DEVNULL)
+def build(build_dir, jobs, targets=None):
+    """Release build in build_dir: the given targets, or the default target (every tool and bench tool)."""
+    configure = ["cmake", "-S", ROOT, "-B", build_dir, "-DCMAKE_BUILD_TYPE=Release", "-DBPM_BUILD_TESTS=OFF"]
+    compile_ = ["cmake", "--build", build_dir, f"-j{jobs}"] + (["--target"] + targets if targets else [])
+    log(f"building in {build_dir} (Release): {' '.join(targets) if targets else 'all targets'}")
+    subprocess.run(configure, check=True, stdout=subprocess.DEVNULL)
+    subprocess.run(compile_, check=True, stdout=subprocess.DEVNULL)
+    return [configure, compile_]
 
 
 def read_off_header(path):
@@ -86,9 +135,10 @@ def off_to_msh22(off_path, msh_path):
     os.replace(tmp, msh_path)
 
 
-def timed(cmd, log_path, timeout, cwd=None):
+def timed(cmd, log_path, timeout, cwd=None, stdout_path=None):
     """Runs cmd under `timeout` and /usr/bin/time; returns dict(status, seconds (wall), cpu_seconds (user + system),
-    peak_mb (maximum resident set size), exit, message)."""
+    peak_mb (maximum resident set size), exit, message). Standard output goes to stdout_path when given, else to the
+    log with standard error."""
     time_file = log_path + ".time"
     if os.path.exists(time_file):
         os.remove(time_file)
@@ -96,9 +146,14 @@ def timed(cmd, log_path, timeout, cwd=None):
     with open(log_path, "w") as lf:
         lf.write("$ " + " ".join(cmd) + "\n")
         lf.flush()
-        start = time.monotonic()
-        proc = subprocess.run(full, stdout=lf, stderr=subprocess.STDOUT, cwd=cwd)
-        wall = time.monotonic() - start
+        out = open(stdout_path, "w") if stdout_path else lf
+        try:
+            start = time.monotonic()
+            proc = subprocess.run(full, stdout=out, stderr=lf, cwd=cwd)
+            wall = time.monotonic() - start
+        finally:
+            if stdout_path:
+                out.close()
     r = {"exit": proc.returncode, "seconds": None, "cpu_seconds": None, "peak_mb": None, "message": ""}
     try:
         with open(time_file) as tf:
@@ -145,34 +200,88 @@ def write_atomic(path, text):
     os.replace(tmp, path)
 
 
-def machine_line():
+def rel(path):
+    """A path as it is typed from the repository root (commands are run there)."""
+    p = os.path.relpath(path, ROOT)
+    return path if p.startswith("..") else p
+
+
+def cpu_model():
     try:
-        load = os.getloadavg()[0]
+        with open("/proc/cpuinfo") as f:
+            for line in f:
+                if line.startswith("model name"):
+                    return line.split(":", 1)[1].strip()
     except OSError:
-        load = float("nan")
-    cpu = platform.processor() or platform.machine()
-    return (f"{datetime.datetime.utcnow():%Y-%m-%d %H:%M} UTC, {os.cpu_count()} cores ({cpu}), "
-            f"load average at start {load:.1f}")
+        pass
+    return platform.processor() or platform.machine()
+
+
+def memory_gib():
+    try:
+        with open("/proc/meminfo") as f:
+            for line in f:
+                if line.startswith("MemTotal:"):
+                    return int(line.split()[1]) / 1024.0 / 1024.0
+    except (OSError, ValueError):
+        pass
+    return None
+
+
+def load_average():
+    try:
+        return os.getloadavg()
+    except OSError:
+        return (float("nan"),) * 3
+
+
+def machine_line():
+    load = load_average()[0]
+    mem = memory_gib()
+    return (f"{utcnow():%Y-%m-%d %H:%M} UTC, {cpu_model()}, {os.cpu_count()} cores"
+            f"{'' if mem is None else f', {mem:.1f} GiB'}, load average at start {load:.1f}")
 
 
 def binary_line(path):
     """'bpm-simplify 0.1.0 (bpm format 1.0), built 2026-11-22 04:13 UTC' for the results header."""
     try:
         version = subprocess.run([path, "--version"], capture_output=True, text=True).stdout.strip()
-        built = datetime.datetime.utcfromtimestamp(os.path.getmtime(path))
+        built = datetime.datetime.fromtimestamp(os.path.getmtime(path), datetime.timezone.utc)
         return f"{version}, built {built:%Y-%m-%d %H:%M} UTC"
     except OSError:
         return "unknown"
 
 
 def git_commit():
+    """Short commit of the working tree, read-only (--no-optional-locks: never writes the index)."""
     try:
-        c = subprocess.run(["git", "-C", ROOT, "rev-parse", "--short", "HEAD"], capture_output=True, text=True).stdout.strip()
-        dirty = subprocess.run(["git", "-C", ROOT, "status", "--porcelain", "--untracked-files=no"],
+        git = ["git", "--no-optional-locks", "-C", ROOT]
+        c = subprocess.run(git + ["rev-parse", "--short", "HEAD"], capture_output=True, text=True).stdout.strip()
+        dirty = subprocess.run(git + ["status", "--porcelain", "--untracked-files=no"],
                                capture_output=True, text=True).stdout.strip()
-        return c + (" (with uncommitted changes)" if dirty else "")
+        return (c or "unknown") + (" (with uncommitted changes)" if dirty else "")
     except OSError:
         return "unknown"
+
+
+def subdivided_mesh(level, work):
+    """armadillo.off (level 0) or its Loop subdivision, made by make_subdivided.py when missing or stale."""
+    base = os.path.join(MESHES, "armadillo.off")
+    if level == 0:
+        return base
+    path = os.path.join(work, f"armadillo-loop{level}.off")
+    if not os.path.exists(path) or os.path.getmtime(path) < os.path.getmtime(base):
+        log(f"Loop subdivision level {level} -> {path}")
+        subprocess.run([PYTHON, os.path.join(BENCH, "make_subdivided.py"), base, str(level), path], check=True)
+    return path
+
+
+def scaling_output(work, level, target):
+    return os.path.join(work, f"armadillo-loop{level}-{target}.bpm")
+
+
+def level_label(level):
+    return "armadillo.off" if level == 0 else f"armadillo + {level}x Loop"
 
 
 # ---------------------------------------------------------------- simplify suite
@@ -194,10 +303,10 @@ def metrics_cell(m):
 
 def simplify_suite(args, bins, work):
     rows = []
-    json_path = os.path.join(RESULTS, f"simplify{args.suffix}.json")
-    md_path = os.path.join(RESULTS, f"simplify{args.suffix}.md")
+    json_path = os.path.join(args.results_dir, f"simplify{args.suffix}.json")
+    md_path = os.path.join(args.results_dir, f"simplify{args.suffix}.md")
     header = {"date": machine_line(), "commit": git_commit(), "binary": binary_line(bins["bpm-simplify"]),
-              "timeout_s": args.timeout,
+              "timeout_s": args.timeout, "tools": args.tools,
               "metrics_samples": args.samples, "psurface_flags": args.psurface_flags}
     for name in args.meshes:
         off = os.path.join(MESHES, name + ".off")
@@ -206,7 +315,8 @@ def simplify_suite(args, bins, work):
             continue
         nv, nt = read_off_header(off)
         msh = os.path.join(work, name + ".msh")
-        off_to_msh22(off, msh)
+        if "psurface" in args.tools:
+            off_to_msh22(off, msh)
         for label, target in (("10%", max(4, round(0.1 * nv))), ("1000", 1000)):
             row = {"mesh": name, "input_vertices": nv, "input_triangles": nt, "target_label": label,
                    "target_vertices": target}
@@ -215,44 +325,44 @@ def simplify_suite(args, bins, work):
                 row["error"] = f"target {target} >= input vertices {nv}"
                 rows.append(row)
                 continue
-            log(f"{name} -> {target} vertices: bpm-simplify")
-            bpm_out = stem + ".bpm"
-            for p in (bpm_out,):
-                if os.path.exists(p):
-                    os.remove(p)
-            bpm = timed([bins["bpm-simplify"], off, "-o", bpm_out, "--vertices", str(target)],
-                        stem + "-bpm.log", args.timeout)
-            log(f"  bpm: {bpm['status']} {fmt(bpm['seconds'], '.2f')} s {fmt(bpm['peak_mb'], '.0f')} MB {bpm['message']}")
-            log(f"{name} -> {target} vertices: psurface-simplify")
-            ps_out = stem + "-psurface.vtu"
-            for p in (ps_out, stem + "-psurface-graph.vtu"):
-                if os.path.exists(p):
-                    os.remove(p)
-            ps_cmd = ["psurface-simplify", "-i", msh, "-o", ps_out, "-c", str(nv - target)] + args.psurface_flags.split()
-            ps = timed(ps_cmd, stem + "-psurface.log", args.timeout, cwd=work)
-            if ps["status"] == "ok" and not os.path.exists(ps_out):
-                ps["status"], ps["message"] = "failed", "exit 0 but no output file"
-            log(f"  psurface: {ps['status']} {fmt(ps['seconds'], '.2f')} s {fmt(ps['peak_mb'], '.0f')} MB {ps['message']}")
-
-            for tool, res, out in (("bpm", bpm, bpm_out), ("psurface", ps, ps_out)):
+            outputs = {"bpm": stem + ".bpm", "psurface": stem + "-psurface.vtu", "cgal": stem + "-cgal.off"}
+            commands = {
+                "bpm": ([bins["bpm-simplify"], off, "-o", outputs["bpm"], "--vertices", str(target)], None),
+                "psurface": (["psurface-simplify", "-i", msh, "-o", outputs["psurface"], "-c", str(nv - target)]
+                             + args.psurface_flags.split(), work),
+                "cgal": ([bins["bpm-bench-cgal-decimate"], off, "-o", outputs["cgal"], "--vertices", str(target)], None),
+            }
+            for tool in args.tools:
+                log(f"{name} -> {target} vertices: {tool}")
+                for p in (outputs[tool], stem + "-psurface-graph.vtu" if tool == "psurface" else None):
+                    if p and os.path.exists(p):
+                        os.remove(p)
+                cmd, cwd = commands[tool]
+                res = timed(cmd, f"{stem}-{tool}.log", args.timeout, cwd=cwd)
+                res["command"] = " ".join(rel(c) for c in cmd)
+                if res["status"] == "ok" and not os.path.exists(outputs[tool]):
+                    res["status"], res["message"] = "failed", "exit 0 but no output file"
+                log(f"  {tool}: {res['status']} {fmt(res['seconds'], '.2f')} s {fmt(res['peak_mb'], '.0f')} MB "
+                    f"{res['message']}")
+                row[tool] = res
+            for tool in args.tools:
+                res = row[tool]
                 if res["status"] != "ok":
                     continue
-                code, data, err = run_json([bins["bpm-bench-metrics"], off, out, "--samples", str(args.samples)],
+                code, data, err = run_json([bins["bpm-bench-metrics"], off, outputs[tool], "--samples", str(args.samples)],
                                            args.timeout)
                 res["metrics"] = data
                 if data is None:
                     res["metrics_error"] = f"bpm-bench-metrics exit {code}: {err}"
-            if bpm["status"] == "ok":
-                code, data, err = run_json([bins["bpm-check"], "--json", bpm_out], args.timeout)
+            bpm = row.get("bpm")
+            if bpm and bpm["status"] == "ok":
+                code, data, err = run_json([bins["bpm-check"], "--json", outputs["bpm"]], args.timeout)
                 bpm["check_exit"] = code
                 bpm["check"] = data
                 if data:
                     bpm["check_failed"] = [c["name"] for c in data.get("checks", []) if not c.get("passed", False)]
                 else:
                     bpm["check_failed"] = [f"no report ({err})"]
-            row["bpm"], row["psurface"] = bpm, ps
-            if bpm["status"] == ps["status"] == "ok" and bpm["seconds"]:
-                row["time_ratio"] = ps["seconds"] / max(bpm["seconds"], 0.01)
             rows.append(row)
             write_atomic(json_path, json.dumps({"run": header, "rows": rows}, indent=1) + "\n")
             write_atomic(md_path, simplify_markdown(header, rows))
@@ -261,58 +371,82 @@ def simplify_suite(args, bins, work):
     log(f"wrote {md_path}")
 
 
-def status_cell(res):
-    if res is None:
-        return "—"
-    if res["status"] == "ok":
-        return "ok"
-    return f"**{res['status']}**"
+def ratio(rows, tool, key):
+    """Per row: tool's time / bpm's time (None unless both finished); > 1 means bpm is faster."""
+    out = []
+    for r in rows:
+        b, o = r.get("bpm"), r.get(tool)
+        if b and o and b["status"] == o["status"] == "ok" and b.get(key) is not None and o.get(key) is not None:
+            out.append(o[key] / max(b[key], 0.01))
+        else:
+            out.append(None)
+    return out
 
 
 def simplify_markdown(header, rows):
-    out = ["# bpm-simplify vs psurface-simplify", "",
+    tools = header.get("tools", ["bpm", "psurface"])
+    psurface_flags = (f"with flags `{header['psurface_flags']}`" if header['psurface_flags'] else "with default flags")
+    out = ["# bpm-simplify vs psurface-simplify, with CGAL's edge collapse as a plain-decimation reference", "",
            f"Measured {header['date']}; bpm commit {header['commit']}; {header.get('binary', '')}. "
-           "Generated by `bench/run.py simplify`; "
-           "see bench/README.md for what each column means.", "",
-           f"Both tools get the same target vertex count (psurface: `-c <input vertices - target>` "
-           f"{('with flags `' + header['psurface_flags'] + '`') if header['psurface_flags'] else 'with default flags'}). "
-           f"Memory = peak resident set (MB), times from `/usr/bin/time -f \"%e %M %U %S\"`; "
-           f"timeout {header['timeout_s']} s per run. The machine is shared, so times carry noise.", "",
+           "Generated by `bench/run.py simplify`; see bench/README.md for what each column means.", "",
+           "Every tool gets the same target vertex count:", "",
+           "- **bpm**: `bpm-simplify IN.off -o OUT.bpm --vertices N` — coarse surface and the bijective map φ, "
+           "no self-intersections, topology kept;",
+           f"- **psurface**: `psurface-simplify -i IN.msh -o OUT.vtu -c <input vertices - N>` {psurface_flags} — "
+           "coarse surface and its parametrization (the original implementation of the method);",
+           "- **CGAL (no φ)**: `bpm-bench-cgal-decimate IN.off -o OUT.off --vertices N` — CGAL's "
+           "`Surface_mesh_simplification::edge_collapse` on a `Surface_mesh` with the default Lindstrom-Turk cost and "
+           "placement. **A plain decimation without a parametrization** (no φ, no intersection test): the reference "
+           "for the quality and the speed of a tool that does less than the other two.", "",
+           "Memory = peak resident set (MB), times from `/usr/bin/time -f \"%e %M %U %S\"` (the whole process: "
+           f"reading, simplifying, writing); timeout {header['timeout_s']} s per run. The machine is shared, so times "
+           "carry noise.", "",
            "## Time and memory", "",
-           "Wall = elapsed seconds; CPU = user + system seconds (less sensitive to other load on the machine; both "
-           "tools are single-threaded, so CPU ≈ wall on an idle machine).", "",
-           "| mesh | input V | target V | bpm wall s | bpm CPU s | bpm MB | psurface wall s | psurface CPU s | psurface MB "
-           "| psurface/bpm wall | psurface/bpm CPU |",
-           "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
-    ratios, cpu_ratios = [], []
-    for r in rows:
-        if "bpm" not in r:
+           "Wall = elapsed seconds; CPU = user + system seconds (less sensitive to other load on the machine; all "
+           "three tools are single-threaded, so CPU ≈ wall on an idle machine). Ratios are the other tool's time over "
+           "bpm's: > 1 means bpm is faster.", ""]
+    head = "| mesh | input V | target V |"
+    rule = "|---|---:|---:|"
+    for t in tools:
+        head += f" {TOOL_LABEL[t]} wall s | {TOOL_LABEL[t]} CPU s | {TOOL_LABEL[t]} MB |"
+        rule += "---:|---:|---:|"
+    others = [t for t in tools if t != "bpm"] if "bpm" in tools else []
+    for t in others:
+        head += f" {RATIO_LABEL[t]}/bpm wall | {RATIO_LABEL[t]}/bpm CPU |"
+        rule += "---:|---:|"
+    out += [head, rule]
+    wall_ratios = {t: ratio(rows, t, "seconds") for t in others}
+    cpu_ratios = {t: ratio(rows, t, "cpu_seconds") for t in others}
+    for i, r in enumerate(rows):
+        if not any(t in r for t in tools):
             out.append(f"| {r['mesh']} | {r.get('input_vertices', '—')} | {r.get('target_vertices', '—')} | "
-                       f"{r.get('error', 'not run')} | | | | | | | |")
+                       f"{r.get('error', 'not run')} |" + " |" * (3 * len(tools) + 2 * len(others) - 1))
             continue
-        b, p = r["bpm"], r["psurface"]
-
-        def t(res, key):
-            return fmt(res.get(key), ".2f") if res["status"] == "ok" else f"**{res['status']}**"
-
-        def m(res):
-            return fmt(res["peak_mb"], ".0f") if res["status"] == "ok" else "—"
-        ratio = r.get("time_ratio")
-        if ratio is not None:
-            ratios.append(ratio)
-        cpu_ratio = None
-        if b["status"] == p["status"] == "ok" and b.get("cpu_seconds") is not None and p.get("cpu_seconds") is not None:
-            cpu_ratio = p["cpu_seconds"] / max(b["cpu_seconds"], 0.01)
-            cpu_ratios.append(cpu_ratio)
-        out.append(f"| {r['mesh']} | {r['input_vertices']} | {r['target_vertices']} ({r['target_label']}) "
-                   f"| {t(b, 'seconds')} | {t(b, 'cpu_seconds')} | {m(b)} "
-                   f"| {t(p, 'seconds')} | {t(p, 'cpu_seconds')} | {m(p)} | {fmt(ratio, '.2f')} | {fmt(cpu_ratio, '.2f')} |")
-    med = statistics.median(ratios) if ratios else None
-    cpu_med = statistics.median(cpu_ratios) if cpu_ratios else None
-    out += ["", f"Median time ratio psurface/bpm over the {len(ratios)} rows where both succeeded: "
-                f"**{fmt(med, '.2f')}** (wall), **{fmt(cpu_med, '.2f')}** (CPU); > 1 means bpm is faster.", ""]
-    failures = [f"- {r['mesh']} → {r['target_vertices']}, {tool}: {r[tool]['status']} — {r[tool]['message']}"
-                for r in rows if "bpm" in r for tool in ("bpm", "psurface") if r[tool]["status"] != "ok"]
+        line = f"| {r['mesh']} | {r['input_vertices']} | {r['target_vertices']} ({r['target_label']}) |"
+        for t in tools:
+            res = r.get(t)
+            if res is None:
+                line += " not run | | |"
+            elif res["status"] == "ok":
+                line += f" {fmt(res['seconds'], '.2f')} | {fmt(res.get('cpu_seconds'), '.2f')} | {fmt(res['peak_mb'], '.0f')} |"
+            else:
+                line += f" **{res['status']}** | **{res['status']}** | — |"
+        for t in others:
+            line += f" {fmt(wall_ratios[t][i], '.2f')} | {fmt(cpu_ratios[t][i], '.2f')} |"
+        out.append(line)
+    out.append("")
+    for t in others:
+        w = [x for x in wall_ratios[t] if x is not None]
+        c = [x for x in cpu_ratios[t] if x is not None]
+        what = ("> 1 means bpm is faster" if t == "psurface" else
+                "< 1 means the plain decimation is faster, i.e. what φ, the intersection tests and the topology "
+                "condition cost")
+        out.append(f"Median time ratio {RATIO_LABEL[t]}/bpm over the {len(w)} rows where both finished: "
+                   f"**{fmt(statistics.median(w) if w else None, '.2f')}** (wall), "
+                   f"**{fmt(statistics.median(c) if c else None, '.2f')}** (CPU); {what}.")
+        out.append("")
+    failures = [f"- {r['mesh']} → {r['target_vertices']}, {t}: {r[t]['status']} — {r[t]['message']}"
+                for r in rows for t in tools if t in r and r[t]["status"] != "ok"]
     if failures:
         out += ["Runs that did not finish:", ""] + failures + [""]
 
@@ -321,21 +455,23 @@ def simplify_markdown(header, rows):
             "two one-sided mean distances / diagonal; R/r = circumradius / inradius (2 = equilateral); "
             "self-int. = self-intersecting triangle pairs (`bpm::check_intersections`); topology = Euler characteristic, "
             "components, boundary loops, Betti numbers, orientability, manifoldness equal to the original's "
-            "(`bpm::compare_topology`); bpm-check = format, intersections, topology, bijectivity of the .bpm.", "",
+            "(`bpm::compare_topology`); bpm-check = format, intersections, topology, bijectivity of the .bpm "
+            "(psurface's parametrization is not checked; CGAL makes none).", "",
             "| mesh | target V | tool | V | T | Hausdorff | mean | max R/r | mean R/r | self-int. | topology | bpm-check |",
             "|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---|---|"]
     for r in rows:
-        if "bpm" not in r:
-            continue
-        for tool in ("bpm", "psurface"):
-            res = r[tool]
+        for tool in tools:
+            res = r.get(tool)
+            if res is None:
+                continue
+            label = TOOL_LABEL[tool]
             if res["status"] != "ok":
-                out.append(f"| {r['mesh']} | {r['target_vertices']} | {tool} | **{res['status']}**: {res['message']} "
+                out.append(f"| {r['mesh']} | {r['target_vertices']} | {label} | **{res['status']}**: {res['message']} "
                            "| | | | | | | | |")
                 continue
             q = metrics_cell(res.get("metrics"))
             if q is None:
-                out.append(f"| {r['mesh']} | {r['target_vertices']} | {tool} | metrics failed: "
+                out.append(f"| {r['mesh']} | {r['target_vertices']} | {label} | metrics failed: "
                            f"{res.get('metrics_error', '')[:120]} | | | | | | | | |")
                 continue
             if tool == "bpm":
@@ -343,14 +479,14 @@ def simplify_markdown(header, rows):
                 check = "pass" if res.get("check_exit") == 0 else ("**fail**: " + ", ".join(failed) if failed
                                                                    else f"exit {res.get('check_exit')}")
             else:
-                check = "n/a"
+                check = "n/a" if tool == "psurface" else "n/a (no φ)"
             amax = fmt(q["aspect_max"], ".1f") if q["aspect_max"] is not None else "∞"
-            out.append(f"| {r['mesh']} | {r['target_vertices']} | {tool} | {q['vertices']} | {q['triangles']} | "
+            out.append(f"| {r['mesh']} | {r['target_vertices']} | {label} | {q['vertices']} | {q['triangles']} | "
                        f"{q['hausdorff_relative']:.5f} | {q['mean_relative']:.6f} | {amax} | {q['aspect_mean']:.2f} | "
                        f"{q['self_intersecting_pairs']} | {'yes' if q['topology_preserved'] else '**no**'} | {check} |")
     notes = []
     for r in rows:
-        for tool in ("bpm", "psurface"):
+        for tool in tools:
             res = r.get(tool)
             if not res:
                 continue
@@ -363,36 +499,34 @@ def simplify_markdown(header, rows):
                              + "; ".join(m["topology_differences"][:3]))
     if notes:
         out += ["", "Notes:", ""] + notes
-    out += ["", "psurface writes Float32 coordinates to its .vtu; its coarse vertices are therefore rounded to single "
-                "precision before they are measured.", ""]
+    if "psurface" in tools:
+        out += ["", "psurface writes Float32 coordinates to its .vtu; its coarse vertices are therefore rounded to "
+                    "single precision before they are measured."]
+    out.append("")
     return "\n".join(out)
 
 
 # ---------------------------------------------------------------- scaling suite
 
 def scaling_suite(args, bins, work):
-    base = os.path.join(MESHES, "armadillo.off")
     rows = []
-    json_path = os.path.join(RESULTS, f"scaling{args.suffix}.json")
-    md_path = os.path.join(RESULTS, f"scaling{args.suffix}.md")
+    json_path = os.path.join(args.results_dir, f"scaling{args.suffix}.json")
+    md_path = os.path.join(args.results_dir, f"scaling{args.suffix}.md")
     header = {"date": machine_line(), "commit": git_commit(), "binary": binary_line(bins["bpm-simplify"]),
               "timeout_s": args.scaling_timeout,
               "target_vertices": args.scaling_target}
     for level in args.levels:
-        path = base if level == 0 else os.path.join(work, f"armadillo-loop{level}.off")
-        if level > 0 and (not os.path.exists(path) or os.path.getmtime(path) < os.path.getmtime(base)):
-            log(f"Loop subdivision level {level} -> {path}")
-            subprocess.run([PYTHON, os.path.join(BENCH, "make_subdivided.py"), base, str(level), path], check=True)
+        path = subdivided_mesh(level, work)
         nv, nt = read_off_header(path)
         log(f"scaling: armadillo level {level} ({nt} triangles) -> {args.scaling_target} vertices")
-        out = os.path.join(work, f"armadillo-loop{level}-{args.scaling_target}.bpm")
+        out = scaling_output(work, level, args.scaling_target)
         if os.path.exists(out):
             os.remove(out)
-        res = timed([bins["bpm-simplify"], path, "-o", out, "--vertices", str(args.scaling_target)],
-                    os.path.join(work, f"scaling-loop{level}.log"), args.scaling_timeout)
+        cmd = [bins["bpm-simplify"], path, "-o", out, "--vertices", str(args.scaling_target)]
+        res = timed(cmd, os.path.join(work, f"scaling-loop{level}.log"), args.scaling_timeout)
         log(f"  {res['status']} {fmt(res['seconds'], '.1f')} s {fmt(res['peak_mb'], '.0f')} MB {res['message']}")
-        rows.append({"level": level, "input": os.path.relpath(path, ROOT) if level == 0 else f"armadillo + {level}x Loop",
-                     "vertices": nv, "triangles": nt, **res})
+        rows.append({"level": level, "input": rel(path) if level == 0 else level_label(level),
+                     "vertices": nv, "triangles": nt, "command": " ".join(rel(c) for c in cmd), **res})
         write_atomic(json_path, json.dumps({"run": header, "rows": rows}, indent=1) + "\n")
         write_atomic(md_path, scaling_markdown(header, rows))
     log(f"wrote {md_path}")
@@ -443,7 +577,487 @@ def scaling_markdown(header, rows):
                         f"memory ≤ 2 GB: {'yes' if r['peak_mb'] <= 2048 else 'no'})."]
         else:
             out += ["", f"832k-triangle row: {r['status']} — target **not met**."]
+    else:
+        out += ["", "No ~830k-triangle row in this run (fewer subdivision levels), so the target is not evaluated."]
     out.append("")
+    return "\n".join(out)
+
+
+# ---------------------------------------------------------------- check suite
+
+def check_counts(report):
+    """Counts of a bpm-check JSON report: original/coarse triangles, nodes, pieces (from whichever check has them)."""
+    counts = {}
+    for c in (report or {}).get("checks", []):
+        for k in ("original_vertices", "original_triangles", "coarse_vertices", "coarse_triangles", "nodes", "pieces"):
+            if k in c.get("counts", {}) and k not in counts:
+                counts[k] = c["counts"][k]
+    return counts
+
+
+def timed_check(bins, path, checks, log_stem, args):
+    """bpm-check --json [--checks C] PATH, args.check_repeats times; the run with the least CPU time, with its report.
+    Exit 1 (a check failed) still counts as a measurement: the report says what failed."""
+    best = None
+    cmd = [bins["bpm-check"], "--json"] + (["--checks", checks] if checks else []) + [path]
+    for i in range(args.check_repeats):
+        res = timed(cmd, log_stem + ".log", args.check_timeout, stdout_path=log_stem + ".json")
+        try:
+            with open(log_stem + ".json") as f:
+                res["report"] = json.load(f)
+        except (OSError, json.JSONDecodeError):
+            res["report"] = None
+        if res["exit"] in (0, 1) and res["report"] is not None:
+            res["status"], res["message"] = "ok", ""
+            res["passed"] = bool(res["report"].get("passed"))
+            res["failed_checks"] = [c["name"] for c in res["report"].get("checks", []) if not c.get("passed")]
+        if best is None or (res["status"] == "ok" and (best["status"] != "ok" or
+                                                        (res["cpu_seconds"] or 1e30) < (best["cpu_seconds"] or 1e30))):
+            best = res
+        if res["status"] != "ok":
+            break
+    best["command"] = " ".join(rel(c) for c in cmd)
+    return best
+
+
+def check_suite(args, bins, work):
+    rows = []
+    json_path = os.path.join(args.results_dir, f"check{args.suffix}.json")
+    md_path = os.path.join(args.results_dir, f"check{args.suffix}.md")
+    header = {"date": machine_line(), "commit": git_commit(), "binary": binary_line(bins["bpm-check"]),
+              "timeout_s": args.check_timeout, "repeats": args.check_repeats, "target_vertices": args.scaling_target}
+    simplify_built = os.path.getmtime(bins["bpm-simplify"])
+    for level in args.check_levels:
+        path = scaling_output(work, level, args.scaling_target)
+        row = {"level": level, "input": f"{level_label(level)} → {args.scaling_target} vertices", "file": rel(path)}
+        if not os.path.exists(path) or os.path.getmtime(path) < simplify_built:
+            source = subdivided_mesh(level, work)
+            log(f"check: making {path} (no up-to-date scaling output)")
+            made = timed([bins["bpm-simplify"], source, "-o", path, "--vertices", str(args.scaling_target)],
+                         os.path.join(work, f"check-make-loop{level}.log"), args.scaling_timeout)
+            row["made_here"] = True
+            if made["status"] != "ok":
+                row["error"] = f"bpm-simplify {made['status']}: {made['message']}"
+                rows.append(row)
+                write_atomic(md_path, check_markdown(header, rows))
+                continue
+        row["file_mb"] = os.path.getsize(path) / 1e6
+        stem = os.path.join(work, f"check-loop{level}")
+        log(f"check: {path} ({row['file_mb']:.0f} MB): all checks")
+        row["all"] = timed_check(bins, path, None, stem + "-all", args)
+        row["counts"] = check_counts(row["all"].get("report"))
+        log(f"  {row['all']['status']} {fmt(row['all']['seconds'], '.2f')} s {fmt(row['all']['peak_mb'], '.0f')} MB")
+        for c in CHECKS:
+            row[c] = timed_check(bins, path, c, f"{stem}-{c}", args)
+            log(f"  {c}: {row[c]['status']} {fmt(row[c]['seconds'], '.2f')} s")
+            row[c].pop("report", None)
+        row["all"].pop("report", None)
+        rows.append(row)
+        write_atomic(json_path, json.dumps({"run": header, "rows": rows}, indent=1) + "\n")
+        write_atomic(md_path, check_markdown(header, rows))
+    write_atomic(json_path, json.dumps({"run": header, "rows": rows}, indent=1) + "\n")
+    write_atomic(md_path, check_markdown(header, rows))
+    log(f"wrote {md_path}")
+
+
+def per_second(count, seconds):
+    return count / seconds if count is not None and seconds else None
+
+
+def kilo(v):
+    return "—" if v is None else f"{v / 1000.0:,.0f}k"
+
+
+def check_markdown(header, rows):
+    out = ["# bpm-check speed", "",
+           f"Measured {header['date']}; bpm commit {header['commit']}; {header.get('binary', '')}. "
+           "Generated by `bench/run.py check`.", "",
+           f"Inputs: the scaling suite's outputs, armadillo.off and its Loop subdivisions simplified by "
+           f"`bpm-simplify --vertices {header['target_vertices']}` (made here when missing or older than bpm-simplify). "
+           "Each run is `bpm-check --json FILE` (all four checks: format, intersections, topology, bijectivity) or "
+           "`bpm-check --json --checks C FILE` (one check), under `/usr/bin/time`: wall and CPU (user + system) "
+           "seconds of the whole process, reading the .bpm included; bpm-check is single-threaded. "
+           f"{'Best of ' + str(header['repeats']) + ' runs by CPU time; ' if header['repeats'] > 1 else ''}"
+           f"timeout {header['timeout_s']} s per run. The machine is shared, so wall times carry noise; CPU time is "
+           "the steadier number.", "",
+           "## All four checks", "",
+           "| input | original T | coarse T | pieces | nodes | file MB | wall s | CPU s | peak MB "
+           "| original T / s (CPU) | pieces / s (CPU) | result |",
+           "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|"]
+    for r in rows:
+        if "error" in r:
+            out.append(f"| {r['input']} | | | | | | **{r['error']}** | | | | | |")
+            continue
+        a, n = r["all"], r.get("counts", {})
+        if a["status"] != "ok":
+            out.append(f"| {r['input']} | | | | | {r['file_mb']:.0f} | **{a['status']}** {a['message']} | | | | | |")
+            continue
+        result = "pass" if a.get("passed") else "**fail**: " + ", ".join(a.get("failed_checks", []))
+        out.append(f"| {r['input']} | {n.get('original_triangles', '—')} | {n.get('coarse_triangles', '—')} | "
+                   f"{n.get('pieces', '—')} | {n.get('nodes', '—')} | {r['file_mb']:.0f} | {fmt(a['seconds'], '.2f')} | "
+                   f"{fmt(a['cpu_seconds'], '.2f')} | {fmt(a['peak_mb'], '.0f')} | "
+                   f"{kilo(per_second(n.get('original_triangles'), a['cpu_seconds']))} | "
+                   f"{kilo(per_second(n.get('pieces'), a['cpu_seconds']))} | {result} |")
+    out += ["", "## Each check alone", "",
+            "CPU seconds of `bpm-check --checks C` (one process per check, each reading the file). The `format` run "
+            "is reading + the format check, the cheapest run possible, so for the other checks the check's own time "
+            "is estimated as its run minus the `format` run (≥ 0; noise can hide a check faster than the noise). "
+            "Throughput is per check's own time, over what the check walks: intersections — coarse triangles; "
+            "topology — original + coarse triangles; bijectivity — pieces (they tile both surfaces).", "",
+            "| input | format (read + check) s | intersections s | topology s | bijectivity s "
+            "| intersections own s | topology own s | bijectivity own s "
+            "| intersections coarse T / s | topology T / s | bijectivity pieces / s |",
+            "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
+    for r in rows:
+        if "error" in r or r["all"]["status"] != "ok":
+            continue
+        n = r.get("counts", {})
+
+        def cpu(c):
+            res = r.get(c)
+            if not res:
+                return None
+            return res["cpu_seconds"] if res["status"] == "ok" else None
+
+        def cell(c):
+            res = r.get(c)
+            if res is None:
+                return "—"
+            if res["status"] != "ok":
+                return f"**{res['status']}**"
+            return fmt(res["cpu_seconds"], ".2f") + ("" if res.get("passed") else " (**fail**)")
+        base = cpu("format")
+        own = {c: (max(cpu(c) - base, 0.0) if cpu(c) is not None and base is not None else None)
+               for c in ("intersections", "topology", "bijectivity")}
+        units = {"intersections": n.get("coarse_triangles"),
+                 "topology": (n.get("original_triangles") or 0) + (n.get("coarse_triangles") or 0) or None,
+                 "bijectivity": n.get("pieces")}
+        out.append(f"| {r['input']} | {cell('format')} | {cell('intersections')} | {cell('topology')} | "
+                   f"{cell('bijectivity')} | " + " | ".join(fmt(own[c], ".2f") for c in own) + " | "
+                   + " | ".join(kilo(per_second(units[c], own[c])) if own[c] and own[c] > 0.005 else "—" for c in own)
+                   + " |")
+    out.append("")
+    return "\n".join(out)
+
+
+# ---------------------------------------------------------------- all: the one command
+
+def run_streamed(cmd, log_path, timeout, env=None, capture=None):
+    """Runs cmd from the repository root in its own process group, its standard error (and standard output unless
+    `capture` names a file for it) copied to log_path and to our standard error. On timeout the whole group is
+    ended (SIGTERM, then SIGKILL). Returns (status, exit code, seconds)."""
+    start = time.monotonic()
+    with open(log_path, "w") as lf:
+        lf.write("$ " + shlex.join(cmd) + "\n")
+        lf.flush()
+        out_file = open(capture, "w") if capture else None
+        proc = subprocess.Popen(cmd, cwd=ROOT, env=env, start_new_session=True, text=True, errors="replace",
+                                stdout=out_file if capture else subprocess.PIPE,
+                                stderr=subprocess.PIPE if capture else subprocess.STDOUT)
+        stream = proc.stderr if capture else proc.stdout
+
+        def pump():
+            for line in stream:
+                lf.write(line)
+                lf.flush()
+                sys.stderr.write(line)
+                sys.stderr.flush()
+        reader = threading.Thread(target=pump, daemon=True)
+        reader.start()
+        status = "ok"
+        try:
+            proc.wait(timeout=timeout)
+        except subprocess.TimeoutExpired:
+            status = "timeout"
+            for sig, grace in ((signal.SIGTERM, 20), (signal.SIGKILL, 10)):
+                try:
+                    os.killpg(proc.pid, sig)
+                except ProcessLookupError:
+                    break
+                try:
+                    proc.wait(timeout=grace)
+                    break
+                except subprocess.TimeoutExpired:
+                    continue
+        reader.join(timeout=10)
+        if out_file:
+            out_file.close()
+    seconds = time.monotonic() - start
+    if status == "ok" and proc.returncode != 0:
+        status = "failed"
+    return status, proc.returncode, seconds
+
+
+def package_versions(names):
+    out = {}
+    for n in names:
+        p = subprocess.run(["dpkg-query", "-W", "-f", "${Version}", n], capture_output=True, text=True)
+        out[n] = p.stdout.strip() if p.returncode == 0 and p.stdout.strip() else "not installed"
+    return out
+
+
+def compiler_line(build_dir):
+    try:
+        with open(os.path.join(build_dir, "CMakeCache.txt")) as f:
+            for line in f:
+                if line.startswith("CMAKE_CXX_COMPILER:"):
+                    cxx = line.split("=", 1)[1].strip()
+                    v = subprocess.run([cxx, "--version"], capture_output=True, text=True).stdout.splitlines()
+                    return v[0] if v else cxx
+    except OSError:
+        pass
+    return "unknown"
+
+
+def os_name():
+    try:
+        with open("/etc/os-release") as f:
+            for line in f:
+                if line.startswith("PRETTY_NAME="):
+                    return line.split("=", 1)[1].strip().strip('"')
+    except OSError:
+        pass
+    return platform.system()
+
+
+def demote(md):
+    """A results file's markdown with every heading one level lower, to sit inside RESULTS.md."""
+    lines, fence = [], False
+    for line in md.splitlines():
+        if line.startswith("```"):
+            fence = not fence
+        if not fence and line.startswith("#"):
+            line = "##" + line
+        lines.append(line)
+    return "\n".join(lines).strip() + "\n"
+
+
+def suite_args(args, suite):
+    """The explicit options forwarded to `run.py SUITE`, so the recorded command says everything that matters."""
+    common = ["--no-build", "--build-dir", rel(args.build_dir), "--results-dir", rel(args.results_dir)]
+    if suite == "simplify":
+        return common + ["--meshes", ",".join(args.meshes), "--tools", ",".join(args.tools),
+                         "--timeout", str(args.timeout), "--samples", str(args.samples)] + (
+            [f"--psurface-flags={args.psurface_flags}"] if args.psurface_flags else [])
+    if suite == "scaling":
+        return common + ["--levels", ",".join(map(str, args.levels)), "--scaling-target", str(args.scaling_target),
+                         "--scaling-timeout", str(args.scaling_timeout)]
+    return common + ["--check-levels", ",".join(map(str, args.check_levels)),
+                     "--scaling-target", str(args.scaling_target), "--scaling-timeout", str(args.scaling_timeout),
+                     "--check-timeout", str(args.check_timeout), "--check-repeats", str(args.check_repeats)]
+
+
+def all_suites(args, invocation):
+    results_md = args.results_file
+    out_dir = os.path.dirname(results_md)
+    os.makedirs(out_dir, exist_ok=True)
+    logs = os.path.join(args.build_dir, "bench-work", "logs")
+    os.makedirs(logs, exist_ok=True)
+    started = utcnow()
+    load_start = load_average()
+    run = {"started": started, "load_start": load_start, "commit": git_commit(), "invocation": invocation,
+           "steps": [], "build": None}
+
+    def link(path):
+        return os.path.relpath(path, out_dir)
+
+    def write():
+        write_atomic(results_md, results_markdown(args, run, link))
+
+    def step(name, title, cmd, timeout, result_globs=(), env=None, capture=None, note=None, display_env=""):
+        log(f"== {title}: {shlex.join(cmd)}")
+        t0 = time.time()
+        status, code, seconds = run_streamed(cmd, os.path.join(logs, f"{name}.log"), timeout, env=env, capture=capture)
+        log(f"== {title}: {status} (exit {code}, {seconds:.0f} s)")
+        files = []
+        for pattern in result_globs:
+            for p in sorted(glob.glob(pattern)):
+                if p.endswith(".md"):
+                    files.append({"path": p, "fresh": os.path.getmtime(p) >= t0 - 1})
+        run["steps"].append({"name": name, "title": title, "command": display_env + shlex.join(cmd),
+                             "status": status, "exit": code, "seconds": seconds, "timeout": timeout,
+                             "files": files, "capture": capture, "note": note,
+                             "log": os.path.join(logs, f"{name}.log")})
+        write()
+
+    write()
+    if not args.no_build:
+        t0 = time.monotonic()
+        try:
+            commands = build(args.build_dir, args.jobs)
+            run["build"] = {"status": "ok", "commands": commands, "seconds": time.monotonic() - t0}
+        except subprocess.CalledProcessError as e:
+            run["build"] = {"status": f"failed (exit {e.returncode})", "commands": [e.cmd],
+                            "seconds": time.monotonic() - t0}
+            write()
+            sys.exit(f"run.py: error: the build failed: {shlex.join(e.cmd)}")
+    else:
+        run["build"] = {"status": "skipped (--no-build)", "commands": [], "seconds": 0.0}
+    run["versions"] = {"compiler": compiler_line(args.build_dir), "bpm-simplify binary": binary_line(
+        os.path.join(args.build_dir, "bin", "bpm-simplify")),
+        **package_versions(["libcgal-dev", "libhdf5-dev", "psurface", "tetgen"])}
+    write()
+
+    py = [PYTHON, rel(os.path.join(BENCH, "run.py"))]
+    suite_timeout = args.external_timeout
+    step("simplify", "simplify: bpm vs psurface vs CGAL", py + ["simplify"] + suite_args(args, "simplify"), suite_timeout,
+         [os.path.join(args.results_dir, "simplify.md")])
+    if not args.quick and "psurface" in args.tools and not args.psurface_flags:
+        variant = [a for a in suite_args(args, "simplify")]
+        variant[variant.index("--tools") + 1] = ",".join(t for t in args.tools if t != "cgal")
+        step("simplify-psurface-s", "simplify, psurface forbidding self-intersections (-s)",
+             py + ["simplify"] + variant + ["--psurface-flags=-s", "--suffix=-psurface-s"], suite_timeout,
+             [os.path.join(args.results_dir, "simplify-psurface-s.md")])
+    step("scaling", "scaling", py + ["scaling"] + suite_args(args, "scaling"), suite_timeout, [os.path.join(args.results_dir, "scaling.md")])
+    step("check", "check speed", py + ["check"] + suite_args(args, "check"), suite_timeout, [os.path.join(args.results_dir, "check.md")])
+
+    # The external scripts: options are passed only when the script's text mentions them. Their results go to
+    # args.results_dir when they take --results-dir; a quick run skips a script that cannot be redirected, so that
+    # a trial never overwrites bench/results (corpus.sh excepted: its run is the whole corpus in both modes).
+    def external(name, title, script, cmd, quick_options, globs_name, env=None, display_env=""):
+        text = open(script).read()
+        if not all(o in text for o in ("--no-build", "--build-dir")):
+            return False
+        cmd = cmd + ["--no-build", "--build-dir", rel(args.build_dir)]
+        results_dir = RESULTS
+        if "--results-dir" in text:
+            cmd += ["--results-dir", rel(args.results_dir)]
+            results_dir = args.results_dir
+        elif args.quick:
+            run["steps"].append({"name": name, "title": title, "command": None, "status": "skipped", "files": [],
+                                 "note": f"{rel(script)} takes no --results-dir, so --quick skips it rather than let "
+                                         f"it overwrite bench/results; the full run includes it."})
+            write()
+            return True
+        if args.quick:
+            quick_work = os.path.join(os.path.dirname(args.results_file), f"{name}-work")  # apart from full runs
+            cmd += [x for option, value in quick_options + [("--work-dir", rel(quick_work))] if option in text
+                    for x in (option, value)]
+        step(name, title, cmd, args.external_timeout, [os.path.join(results_dir, globs_name)], env=env,
+             display_env=display_env)
+        return True
+
+    refine = os.path.join(BENCH, "refine.py")
+    refine_title = "refinement convergence, shape, φ throughput"
+    if not os.path.exists(refine):
+        run["steps"].append({"name": "refine", "title": refine_title, "command": None, "status": "absent", "files": [],
+                             "note": "bench/refine.py does not exist in this tree, so the refinement tables "
+                                     "(convergence, shape, φ evaluation throughput) were not measured."})
+        write()
+    elif not external("refine", refine_title, refine, [PYTHON, rel(refine)],
+                      [("--meshes", QUICK_REFINE_MESHES)], "refine*.md"):
+        run["steps"].append({"name": "refine", "title": refine_title, "command": None, "status": "not run",
+                             "files": [], "note": "bench/refine.py does not take `--no-build --build-dir` yet."})
+        write()
+
+    tetmesh = os.path.join(BENCH, "tetmesh.sh")
+    env = dict(os.environ)
+    display_env = ""
+    if args.quick:
+        env["BPM_BENCH_MAX_TETS"] = QUICK_MAX_TETS
+        display_env = f"BPM_BENCH_MAX_TETS={QUICK_MAX_TETS} "
+    if not external("tetmesh", "tet meshes", tetmesh, [rel(tetmesh)],
+                    [("--meshes", QUICK_TETMESH_MESHES), ("--max-tets", QUICK_MAX_TETS)], "tetmesh*.md",
+                    env=env, display_env=display_env):
+        capture = os.path.join(args.build_dir, "bench-work", "tetmesh-stdout.txt")
+        work = os.path.join(args.build_dir, "bench-work", "tetmesh")
+        step("tetmesh", "tet meshes", [rel(tetmesh), rel(os.path.join(args.build_dir, "bin")), rel(work)],
+             args.external_timeout, env=env, capture=capture, display_env=display_env,
+             note="bench/tetmesh.sh does not accept `--no-build --build-dir` yet and writes no results file; it was "
+                  "run with its positional interface (TOOL_DIR WORK_DIR) on the binaries built above, and its "
+                  "standard output is copied below.")
+
+    step("corpus", "the whole libcgal-demo corpus", [rel(os.path.join(BENCH, "corpus.sh")), rel(args.build_dir)],
+         args.external_timeout, [os.path.join(RESULTS, "corpus.md")])
+
+    run["finished"] = utcnow()
+    run["load_end"] = load_average()
+    write()
+    log(f"wrote {results_md}")
+    failed = [s["name"] for s in run["steps"] if s["status"] in ("failed", "timeout")]
+    if failed:
+        log(f"steps that did not finish cleanly: {', '.join(failed)}")
+        sys.exit(1)
+
+
+def results_markdown(args, run, link):
+    mem = memory_gib()
+    ls, le = run["load_start"], run.get("load_end")
+    out = ["# bpm benchmark results", ""]
+    if args.quick:
+        out += ["> **Quick mode** (`--quick`): fewer meshes, fewer subdivision levels, fewer samples, shorter "
+                "timeouts. For trying the command out, not for quoting. The full run is `bench/all.sh`.", ""]
+    finished = run.get("finished")
+    out += [f"Generated by `{run['invocation']}`, started {run['started']:%Y-%m-%d %H:%M} UTC"
+            + (f", finished {finished:%H:%M} UTC ({(finished - run['started']).total_seconds() / 60:.0f} min)."
+               if finished else " — **still running or interrupted**: the sections below are what has finished."),
+            "", "## Machine and software", "",
+            "| | |", "|---|---|",
+            f"| CPU | {cpu_model()}, {os.cpu_count()} cores |",
+            f"| memory | {'unknown' if mem is None else f'{mem:.1f} GiB'} |",
+            f"| load average at start (1 / 5 / 15 min) | {ls[0]:.2f} / {ls[1]:.2f} / {ls[2]:.2f} |"]
+    if le:
+        out.append(f"| load average at the end | {le[0]:.2f} / {le[1]:.2f} / {le[2]:.2f} |")
+    out += [f"| system | {os_name()}, Linux {platform.release()} |",
+            f"| bpm commit | {run['commit']} |"]
+    for k, v in run.get("versions", {}).items():
+        out.append(f"| {k} | {v} |")
+    out += ["", "The suites run one after the other, each tool single-threaded. On a shared or loaded machine the "
+                "wall times carry noise; the tables also give CPU seconds, the steadier number.", "",
+            "## Commands", "",
+            "Run from the repository root, in this order; logs in "
+            f"`{rel(os.path.join(args.build_dir, 'bench-work', 'logs'))}/`.", ""]
+    b = run.get("build")
+    n = 0
+    if b and not b["commands"]:
+        out += [f"Build: {b['status']}: the binaries already in `{rel(os.path.join(args.build_dir, 'bin'))}` "
+                "were used.", ""]
+    elif b:
+        for c in b["commands"]:
+            n += 1
+            out.append(f"{n}. `{shlex.join(rel(x) if os.path.isabs(x) else x for x in c)}`")
+        out.append(f"   — build: {b['status']}, {b['seconds']:.0f} s")
+    for s in run["steps"]:
+        n += 1
+        if s.get("command"):
+            out.append(f"{n}. `{s['command']}`")
+            out.append(f"   — {s['title']}: **{s['status']}** (exit {s['exit']}, {s['seconds']:.0f} s, "
+                       f"timeout {s['timeout']} s)")
+        else:
+            out.append(f"{n}. {s['title']}: **{s['status']}** — {s['note']}")
+    out.append("")
+
+    for s in run["steps"]:
+        out += [f"## {s['title'][0].upper() + s['title'][1:]}", ""]
+        if s.get("command"):
+            out.append(f"`{s['command']}` — **{s['status']}** (exit {s['exit']}, {s['seconds']:.0f} s).")
+            out.append("")
+        if s.get("note"):
+            out += [s["note"], ""]
+        if s.get("status") in ("failed", "timeout") and s.get("log"):
+            try:
+                with open(s["log"], errors="replace") as f:
+                    tail = [l.rstrip() for l in f.read().splitlines()[1:] if l.strip()][-15:]
+            except OSError:
+                tail = []
+            out += [f"Last lines of its output ({rel(s['log'])}):", "", "```"] + (tail or ["(none)"]) + ["```", ""]
+        if s.get("capture"):
+            try:
+                with open(s["capture"]) as f:
+                    text = f.read().strip()
+            except OSError:
+                text = ""
+            out += ["```", text or "(no output)", "```", ""]
+        for f in s.get("files", []):
+            if not f["fresh"]:
+                out += [f"[{os.path.basename(f['path'])}]({link(f['path'])}) was **not rewritten by this run** "
+                        "(left from an earlier one); not copied here.", ""]
+                continue
+            out += [f"From [{os.path.basename(f['path'])}]({link(f['path'])}):", ""]
+            with open(f["path"]) as fh:
+                out.append(demote(fh.read()))
+        if not s.get("files") and not s.get("capture") and s.get("command"):
+            out += ["No results file was written.", ""]
     return "\n".join(out)
 
 
@@ -451,38 +1065,71 @@ def scaling_markdown(header, rows):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("suite", nargs="?", default="all", choices=["simplify", "scaling", "all"])
+    ap.add_argument("suite", nargs="?", default="all", choices=["simplify", "scaling", "check", "all"])
+    ap.add_argument("--quick", action="store_true",
+                    help="fewer meshes and levels, fewer samples, shorter timeouts; results to BUILD_DIR/bench-quick")
     ap.add_argument("--build-dir", default=os.path.join(ROOT, "build-bench"))
     ap.add_argument("--no-build", action="store_true", help="use the binaries already in BUILD_DIR/bin")
     ap.add_argument("--jobs", type=int, default=2)
-    ap.add_argument("--meshes", default=",".join(DEFAULT_MESHES), help="comma-separated names in .data/meshes")
-    ap.add_argument("--timeout", type=int, default=900, help="seconds per tool run in the simplify suite")
-    ap.add_argument("--samples", type=int, default=500000, help="bpm-bench-metrics --samples")
+    ap.add_argument("--results-dir", help="where results/*.md go (default bench/results; with --quick "
+                                          "BUILD_DIR/bench-quick/results)")
+    ap.add_argument("--meshes", help=f"comma-separated names in .data/meshes (default {PROFILES['meshes'][0]}; "
+                                     f"--quick: {PROFILES['meshes'][1]})")
+    ap.add_argument("--tools", default=",".join(TOOLS), help="simplify suite: which of bpm,psurface,cgal to run")
+    ap.add_argument("--timeout", type=int, help="seconds per tool run in the simplify suite (900; --quick 300)")
+    ap.add_argument("--samples", type=int, help="bpm-bench-metrics --samples (500000; --quick 100000)")
     ap.add_argument("--psurface-flags", default="", help="extra psurface-simplify flags, e.g. '-s'")
     ap.add_argument("--suffix", default="", help="results go to results/simplify<SUFFIX>.md etc. (e.g. '-psurface-s')")
-    ap.add_argument("--levels", default="0,1,2", help="Loop subdivision levels for the scaling suite")
+    ap.add_argument("--levels", help="Loop subdivision levels for the scaling suite (0,1,2; --quick 0,1)")
     ap.add_argument("--scaling-target", type=int, default=10000)
-    ap.add_argument("--scaling-timeout", type=int, default=900)
+    ap.add_argument("--scaling-timeout", type=int, help="seconds per scaling run (900; --quick 300)")
+    ap.add_argument("--check-levels", help="check suite: which scaling outputs to check (0,1,2; --quick 0,1)")
+    ap.add_argument("--check-timeout", type=int, help="seconds per bpm-check run (900; --quick 300)")
+    ap.add_argument("--check-repeats", type=int, help="check suite: runs per measurement, the best is kept (3; --quick 1)")
+    ap.add_argument("--external-timeout", type=int,
+                    help="all: seconds per suite and per external script (7200; --quick 1800)")
     args = ap.parse_args()
+    argv = sys.argv[1:]
+    if os.environ.pop("BPM_BENCH_VIA_ALL_SH", None) and argv[:1] == ["all"]:
+        invocation = shlex.join(["bench/all.sh"] + argv[1:])
+    else:
+        invocation = shlex.join([PYTHON, "bench/run.py"] + argv)
+    for key, (full, quick) in PROFILES.items():
+        if getattr(args, key) is None:
+            setattr(args, key, quick if args.quick else full)
     args.meshes = [m for m in args.meshes.split(",") if m]
-    args.levels = [int(l) for l in args.levels.split(",") if l]
+    args.levels = [int(l) for l in str(args.levels).split(",") if l]
+    args.check_levels = [int(l) for l in str(args.check_levels).split(",") if l]
+    args.tools = [t for t in args.tools.split(",") if t]
+    bad = [t for t in args.tools if t not in TOOLS]
+    if bad:
+        ap.error(f"--tools: unknown {', '.join(bad)} (choose from {', '.join(TOOLS)})")
     args.build_dir = os.path.abspath(args.build_dir)
+    quick_dir = os.path.join(args.build_dir, "bench-quick")
+    if args.results_dir is None:
+        args.results_dir = os.path.join(quick_dir, "results") if args.quick else RESULTS
+    args.results_dir = os.path.abspath(args.results_dir)
+    args.results_file = os.path.join(quick_dir if args.quick else BENCH, "RESULTS.md")
+    work = os.path.join(args.build_dir, "bench-work")
+    os.makedirs(work, exist_ok=True)
+    os.makedirs(args.results_dir, exist_ok=True)
 
+    if args.suite == "all":
+        all_suites(args, invocation)
+        return
+
+    targets = list(SUITE_TARGETS[args.suite])
+    if args.suite == "simplify" and "cgal" not in args.tools:
+        targets.remove("bpm-bench-cgal-decimate")
     if not args.no_build:
-        build(args.build_dir, args.jobs)
-    bins = {t: os.path.join(args.build_dir, "bin", t) for t in ("bpm-simplify", "bpm-check", "bpm-bench-metrics")}
+        build(args.build_dir, args.jobs, targets)
+    bins = {t: os.path.join(args.build_dir, "bin", t) for t in targets}
     for t, p in bins.items():
         if not os.access(p, os.X_OK):
             sys.exit(f"run.py: error: {p} missing (build first)")
-    if args.suite in ("simplify", "all") and not shutil.which("psurface-simplify"):
+    if args.suite == "simplify" and "psurface" in args.tools and not shutil.which("psurface-simplify"):
         log("warning: psurface-simplify not found; its rows will say 'failed'")
-    work = os.path.join(args.build_dir, "bench-work")
-    os.makedirs(work, exist_ok=True)
-    os.makedirs(RESULTS, exist_ok=True)
-    if args.suite in ("simplify", "all"):
-        simplify_suite(args, bins, work)
-    if args.suite in ("scaling", "all"):
-        scaling_suite(args, bins, work)
+    {"simplify": simplify_suite, "scaling": scaling_suite, "check": check_suite}[args.suite](args, bins, work)
 
 
 if __name__ == "__main__":
