@@ -57,7 +57,7 @@ int main(int argc, char** argv) {
                  "Repair: drop input vertices that no triangle uses (reported)");
     app.add_option("--units", units, "Length unit of the coordinates, recorded in the file (e.g. mm)");
     app.add_option("--threads", options.threads,
-                   "Threads that share the planning (default: up to 2); the output does not depend on it")
+                   "Threads that share the planning (default 1; 0 = up to 2 as the hardware allows); the output does not depend on it")
         ->check(CLI::Range(0, 64));
     app.add_flag("--trace", options.trace_removals, "With -v: one line per removed vertex (cost, error, aspect ratio)");
     bpm::tools::add_output_tool_flags(app, tool, deterministic, verbose, quiet);

@@ -53,8 +53,10 @@ struct SimplifyOptions {
     // Log every removal (vertex, cost, error, aspect) through Context::debug.
     bool trace_removals = false;
     // Threads that share the planning (0 = up to 2, as the hardware allows). The output
-    // is the same for every thread count.
-    int threads = 0;
+    // is the same for every thread count. Default 1: on a loaded machine the second
+    // thread's spinning cost more CPU than it saved (bench/results/simplify.md); its
+    // wall-clock gain on an idle machine is not measured yet.
+    int threads = 1;
 };
 
 struct SimplifyResult {
