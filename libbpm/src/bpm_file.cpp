@@ -409,6 +409,62 @@ void write_tetmesh_group(const Writer& w, hid_t f, const TetMesh& m) {
                         H5T_NATIVE_INT32);
 }
 
+// ---------------------------------------------------------------------------
+// The optional /simplification_steps group (format 1.1, spec/bpm-format.md §10.1):
+// the record of bpm-simplify --record-steps. Self-contained: the checks, the writer
+// and (below, after Reader) the reader of this group.
+// ---------------------------------------------------------------------------
+
+// The first violation of the rules of §10.1 that the format itself can check (sizes,
+// CSR offsets, index ranges), beginning with the dataset path; empty if none. What the
+// steps mean (is each a valid point removal?) is bpm-check --replay's business.
+std::string find_steps_inconsistency(const SimplificationSteps& s, int64_t nv0) {
+    const std::string g = "/simplification_steps";
+    const int64_t ns = s.num_steps(), nr = s.num_triangles();
+    if (static_cast<int64_t>(s.triangle_offsets.size()) != ns + 1)
+        return g + "/triangle_offsets: has " + num(s.triangle_offsets.size()) + " entries, expected " + num(ns + 1) +
+               " (entries of " + g + "/vertex + 1)";
+    if (static_cast<int64_t>(s.triangle_patches.size()) != nr)
+        return g + "/triangle_patches: has " + num(s.triangle_patches.size()) + " entries but " + g +
+               "/triangles has " + num(nr) + " rows";
+    for (int64_t i = 0; i < ns; ++i) {
+        const int64_t v = s.vertex[static_cast<size_t>(i)];
+        if (v < 0 || v >= nv0)
+            return g + "/vertex: entry " + num(i) + " = " + num(v) + " is out of range [0, " + num(nv0) +
+                   ") (number of rows of /original/vertices)";
+    }
+    if (s.triangle_offsets[0] != 0)
+        return g + "/triangle_offsets: entry 0 is " + num(s.triangle_offsets[0]) + ", must be 0";
+    for (size_t i = 1; i < s.triangle_offsets.size(); ++i)
+        if (s.triangle_offsets[i] < s.triangle_offsets[i - 1])
+            return g + "/triangle_offsets: entry " + num(i) + " = " + num(s.triangle_offsets[i]) +
+                   " is smaller than entry " + num(i - 1) + " = " + num(s.triangle_offsets[i - 1]) +
+                   "; offsets must be non-decreasing";
+    if (s.triangle_offsets.back() != nr)
+        return g + "/triangle_offsets: last entry is " + num(s.triangle_offsets.back()) + " but " + g +
+               "/triangles has " + num(nr) + " rows";
+    for (int64_t t = 0; t < nr; ++t)
+        for (int c = 0; c < 3; ++c) {
+            const int64_t v = s.triangles[static_cast<size_t>(t)][c];
+            if (v < 0 || v >= nv0)
+                return g + "/triangles: entry [" + num(t) + ", " + num(c) + "] = " + num(v) + " is out of range [0, " +
+                       num(nv0) + ") (number of rows of /original/vertices)";
+        }
+    return {};
+}
+
+// Written only when the file has a record, so files without one keep their exact bytes.
+void write_simplification_steps_group(const Writer& w, hid_t f, const SimplificationSteps& s) {
+    Handle g = w.create_group(f, "simplification_steps");
+    w.write_dataset(g, "vertex", s.vertex.data(), s.vertex.size(), 0, H5T_STD_I32LE, H5T_NATIVE_INT32);
+    w.write_dataset(g, "triangle_offsets", s.triangle_offsets.data(), s.triangle_offsets.size(), 0, H5T_STD_I64LE,
+                    H5T_NATIVE_INT64);
+    const auto tri = flatten(s.triangles);
+    w.write_dataset(g, "triangles", tri.data(), s.triangles.size(), 3, H5T_STD_I32LE, H5T_NATIVE_INT32);
+    w.write_dataset(g, "triangle_patches", s.triangle_patches.data(), s.triangle_patches.size(), 0, H5T_STD_I32LE,
+                    H5T_NATIVE_INT32);
+}
+
 std::string build_image(const BpmFile& file, const std::string& where) {
     silence_hdf5();
     if (auto problem = find_inconsistency(file); !problem.empty())
@@ -416,6 +472,10 @@ std::string build_image(const BpmFile& file, const std::string& where) {
     if (file.tetmesh)
         if (auto problem = find_tetmesh_inconsistency(*file.tetmesh, file.param.coarse); !problem.empty())
             throw OutputError(where, "refusing to write an inconsistent tetrahedral mesh: " + problem);
+    if (file.simplification_steps)
+        if (auto problem = find_steps_inconsistency(*file.simplification_steps, file.param.original.num_vertices());
+            !problem.empty())
+            throw OutputError(where, "refusing to write an inconsistent record of simplification steps: " + problem);
     const Parametrization& p = file.param;
     Writer w(where);
 
@@ -521,6 +581,7 @@ std::string build_image(const BpmFile& file, const std::string& where) {
         Handle fd = w.create_group(g, "FieldData");
     }
     if (file.tetmesh) write_tetmesh_group(w, f, *file.tetmesh);
+    if (file.simplification_steps) write_simplification_steps_group(w, f, *file.simplification_steps);
 
     w.check(H5Fflush(f, H5F_SCOPE_GLOBAL), "cannot flush the in-memory file");
     const ssize_t size = H5Fget_file_image(f, nullptr, 0);
@@ -827,6 +888,23 @@ TetMesh read_tetmesh_group(const Reader& r, const Surface& coarse) {
     return m;
 }
 
+// The optional /simplification_steps group (§10.1). Every extent is checked against
+// the file size by Reader::read_ints before anything is allocated; values are checked
+// by find_steps_inconsistency, the same rules the writer enforces.
+SimplificationSteps read_simplification_steps_group(const Reader& r, int64_t nv0) {
+    const std::string g = "/simplification_steps";
+    SimplificationSteps s;
+    hsize_t ns = 0, rows = 0, nr = 0;
+    s.vertex = narrow(r, r.read_ints(g + "/vertex", 0, "(#S,)", ns), g + "/vertex");
+    s.triangle_offsets = r.read_ints(g + "/triangle_offsets", 0, "(#S+1,)", rows);
+    expect_rows(r, rows, ns + 1, g + "/triangle_offsets", "entries of " + g + "/vertex + 1");
+    s.triangles = to_tri(narrow(r, r.read_ints(g + "/triangles", 3, "(#R, 3)", nr), g + "/triangles"));
+    s.triangle_patches = narrow(r, r.read_ints(g + "/triangle_patches", 0, "(#R,)", rows), g + "/triangle_patches");
+    expect_rows(r, rows, nr, g + "/triangle_patches", "one per row of " + g + "/triangles");
+    if (auto problem = find_steps_inconsistency(s, nv0); !problem.empty()) r.fail(problem);
+    return s;
+}
+
 BpmFile read_image(const std::string& bytes, const std::string& where) {
     silence_hdf5();
     if (bytes.empty()) throw InputError(where, "empty input, not a bpm file");
@@ -924,6 +1002,8 @@ BpmFile read_image(const std::string& bytes, const std::string& where) {
 
     if (auto problem = find_inconsistency(out); !problem.empty()) r.fail(problem);
     if (r.exists("/tetmesh")) out.tetmesh = read_tetmesh_group(r, p.coarse);
+    if (r.exists("/simplification_steps"))
+        out.simplification_steps = read_simplification_steps_group(r, p.original.num_vertices());
     // Non-crossing nodes carry NaN as their edge parameter; normalise whatever the file
     // had so that a read file compares equal to what was written.
     for (size_t i = 0; i < p.node_edge_parameter.size(); ++i)

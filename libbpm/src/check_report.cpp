@@ -63,6 +63,16 @@ void json_ids(std::string& out, const std::vector<std::pair<std::string, int64_t
     out += '}';
 }
 
+void json_value(std::string& out, const WorstValue& v) {
+    out += "{\"name\": ";
+    json_string(out, v.name);
+    out += ", \"value\": ";
+    json_number(out, v.value);
+    out += ", \"ids\": ";
+    json_ids(out, v.ids);
+    out += "}";
+}
+
 }  // namespace
 
 namespace detail {
@@ -138,6 +148,8 @@ CheckReport run_checks(const BpmFile& file, const CheckSelection& sel, const Che
     if (sel.bijectivity) report.checks.push_back(check_bijectivity(p, options, context));
     if (options.max_aspect_ratio || options.min_angle_degrees)
         report.checks.push_back(check_quality(p.coarse, options, context));
+    if (options.max_error) report.checks.push_back(check_distance(p, options, context));
+    if (sel.replay) report.checks.push_back(check_replay(file, options, context));
     return report;
 }
 
@@ -185,15 +197,17 @@ std::string check_report_to_json(const CheckReport& report) {
         o += c.problems.empty() ? "]" : "\n     ]";
         o += ",\n     \"worst\": ";
         if (c.worst) {
-            o += "{\"name\": ";
-            json_string(o, c.worst->name);
-            o += ", \"value\": ";
-            json_number(o, c.worst->value);
-            o += ", \"ids\": ";
-            json_ids(o, c.worst->ids);
-            o += "}";
+            json_value(o, *c.worst);
         } else {
             o += "null";
+        }
+        if (!c.measures.empty()) {  // added in the distance check; absent elsewhere
+            o += ",\n     \"measures\": [";
+            for (size_t j = 0; j < c.measures.size(); ++j) {
+                o += j ? ",\n       " : "\n       ";
+                json_value(o, c.measures[j]);
+            }
+            o += "\n     ]";
         }
         o += "}";
     }

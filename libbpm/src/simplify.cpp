@@ -384,6 +384,7 @@ SimplifyResult Simplifier::run(Parametrization& out) {
         target = std::max(target, by_ratio);
     }
     last_reason_.assign(original_.vertices.size(), std::string());
+    if (options_.record_steps) result.steps.emplace();  // record of the removals (bpm-check --replay)
 
     const int32_t nv = original_.num_vertices();
     // Every plan below reads the state and writes only its own outputs, so the planning
@@ -495,6 +496,7 @@ SimplifyResult Simplifier::run(Parametrization& out) {
         const int32_t first_new = mesh_.triangle_capacity();
         first_new_ = first_new;
         commit_removal(mesh_, embedding_, plan_);
+        if (result.steps) result.steps->append(top.vertex, plan_.new_triangles, plan_.new_patches);
         for (int32_t t = first_new; t < mesh_.triangle_capacity(); ++t) {
             const Tri& c = mesh_.triangle(t);
             grid_.insert(t, x[c[0]], x[c[1]], x[c[2]]);

@@ -4,9 +4,11 @@
 #include <cmath>
 #include <filesystem>
 #include <functional>
+#include <map>
 
 #include "bpm/check.h"
 #include "bpm/predicates.h"
+#include "bpm/simplify.h"
 #include "bpm/surface_io.h"
 #include "fixtures_phi.h"
 #include "fixtures_surfaces.h"
@@ -565,4 +567,422 @@ TEST_CASE("surface-level intersection cases", "[check]") {
                 if (v == off) v = 0;
         CHECK(check_intersections(s).passed);
     }
+}
+
+// ---- distance (--max-error) --------------------------------------------------------
+
+namespace {
+
+const WorstValue* measure(const CheckResult& r, const std::string& name) {
+    for (const WorstValue& m : r.measures)
+        if (m.name == name) return &m;
+    return nullptr;
+}
+
+int64_t id_of(const std::vector<std::pair<std::string, int64_t>>& ids, const std::string& kind) {
+    for (const auto& [k, v] : ids)
+        if (k == kind) return v;
+    return -1;
+}
+
+// S0: the unit square as a 2 x 2 grid with the centre vertex lifted by h (a tent);
+// S: the flat square (two triangles). Every point of S0 is at most h above the plane
+// of S, the apex exactly h, and every point of S is at most h below S0, so both
+// Hausdorff distances between S and S0 are exactly h.
+Parametrization tent(double h) {
+    return test::make_height_field(2, 1, [h](double x, double y) { return x == 0.5 && y == 0.5 ? h : 0.0; });
+}
+
+}  // namespace
+
+TEST_CASE("distance gate: a coarse surface that deviates by a known amount fails below it and passes above",
+          "[check][distance]") {
+    const double h = 0.1;
+    const Parametrization p = tent(h);
+    require_all_pass(p);
+    const double expected = h / bounding_box_diagonal(p.original);  // h / sqrt(2 + h^2)
+    CheckOptions o;
+    o.max_error = 0.99 * expected;
+    const CheckResult below = check_distance(p, o);
+    INFO(problems_text(below));
+    CHECK_FALSE(below.passed);
+    REQUIRE(below.worst);
+    CHECK(below.worst->name == "coarse_hausdorff");
+    CHECK(below.worst->value == Approx(expected).epsilon(1e-12));
+    // The apex is where S0 is farthest from S: in original triangles at vertex 4, over
+    // the coarse triangles (both touch the apex's position on the diagonal).
+    CHECK(id_of(below.worst->ids, "coarse_triangle") >= 0);
+    CHECK(id_of(below.worst->ids, "original_triangle") >= 0);
+    REQUIRE(below.problem_count == 1);
+    CHECK(below.problems[0].message.find("coarse surface") != std::string::npos);
+    // The exact bound max |phi(x) - x| is attained at the apex node: also h.
+    REQUIRE(measure(below, "coarse_to_original_bound"));
+    CHECK(measure(below, "coarse_to_original_bound")->value == Approx(expected).epsilon(1e-12));
+    REQUIRE(measure(below, "original_to_coarse"));
+    CHECK(measure(below, "original_to_coarse")->value == Approx(expected).epsilon(1e-12));
+    REQUIRE(measure(below, "coarse_to_original"));
+    CHECK(measure(below, "coarse_to_original")->value <= expected * (1 + 1e-12));
+    CHECK(measure(below, "coarse_to_original")->value > 0.5 * expected);
+    REQUIRE(measure(below, "image_hausdorff"));
+    CHECK(measure(below, "image_hausdorff")->value < 1e-14);
+
+    o.max_error = 1.01 * expected;
+    const CheckResult above = check_distance(p, o);
+    INFO(problems_text(above));
+    CHECK(above.passed);
+    CHECK(above.worst->value == below.worst->value);
+}
+
+TEST_CASE("distance gate: a broken image of phi is caught where it is", "[check][distance]") {
+    Parametrization p = test::make_height_field(8, 2, test::default_height);
+    CheckOptions o;
+    o.max_error = 0.2;  // the coarse surface is about 0.09 of the diagonal away
+    const CheckResult good = check_distance(p, o);
+    INFO(problems_text(good));
+    CHECK(good.passed);
+    CHECK(measure(good, "image_hausdorff")->value < 1e-14);
+    // Move the image of one node inside coarse triangle 5 off the surface.
+    int64_t node = -1;
+    for (int64_t n = p.node_offsets[5]; n < p.node_offsets[6] && node < 0; ++n)
+        if (p.node_kind[n] == NodeKind::OriginalVertex) node = n;
+    REQUIRE(node >= 0);
+    p.node_image[node][2] += 2.0;
+    const CheckResult bad = check_distance(p, o);
+    INFO(problems_text(bad));
+    CHECK_FALSE(bad.passed);
+    const WorstValue* image = measure(bad, "image_hausdorff");
+    REQUIRE(image);
+    CHECK(image->value > 0.5);
+    CHECK(id_of(image->ids, "coarse_triangle") == 5);
+    REQUIRE(bad.problem_count >= 1);
+    CHECK(bad.problems[0].message.find("phi's image") != std::string::npos);
+    CHECK(bad.problems[0].id("coarse_triangle") == 5);
+}
+
+TEST_CASE("distance: sampled estimates respect the exact bound and are deterministic", "[check][distance]") {
+    for (const Parametrization& p : {test::make_height_field(12, 3, test::default_height),
+                                     test::make_subdivided_octahedron(3)}) {
+        CheckOptions o;
+        o.max_error = 1.0;
+        o.error_sample_spacing = 1e-2;
+        const CheckResult a = check_distance(p, o);
+        INFO(problems_text(a));
+        CHECK(a.passed);
+        const double bound = measure(a, "coarse_to_original_bound")->value;
+        // The one-sided distance S -> S0 is at most max |phi(x) - x| (phi's image is S0).
+        CHECK(measure(a, "coarse_to_original")->value <= bound * (1 + 1e-9));
+        CHECK(measure(a, "coarse_to_original")->value > 0.1 * bound);
+        CHECK(measure(a, "image_hausdorff")->value < 1e-14);
+        CHECK(a.count("samples") > 0);
+        const CheckResult b = check_distance(p, o);
+        REQUIRE(a.measures.size() == b.measures.size());
+        for (size_t i = 0; i < a.measures.size(); ++i) {
+            CHECK(a.measures[i].value == b.measures[i].value);
+            CHECK(a.measures[i].ids == b.measures[i].ids);
+        }
+        // A finer grid samples more and still stays below the exact bound.
+        CHECK(measure(a, "sample_spacing")->value <= 1e-2);
+        o.error_sample_spacing = 0.25e-2;
+        const CheckResult fine = check_distance(p, o);
+        CHECK(fine.count("samples") > a.count("samples"));
+        CHECK(measure(fine, "sample_spacing")->value <= 0.25e-2);
+        CHECK(measure(fine, "coarse_to_original")->value <= bound * (1 + 1e-9));
+    }
+}
+
+TEST_CASE("distance check of a file in run_checks and the JSON report", "[check][distance]") {
+    BpmFile written;
+    written.param = tent(0.1);
+    const BpmFile file = read_bpm_from_memory(write_bpm_to_memory(written), "tent.bpm");
+    const double expected = 0.1 / bounding_box_diagonal(file.param.original);
+    CheckOptions options;
+    options.max_error = 1.01 * expected;
+    CHECK(run_checks(file, CheckSelection{}, options).passed());
+    options.max_error = 0.99 * expected;
+    const CheckReport r = run_checks(file, CheckSelection{}, options);
+    REQUIRE(r.find("distance"));
+    CHECK_FALSE(r.find("distance")->passed);
+    CHECK(r.find("format")->passed);
+    CHECK(r.find("bijectivity")->passed);
+    CHECK_FALSE(r.passed());
+    const std::string json = check_report_to_json(r);
+    CHECK(json.find("\"measures\": [") != std::string::npos);
+    CHECK(json.find("{\"name\": \"coarse_to_original_bound\", \"value\": ") != std::string::npos);
+    // Checks without measures keep their JSON as before.
+    CheckReport plain;
+    plain.checks.push_back(check_intersections(fixtures::cube()));
+    CHECK(check_report_to_json(plain).find("measures") == std::string::npos);
+}
+
+// ---- replay of recorded simplification steps ---------------------------------------
+
+namespace {
+
+// Simplifies `s` with the removals recorded, as bpm-simplify --record-steps does.
+BpmFile simplified_with_steps(const Surface& s, double ratio) {
+    SimplifyOptions o;
+    o.target_ratio = ratio;
+    o.record_steps = true;
+    BpmFile f;
+    SimplifyResult r = simplify(s, o, Context{}, f.param);
+    REQUIRE(r.steps);
+    REQUIRE(r.steps->num_steps() == r.removed);
+    f.simplification_steps = std::move(r.steps);
+    return f;
+}
+
+bool has_vertex(const Tri& t, int32_t v) { return t[0] == v || t[1] == v || t[2] == v; }
+
+// The surface after applying steps [0, count) without any check (test oracle).
+struct PlainReplay {
+    std::vector<Tri> triangles;
+    explicit PlainReplay(const Surface& s) : triangles(s.triangles) {}
+    void apply(const SimplificationSteps& st, int64_t s) {
+        std::vector<Tri> kept;
+        for (const Tri& t : triangles)
+            if (!has_vertex(t, st.vertex[s])) kept.push_back(t);
+        for (int64_t j = st.triangle_offsets[s]; j < st.triangle_offsets[s + 1]; ++j) kept.push_back(st.triangles[j]);
+        triangles = std::move(kept);
+    }
+    bool has_edge(int32_t a, int32_t b) const {
+        for (const Tri& t : triangles)
+            if (has_vertex(t, a) && has_vertex(t, b)) return true;
+        return false;
+    }
+};
+
+// The boundary cycle of the recorded triangles of step s, if they form one disk whose
+// boundary is a simple cycle (a removal of a regular vertex); else empty.
+std::vector<int32_t> recorded_cycle(const SimplificationSteps& st, int64_t s) {
+    std::map<std::pair<int32_t, int32_t>, int> count;
+    for (int64_t j = st.triangle_offsets[s]; j < st.triangle_offsets[s + 1]; ++j)
+        for (int k = 0; k < 3; ++k) {
+            int32_t a = st.triangles[j][k], b = st.triangles[j][(k + 1) % 3];
+            ++count[{std::min(a, b), std::max(a, b)}];
+        }
+    std::map<int32_t, std::vector<int32_t>> next;
+    for (const auto& [e, c] : count)
+        if (c == 1) {
+            next[e.first].push_back(e.second);
+            next[e.second].push_back(e.first);
+        }
+    for (const auto& [v, list] : next)
+        if (list.size() != 2) return {};
+    std::vector<int32_t> cycle{next.begin()->first};
+    int32_t prev = -1, cur = cycle[0];
+    while (true) {
+        const int32_t n = next[cur][0] != prev ? next[cur][0] : next[cur][1];
+        if (n == cycle[0]) break;
+        cycle.push_back(n);
+        prev = cur;
+        cur = n;
+        if (cycle.size() > next.size()) return {};
+    }
+    if (cycle.size() != next.size() ||
+        st.triangle_offsets[s + 1] - st.triangle_offsets[s] != static_cast<int64_t>(cycle.size()) - 2)
+        return {};
+    return cycle;
+}
+
+std::string all_problems(const CheckResult& r) {
+    std::string s;
+    for (const auto& p : r.problems) s += p.describe() + "\n";
+    return s;
+}
+
+}  // namespace
+
+TEST_CASE("recorded simplifications replay clean", "[check][replay]") {
+    struct Case {
+        std::string name;
+        Surface surface;
+        double ratio;
+        bool feature_lines;  // expect half-disk removals along boundaries / sheets
+    };
+    const std::vector<Case> cases{{"torus", fixtures::torus(24, 16), 0.1, false},
+                                  {"disk (boundary)", fixtures::disk(8), 0.2, true},
+                                  {"two cubes (3 sheets)", fixtures::two_cubes(4), 0.2, true},
+                                  {"cylinder wedges", fixtures::cylinder_wedges(12, 3), 0.3, true},
+                                  {"octants", fixtures::octants(3), 0.3, true},
+                                  {"hourglass", fixtures::hourglass(12), 0.5, false},
+                                  {"moebius", fixtures::moebius(24), 0.5, true}};
+    for (const Case& c : cases) {
+        INFO(c.name);
+        const BpmFile f = simplified_with_steps(c.surface, c.ratio);
+        REQUIRE(f.simplification_steps->num_steps() > 0);
+        CheckOptions o;
+        o.replay_check_interval = 1;  // the full invariants after every step
+        const CheckResult r = check_replay(f, o);
+        INFO(problems_text(r));
+        CHECK(r.passed);
+        CHECK(r.count("replayed_steps") == f.simplification_steps->num_steps());
+        CHECK(r.count("full_topology_checks") == f.simplification_steps->num_steps());
+        CHECK(r.count("triangles") == f.param.coarse.num_triangles());
+        if (c.feature_lines) CHECK(r.count("feature_line_removals") > 0);
+        // The record survives the file format.
+        const BpmFile g = read_bpm_from_memory(write_bpm_to_memory(f), "mem");
+        REQUIRE(g.simplification_steps);
+        CHECK(g.simplification_steps->vertex == f.simplification_steps->vertex);
+        CHECK(check_replay(g).passed);
+    }
+}
+
+TEST_CASE("replay: a step whose retriangulation uses an existing edge is caught at that step", "[check][replay]") {
+    const BpmFile f = simplified_with_steps(fixtures::torus(24, 16), 0.05);
+    REQUIRE(check_replay(f).passed);
+    const SimplificationSteps& st = *f.simplification_steps;
+    // Find a step whose link polygon has a chord that is already an edge (the simplifier
+    // must have avoided it) and replace its triangles by the fan through that chord.
+    PlainReplay state(f.param.original);
+    int64_t tampered = -1;
+    SimplificationSteps bad = st;
+    for (int64_t s = 0; s < st.num_steps() && tampered < 0; ++s) {
+        const std::vector<int32_t> cycle = recorded_cycle(st, s);
+        const int32_t n = static_cast<int32_t>(cycle.size());
+        for (int32_t i = 0; i < n && tampered < 0; ++i)
+            for (int32_t j = 2; j + 1 < n && tampered < 0; ++j) {
+                const int32_t x = cycle[i], y = cycle[(i + j) % n];
+                if (!state.has_edge(x, y)) continue;
+                for (int32_t k = 1; k + 1 < n; ++k)
+                    bad.triangles[st.triangle_offsets[s] + k - 1] = {x, cycle[(i + k) % n], cycle[(i + k + 1) % n]};
+                tampered = s;
+            }
+        state.apply(st, s);
+    }
+    REQUIRE(tampered > 0);
+    BpmFile g = f;
+    g.simplification_steps = bad;
+    const CheckResult r = check_replay(g);
+    INFO(problems_text(r));
+    REQUIRE_FALSE(r.passed);
+    CHECK(r.problems[0].id("step") == tampered);
+    CHECK(r.problems[0].id("original_vertex") == st.vertex[tampered]);
+    CHECK(all_problems(r).find("is already an edge of the surface (local condition of Conjecture 2.1)") !=
+          std::string::npos);
+    CHECK(r.count("replayed_steps") == tampered);
+}
+
+TEST_CASE("replay: a step that does not fill the hole is caught at that step", "[check][replay]") {
+    const BpmFile f = simplified_with_steps(fixtures::two_cubes(4), 0.2);
+    SimplificationSteps st = *f.simplification_steps;
+    const int64_t s = st.num_steps() / 2;
+    // Drop the last triangle of step s: the surface would get a hole (a boundary loop).
+    const int64_t drop = st.triangle_offsets[s + 1] - 1;
+    st.triangles.erase(st.triangles.begin() + drop);
+    st.triangle_patches.erase(st.triangle_patches.begin() + drop);
+    for (int64_t i = s + 1; i < static_cast<int64_t>(st.triangle_offsets.size()); ++i) --st.triangle_offsets[i];
+    BpmFile g = f;
+    g.simplification_steps = st;
+    const CheckResult r = check_replay(g);
+    INFO(problems_text(r));
+    REQUIRE_FALSE(r.passed);
+    CHECK(r.problems[0].id("step") == s);
+    CHECK(r.problems[0].id("original_vertex") == st.vertex[s]);
+    CHECK(all_problems(r).find("in no recorded triangle") != std::string::npos);
+}
+
+TEST_CASE("replay: a wrong patch, a repeated vertex and a record that stops early", "[check][replay]") {
+    const BpmFile f = simplified_with_steps(fixtures::two_cubes(4), 0.2);
+    const SimplificationSteps& st = *f.simplification_steps;
+    SECTION("a new triangle with the patch of another material") {
+        SimplificationSteps bad = st;
+        const int64_t s = st.num_steps() / 3;
+        bad.triangle_patches[st.triangle_offsets[s]] += 1000;
+        BpmFile g = f;
+        g.simplification_steps = bad;
+        const CheckResult r = check_replay(g);
+        INFO(problems_text(r));
+        REQUIRE_FALSE(r.passed);
+        CHECK(r.problems[0].id("step") == s);
+        CHECK(all_problems(r).find("has patch") != std::string::npos);
+    }
+    SECTION("a vertex removed twice") {
+        SimplificationSteps bad = st;
+        bad.append(st.vertex[0], {st.triangles[0]}, {st.triangle_patches[0]});
+        BpmFile g = f;
+        g.simplification_steps = bad;
+        const CheckResult r = check_replay(g);
+        INFO(problems_text(r));
+        REQUIRE_FALSE(r.passed);
+        CHECK(r.problems[0].id("step") == st.num_steps());
+        CHECK(r.problems[0].message.find("has no triangles") != std::string::npos);
+    }
+    SECTION("the last step missing: the result is not the coarse surface") {
+        SimplificationSteps bad = st;
+        const int64_t last = st.num_steps() - 1;
+        bad.vertex.pop_back();
+        bad.triangle_offsets.pop_back();
+        bad.triangles.resize(static_cast<size_t>(bad.triangle_offsets.back()));
+        bad.triangle_patches.resize(bad.triangles.size());
+        BpmFile g = f;
+        g.simplification_steps = bad;
+        const CheckResult r = check_replay(g);
+        INFO(problems_text(r));
+        REQUIRE_FALSE(r.passed);
+        CHECK(r.count("replayed_steps") == last);
+        CHECK(r.count("mismatched_triangles") > 0);
+        CHECK(all_problems(r).find("not in the replayed surface") != std::string::npos);
+    }
+    SECTION("no record at all") {
+        BpmFile g = f;
+        g.simplification_steps.reset();
+        const CheckResult r = check_replay(g);
+        REQUIRE_FALSE(r.passed);
+        CHECK(r.problems[0].message.find("no recorded simplification steps") != std::string::npos);
+    }
+}
+
+TEST_CASE("replay: the degree-3 case, a new triangle that already exists", "[check][replay]") {
+    // Removing a vertex of a tetrahedron: its link is the opposite triangle, which exists.
+    BpmFile f;
+    f.param = fixtures::identity_parametrization(fixtures::tetrahedron());
+    SimplificationSteps st;
+    st.append(3, {{0, 1, 2}}, {0});
+    f.simplification_steps = st;
+    const CheckResult r = check_replay(f);
+    INFO(problems_text(r));
+    REQUIRE_FALSE(r.passed);
+    CHECK(r.problems[0].id("step") == 0);
+    CHECK(r.problems[0].id("original_vertex") == 3);
+    CHECK(all_problems(r).find("is already a triangle of the surface") != std::string::npos);
+}
+
+TEST_CASE("replay: removing the apex of two touching cones is a counterexample to Conjecture 2.1",
+          "[check][replay]") {
+    // The apex's star is two disks; filling both holes adds only new edges, so the
+    // conjecture's local condition holds, but the complex falls apart into two spheres.
+    const int n = 8;
+    BpmFile f;
+    f.param = fixtures::identity_parametrization(fixtures::hourglass(n));
+    std::vector<Tri> fill;
+    std::vector<int32_t> patches;
+    for (int side = 0; side < 2; ++side) {
+        const int32_t first = 3 + side * n;
+        for (int j = 1; j + 1 < n; ++j) {
+            fill.push_back({first, first + j, first + j + 1});
+            patches.push_back(side + 1);
+        }
+    }
+    SimplificationSteps st;
+    st.append(0, fill, patches);
+    f.simplification_steps = st;
+    const CheckResult r = check_replay(f);
+    INFO(problems_text(r));
+    REQUIRE_FALSE(r.passed);
+    const std::string text = all_problems(r);
+    CHECK(text.find("vertex 0 is a feature vertex") != std::string::npos);
+    CHECK(text.find("counterexample to Conjecture 2.1") != std::string::npos);
+    CHECK(text.find("already") == std::string::npos);  // the local condition holds
+    for (const auto& p : r.problems) CHECK(p.id("step") == 0);
+}
+
+TEST_CASE("run_checks runs the replay when selected", "[check][replay]") {
+    const BpmFile f = simplified_with_steps(fixtures::cube(3), 0.3);
+    CheckSelection sel;
+    sel.replay = true;
+    const CheckReport r = run_checks(f, sel);
+    REQUIRE(r.find("replay"));
+    INFO(check_report_to_text(r));
+    CHECK(r.passed());
+    CHECK(check_report_to_text(r).find("PASS replay  replayed ") != std::string::npos);
 }

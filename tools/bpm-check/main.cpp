@@ -21,19 +21,26 @@ int main(int argc, char** argv) {
         "                 orientability, boundary loops, Z2 Betti numbers and non-manifold structure\n"
         "                 (feature vertices by original id, feature lines with their sheet counts)\n"
         "  bijectivity    phi is a bijection: pieces tile every coarse and every original triangle\n"
+        "  replay         (with --replay) the recorded removals (bpm-simplify --record-steps) are valid point\n"
+        "                 removals (link = boundary of the new triangles, local condition of Conjecture 2.1,\n"
+        "                 topology unchanged) and lead exactly to the coarse surface\n"
+        "  quality        (with --max-aspect / --min-angle) triangle shapes of the coarse surface\n"
+        "  distance       (with --max-error) Hausdorff distances of phi's image and of the coarse surface to S0\n"
         "Exit codes: 0 all checks passed, 1 a check failed, 2 usage, 3 unreadable input.",
         tool};
     std::string input;
     std::string checks = "format,intersections,topology,bijectivity";
     bool original = false, json = false, surface_mode = false;
-    double max_aspect = 0, min_angle = 0;
+    double max_aspect = 0, min_angle = 0, max_error = 0, error_spacing = 1e-3;
+    bool replay = false;
+    int64_t replay_interval = 0;
     size_t max_problems = 10;
     std::string surface_format;
     app.add_option("FILE", input, "Input .bpm file, or a surface file with --surface; '-' reads standard input")
         ->required();
     app.add_option("--checks", checks,
-                   "Comma-separated checks to run: format, intersections, topology, bijectivity "
-                   "(default: all). With --surface only intersections and topology apply")
+                   "Comma-separated checks to run: format, intersections, topology, bijectivity, replay "
+                   "('all' = the first four, the default). With --surface only intersections and topology apply")
         ->capture_default_str();
     app.add_flag("--original", original,
                  "Also check the original surface S0 for self-intersections (reported as "
@@ -46,7 +53,30 @@ int main(int argc, char** argv) {
     auto* angle_opt = app.add_option("--min-angle", min_angle, "Fail if a coarse triangle has an angle below D degrees")
                           ->check(CLI::Range(0.0, 60.0));
     angle_opt->type_name("D");
-    app.add_option("--max-problems", max_problems, "Offending elements listed per check")->capture_default_str();
+    auto* error_opt =
+        app.add_option("--max-error", max_error,
+                       "Fail if phi's image or the coarse surface is farther than E from S0 (two-sided Hausdorff "
+                       "distances, as a fraction of the bounding-box diagonal of S0; e.g. 0.005)")
+            ->check(CLI::NonNegativeNumber);
+    error_opt->type_name("E");
+    app.add_option("--error-spacing", error_spacing,
+                   "Sample spacing of --max-error on every triangle, as a fraction of the diagonal (the estimate is at "
+                   "most this far below the true distance)")
+        ->check(CLI::PositiveNumber)
+        ->type_name("H")
+        ->capture_default_str();
+    app.add_flag("--replay", replay,
+                 "Also replay the recorded simplification steps (files written by bpm-simplify --record-steps); "
+                 "same as adding 'replay' to --checks");
+    app.add_option("--replay-interval", replay_interval,
+                   "With --replay: recompute all topological invariants from scratch every K steps (0 = 4 times "
+                   "evenly spaced); they are always recomputed after the last step")
+        ->check(CLI::NonNegativeNumber)
+        ->type_name("K")
+        ->capture_default_str();
+    app.add_option("--max-problems", max_problems, "Offending elements listed per check")
+        ->check(CLI::NonNegativeNumber)
+        ->capture_default_str();
     app.add_flag("--surface", surface_mode,
                  "FILE is a plain surface (OFF, OBJ, STL, PLY, MSH): run intersections and topology on it alone");
     app.add_option("--format", surface_format, "Surface format for --surface when reading '-' (off, obj, stl, ply, msh)");
@@ -62,18 +92,25 @@ int main(int argc, char** argv) {
             else if (item == "intersections") sel.intersections = true;
             else if (item == "topology") sel.topology = true;
             else if (item == "bijectivity") sel.bijectivity = true;
+            else if (item == "replay") sel.replay = true;
             else if (item == "all") sel.format = sel.intersections = sel.topology = sel.bijectivity = true;
             else throw CLI::ValidationError("--checks", "unknown check '" + item + "'");
         }
         sel.original_intersections = original;
+        if (replay) sel.replay = true;
         bpm::CheckOptions options;
         options.max_problems = max_problems;
         if (*aspect_opt) options.max_aspect_ratio = max_aspect;
         if (*angle_opt) options.min_angle_degrees = min_angle;
+        if (*error_opt) options.max_error = max_error;
+        options.error_sample_spacing = error_spacing;
+        options.replay_check_interval = replay_interval;
         const bpm::Context context = bpm::tools::make_context(tool, false, json);
 
         bpm::CheckReport report;
         if (surface_mode) {
+            if (sel.replay) throw CLI::ValidationError("--replay", "replay needs a .bpm file, not --surface");
+            if (*error_opt) throw CLI::ValidationError("--max-error", "--max-error needs a .bpm file, not --surface");
             if (sel.format || sel.bijectivity) {
                 if (app.count("--checks"))
                     throw CLI::ValidationError("--checks", "format and bijectivity need a .bpm file, not --surface");

@@ -1,6 +1,7 @@
 // bpm-simplify: coarse surface + bijective parametrization from a triangulated surface.
 #include <cstdio>
 #include <iostream>
+#include <utility>
 
 #include "bpm/bpm_file.h"
 #include "bpm/simplify.h"
@@ -60,6 +61,9 @@ int main(int argc, char** argv) {
                    "Threads that share the planning (default 1; 0 = up to 2 as the hardware allows); the output does not depend on it")
         ->check(CLI::Range(0, 64));
     app.add_flag("--trace", options.trace_removals, "With -v: one line per removed vertex (cost, error, aspect ratio)");
+    app.add_flag("--record-steps", options.record_steps,
+                 "Store the sequence of removals in the file (/simplification_steps, spec/bpm-format.md), so that "
+                 "bpm-check --replay can re-apply and verify them");
     bpm::tools::add_output_tool_flags(app, tool, deterministic, verbose, quiet);
 
     return bpm::tools::run(tool, argc, argv, app, [&]() {
@@ -81,7 +85,8 @@ int main(int argc, char** argv) {
                      std::to_string(surface.num_triangles()) + " triangles");
 
         bpm::BpmFile file;
-        const bpm::SimplifyResult result = bpm::simplify(surface, options, context, file.param);
+        bpm::SimplifyResult result = bpm::simplify(surface, options, context, file.param);
+        file.simplification_steps = std::move(result.steps);
         file.units = units;
         file.provenance.push_back({tool, bpm::tools::version_line(tool), bpm::tools::command_line(argc, argv),
                                    deterministic ? std::string() : bpm::tools::utc_timestamp()});

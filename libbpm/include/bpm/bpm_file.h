@@ -1,5 +1,5 @@
 #pragma once
-// The bpm file format v1 (spec/bpm-format.md is normative): one HDF5 file holding a
+// The bpm file format v1.1 (spec/bpm-format.md is normative): one HDF5 file holding a
 // parametrized surface, its provenance, and room for later groups.
 
 #include <optional>
@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "bpm/parametrization.h"
+#include "bpm/simplification_steps.h"
 #include "bpm/tetmesh.h"
 
 namespace bpm {
@@ -26,6 +27,11 @@ struct BpmFile {
     // A tetrahedral mesh of the volume bounded by the coarse surface (bpm-mesh), stored
     // in the optional /tetmesh group (spec/tetmesh.md). Files without one are unchanged.
     std::optional<TetMesh> tetmesh;
+    // The point removals that made `param.coarse` from `param.original` (bpm-simplify
+    // --record-steps), in the optional /simplification_steps group (format 1.1,
+    // spec/bpm-format.md §10.1); bpm-check --replay re-applies them. Files without one
+    // are unchanged.
+    std::optional<SimplificationSteps> simplification_steps;
 };
 
 struct BpmFormatVersion {

@@ -40,13 +40,17 @@ struct WorstValue {
 };
 
 struct CheckResult {
-    std::string name;     // "format", "intersections", "original-intersections", "topology", "bijectivity", "quality"
+    std::string name;     // "format", "intersections", "original-intersections", "topology", "bijectivity",
+                          // "quality", "distance", "replay"
     bool passed = true;
     std::string summary;  // one line for people, e.g. "1234 triangles, 0 intersecting pairs"
     std::vector<std::pair<std::string, int64_t>> counts;  // named counts, e.g. {"triangles", 1234}
     int64_t problem_count = 0;            // all problems found
     std::vector<CheckProblem> problems;   // the first CheckOptions::max_problems of them
     std::optional<WorstValue> worst;
+    // Further named measurements with where they occur (e.g. the one-sided distances of
+    // the distance check); JSON "measures", only written when not empty.
+    std::vector<WorstValue> measures;
 
     // Records a problem (kept only while fewer than `max_problems` are stored) and fails the check.
     void add_problem(CheckProblem problem, size_t max_problems);
@@ -66,7 +70,19 @@ struct CheckOptions {
     // Quality gates on the coarse surface; unset = not checked.
     std::optional<double> max_aspect_ratio;     // circumradius / inradius, 2 for equilateral
     std::optional<double> min_angle_degrees;
-    // TODO(max-error): a Hausdorff-distance gate (--max-error) between S and S0.
+    // Distance gate (--max-error): fails when the two-sided Hausdorff distance between
+    // phi's image and S0, or between the coarse surface S and S0, exceeds this fraction
+    // of the bounding-box diagonal of S0. Unset = the distance check is not run.
+    std::optional<double> max_error;
+    // Spacing of the sample grid laid on every sampled triangle by the distance check,
+    // relative to the diagonal (at least the corners, edge midpoints and centroid of
+    // every triangle are sampled; at most 256 divisions per side, the spacing reached is
+    // the measure "sample_spacing"). The sampled distances are at most one spacing below
+    // the true ones.
+    double error_sample_spacing = 1e-3;
+    // Replay: recompute all topological invariants from scratch after every this many
+    // steps (and always after the last one); 0 = automatic (4 evenly spaced recomputations).
+    int64_t replay_check_interval = 0;
 };
 
 // Structural consistency of an in-memory parametrization: sizes, index ranges, CSR
@@ -100,6 +116,31 @@ CheckResult check_bijectivity(const Parametrization& param, const CheckOptions& 
 // Aspect ratio and smallest angle of every triangle against the limits in `options`.
 CheckResult check_quality(const Surface& surface, const CheckOptions& options = {}, const Context& context = {});
 
+// How far phi's image and the coarse surface are from S0, relative to the bounding-box
+// diagonal of S0 (spec/check-report.md, "distance"):
+//   image_hausdorff   two-sided Hausdorff distance between phi(S) and S0 (0 up to
+//                     rounding for a correct phi; catches broken images);
+//   coarse_hausdorff  two-sided Hausdorff distance between S and S0;
+//   coarse_to_original_bound  max over phi nodes of |phi(x) - x|, an exact upper bound
+//                     of the one-sided distance from S to S0 (phi is affine on every piece).
+// The Hausdorff distances are estimated on a deterministic sample grid (spacing
+// `error_sample_spacing`, at least corners, edge midpoints and centroids) with exact
+// closest-point queries (CGAL AABB tree), pruned by exact per-triangle upper bounds;
+// the estimate is at most the measure "sample_spacing" below the true value. Single
+// threaded and deterministic (no randomness; ties go to the first element). Fails when either
+// Hausdorff distance exceeds `options.max_error` (if set).
+CheckResult check_distance(const Parametrization& param, const CheckOptions& options = {}, const Context& context = {});
+
+// Replays the recorded point removals (file.simplification_steps, bpm-simplify
+// --record-steps) on the connectivity of S0: every step must remove a vertex whose star
+// is a disk or a set of half-disks along a feature line (paper §2.4), its link must be
+// exactly the boundary of the recorded triangles (which must fill every disk /
+// half-disk with a triangulated disk of the same patch), the local condition of
+// Conjecture 2.1 must hold (no new edge, and no new triangle, exists already), and the
+// topological invariants of check_topology must not change; the replayed surface must
+// equal the coarse surface. Fails ("not checked") on files without a record.
+CheckResult check_replay(const BpmFile& file, const CheckOptions& options = {}, const Context& context = {});
+
 // What bpm-check runs.
 struct CheckSelection {
     bool format = true;
@@ -107,9 +148,11 @@ struct CheckSelection {
     bool topology = true;
     bool bijectivity = true;
     bool original_intersections = false;  // also check S0 (so a faulty input is reported as such)
+    bool replay = false;                  // replay the recorded simplification steps (needs a record)
 };
 CheckReport run_checks(const BpmFile& file, const CheckSelection& selection, const CheckOptions& options = {},
                        const Context& context = {});
+// Also runs quality when a shape limit is set, distance when options.max_error is set.
 // For a plain surface: intersections and/or topology (and quality if limits are set).
 CheckReport run_surface_checks(const Surface& surface, const CheckSelection& selection,
                                const CheckOptions& options = {}, const Context& context = {});

@@ -11,10 +11,12 @@
 #include <cstdint>
 #include <limits>
 #include <map>
+#include <optional>
 #include <string>
 
 #include "bpm/context.h"
 #include "bpm/parametrization.h"
+#include "bpm/simplification_steps.h"
 #include "bpm/surface.h"
 
 namespace bpm {
@@ -57,6 +59,9 @@ struct SimplifyOptions {
     // thread's spinning cost more CPU than it saved (bench/results/simplify.md); its
     // wall-clock gain on an idle machine is not measured yet.
     int threads = 1;
+    // Record every committed removal (the vertex and the triangles that replaced its
+    // star) in SimplifyResult::steps, so that bpm-check --replay can re-apply them.
+    bool record_steps = false;
 };
 
 struct SimplifyResult {
@@ -71,6 +76,9 @@ struct SimplifyResult {
     std::string stop_reason;          // human readable
     // Why the vertices that remained could not be removed, counted by reason.
     std::map<std::string, int64_t> blocked;
+    // The removals in order, when SimplifyOptions::record_steps is set (else empty).
+    // Replayed on the connectivity of `out.original` they give exactly `out.coarse`.
+    std::optional<SimplificationSteps> steps;
 };
 
 // \pre `original` passed validate_surface (finite, no degenerate or duplicate triangles).

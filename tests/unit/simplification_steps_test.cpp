@@ -1,0 +1,270 @@
+// The record of simplification steps (bpm/simplification_steps.h): what the simplifier
+// records, the optional /simplification_steps group of format 1.1 (round trip,
+// compatibility with 1.0 files, malformed groups), spec/bpm-format.md §10.1.
+
+#include <hdf5.h>
+
+#include <catch2/catch.hpp>
+#include <algorithm>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "bpm/bpm_file.h"
+#include "bpm/errors.h"
+#include "bpm/simplify.h"
+#include "fixtures_surfaces.h"
+
+using namespace bpm;
+
+namespace {
+
+BpmFile simplified(const Surface& s, double ratio, bool record) {
+    SimplifyOptions o;
+    o.target_ratio = ratio;
+    o.record_steps = record;
+    BpmFile f;
+    SimplifyResult r = simplify(s, o, Context{}, f.param);
+    f.simplification_steps = std::move(r.steps);
+    f.provenance.push_back({"bpm-simplify", "test", "simplify", ""});
+    return f;
+}
+
+// A file image opened read-write with the HDF5 C API, to make malformed files.
+struct Image {
+    hid_t file = -1;
+    explicit Image(const std::string& bytes) {
+        H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+        hid_t fapl = H5Pcreate(H5P_FILE_ACCESS);
+        H5Pset_fapl_core(fapl, 1 << 16, false);
+        H5Pset_file_image(fapl, const_cast<char*>(bytes.data()), bytes.size());
+        static int counter = 0;
+        const std::string name = "steps-mutate-" + std::to_string(counter++) + ".h5";
+        file = H5Fopen(name.c_str(), H5F_ACC_RDWR, fapl);
+        H5Pclose(fapl);
+        REQUIRE(file >= 0);
+    }
+    ~Image() {
+        if (file >= 0) H5Fclose(file);
+    }
+    std::string bytes() {
+        REQUIRE(H5Fflush(file, H5F_SCOPE_GLOBAL) >= 0);
+        const ssize_t n = H5Fget_file_image(file, nullptr, 0);
+        std::string out(static_cast<size_t>(n), '\0');
+        REQUIRE(H5Fget_file_image(file, out.data(), out.size()) == n);
+        return out;
+    }
+    bool exists(const char* path) const { return H5Lexists(file, path, H5P_DEFAULT) > 0; }
+    void remove(const char* path) { REQUIRE(H5Ldelete(file, path, H5P_DEFAULT) >= 0); }
+    void replace(const char* path, hid_t type, std::vector<hsize_t> dims, const void* data, bool allocate = true) {
+        remove(path);
+        hid_t space = H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr);
+        hid_t ds = H5Dcreate2(file, path, type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+        REQUIRE(ds >= 0);
+        if (allocate) REQUIRE(H5Dwrite(ds, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) >= 0);
+        H5Dclose(ds);
+        H5Sclose(space);
+    }
+    template <typename T>
+    void edit(const char* path, hid_t mem_type, const std::function<void(std::vector<T>&)>& edit) {
+        hid_t ds = H5Dopen2(file, path, H5P_DEFAULT);
+        REQUIRE(ds >= 0);
+        hid_t space = H5Dget_space(ds);
+        std::vector<T> values(static_cast<size_t>(H5Sget_simple_extent_npoints(space)));
+        REQUIRE(H5Dread(ds, mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()) >= 0);
+        edit(values);
+        REQUIRE(H5Dwrite(ds, mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()) >= 0);
+        H5Sclose(space);
+        H5Dclose(ds);
+    }
+    void set_version(int32_t major, int32_t minor) {
+        REQUIRE(H5Adelete(file, "format_version") >= 0);
+        hsize_t n = 2;
+        const int32_t values[2] = {major, minor};
+        hid_t space = H5Screate_simple(1, &n, nullptr);
+        hid_t a = H5Acreate2(file, "format_version", H5T_STD_I32LE, space, H5P_DEFAULT, H5P_DEFAULT);
+        REQUIRE(H5Awrite(a, H5T_NATIVE_INT32, values) >= 0);
+        H5Aclose(a);
+        H5Sclose(space);
+    }
+};
+
+void require_input_error(const std::string& bytes, std::vector<std::string> parts) {
+    try {
+        read_bpm_from_memory(bytes, "bad.bpm");
+        FAIL("no InputError; expected one mentioning " << parts.front());
+    } catch (const InputError& e) {
+        INFO("message: " << e.what());
+        for (const auto& part : parts) CHECK(std::string(e.what()).find(part) != std::string::npos);
+    }
+}
+
+}  // namespace
+
+TEST_CASE("simplify records one step per removal, only when asked", "[steps]") {
+    const Surface torus = fixtures::torus(16, 12);
+    const BpmFile without = simplified(torus, 0.2, false);
+    CHECK_FALSE(without.simplification_steps);
+    const BpmFile with = simplified(torus, 0.2, true);
+    REQUIRE(with.simplification_steps);
+    const SimplificationSteps& st = *with.simplification_steps;
+    CHECK(st.num_steps() == torus.num_vertices() - with.param.coarse.num_vertices());
+    CHECK(st.triangle_offsets.size() == st.vertex.size() + 1);
+    CHECK(st.triangle_patches.size() == st.triangles.size());
+    // Recording does not change the result.
+    CHECK(with.param.coarse.triangles == without.param.coarse.triangles);
+    // Removed vertices are distinct and none of them is in the coarse surface.
+    std::vector<int32_t> removed = st.vertex;
+    std::sort(removed.begin(), removed.end());
+    CHECK(std::adjacent_find(removed.begin(), removed.end()) == removed.end());
+    for (int32_t v : with.param.coarse_vertex_origin)
+        CHECK_FALSE(std::binary_search(removed.begin(), removed.end(), v));
+    // A torus vertex of degree d is replaced by d - 2 triangles: 2 fewer triangles per step.
+    CHECK(st.num_triangles() > 0);
+    CHECK(torus.num_triangles() - 2 * st.num_steps() == with.param.coarse.num_triangles());
+}
+
+TEST_CASE("the record round-trips through the file; files without one are unchanged", "[steps][format]") {
+    const BpmFile f = simplified(fixtures::two_cubes(3), 0.3, true);
+    const std::string bytes = write_bpm_to_memory(f);
+    const BpmFile g = read_bpm_from_memory(bytes, "mem");
+    REQUIRE(g.simplification_steps);
+    CHECK(g.simplification_steps->vertex == f.simplification_steps->vertex);
+    CHECK(g.simplification_steps->triangle_offsets == f.simplification_steps->triangle_offsets);
+    CHECK(g.simplification_steps->triangles == f.simplification_steps->triangles);
+    CHECK(g.simplification_steps->triangle_patches == f.simplification_steps->triangle_patches);
+    CHECK(write_bpm_to_memory(g) == bytes);  // deterministic, and nothing lost
+
+    BpmFile plain = f;
+    plain.simplification_steps.reset();
+    const std::string plain_bytes = write_bpm_to_memory(plain);
+    Image im(plain_bytes);
+    CHECK_FALSE(im.exists("/simplification_steps"));
+    CHECK_FALSE(read_bpm_from_memory(plain_bytes, "plain").simplification_steps);
+
+    SECTION("an empty record (no removal) is kept as such") {
+        BpmFile e = plain;
+        e.simplification_steps = SimplificationSteps{};
+        const BpmFile r = read_bpm_from_memory(write_bpm_to_memory(e), "empty");
+        REQUIRE(r.simplification_steps);
+        CHECK(r.simplification_steps->num_steps() == 0);
+        CHECK(r.simplification_steps->triangle_offsets == std::vector<int64_t>{0});
+    }
+    SECTION("a format 1.0 file (no record) still reads") {
+        Image old(plain_bytes);
+        old.set_version(1, 0);
+        const BpmFile r = read_bpm_from_memory(old.bytes(), "old.bpm");
+        CHECK_FALSE(r.simplification_steps);
+        CHECK(r.param.coarse.triangles == plain.param.coarse.triangles);
+    }
+}
+
+TEST_CASE("the writer refuses an inconsistent record", "[steps][format]") {
+    BpmFile f = simplified(fixtures::torus(12, 8), 0.5, true);
+    auto require_output_error = [&](const BpmFile& g, const std::string& part) {
+        try {
+            write_bpm_to_memory(g);
+            FAIL("no OutputError; expected one mentioning " << part);
+        } catch (const OutputError& e) {
+            INFO(e.what());
+            CHECK(std::string(e.what()).find(part) != std::string::npos);
+        }
+    };
+    SECTION("vertex out of range") {
+        f.simplification_steps->vertex[1] = f.param.original.num_vertices();
+        require_output_error(f, "/simplification_steps/vertex");
+    }
+    SECTION("corner out of range") {
+        f.simplification_steps->triangles[2][1] = -1;
+        require_output_error(f, "/simplification_steps/triangles");
+    }
+    SECTION("offsets") {
+        f.simplification_steps->triangle_offsets[1] = f.simplification_steps->triangle_offsets[2] + 1;
+        require_output_error(f, "/simplification_steps/triangle_offsets");
+    }
+    SECTION("patches") {
+        f.simplification_steps->triangle_patches.pop_back();
+        require_output_error(f, "/simplification_steps/triangle_patches");
+    }
+}
+
+TEST_CASE("malformed records give an InputError naming the dataset", "[steps][format]") {
+    const BpmFile f = simplified(fixtures::torus(12, 8), 0.5, true);
+    const std::string good = write_bpm_to_memory(f);
+    REQUIRE_NOTHROW(read_bpm_from_memory(good, "good.bpm"));
+    const int64_t ns = f.simplification_steps->num_steps();
+    const int64_t nr = f.simplification_steps->num_triangles();
+
+    SECTION("missing dataset in the group") {
+        Image im(good);
+        im.remove("/simplification_steps/triangle_patches");
+        require_input_error(im.bytes(), {"/simplification_steps/triangle_patches", "missing"});
+    }
+    SECTION("removed vertex out of range") {
+        Image im(good);
+        im.edit<int32_t>("/simplification_steps/vertex", H5T_NATIVE_INT32, [](auto& v) { v[3] = 1 << 30; });
+        require_input_error(im.bytes(), {"/simplification_steps/vertex", "entry 3", "out of range"});
+    }
+    SECTION("negative removed vertex") {
+        Image im(good);
+        im.edit<int32_t>("/simplification_steps/vertex", H5T_NATIVE_INT32, [](auto& v) { v[0] = -1; });
+        require_input_error(im.bytes(), {"/simplification_steps/vertex", "out of range"});
+    }
+    SECTION("triangle corner out of range") {
+        Image im(good);
+        im.edit<int32_t>("/simplification_steps/triangles", H5T_NATIVE_INT32, [](auto& v) { v[7] = 99999; });
+        require_input_error(im.bytes(), {"/simplification_steps/triangles", "[2, 1]", "out of range"});
+    }
+    SECTION("offsets not starting at 0") {
+        Image im(good);
+        im.edit<int64_t>("/simplification_steps/triangle_offsets", H5T_NATIVE_INT64, [](auto& v) { v[0] = 1; });
+        require_input_error(im.bytes(), {"/simplification_steps/triangle_offsets", "must be 0"});
+    }
+    SECTION("decreasing offsets") {
+        Image im(good);
+        im.edit<int64_t>("/simplification_steps/triangle_offsets", H5T_NATIVE_INT64,
+                         [](auto& v) { v[1] = v[2] + 1; });
+        require_input_error(im.bytes(), {"/simplification_steps/triangle_offsets", "non-decreasing"});
+    }
+    SECTION("offsets not ending at the number of triangles") {
+        Image im(good);
+        im.edit<int64_t>("/simplification_steps/triangle_offsets", H5T_NATIVE_INT64, [](auto& v) { v.back() -= 1; });
+        require_input_error(im.bytes(), {"/simplification_steps/triangle_offsets", "last entry"});
+    }
+    SECTION("offsets with the wrong number of entries") {
+        Image im(good);
+        const std::vector<int64_t> offsets(static_cast<size_t>(ns), 0);
+        im.replace("/simplification_steps/triangle_offsets", H5T_NATIVE_INT64, {offsets.size()}, offsets.data());
+        require_input_error(im.bytes(), {"/simplification_steps/triangle_offsets", "rows"});
+    }
+    SECTION("patches with the wrong number of rows") {
+        Image im(good);
+        const std::vector<int32_t> patches(static_cast<size_t>(nr + 1), 0);
+        im.replace("/simplification_steps/triangle_patches", H5T_NATIVE_INT32, {patches.size()}, patches.data());
+        require_input_error(im.bytes(), {"/simplification_steps/triangle_patches", "rows"});
+    }
+    SECTION("triangles of the wrong shape") {
+        Image im(good);
+        const std::vector<int32_t> pairs(static_cast<size_t>(2 * nr), 0);
+        im.replace("/simplification_steps/triangles", H5T_NATIVE_INT32, {static_cast<hsize_t>(nr), 2}, pairs.data());
+        require_input_error(im.bytes(), {"/simplification_steps/triangles", "shape"});
+    }
+    SECTION("floating-point vertex indices") {
+        Image im(good);
+        const std::vector<double> v(static_cast<size_t>(ns), 1.0);
+        im.replace("/simplification_steps/vertex", H5T_NATIVE_DOUBLE, {v.size()}, v.data());
+        require_input_error(im.bytes(), {"/simplification_steps/vertex", "datatype"});
+    }
+    SECTION("an index that does not fit int32") {
+        Image im(good);
+        std::vector<int64_t> v(f.simplification_steps->vertex.begin(), f.simplification_steps->vertex.end());
+        v[0] = int64_t(1) << 40;
+        im.replace("/simplification_steps/vertex", H5T_NATIVE_INT64, {v.size()}, v.data());
+        require_input_error(im.bytes(), {"/simplification_steps/vertex", "int32"});
+    }
+    SECTION("a huge declared extent is refused before allocating") {
+        Image im(good);
+        im.replace("/simplification_steps/triangles", H5T_NATIVE_INT32, {hsize_t(1) << 36, 3}, nullptr, false);
+        require_input_error(im.bytes(), {"/simplification_steps/triangles", "bytes"});
+    }
+}
