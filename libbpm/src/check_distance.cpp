@@ -60,6 +60,7 @@ using Ids = std::vector<std::pair<std::string, int64_t>>;
 
 constexpr int kMaxDivisions = 256;   // per triangle side: at most 33 153 grid samples per triangle
 constexpr double kFloor = 1e-12;     // rounding level, relative to diagonal + largest |coordinate|
+constexpr double kLargestCoordinate = 1e150;  // beyond this, squared distances may overflow
 constexpr size_t kMaxCandidates = 48;  // local-bound candidates per sample, beyond which only the tree is asked
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
@@ -238,6 +239,17 @@ CheckResult check_distance(const Parametrization& p, const CheckOptions& options
     double magnitude = 0.0;
     for (const Vec3& x : p.original.vertices)
         magnitude = std::max({magnitude, std::abs(x[0]), std::abs(x[1]), std::abs(x[2])});
+    // Squared distances of coordinates beyond ~1e150 overflow to inf, and inf or NaN handed
+    // to CGAL's exact number types raises SIGFPE (GMP): refuse such a file instead.
+    double largest = magnitude;
+    for (const auto* points : {&p.coarse.vertices, &p.node_image})
+        for (const Vec3& x : *points) largest = std::max({largest, std::abs(x[0]), std::abs(x[1]), std::abs(x[2])});
+    if (!(largest <= kLargestCoordinate)) {
+        detail::refuse(r, "coordinates up to " + detail::format_number(largest) +
+                              " are too large to measure distances in double precision (limit " +
+                              detail::format_number(kLargestCoordinate) + ")");
+        return r;
+    }
     const double floor = kFloor * (diagonal + magnitude);
     const double spacing = options.error_sample_spacing * diagonal;
     double reached = 0.0;  // largest spacing of a sampled triangle

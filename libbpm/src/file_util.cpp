@@ -1,11 +1,17 @@
 #include "file_util.h"
 
 #include <fcntl.h>
+#include <signal.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
 #include <unistd.h>
+#ifdef __linux__
+#include <sys/prctl.h>
+#endif
 
 #include <cerrno>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <iostream>
@@ -33,6 +39,16 @@ void write_all(int fd, const std::string& bytes, const std::string& where) {
 
 std::string display_name(const std::string& path) { return path == "-" ? "<stdin>" : path; }
 
+namespace {
+// Makes a rename in `dir` durable (power loss); errors are ignored: the file is complete.
+void sync_directory(const std::string& dir) {
+    const int fd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    if (fd < 0) return;
+    (void)::fsync(fd);
+    ::close(fd);
+}
+}  // namespace
+
 void write_file_atomically(const std::string& path, const std::string& bytes) {
     if (path == "-") {
         write_all(STDOUT_FILENO, bytes, "<stdout>");
@@ -46,14 +62,62 @@ void write_file_atomically(const std::string& path, const std::string& bytes) {
     if (dir.empty()) dir = ".";
     if (!fs::is_directory(dir, ec)) throw OutputError(path, "directory does not exist: " + dir.string());
 
-    // Unique temporary name next to the target, so that rename() is atomic.
+    // Temporary names next to the target (so that rename() is atomic): ".NAME.tmpXXXXXXXX".
     std::random_device rd;
+    const auto temporary_name = [&] {
+        char suffix[32];
+        std::snprintf(suffix, sizeof suffix, ".tmp%08x", static_cast<unsigned>(rd()));
+        return (dir / ("." + target.filename().string() + suffix)).string();
+    };
+
+#ifdef O_TMPFILE
+    // Preferred (Linux): an unnamed file in the target's directory, given a name only once
+    // it is complete and on disk, so that a process killed while writing leaves nothing
+    // behind. Filesystems without O_TMPFILE fall through to a named temporary file.
+    int unnamed = ::open(dir.c_str(), O_TMPFILE | O_WRONLY | O_CLOEXEC, 0644);
+    if (unnamed < 0 && errno != EOPNOTSUPP && errno != EISDIR && errno != EINVAL)
+        throw OutputError(path, "cannot create file: " + errno_text());
+    if (unnamed >= 0) {
+        try {
+            write_all(unnamed, bytes, path);
+            if (::fsync(unnamed) != 0) throw OutputError(path, "cannot flush to disk: " + errno_text());
+        } catch (...) {
+            ::close(unnamed);  // the unnamed file disappears with its descriptor
+            throw;
+        }
+        const std::string self = "/proc/self/fd/" + std::to_string(unnamed);
+        std::string tmp;
+        bool linked = false;
+        for (int attempt = 0; attempt < 16 && !linked; ++attempt) {
+            tmp = temporary_name();
+            if (::linkat(AT_FDCWD, self.c_str(), AT_FDCWD, tmp.c_str(), AT_SYMLINK_FOLLOW) == 0) linked = true;
+            else if (errno != EEXIST) break;
+        }
+        const int link_errno = errno;
+        if (::close(unnamed) != 0 && linked) {
+            ::unlink(tmp.c_str());
+            throw OutputError(path, "cannot close: " + errno_text());
+        }
+        if (linked) {
+            if (::rename(tmp.c_str(), path.c_str()) != 0) {
+                const std::string why = errno_text();
+                ::unlink(tmp.c_str());
+                throw OutputError(path, "cannot rename the finished file into place: " + why);
+            }
+            sync_directory(dir.string());
+            return;
+        }
+        // No /proc, or linking refused: write again under a name (below), unless the
+        // directory cannot take one more entry anyway.
+        if (link_errno == ENOSPC || link_errno == EDQUOT || link_errno == EROFS)
+            throw OutputError(path, "cannot create file: " + std::string(std::strerror(link_errno)));
+    }
+#endif
+
     std::string tmp;
     int fd = -1;
     for (int attempt = 0; attempt < 16 && fd < 0; ++attempt) {
-        char suffix[32];
-        std::snprintf(suffix, sizeof suffix, ".tmp%08x", static_cast<unsigned>(rd()));
-        tmp = (dir / ("." + target.filename().string() + suffix)).string();
+        tmp = temporary_name();
         fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
         if (fd < 0 && errno != EEXIST) throw OutputError(path, "cannot create file: " + errno_text());
     }
@@ -75,6 +139,7 @@ void write_file_atomically(const std::string& path, const std::string& bytes) {
         ::unlink(tmp.c_str());
         throw OutputError(path, "cannot rename the finished file into place: " + why);
     }
+    sync_directory(dir.string());
 }
 
 std::string read_whole_input(const std::string& path, size_t max_bytes) {
@@ -108,6 +173,87 @@ std::string read_whole_input(const std::string& path, size_t max_bytes) {
     }
     if (fd != STDIN_FILENO) ::close(fd);
     return bytes;
+}
+
+namespace {
+// Exit codes of the isolated child.
+constexpr int kChildOk = 0;
+constexpr int kChildInputError = 3;
+constexpr int kChildOtherError = 70;
+}  // namespace
+
+void run_isolated(const std::string& where, const std::string& library, const std::function<void()>& parse) {
+    int fds[2];
+    if (::pipe2(fds, O_CLOEXEC) != 0) return;
+    std::fflush(nullptr);  // nothing buffered may be written twice
+    const pid_t pid = ::fork();
+    if (pid < 0) {
+        ::close(fds[0]);
+        ::close(fds[1]);
+        return;
+    }
+    if (pid == 0) {
+        // The child: parse, report, and leave with _exit (no atexit handlers, no stdio
+        // flush of buffers inherited from the parent).
+        ::close(fds[0]);
+#ifdef __linux__
+        ::prctl(PR_SET_PDEATHSIG, SIGKILL);
+        if (::getppid() == 1) ::_exit(kChildOtherError);  // the parent is already gone
+#endif
+        const int devnull = ::open("/dev/null", O_WRONLY | O_CLOEXEC);
+        if (devnull >= 0) {
+            ::dup2(devnull, STDOUT_FILENO);
+            ::dup2(devnull, STDERR_FILENO);
+        }
+        if (const char* crash = std::getenv("BPM_TEST_ISOLATED_CRASH")) {
+            ::signal(std::atoi(crash), SIG_DFL);
+            ::raise(std::atoi(crash));
+        }
+        int code = kChildOk;
+        try {
+            parse();
+        } catch (const InputError& e) {
+            const std::string message = e.what();
+            size_t done = 0;
+            while (done < message.size()) {
+                const ssize_t n = ::write(fds[1], message.data() + done, message.size() - done);
+                if (n <= 0 && errno != EINTR) break;
+                if (n > 0) done += static_cast<size_t>(n);
+            }
+            code = kChildInputError;
+        } catch (...) {
+            code = kChildOtherError;
+        }
+        ::_exit(code);
+    }
+    ::close(fds[1]);
+    std::string message;
+    char buffer[4096];
+    for (;;) {
+        const ssize_t n = ::read(fds[0], buffer, sizeof buffer);
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) break;
+        message.append(buffer, static_cast<size_t>(n));
+    }
+    ::close(fds[0]);
+    int status = 0;
+    while (::waitpid(pid, &status, 0) < 0) {
+        if (errno != EINTR) return;  // cannot tell what happened: parse in-process
+    }
+    if (WIFEXITED(status) && (WEXITSTATUS(status) == kChildOk || WEXITSTATUS(status) == kChildOtherError)) return;
+    if (WIFEXITED(status) && WEXITSTATUS(status) == kChildInputError) throw InputError(where, message);
+    if (WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL)
+        throw InputError(where, "the process reading it with the " + library +
+                                    " library was killed (signal 9; out of memory?)");
+    std::string how;
+    if (WIFSIGNALED(status)) {
+        const int sig = WTERMSIG(status);
+        const char* name = ::strsignal(sig);
+        how = "signal " + std::to_string(sig) + (name ? std::string(", ") + name : std::string());
+    } else {
+        how = "exit code " + std::to_string(WIFEXITED(status) ? WEXITSTATUS(status) : -1);
+    }
+    throw InputError(where, "the " + library + " library crashed reading it (" + how + "): the file is corrupt");
 }
 
 }  // namespace bpm::detail

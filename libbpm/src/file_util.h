@@ -2,14 +2,22 @@
 // Internal file helpers shared by the readers and writers (not public API).
 
 #include <cstddef>
+#include <functional>
 #include <string>
 
 namespace bpm::detail {
 
 // Writes `bytes` to `path` so that `path` holds either its previous content or all of
 // `bytes`, never a part: the bytes go to a temporary file in the same directory, are
-// flushed to disk, and the temporary is renamed over `path`. "-" writes to standard
-// output. Throws bpm::OutputError (missing directory, permission, disk full).
+// flushed to disk, and the temporary is renamed over `path` (and the directory flushed).
+// "-" writes to standard output. Throws bpm::OutputError (missing directory, permission,
+// disk full), after removing the temporary file.
+// Temporary files: on Linux the bytes are written to an unnamed file (O_TMPFILE) that gets
+// a name only once complete, so a process killed (SIGKILL, power loss) while writing
+// leaves nothing. Otherwise, and in the instant between naming and renaming, the
+// temporary name is ".NAME.tmpXXXXXXXX" next to NAME (hidden, 8 hex digits, never NAME's
+// extension): that is the only thing a killed bpm tool can leave behind, it is never a
+// complete output, and it may be deleted.
 void write_file_atomically(const std::string& path, const std::string& bytes);
 
 // Reads a whole file (or standard input for "-") into memory. Throws bpm::InputError
@@ -18,5 +26,23 @@ std::string read_whole_input(const std::string& path, size_t max_bytes = size_t(
 
 // A name for error messages: the path, or "<stdin>" for "-".
 std::string display_name(const std::string& path);
+
+// Runs `parse` in a child process (fork) so that a parser we cannot fix (HDF5) crashing
+// on a corrupt input cannot take the caller down with it. The child's standard output
+// and error go to /dev/null; it dies with its parent (PR_SET_PDEATHSIG) and never writes
+// files. Outcomes:
+//   * `parse` returned in the child: returns. The caller then parses in-process; the child
+//     was an exact copy of this process, so the same bytes take the same (now known to be
+//     survivable) path.
+//   * `parse` threw InputError in the child: throws InputError(where, its message).
+//   * the child died from a signal, or exited in any other way than the three above (an
+//     ASan/UBSan report in a sanitized build): throws InputError(where, "the <library>
+//     library crashed reading it (...): the file is corrupt").
+//   * `parse` threw anything else, or fork() failed: returns (the in-process parse then
+//     reports it as usual, or runs unprotected).
+// Test hook: with the environment variable BPM_TEST_ISOLATED_CRASH=N (a signal number)
+// the child raises signal N instead of parsing, so that tests can exercise the crash path
+// without a file that crashes the library for real.
+void run_isolated(const std::string& where, const std::string& library, const std::function<void()>& parse);
 
 }  // namespace bpm::detail

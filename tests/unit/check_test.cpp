@@ -1,3 +1,4 @@
+#include <limits>
 #include <catch2/catch.hpp>
 
 #include <chrono>
@@ -657,6 +658,30 @@ TEST_CASE("distance gate: a broken image of phi is caught where it is", "[check]
     REQUIRE(bad.problem_count >= 1);
     CHECK(bad.problems[0].message.find("phi's image") != std::string::npos);
     CHECK(bad.problems[0].id("coarse_triangle") == 5);
+}
+
+TEST_CASE("distance gate: coordinates too large for double-precision distances are refused, not measured",
+          "[check][distance]") {
+    // Found by fuzz_read_bpm: a node image of 8e252 overflowed to inf/NaN in squared
+    // distances, and NaN handed to CGAL's exact number types raises SIGFPE.
+    for (double huge : {8e252, 1e200, -1e151}) {
+        Parametrization p = test::make_height_field(8, 2, test::default_height);
+        CheckOptions o;
+        o.max_error = 0.2;
+        p.node_image[p.node_offsets[3]][0] = huge;
+        const CheckResult r = check_distance(p, o);
+        INFO(problems_text(r));
+        CHECK_FALSE(r.passed);
+        REQUIRE(r.problem_count == 1);
+        CHECK(r.problems[0].message.find("too large") != std::string::npos);
+    }
+    Parametrization p = test::make_height_field(8, 2, test::default_height);
+    CheckOptions o;
+    o.max_error = 0.2;
+    p.original.vertices[0][1] = std::numeric_limits<double>::infinity();
+    const CheckResult r = check_distance(p, o);
+    CHECK_FALSE(r.passed);
+    REQUIRE(r.problem_count >= 1);
 }
 
 TEST_CASE("distance: sampled estimates respect the exact bound and are deterministic", "[check][distance]") {

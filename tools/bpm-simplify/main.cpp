@@ -68,6 +68,7 @@ int main(int argc, char** argv) {
 
     return bpm::tools::run(tool, argc, argv, app, [&]() {
         bpm::tools::require_output_directory(output);
+        bpm::tools::require_bpm_output(output, tool);
         if (!format.empty()) {
             read_options.format = bpm::surface_format_from_name(format);
             if (!read_options.format) throw CLI::ValidationError("--format", "unknown format '" + format + "'");

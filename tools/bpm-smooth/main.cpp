@@ -32,6 +32,7 @@ int main(int argc, char** argv) {
 
     return bpm::tools::run(tool, argc, argv, app, [&]() {
         bpm::tools::require_output_directory(output);
+        bpm::tools::require_bpm_output(output, tool);
         options.measure_quality = !no_quality;
         const bpm::Context context = bpm::tools::make_context(tool, verbose, quiet);
         bpm::BpmFile file = bpm::read_bpm(input);

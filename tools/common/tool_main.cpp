@@ -2,11 +2,15 @@
 
 #include <unistd.h>
 
+#include <cctype>
 #include <cstdio>
+#include <cstdlib>
 #include <ctime>
 #include <filesystem>
 #include <iostream>
+#include <regex>
 
+#include "bpm/bpm_file.h"
 #include "bpm/errors.h"
 #include "bpm/version.h"
 
@@ -17,6 +21,20 @@ void print_error(const std::string& tool, const std::string& where, const std::s
     std::cerr << tool << ": error: ";
     if (!where.empty()) std::cerr << where << ": ";
     std::cerr << message << std::endl;
+}
+// CLI11's range validators print their bounds with std::to_string, so a negative count
+// gave "Value -5 not in range 0.000000 to 1797693134862315708...(309 digits).000000".
+// Bounds are shown with %g instead: "Value -5 not in range 0 to 1.79769e+308".
+std::string readable_parse_error(const std::string& message) {
+    static const std::regex range("not in range (-?[0-9]+\\.?[0-9]*) to (-?[0-9]+\\.?[0-9]*)");
+    std::smatch m;
+    if (!std::regex_search(message, m, range)) return message;
+    const auto shorter = [](const std::string& number) {
+        char buffer[32];
+        std::snprintf(buffer, sizeof buffer, "%g", std::strtod(number.c_str(), nullptr));
+        return std::string(buffer);
+    };
+    return m.prefix().str() + "not in range " + shorter(m[1].str()) + " to " + shorter(m[2].str()) + m.suffix().str();
 }
 }  // namespace
 
@@ -33,10 +51,13 @@ int run(const std::string& tool, int argc, char** argv, CLI::App& app, const std
         std::cout << version_line(tool) << std::endl;
         return kOk;
     } catch (const CLI::ParseError& e) {
-        print_error(tool, "", e.what());
+        print_error(tool, "", readable_parse_error(e.what()));
         std::cerr << "Run '" << tool << " --help' for the options." << std::endl;
         return kUsage;
     }
+    // .bpm input is parsed in a child process first, so that a corrupt file that crashes
+    // HDF5 ends as exit 3 with a message instead of a segfault (bpm/bpm_file.h).
+    set_hdf5_isolation(true);
     try {
         return body();
     } catch (const InputError& e) {
@@ -49,7 +70,7 @@ int run(const std::string& tool, int argc, char** argv, CLI::App& app, const std
         print_error(tool, "", e.what());
         return kUsage;
     } catch (const CLI::ParseError& e) {
-        print_error(tool, "", e.what());
+        print_error(tool, "", readable_parse_error(e.what()));
         return kUsage;
     } catch (const AlgorithmError& e) {
         print_error(tool, "", e.what());
@@ -122,6 +143,17 @@ void require_output_directory(const std::string& path) {
     std::error_code ec;
     if (!std::filesystem::is_directory(parent, ec))
         throw CLI::ValidationError("--output", "directory does not exist: " + parent.string());
+}
+
+void require_bpm_output(const std::string& path, const std::string& tool) {
+    if (path == "-") return;
+    const std::string name = std::filesystem::path(path).filename().string();
+    std::string extension = std::filesystem::path(name).extension().string();
+    for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    if (extension != ".bpm")
+        throw CLI::ValidationError("--output", tool + " writes .bpm files only, and '" + name +
+                                                   "' does not end in .bpm (bpm-refine writes surfaces, bpm-mesh "
+                                                   "volume meshes)");
 }
 
 std::string utc_timestamp() {

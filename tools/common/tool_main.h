@@ -24,7 +24,8 @@ enum ExitCode : int {
 };
 
 // Runs `body` (which parses with the given app and does the work), catching every
-// exception and printing `tool: error: WHERE: message` on stderr.
+// exception and printing `tool: error: WHERE: message` on stderr. Turns on the HDF5
+// crash isolation of .bpm reading (bpm::set_hdf5_isolation) first.
 int run(const std::string& tool, int argc, char** argv, CLI::App& app, const std::function<int()>& body);
 
 // A Context whose log goes to stderr ("tool: warning: ...", info only when verbose)
@@ -44,6 +45,11 @@ void add_output_tool_flags(CLI::App& app, const std::string& tool, bool& determi
 // Throws CLI::ValidationError if the directory of `path` does not exist (checked before
 // any expensive work); "-" is always accepted.
 void require_output_directory(const std::string& path);
+
+// Throws CLI::ValidationError unless `path` is "-" or ends in .bpm (any case): for the
+// tools that write nothing but .bpm files, so that "-o coarse.off" is a usage error
+// (exit 2, before any work) instead of an HDF5 file named .off.
+void require_bpm_output(const std::string& path, const std::string& tool);
 
 // Current time as ISO 8601 UTC, for provenance.
 std::string utc_timestamp();

@@ -63,4 +63,13 @@ std::string write_bpm_to_memory(const BpmFile& file);
 BpmFile read_bpm(const std::string& path);
 BpmFile read_bpm_from_memory(const std::string& bytes, const std::string& name);
 
+// Isolation from HDF5 crashes (off by default; every bpm tool turns it on). HDF5 1.10
+// reads out of bounds, and sometimes crashes, on some corrupt files. With isolation on,
+// read_bpm and read_bpm_from_memory parse the bytes first in a forked child process
+// (POSIX fork; the child writes nothing and dies with its parent): if the child crashes
+// they throw InputError "the HDF5 library crashed reading it (signal ...): the file is
+// corrupt", otherwise they parse the same bytes again in-process. Costs a second parse
+// and a fork per read; a library should not fork behind its caller's back, hence opt-in.
+void set_hdf5_isolation(bool enabled);
+
 }  // namespace bpm

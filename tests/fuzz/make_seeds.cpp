@@ -1,0 +1,289 @@
+// bpm-fuzz-seeds OUTDIR: writes small valid files of every input format into
+// OUTDIR/{off,obj,stl,ply,msh,bpm}/, the seed corpora of the fuzz targets
+// (scripts/fuzz.sh adds the malformed files of tests/data/bad/ and spec/examples/).
+//
+// Surfaces come from the library's writers (one encoding per format) and, for the
+// encodings and features the writers do not produce (ASCII PLY and STL, big-endian PLY,
+// MSH 2.2, binary MSH, OBJ groups / materials / relative indices, OFF colours), from the
+// small text builders below, so that the fuzzer starts inside every branch of every
+// reader. .bpm seeds are the fixtures of tests/unit/fixtures_phi.h, a simplified
+// octahedron with its record of steps, one with a tetrahedral mesh (if tetgen is
+// installed) and one with a refined one.
+// Exit codes: 0 ok, 2 usage, 4 output error.
+#include <algorithm>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "bpm/bpm_file.h"
+#include "bpm/errors.h"
+#include "bpm/simplify.h"
+#include "bpm/surface_io.h"
+#include "bpm/tet_refine.h"
+#include "bpm/tetmesh.h"
+#include "fixtures_phi.h"
+
+namespace fs = std::filesystem;
+using namespace bpm;
+
+namespace {
+
+fs::path g_out;
+
+void put_file(const std::string& format, const std::string& name, const std::string& bytes) {
+    std::ofstream out(g_out / format / name, std::ios::binary);
+    out << bytes;
+    if (!out) throw OutputError((g_out / format / name).string(), "cannot write");
+}
+
+template <class T>
+void put(std::string& out, T value, bool big_endian = false) {
+    unsigned char raw[sizeof(T)];
+    std::memcpy(raw, &value, sizeof(T));
+    if (big_endian) std::reverse(raw, raw + sizeof(T));  // the host is little endian (x86-64)
+    out.append(reinterpret_cast<const char*>(raw), sizeof(T));
+}
+
+std::string num(double x) {
+    char buffer[40];
+    std::snprintf(buffer, sizeof buffer, "%.17g", x);
+    return buffer;
+}
+
+Surface tetrahedron() {
+    Surface s;
+    s.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    s.triangles = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+    s.patches = {0, 0, 1, 1};
+    return s;
+}
+
+std::string off_colours(const Surface& s) {
+    std::string o = "# coloured OFF\nCOFF " + std::to_string(s.vertices.size()) + " " +
+                    std::to_string(s.triangles.size()) + " 0\n";
+    for (const Vec3& p : s.vertices) o += num(p[0]) + " " + num(p[1]) + " " + num(p[2]) + " 255 0 0 255\n";
+    for (const Tri& t : s.triangles)
+        o += "3 " + std::to_string(t[0]) + " " + std::to_string(t[1]) + " " + std::to_string(t[2]) + " 0.5 0.5 0.5\n";
+    return o;
+}
+
+std::string obj_features(const Surface& s) {
+    std::string o = "mtllib x.mtl\no thing\n";
+    for (const Vec3& p : s.vertices) o += "v " + num(p[0]) + " " + num(p[1]) + " \\\n " + num(p[2]) + "\n";
+    o += "vt 0 0\nvn 0 0 1\ns 1\n";
+    const int nv = static_cast<int>(s.vertices.size());
+    for (size_t t = 0; t < s.triangles.size(); ++t) {
+        if (t == 0 || s.patches[t] != s.patches[t - 1])
+            o += "g part" + std::to_string(s.patches[t]) + "\nusemtl m" + std::to_string(t % 2) + "\n";
+        const Tri& f = s.triangles[t];
+        // absolute v/vt/vn, relative v//vn, plain v
+        o += "f " + std::to_string(f[0] + 1) + "/1/1 " + std::to_string(f[1] - nv) + "//1 " +
+             std::to_string(f[2] + 1) + "\n";
+    }
+    o += "l 1 2\n";
+    return o;
+}
+
+std::string stl_ascii(const Surface& s) {
+    std::string o;
+    for (int solid = 0; solid < 2; ++solid) {
+        o += "solid part" + std::to_string(solid) + "\n";
+        for (size_t t = 0; t < s.triangles.size(); ++t) {
+            if (static_cast<int>(t % 2) != solid) continue;
+            o += "  facet normal 0 0 1\n    outer loop\n";
+            for (int32_t v : s.triangles[t])
+                o += "      vertex " + num(s.vertices[v][0]) + " " + num(s.vertices[v][1]) + " " +
+                     num(s.vertices[v][2]) + "\n";
+            o += "    endloop\n  endfacet\n";
+        }
+        o += "endsolid part" + std::to_string(solid) + "\n";
+    }
+    return o;
+}
+
+std::string ply_ascii(const Surface& s) {
+    std::string o = "ply\nformat ascii 1.0\ncomment seed\nelement vertex " + std::to_string(s.vertices.size()) +
+                    "\nproperty float x\nproperty float y\nproperty float z\nproperty uchar red\n"
+                    "property list uchar float extra\nelement face " +
+                    std::to_string(s.triangles.size()) +
+                    "\nproperty list uchar int vertex_indices\nproperty int material\nelement edge 1\n"
+                    "property int vertex1\nproperty int vertex2\nend_header\n";
+    for (const Vec3& p : s.vertices) o += num(p[0]) + " " + num(p[1]) + " " + num(p[2]) + " 7 2 0.5 1.5\n";
+    for (size_t t = 0; t < s.triangles.size(); ++t) {
+        const Tri& f = s.triangles[t];
+        o += "3 " + std::to_string(f[0]) + " " + std::to_string(f[1]) + " " + std::to_string(f[2]) + " " +
+             std::to_string(s.patches[t]) + "\n";
+    }
+    o += "0 1\n";
+    return o;
+}
+
+std::string ply_big_endian(const Surface& s) {
+    std::string o = "ply\nformat binary_big_endian 1.0\nelement vertex " + std::to_string(s.vertices.size()) +
+                    "\nproperty double x\nproperty double y\nproperty double z\nelement face " +
+                    std::to_string(s.triangles.size()) +
+                    "\nproperty list uint ushort vertex_index\nproperty short region\nend_header\n";
+    for (const Vec3& p : s.vertices)
+        for (double x : p) put<double>(o, x, true);
+    for (size_t t = 0; t < s.triangles.size(); ++t) {
+        put<uint32_t>(o, 3, true);
+        for (int32_t v : s.triangles[t]) put<uint16_t>(o, static_cast<uint16_t>(v), true);
+        put<int16_t>(o, static_cast<int16_t>(s.patches[t]), true);
+    }
+    return o;
+}
+
+std::string msh22_ascii(const Surface& s) {
+    std::string o = "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$PhysicalNames\n1\n2 1 \"skin\"\n$EndPhysicalNames\n$Nodes\n" +
+                    std::to_string(s.vertices.size()) + "\n";
+    for (size_t i = 0; i < s.vertices.size(); ++i)
+        o += std::to_string(10 + 2 * i) + " " + num(s.vertices[i][0]) + " " + num(s.vertices[i][1]) + " " +
+             num(s.vertices[i][2]) + "\n";
+    o += "$EndNodes\n$Elements\n" + std::to_string(s.triangles.size() + 1) + "\n1 1 2 0 1 10 12\n";
+    for (size_t t = 0; t < s.triangles.size(); ++t) {
+        const Tri& f = s.triangles[t];
+        o += std::to_string(t + 2) + " 2 2 " + std::to_string(s.patches[t]) + " 1 " + std::to_string(10 + 2 * f[0]) +
+             " " + std::to_string(10 + 2 * f[1]) + " " + std::to_string(10 + 2 * f[2]) + "\n";
+    }
+    o += "$EndElements\n";
+    return o;
+}
+
+std::string msh22_binary(const Surface& s, bool big_endian) {
+    std::string o = "$MeshFormat\n2.2 1 8\n";
+    put<int32_t>(o, 1, big_endian);
+    o += "\n$EndMeshFormat\n$Nodes\n" + std::to_string(s.vertices.size()) + "\n";
+    for (size_t i = 0; i < s.vertices.size(); ++i) {
+        put<int32_t>(o, static_cast<int32_t>(i + 1), big_endian);
+        for (double x : s.vertices[i]) put<double>(o, x, big_endian);
+    }
+    o += "\n$EndNodes\n$Elements\n" + std::to_string(s.triangles.size() + 1) + "\n";
+    // one point element (type 15) to be skipped, then the triangles
+    for (int32_t v : {15, 1, 2, 1, 9, 9, 1}) put<int32_t>(o, v, big_endian);
+    for (int32_t v : {2, static_cast<int32_t>(s.triangles.size()), 2}) put<int32_t>(o, v, big_endian);
+    for (size_t t = 0; t < s.triangles.size(); ++t) {
+        put<int32_t>(o, static_cast<int32_t>(t + 2), big_endian);
+        put<int32_t>(o, s.patches[t], big_endian);
+        put<int32_t>(o, 1, big_endian);
+        for (int32_t v : s.triangles[t]) put<int32_t>(o, v + 1, big_endian);
+    }
+    o += "\n$EndElements\n";
+    return o;
+}
+
+// MSH 4.1 binary: one surface entity with a physical tag, one node block, one line
+// element block (skipped) and one triangle block.
+std::string msh41_binary(const Surface& s) {
+    std::string o = "$MeshFormat\n4.1 1 8\n";
+    put<int32_t>(o, 1);
+    o += "\n$EndMeshFormat\n$Entities\n";
+    for (uint64_t c : {0, 1, 1, 0}) put<uint64_t>(o, c);
+    put<int32_t>(o, 1);  // curve 1
+    for (int k = 0; k < 6; ++k) put<double>(o, 0);
+    put<uint64_t>(o, 0);  // no physical tags
+    put<uint64_t>(o, 0);  // no bounding points
+    put<int32_t>(o, 1);  // surface 1
+    for (int k = 0; k < 6; ++k) put<double>(o, k < 3 ? 0 : 1);
+    put<uint64_t>(o, 1);
+    put<int32_t>(o, 5);  // physical tag 5
+    put<uint64_t>(o, 1);
+    put<int32_t>(o, 1);  // bounded by curve 1
+    o += "\n$EndEntities\n$Nodes\n";
+    const uint64_t nv = s.vertices.size(), nt = s.triangles.size();
+    for (uint64_t c : {uint64_t(1), nv, uint64_t(1), nv}) put<uint64_t>(o, c);
+    put<int32_t>(o, 2), put<int32_t>(o, 1), put<int32_t>(o, 0), put<uint64_t>(o, nv);
+    for (uint64_t i = 1; i <= nv; ++i) put<uint64_t>(o, i);
+    for (const Vec3& p : s.vertices)
+        for (double x : p) put<double>(o, x);
+    o += "\n$EndNodes\n$Elements\n";
+    for (uint64_t c : {uint64_t(2), nt + 1, uint64_t(1), nt + 1}) put<uint64_t>(o, c);
+    put<int32_t>(o, 1), put<int32_t>(o, 1), put<int32_t>(o, 1), put<uint64_t>(o, 1);  // a line
+    for (uint64_t v : {nt + 1, uint64_t(1), uint64_t(2)}) put<uint64_t>(o, v);
+    put<int32_t>(o, 2), put<int32_t>(o, 1), put<int32_t>(o, 2), put<uint64_t>(o, nt);
+    for (uint64_t t = 0; t < nt; ++t) {
+        put<uint64_t>(o, t + 1);
+        for (int32_t v : s.triangles[t]) put<uint64_t>(o, static_cast<uint64_t>(v) + 1);
+    }
+    o += "\n$EndElements\n";
+    return o;
+}
+
+void write_surface_seeds(const std::string& stem, const Surface& s) {
+    for (const char* ext : {"off", "obj", "stl", "ply", "msh"})
+        write_surface((g_out / ext / (stem + "." + ext)).string(), s);
+    put_file("off", stem + "_colours.off", off_colours(s));
+    put_file("obj", stem + "_features.obj", obj_features(s));
+    put_file("stl", stem + "_ascii.stl", stl_ascii(s));
+    put_file("ply", stem + "_ascii.ply", ply_ascii(s));
+    put_file("ply", stem + "_big_endian.ply", ply_big_endian(s));
+    put_file("msh", stem + "_22_ascii.msh", msh22_ascii(s));
+    put_file("msh", stem + "_22_binary.msh", msh22_binary(s, false));
+    put_file("msh", stem + "_22_binary_be.msh", msh22_binary(s, true));
+    put_file("msh", stem + "_41_binary.msh", msh41_binary(s));
+}
+
+BpmFile wrap(Parametrization p, const std::string& what) {
+    BpmFile f;
+    f.param = std::move(p);
+    f.units = "mm";
+    f.provenance.push_back({"bpm-fuzz-seeds", "1", what, ""});
+    return f;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    if (argc != 2) {
+        std::fprintf(stderr, "usage: bpm-fuzz-seeds OUTDIR\n");
+        return 2;
+    }
+    g_out = argv[1];
+    try {
+        for (const char* d : {"off", "obj", "stl", "ply", "msh", "bpm"}) fs::create_directories(g_out / d);
+
+        write_surface_seeds("tetrahedron", tetrahedron());
+        write_surface_seeds("octahedron1", test::make_subdivided_octahedron(1).original);
+        write_surface_seeds("height_field", test::make_height_field(4, 2, test::default_height).original);
+
+        write_bpm((g_out / "bpm" / "two_triangles.bpm").string(), test::make_two_triangles_example());
+        write_bpm((g_out / "bpm" / "octahedron0.bpm").string(), wrap(test::make_subdivided_octahedron(0), "oct 0"));
+        write_bpm((g_out / "bpm" / "octahedron1.bpm").string(), wrap(test::make_subdivided_octahedron(1), "oct 1"));
+        write_bpm((g_out / "bpm" / "height_field.bpm").string(),
+                  wrap(test::make_height_field(4, 2, test::default_height), "height field 4 2"));
+        write_bpm((g_out / "bpm" / "identity.bpm").string(),
+                  wrap(make_identity_parametrization(tetrahedron()), "identity tetrahedron"));
+        {
+            // What bpm-simplify --record-steps writes: a real simplification with its record.
+            BpmFile f;
+            SimplifyOptions so;
+            so.target_vertices = 8;
+            so.record_steps = true;
+            SimplifyResult r = simplify(test::make_subdivided_octahedron(2).original, so, Context{}, f.param);
+            f.simplification_steps = std::move(r.steps);
+            f.provenance.push_back({"bpm-fuzz-seeds", "1", "simplify oct 2 --vertices 8 --record-steps", ""});
+            write_bpm((g_out / "bpm" / "octahedron2_simplified_steps.bpm").string(), f);
+        }
+        try {
+            BpmFile f = wrap(test::make_subdivided_octahedron(1), "oct 1 + tetmesh");
+            TetMesh mesh;
+            generate_tetmesh(f.param, TetMeshOptions{}, Context{}, mesh);
+            f.tetmesh = mesh;
+            write_bpm((g_out / "bpm" / "octahedron1_tetmesh.bpm").string(), f);
+            TetRefineOptions ro;
+            ro.levels = 1;
+            TetMesh fine;
+            refine_tetmesh(f.param, mesh, ro, Context{}, fine);
+            f.tetmesh = fine;
+            write_bpm((g_out / "bpm" / "octahedron1_tetmesh_refined.bpm").string(), f);
+        } catch (const ExternalToolError& e) {
+            std::fprintf(stderr, "bpm-fuzz-seeds: warning: no tetrahedral-mesh seeds (%s)\n", e.what());
+        }
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "bpm-fuzz-seeds: error: %s\n", e.what());
+        return 4;
+    }
+    return 0;
+}
