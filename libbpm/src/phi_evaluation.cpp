@@ -4,14 +4,19 @@
 // and Faigle. Here every coarse triangle gets a small uniform grid over its parameter
 // triangle in (b1, b2) coordinates instead; each cell lists the pieces that overlap it.
 // A query looks at one cell and tests its few candidates, which is branch-light,
-// needs no adjacency between pieces and is the same cost for every point
-// (> 10 million evaluations per second for files with ~100 pieces per coarse triangle).
+// needs no adjacency between pieces and is the same cost for every point.
 //
-// Each piece stores the inverse of the matrix whose columns are its corners'
-// barycentric coordinates in the coarse triangle: multiplying the query's coarse
-// barycentrics by it gives the query's barycentrics in the piece directly. For the
-// identity parametrization that matrix is exactly the identity, so phi reproduces the
-// input point bit for bit.
+// Each piece has one record with everything a query needs (no pointer chasing through
+// the per-node arrays): the inverse of the matrix whose columns are its corners'
+// barycentric coordinates in the coarse triangle (multiplying the query's coarse
+// barycentrics by it gives the query's barycentrics in the piece directly), the corner
+// images, the matrix taking piece barycentrics to barycentrics in the original
+// triangle, and that triangle's normal. For the identity parametrization both matrices
+// are exactly the identity, so phi reproduces the input point bit for bit.
+//
+// Throughput (bench/refine.py, results in bench/results/refine.md): in cache about
+// 25-60 ns per query; for large random batches the batched calls group the queries by
+// coarse triangle in chunks and can use several threads.
 
 #include "bpm/phi_evaluation.h"
 
@@ -19,6 +24,7 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <thread>
 
 namespace bpm {
 
@@ -67,13 +73,25 @@ struct CornerCode {
     uint8_t b[3];
 };
 
+// Everything a query needs about one piece, in one place (a query touches one record
+// per candidate piece and nothing else but the grid).
+struct PieceRecord {
+    Mat3 to_piece;            // coarse barycentrics -> piece barycentrics (tested first)
+    Vec3 image[3];            // node_image of the corners
+    Mat3 to_original;         // piece barycentrics -> original barycentrics (column k: corner k)
+    Vec3 normal;              // unit normal of the original triangle
+    int32_t original_triangle;
+};
+
+struct Grid {
+    int64_t begin;  // index of the triangle's first entry in cell_start
+    int32_t g;      // cells per side (g*g cells, row-major in (b1, b2))
+};
+
 struct PhiEvaluator::Impl {
     const Parametrization& p;
-    std::vector<Mat3> to_piece;        // #P coarse barycentrics -> piece barycentrics
-    std::vector<CornerCode> corners;   // #P
-    std::vector<Vec3> normals;         // #S0.T unit normals of the original triangles
-    std::vector<int32_t> grid_size;    // #S.T cells per side g (g*g cells, row-major in (b1, b2))
-    std::vector<int64_t> grid_begin;   // #S.T index of the triangle's first entry in cell_start
+    std::vector<PieceRecord> pieces;   // #P
+    std::vector<Grid> grids;           // #S.T
     std::vector<int64_t> cell_start;   // per triangle g*g+1 offsets into cell_pieces
     std::vector<int32_t> cell_pieces;  // global piece indices
 
@@ -82,36 +100,47 @@ struct PhiEvaluator::Impl {
     void build() {
         const int32_t nt = p.num_coarse_triangles();
         const auto& x = p.original.vertices;
-        normals.resize(p.original.triangles.size());
+        std::vector<Vec3> normals(p.original.triangles.size());
         for (size_t i = 0; i < normals.size(); ++i) {
             const Tri& tri = p.original.triangles[i];
             normals[i] = triangle_normal(x[static_cast<size_t>(tri[0])], x[static_cast<size_t>(tri[1])],
                                          x[static_cast<size_t>(tri[2])]);
         }
-        to_piece.resize(static_cast<size_t>(p.num_pieces()));
-        corners.resize(static_cast<size_t>(p.num_pieces()));
-        grid_size.resize(static_cast<size_t>(nt));
-        grid_begin.resize(static_cast<size_t>(nt));
+        pieces.resize(static_cast<size_t>(p.num_pieces()));
+        grids.resize(static_cast<size_t>(nt));
         for (int32_t t = 0; t < nt; ++t) {
             const int64_t nb = p.node_offsets[static_cast<size_t>(t)];
             const int64_t q0 = p.piece_offsets[static_cast<size_t>(t)], q1 = p.piece_offsets[static_cast<size_t>(t) + 1];
             const int64_t count = q1 - q0;
-            // About one cell per piece area: few candidates per cell, small grids.
+            // About two cells per piece area: mostly one or two candidates per cell (each
+            // candidate that is tested and rejected costs a branch misprediction), grids
+            // still small (measured on armadillo at 10%: 2 -> 4 cells per piece is ~20% faster).
             const int32_t g = static_cast<int32_t>(
-                std::clamp(std::ceil(std::sqrt(2.0 * static_cast<double>(count))), 1.0, 1024.0));
-            grid_size[static_cast<size_t>(t)] = g;
-            grid_begin[static_cast<size_t>(t)] = static_cast<int64_t>(cell_start.size());
+                std::clamp(std::ceil(std::sqrt(4.0 * static_cast<double>(count))), 1.0, 1024.0));
+            grids[static_cast<size_t>(t)] = Grid{static_cast<int64_t>(cell_start.size()), g};
             std::vector<std::vector<int32_t>> cells(static_cast<size_t>(g) * static_cast<size_t>(g));
             for (int64_t q = q0; q < q1; ++q) {
                 const Tri& piece = p.pieces[static_cast<size_t>(q)];
-                corners[static_cast<size_t>(q)] = corner_code(nb, piece, q);
+                PieceRecord& record = pieces[static_cast<size_t>(q)];
+                const CornerCode code = corner_code(nb, piece, q);
+                // Column k holds corner k's coordinates in the original triangle: a unit
+                // vector for an original vertex (so that beta is exact for phi = identity),
+                // 1 - s and s at the ends of the edge for an edge crossing.
+                record.to_original.fill(0.0);
+                for (int k = 0; k < 3; ++k) {
+                    record.to_original[static_cast<size_t>(3 * code.a[k] + k)] += 1 - code.s[k];
+                    record.to_original[static_cast<size_t>(3 * code.b[k] + k)] += code.s[k];
+                }
+                for (int k = 0; k < 3; ++k) record.image[k] = p.node_image[static_cast<size_t>(nb + piece[k])];
+                record.original_triangle = p.piece_original_triangle[static_cast<size_t>(q)];
+                record.normal = normals[static_cast<size_t>(record.original_triangle)];
                 const Vec3& a = p.node_barycentric[static_cast<size_t>(nb + piece[0])];
                 const Vec3& b = p.node_barycentric[static_cast<size_t>(nb + piece[1])];
                 const Vec3& c = p.node_barycentric[static_cast<size_t>(nb + piece[2])];
                 // Inverse of [a b c] (columns): rows are (b x c, c x a, a x b) / det.
                 const Vec3 r0 = cross(b, c), r1 = cross(c, a), r2 = cross(a, b);
                 const double det = dot(a, r0);
-                Mat3& m = to_piece[static_cast<size_t>(q)];
+                Mat3& m = record.to_piece;
                 if (det == 0 || !std::isfinite(det)) {
                     // A degenerate piece covers no area; make every point look far outside it.
                     m.fill(-1.0);
@@ -151,18 +180,18 @@ struct PhiEvaluator::Impl {
 
     // The piece containing `b`, and b's barycentrics in it.
     int64_t locate(int32_t t, const Vec3& b, Vec3& lambda) const {
-        const int32_t g = grid_size[static_cast<size_t>(t)];
+        const Grid& grid = grids[static_cast<size_t>(t)];
+        const int32_t g = grid.g;
         // NaN-safe clamping: a comparison with NaN is false, which selects 0.
         const double fu = b[1] * g, fv = b[2] * g;
         const int32_t i = fu >= 0 ? std::min(static_cast<int32_t>(fu), g - 1) : 0;
         const int32_t j = fv >= 0 ? std::min(static_cast<int32_t>(fv), g - 1) : 0;
-        const int64_t* cs = &cell_start[static_cast<size_t>(grid_begin[static_cast<size_t>(t)] +
-                                                            static_cast<int64_t>(i) * g + j)];
+        const int64_t* cs = &cell_start[static_cast<size_t>(grid.begin + static_cast<int64_t>(i) * g + j)];
         int64_t best = -1;
         double best_min = -std::numeric_limits<double>::infinity();
         for (int64_t k = cs[0]; k < cs[1]; ++k) {
             const int32_t q = cell_pieces[static_cast<size_t>(k)];
-            const Vec3 l = mul(to_piece[static_cast<size_t>(q)], b);
+            const Vec3 l = mul(pieces[static_cast<size_t>(q)].to_piece, b);
             const double m = min3(l);
             if (m >= 0) {
                 lambda = l;
@@ -180,7 +209,7 @@ struct PhiEvaluator::Impl {
         if (best >= 0 && best_min >= -1e-9) return best;
         const int64_t q0 = p.piece_offsets[static_cast<size_t>(t)], q1 = p.piece_offsets[static_cast<size_t>(t) + 1];
         for (int64_t q = q0; q < q1; ++q) {
-            const Vec3 l = mul(to_piece[static_cast<size_t>(q)], b);
+            const Vec3 l = mul(pieces[static_cast<size_t>(q)].to_piece, b);
             const double m = min3(l);
             if (m > best_min) {
                 best_min = m;
@@ -235,33 +264,38 @@ struct PhiEvaluator::Impl {
         return best;
     }
 
-    PhiSample evaluate(int32_t t, const Vec3& b) const {
-        Vec3 l;
+    // The piece containing b (-1 for a coarse triangle without pieces) and b's
+    // barycentrics in it, clamped into the piece.
+    int64_t piece_of(int32_t t, const Vec3& b, Vec3& l) const {
         const int64_t q = locate(t, b, l);
-        PhiSample out;
-        if (q < 0) return out;  // coarse triangle without pieces: invalid input
-        if (min3(l) < 0) {
+        if (q >= 0 && min3(l) < 0) {
             // Outside by rounding (or a query outside the triangle): snap to the piece.
             for (double& x : l) x = std::max(x, 0.0);
             const double sum = l[0] + l[1] + l[2];
             l = (1.0 / sum) * l;
         }
-        const int64_t nb = p.node_offsets[static_cast<size_t>(t)];
-        const Tri& piece = p.pieces[static_cast<size_t>(q)];
-        const int64_t n0 = nb + piece[0], n1 = nb + piece[1], n2 = nb + piece[2];
-        out.position = barycentric_point(p.node_image[static_cast<size_t>(n0)], p.node_image[static_cast<size_t>(n1)],
-                                         p.node_image[static_cast<size_t>(n2)], l);
-        const int32_t ot = p.piece_original_triangle[static_cast<size_t>(q)];
-        out.original_triangle = ot;
-        const CornerCode& code = corners[static_cast<size_t>(q)];
-        Vec3 beta{0, 0, 0};
-        for (int k = 0; k < 3; ++k) {
-            // For an original vertex this adds l[k] * 1 and then + 0: exact.
-            beta[code.a[k]] += l[k] * (1 - code.s[k]);
-            beta[code.b[k]] += l[k] * code.s[k];
-        }
-        out.original_barycentric = beta;
-        out.normal = normals[static_cast<size_t>(ot)];
+        return q;
+    }
+
+    Vec3 position(int32_t t, const Vec3& b) const {
+        Vec3 l;
+        const int64_t q = piece_of(t, b, l);
+        if (q < 0) return Vec3{0, 0, 0};
+        const PieceRecord& record = pieces[static_cast<size_t>(q)];
+        return barycentric_point(record.image[0], record.image[1], record.image[2], l);
+    }
+
+    PhiSample evaluate(int32_t t, const Vec3& b) const {
+        Vec3 l;
+        const int64_t q = piece_of(t, b, l);
+        PhiSample out;
+        if (q < 0) return out;  // coarse triangle without pieces: invalid input
+        const PieceRecord& record = pieces[static_cast<size_t>(q)];
+        out.position = barycentric_point(record.image[0], record.image[1], record.image[2], l);
+        out.original_triangle = record.original_triangle;
+        // For original vertices this is l[k] * 1 plus zeros: exact.
+        out.original_barycentric = mul(record.to_original, l);
+        out.normal = record.normal;
         return out;
     }
 };
@@ -273,30 +307,81 @@ PhiSample PhiEvaluator::evaluate(int32_t coarse_triangle, const Vec3& barycentri
     return impl_->evaluate(coarse_triangle, barycentric);
 }
 
-void PhiEvaluator::evaluate(const std::vector<int32_t>& triangles, const std::vector<Vec3>& barycentrics,
-                            std::vector<PhiSample>& out) const {
+namespace {
+
+// Runs `eval(t, b, i)` for every query i (coarse triangle t, barycentrics b), see
+// PhiEvaluator::evaluate. Queries are processed in chunks; within a chunk they are
+// visited grouped by coarse triangle (a counting sort of (barycentric, index)
+// records), so that each triangle's grid and piece records are loaded into the cache
+// once per chunk instead of once per query: in random order, evaluation is bound by
+// memory latency. A chunk holds 2^20 queries (at least 48 per coarse triangle): on
+// armadillo at 10% (5196 coarse triangles) 2^20 was faster than 2^18 (too little reuse)
+// and than 2^22 (its scattered output no longer stays in the cache). Chunks are
+// independent, so threads take whole chunks.
+template <class Eval>
+void for_each_query_grouped(const std::vector<int32_t>& triangles, const std::vector<Vec3>& barycentrics, size_t nt,
+                            int threads, const Eval& eval) {
     if (triangles.size() != barycentrics.size())
         throw std::invalid_argument("PhiEvaluator::evaluate: triangles and barycentrics differ in length");
+    if (threads < 0) throw std::invalid_argument("PhiEvaluator::evaluate: threads must be >= 0");
+    if (threads == 0) threads = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
     const size_t n = triangles.size();
-    out.resize(n);
-    const size_t nt = static_cast<size_t>(impl_->p.num_coarse_triangles());
-    if (n < 4 * nt || n < 1024 || n > size_t(std::numeric_limits<uint32_t>::max())) {
-        for (size_t i = 0; i < n; ++i) out[i] = impl_->evaluate(triangles[i], barycentrics[i]);
-        return;
-    }
-    // Many queries: visit them grouped by coarse triangle (a counting sort), so that each
-    // triangle's pieces and nodes are loaded into the cache once instead of once per
-    // query; random query order is otherwise bound by memory latency.
-    std::vector<uint32_t> start(nt + 1, 0);
-    for (int32_t t : triangles) {
+    for (int32_t t : triangles)
         if (t < 0 || static_cast<size_t>(t) >= nt)
             throw std::out_of_range("PhiEvaluator::evaluate: coarse triangle index out of range");
-        ++start[static_cast<size_t>(t) + 1];
+    const size_t chunk = std::min(n, std::max<size_t>(size_t(1) << 20, 48 * nt));
+    const size_t chunks = chunk == 0 ? 0 : (n + chunk - 1) / chunk;
+    threads = static_cast<int>(std::min<size_t>(static_cast<size_t>(threads), std::max<size_t>(1, chunks)));
+    const bool group = n >= 1024 && chunk >= 4 * nt;
+    const auto work = [&](size_t first_chunk, size_t step) {
+        struct Query {
+            Vec3 b;
+            uint32_t index;
+        };
+        std::vector<uint32_t> start;
+        std::vector<Query> sorted;
+        for (size_t c = first_chunk; c < chunks; c += step) {
+            const size_t begin = c * chunk, end = std::min(n, begin + chunk);
+            if (!group) {
+                for (size_t i = begin; i < end; ++i) eval(triangles[i], barycentrics[i], i);
+                continue;
+            }
+            start.assign(nt + 1, 0);
+            for (size_t i = begin; i < end; ++i) ++start[static_cast<size_t>(triangles[i]) + 1];
+            for (size_t t = 0; t < nt; ++t) start[t + 1] += start[t];
+            sorted.resize(end - begin);
+            for (size_t i = begin; i < end; ++i)
+                sorted[start[static_cast<size_t>(triangles[i])]++] = Query{barycentrics[i], static_cast<uint32_t>(i - begin)};
+            // start[t] is now the end of triangle t's queries.
+            size_t k = 0;
+            for (size_t t = 0; t < nt; ++t)
+                for (; k < start[t]; ++k) eval(static_cast<int32_t>(t), sorted[k].b, begin + sorted[k].index);
+        }
+    };
+    if (threads == 1) {
+        work(0, 1);
+        return;
     }
-    for (size_t t = 0; t < nt; ++t) start[t + 1] += start[t];
-    std::vector<uint32_t> order(n);
-    for (size_t i = 0; i < n; ++i) order[start[static_cast<size_t>(triangles[i])]++] = static_cast<uint32_t>(i);
-    for (uint32_t i : order) out[i] = impl_->evaluate(triangles[i], barycentrics[i]);
+    std::vector<std::thread> pool;
+    for (int k = 1; k < threads; ++k) pool.emplace_back(work, size_t(k), size_t(threads));
+    work(0, size_t(threads));
+    for (std::thread& th : pool) th.join();
+}
+
+}  // namespace
+
+void PhiEvaluator::evaluate(const std::vector<int32_t>& triangles, const std::vector<Vec3>& barycentrics,
+                            std::vector<PhiSample>& out, int threads) const {
+    out.resize(std::min(triangles.size(), barycentrics.size()));
+    for_each_query_grouped(triangles, barycentrics, static_cast<size_t>(impl_->p.num_coarse_triangles()), threads,
+                           [&](int32_t t, const Vec3& b, size_t i) { out[i] = impl_->evaluate(t, b); });
+}
+
+void PhiEvaluator::evaluate_positions(const std::vector<int32_t>& triangles, const std::vector<Vec3>& barycentrics,
+                                      std::vector<Vec3>& positions, int threads) const {
+    positions.resize(std::min(triangles.size(), barycentrics.size()));
+    for_each_query_grouped(triangles, barycentrics, static_cast<size_t>(impl_->p.num_coarse_triangles()), threads,
+                           [&](int32_t t, const Vec3& b, size_t i) { positions[i] = impl_->position(t, b); });
 }
 
 }  // namespace bpm

@@ -12,6 +12,19 @@
 // the exact orientation of barycentric triples: sign det[p; q; x] is the orientation of
 // (p, q, x) in the parameter plane for any positive scaling of the rows, so it is exact
 // even when stored coordinates sum to 1 only up to rounding.
+//
+// Nodes within rounding distance of a refined vertex or edge. A node of phi that is
+// meant to lie on a refined edge (an original vertex exactly on a midline of a regular
+// mesh, an edge crossing at the midpoint of a coarse edge) is stored a few units in the
+// last place off it; the exact predicates then see a polygon a few 1e-17 wide, whose
+// corners cannot be told apart in double precision. Such nodes are first snapped, in a
+// copy of the node positions used only here, onto the refined vertex (exact dyadic
+// coordinates) or onto the refined edge (the point p + t (q - p) with t rounded to a
+// multiple of 2^-40: the endpoints are dyadic fractions with at most 11 bits, so the
+// result is exact and lies exactly on the edge). A snap moves a node by at most
+// kSnapDistance in barycentric units, is applied to every copy of a node on a coarse
+// edge alike, and is undone if any piece would lose its positive orientation. After
+// that, "on the edge" is again an exact decision.
 
 #include <algorithm>
 #include <cmath>
@@ -38,11 +51,37 @@ inline double area2(const Vec3& p, const Vec3& q, const Vec3& x) {  // in the (b
 
 using Key = std::array<int64_t, 5>;
 
+// Largest distance, in barycentric units of the coarse triangle, over which a node is
+// snapped onto a refined vertex or edge. Well above the rounding of stored node
+// positions (~1e-16), far below anything geometric.
+constexpr double kSnapDistance = 1e-12;
+
+// Distance in the (b1, b2) plane from x to the segment (p, q), and the parameter of the
+// closest point.
+double segment_distance(const Vec3& p, const Vec3& q, const Vec3& x, double& t) {
+    const double d1 = q[1] - p[1], d2 = q[2] - p[2];
+    const double len2 = d1 * d1 + d2 * d2;
+    t = len2 > 0 ? ((x[1] - p[1]) * d1 + (x[2] - p[2]) * d2) / len2 : 0.0;
+    t = std::min(1.0, std::max(0.0, t));
+    const double e1 = x[1] - (p[1] + t * d1), e2 = x[2] - (p[2] + t * d2);
+    return std::sqrt(e1 * e1 + e2 * e2);
+}
+
+// p + t (q - p) with t rounded to a multiple of 2^-40: exact for dyadic p, q with few
+// bits (refined vertices), so the result lies exactly on the line through p and q and
+// its coordinates sum to exactly 1.
+Vec3 point_on_segment(const Vec3& p, const Vec3& q, double t) {
+    const double scale = 1099511627776.0;  // 2^40
+    t = std::round(t * scale) / scale;
+    return {p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1]), p[2] + t * (q[2] - p[2])};
+}
+
 struct OverlayPoint {
     Vec3 b;           // barycentric in the coarse triangle
     Vec3 image;       // phi(b)
     int32_t vertex;   // vertex of the new original surface
     int corner = -1;  // corner of the refined triangle, or -1
+    bool crossing = false;  // where a piece edge crosses a refined edge
     int on_edge[3] = {0, 0, 0};  // on local edge k of the refined triangle
     int strict[3] = {0, 0, 0};   // strictly inside with respect to local edge k (exact decision)
 };
@@ -52,6 +91,121 @@ public:
     Overlay(const Parametrization& p, const RefinedSurface& r) : p_(p), r_(r) {
         out_.original.vertices = p.original.vertices;
         refined_vertex_.assign(r.surface.vertices.size(), -1);
+        by_coarse_.resize(size_t(p.coarse.num_triangles()));
+        for (size_t i = 0; i < r.triangle_coarse.size(); ++i) by_coarse_[size_t(r.triangle_coarse[i])].push_back(int32_t(i));
+        nb_ = p.node_barycentric;
+    }
+
+    // See the file comment. Returns the number of nodes snapped (each copy counted).
+    int64_t snap_nodes() {
+        const int32_t nct = p_.coarse.num_triangles();
+        // Proposals: node -> target position. Copies of a node on a coarse edge share a key.
+        std::vector<char> has_target(nb_.size(), 0);
+        std::vector<Vec3> target(nb_.size());
+        std::map<Key, std::vector<int64_t>> copies;  // key of a node on a coarse edge -> its copies
+        std::map<Key, int> proposals;                // how many copies found a target
+        auto edge_key = [&](int64_t g) -> Key {
+            const size_t i = size_t(g);
+            if (p_.node_kind[i] != NodeKind::EdgeCrossing) return {0, p_.node_original_vertex[i], 0, 0, 0};
+            int64_t bits;
+            const double s = p_.node_edge_parameter[i];
+            std::memcpy(&bits, &s, sizeof bits);
+            return {1, p_.node_original_edge[i][0], p_.node_original_edge[i][1], bits, 0};
+        };
+        for (int32_t t = 0; t < nct; ++t) {
+            const int64_t n0 = p_.node_offsets[size_t(t)], n1 = p_.node_offsets[size_t(t) + 1];
+            for (int32_t ri : by_coarse_[size_t(t)]) {
+                const auto& R = r_.triangle_barycentric[size_t(ri)];
+                const double lo1 = std::min({R[0][1], R[1][1], R[2][1]}) - kSnapDistance;
+                const double hi1 = std::max({R[0][1], R[1][1], R[2][1]}) + kSnapDistance;
+                const double lo2 = std::min({R[0][2], R[1][2], R[2][2]}) - kSnapDistance;
+                const double hi2 = std::max({R[0][2], R[1][2], R[2][2]}) + kSnapDistance;
+                for (int64_t g = n0; g < n1; ++g) {
+                    if (p_.node_kind[size_t(g)] == NodeKind::CoarseCorner || has_target[size_t(g)]) continue;
+                    const Vec3& b = p_.node_barycentric[size_t(g)];
+                    if (b[1] < lo1 || b[1] > hi1 || b[2] < lo2 || b[2] > hi2) continue;
+                    const bool interior = b[0] > 0 && b[1] > 0 && b[2] > 0;
+                    // A refined corner within reach: snap onto it (unless it is that point already).
+                    for (int k = 0; k < 3 && !has_target[size_t(g)]; ++k) {
+                        // (A copy already exactly at the corner counts as snapped: its copies in
+                        // other coarse triangles may be a rounding error away from it.)
+                        const Vec3& c = R[size_t(k)];
+                        double dummy;
+                        if (segment_distance(c, c, b, dummy) > kSnapDistance) continue;
+                        // A node must stay where it is combinatorially: inside, or on its coarse edge.
+                        const bool c_interior = c[0] > 0 && c[1] > 0 && c[2] > 0;
+                        bool same_edge = true;
+                        for (int j = 0; j < 3; ++j)
+                            if (b[size_t(j)] == 0 && c[size_t(j)] != 0) same_edge = false;
+                        if (interior != c_interior || !same_edge) continue;
+                        has_target[size_t(g)] = 1;
+                        target[size_t(g)] = c;
+                    }
+                    if (has_target[size_t(g)] || !interior) continue;
+                    // An interior node within reach of a refined edge (not a coarse edge).
+                    for (int k = 0; k < 3 && !has_target[size_t(g)]; ++k) {
+                        const Vec3& a = R[size_t(k)];
+                        const Vec3& c = R[size_t((k + 1) % 3)];
+                        if (orient_bary(a, c, b) == 0) continue;
+                        double tt;
+                        if (segment_distance(a, c, b, tt) > kSnapDistance) continue;
+                        const Vec3 x = point_on_segment(a, c, tt);
+                        if (!(x[0] > 0 && x[1] > 0 && x[2] > 0) || x == a || x == c) continue;
+                        has_target[size_t(g)] = 1;
+                        target[size_t(g)] = x;
+                    }
+                }
+            }
+            for (int64_t g = n0; g < n1; ++g) {
+                const Vec3& b = p_.node_barycentric[size_t(g)];
+                if (p_.node_kind[size_t(g)] == NodeKind::CoarseCorner || (b[0] > 0 && b[1] > 0 && b[2] > 0)) continue;
+                const Key key = edge_key(g);
+                copies[key].push_back(g);
+                if (has_target[size_t(g)]) ++proposals[key];
+            }
+        }
+        // Copies on coarse edges move only together: all of them or none.
+        for (const auto& [key, list] : copies) {
+            auto it = proposals.find(key);
+            if (it == proposals.end()) continue;
+            if (size_t(it->second) != list.size())
+                for (int64_t g : list) has_target[size_t(g)] = 0;
+        }
+        std::vector<Vec3> snapped = nb_;
+        for (size_t g = 0; g < nb_.size(); ++g)
+            if (has_target[g]) snapped[g] = target[g];
+        // Undo snaps that would flip or flatten a piece (with all other snaps applied),
+        // until every piece is positively oriented again.
+        for (bool again = true; again;) {
+            again = false;
+            for (int32_t t = 0; t < nct; ++t) {
+                const int64_t n0 = p_.node_offsets[size_t(t)];
+                for (int64_t q = p_.piece_offsets[size_t(t)]; q < p_.piece_offsets[size_t(t) + 1]; ++q) {
+                    const Tri& pc = p_.pieces[size_t(q)];
+                    const size_t a = size_t(n0 + pc[0]), b = size_t(n0 + pc[1]), c = size_t(n0 + pc[2]);
+                    if (!has_target[a] && !has_target[b] && !has_target[c]) continue;
+                    if (orient_bary(snapped[a], snapped[b], snapped[c]) > 0) continue;
+                    for (size_t g : {a, b, c}) {
+                        if (!has_target[g]) continue;
+                        const Vec3& x = p_.node_barycentric[g];
+                        if (x[0] > 0 && x[1] > 0 && x[2] > 0) {
+                            has_target[g] = 0;
+                            snapped[g] = nb_[g];
+                        } else {
+                            for (int64_t h : copies[edge_key(int64_t(g))]) {
+                                has_target[size_t(h)] = 0;
+                                snapped[size_t(h)] = nb_[size_t(h)];
+                            }
+                        }
+                    }
+                    again = true;
+                }
+            }
+        }
+        int64_t count = 0;
+        for (size_t g = 0; g < nb_.size(); ++g) count += has_target[g];
+        nb_ = std::move(snapped);
+        return count;
     }
 
     int32_t vertex_for(const Key& key, const Vec3& x) {
@@ -75,8 +229,11 @@ public:
 
     void run(const Context& context) {
         const int32_t nct = p_.coarse.num_triangles();
-        std::vector<std::vector<int32_t>> by_coarse(static_cast<size_t>(nct));
-        for (size_t i = 0; i < r_.triangle_coarse.size(); ++i) by_coarse[size_t(r_.triangle_coarse[i])].push_back(int32_t(i));
+        const int64_t snapped = snap_nodes();
+        if (snapped > 0)
+            context.debug("refine: " + std::to_string(snapped) +
+                          " nodes of phi within rounding distance of a refined vertex or edge snapped onto it");
+        const auto& by_coarse = by_coarse_;
         const size_t nrt = r_.triangle_coarse.size();
         polys_.assign(nrt, {});
         for (int32_t t = 0; t < nct; ++t) {
@@ -100,7 +257,7 @@ private:
         const int64_t n0 = p_.node_offsets[size_t(t)], n1 = p_.node_offsets[size_t(t) + 1];
         int32_t id = -1;
         for (int64_t g = n0; g < n1 && id < 0; ++g)
-            if (p_.node_barycentric[size_t(g)] == b) id = nv[size_t(g - n0)];
+            if (nb_[size_t(g)] == b) id = nv[size_t(g - n0)];
         if (id < 0) id = vertex_for({2, rv, 0, 0, 0}, r_.surface.vertices[size_t(rv)]);
         refined_vertex_[size_t(rv)] = id;
         return id;
@@ -120,7 +277,7 @@ private:
             Vec3 N[3], I[3];
             int32_t id[3];
             for (int k = 0; k < 3; ++k) {
-                N[k] = p_.node_barycentric[size_t(n0 + pc[size_t(k)])];
+                N[k] = nb_[size_t(n0 + pc[size_t(k)])];
                 I[k] = p_.node_image[size_t(n0 + pc[size_t(k)])];
                 id[k] = nv[size_t(pc[size_t(k)])];
             }
@@ -151,11 +308,22 @@ private:
                 for (int j = 0; j < 3; ++j) x.on_edge[j] = o[j] == 0, x.strict[j] = o[j] > 0;
                 pts.push_back(x);
             }
+            // Side of refined corner j of piece edge k: exact, except that a corner within
+            // rounding distance of the edge (an original edge through a refined vertex of a
+            // regular mesh) is on it. Decided the same way from both pieces of the edge.
+            const auto corner_side = [&](int k, int j) {
+                const int k1 = (k + 1) % 3;
+                const int o = orient_bary(N[k], N[k1], R[size_t(j)]);
+                if (o == 0) return 0;
+                const int ka = id[k] < id[k1] ? k : k1, kb = ka == k ? k1 : k;
+                double t;
+                return segment_distance(N[ka], N[kb], R[size_t(j)], t) <= kSnapDistance && t > 0 && t < 1 ? 0 : o;
+            };
             // Refined corners inside or on the piece (unless they are one of its nodes).
             for (int j = 0; j < 3; ++j) {
                 if (rc[j] == id[0] || rc[j] == id[1] || rc[j] == id[2]) continue;
                 int o[3];
-                for (int k = 0; k < 3; ++k) o[k] = orient_bary(N[k], N[(k + 1) % 3], R[size_t(j)]);
+                for (int k = 0; k < 3; ++k) o[k] = corner_side(k, j);
                 if (o[0] < 0 || o[1] < 0 || o[2] < 0) continue;
                 OverlayPoint x{R[size_t(j)], r_.surface.vertices[size_t(rt[size_t(j)])], rc[j]};
                 x.corner = j;
@@ -170,8 +338,8 @@ private:
                     const int a1 = orient_bary(R[size_t(j)], R[size_t(j1)], N[k]);
                     const int a2 = orient_bary(R[size_t(j)], R[size_t(j1)], N[k1]);
                     if (a1 * a2 >= 0) continue;
-                    const int c1 = orient_bary(N[k], N[k1], R[size_t(j)]);
-                    const int c2 = orient_bary(N[k], N[k1], R[size_t(j1)]);
+                    const int c1 = corner_side(k, j);
+                    const int c2 = corner_side(k, j1);
                     if (c1 * c2 >= 0) continue;
                     // Parameter along the piece edge in a canonical direction (lower vertex id first).
                     const int ka = id[k] < id[k1] ? k : k1, kb = ka == k ? k1 : k;
@@ -186,9 +354,22 @@ private:
                     OverlayPoint x{b, image, vertex_for({3, id[ka], id[kb], ra, rb}, image)};
                     x.on_edge[j] = 1;
                     x.strict[j1] = x.strict[(j + 2) % 3] = 1;
+                    x.crossing = true;
                     pts.push_back(x);
                 }
             }
+            // Two piece edges meeting at a small angle near a refined edge cross it a few
+            // 1e-17 apart: the sliver between them cannot be represented. Such crossings
+            // become one vertex (everywhere, through the union-find), the sliver vanishes.
+            for (size_t a = 0; a < pts.size(); ++a)
+                for (size_t c = a + 1; c < pts.size(); ++c) {
+                    if (!pts[a].crossing || !pts[c].crossing || pts[a].vertex == pts[c].vertex) continue;
+                    bool same_edge = false;
+                    for (int j = 0; j < 3; ++j) same_edge |= pts[a].on_edge[j] && pts[c].on_edge[j];
+                    const Vec3 d = pts[a].b - pts[c].b;
+                    if (same_edge && std::max({std::abs(d[0]), std::abs(d[1]), std::abs(d[2])}) <= kSnapDistance)
+                        unite(pts[a].vertex, pts[c].vertex);
+                }
             if (pts.size() < 3) continue;
             // Order counter-clockwise around the centroid.
             double c1 = 0, c2 = 0;
@@ -246,7 +427,65 @@ private:
         return l;
     }
 
+    int32_t find(int32_t v) {
+        if (size_t(v) >= parent_.size()) return v;
+        while (parent_[size_t(v)] != v) v = parent_[size_t(v)] = parent_[size_t(parent_[size_t(v)])];
+        return v;
+    }
+
+    void unite(int32_t a, int32_t b) {
+        const size_t need = size_t(std::max(a, b)) + 1;
+        for (size_t i = parent_.size(); i < need; ++i) parent_.push_back(int32_t(i));
+        a = find(a), b = find(b);
+        if (a != b) parent_[size_t(std::max(a, b))] = std::min(a, b);  // the smaller id represents
+    }
+
+    // Applies the merges of close crossings to every polygon: vertex ids by their
+    // representative, repeated points removed, polygons that collapsed dropped.
+    void merge_close_crossings() {
+        if (parent_.empty()) return;
+        for (auto& list : polys_) {
+            std::vector<Polygon> kept;
+            for (Polygon& poly : list) {
+                std::vector<OverlayPoint> pts;
+                for (OverlayPoint x : poly.points) {
+                    x.vertex = find(x.vertex);
+                    if (pts.empty() || pts.back().vertex != x.vertex) pts.push_back(x);
+                }
+                while (pts.size() > 1 && pts.front().vertex == pts.back().vertex) pts.pop_back();
+                if (pts.size() < 3) continue;
+                double area = 0;
+                for (size_t i = 0; i < pts.size(); ++i) area += area2(pts[0].b, pts[i].b, pts[(i + 1) % pts.size()].b);
+                if (!(area > 0)) continue;
+                poly.points = std::move(pts);
+                kept.push_back(std::move(poly));
+            }
+            list = std::move(kept);
+        }
+    }
+
+    // Drops vertices of the new original surface that no triangle uses (merged
+    // crossings), keeping the order of the others (those of S0 come first, unchanged).
+    void compact_original() {
+        Parametrization& o = out_;
+        std::vector<int32_t> index(o.original.vertices.size(), -1);
+        for (const Tri& t : o.original.triangles)
+            for (int32_t v : t) index[size_t(v)] = 0;
+        for (size_t v = 0; v < p_.original.vertices.size(); ++v) index[v] = 0;  // S0 keeps its indices
+        int32_t next = 0;
+        std::vector<Vec3> vertices;
+        for (size_t v = 0; v < index.size(); ++v)
+            if (index[v] == 0) index[v] = next++, vertices.push_back(o.original.vertices[v]);
+        if (size_t(next) == index.size()) return;
+        o.original.vertices = std::move(vertices);
+        for (Tri& t : o.original.triangles)
+            for (int32_t& v : t) v = index[size_t(v)];
+        for (int32_t& v : o.node_original_vertex) v = index[size_t(v)];
+        for (int32_t& v : o.coarse_vertex_origin) v = index[size_t(v)];
+    }
+
     void assemble() {
+        merge_close_crossings();
         const size_t nrt = polys_.size();
         Parametrization& o = out_;
         o.coarse = r_.surface;
@@ -295,11 +534,12 @@ private:
             o.node_offsets.push_back(int64_t(o.node_kind.size()));
             o.piece_offsets.push_back(int64_t(o.pieces.size()));
         }
-        // Coarse vertices exactly at their original positions.
-        for (size_t v = 0; v < o.coarse.vertices.size(); ++v) {
+        for (size_t v = 0; v < o.coarse.vertices.size(); ++v)
             if (o.coarse_vertex_origin[v] < 0) throw AlgorithmError("refine: refined vertex " + std::to_string(v) + " unused");
+        compact_original();
+        // Coarse vertices exactly at their original positions.
+        for (size_t v = 0; v < o.coarse.vertices.size(); ++v)
             o.coarse.vertices[v] = o.original.vertices[size_t(o.coarse_vertex_origin[v])];
-        }
     }
 
     static std::string degenerate_message(size_t ri) {
@@ -353,6 +593,9 @@ private:
     std::map<Key, int32_t> vertices_;
     std::vector<int32_t> refined_vertex_;
     std::vector<std::vector<Polygon>> polys_;
+    std::vector<std::vector<int32_t>> by_coarse_;  // refined triangles per coarse triangle
+    std::vector<Vec3> nb_;  // node barycentrics, snapped onto refined vertices and edges
+    std::vector<int32_t> parent_;  // union-find over vertex ids: crossings merged because they are too close
 };
 
 }  // namespace

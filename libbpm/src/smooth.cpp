@@ -70,6 +70,9 @@ constexpr double kMinGap = 1e-10;
 // |E| past the line through the two other corners (small: moving it distorts the chart).
 // 0.01 measured best on fandisk / femur / elephant among 0.25, 0.05, 0.01.
 constexpr double kReflexMargin = 0.01;
+// Closest a smoothing update may bring a node to a corner of its coarse triangle
+// (barycentric units; see "No collapse into a corner" in relax()).
+constexpr double kCornerGap = 1e-2;
 
 using NodeId = std::array<int64_t, 3>;  // {-1, v, 0} for a vertex, {u, w, bits(s)} for a crossing
 
@@ -95,7 +98,97 @@ struct QNode {
     int side = 0;    // orientation against E: +1 in A, -1 in B, 0 on E
     double mu = -1;  // position along E from p to q, for nodes on E that are not corners
     bool on_e = false;  // free vertex snapped onto E
+    bool prescribed = false;  // a vertex on a feature line E, moved along it by arc length
 };
+
+// One triangle of the star of a free vertex v: its neighbours a and c (QNode indices)
+// in counter-clockwise order, the angle at v in S0, and the 3D distances from v.
+struct StarWedge {
+    int a, c;
+    double angle, len_a, len_c;
+};
+
+// The weights of the convex combination that places a free vertex among its neighbours
+// (sum 1, all >= 0), from its star in S0 (one wedge per original triangle):
+// - MeanValue: Floater 2003, w_j ~ (tan(a_{j-1}/2) + tan(a_j/2)) / |x_j - x_v|. Exact
+//   for planar stars, but an angle near 180 degrees (slivers of S0) makes tan(a/2)
+//   explode and can pull a vertex onto a neighbour by orders of magnitude.
+// - ShapePreserving: Floater 1997 (the paper's reference [19]): the star is flattened
+//   by the geodesic polar map (lengths kept, angles scaled to sum 2 pi); for every
+//   neighbour q_k the line from q_k through the centre leaves the flattened star through
+//   an edge (q_r, q_r+1), and the barycentric coordinates of the centre in the triangle
+//   (q_k, q_r, q_r+1) are added to the weights of those three; the sum is divided by the
+//   degree. Every weight is at most 1. Where the centre is not strictly inside such a
+//   triangle (a flattened angle of pi or more) the vertex gets mean value weights.
+// false if the wedges do not form one closed fan or a wedge is degenerate.
+bool star_weights(const std::vector<StarWedge>& wedges, SmoothWeights mode, std::vector<std::pair<int, double>>& out) {
+    out.clear();
+    const size_t d = wedges.size();
+    if (d < 3) return false;
+    // Order the wedges around v: wedge k ends at the neighbour where wedge k+1 starts.
+    std::map<int, size_t> starting;
+    for (size_t k = 0; k < d; ++k)
+        if (!starting.emplace(wedges[k].a, k).second) return false;
+    std::vector<size_t> order;
+    size_t k = 0;
+    for (size_t step = 0; step < d; ++step) {
+        order.push_back(k);
+        auto it = starting.find(wedges[k].c);
+        if (it == starting.end()) return false;
+        k = it->second;
+    }
+    if (k != order.front()) return false;
+    std::vector<int> ring(d);
+    std::vector<double> len(d), angle(d);
+    for (size_t i = 0; i < d; ++i) {
+        const StarWedge& w = wedges[order[i]];
+        ring[i] = w.a, len[i] = w.len_a, angle[i] = w.angle;  // angle between ring[i] and ring[i+1]
+        if (!(w.len_a > 0) || !(w.len_c > 0) || !(w.angle > 0) || !(w.angle < M_PI)) return false;
+    }
+    std::vector<double> weight(d, 0.0);
+    bool mean_value = mode == SmoothWeights::MeanValue;
+    if (!mean_value) {
+        double total = 0;
+        for (double a : angle) total += a;
+        std::vector<Vec2> q(d);
+        double phi = 0;
+        for (size_t i = 0; i < d; ++i) {
+            q[i] = {len[i] * std::cos(phi), len[i] * std::sin(phi)};
+            const double scaled = angle[i] * 2 * M_PI / total;
+            if (scaled >= M_PI) mean_value = true;
+            phi += scaled;
+        }
+        for (size_t i = 0; i < d && !mean_value; ++i) {
+            bool found = false;
+            for (size_t r = 0; r < d && !found; ++r) {
+                const size_t r1 = (r + 1) % d;
+                if (r == i || r1 == i) continue;
+                const Vec2 a = q[i], b = q[r], c = q[r1];
+                const double area = cross(b - a, c - a);
+                if (!(area > 0)) continue;
+                const double la = cross(b, c) / area, lb = cross(c, a) / area, lc = cross(a, b) / area;
+                if (la < 0 || lb < 0 || lc < 0) continue;
+                weight[i] += la, weight[r] += lb, weight[r1] += lc;
+                found = true;
+            }
+            if (!found) mean_value = true;
+        }
+    }
+    if (mean_value) {
+        std::fill(weight.begin(), weight.end(), 0.0);
+        for (size_t i = 0; i < d; ++i) {
+            const double t = std::tan(angle[i] / 2);  // wedge between ring[i] and ring[i+1]
+            weight[i] += t / len[i];
+            weight[(i + 1) % d] += t / len[(i + 1) % d];
+        }
+    }
+    double sum = 0;
+    for (double x : weight) sum += x;
+    if (!(sum > 0) || !std::isfinite(sum)) return false;
+    for (size_t i = 0; i < d; ++i)
+        if (weight[i] > 0) out.emplace_back(ring[i], weight[i] / sum);
+    return true;
+}
 
 class Smoother {
 public:
@@ -141,11 +234,12 @@ public:
             auto [tb, kb] = list[1];
             const Tri& A = p.coarse.triangles[size_t(ta)];
             const Tri& B = p.coarse.triangles[size_t(tb)];
-            if (A[size_t(ka)] != B[size_t((kb + 1) % 3)] || p.coarse.patches[size_t(ta)] != p.coarse.patches[size_t(tb)]) {
+            if (A[size_t(ka)] != B[size_t((kb + 1) % 3)]) {
                 ++skipped_static_;
                 continue;
             }
-            pairs_.push_back({ta, ka, tb, kb});
+            // A patch border is a feature line of S0: its pair may only slide along it.
+            pairs_.push_back({ta, ka, tb, kb, p.coarse.patches[size_t(ta)] != p.coarse.patches[size_t(tb)]});
         }
     }
 
@@ -159,6 +253,7 @@ public:
         int ka;
         int32_t b;
         int kb;
+        bool border;  // the two triangles belong to different patches
     };
 
     SmoothResult run(const Context& context) {
@@ -169,7 +264,7 @@ public:
             double change = 0;
             int64_t skipped = skipped_static_;
             reasons_.clear();
-            if (skipped_static_ > 0) reasons_["edge not shared by two triangles of one patch"] = skipped_static_;
+            if (skipped_static_ > 0) reasons_["edge not shared by exactly two consistently oriented triangles"] = skipped_static_;
             for (const Pair& pr : pairs_) {
                 double c = 0;
                 const int r = relax(pr, c);
@@ -192,6 +287,11 @@ private:
     int skip(const char* reason) {
         ++reasons_[reason];
         return 0;
+    }
+
+    int reject(const char* reason) {
+        ++rejected_reasons_[reason];
+        return -1;
     }
 
     // 1 = updated, 0 = left alone (not applicable), -1 = rejected (would break phi).
@@ -269,34 +369,61 @@ private:
                 loc[i] = qi;
             }
         }
-        // Leave feature lines of S0 alone: E runs along original edges that are sharp.
+        // Feature lines of S0 (E runs along original edges that are sharp) and patch
+        // borders: the original vertices on E only slide along E, to where the arc length
+        // of S0 along E puts them (the one-dimensional shape-preserving map); the rest of
+        // A and B is then relaxed with them fixed. Nothing crosses E there, so the two
+        // triangles are relaxed each on its own side.
+        bool sliding = pr.border;
+        if (sliding && e_has_crossing) return skip("patch border crossed by original edges");
         if (!e_has_crossing) {
             std::sort(e_chain.begin(), e_chain.end(),
                       [&](int i, int j) { return nodes[size_t(i)].old_pos[0] < nodes[size_t(j)].old_pos[0]; });
-            for (size_t i = 0; i + 1 < e_chain.size(); ++i) {
+            for (size_t i = 0; i + 1 < e_chain.size() && !sliding; ++i) {
                 const int32_t u = nodes[size_t(e_chain[i])].ov, w = nodes[size_t(e_chain[i + 1])].ov;
                 if (u < 0 || w < 0) return skip("feature line");
                 auto it = original_edges_.find(key(u, w));
                 if (it == original_edges_.end()) continue;
-                if (it->second.size() != 2) return skip("feature line");
+                if (it->second.size() != 2) return skip("feature line with 3 or more sheets");
                 const auto& x = p_.original.vertices;
                 const Tri& t0 = p_.original.triangles[size_t(it->second[0])];
                 const Tri& t1 = p_.original.triangles[size_t(it->second[1])];
                 const Vec3 n0 = triangle_normal(x[size_t(t0[0])], x[size_t(t0[1])], x[size_t(t0[2])]);
                 const Vec3 n1 = triangle_normal(x[size_t(t1[0])], x[size_t(t1[1])], x[size_t(t1[2])]);
                 const double angle = std::acos(std::max(-1.0, std::min(1.0, dot(n0, n1)))) * 180.0 / M_PI;
-                if (angle > o_.feature_angle_degrees) return skip("feature line");
+                if (angle > o_.feature_angle_degrees) sliding = true;
+            }
+        }
+        if (sliding) {
+            // Chain P = c_0, c_1, ..., c_m+1 = Q of original vertices along E, consecutive
+            // ones joined by original edges.
+            if (e_chain.size() < 3) return skip("feature line without original vertex on it");
+            std::vector<double> arc(e_chain.size(), 0.0);
+            for (size_t i = 0; i + 1 < e_chain.size(); ++i) {
+                const QNode& u = nodes[size_t(e_chain[i])];
+                const QNode& w = nodes[size_t(e_chain[i + 1])];
+                if (u.ov < 0 || w.ov < 0 || !original_edges_.count(key(u.ov, w.ov)))
+                    return skip("feature line not along original edges");
+                arc[i + 1] = arc[i] + distance(u.image, w.image);
+            }
+            if (!(arc.back() > 0)) return skip("degenerate pair");
+            for (size_t i = 1; i + 1 < e_chain.size(); ++i) {
+                QNode& v = nodes[size_t(e_chain[i])];
+                if (v.fixed || v.kind != NodeKind::OriginalVertex) return skip("degenerate pair");
+                v.prescribed = v.on_e = true;
+                v.mu = arc[i] / arc.back();
+                v.pos = {P[0] + v.mu * (Q[0] - P[0]), P[1] + v.mu * (Q[1] - P[1])};
             }
         }
         std::vector<int> free;
         std::vector<int> free_index(nodes.size(), -1);
         for (size_t i = 0; i < nodes.size(); ++i)
-            if (!nodes[i].fixed) {
+            if (!nodes[i].fixed && !nodes[i].prescribed) {
                 if (nodes[i].kind != NodeKind::OriginalVertex) return skip("degenerate pair");
                 free_index[i] = int(free.size());
                 free.push_back(int(i));
             }
-        if (free.empty()) return skip("no original vertex inside");
+        if (free.empty() && !sliding) return skip("no original vertex inside");
 
         // Regions per original triangle, in T's barycentric plane.
         struct Region {
@@ -368,71 +495,77 @@ private:
             if (std::abs(area - r.piece_area) > 1e-9 * 0.5) return skip("region not convex or not connected");  // region not convex / connected
         }
 
-        // Mean value weights from the 3D stars; one sparse solve.
+        // Weights from the 3D stars (star_weights); one sparse solve. The star of a free
+        // vertex is cut by the quadrangle: a neighbour outside is replaced by the node where
+        // their original edge leaves the quadrangle (same direction, shorter), as in the
+        // region rings. Every triangle of the star must meet the quadrangle.
         const auto& x0 = p_.original.vertices;
         const size_t nf = free.size();
-        std::vector<Eigen::Triplet<double>> trip;
-        Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(long(nf), 2);
-        std::vector<double> diag(nf, 0.0);
-        std::vector<int> seen_tris(nf, 0);
+        std::vector<std::vector<StarWedge>> star(nf);
         for (auto& [T, r] : regions) {
             const Tri& tri = p_.original.triangles[size_t(T)];
             const size_t n = r.ring.size();
             for (size_t i = 0; i < n; ++i) {
                 const QNode& v = nodes[size_t(r.ring[i])];
-                if (v.fixed) continue;
-                const int row = free_index[size_t(r.ring[i])];
+                if (free_index[size_t(r.ring[i])] < 0) continue;
                 int j = -1;
                 for (int k = 0; k < 3; ++k)
                     if (tri[size_t(k)] == v.ov) j = k;
                 if (j < 0) return skip("inconsistent node");
-                ++seen_tris[size_t(row)];
                 const Vec3 e1 = x0[size_t(tri[size_t((j + 1) % 3)])] - x0[size_t(v.ov)];
                 const Vec3 e2 = x0[size_t(tri[size_t((j + 2) % 3)])] - x0[size_t(v.ov)];
-                const double sn = norm(cross(e1, e2));
-                if (!(sn > 0)) return skip("degenerate original triangle");
-                const double tan_half = (norm(e1) * norm(e2) - dot(e1, e2)) / sn;
-                for (int nb : {r.ring[(i + n - 1) % n], r.ring[(i + 1) % n]}) {
-                    const double d = distance(nodes[size_t(nb)].image, x0[size_t(v.ov)]);
-                    if (!(d > 0)) return skip("degenerate original triangle");
-                    const double w = tan_half / d;
-                    diag[size_t(row)] += w;
-                    if (nodes[size_t(nb)].fixed) {
-                        rhs(row, 0) += w * nodes[size_t(nb)].pos[0];
-                        rhs(row, 1) += w * nodes[size_t(nb)].pos[1];
-                    } else {
-                        trip.emplace_back(row, free_index[size_t(nb)], -w);
-                    }
+                const int a = r.ring[(i + 1) % n], c = r.ring[(i + n - 1) % n];  // counter-clockwise: a, then c
+                star[size_t(free_index[size_t(r.ring[i])])].push_back(
+                    {a, c, std::atan2(norm(cross(e1, e2)), dot(e1, e2)), distance(nodes[size_t(a)].image, x0[size_t(v.ov)]),
+                     distance(nodes[size_t(c)].image, x0[size_t(v.ov)])});
+            }
+        }
+        std::vector<Eigen::Triplet<double>> trip;
+        Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(long(nf), 2);
+        std::vector<std::pair<int, double>> w;
+        for (size_t i = 0; i < nf; ++i) {
+            if (star[i].size() != vertex_tris_[size_t(nodes[size_t(free[i])].ov)].size())
+                return skip("star leaves the quadrangle");
+            if (!star_weights(star[i], o_.weights, w)) return skip("degenerate original triangle");
+            trip.emplace_back(int(i), int(i), 1.0);
+            for (const auto& [qi, lambda] : w) {
+                const QNode& nb = nodes[size_t(qi)];
+                if (free_index[size_t(qi)] < 0) {
+                    rhs(long(i), 0) += lambda * nb.pos[0];
+                    rhs(long(i), 1) += lambda * nb.pos[1];
+                } else {
+                    trip.emplace_back(int(i), free_index[size_t(qi)], -lambda);
                 }
             }
         }
-        for (size_t i = 0; i < nf; ++i) {
-            if (seen_tris[i] != int(vertex_tris_[size_t(nodes[size_t(free[i])].ov)].size())) return skip("star leaves the quadrangle");
-            trip.emplace_back(int(i), int(i), diag[i]);
+        Eigen::MatrixXd sol(long(nf), 2);
+        if (nf > 0) {
+            Eigen::SparseMatrix<double> M(static_cast<long>(nf), static_cast<long>(nf));
+            M.setFromTriplets(trip.begin(), trip.end());
+            Eigen::SparseLU<Eigen::SparseMatrix<double>> lu;
+            lu.compute(M);
+            if (lu.info() != Eigen::Success) return reject("solver failed");
+            sol = lu.solve(rhs);
+            if (lu.info() != Eigen::Success) return reject("solver failed");
         }
-        Eigen::SparseMatrix<double> M(static_cast<long>(nf), static_cast<long>(nf));
-        M.setFromTriplets(trip.begin(), trip.end());
-        Eigen::SparseLU<Eigen::SparseMatrix<double>> lu;
-        lu.compute(M);
-        if (lu.info() != Eigen::Success) return -1;
-        const Eigen::MatrixXd sol = lu.solve(rhs);
-        if (lu.info() != Eigen::Success) return -1;
         double moved = 0;
+        for (const QNode& v : nodes)
+            if (v.prescribed) moved = std::max(moved, std::hypot(v.pos[0] - v.old_pos[0], v.pos[1] - v.old_pos[1]) / L);
         for (size_t i = 0; i < nf; ++i) {
             QNode& v = nodes[size_t(free[i])];
             v.pos = {sol(long(i), 0), sol(long(i), 1)};
-            if (!std::isfinite(v.pos[0]) || !std::isfinite(v.pos[1])) return -1;
+            if (!std::isfinite(v.pos[0]) || !std::isfinite(v.pos[1])) return reject("solver failed");
             moved = std::max(moved, std::hypot(v.pos[0] - v.old_pos[0], v.pos[1] - v.old_pos[1]) / L);
             // Strictly inside the quadrangle P, b, Q, a.
             if (orient2d(P, Db, v.pos) <= 0 || orient2d(Db, Q, v.pos) <= 0 || orient2d(Q, Da, v.pos) <= 0 ||
                 orient2d(Da, P, v.pos) <= 0)
-                return -1;
+                return reject("vertex outside the quadrangle");
             // A vertex within rounding distance of E goes onto E: otherwise the crossings of
             // its edges with E would coincide in floating point.
             const double ex = Q[0] - P[0], ey = Q[1] - P[1];
             const double mu = ((v.pos[0] - P[0]) * ex + (v.pos[1] - P[1]) * ey) / (ex * ex + ey * ey);
             const double dist = std::abs(ex * (v.pos[1] - P[1]) - ey * (v.pos[0] - P[0])) / std::sqrt(ex * ex + ey * ey);
-            if (dist < 1e-9 * L && mu > 0 && mu < 1) {
+            if (!sliding && dist < 1e-9 * L && mu > 0 && mu < 1) {
                 v.on_e = true;
                 v.mu = mu;
                 v.pos = {P[0] + mu * ex, P[1] + mu * ey};
@@ -443,7 +576,7 @@ private:
             for (size_t i = 0; i < n; ++i)
                 if (orient2d(nodes[size_t(r.ring[(i + n - 1) % n])].pos, nodes[size_t(r.ring[i])].pos,
                              nodes[size_t(r.ring[(i + 1) % n])].pos) <= 0)
-                    return -1;
+                    return reject("region not convex after the solve");
         }
         // Sides of E, positions along E.
         const double LL = (Q[0] - P[0]) * (Q[0] - P[0]) + (Q[1] - P[1]) * (Q[1] - P[1]);
@@ -453,9 +586,10 @@ private:
                 continue;
             }
             v.side = v.on_e ? 0 : orient2d(P, Q, v.pos);
+            if (sliding && !v.prescribed && v.side != (v.has_old[0] ? 1 : -1)) return reject("vertex crossed a feature line");
             if (v.side == 0 && !v.on_e) {
                 v.mu = ((v.pos[0] - P[0]) * (Q[0] - P[0]) + (v.pos[1] - P[1]) * (Q[1] - P[1])) / LL;
-                if (!(v.mu > 0 && v.mu < 1)) return -1;
+                if (!(v.mu > 0 && v.mu < 1)) return reject("vertex on E outside the edge");
             }
         }
         // Cut the regions along E.
@@ -483,7 +617,7 @@ private:
                 int kz = -1;
                 for (int k = 0; k < 3; ++k)
                     if (bx[size_t(k)] == 0 && by[size_t(k)] == 0) kz = k;
-                if (kz < 0) return -1;
+                if (kz < 0) return reject("crossing not on an original edge");
                 int32_t u = tri[size_t((kz + 1) % 3)], w = tri[size_t((kz + 2) % 3)];
                 int ku = (kz + 1) % 3, kw = (kz + 2) % 3;
                 if (u > w) std::swap(u, w), std::swap(ku, kw);
@@ -504,10 +638,10 @@ private:
                     };
                     const double d0 = cr(s0.pos), d1 = cr(s1.pos);
                     const double t = d0 / (d0 - d1);
-                    if (!(t > 0 && t < 1)) return -1;
+                    if (!(t > 0 && t < 1)) return reject("crossing not on E");
                     const Vec2 z = s0.pos + t * (s1.pos - s0.pos);
                     const double sw = b0[size_t(kw)] + t * (b1[size_t(kw)] - b0[size_t(kw)]);
-                    if (!(sw > 0 && sw < 1)) return -1;
+                    if (!(sw > 0 && sw < 1)) return reject("crossing not on E");
                     QNode c;
                     c.kind = NodeKind::EdgeCrossing;
                     c.ov = -1;
@@ -523,7 +657,7 @@ private:
                     c.pos = c.old_pos = z;
                     c.side = 0;
                     c.mu = ((z[0] - P[0]) * (Q[0] - P[0]) + (z[1] - P[1]) * (Q[1] - P[1])) / LL;
-                    if (!(c.mu > 0 && c.mu < 1)) return -1;
+                    if (!(c.mu > 0 && c.mu < 1)) return reject("crossing not on E");
                     ci = int(nodes.size());
                     nodes.push_back(c);
                     crossings.emplace(ek, ci);
@@ -571,7 +705,7 @@ private:
             if (loc[s][size_t(qi)] >= 0) return loc[s][size_t(qi)];
             const QNode& v = nodes[size_t(qi)];
             Vec3 b;
-            if (!bary_in(s, v, b)) return -1;
+            if (!bary_in(s, v, b)) return reject("node too close to a coarse edge");
             TriPhi& t = out[s];
             loc[s][size_t(qi)] = int(t.b.size());
             t.b.push_back(b);
@@ -588,7 +722,7 @@ private:
             for (int k = 0; k < 3; ++k)
                 for (size_t i = 0; i < t.b.size(); ++i)
                     if (t.kind[i] == NodeKind::CoarseCorner && t.b[i][size_t(k)] == 1)
-                        if (add(s, local[s][i]) < 0) return -1;
+                        if (add(s, local[s][i]) < 0) return reject("node too close to a coarse edge");
         }
         for (Poly& poly : polys) {
             const int s = poly.side;
@@ -611,7 +745,7 @@ private:
                 for (size_t i = 2; i < beta.size(); ++i)
                     if (orient_bary(beta[0], beta[1], beta[i]) != 0) flat = false;
                 if (flat) continue;  // a region touching E only along an edge or a point
-                return -1;
+                return reject("piece flipped");
             }
             while (ring.size() > 3) {
                 const size_t n = ring.size();
@@ -623,18 +757,18 @@ private:
                     for (size_t k = 0; k < n && flat; ++k)
                         if (k != i && k != a && k != c && orient_bary(beta[a], beta[c], beta[k]) != 0) flat = false;
                     if (flat) continue;
-                    if (!emit(a, i, c)) return -1;
+                    if (!emit(a, i, c)) return reject("piece flipped");
                     ring.erase(ring.begin() + long(i));
                     beta.erase(beta.begin() + long(i));
                     cut = true;
                 }
-                if (!cut) return -1;
+                if (!cut) return reject("piece flipped");
             }
             if (orient_bary(beta[0], beta[1], beta[2]) <= 0) {
                 if (orient_bary(beta[0], beta[1], beta[2]) == 0) continue;
-                return -1;
+                return reject("piece flipped");
             }
-            if (!emit(0, 1, 2)) return -1;
+            if (!emit(0, 1, 2)) return reject("piece flipped");
         }
         // Nodes on E well apart (no nearly coincident crossings).
         {
@@ -643,26 +777,45 @@ private:
                 if (!v.fixed && v.side == 0) mus.push_back(v.mu);
             std::sort(mus.begin(), mus.end());
             for (size_t i = 0; i + 1 < mus.size(); ++i)
-                if (!(mus[i + 1] - mus[i] > kMinGap)) return -1;
+                if (!(mus[i + 1] - mus[i] > kMinGap)) return reject("nodes on E too close");
+        }
+        // No collapse into a corner. Near a coarse vertex where the unfolded pair is wider
+        // than the part of S0 it holds (a saddle of S, or a reflex corner moved to just
+        // past 180 degrees), the straight original edges of the chart cross E closer to
+        // the corner than before; repeated over the sweeps this contracts the whole star
+        // of S0 around that vertex into the corner (measured on femur at 10%: a factor
+        // ~60 per sweep, down to 1e-10 of the edge after five sweeps), where no
+        // refinement can resolve it. So an update may not bring a node nearer to a
+        // corner of A or B than kCornerGap (in barycentric units) unless one already was.
+        {
+            auto gap = [](const TriPhi& t) {
+                double g = 1;
+                for (size_t i = 0; i < t.b.size(); ++i)
+                    if (t.kind[i] != NodeKind::CoarseCorner) g = std::min(g, 1 - std::max({t.b[i][0], t.b[i][1], t.b[i][2]}));
+                return g;
+            };
+            for (int s = 0; s < 2; ++s)
+                if (gap(out[s]) < std::min(gap(*X[s]), kCornerGap)) return reject("collapse into a corner");
         }
         // Every node must be used by a piece; the pieces must cover both triangles; no two
         // nodes at the same parameter point.
         for (int s = 0; s < 2; ++s) {
             std::vector<Vec3> sorted = out[s].b;
             std::sort(sorted.begin(), sorted.end());
-            if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end()) return -1;
+            if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end()) return reject("two nodes at one point");
             std::vector<char> used(out[s].b.size(), 0);
             double area = 0;
             for (const Tri& t : out[s].pieces) {
                 for (int32_t i : t) used[size_t(i)] = 1;
                 area += tri_area_b(out[s].b[size_t(t[0])], out[s].b[size_t(t[1])], out[s].b[size_t(t[2])]);
             }
-            if (std::find(used.begin(), used.end(), 0) != used.end()) return -1;
-            if (std::abs(area - 0.5) > 1e-9) return -1;
+            if (std::find(used.begin(), used.end(), 0) != used.end()) return reject("pieces do not tile");
+            if (std::abs(area - 0.5) > 1e-9) return reject("pieces do not tile");
         }
         *X[0] = std::move(out[0]);
         *X[1] = std::move(out[1]);
         change = moved;
+        if (sliding) ++slides_;
         return 1;
     }
 
@@ -701,7 +854,13 @@ private:
     int64_t skipped_static_ = 0;
 
 public:
+    int64_t slides_ = 0;  // updates of pairs along feature lines and patch borders (all sweeps)
+
+private:
+
+public:
     std::map<std::string, int64_t> reasons_;  // why pairs were left alone (last sweep)
+    std::map<std::string, int64_t> rejected_reasons_;  // why updates were rejected (all sweeps)
 };
 
 }  // namespace
@@ -745,6 +904,8 @@ SmoothResult smooth(Parametrization& param, const SmoothOptions& options, const 
         result.rejected = r.rejected;
         result.last_change = r.last_change;
         result.skipped_reasons = smoother.reasons_;
+        result.rejected_reasons = smoother.rejected_reasons_;
+        result.slides = smoother.slides_;
     }
     if (options.measure_quality) result.after = refined_quality(param, options.quality_levels);
     result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -217,6 +217,43 @@ TEST_CASE("batched evaluation matches single evaluation", "[phi]") {
     CHECK_THROWS(eval.evaluate(tris, bs, out));
 }
 
+TEST_CASE("large batches: grouped, chunked and threaded evaluation gives the single-query results", "[phi]") {
+    // More than one chunk of 2^20 queries, so chunking, grouping by coarse triangle and
+    // two threads are all exercised.
+    const Parametrization p = test::make_height_field(12, 3, test::default_height);
+    PhiEvaluator eval(p);
+    std::mt19937_64 rng(9);
+    const size_t n = (size_t(1) << 20) + 4097;
+    std::vector<int32_t> tris(n);
+    std::vector<Vec3> bs(n);
+    for (size_t i = 0; i < n; ++i) {
+        tris[i] = static_cast<int32_t>(rng() % static_cast<uint64_t>(p.coarse.num_triangles()));
+        bs[i] = random_barycentric(rng);
+    }
+    std::vector<PhiSample> one, two;
+    std::vector<Vec3> positions;
+    eval.evaluate(tris, bs, one, 1);
+    eval.evaluate(tris, bs, two, 2);
+    eval.evaluate_positions(tris, bs, positions, 0);
+    REQUIRE(one.size() == n);
+    REQUIRE(two.size() == n);
+    REQUIRE(positions.size() == n);
+    size_t mismatches = 0;
+    for (size_t i = 0; i < n; i += (i < 5000 ? 1 : 97)) {
+        const PhiSample r = eval.evaluate(tris[i], bs[i]);
+        mismatches += !(r.position == one[i].position && r.original_triangle == one[i].original_triangle &&
+                        r.original_barycentric == one[i].original_barycentric && r.normal == one[i].normal);
+        mismatches += !(r.position == two[i].position && r.original_triangle == two[i].original_triangle);
+        mismatches += !(r.position == positions[i]);
+    }
+    CHECK(mismatches == 0);
+    tris[n / 2] = p.coarse.num_triangles();
+    CHECK_THROWS_AS(eval.evaluate(tris, bs, one, 2), std::out_of_range);
+    CHECK_THROWS_AS(eval.evaluate_positions(tris, bs, positions), std::out_of_range);
+    tris[n / 2] = 0;
+    CHECK_THROWS_AS(eval.evaluate(tris, bs, one, -1), std::invalid_argument);
+}
+
 // Hidden: bpm_unit_tests "[.benchmark]" (build with -DCMAKE_BUILD_TYPE=Release).
 TEST_CASE("phi evaluation throughput", "[.benchmark]") {
     const Parametrization p = test::make_height_field(400, 40, test::default_height);

@@ -87,7 +87,7 @@ int main(int argc, char** argv) {
                                "fraction of the bounding-box diagonal (e.g. 0.001)")
                     ->check(CLI::PositiveNumber);
     lv->excludes(tol);
-    app.add_option("--max-level", options.max_level, "Adaptive: at most this many levels (default 6)")
+    app.add_option("--max-level", options.max_level, "Adaptive: at most this many levels (default 8)")
         ->check(CLI::Range(0, 10));
     app.add_flag("--data", data,
                  "Carry vertex data of the original surface onto the refined vertices (VTU point data): the vertex "

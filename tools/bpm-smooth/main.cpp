@@ -11,7 +11,7 @@ int main(int argc, char** argv) {
         "Smooth the parametrization phi of a .bpm file by edge relaxation: for every pair of coarse triangles\n"
         "sharing an edge, re-place the original vertices inside by a shape-preserving (mean value) map and cut\n"
         "along the edge again. The coarse and the original surface do not change; updates that would flip a\n"
-        "piece are rejected. Pairs across patch borders or along feature lines are left alone.",
+        "piece are rejected. Along feature lines and patch borders the original vertices only slide along the edge.",
         tool};
     std::string input, output;
     bpm::SmoothOptions options;
@@ -27,6 +27,11 @@ int main(int argc, char** argv) {
     app.add_option("--feature-angle", options.feature_angle_degrees,
                    "Leave coarse edges along original edges sharper than this many degrees alone (default 60)")
         ->check(CLI::Range(0.0, 180.0));
+    std::string weights = "mean-value";
+    app.add_option("--weights", weights,
+                   "How original vertices are placed among their neighbours: mean-value (Floater 2003, default) or "
+                   "shape-preserving (Floater 1997; for comparison, does not converge as well)")
+        ->check(CLI::IsMember({"shape-preserving", "mean-value"}));
     app.add_flag("--no-quality", no_quality, "Do not measure the refined-triangle quality before and after");
     bpm::tools::add_output_tool_flags(app, tool, deterministic, verbose, quiet);
 
@@ -34,6 +39,7 @@ int main(int argc, char** argv) {
         bpm::tools::require_output_directory(output);
         bpm::tools::require_bpm_output(output, tool);
         options.measure_quality = !no_quality;
+        options.weights = weights == "shape-preserving" ? bpm::SmoothWeights::ShapePreserving : bpm::SmoothWeights::MeanValue;
         const bpm::Context context = bpm::tools::make_context(tool, verbose, quiet);
         bpm::BpmFile file = bpm::read_bpm(input);
         const bpm::SmoothResult r = bpm::smooth(file.param, options, context);
@@ -42,12 +48,13 @@ int main(int argc, char** argv) {
         bpm::write_bpm(output, file);
         char line[512];
         std::snprintf(line, sizeof line,
-                      "%d sweeps over %lld pairs (%lld left alone): %lld updates, %lld rejected, last move %.3g, "
-                      "%.2f s",
-                      r.sweeps, (long long)r.pairs, (long long)r.skipped, (long long)r.updates,
+                      "%d sweeps over %lld pairs (%lld left alone): %lld updates (%lld sliding along feature lines), "
+                      "%lld rejected, last move %.3g, %.2f s",
+                      r.sweeps, (long long)r.pairs, (long long)r.skipped, (long long)r.updates, (long long)r.slides,
                       (long long)r.rejected, r.last_change, r.seconds);
         context.info(line);
         for (const auto& [why, count] : r.skipped_reasons) context.info("  " + std::to_string(count) + " pairs left alone: " + why);
+        for (const auto& [why, count] : r.rejected_reasons) context.info("  " + std::to_string(count) + " updates rejected: " + why);
         if (options.measure_quality) {
             std::snprintf(line, sizeof line,
                           "aspect ratio of the %d-times refined surface: max %.3g -> %.3g, 99%% %.3g -> %.3g, "

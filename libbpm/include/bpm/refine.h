@@ -32,7 +32,7 @@ struct RefineOptions {
     // than this fraction of the bounding-box diagonal of S0 (> 0).
     double tolerance = 0.0;
     // Adaptive: never refine a coarse triangle more than this many times.
-    int max_level = 6;
+    int max_level = 8;
 };
 
 // A refined surface and where each of its vertices / triangles comes from.
