@@ -78,6 +78,10 @@ TetRefineResult refine_tetmesh(const Parametrization& param, const TetMesh& coar
     const auto start = clock::now();
     if (options.levels < 0) throw OptionError("the number of refinement levels must be >= 0");
     if (options.bisection_steps < 1) throw OptionError("bisection_steps must be >= 1");
+    if (!(options.min_dihedral_degrees >= 0 && options.min_dihedral_degrees < 90))
+        throw OptionError("the remedy's minimum dihedral angle must be in [0, 90) degrees");
+    if (options.boundary_steps < 1) throw OptionError("boundary_steps must be >= 1");
+    if (options.retry_passes < 0) throw OptionError("retry_passes must be >= 0");
     if (!(options.min_volume_fraction >= 0 && options.min_volume_fraction < 1))
         throw OptionError("min_volume_fraction must be in [0, 1)");
     const double final_tets = double(coarse.tetrahedra.size()) * std::pow(8.0, options.levels);
@@ -140,12 +144,33 @@ TetRefineResult refine_tetmesh(const Parametrization& param, const TetMesh& coar
     PhiEvaluator phi(param);
     const double diagonal = bounding_box_diagonal(param.original);
     TetRefineResult result;
-    std::vector<double> phi_fraction(s.x.size(), 1.0);  // 1-lambda of every boundary vertex (1 for old ones)
-    std::vector<double> gap(s.x.size(), 0.0);            // |position - phi(parameter)|
+    // Every boundary vertex v lies on the segment from base[v] (lambda = 1: the edge
+    // midpoint x it was created at, or its input position) to target[v] = phi(parameter
+    // position) (lambda = 0), at phi_fraction[v] = 1 - lambda. Coarse vertices and input
+    // vertices already at phi have fraction 1; an input vertex off S0 (an earlier remedy)
+    // starts at 0 and may get closer.
+    std::vector<Vec3> base(s.x.size(), Vec3{0, 0, 0}), target(s.x.size(), Vec3{0, 0, 0});
+    std::vector<double> phi_fraction(s.x.size(), 1.0);
+    for (size_t v = 0; v < s.x.size(); ++v) {
+        if (s.param_triangle[v] < 0) continue;
+        base[v] = s.x[v];
+        target[v] = s.coarse_vertex[v] >= 0 ? s.x[v] : phi.evaluate(s.param_triangle[v], s.param_bary[v]).position;
+        if (target[v] != base[v]) phi_fraction[v] = 0;
+    }
+    auto place = [&](int32_t v) {
+        const double w = phi_fraction[v];
+        s.x[v] = w == 1.0 ? target[v] : (w == 0.0 ? base[v] : (1 - w) * base[v] + w * target[v]);
+    };
+    auto off_surface = [&](size_t v) {
+        return options.move_to_surface && s.param_triangle[v] >= 0 && phi_fraction[v] < 1 && s.x[v] != target[v];
+    };
+    std::vector<char> movable;  // interior vertices, for smoothing
+    TetSmoothOptions smoothing = options.smoothing;
+    if (options.smooth) detail::check_smooth_options(smoothing);
 
     for (int level = 0; level < options.levels; ++level) {
-        const double base = double(level) / options.levels;
-        context.report(base, "red refinement, level " + std::to_string(level + 1));
+        const double base_progress = double(level) / options.levels;
+        context.report(base_progress, "red refinement, level " + std::to_string(level + 1));
         // 1. Edges and their midpoints.
         std::vector<Edge> edges;
         edges.reserve(s.tets.size() * 7);
@@ -168,8 +193,6 @@ TetRefineResult refine_tetmesh(const Parametrization& param, const TetMesh& coar
         s.coarse_vertex.resize(nv, -1);
         s.param_triangle.resize(nv, -1);
         s.param_bary.resize(nv, Vec3{0, 0, 0});
-        phi_fraction.resize(nv, 1.0);
-        gap.resize(nv, 0.0);
 
         // 2. Faces on S: 1 -> 4, and the parameter positions of the new boundary vertices.
         std::vector<Tri> faces;
@@ -232,116 +255,195 @@ TetRefineResult refine_tetmesh(const Parametrization& param, const TetMesh& coar
         s.regions = std::move(regions);
         s.ancestor = std::move(ancestor);
 
-        // 4. Move the new boundary vertices to phi, with the §3.3 remedy where needed.
+        // 4. Move the boundary vertices towards phi (the §3.3 remedy where a tetrahedron
+        //    would invert or collapse), in steps, smoothing the interior after each.
         TetRefineLevel info;
-        std::vector<int32_t> moved;
-        std::vector<Vec3> target;  // phi(parameter position), per entry of `moved`
-        std::vector<int32_t> moved_index(nv, -1);
+        const std::vector<Vec3> reference = s.x;  // plain red refinement: new vertices at the midpoints x
+        base.resize(nv);
+        target.resize(nv);
+        phi_fraction.resize(nv, 1.0);
+        std::vector<int32_t> fresh;  // new boundary vertices
         for (size_t v = nv_old; v < nv; ++v)
-            if (s.param_triangle[v] >= 0) {
-                moved_index[v] = static_cast<int32_t>(moved.size());
-                moved.push_back(static_cast<int32_t>(v));
+            if (s.param_triangle[v] >= 0) fresh.push_back(static_cast<int32_t>(v));
+        info.new_boundary_vertices = static_cast<int64_t>(fresh.size());
+        {
+            std::vector<PhiSample> samples;
+            std::vector<int32_t> triangles(fresh.size());
+            std::vector<Vec3> barycentrics(fresh.size());
+            for (size_t i = 0; i < fresh.size(); ++i) {
+                triangles[i] = s.param_triangle[fresh[i]];
+                barycentrics[i] = s.param_bary[fresh[i]];
             }
-        info.new_boundary_vertices = static_cast<int64_t>(moved.size());
-        target.resize(moved.size());
-        for (size_t i = 0; i < moved.size(); ++i) {
-            const int32_t v = moved[i];
-            target[i] = phi.evaluate(s.param_triangle[v], s.param_bary[v]).position;
+            phi.evaluate(triangles, barycentrics, samples, 1);
+            for (size_t i = 0; i < fresh.size(); ++i) {
+                const int32_t v = fresh[i];
+                base[v] = s.x[v];
+                target[v] = samples[i].position;
+                phi_fraction[v] = target[v] == base[v] ? 1.0 : 0.0;
+            }
         }
-        std::vector<double> w(moved.size(), options.move_to_surface ? 1.0 : 0.0);
-        auto place = [&](size_t i) {
-            const int32_t v = moved[i];
-            const Vec3& x = flat[v - nv_old];
-            s.x[v] = w[i] == 1.0 ? target[i] : (w[i] == 0.0 ? x : (1 - w[i]) * x + w[i] * target[i]);
-        };
-        for (size_t i = 0; i < moved.size(); ++i) place(i);
-
-        if (options.move_to_surface && !moved.empty()) {
-            // Tetrahedra around each moved vertex (CSR).
-            std::vector<int64_t> offsets(moved.size() + 1, 0);
-            for (const Tet& t : s.tets)
-                for (int32_t v : t)
-                    if (moved_index[v] >= 0) ++offsets[moved_index[v] + 1];
-            for (size_t i = 0; i < moved.size(); ++i) offsets[i + 1] += offsets[i];
-            std::vector<int32_t> incident(static_cast<size_t>(offsets.back()));
+        // Vertices that move: the new boundary vertices and every older one still off S0.
+        std::vector<int32_t> movers;
+        if (options.move_to_surface)
+            for (size_t v = 0; v < nv; ++v)
+                if (s.param_triangle[v] >= 0 && phi_fraction[v] < 1) movers.push_back(static_cast<int32_t>(v));
+        std::vector<int32_t> mover_index(nv, -1);
+        for (size_t i = 0; i < movers.size(); ++i) mover_index[movers[i]] = static_cast<int32_t>(i);
+        // Tetrahedra around each mover (CSR).
+        std::vector<int64_t> offsets(movers.size() + 1, 0);
+        for (const Tet& t : s.tets)
+            for (int32_t v : t)
+                if (mover_index[v] >= 0) ++offsets[mover_index[v] + 1];
+        for (size_t i = 0; i < movers.size(); ++i) offsets[i + 1] += offsets[i];
+        std::vector<int32_t> incident(static_cast<size_t>(offsets.back()));
+        {
             std::vector<int64_t> fill(offsets.begin(), offsets.end() - 1);
             for (size_t t = 0; t < s.tets.size(); ++t)
                 for (int32_t v : s.tets[t])
-                    if (moved_index[v] >= 0) incident[fill[moved_index[v]]++] = static_cast<int32_t>(t);
-            // Admissible: positively oriented (exact), and at least min_volume_fraction of the
-            // volume the tetrahedron has with its new vertices at their midpoints x.
-            const double fraction = options.min_volume_fraction;
-            auto reference = [&](int32_t v) -> const Vec3& { return v >= nv_old ? flat[v - nv_old] : s.x[v]; };
-            auto acceptable = [&](size_t t) {
+                    if (mover_index[v] >= 0) incident[fill[mover_index[v]]++] = static_cast<int32_t>(t);
+        }
+        // Admissible: every tetrahedron around the vertex positively oriented (exact), and
+        // with at least min_volume_fraction of its plain-refinement volume, or no smaller
+        // than before the move.
+        const double fraction = options.min_volume_fraction;
+        auto volume = [&](size_t t, const std::vector<Vec3>& x) {
+            const Tet& T = s.tets[t];
+            return oriented_volume(x[T[0]], x[T[1]], x[T[2]], x[T[3]], s.negative[t]);
+        };
+        std::vector<double> before, before_angle;
+        constexpr double kDegree = 3.14159265358979323846 / 180;
+        // The angle bound as a pseudo-angle (detail::min_dihedral_pseudo); -3 = none.
+        const double guard =
+            options.min_dihedral_degrees > 0 ? detail::pseudo_from_radians(options.min_dihedral_degrees * kDegree) : -3;
+        auto angle = [&](size_t t) {
+            Tet T = s.tets[t];
+            if (s.negative[t]) std::swap(T[2], T[3]);
+            return detail::min_dihedral_pseudo(s.x[T[0]], s.x[T[1]], s.x[T[2]], s.x[T[3]]);
+        };
+        auto admissible = [&](size_t i) {
+            for (int64_t k = offsets[i]; k < offsets[i + 1]; ++k) {
+                const size_t t = static_cast<size_t>(incident[k]);
                 if (!positive(s, t)) return false;
-                if (fraction <= 0) return true;
-                const Tet& x = s.tets[t];
-                const double now = oriented_volume(s.x[x[0]], s.x[x[1]], s.x[x[2]], s.x[x[3]], s.negative[t]);
-                const double ref = oriented_volume(reference(x[0]), reference(x[1]), reference(x[2]),
-                                                   reference(x[3]), s.negative[t]);
-                return now >= fraction * ref;
-            };
-            auto all_positive = [&](size_t i) {
-                for (int64_t k = offsets[i]; k < offsets[i + 1]; ++k)
-                    if (!acceptable(static_cast<size_t>(incident[k]))) return false;
-                return true;
-            };
-            // Passes over the vertices of inverted tetrahedra: each gets the largest 1-lambda
-            // that keeps its tetrahedra positive with its neighbours where they are now.
-            // 1-lambda only decreases, and all-zero is valid, so this terminates; after
-            // kMaxPasses the remaining offenders go flat at once.
-            constexpr int kMaxPasses = 20;
-            for (int pass = 0;; ++pass) {
-                std::vector<int32_t> candidates;
-                for (size_t t = 0; t < s.tets.size(); ++t)
-                    if (!acceptable(t))
-                        for (int32_t v : s.tets[t])
-                            if (moved_index[v] >= 0 && w[moved_index[v]] > 0) candidates.push_back(moved_index[v]);
-                if (candidates.empty()) break;
-                std::sort(candidates.begin(), candidates.end());
-                candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
-                for (int32_t i : candidates) {
-                    if (pass >= kMaxPasses) {
-                        w[i] = 0;
-                        place(i);
-                        continue;
-                    }
-                    if (all_positive(i)) continue;
-                    const double hi0 = w[i];
-                    w[i] = 0;
-                    place(i);
-                    if (!all_positive(i)) continue;  // a neighbour must give way first
-                    double lo = 0, hi = hi0;
-                    for (int step = 0; step < options.bisection_steps; ++step) {
-                        const double mid = 0.5 * (lo + hi);
-                        w[i] = mid;
-                        place(i);
-                        if (all_positive(i)) lo = mid;
-                        else hi = mid;
-                    }
-                    w[i] = lo;
-                    place(i);
+                if (guard > -3) {
+                    const double q = angle(t);
+                    if (q < guard && q < before_angle[k - offsets[i]]) return false;
                 }
-                context.report(base + 0.9 / options.levels, "level " + std::to_string(level + 1) +
-                                                                ": keeping tetrahedra positive");
+                if (fraction <= 0) continue;
+                const double now = volume(t, s.x);
+                if (now < fraction * volume(t, reference) && now < before[k - offsets[i]]) return false;
+            }
+            return true;
+        };
+        // Moves mover i towards phi, up to fraction `goal`, as far as admissible (bisection);
+        // its tetrahedra are admissible where it is now, so it never goes backwards.
+        auto advance = [&](size_t i, double goal) {
+            const int32_t v = movers[i];
+            const double from = phi_fraction[v];
+            before.clear();
+            before_angle.clear();
+            for (int64_t k = offsets[i]; k < offsets[i + 1]; ++k) {
+                before.push_back(volume(incident[k], s.x));
+                if (guard > -3) before_angle.push_back(angle(incident[k]));
+            }
+            phi_fraction[v] = goal;
+            place(v);
+            if (admissible(i)) return true;
+            double lo = from, hi = goal;
+            for (int step = 0; step < options.bisection_steps; ++step) {
+                const double mid = 0.5 * (lo + hi);
+                phi_fraction[v] = mid;
+                place(v);
+                if (admissible(i)) lo = mid;
+                else hi = mid;
+            }
+            phi_fraction[v] = lo;
+            place(v);
+            return lo > from;
+        };
+        movable.assign(nv, 0);
+        for (size_t v = 0; v < nv; ++v) movable[v] = s.param_triangle[v] < 0;
+        const double span = 1.0 / options.levels;
+        std::vector<char> dirty(nv, 1);  // see detail::smooth_interior
+        auto smooth = [&](double from, double width) {
+            const TetSmoothResult r = detail::smooth_interior(s.x, s.tets, s.negative, movable, &dirty, smoothing,
+                                                              context, base_progress + from * span, width * span);
+            info.smoothing_seconds += r.seconds;
+            context.debug("smoothing: " + std::to_string(r.visits) + " visits, " + std::to_string(r.moves) +
+                          " moves, " + std::to_string(r.moved_vertices) + " vertices, min dihedral " +
+                          std::to_string(r.min_dihedral_before_degrees) + " -> " +
+                          std::to_string(r.min_dihedral_after_degrees) + " degrees, " + std::to_string(r.seconds) +
+                          " s");
+        };
+        const int steps = options.boundary_steps;
+        const int passes = movers.empty() ? 0 : steps + options.retry_passes;
+        bool smoothed = false;
+        for (int pass = 1; pass <= passes; ++pass) {
+            const double goal = pass >= steps ? 1.0 : double(pass) / steps;
+            int64_t advanced = 0;
+            // After the first smoothing, only the surroundings of boundary vertices that move
+            // again are smoothed again (what moves there marks its own neighbours).
+            if (smoothed) std::fill(dirty.begin(), dirty.end(), 0);
+            for (size_t i = 0; i < movers.size(); ++i)
+                if (phi_fraction[movers[i]] < goal && advance(i, goal)) {
+                    ++advanced;
+                    for (int64_t k = offsets[i]; k < offsets[i + 1]; ++k)
+                        for (int32_t u : s.tets[incident[k]]) dirty[u] = 1;
+                }
+            if (pass > steps && advanced == 0) break;  // a retry that got no vertex closer
+            context.report(base_progress + (0.3 + 0.6 * (pass - 1) / passes) * span,
+                           "level " + std::to_string(level + 1) + ": boundary vertices towards phi");
+            if (options.smooth) {
+                smooth(0.3 + 0.6 * (pass - 0.5) / passes, 0.3 / passes);
+                smoothed = true;
             }
         }
-        for (size_t i = 0; i < moved.size(); ++i) {
-            const int32_t v = moved[i];
-            phi_fraction[v] = w[i];
-            gap[v] = (1 - w[i]) * distance(flat[v - nv_old], target[i]);
-            if (options.move_to_surface && w[i] < 1 && gap[v] > 0) {
+        if (options.smooth && !smoothed) smooth(0.3, 0.6);
+
+        for (int32_t v : fresh)
+            if (off_surface(v)) {
                 ++info.remedied_vertices;
-                if (w[i] == 0) ++info.flat_vertices;
+                if (phi_fraction[v] == 0) ++info.flat_vertices;
             }
+        for (size_t v = 0; v < nv; ++v) {
+            if (off_surface(v)) {
+                ++info.off_surface_vertices;
+                info.max_remedy_distance = std::max(info.max_remedy_distance, distance(s.x[v], target[v]));
+            }
+            if (movable[v] && s.x[v] != reference[v]) ++info.smoothed_vertices;
+        }
+        {
+            const double one = detail::pseudo_from_radians(kDegree), five = detail::pseudo_from_radians(5 * kDegree),
+                         ten = detail::pseudo_from_radians(10 * kDegree);
+            double low = 2;
+            for (size_t t = 0; t < s.tets.size(); ++t) {
+                Tet T = s.tets[t];
+                if (s.negative[t]) std::swap(T[2], T[3]);
+                const double q = detail::min_dihedral_pseudo(s.x[T[0]], s.x[T[1]], s.x[T[2]], s.x[T[3]]);
+                low = std::min(low, q);
+                info.below_1_degree += q < one;
+                info.below_5_degrees += q < five;
+                info.below_10_degrees += q < ten;
+            }
+            info.min_dihedral_degrees = s.tets.empty() ? 0 : detail::radians_from_pseudo(low) / kDegree;
         }
         info.vertices = static_cast<int64_t>(s.x.size());
         info.tetrahedra = static_cast<int64_t>(s.tets.size());
         result.levels.push_back(info);
         context.debug("level " + std::to_string(level + 1) + ": " + std::to_string(info.tetrahedra) + " tetrahedra, " +
                       std::to_string(info.new_boundary_vertices) + " new boundary vertices, " +
-                      std::to_string(info.remedied_vertices) + " kept off the surface");
+                      std::to_string(info.off_surface_vertices) + " kept off the surface, min dihedral angle " +
+                      std::to_string(info.min_dihedral_degrees) + " degrees");
     }
+
+    // Vertices off S0 at the end (this call's remedies, and the input's that stayed).
+    for (size_t v = 0; v < s.x.size(); ++v)
+        if (off_surface(v)) {
+            ++result.remedied_vertices;
+            result.max_remedy_distance = std::max(result.max_remedy_distance, distance(s.x[v], target[v]));
+            result.min_phi_fraction = std::min(result.min_phi_fraction, phi_fraction[v]);
+        }
+    if (!options.move_to_surface) result.min_phi_fraction = options.levels > 0 ? 0 : 1;
+    result.max_remedy_distance_relative = diagonal > 0 ? result.max_remedy_distance / diagonal : 0;
 
     // Output, every tetrahedron positively oriented.
     out = TetMesh{};
@@ -364,15 +466,6 @@ TetRefineResult refine_tetmesh(const Parametrization& param, const TetMesh& coar
     result.tetrahedra = out.num_tetrahedra();
     result.faces = static_cast<int64_t>(out.faces.size());
     for (int32_t t : out.vertex_parameter_triangle) result.boundary_vertices += t >= 0;
-    for (const auto& l : result.levels) result.remedied_vertices += l.remedied_vertices;
-    for (size_t v = 0; v < gap.size(); ++v) {
-        if (phi_fraction[v] < 1 && gap[v] > 0 && options.move_to_surface) {
-            result.max_remedy_distance = std::max(result.max_remedy_distance, gap[v]);
-            result.min_phi_fraction = std::min(result.min_phi_fraction, phi_fraction[v]);
-        }
-    }
-    if (!options.move_to_surface) result.min_phi_fraction = options.levels > 0 ? 0 : 1;
-    result.max_remedy_distance_relative = diagonal > 0 ? result.max_remedy_distance / diagonal : 0;
     for (const Tet& t : out.tetrahedra)
         if (orient3d(out.vertices[t[0]], out.vertices[t[1]], out.vertices[t[2]], out.vertices[t[3]]) != 1)
             ++result.inverted;

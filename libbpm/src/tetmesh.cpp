@@ -14,6 +14,7 @@
 // Reference: H. Si, TetGen 1.5 user manual (file formats, switches -p -Y -q -a -A -z).
 
 #include "bpm/tetmesh.h"
+#include "bpm/tetmesh_smooth.h"
 
 #include <fcntl.h>
 #include <sys/stat.h>
@@ -28,6 +29,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <numeric>
 #include <sstream>
@@ -558,6 +560,12 @@ TetMeshResult generate_tetmesh(const Parametrization& param, const TetMeshOption
             out.vertex_parameter_barycentric[v] = b;
         }
     out.level = 0;
+    if (options.smooth) {
+        const TetSmoothResult sm = smooth_tetmesh(out, options.smoothing);
+        context.debug("level-0 smoothing: " + num(sm.moved_vertices) + " vertices moved, min dihedral " +
+                      std::to_string(sm.min_dihedral_before_degrees) + " -> " +
+                      std::to_string(sm.min_dihedral_after_degrees) + " degrees");
+    }
 
     result.vertices = out.num_vertices();
     result.tetrahedra = out.num_tetrahedra();
@@ -666,14 +674,19 @@ TetMeshStats tetmesh_stats(const TetMesh& m) {
             const double len = norm(c);
             n[k] = len > 0 ? (1.0 / len) * c : Vec3{0, 0, 0};
         }
+        double tet_min = 180;
         for (int a = 0; a < 4; ++a)
             for (int b = a + 1; b < 4; ++b) {
                 // The edge opposite faces a and b; its dihedral angle is pi - angle(n_a, n_b).
                 const double d = std::clamp(-dot(n[a], n[b]), -1.0, 1.0);
                 const double angle = std::acos(d) * 180.0 / kPi;
-                min_angle = std::min(min_angle, angle);
+                tet_min = std::min(tet_min, angle);
                 max_angle = std::max(max_angle, angle);
             }
+        min_angle = std::min(min_angle, tet_min);
+        st.below_1_degree += tet_min < 1;
+        st.below_5_degrees += tet_min < 5;
+        st.below_10_degrees += tet_min < 10;
     }
     st.min_dihedral_degrees = m.tetrahedra.empty() ? 0 : min_angle;
     st.max_dihedral_degrees = m.tetrahedra.empty() ? 0 : max_angle;

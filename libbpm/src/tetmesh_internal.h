@@ -5,7 +5,9 @@
 #include <cstdint>
 #include <vector>
 
+#include "bpm/context.h"
 #include "bpm/tetmesh.h"
+#include "bpm/tetmesh_smooth.h"
 
 namespace bpm::detail {
 
@@ -29,5 +31,31 @@ std::vector<TetFace> enumerate_faces(const std::vector<Tet>& tets);
 std::array<int32_t, 3> outward_face(const Tet& t, int k);
 
 double signed_volume(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
+
+// The six dihedral angles (radians) of (a, b, c, d) at the edges 01 02 03 12 13 23,
+// signed: in (0, pi) for a positively oriented tetrahedron, in (-pi, 0) for an inverted
+// one. min_dihedral: the smallest of them.
+void dihedral_angles(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, double out[6]);
+double min_dihedral(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
+// The same as pseudo-angles, cheaper (no atan2) and strictly increasing in the angle:
+// sin(angle) for |angle| <= pi/2, continued by 2 - sin (up to pi) and -2 - sin (down to
+// -pi), so in (-2, 2), and equal to the angle to first order near 0.
+void dihedral_pseudo_angles(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, double out[6]);
+double min_dihedral_pseudo(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
+double pseudo_from_radians(double angle);
+double radians_from_pseudo(double pseudo);
+
+// \throw OptionError for options smooth_tetmesh refuses.
+void check_smooth_options(const TetSmoothOptions& options);
+// smooth_tetmesh on raw arrays: moves the vertices v with movable[v] != 0. tets[t] is
+// positively oriented, or negatively where negative[t] (negative may be empty: all
+// positive). dirty (#V, or null = all): the vertices whose tetrahedra changed since they
+// were last visited; only those are visited, and the call leaves it up to date, so a
+// caller that moves vertices between calls marks their neighbours and passes it again.
+// Progress goes to context in [progress_base, progress_base + progress_span].
+TetSmoothResult smooth_interior(std::vector<Vec3>& x, const std::vector<Tet>& tets, const std::vector<bool>& negative,
+                                const std::vector<char>& movable, std::vector<char>* dirty,
+                                const TetSmoothOptions& options, const Context& context, double progress_base,
+                                double progress_span);
 
 }  // namespace bpm::detail

@@ -22,6 +22,29 @@ for ext in msh vtu mesh bpm; do
     contains "$work/err" "0 inverted" "no inverted element (.$ext)"
 done
 expect 0 "refined file passes bpm-check" -- "$tools/bpm-check" "$work/fine.bpm"
+# Interior smoothing: on by default, --no-smooth turns it off; boundary vertices are not
+# touched, so both give the same volumes, and smoothing never gives a worse minimum angle.
+expect 0 "refinement with smoothing, JSON" -- "$tools/bpm-mesh" "$work/e.tet.bpm" --existing --refine 2 -o "$work/s.msh" --json -q
+cp "$work/out" "$work/smooth.json"
+contains "$work/smooth.json" '"smoothed": true' "smoothing is on by default"
+expect 0 "refinement without smoothing, JSON" -- "$tools/bpm-mesh" "$work/e.tet.bpm" --existing --refine 2 --no-smooth -o "$work/n.msh" --json -q
+cp "$work/out" "$work/plain.json"
+contains "$work/plain.json" '"smoothed": false' "--no-smooth turns it off"
+ok "smoothing raises the minimum dihedral angle, no inverted element" -- /usr/bin/python3 -c '
+import json, sys
+s, n = (json.load(open(f)) for f in sys.argv[1:3])
+assert s["inverted"] == 0 and n["inverted"] == 0, (s["inverted"], n["inverted"])
+assert s["min_dihedral_degrees"] > n["min_dihedral_degrees"], (s["min_dihedral_degrees"], n["min_dihedral_degrees"])
+assert s["below_5_degrees"] <= n["below_5_degrees"], (s["below_5_degrees"], n["below_5_degrees"])
+' "$work/smooth.json" "$work/plain.json"
+expect 0 "bpm-refine --volume --no-smooth" -- "$tools/bpm-refine" "$work/e.tet.bpm" --volume --levels 1 --no-smooth --remedy-min-dihedral 0 -o "$work/ns.vtu"
+contains "$work/err" "0 inverted" "no inverted element without smoothing"
+expect 0 "bpm-refine --help documents --no-smooth" -- "$tools/bpm-refine" --help
+contains "$work/out" "--no-smooth" "bpm-refine --help lists --no-smooth"
+expect 0 "bpm-mesh --help documents --no-smooth" -- "$tools/bpm-mesh" --help
+contains "$work/out" "--no-smooth" "bpm-mesh --help lists --no-smooth"
+expect 2 "--no-smooth needs --volume" -- "$tools/bpm-refine" "$work/e.tet.bpm" --levels 1 --no-smooth -o "$work/x.off"
+expect 2 "remedy angle out of range" -- "$tools/bpm-refine" "$work/e.tet.bpm" --volume --levels 1 --remedy-min-dihedral 90 -o "$work/x.msh"
 expect 3 "volume refinement of a file without a mesh" -- "$tools/bpm-refine" "$work/e.bpm" --volume --levels 1 -o "$work/x.msh"
 contains "$work/err" "bpm-mesh" "the message says how to get a mesh"
 expect 2 "volume refinement needs --levels" -- "$tools/bpm-refine" "$work/e.tet.bpm" --volume --tolerance 0.01 -o "$work/x.msh"

@@ -14,6 +14,7 @@
 #include "bpm/predicates.h"
 #include "bpm/tet_refine.h"
 #include "bpm/tetmesh.h"
+#include "bpm/tetmesh_smooth.h"
 #include "fixtures_surfaces.h"
 
 using namespace bpm;
@@ -34,6 +35,24 @@ Parametrization bent(const Surface& coarse, const Vec3& centre, double factor) {
     Parametrization p = fixtures::refined_parametrization(coarse);
     for (int32_t v = coarse.num_vertices(); v < p.original.num_vertices(); ++v)
         p.original.vertices[v] = centre + factor * (p.original.vertices[v] - centre);
+    fixtures::recompute_images(p);
+    return p;
+}
+
+// A cube of `res` x `res` quads per face whose faces are dented: each original vertex that
+// is not a coarse vertex moves along the normal of its face to 0.5 - depth * (x - 0.5)
+// (depth < 0: past the centre plane). Moving new boundary vertices all the way would
+// invert elements.
+Parametrization dented_cube(int res, double depth) {
+    const Surface cube = fixtures::cube(res);
+    Parametrization p = fixtures::refined_parametrization(cube);
+    for (int32_t v = cube.num_vertices(); v < p.original.num_vertices(); ++v) {
+        Vec3& x = p.original.vertices[v];
+        int axis = 0;
+        for (int k = 1; k < 3; ++k)
+            if (std::fabs(x[k] - 0.5) > std::fabs(x[axis] - 0.5)) axis = k;
+        x[axis] = 0.5 + depth * (x[axis] - 0.5);
+    }
     fixtures::recompute_images(p);
     return p;
 }
@@ -107,6 +126,7 @@ TEST_CASE("tet_refine: Bey's rule keeps the shape classes (min dihedral angle st
     const TetMesh coarse = mesh_of(p);
     TetRefineOptions o;
     o.move_to_surface = false;
+    o.smooth = false;
     TetMesh one, three;
     o.levels = 1;
     refine_tetmesh(p, coarse, o, {}, one);
@@ -143,19 +163,7 @@ TEST_CASE("tet_refine: boundary vertices move onto a curved original surface", "
 
 TEST_CASE("tet_refine: the lambda remedy keeps every tetrahedron positive at a concave surface", "[tet_refine]") {
     REQUIRE_TETGEN();
-    const Surface cube = fixtures::cube(1);
-    // Dent every face deeply: each original vertex that is not a coarse vertex moves along
-    // the normal of its face, past the centre plane. Moving new boundary vertices all the
-    // way would invert elements.
-    Parametrization p = fixtures::refined_parametrization(cube);
-    for (int32_t v = cube.num_vertices(); v < p.original.num_vertices(); ++v) {
-        Vec3& x = p.original.vertices[v];
-        int axis = 0;
-        for (int k = 1; k < 3; ++k)
-            if (std::fabs(x[k] - 0.5) > std::fabs(x[axis] - 0.5)) axis = k;
-        x[axis] = 0.5 - 0.3 * (x[axis] - 0.5);
-    }
-    fixtures::recompute_images(p);
+    const Parametrization p = dented_cube(1, -0.3);
     const TetMesh coarse = mesh_of(p);
 
     TetRefineOptions o;
@@ -236,4 +244,181 @@ TEST_CASE("tet_refine: multi-material meshes keep their regions and interface fa
     // Options are checked.
     o.levels = -1;
     CHECK_THROWS_AS(refine_tetmesh(p, coarse, o, {}, fine), OptionError);
+    o.levels = 1;
+    o.min_dihedral_degrees = -1;
+    CHECK_THROWS_AS(refine_tetmesh(p, coarse, o, {}, fine), OptionError);
+    o.min_dihedral_degrees = 5;
+    o.boundary_steps = 0;
+    CHECK_THROWS_AS(refine_tetmesh(p, coarse, o, {}, fine), OptionError);
+    o.boundary_steps = 1;
+    o.smoothing.sweeps = -1;
+    CHECK_THROWS_AS(refine_tetmesh(p, coarse, o, {}, fine), OptionError);
+}
+
+// --- interior smoothing (bpm/tetmesh_smooth.h) --------------------------------------
+
+namespace {
+
+// A cube whose faces sag inwards between the coarse vertices: moving the new boundary
+// vertices onto it squashes the tetrahedra next to the boundary (into slivers where only
+// positive volume is asked for).
+Parametrization sagging_cube() { return bent(fixtures::cube(2), {0.5, 0.5, 0.5}, 0.7); }
+
+TetMesh plain_mesh_of(const Parametrization& p) {
+    TetMesh m;
+    TetMeshOptions o;
+    o.smooth = false;
+    generate_tetmesh(p, o, Context{}, m);
+    return m;
+}
+
+double min_dihedral(const TetMesh& m) { return tetmesh_stats(m).min_dihedral_degrees; }
+
+}  // namespace
+
+TEST_CASE("tet_smooth: the signed minimum dihedral angle", "[tet_refine][tet_smooth]") {
+    const Vec3 o{0, 0, 0}, x{1, 0, 0}, y{0, 1, 0}, z{0, 0, 1};
+    CHECK(tet_min_dihedral_degrees(o, x, y, z) == Approx(std::acos(1 / std::sqrt(3.0)) * 180 / 3.14159265358979323846));
+    CHECK(tet_min_dihedral_degrees(o, x, z, y) < 0);          // inverted
+    CHECK(tet_min_dihedral_degrees(o, x, y, {1, 1, 0}) == 0);  // flat
+    // agrees with tetmesh_stats on a real mesh
+    REQUIRE_TETGEN();
+    const TetMesh m = plain_mesh_of(sagging_cube());
+    double low = 180;
+    for (const Tet& t : m.tetrahedra)
+        low = std::min(low,
+                       tet_min_dihedral_degrees(m.vertices[t[0]], m.vertices[t[1]], m.vertices[t[2]], m.vertices[t[3]]));
+    CHECK(low == Approx(min_dihedral(m)).epsilon(1e-9).margin(1e-5));
+}
+
+TEST_CASE("tet_smooth: smoothing the interior never inverts, raises the worst angle, and keeps S fixed",
+          "[tet_refine][tet_smooth]") {
+    REQUIRE_TETGEN();
+    const Parametrization p = sagging_cube();
+    const TetMesh coarse = plain_mesh_of(p);
+    // Red refinement with the boundary moved onto the sagging faces as far as volumes stay
+    // positive (the paper's rule), not smoothed.
+    TetRefineOptions o;
+    o.levels = 1;
+    o.smooth = false;
+    o.min_volume_fraction = 0;
+    o.min_dihedral_degrees = 0;
+    TetMesh moved;
+    refine_tetmesh(p, coarse, o, {}, moved);
+    TetRefineOptions flat = o;
+    flat.move_to_surface = false;
+    TetMesh plain;
+    refine_tetmesh(p, coarse, flat, {}, plain);
+    const double before = min_dihedral(moved);
+    INFO("plain red refinement " << min_dihedral(plain) << " degrees, boundary moved " << before);
+    REQUIRE(before < 1);  // the move made slivers
+    REQUIRE(min_dihedral(plain) > 10);
+    REQUIRE(count_inverted(moved) == 0);
+
+    TetMesh smoothed = moved;
+    const TetSmoothResult r = smooth_tetmesh(smoothed, TetSmoothOptions{});
+    const double after = min_dihedral(smoothed);
+    INFO("smoothed " << after << " degrees, " << r.moved_vertices << " vertices moved");
+    CHECK(count_inverted(smoothed) == 0);
+    CHECK(after > before);
+    // (tetmesh_stats uses acos: about 1e-6 degrees near 0)
+    CHECK(r.min_dihedral_before_degrees == Approx(before).epsilon(1e-9).margin(1e-5));
+    CHECK(r.min_dihedral_after_degrees == Approx(after).epsilon(1e-9).margin(1e-5));
+    CHECK(r.moved_vertices > 0);
+    int64_t interior_moved = 0;
+    for (int32_t v = 0; v < moved.num_vertices(); ++v) {
+        if (moved.vertex_parameter_triangle[v] >= 0) {
+            INFO("boundary vertex " << v);
+            CHECK(smoothed.vertices[v] == moved.vertices[v]);  // bit for bit
+        } else {
+            interior_moved += smoothed.vertices[v] != moved.vertices[v];
+        }
+    }
+    CHECK(interior_moved == r.moved_vertices);
+    // Nothing else changes.
+    CHECK(smoothed.tetrahedra == moved.tetrahedra);
+    CHECK(smoothed.faces == moved.faces);
+    CHECK(tetmesh_stats(smoothed).region_volumes[0] == Approx(tetmesh_stats(moved).region_volumes[0]).epsilon(1e-12));
+    // A second run starts from a smoothed mesh and cannot make the worst element worse.
+    TetMesh again = smoothed;
+    smooth_tetmesh(again, TetSmoothOptions{});
+    CHECK(min_dihedral(again) >= after);
+    CHECK(count_inverted(again) == 0);
+
+    TetSmoothOptions bad;
+    bad.sweeps = -1;
+    CHECK_THROWS_AS(smooth_tetmesh(again, bad), OptionError);
+    bad = TetSmoothOptions{};
+    bad.target_degrees = 0;
+    CHECK_THROWS_AS(smooth_tetmesh(again, bad), OptionError);
+}
+
+TEST_CASE("tet_refine: smoothing during refinement beats smoothing off, with the boundary on phi",
+          "[tet_refine][tet_smooth]") {
+    REQUIRE_TETGEN();
+    const Parametrization p = sagging_cube();
+    const TetMesh coarse = plain_mesh_of(p);
+    TetRefineOptions on;
+    on.levels = 2;
+    TetRefineOptions off = on;
+    off.smooth = false;
+    TetMesh a, b;
+    const TetRefineResult ra = refine_tetmesh(p, coarse, on, {}, a);
+    const TetRefineResult rb = refine_tetmesh(p, coarse, off, {}, b);
+    INFO("smoothed " << min_dihedral(a) << " degrees, not smoothed " << min_dihedral(b));
+    CHECK(min_dihedral(a) > min_dihedral(b));
+    CHECK(ra.inverted == 0);
+    CHECK(count_inverted(a) == 0);
+    // Same connectivity and parameter positions; boundary vertices at phi except the
+    // remedied ones, and smoothing lets no more of them stay off S0.
+    CHECK(a.tetrahedra == b.tetrahedra);
+    CHECK(a.vertex_parameter_triangle == b.vertex_parameter_triangle);
+    CHECK(a.vertex_parameter_barycentric == b.vertex_parameter_barycentric);
+    CHECK(count_off_surface(p, a) == ra.remedied_vertices);
+    CHECK(ra.remedied_vertices <= rb.remedied_vertices);
+    // The per-level report describes the mesh.
+    REQUIRE(ra.levels.size() == 2);
+    const TetRefineLevel& last = ra.levels.back();
+    CHECK(last.min_dihedral_degrees == Approx(min_dihedral(a)).epsilon(1e-9).margin(1e-5));
+    int64_t below10 = 0;  // (not 5: the default remedy stops vertices at exactly 5 degrees)
+    for (const Tet& t : a.tetrahedra)
+        below10 +=
+            tet_min_dihedral_degrees(a.vertices[t[0]], a.vertices[t[1]], a.vertices[t[2]], a.vertices[t[3]]) < 10;
+    CHECK(last.below_10_degrees == below10);
+    CHECK(last.below_10_degrees == tetmesh_stats(a).below_10_degrees);
+    CHECK(last.off_surface_vertices == ra.remedied_vertices);
+    CHECK(last.smoothed_vertices > 0);
+    CHECK(rb.levels.back().smoothed_vertices == 0);
+}
+
+TEST_CASE("tet_refine: the remedy's angle bound keeps slivers from forming at the boundary",
+          "[tet_refine][tet_smooth]") {
+    REQUIRE_TETGEN();
+    const Parametrization p = sagging_cube();
+    const TetMesh coarse = plain_mesh_of(p);
+    TetRefineOptions o;
+    o.levels = 1;
+    o.min_volume_fraction = 0;
+    TetRefineOptions flat = o;
+    flat.move_to_surface = false;
+    flat.smooth = false;
+    TetMesh plain;
+    refine_tetmesh(p, coarse, flat, {}, plain);
+    REQUIRE(min_dihedral(plain) > 10);
+    for (bool smooth : {false, true}) {
+        INFO("smoothing " << smooth);
+        o.smooth = smooth;
+        // Each move of a boundary vertex keeps the tetrahedra around it at min(bound, what
+        // they had), starting from plain red refinement; smoothing never lowers the minimum.
+        o.min_dihedral_degrees = 5;
+        TetMesh bounded, unbounded;
+        const TetRefineResult r = refine_tetmesh(p, coarse, o, {}, bounded);
+        CHECK(min_dihedral(bounded) >= 5 - 1e-6);
+        CHECK(count_inverted(bounded) == 0);
+        CHECK(count_off_surface(p, bounded) == r.remedied_vertices);
+        o.min_dihedral_degrees = 0;  // positive volume only: slivers where nothing smooths them
+        refine_tetmesh(p, coarse, o, {}, unbounded);
+        CHECK(count_inverted(unbounded) == 0);
+        if (!smooth) CHECK(min_dihedral(unbounded) < 1);
+    }
 }

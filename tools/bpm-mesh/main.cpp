@@ -29,7 +29,9 @@ int main(int argc, char** argv) {
         "a multi-material surface gets its own region id (1, 2, ...); the outside is not meshed.\n"
         "Output by extension: .bpm (the input file plus a /tetmesh group, spec/tetmesh.md), .msh (Gmsh 4.1),\n"
         ".vtu (VTK), .mesh (MEDIT). With --refine K the mesh is red-refined K times and new boundary vertices\n"
-        "are moved onto the original surface through phi (Krause & Sander §3.3).",
+        "are moved onto the original surface through phi (Krause & Sander §3.3). Vertices not on the surface\n"
+        "are smoothed (TetGen's Steiner points, and after every refinement level) to keep the elements next to\n"
+        "the moved boundary well shaped; --no-smooth turns that off.",
         tool};
     std::string input, output, format;
     bpm::TetMeshOptions options;
@@ -55,8 +57,17 @@ int main(int argc, char** argv) {
                    "tetrahedron around it keeps this fraction of its plain-refinement volume (0 = just positive; "
                    "default 0.1)")
         ->check(CLI::Range(0.0, 0.99));
+    bool no_smooth = false;
+    app.add_flag("--no-smooth", no_smooth,
+                 "Do not move vertices that are not on the surface (default: smooth them, never inverting an "
+                 "element or making the worst one around a vertex worse)");
+    double remedy_min_dihedral = 5;
+    app.add_option("--remedy-min-dihedral", remedy_min_dihedral,
+                   "With --refine: a boundary vertex also stops short of phi where it would bring a tetrahedron's "
+                   "smallest dihedral angle below this many degrees (0 = only the volume conditions; default 5)")
+        ->check(CLI::Range(0.0, 60.0));
     app.add_flag("--existing", existing, "Use the tetrahedral mesh already in INPUT instead of running TetGen");
-    app.add_flag("--flat", flat, "With --refine: leave new boundary vertices on the coarse surface (plain red refinement)");
+    app.add_flag("--flat", flat, "With --refine: leave new boundary vertices on the coarse surface (red refinement of the boundary)");
     app.add_option("--tetgen", options.tetgen, "TetGen executable (default: tetgen on PATH)");
     app.add_flag("--keep-temporary", options.keep_temporary, "Keep TetGen's input and output files (path on stderr)");
     app.add_flag("--json", json, "Print a JSON report (counts, timings, region volumes, quality) on standard output");
@@ -74,6 +85,7 @@ int main(int argc, char** argv) {
         if (json && output == "-") throw CLI::ValidationError("--json", "needs an output file (stdout carries the JSON)");
         if (max_volume > 0) options.max_volume = max_volume;
         if (min_dihedral >= 0) options.min_dihedral_degrees = min_dihedral;
+        options.smooth = !no_smooth;
         const bpm::Context context = bpm::tools::make_context(tool, verbose, quiet);
 
         bpm::BpmFile file = bpm::read_bpm(input);
@@ -97,10 +109,24 @@ int main(int argc, char** argv) {
             ro.levels = refine_levels;
             ro.move_to_surface = !flat;
             ro.min_volume_fraction = min_volume_fraction;
+            ro.min_dihedral_degrees = remedy_min_dihedral;
+            ro.smooth = !no_smooth;
             bpm::TetMesh fine;
             refine_result = bpm::refine_tetmesh(file.param, *file.tetmesh, ro, context, fine);
             file.tetmesh = std::move(fine);
             char line[256];
+            for (size_t k = 0; k < refine_result.levels.size(); ++k) {
+                const bpm::TetRefineLevel& l = refine_result.levels[k];
+                std::snprintf(line, sizeof line,
+                              "level %zu: %lld tetrahedra, min dihedral angle %.3g degrees, %lld/%lld/%lld below "
+                              "1/5/10 degrees, %lld boundary vertices off the surface (max distance %.3g), "
+                              "%lld interior vertices smoothed",
+                              k + 1, (long long)l.tetrahedra, l.min_dihedral_degrees, (long long)l.below_1_degree,
+                              (long long)l.below_5_degrees, (long long)l.below_10_degrees,
+                              (long long)l.off_surface_vertices, l.max_remedy_distance,
+                              (long long)l.smoothed_vertices);
+                context.debug(line);
+            }
             std::snprintf(line, sizeof line,
                           "refined %d levels: %lld tetrahedra; %lld boundary vertices kept off the surface by the "
                           "lambda remedy (max distance %.3g = %.3g of the diagonal), %.2f s",
@@ -134,7 +160,12 @@ int main(int argc, char** argv) {
                             ", \"inverted\": " + std::to_string(stats.inverted) +
                             ", \"min_dihedral_degrees\": " + json_double(stats.min_dihedral_degrees) +
                             ", \"max_dihedral_degrees\": " + json_double(stats.max_dihedral_degrees) +
+                            ", \"below_1_degree\": " + std::to_string(stats.below_1_degree) +
+                            ", \"below_5_degrees\": " + std::to_string(stats.below_5_degrees) +
+                            ", \"below_10_degrees\": " + std::to_string(stats.below_10_degrees) +
+                            ", \"smoothed\": " + std::string(no_smooth ? "false" : "true") +
                             ", \"remedied_vertices\": " + std::to_string(refine_result.remedied_vertices) +
+                            ", \"max_remedy_distance\": " + json_double(refine_result.max_remedy_distance) +
                             ", \"max_remedy_distance_relative\": " +
                             json_double(refine_result.max_remedy_distance_relative) +
                             ", \"refine_seconds\": " + json_double(refine_result.seconds) + ", \"regions\": [";

@@ -30,7 +30,8 @@ namespace {
 
 // --volume: the tetrahedral mesh of the file, refined through phi (bpm/tet_refine.h).
 int refine_volume(const std::string& tool, int argc, char** argv, const std::string& input, const std::string& output,
-                  const std::string& format, int levels, bool deterministic, bool verbose, bool quiet) {
+                  const std::string& format, int levels, bool smooth, double remedy_min_dihedral, bool deterministic,
+                  bool verbose, bool quiet) {
     if (levels < 0) throw CLI::ValidationError("--volume needs --levels");
     const auto out_format = format.empty() ? bpm::tetmesh_format_from_path(output) : bpm::tetmesh_format_from_name(format);
     if (!out_format)
@@ -41,14 +42,29 @@ int refine_volume(const std::string& tool, int argc, char** argv, const std::str
         throw bpm::InputError(input, "has no tetrahedral mesh (make one with bpm-mesh first)");
     bpm::TetRefineOptions options;
     options.levels = levels;
+    options.smooth = smooth;
+    options.min_dihedral_degrees = remedy_min_dihedral;
     bpm::TetMesh fine;
     const bpm::TetRefineResult r = bpm::refine_tetmesh(file.param, *file.tetmesh, options, context, fine);
     char line[512];
+    for (size_t k = 0; k < r.levels.size(); ++k) {
+        const bpm::TetRefineLevel& l = r.levels[k];
+        std::snprintf(line, sizeof line,
+                      "level %zu: %lld tetrahedra, min dihedral angle %.3g degrees, %lld/%lld/%lld below 1/5/10 "
+                      "degrees, %lld boundary vertices off the surface (max distance %.3g), %lld interior vertices "
+                      "smoothed",
+                      k + 1, (long long)l.tetrahedra, l.min_dihedral_degrees, (long long)l.below_1_degree,
+                      (long long)l.below_5_degrees, (long long)l.below_10_degrees, (long long)l.off_surface_vertices,
+                      l.max_remedy_distance, (long long)l.smoothed_vertices);
+        context.debug(line);
+    }
     std::snprintf(line, sizeof line,
-                  "%lld tetrahedra, %lld vertices (%lld on the boundary), %lld pulled back from phi to keep "
-                  "volumes positive (max distance %.3g of diagonal), %lld inverted, %.2f s",
+                  "%lld tetrahedra, %lld vertices (%lld on the boundary), %lld kept short of phi to keep elements "
+                  "positive and not flat (max distance %.3g of diagonal), %lld inverted, min dihedral angle %.3g "
+                  "degrees, %.2f s",
                   (long long)r.tetrahedra, (long long)r.vertices, (long long)r.boundary_vertices,
-                  (long long)r.remedied_vertices, r.max_remedy_distance_relative, (long long)r.inverted, r.seconds);
+                  (long long)r.remedied_vertices, r.max_remedy_distance_relative, (long long)r.inverted,
+                  r.levels.empty() ? 0.0 : r.levels.back().min_dihedral_degrees, r.seconds);
     context.info(line);
     if (*out_format == bpm::TetMeshFormat::Bpm) {
         file.tetmesh = std::move(fine);
@@ -96,14 +112,29 @@ int main(int argc, char** argv) {
     app.add_flag("--volume", volume,
                  "Refine the tetrahedral mesh stored in the file (made by bpm-mesh) instead of the surface: red "
                  "refinement, --levels times; boundary vertices go to phi, pulled back where a tetrahedron would "
-                 "invert. Output .bpm .msh .vtu .mesh");
+                 "invert or flatten; the interior vertices are smoothed after every level. Output .bpm .msh .vtu "
+                 ".mesh");
+    bool no_smooth = false;
+    app.add_flag("--no-smooth", no_smooth,
+                 "--volume: do not smooth the interior vertices (default: smooth them after every level, never "
+                 "inverting an element or making the worst one around a vertex worse)");
+    double remedy_min_dihedral = 5;
+    auto* remedy = app.add_option("--remedy-min-dihedral", remedy_min_dihedral,
+                   "--volume: a boundary vertex also stops short of phi where it would bring a tetrahedron's "
+                   "smallest dihedral angle below this many degrees (0 = keep volumes positive only; default 5)")
+        ->check(CLI::Range(0.0, 60.0));
     app.add_flag("--no-verify", no_verify,
                  ".bpm output: skip the format and bijectivity checks run before writing (faster)");
     bpm::tools::add_output_tool_flags(app, tool, deterministic, verbose, quiet);
 
     return bpm::tools::run(tool, argc, argv, app, [&]() {
         bpm::tools::require_output_directory(output);
-        if (volume) return refine_volume(tool, argc, argv, input, output, format, levels, deterministic, verbose, quiet);
+        if (!volume && (no_smooth || remedy->count() > 0))
+            throw CLI::ValidationError(no_smooth ? "--no-smooth" : "--remedy-min-dihedral",
+                                       "only applies with --volume");
+        if (volume)
+            return refine_volume(tool, argc, argv, input, output, format, levels, !no_smooth, remedy_min_dihedral,
+                                 deterministic, verbose, quiet);
         if (levels < 0 && tolerance <= 0) throw CLI::ValidationError("give one of --levels, --tolerance");
         options.levels = levels;
         options.tolerance = tolerance;

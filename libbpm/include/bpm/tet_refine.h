@@ -16,8 +16,22 @@
 // lambda = 1 is plain red refinement, which is always valid because the children of a
 // positive tetrahedron are positive. To avoid nearly flat elements at the bisection's
 // limit, "admissible" also asks each tetrahedron to keep a fraction of its red-refinement
-// volume (TetRefineOptions::min_volume_fraction; 0 = positivity only, as in the paper). (The paper writes "lambda = 0 corresponds to standard
+// volume (TetRefineOptions::min_volume_fraction) and a smallest dihedral angle
+// (TetRefineOptions::min_dihedral_degrees), or at least not to lose any; both 0 is the
+// paper's rule, positivity only. (The paper writes "lambda = 0 corresponds to standard
 // red-green refinement"; with its formula that is lambda = 1.)
+//
+// Moving boundary vertices squashes the thin tetrahedra next to the boundary. So, after
+// the boundary vertices of a level are placed, the interior vertices (those not on S) are
+// smoothed (bpm/tetmesh_smooth.h: smart Laplacian, then local optimisation of the smallest
+// dihedral angle; never inverting, never making the worst element around a vertex worse),
+// and every boundary vertex still short of phi, of this level or an earlier one, is
+// retried: smoothing often makes room, so fewer vertices stay off S0. The boundary can
+// also approach phi in several steps with smoothing in between (boundary_steps; on the
+// benchmark meshes one step did as well). Each level is finished (placed, smoothed) before
+// the next one is cut, so new midpoints are those of the smoothed mesh. Vertices on S
+// never move except towards phi along their own segment from x; vertex indices, the
+// connectivity and the parameter positions are those of plain red refinement.
 //
 // Typical use (bpm-refine on a .bpm file that has a tet mesh):
 //     bpm::BpmFile file = bpm::read_bpm(in);
@@ -32,19 +46,40 @@
 #include "bpm/context.h"
 #include "bpm/parametrization.h"
 #include "bpm/tetmesh.h"
+#include "bpm/tetmesh_smooth.h"
 
 namespace bpm {
 
 struct TetRefineOptions {
     int levels = 1;                // K >= 0 uniform refinement steps (each multiplies #Tet by 8)
-    bool move_to_surface = true;   // false: plain red refinement, boundary vertices stay on S
+    bool move_to_surface = true;   // false: boundary vertices stay on S (plain red refinement of the boundary)
     int bisection_steps = 30;      // for the largest admissible 1-lambda
     // A position is admissible when every tetrahedron around the vertex is positively
     // oriented (exact orient3d) and keeps at least this fraction of the volume it has in
-    // plain red refinement (its new vertices at the edge midpoints x). 0 is the paper's
-    // rule (positive volume only), which lets the bisection stop at nearly flat slivers;
-    // the default keeps a margin. Relative to each element, so independent of units.
+    // plain red refinement (its new vertices at the edge midpoints x), or does not shrink
+    // from where it is. 0 is the paper's rule (positive volume only), which lets the
+    // bisection stop at nearly flat slivers; the default keeps a margin. Relative to each
+    // element, so independent of units.
     double min_volume_fraction = 0.1;
+    // Admissible also asks every tetrahedron around the vertex to keep a smallest dihedral
+    // angle of at least this many degrees, or not to lose any (0 = no such condition).
+    // Trades distance to S0 for element quality where smoothing cannot help (tetrahedra
+    // whose four vertices are all on S, which a curved S0 flattens). On the benchmark
+    // meshes 5 keeps the minimum angle at a few degrees for a slightly larger number of
+    // vertices off S0 and the same volume convergence (bench/results/tetmesh.md).
+    double min_dihedral_degrees = 5;
+    // The boundary vertices of a level approach phi in boundary_steps steps: in step s
+    // each goes to the largest admissible 1-lambda <= s / boundary_steps, and the interior
+    // is smoothed after every step. Then up to retry_passes more passes retry every
+    // boundary vertex still off S0 (this level's and earlier levels'), each followed by
+    // smoothing; they stop early when no vertex gets closer.
+    int boundary_steps = 1;        // >= 1
+    int retry_passes = 4;          // >= 0
+    // Interior smoothing (bpm/tetmesh_smooth.h) after each placement of the boundary
+    // vertices: only vertices not on S move (interfaces between regions are on S), the
+    // smallest dihedral angle around a moved vertex only grows, and no tetrahedron inverts.
+    bool smooth = true;
+    TetSmoothOptions smoothing;
 };
 
 struct TetRefineLevel {
@@ -52,13 +87,20 @@ struct TetRefineLevel {
     int64_t new_boundary_vertices = 0;  // created on S at this level
     int64_t remedied_vertices = 0;      // of those, placed at lambda*x + (1-lambda)*phi(x) with lambda > 0
     int64_t flat_vertices = 0;          // of those, left at x (lambda = 1, nothing of phi admissible)
+    // The mesh after this level:
+    int64_t off_surface_vertices = 0;   // boundary vertices off S0 (this level's and earlier levels')
+    double max_remedy_distance = 0;     // their largest |v - phi(parameter)|, model units
+    int64_t smoothed_vertices = 0;      // interior vertices moved by smoothing
+    double min_dihedral_degrees = 0;    // smallest dihedral angle of the level's mesh
+    int64_t below_1_degree = 0, below_5_degrees = 0, below_10_degrees = 0;  // tetrahedra with a dihedral angle below
+    double smoothing_seconds = 0;
 };
 
 struct TetRefineResult {
     std::vector<TetRefineLevel> levels;  // one per refinement step
     int64_t vertices = 0, tetrahedra = 0, faces = 0;
     int64_t boundary_vertices = 0;       // vertices on S at the finest level (coarse ones included)
-    int64_t remedied_vertices = 0;       // all levels; these stay off S0
+    int64_t remedied_vertices = 0;       // boundary vertices off S0 at the end (all levels)
     double max_remedy_distance = 0;      // largest |v - phi(x)| of a remedied vertex, model units
     double max_remedy_distance_relative = 0;  // the same over the bounding-box diagonal of S0
     double min_phi_fraction = 1;         // smallest 1-lambda used (1 = all on S0)

@@ -26,6 +26,7 @@
 #include "bpm/geometry.h"
 #include "bpm/parametrization.h"
 #include "bpm/surface.h"
+#include "bpm/tetmesh_smooth.h"
 
 namespace bpm {
 
@@ -66,6 +67,9 @@ struct TetMeshOptions {
     std::string tetgen = "tetgen";   // executable: a name looked up on PATH, or a path
     // Keep TetGen's temporary directory (its path is logged) instead of deleting it.
     bool keep_temporary = false;
+    // Smooth TetGen's Steiner points (bpm/tetmesh_smooth.h); vertices on S do not move.
+    bool smooth = true;
+    TetSmoothOptions smoothing;
 };
 
 struct TetMeshResult {
@@ -106,6 +110,8 @@ struct TetMeshStats {
     int64_t inverted = 0;            // tetrahedra that are not positively oriented (exact orient3d)
     double min_dihedral_degrees = 0; // smallest dihedral angle over all tetrahedra
     double max_dihedral_degrees = 0;
+    // tetrahedra whose smallest dihedral angle is below 1, 5 and 10 degrees
+    int64_t below_1_degree = 0, below_5_degrees = 0, below_10_degrees = 0;
     std::vector<double> region_volumes;  // [r-1] = volume of region r (sum of signed tet volumes)
 };
 TetMeshStats tetmesh_stats(const TetMesh& mesh);
