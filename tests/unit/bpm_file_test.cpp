@@ -16,9 +16,12 @@
 #include "bpm/errors.h"
 #include "bpm/phi_evaluation.h"
 #include "bpm/version.h"
+#include "fixtures_hdf5.h"
 #include "fixtures_phi.h"
 
 using namespace bpm;
+using Image = bpm::test::Hdf5Image;
+using bpm::test::require_input_error;
 
 namespace {
 
@@ -79,78 +82,6 @@ std::string read_file(const std::string& path) {
     std::ostringstream s;
     s << in.rdbuf();
     return s.str();
-}
-
-// ---- editing a file image with the HDF5 C API, to make malformed files ----
-
-struct Image {
-    hid_t file = -1;
-    explicit Image(const std::string& bytes) {
-        H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-        hid_t fapl = H5Pcreate(H5P_FILE_ACCESS);
-        H5Pset_fapl_core(fapl, 1 << 16, false);
-        H5Pset_file_image(fapl, const_cast<char*>(bytes.data()), bytes.size());
-        static int counter = 0;
-        const std::string name = "mutate-" + std::to_string(counter++) + ".h5";
-        file = H5Fopen(name.c_str(), H5F_ACC_RDWR, fapl);
-        H5Pclose(fapl);
-        REQUIRE(file >= 0);
-    }
-    ~Image() {
-        if (file >= 0) H5Fclose(file);
-    }
-    std::string bytes() {
-        REQUIRE(H5Fflush(file, H5F_SCOPE_GLOBAL) >= 0);
-        const ssize_t n = H5Fget_file_image(file, nullptr, 0);
-        std::string out(static_cast<size_t>(n), '\0');
-        REQUIRE(H5Fget_file_image(file, out.data(), out.size()) == n);
-        return out;
-    }
-    void remove(const char* path) { REQUIRE(H5Ldelete(file, path, H5P_DEFAULT) >= 0); }
-    // Replaces a dataset by one of the given type, shape and (raw, memory-typed) data.
-    void replace(const char* path, hid_t type, std::vector<hsize_t> dims, const void* data, bool allocate = true) {
-        remove(path);
-        hid_t space = H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr);
-        hid_t ds = H5Dcreate2(file, path, type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
-        REQUIRE(ds >= 0);
-        if (allocate) REQUIRE(H5Dwrite(ds, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) >= 0);
-        H5Dclose(ds);
-        H5Sclose(space);
-    }
-    // Reads the whole dataset as `mem_type`, lets `edit` change it, writes it back.
-    template <typename T>
-    void edit(const char* path, hid_t mem_type, const std::function<void(std::vector<T>&)>& edit) {
-        hid_t ds = H5Dopen2(file, path, H5P_DEFAULT);
-        REQUIRE(ds >= 0);
-        hid_t space = H5Dget_space(ds);
-        std::vector<T> values(static_cast<size_t>(H5Sget_simple_extent_npoints(space)));
-        REQUIRE(H5Dread(ds, mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()) >= 0);
-        edit(values);
-        REQUIRE(H5Dwrite(ds, mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()) >= 0);
-        H5Sclose(space);
-        H5Dclose(ds);
-    }
-    void set_root_ints(const char* name, std::vector<int32_t> values) {
-        REQUIRE(H5Adelete(file, name) >= 0);
-        hsize_t n = values.size();
-        hid_t space = H5Screate_simple(1, &n, nullptr);
-        hid_t a = H5Acreate2(file, name, H5T_STD_I32LE, space, H5P_DEFAULT, H5P_DEFAULT);
-        REQUIRE(H5Awrite(a, H5T_NATIVE_INT32, values.data()) >= 0);
-        H5Aclose(a);
-        H5Sclose(space);
-    }
-};
-
-// Expects reading `bytes` to throw an InputError whose message contains every one of `parts`.
-void require_input_error(const std::string& bytes, std::vector<std::string> parts) {
-    try {
-        read_bpm_from_memory(bytes, "bad.bpm");
-        FAIL("no InputError; expected one mentioning " << parts.front());
-    } catch (const InputError& e) {
-        INFO("message: " << e.what());
-        CHECK(e.where() == "bad.bpm");
-        for (const auto& part : parts) CHECK(std::string(e.what()).find(part) != std::string::npos);
-    }
 }
 
 std::string valid_file() { return write_bpm_to_memory(with_provenance(test::make_height_field(4, 2, test::default_height))); }

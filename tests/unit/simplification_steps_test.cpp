@@ -13,9 +13,12 @@
 #include "bpm/bpm_file.h"
 #include "bpm/errors.h"
 #include "bpm/simplify.h"
+#include "fixtures_hdf5.h"
 #include "fixtures_surfaces.h"
 
 using namespace bpm;
+using Image = bpm::test::Hdf5Image;
+using bpm::test::require_input_error;
 
 namespace {
 
@@ -28,75 +31,6 @@ BpmFile simplified(const Surface& s, double ratio, bool record) {
     f.simplification_steps = std::move(r.steps);
     f.provenance.push_back({"bpm-simplify", "test", "simplify", ""});
     return f;
-}
-
-// A file image opened read-write with the HDF5 C API, to make malformed files.
-struct Image {
-    hid_t file = -1;
-    explicit Image(const std::string& bytes) {
-        H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-        hid_t fapl = H5Pcreate(H5P_FILE_ACCESS);
-        H5Pset_fapl_core(fapl, 1 << 16, false);
-        H5Pset_file_image(fapl, const_cast<char*>(bytes.data()), bytes.size());
-        static int counter = 0;
-        const std::string name = "steps-mutate-" + std::to_string(counter++) + ".h5";
-        file = H5Fopen(name.c_str(), H5F_ACC_RDWR, fapl);
-        H5Pclose(fapl);
-        REQUIRE(file >= 0);
-    }
-    ~Image() {
-        if (file >= 0) H5Fclose(file);
-    }
-    std::string bytes() {
-        REQUIRE(H5Fflush(file, H5F_SCOPE_GLOBAL) >= 0);
-        const ssize_t n = H5Fget_file_image(file, nullptr, 0);
-        std::string out(static_cast<size_t>(n), '\0');
-        REQUIRE(H5Fget_file_image(file, out.data(), out.size()) == n);
-        return out;
-    }
-    bool exists(const char* path) const { return H5Lexists(file, path, H5P_DEFAULT) > 0; }
-    void remove(const char* path) { REQUIRE(H5Ldelete(file, path, H5P_DEFAULT) >= 0); }
-    void replace(const char* path, hid_t type, std::vector<hsize_t> dims, const void* data, bool allocate = true) {
-        remove(path);
-        hid_t space = H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr);
-        hid_t ds = H5Dcreate2(file, path, type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
-        REQUIRE(ds >= 0);
-        if (allocate) REQUIRE(H5Dwrite(ds, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) >= 0);
-        H5Dclose(ds);
-        H5Sclose(space);
-    }
-    template <typename T>
-    void edit(const char* path, hid_t mem_type, const std::function<void(std::vector<T>&)>& edit) {
-        hid_t ds = H5Dopen2(file, path, H5P_DEFAULT);
-        REQUIRE(ds >= 0);
-        hid_t space = H5Dget_space(ds);
-        std::vector<T> values(static_cast<size_t>(H5Sget_simple_extent_npoints(space)));
-        REQUIRE(H5Dread(ds, mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()) >= 0);
-        edit(values);
-        REQUIRE(H5Dwrite(ds, mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()) >= 0);
-        H5Sclose(space);
-        H5Dclose(ds);
-    }
-    void set_version(int32_t major, int32_t minor) {
-        REQUIRE(H5Adelete(file, "format_version") >= 0);
-        hsize_t n = 2;
-        const int32_t values[2] = {major, minor};
-        hid_t space = H5Screate_simple(1, &n, nullptr);
-        hid_t a = H5Acreate2(file, "format_version", H5T_STD_I32LE, space, H5P_DEFAULT, H5P_DEFAULT);
-        REQUIRE(H5Awrite(a, H5T_NATIVE_INT32, values) >= 0);
-        H5Aclose(a);
-        H5Sclose(space);
-    }
-};
-
-void require_input_error(const std::string& bytes, std::vector<std::string> parts) {
-    try {
-        read_bpm_from_memory(bytes, "bad.bpm");
-        FAIL("no InputError; expected one mentioning " << parts.front());
-    } catch (const InputError& e) {
-        INFO("message: " << e.what());
-        for (const auto& part : parts) CHECK(std::string(e.what()).find(part) != std::string::npos);
-    }
 }
 
 }  // namespace
@@ -152,7 +86,7 @@ TEST_CASE("the record round-trips through the file; files without one are unchan
     }
     SECTION("a format 1.0 file (no record) still reads") {
         Image old(plain_bytes);
-        old.set_version(1, 0);
+        old.set_root_ints("format_version", {1, 0});
         const BpmFile r = read_bpm_from_memory(old.bytes(), "old.bpm");
         CHECK_FALSE(r.simplification_steps);
         CHECK(r.param.coarse.triangles == plain.param.coarse.triangles);
