@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 
 #include "bpm/errors.h"
@@ -472,6 +473,17 @@ TetRefineResult refine_tetmesh(const Parametrization& param, const TetMesh& coar
     result.seconds = std::chrono::duration<double>(clock::now() - start).count();
     context.report(1.0, "refinement done");
     return result;
+}
+
+std::string describe_level(const TetRefineLevel& l, size_t number) {
+    char line[512];
+    std::snprintf(line, sizeof line,
+                  "level %zu: %lld tetrahedra, min dihedral angle %.3g degrees, %lld/%lld/%lld below 1/5/10 degrees, "
+                  "%lld boundary vertices off the surface (max distance %.3g), %lld interior vertices smoothed",
+                  number, (long long)l.tetrahedra, l.min_dihedral_degrees, (long long)l.below_1_degree,
+                  (long long)l.below_5_degrees, (long long)l.below_10_degrees, (long long)l.off_surface_vertices,
+                  l.max_remedy_distance, (long long)l.smoothed_vertices);
+    return line;
 }
 
 }  // namespace bpm

@@ -115,18 +115,8 @@ int main(int argc, char** argv) {
             refine_result = bpm::refine_tetmesh(file.param, *file.tetmesh, ro, context, fine);
             file.tetmesh = std::move(fine);
             char line[256];
-            for (size_t k = 0; k < refine_result.levels.size(); ++k) {
-                const bpm::TetRefineLevel& l = refine_result.levels[k];
-                std::snprintf(line, sizeof line,
-                              "level %zu: %lld tetrahedra, min dihedral angle %.3g degrees, %lld/%lld/%lld below "
-                              "1/5/10 degrees, %lld boundary vertices off the surface (max distance %.3g), "
-                              "%lld interior vertices smoothed",
-                              k + 1, (long long)l.tetrahedra, l.min_dihedral_degrees, (long long)l.below_1_degree,
-                              (long long)l.below_5_degrees, (long long)l.below_10_degrees,
-                              (long long)l.off_surface_vertices, l.max_remedy_distance,
-                              (long long)l.smoothed_vertices);
-                context.debug(line);
-            }
+            for (size_t k = 0; k < refine_result.levels.size(); ++k)
+                context.debug(bpm::describe_level(refine_result.levels[k], k + 1));
             std::snprintf(line, sizeof line,
                           "refined %d levels: %lld tetrahedra; %lld boundary vertices kept off the surface by the "
                           "lambda remedy (max distance %.3g = %.3g of the diagonal), %.2f s",

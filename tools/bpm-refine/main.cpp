@@ -47,17 +47,7 @@ int refine_volume(const std::string& tool, int argc, char** argv, const std::str
     bpm::TetMesh fine;
     const bpm::TetRefineResult r = bpm::refine_tetmesh(file.param, *file.tetmesh, options, context, fine);
     char line[512];
-    for (size_t k = 0; k < r.levels.size(); ++k) {
-        const bpm::TetRefineLevel& l = r.levels[k];
-        std::snprintf(line, sizeof line,
-                      "level %zu: %lld tetrahedra, min dihedral angle %.3g degrees, %lld/%lld/%lld below 1/5/10 "
-                      "degrees, %lld boundary vertices off the surface (max distance %.3g), %lld interior vertices "
-                      "smoothed",
-                      k + 1, (long long)l.tetrahedra, l.min_dihedral_degrees, (long long)l.below_1_degree,
-                      (long long)l.below_5_degrees, (long long)l.below_10_degrees, (long long)l.off_surface_vertices,
-                      l.max_remedy_distance, (long long)l.smoothed_vertices);
-        context.debug(line);
-    }
+    for (size_t k = 0; k < r.levels.size(); ++k) context.debug(bpm::describe_level(r.levels[k], k + 1));
     std::snprintf(line, sizeof line,
                   "%lld tetrahedra, %lld vertices (%lld on the boundary), %lld kept short of phi to keep elements "
                   "positive and not flat (max distance %.3g of diagonal), %lld inverted, min dihedral angle %.3g "

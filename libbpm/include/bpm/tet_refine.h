@@ -41,6 +41,7 @@
 //     file.tetmesh = std::move(fine);             // then write_bpm, or write_tetmesh for .msh/.vtu/.mesh
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "bpm/context.h"
@@ -118,5 +119,9 @@ struct TetRefineResult {
 //        AlgorithmError if `coarse` does not fit param, Cancelled through the progress callback.
 TetRefineResult refine_tetmesh(const Parametrization& param, const TetMesh& coarse, const TetRefineOptions& options,
                                const Context& context, TetMesh& out);
+
+// One line about refinement level `number` (1-based) for logs: tetrahedra, dihedral
+// angles, boundary vertices off the surface, smoothed vertices.
+std::string describe_level(const TetRefineLevel& level, size_t number);
 
 }  // namespace bpm
