@@ -6,17 +6,26 @@
 // A query looks at one cell and tests its few candidates, which is branch-light,
 // needs no adjacency between pieces and is the same cost for every point.
 //
-// Each piece has one record with everything a query needs (no pointer chasing through
-// the per-node arrays): the inverse of the matrix whose columns are its corners'
-// barycentric coordinates in the coarse triangle (multiplying the query's coarse
-// barycentrics by it gives the query's barycentrics in the piece directly), the corner
-// images, the matrix taking piece barycentrics to barycentrics in the original
+// Each piece has the inverse of the matrix whose columns are its corners' barycentric
+// coordinates in the coarse triangle (multiplying the query's coarse barycentrics by it
+// gives the query's barycentrics in the piece directly), kept in a compact array of its
+// own because it is all a candidate test reads, and one record with everything the
+// chosen piece's result needs (no pointer chasing through the per-node arrays): the
+// corner images, the matrix taking piece barycentrics to barycentrics in the original
 // triangle, and that triangle's normal. For the identity parametrization both matrices
 // are exactly the identity, so phi reproduces the input point bit for bit.
 //
-// Throughput (bench/refine.py, results in bench/results/refine.md): in cache about
-// 25-60 ns per query; for large random batches the batched calls group the queries by
-// coarse triangle in chunks and can use several threads.
+// Throughput (bench/refine.py, results in bench/results/refine.md; bpm-bench-refine
+// throughput): for large random batches the batched calls group the queries by coarse
+// triangle in chunks and can use several threads. What limited them (perf, armadillo
+// at 10%, ~200 ns per query) was not the point location but memory traffic around it:
+// lambda was copied through the stack so that every query waited for the store buffer
+// to drain, i.e. for the previous queries' cache-missing output stores; now the
+// location works on scalars, the output lines (and the query's input) are prefetched a
+// few queries ahead, and the grouping sorts 4-byte query indices instead of 32-byte
+// records. Measured on the shared 2-core machine (10 million random points, the 10% and
+// 1000-vertex files), per CPU second: about 4-6 -> 8.5-12 million PhiSample and
+// 5.5-9 -> 9-13 million positions-only evaluations; results unchanged bit for bit.
 
 #include "bpm/phi_evaluation.h"
 
@@ -32,12 +41,15 @@ namespace {
 
 using Mat3 = std::array<double, 9>;  // row-major
 
-inline Vec3 mul(const Mat3& m, const Vec3& b) {
-    return {m[0] * b[0] + m[1] * b[1] + m[2] * b[2], m[3] * b[0] + m[4] * b[1] + m[5] * b[2],
-            m[6] * b[0] + m[7] * b[1] + m[8] * b[2]};
+// Asks for the cache line holding `address` (for writing if `write`); a hint only.
+template <bool write>
+inline void prefetch_line(const void* address) {
+#if defined(__GNUC__) || defined(__clang__)
+    __builtin_prefetch(address, write ? 1 : 0, 3);
+#else
+    (void)address;
+#endif
 }
-
-inline double min3(const Vec3& v) { return std::min(v[0], std::min(v[1], v[2])); }
 
 // Does the closed triangle (a, b, c) in the (b1, b2) plane come within `tol` of the box
 // [x0, x1] x [y0, y1]? Separating axis test with the triangle's edge normals; the box
@@ -76,7 +88,6 @@ struct CornerCode {
 // Everything a query needs about one piece, in one place (a query touches one record
 // per candidate piece and nothing else but the grid).
 struct PieceRecord {
-    Mat3 to_piece;            // coarse barycentrics -> piece barycentrics (tested first)
     Vec3 image[3];            // node_image of the corners
     Mat3 to_original;         // piece barycentrics -> original barycentrics (column k: corner k)
     Vec3 normal;              // unit normal of the original triangle
@@ -90,7 +101,9 @@ struct Grid {
 
 struct PhiEvaluator::Impl {
     const Parametrization& p;
-    std::vector<PieceRecord> pieces;   // #P
+    std::vector<Mat3> to_piece;        // #P: coarse barycentrics -> piece barycentrics
+                                       // (all a candidate test reads, kept apart: compact)
+    std::vector<PieceRecord> pieces;   // #P: what the chosen piece's result needs
     std::vector<Grid> grids;           // #S.T
     std::vector<int64_t> cell_start;   // per triangle g*g+1 offsets into cell_pieces
     std::vector<int32_t> cell_pieces;  // global piece indices
@@ -107,6 +120,7 @@ struct PhiEvaluator::Impl {
                                          x[static_cast<size_t>(tri[2])]);
         }
         pieces.resize(static_cast<size_t>(p.num_pieces()));
+        to_piece.resize(static_cast<size_t>(p.num_pieces()));
         grids.resize(static_cast<size_t>(nt));
         for (int32_t t = 0; t < nt; ++t) {
             const int64_t nb = p.node_offsets[static_cast<size_t>(t)];
@@ -140,7 +154,7 @@ struct PhiEvaluator::Impl {
                 // Inverse of [a b c] (columns): rows are (b x c, c x a, a x b) / det.
                 const Vec3 r0 = cross(b, c), r1 = cross(c, a), r2 = cross(a, b);
                 const double det = dot(a, r0);
-                Mat3& m = record.to_piece;
+                Mat3& m = to_piece[static_cast<size_t>(q)];
                 if (det == 0 || !std::isfinite(det)) {
                     // A degenerate piece covers no area; make every point look far outside it.
                     m.fill(-1.0);
@@ -178,45 +192,62 @@ struct PhiEvaluator::Impl {
         }
     }
 
-    // The piece containing `b`, and b's barycentrics in it.
-    int64_t locate(int32_t t, const Vec3& b, Vec3& lambda) const {
+    // The piece containing `b`, and b's barycentrics (l0, l1, l2) in it. The candidates
+    // of the cell are tested in list order (increasing piece index): the first one that
+    // contains b wins (this decides points on piece edges), else the one b is least
+    // outside of. Scalars instead of Vec3 temporaries keep lambda in registers: copying
+    // the arrays through the stack (8-byte stores read back as 16-byte loads) made every
+    // query wait for the store buffer, i.e. for the previous queries' output stores.
+    int64_t locate(int32_t t, double b0, double b1, double b2, double& l0, double& l1, double& l2) const {
         const Grid& grid = grids[static_cast<size_t>(t)];
         const int32_t g = grid.g;
         // NaN-safe clamping: a comparison with NaN is false, which selects 0.
-        const double fu = b[1] * g, fv = b[2] * g;
+        const double fu = b1 * g, fv = b2 * g;
         const int32_t i = fu >= 0 ? std::min(static_cast<int32_t>(fu), g - 1) : 0;
         const int32_t j = fv >= 0 ? std::min(static_cast<int32_t>(fv), g - 1) : 0;
         const int64_t* cs = &cell_start[static_cast<size_t>(grid.begin + static_cast<int64_t>(i) * g + j)];
+        const int32_t* candidate = cell_pieces.data() + cs[0];
+        const int32_t* const candidates_end = cell_pieces.data() + cs[1];
         int64_t best = -1;
         double best_min = -std::numeric_limits<double>::infinity();
-        for (int64_t k = cs[0]; k < cs[1]; ++k) {
-            const int32_t q = cell_pieces[static_cast<size_t>(k)];
-            const Vec3 l = mul(pieces[static_cast<size_t>(q)].to_piece, b);
-            const double m = min3(l);
-            if (m >= 0) {
-                lambda = l;
+        double c0 = 0, c1 = 0, c2 = 0;
+        for (; candidate != candidates_end; ++candidate) {
+            const int32_t q = *candidate;
+            const Mat3& m = to_piece[static_cast<size_t>(q)];
+            const double x0 = m[0] * b0 + m[1] * b1 + m[2] * b2;
+            const double x1 = m[3] * b0 + m[4] * b1 + m[5] * b2;
+            const double x2 = m[6] * b0 + m[7] * b1 + m[8] * b2;
+            const double mn = std::min(x0, std::min(x1, x2));
+            if (mn >= 0) {
+                l0 = x0, l1 = x1, l2 = x2;
                 return q;
             }
-            if (m > best_min) {
-                best_min = m;
+            if (mn > best_min) {
+                best_min = mn;
                 best = q;
-                lambda = l;
+                c0 = x0, c1 = x1, c2 = x2;
             }
         }
         // On a piece edge, rounding may put the point a hair outside every candidate;
         // anything further out (a query outside the triangle, or a cell whose list
         // missed it) gets the piece it is least outside of among all pieces.
-        if (best >= 0 && best_min >= -1e-9) return best;
-        const int64_t q0 = p.piece_offsets[static_cast<size_t>(t)], q1 = p.piece_offsets[static_cast<size_t>(t) + 1];
-        for (int64_t q = q0; q < q1; ++q) {
-            const Vec3 l = mul(pieces[static_cast<size_t>(q)].to_piece, b);
-            const double m = min3(l);
-            if (m > best_min) {
-                best_min = m;
-                best = q;
-                lambda = l;
+        if (!(best >= 0 && best_min >= -1e-9)) {
+            const int64_t q0 = p.piece_offsets[static_cast<size_t>(t)];
+            const int64_t q1 = p.piece_offsets[static_cast<size_t>(t) + 1];
+            for (int64_t q = q0; q < q1; ++q) {
+                const Mat3& m = to_piece[static_cast<size_t>(q)];
+                const double x0 = m[0] * b0 + m[1] * b1 + m[2] * b2;
+                const double x1 = m[3] * b0 + m[4] * b1 + m[5] * b2;
+                const double x2 = m[6] * b0 + m[7] * b1 + m[8] * b2;
+                const double mn = std::min(x0, std::min(x1, x2));
+                if (mn > best_min) {
+                    best_min = mn;
+                    best = q;
+                    c0 = x0, c1 = x1, c2 = x2;
+                }
             }
         }
+        if (best >= 0) l0 = c0, l1 = c1, l2 = c2;
         return best;
     }
 
@@ -266,35 +297,44 @@ struct PhiEvaluator::Impl {
 
     // The piece containing b (-1 for a coarse triangle without pieces) and b's
     // barycentrics in it, clamped into the piece.
-    int64_t piece_of(int32_t t, const Vec3& b, Vec3& l) const {
-        const int64_t q = locate(t, b, l);
-        if (q >= 0 && min3(l) < 0) {
+    int64_t piece_of(int32_t t, const Vec3& b, double& l0, double& l1, double& l2) const {
+        const int64_t q = locate(t, b[0], b[1], b[2], l0, l1, l2);
+        if (q >= 0 && std::min(l0, std::min(l1, l2)) < 0) {
             // Outside by rounding (or a query outside the triangle): snap to the piece.
-            for (double& x : l) x = std::max(x, 0.0);
-            const double sum = l[0] + l[1] + l[2];
-            l = (1.0 / sum) * l;
+            l0 = std::max(l0, 0.0), l1 = std::max(l1, 0.0), l2 = std::max(l2, 0.0);
+            const double sum = l0 + l1 + l2;
+            const double inv = 1.0 / sum;
+            l0 = inv * l0, l1 = inv * l1, l2 = inv * l2;
         }
         return q;
     }
 
+    // barycentric_point(image[0], image[1], image[2], l), written out.
+    static Vec3 interpolate(const PieceRecord& r, double l0, double l1, double l2) {
+        return {l0 * r.image[0][0] + l1 * r.image[1][0] + l2 * r.image[2][0],
+                l0 * r.image[0][1] + l1 * r.image[1][1] + l2 * r.image[2][1],
+                l0 * r.image[0][2] + l1 * r.image[1][2] + l2 * r.image[2][2]};
+    }
+
     Vec3 position(int32_t t, const Vec3& b) const {
-        Vec3 l;
-        const int64_t q = piece_of(t, b, l);
+        double l0 = 0, l1 = 0, l2 = 0;
+        const int64_t q = piece_of(t, b, l0, l1, l2);
         if (q < 0) return Vec3{0, 0, 0};
-        const PieceRecord& record = pieces[static_cast<size_t>(q)];
-        return barycentric_point(record.image[0], record.image[1], record.image[2], l);
+        return interpolate(pieces[static_cast<size_t>(q)], l0, l1, l2);
     }
 
     PhiSample evaluate(int32_t t, const Vec3& b) const {
-        Vec3 l;
-        const int64_t q = piece_of(t, b, l);
+        double l0 = 0, l1 = 0, l2 = 0;
+        const int64_t q = piece_of(t, b, l0, l1, l2);
         PhiSample out;
         if (q < 0) return out;  // coarse triangle without pieces: invalid input
         const PieceRecord& record = pieces[static_cast<size_t>(q)];
-        out.position = barycentric_point(record.image[0], record.image[1], record.image[2], l);
+        out.position = interpolate(record, l0, l1, l2);
         out.original_triangle = record.original_triangle;
         // For original vertices this is l[k] * 1 plus zeros: exact.
-        out.original_barycentric = mul(record.to_original, l);
+        const Mat3& m = record.to_original;
+        out.original_barycentric = {m[0] * l0 + m[1] * l1 + m[2] * l2, m[3] * l0 + m[4] * l1 + m[5] * l2,
+                                    m[6] * l0 + m[7] * l1 + m[8] * l2};
         out.normal = record.normal;
         return out;
     }
@@ -311,16 +351,25 @@ namespace {
 
 // Runs `eval(t, b, i)` for every query i (coarse triangle t, barycentrics b), see
 // PhiEvaluator::evaluate. Queries are processed in chunks; within a chunk they are
-// visited grouped by coarse triangle (a counting sort of (barycentric, index)
-// records), so that each triangle's grid and piece records are loaded into the cache
-// once per chunk instead of once per query: in random order, evaluation is bound by
-// memory latency. A chunk holds 2^20 queries (at least 48 per coarse triangle): on
-// armadillo at 10% (5196 coarse triangles) 2^20 was faster than 2^18 (too little reuse)
-// and than 2^22 (its scattered output no longer stays in the cache). Chunks are
-// independent, so threads take whole chunks.
-template <class Eval>
+// visited grouped by coarse triangle (a counting sort of the query indices), so that
+// each triangle's grid and piece data are loaded into the cache once per chunk instead
+// of once per query: in random order, evaluation is bound by memory latency. A chunk
+// holds 2^20 queries (at least 48 per coarse triangle): on armadillo at 10% (5196
+// coarse triangles) 2^20 was faster than 2^18 (too little reuse) and than 2^22 (its
+// scattered output no longer stays in the cache); rechecked after the changes below
+// (2^16 to 2^22 on armadillo, 2^16 to 2^20 on femur at 10%, shared machine, noisy):
+// 2^20 still as fast as any. Chunks are
+// independent, so threads take whole chunks. Each query is evaluated independently of
+// the others, so neither the order nor the thread count changes any result.
+//
+// In grouped order the queries are read from and their results written to scattered
+// places; every such access misses the cache. The input of the query a few places ahead
+// in the visiting order is prefetched, and `prefetch(i)` is called for it, so that its
+// output line is in the cache when its result is stored (otherwise the stores pile up in
+// the store buffer and stall the loop).
+template <class Eval, class Prefetch>
 void for_each_query_grouped(const std::vector<int32_t>& triangles, const std::vector<Vec3>& barycentrics, size_t nt,
-                            int threads, const Eval& eval) {
+                            int threads, const Eval& eval, const Prefetch& prefetch) {
     if (triangles.size() != barycentrics.size())
         throw std::invalid_argument("PhiEvaluator::evaluate: triangles and barycentrics differ in length");
     if (threads < 0) throw std::invalid_argument("PhiEvaluator::evaluate: threads must be >= 0");
@@ -334,12 +383,8 @@ void for_each_query_grouped(const std::vector<int32_t>& triangles, const std::ve
     threads = static_cast<int>(std::min<size_t>(static_cast<size_t>(threads), std::max<size_t>(1, chunks)));
     const bool group = n >= 1024 && chunk >= 4 * nt;
     const auto work = [&](size_t first_chunk, size_t step) {
-        struct Query {
-            Vec3 b;
-            uint32_t index;
-        };
         std::vector<uint32_t> start;
-        std::vector<Query> sorted;
+        std::vector<uint32_t> sorted;  // query indices within the chunk, grouped by triangle
         for (size_t c = first_chunk; c < chunks; c += step) {
             const size_t begin = c * chunk, end = std::min(n, begin + chunk);
             if (!group) {
@@ -351,11 +396,24 @@ void for_each_query_grouped(const std::vector<int32_t>& triangles, const std::ve
             for (size_t t = 0; t < nt; ++t) start[t + 1] += start[t];
             sorted.resize(end - begin);
             for (size_t i = begin; i < end; ++i)
-                sorted[start[static_cast<size_t>(triangles[i])]++] = Query{barycentrics[i], static_cast<uint32_t>(i - begin)};
+                sorted[start[static_cast<size_t>(triangles[i])]++] = static_cast<uint32_t>(i - begin);
             // start[t] is now the end of triangle t's queries.
+            constexpr size_t ahead = 16;
+            const size_t m = end - begin;
+            const auto fetch = [&](size_t i) {
+                const char* a = reinterpret_cast<const char*>(barycentrics.data() + i);
+                prefetch_line<false>(a);
+                prefetch_line<false>(a + sizeof(Vec3) - 1);
+                prefetch(i);
+            };
+            for (size_t k = 0; k < std::min(ahead, m); ++k) fetch(begin + sorted[k]);
             size_t k = 0;
             for (size_t t = 0; t < nt; ++t)
-                for (; k < start[t]; ++k) eval(static_cast<int32_t>(t), sorted[k].b, begin + sorted[k].index);
+                for (; k < start[t]; ++k) {
+                    if (k + ahead < m) fetch(begin + sorted[k + ahead]);
+                    const size_t i = begin + sorted[k];
+                    eval(static_cast<int32_t>(t), barycentrics[i], i);
+                }
         }
     };
     if (threads == 1) {
@@ -374,14 +432,25 @@ void PhiEvaluator::evaluate(const std::vector<int32_t>& triangles, const std::ve
                             std::vector<PhiSample>& out, int threads) const {
     out.resize(std::min(triangles.size(), barycentrics.size()));
     for_each_query_grouped(triangles, barycentrics, static_cast<size_t>(impl_->p.num_coarse_triangles()), threads,
-                           [&](int32_t t, const Vec3& b, size_t i) { out[i] = impl_->evaluate(t, b); });
+                           [&](int32_t t, const Vec3& b, size_t i) { out[i] = impl_->evaluate(t, b); },
+                           [&](size_t i) {
+                               // A PhiSample (80 bytes) may straddle two cache lines.
+                               const char* a = reinterpret_cast<const char*>(out.data() + i);
+                               prefetch_line<true>(a);
+                               prefetch_line<true>(a + sizeof(PhiSample) - 1);
+                           });
 }
 
 void PhiEvaluator::evaluate_positions(const std::vector<int32_t>& triangles, const std::vector<Vec3>& barycentrics,
                                       std::vector<Vec3>& positions, int threads) const {
     positions.resize(std::min(triangles.size(), barycentrics.size()));
     for_each_query_grouped(triangles, barycentrics, static_cast<size_t>(impl_->p.num_coarse_triangles()), threads,
-                           [&](int32_t t, const Vec3& b, size_t i) { positions[i] = impl_->position(t, b); });
+                           [&](int32_t t, const Vec3& b, size_t i) { positions[i] = impl_->position(t, b); },
+                           [&](size_t i) {
+                               const char* a = reinterpret_cast<const char*>(positions.data() + i);
+                               prefetch_line<true>(a);
+                               prefetch_line<true>(a + sizeof(Vec3) - 1);
+                           });
 }
 
 }  // namespace bpm
