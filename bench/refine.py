@@ -42,7 +42,7 @@ import sys
 import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from run import cpu_model, load_average, memory_gib, rel  # noqa: E402  (shared with the main driver)
+from run import cpu_model, load_average, memory_gib, read_off_header, rel  # noqa: E402  (shared with the main driver)
 
 BENCH = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(BENCH)
@@ -114,16 +114,6 @@ def write_atomic(path, text):
     with open(tmp, "w") as f:
         f.write(text)
     os.replace(tmp, path)
-
-
-def read_off_counts(path):
-    with open(path) as f:
-        tokens = []
-        for line in f:
-            tokens.extend(line.split("#", 1)[0].split())
-            if len(tokens) >= 3:
-                break
-    return int(tokens[1]), int(tokens[2])
 
 
 def build(build_dir, jobs):
@@ -210,7 +200,7 @@ def run_case(args, bins, runner, mesh, label, tag, sim_opts):
     raw = os.path.join(args.work_dir, stem + ".bpm")
     smooth = os.path.join(args.work_dir, stem + ".smooth.bpm")
     case = {"mesh": mesh, "target": label, "tag": tag, "input": rel(inp)}
-    case["original_vertices"], case["original_triangles"] = read_off_counts(inp)
+    case["original_vertices"], case["original_triangles"] = read_off_header(inp)
 
     r = runner.run([bins["bpm-simplify"], inp, "-o", raw] + sim_opts + ["--deterministic"], stem + "-simplify")
     case["simplify"] = r

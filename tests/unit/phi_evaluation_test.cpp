@@ -13,6 +13,7 @@
 #include "bpm/simplify.h"
 #include "bpm/surface_io.h"
 #include "fixtures_phi.h"
+#include "test_support.h"
 
 using namespace bpm;
 
@@ -341,22 +342,6 @@ struct ReferenceEvaluator {
     }
 };
 
-// femur simplified to 10% (once per test run); nullptr if the mesh is missing.
-const Parametrization* simplified_femur() {
-    static bool done = false;
-    static Parametrization p;
-    if (!done) {
-        done = true;
-        const std::string path = std::string(BPM_MESH_DIR) + "/femur.off";
-        if (std::filesystem::exists(path)) {
-            SimplifyOptions options;
-            options.target_ratio = 0.1;
-            simplify(read_surface(path), options, Context{}, p);
-        }
-    }
-    return p.coarse.num_triangles() > 0 ? &p : nullptr;
-}
-
 // Query points of coarse triangle t: every node of every piece, points on every piece
 // edge (midpoint and a random point) and the piece centroids, random points, points on
 // the coarse edges and corners, points a rounding error, a little and far outside.
@@ -451,7 +436,7 @@ TEST_CASE("point location agrees with a brute-force search over all pieces", "[p
         check_against_reference(test::make_height_field(30, 3, test::default_height), 13);
     }
     SECTION("femur simplified to 10%") {
-        const Parametrization* femur = simplified_femur();
+        const Parametrization* femur = test_support::simplified_femur();
         if (!femur) {
             WARN("femur.off missing: real-mesh case skipped");
             return;

@@ -24,22 +24,6 @@ namespace {
 
 using test_support::check_text;
 
-// femur simplified to 10% (once per test run); empty if the mesh is missing.
-const Parametrization* femur() {
-    static bool done = false;
-    static Parametrization p;
-    if (!done) {
-        done = true;
-        const std::string path = std::string(BPM_MESH_DIR) + "/femur.off";
-        if (std::filesystem::exists(path)) {
-            SimplifyOptions options;
-            options.target_ratio = 0.1;
-            simplify(read_surface(path), options, Context{}, p);
-        }
-    }
-    return p.coarse.num_triangles() > 0 ? &p : nullptr;
-}
-
 struct Case {
     std::string name;
     Parametrization param;
@@ -51,7 +35,7 @@ std::vector<Case> cases(bool with_real = true) {
     c.push_back({"height field", test::make_height_field(12, 3, test::default_height)});
     c.push_back({"refined cube", fixtures::refined_parametrization(fixtures::cube())});
     if (with_real) {
-        if (const Parametrization* f = femur()) c.push_back({"femur", *f});
+        if (const Parametrization* f = test_support::simplified_femur()) c.push_back({"femur", *f});
         else WARN("femur.off missing: real-mesh cases skipped");
     }
     return c;

@@ -4,10 +4,13 @@
 #include <catch2/catch.hpp>
 
 #include <cstdlib>
+#include <filesystem>
 #include <string>
 
 #include "bpm/check.h"
 #include "bpm/parametrization.h"
+#include "bpm/simplify.h"
+#include "bpm/surface_io.h"
 
 namespace bpm::test_support {
 
@@ -35,6 +38,23 @@ inline void require_valid_parametrization(const Parametrization& p) {
 inline bool have_tetgen() {
     static const bool found = std::system("command -v tetgen >/dev/null 2>&1") == 0;
     return found;
+}
+
+// femur.off of .data/meshes simplified to 10% (once per test run, shared by the tests);
+// nullptr if the mesh is missing.
+inline const Parametrization* simplified_femur() {
+    static bool done = false;
+    static Parametrization p;
+    if (!done) {
+        done = true;
+        const std::string path = std::string(BPM_MESH_DIR) + "/femur.off";
+        if (std::filesystem::exists(path)) {
+            SimplifyOptions options;
+            options.target_ratio = 0.1;
+            simplify(read_surface(path), options, Context{}, p);
+        }
+    }
+    return p.coarse.num_triangles() > 0 ? &p : nullptr;
 }
 
 }  // namespace bpm::test_support
