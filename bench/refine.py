@@ -42,7 +42,8 @@ import sys
 import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from run import cpu_model, load_average, memory_gib, read_off_header, rel  # noqa: E402  (shared with the main driver)
+from run import (binary_line, cpu_model, git_commit, load_average, memory_gib, read_off_header, rel,  # noqa: E402
+                 utcnow, write_atomic)  # shared with the main driver
 
 BENCH = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(BENCH)
@@ -58,22 +59,9 @@ SMOOTH_P99_FACTOR = 2.0     # p99 without / with smoothing at least this
 THROUGHPUT_TARGET = 10e6    # phi evaluations per wall second, 2 threads
 
 
-def utcnow():
-    return datetime.datetime.now(datetime.timezone.utc)
-
-
 def log(msg):
     sys.stderr.write(f"[{utcnow():%H:%M:%S}] refine.py: {msg}\n")
     sys.stderr.flush()
-
-
-def git_commit():
-    """Short commit of HEAD (read only: `git rev-parse`, nothing else)."""
-    try:
-        p = subprocess.run(["git", "-C", ROOT, "rev-parse", "--short", "HEAD"], capture_output=True, text=True)
-        return p.stdout.strip() or "unknown"
-    except OSError:
-        return "unknown"
 
 
 def newest_source():
@@ -98,22 +86,6 @@ def newest_source():
 
 def stamp(t):
     return f"{datetime.datetime.fromtimestamp(t, datetime.timezone.utc):%Y-%m-%d %H:%M:%S} UTC"
-
-
-def binary_line(path):
-    try:
-        version = subprocess.run([path, "--version"], capture_output=True, text=True).stdout.strip()
-        built = datetime.datetime.fromtimestamp(os.path.getmtime(path), datetime.timezone.utc)
-        return f"{version}, built {built:%Y-%m-%d %H:%M} UTC"
-    except OSError:
-        return "unknown"
-
-
-def write_atomic(path, text):
-    tmp = path + ".tmp"
-    with open(tmp, "w") as f:
-        f.write(text)
-    os.replace(tmp, path)
 
 
 def build(build_dir, jobs):
@@ -351,7 +323,7 @@ def markdown(header, cases):
     if src.get("newest_mtime_at_end") and src.get("newest_mtime_at_end") != src.get("newest_mtime"):
         src_line += (f"; at the end: `{src['newest_at_end']}`, modified {src['newest_mtime_at_end']} (the tree "
                      "changed during the run; the binaries did not)")
-    out += [f"| bpm commit | {commit} (`git rev-parse HEAD`; uncommitted changes are not checked) |",
+    out += [f"| bpm commit | {commit} (`git rev-parse HEAD`; marked when the tree has uncommitted changes) |",
             f"| binaries | {header['binary']} ({rel(header['build_dir'])}, Release) |",
             f"| sources | {src_line} |",
             f"| invocation | `{header['invocation']}` |", ""]
