@@ -68,11 +68,13 @@ CheckResult check_bijectivity(const Parametrization& p, const CheckOptions& opti
     const double diagonal = bounding_box_diagonal(p.original);
     double worst = 0.0;
     Ids worst_ids;
-    auto note_area = [&](double fraction, Ids ids) {
+    // `kind` names the element `id` (ids are built only for a new worst: this runs for
+    // every triangle, and building them allocates).
+    auto note_area = [&](double fraction, const char* kind, int64_t id) {
         const double dev = std::abs(fraction - 1.0);
         if (worst_ids.empty() || dev > worst) {
             worst = dev;
-            worst_ids = std::move(ids);
+            worst_ids = {{kind, id}};
         }
     };
     auto n_str = [](int64_t n) { return std::to_string(n); };
@@ -131,7 +133,7 @@ CheckResult check_bijectivity(const Parametrization& p, const CheckOptions& opti
         for (int64_t n = n0; n < n1; ++n)
             if (!used[n - n0]) add({{"coarse_triangle", t}, {"node", n}}, "node is a corner of no piece");
         const double fraction = area_sum / 0.5;
-        note_area(fraction, {{"coarse_triangle", t}});
+        note_area(fraction, "coarse_triangle", t);
         if (!(std::abs(fraction - 1.0) <= kAreaTolerance))
             add({{"coarse_triangle", t}}, "pieces cover " + detail::format_number(fraction) +
                                               " times the area of the parameter triangle (gap or overlap)");
@@ -146,27 +148,28 @@ CheckResult check_bijectivity(const Parametrization& p, const CheckOptions& opti
             int side = -1;
             for (int k = 0; k < 3; ++k)
                 if (bl[(k + 2) % 3] == 0 && bh[(k + 2) % 3] == 0) side = k;
-            const Ids ids{{"coarse_triangle", t}, {"piece", e.piece}};
-            const std::string name = "piece edge (node " + n_str(n0 + e.lo) + ", node " + n_str(n0 + e.hi) + ")";
+            // Built only when a problem is reported: this runs for every piece edge.
+            auto ids = [&]() { return Ids{{"coarse_triangle", t}, {"piece", e.piece}}; };
+            auto name = [&]() { return "piece edge (node " + n_str(n0 + e.lo) + ", node " + n_str(n0 + e.hi) + ")"; };
             if (side >= 0) {
                 // On coarse edge `side`: used once, counter-clockwise (b[side+1] increasing).
                 const int s = (side + 1) % 3;
                 const bool ccw = e.forward ? bh[s] > bl[s] : bl[s] > bh[s];
                 if (j - i != 1)
-                    add(ids, name + " lies on coarse edge " + std::to_string(side) + " but is used by " +
+                    add(ids(), name() + " lies on coarse edge " + std::to_string(side) + " but is used by " +
                                  std::to_string(j - i) + " pieces");
                 else if (!ccw)
-                    add(ids, name + " on coarse edge " + std::to_string(side) +
+                    add(ids(), name() + " on coarse edge " + std::to_string(side) +
                                  " runs clockwise: the piece lies outside the parameter triangle");
                 boundary_found[side].push_back({e.lo, e.hi});
             } else if (j - i == 1) {
-                add(ids, name + " is used by only one piece: gap or overlap inside the coarse triangle");
+                add(ids(), name() + " is used by only one piece: gap or overlap inside the coarse triangle");
             } else if (j - i == 2) {
                 if (edges[i].forward == edges[i + 1].forward)
-                    add(ids, name + " is traversed in the same direction by pieces " + n_str(edges[i].piece) + " and " +
+                    add(ids(), name() + " is traversed in the same direction by pieces " + n_str(edges[i].piece) + " and " +
                                  n_str(edges[i + 1].piece) + ": they overlap");
             } else {
-                add(ids, name + " is used by " + std::to_string(j - i) + " pieces");
+                add(ids(), name() + " is used by " + std::to_string(j - i) + " pieces");
             }
             i = j;
         }
@@ -263,16 +266,16 @@ CheckResult check_bijectivity(const Parametrization& p, const CheckOptions& opti
                     }
                     node_position[n] = pos.edge_base + offset + m;
                     const int64_t f = first[m].second;
-                    const Ids ids{{"coarse_triangle", t}, {"node", n}};
+                    auto ids = [&]() { return Ids{{"coarse_triangle", t}, {"node", n}}; };
                     if (std::abs(list[m].first - first[m].first) > kParameterTolerance)
-                        add(ids, "at position " + detail::format_number(list[m].first) + " along coarse edge (" +
+                        add(ids(), "at position " + detail::format_number(list[m].first) + " along coarse edge (" +
                                      n_str(u) + ", " + n_str(w) + "), but node " + n_str(f) + " of coarse triangle " +
                                      n_str(first_t) + " is at " + detail::format_number(first[m].first));
                     else if (!same_identity(n, f))
-                        add(ids, "is not the same original point as node " + n_str(f) + " of coarse triangle " +
+                        add(ids(), "is not the same original point as node " + n_str(f) + " of coarse triangle " +
                                      n_str(first_t) + " at the same place on coarse edge (" + n_str(u) + ", " + n_str(w) + ")");
                     else if (distance(p.node_image[n], p.node_image[f]) > 1e-9 * diagonal)
-                        add(ids, "image differs from that of node " + n_str(f) + " of coarse triangle " + n_str(first_t) +
+                        add(ids(), "image differs from that of node " + n_str(f) + " of coarse triangle " + n_str(first_t) +
                                      " at the same place on coarse edge (" + n_str(u) + ", " + n_str(w) + ")");
                 }
             }
@@ -459,19 +462,23 @@ CheckResult check_bijectivity(const Parametrization& p, const CheckOptions& opti
             std::vector<int64_t> fill(off.begin(), off.end() - 1);
             for (int64_t q = 0; q < np; ++q) by_triangle[fill[p.piece_original_triangle[q]]++] = q;
         }
-        // coarse triangle of each piece, for node lookup
-        std::vector<int32_t> piece_coarse(np);
+        // Positions of the piece corners, in piece order (a sequential pass: the loop
+        // below visits pieces by original triangle, i.e. in random order, and would
+        // otherwise chase three dependent indices per corner).
+        std::vector<std::array<int64_t, 3>> piece_position(np);
         for (int32_t t = 0; t < nt; ++t)
-            for (int64_t q = p.piece_offsets[t]; q < p.piece_offsets[t + 1]; ++q) piece_coarse[q] = t;
-        auto corner_position = [&](int64_t q, int k) {
-            return node_position[p.node_offsets[piece_coarse[q]] + p.pieces[q][k]];
-        };
+            for (int64_t q = p.piece_offsets[t]; q < p.piece_offsets[t + 1]; ++q)
+                for (int k = 0; k < 3; ++k) piece_position[q][k] = node_position[p.node_offsets[t] + p.pieces[q][k]];
+        auto corner_position = [&](int64_t q, int k) { return piece_position[q][k]; };
         // Per original edge: the sequence of positions along it (from its smaller vertex)
-        // as seen from the first incident triangle, to compare the others with.
-        std::vector<int32_t> edge_first_triangle(original_conn.num_edges(), -1);
-        // Flat storage: offset of the first triangle's sequence in `sequences`, -1 if none yet.
-        std::vector<int64_t> edge_sequence(original_conn.num_edges(), -1);
-        std::vector<int32_t> edge_sequence_length(original_conn.num_edges(), 0);
+        // as seen from the first incident triangle, to compare the others with. One
+        // record per edge, so that a visit costs one cache miss.
+        struct EdgeSequence {
+            int32_t first_triangle = -1;  // -1: no sequence yet
+            int32_t length = 0;
+            int64_t offset = 0;           // in `sequences`
+        };
+        std::vector<EdgeSequence> edge_sequences(original_conn.num_edges());
         std::vector<int64_t> sequences;
         std::vector<DirectedEdge> tedges;
         struct Along {
@@ -521,7 +528,7 @@ CheckResult check_bijectivity(const Parametrization& p, const CheckOptions& opti
                 }
             }
             const double fraction = area_sum / 0.5;
-            note_area(fraction, {{"original_triangle", o}});
+            note_area(fraction, "original_triangle", o);
             if (!(std::abs(fraction - 1.0) <= kAreaTolerance))
                 add({{"original_triangle", o}}, "pieces cover " + detail::format_number(fraction) +
                                                     " times its area (gap or overlap on the original surface)");
@@ -545,20 +552,20 @@ CheckResult check_bijectivity(const Parametrization& p, const CheckOptions& opti
                     const uint8_t mask = static_cast<uint8_t>((1u << s) | (1u << ((s + 1) % 3)));
                     if ((piece_support[q][ka] & ~mask) == 0 && (piece_support[q][kb] & ~mask) == 0) side = s;
                 }
-                const Ids ids{{"original_triangle", o}, {"piece", q}};
+                auto ids = [&]() { return Ids{{"original_triangle", o}, {"piece", q}}; };
                 if (side >= 0) {
                     if (j - i != 1)
-                        add(ids, "a segment of its edge " + std::to_string(side) + " is covered by " +
+                        add(ids(), "a segment of its edge " + std::to_string(side) + " is covered by " +
                                      std::to_string(j - i) + " pieces");
                     boundary_found[side].push_back({e.lo, e.hi});
                 } else if (j - i == 1) {
-                    add(ids, "a piece edge inside it is used by only one piece: gap or overlap");
+                    add(ids(), "a piece edge inside it is used by only one piece: gap or overlap");
                 } else if (j - i == 2) {
                     if (tedges[i].forward == tedges[i + 1].forward)
-                        add(ids, "pieces " + n_str(tedges[i].piece) + " and " + n_str(tedges[i + 1].piece) +
+                        add(ids(), "pieces " + n_str(tedges[i].piece) + " and " + n_str(tedges[i + 1].piece) +
                                      " overlap in it");
                 } else {
-                    add(ids, "a piece edge inside it is used by " + std::to_string(j - i) + " pieces");
+                    add(ids(), "a piece edge inside it is used by " + std::to_string(j - i) + " pieces");
                 }
                 i = j;
             }
@@ -590,17 +597,19 @@ CheckResult check_bijectivity(const Parametrization& p, const CheckOptions& opti
                 seq.clear();
                 for (auto& a : pts) seq.push_back(a.position);
                 if (u > w) std::reverse(seq.begin(), seq.end());
-                if (original_conn.edge_degree(e) < 2) continue;  // nothing to compare with
-                if (edge_first_triangle[e] < 0) {
-                    edge_first_triangle[e] = o;
-                    edge_sequence[e] = static_cast<int64_t>(sequences.size());
-                    edge_sequence_length[e] = static_cast<int32_t>(seq.size());
+                EdgeSequence& first = edge_sequences[e];
+                if (first.first_triangle < 0) {
+                    // (An edge of one triangle is stored too: a check of the degree would
+                    // cost another cache miss.)
+                    first.first_triangle = o;
+                    first.offset = static_cast<int64_t>(sequences.size());
+                    first.length = static_cast<int32_t>(seq.size());
                     sequences.insert(sequences.end(), seq.begin(), seq.end());
-                } else if (edge_sequence_length[e] != static_cast<int32_t>(seq.size()) ||
-                           !std::equal(seq.begin(), seq.end(), sequences.begin() + edge_sequence[e])) {
+                } else if (first.length != static_cast<int32_t>(seq.size()) ||
+                           !std::equal(seq.begin(), seq.end(), sequences.begin() + first.offset)) {
                     add({{"original_triangle", o}},
                         "the points along its edge (" + n_str(std::min(u, w)) + ", " + n_str(std::max(u, w)) +
-                            ") differ from those of original triangle " + n_str(edge_first_triangle[e]));
+                            ") differ from those of original triangle " + n_str(first.first_triangle));
                 }
             }
         }

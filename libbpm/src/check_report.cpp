@@ -1,9 +1,13 @@
 // CheckResult bookkeeping, running a selection of checks, and the text and JSON forms
 // of a report (spec/check-report.md). The JSON is written by hand: no JSON library is
 // a dependency of libbpm.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <future>
+#include <mutex>
 #include <sstream>
+#include <thread>
 
 #include "bpm/check.h"
 #include "check_internal.h"
@@ -138,18 +142,57 @@ const CheckResult* CheckReport::find(const std::string& n) const {
 
 CheckReport run_checks(const BpmFile& file, const CheckSelection& sel, const CheckOptions& options,
                        const Context& context) {
-    CheckReport report;
     const Parametrization& p = file.param;
-    if (sel.format) report.checks.push_back(check_format(file, options, context));
-    if (sel.original_intersections)
-        report.checks.push_back(check_intersections(p.original, options, context, "original-intersections"));
-    if (sel.intersections) report.checks.push_back(check_intersections(p.coarse, options, context, "intersections"));
-    if (sel.topology) report.checks.push_back(check_topology(p, options, context));
-    if (sel.bijectivity) report.checks.push_back(check_bijectivity(p, options, context));
-    if (options.max_aspect_ratio || options.min_angle_degrees)
-        report.checks.push_back(check_quality(p.coarse, options, context));
-    if (options.max_error) report.checks.push_back(check_distance(p, options, context));
-    if (sel.replay) report.checks.push_back(check_replay(file, options, context));
+    int threads = options.threads > 0 ? options.threads : static_cast<int>(std::thread::hardware_concurrency());
+    threads = std::max(1, std::min(threads, 2));
+    // Log lines may now come from two threads.
+    std::mutex log_mutex;
+    Context main_context = context, side_context;
+    if (context.log) {
+        main_context.log = [&](LogLevel level, const std::string& line) {
+            std::lock_guard<std::mutex> lock(log_mutex);
+            context.log(level, line);
+        };
+        side_context.log = main_context.log;
+    }
+    // The structural checks: quick next to bijectivity on large files (reading the
+    // connectivity, sorting), so they share the time on a second thread.
+    auto structural = [&](const Context& ctx) {
+        std::vector<CheckResult> out;
+        if (sel.format) out.push_back(check_format(file, options, ctx));
+        if (sel.original_intersections)
+            out.push_back(check_intersections(p.original, options, ctx, "original-intersections"));
+        if (sel.intersections) out.push_back(check_intersections(p.coarse, options, ctx, "intersections"));
+        if (sel.topology) out.push_back(check_topology(p, options, ctx));
+        return out;
+    };
+    auto others = [&](const Context& ctx) {
+        std::vector<CheckResult> out;
+        if (sel.bijectivity) out.push_back(check_bijectivity(p, options, ctx));
+        if (options.max_aspect_ratio || options.min_angle_degrees) out.push_back(check_quality(p.coarse, options, ctx));
+        if (options.max_error) out.push_back(check_distance(p, options, ctx));
+        if (sel.replay) out.push_back(check_replay(file, options, ctx));
+        return out;
+    };
+    std::vector<CheckResult> first, second;
+    const bool side_by_side = threads > 1 && (sel.format || sel.original_intersections || sel.intersections ||
+                                              sel.topology);
+    if (side_by_side) {
+        auto side = std::async(std::launch::async, [&] { return structural(side_context); });
+        try {
+            second = others(main_context);
+        } catch (...) {
+            side.wait();  // it reads `file` and the contexts: let it finish first
+            throw;
+        }
+        first = side.get();
+    } else {
+        first = structural(context);
+        second = others(context);
+    }
+    CheckReport report;
+    for (auto* list : {&first, &second})
+        for (CheckResult& r : *list) report.checks.push_back(std::move(r));
     return report;
 }
 

@@ -35,6 +35,7 @@ int main(int argc, char** argv) {
     bool replay = false;
     int64_t replay_interval = 0;
     size_t max_problems = 10;
+    int threads = 0;
     std::string surface_format;
     app.add_option("FILE", input, "Input .bpm file, or a surface file with --surface; '-' reads standard input")
         ->required();
@@ -77,6 +78,11 @@ int main(int argc, char** argv) {
     app.add_option("--max-problems", max_problems, "Offending elements listed per check")
         ->check(CLI::NonNegativeNumber)
         ->capture_default_str();
+    app.add_option("--threads", threads,
+                   "Threads for running checks side by side (0 = up to 2 as the hardware allows, 1 = one after "
+                   "the other); the report does not depend on it")
+        ->check(CLI::Range(0, 64))
+        ->capture_default_str();
     app.add_flag("--surface", surface_mode,
                  "FILE is a plain surface (OFF, OBJ, STL, PLY, MSH): run intersections and topology on it alone");
     app.add_option("--format", surface_format, "Surface format for --surface when reading '-' (off, obj, stl, ply, msh)");
@@ -105,6 +111,7 @@ int main(int argc, char** argv) {
         if (*error_opt) options.max_error = max_error;
         options.error_sample_spacing = error_spacing;
         options.replay_check_interval = replay_interval;
+        options.threads = threads;
         const bpm::Context context = bpm::tools::make_context(tool, false, json);
 
         bpm::CheckReport report;

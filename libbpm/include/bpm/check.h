@@ -83,6 +83,10 @@ struct CheckOptions {
     // Replay: recompute all topological invariants from scratch after every this many
     // steps (and always after the last one); 0 = automatic (4 evenly spaced recomputations).
     int64_t replay_check_interval = 0;
+    // run_checks: threads that run checks side by side (the structural checks next to
+    // bijectivity and the others); 0 = up to 2 as the hardware allows. The report is the
+    // same for any number.
+    int threads = 0;
 };
 
 // Structural consistency of an in-memory parametrization: sizes, index ranges, CSR
@@ -150,6 +154,10 @@ struct CheckSelection {
     bool original_intersections = false;  // also check S0 (so a faulty input is reported as such)
     bool replay = false;                  // replay the recorded simplification steps (needs a record)
 };
+// Runs the selected checks and reports them in a fixed order: format, original
+// intersections, intersections, topology, bijectivity, quality, distance, replay.
+// With two threads (options.threads) the first four run on a second thread, without
+// progress reports, next to the others.
 CheckReport run_checks(const BpmFile& file, const CheckSelection& selection, const CheckOptions& options = {},
                        const Context& context = {});
 // Also runs quality when a shape limit is set, distance when options.max_error is set.
