@@ -3,8 +3,9 @@
 // Read: `v x y z [w | r g b]` (extra values ignored), `f` with corners written `v`,
 // `v/vt`, `v/vt/vn` or `v//vn`, 1-based or negative (relative to the last vertex read)
 // indices, `g` and `usemtl`, and '\' line continuations. Ignored: vt, vn, vp, o, s,
-// mtllib, and any other statement (counted in a note). Refused: faces with other than
-// three corners (polygons are not triangulated silently), index 0, indices outside the
+// mtllib, and any other statement (counted in a note). Refused: faces with fewer than
+// three corners, faces with more (polygons are not triangulated silently: only with
+// accept_polygons, the triangulate-polygons repair), index 0, indices outside the
 // vertex list.
 //
 // Patch ids. Each face belongs to the pair (current `g` names, current `usemtl` name);
@@ -34,7 +35,7 @@ bool parse_patch_name(const std::string& name, int32_t& id) {
 
 }  // namespace
 
-ReaderOutput read_obj(std::string_view bytes, const std::string& name) {
+ReaderOutput read_obj(std::string_view bytes, const std::string& name, bool accept_polygons) {
     InputCursor in(bytes, name, '#');
     ReaderOutput out;
     Surface& s = out.surface;
@@ -45,6 +46,8 @@ ReaderOutput read_obj(std::string_view bytes, const std::string& name) {
     std::vector<std::array<int64_t, 3>> raw_faces;
     std::vector<size_t> face_offsets;
     std::vector<int32_t> face_keys;
+    std::vector<std::vector<int64_t>> raw_polygons;  // corners of out.polygons, resolved at the end
+    std::vector<int64_t> face_corners;
     std::map<std::pair<std::string, std::string>, int32_t> key_ids;  // (group, material) -> key
     std::vector<std::pair<std::string, std::string>> keys;
     std::string group, material;
@@ -87,14 +90,15 @@ ReaderOutput read_obj(std::string_view bytes, const std::string& name) {
             s.vertices.push_back(p);
         } else if (keyword == "f") {
             const size_t at = in.offset_of(keyword);
-            std::array<int64_t, 3> corners{};
-            int count = 0;
+            face_corners.clear();
+            int64_t count = 0;
             for (std::string_view t = statement_token(); !t.empty(); t = statement_token()) {
-                if (count == 3) {
+                if (count == 3 && !accept_polygons) {
                     int total = 4;
                     while (!statement_token().empty()) ++total;
                     in.fail_line(at, "a face with " + std::to_string(total) +
-                                         " corners; only triangles are accepted (triangulate the surface first)");
+                                         " corners; only triangles are accepted (the triangulate-polygons repair "
+                                         "splits polygons into triangles)");
                 }
                 // Only the vertex index matters; texture and normal indices must still be integers.
                 const size_t slash = t.find('/');
@@ -125,7 +129,8 @@ ReaderOutput read_obj(std::string_view bytes, const std::string& name) {
                                                           std::to_string(s.vertices.size()) + " read so far)");
                     }
                 }
-                corners[count++] = resolved - 1;
+                face_corners.push_back(resolved - 1);
+                ++count;
             }
             if (count < 3) in.fail_line(at, "a face with " + std::to_string(count) + " corners; a triangle needs 3");
             if (current_key < 0) {
@@ -140,9 +145,19 @@ ReaderOutput read_obj(std::string_view bytes, const std::string& name) {
             if (raw_faces.size() >= static_cast<size_t>(std::numeric_limits<int32_t>::max())) {
                 in.fail_line(at, "too many faces for bpm (at most 2^31-1)");
             }
-            raw_faces.push_back(corners);
-            face_offsets.push_back(at);
-            face_keys.push_back(current_key);
+            if (count > 3) {
+                PolygonFace polygon;
+                polygon.position = raw_faces.size();
+                polygon.face = static_cast<int64_t>(raw_faces.size() + out.polygons.size());
+                polygon.offset = at;
+                polygon.patch = current_key;  // a key until the patch ids are known
+                out.polygons.push_back(std::move(polygon));
+                raw_polygons.push_back(face_corners);
+            } else {
+                raw_faces.push_back({face_corners[0], face_corners[1], face_corners[2]});
+                face_offsets.push_back(at);
+                face_keys.push_back(current_key);
+            }
         } else if (keyword == "g") {
             group = rest_of_statement();
             if (group == "default") group.clear();
@@ -167,7 +182,7 @@ ReaderOutput read_obj(std::string_view bytes, const std::string& name) {
         in.skip_line();
     }
 
-    if (s.vertices.empty() && raw_faces.empty()) {
+    if (s.vertices.empty() && raw_faces.empty() && raw_polygons.empty()) {
         if (ignored.empty()) in.fail("the file is empty (no vertices and no faces)");
         in.fail("no 'v' or 'f' statements found: this does not look like an OBJ file");
     }
@@ -197,6 +212,19 @@ ReaderOutput read_obj(std::string_view bytes, const std::string& name) {
     }
     s.patches.reserve(face_keys.size());
     for (int32_t key : face_keys) s.patches.push_back(key_patch[static_cast<size_t>(key)]);
+    for (size_t i = 0; i < out.polygons.size(); ++i) {
+        PolygonFace& polygon = out.polygons[i];
+        polygon.patch = key_patch[static_cast<size_t>(polygon.patch)];
+        for (const int64_t index : raw_polygons[i]) {
+            if (index < 0 || index >= nv) {
+                in.fail_line(polygon.offset, "face " + std::to_string(polygon.face) + ": vertex index " +
+                                                 std::to_string(index + 1) + " is out of range (the file has " +
+                                                 std::to_string(nv) + " vertices)");
+            }
+            polygon.corners.push_back(static_cast<int32_t>(index));
+        }
+    }
+    insert_polygons(in, false, out);
 
     for (const auto& [keyword, count] : ignored) {
         out.notes.push_back("ignored " + std::to_string(count) + " OBJ '" + keyword + "' statement" +

@@ -4,8 +4,9 @@
 // colours and normals follow the three coordinates of a vertex and are ignored); the
 // counts on the keyword line or on the next non-comment line; '#' comments anywhere;
 // colours after the indices of a face. Refused: 4OFF / nOFF (not 3-D), "OFF BINARY",
-// faces with other than three corners (polygons are not triangulated silently), content
-// after the announced faces (a sign of wrong counts).
+// faces with fewer than three corners, faces with more (polygons are not triangulated
+// silently: only with accept_polygons, the triangulate-polygons repair), content after
+// the announced faces (a sign of wrong counts).
 //
 // One vertex and one face per line, as every OFF writer does; this is what lets a
 // wrong count surface as an error on the line where it happens.
@@ -15,7 +16,7 @@
 
 namespace bpm::detail {
 
-ReaderOutput read_off(std::string_view bytes, const std::string& name) {
+ReaderOutput read_off(std::string_view bytes, const std::string& name, bool accept_polygons) {
     InputCursor in(bytes, name, '#');
     ReaderOutput out;
     Surface& s = out.surface;
@@ -78,13 +79,21 @@ ReaderOutput read_off(std::string_view bytes, const std::string& name) {
         }
         const std::string_view count_token = in.token_on_line();
         const int64_t corners = in.to_int(count_token, Label("the corner count of face ", f));
-        if (corners != 3) {
+        const bool polygon = corners > 3 && accept_polygons;
+        if (corners != 3 && !polygon) {
             in.fail_line(in.offset_of(count_token),
                          "face " + std::to_string(f) + " has " + std::to_string(corners) +
-                             " corners; only triangles are accepted (triangulate the surface first)");
+                             " corners; only triangles are accepted" +
+                             (corners > 3 ? " (the triangulate-polygons repair splits polygons into triangles)" : ""));
         }
+        // At least two bytes per corner: a polygon cannot announce more corners than that.
+        if (polygon && static_cast<double>(corners) * 2 > static_cast<double>(in.remaining()) + 1) {
+            in.fail_line(in.offset_of(count_token), "face " + std::to_string(f) + " announces " +
+                                                        std::to_string(corners) + " corners, more than the rest of the file holds");
+        }
+        PolygonFace face;
         Tri t;
-        for (int k = 0; k < 3; ++k) {
+        for (int64_t k = 0; k < corners; ++k) {
             const std::string_view token = in.token_on_line();
             const int64_t index = in.to_int(token, Label("a vertex index of face ", f));
             if (index < 0 || index >= nv) {
@@ -92,10 +101,18 @@ ReaderOutput read_off(std::string_view bytes, const std::string& name) {
                                                       std::to_string(index) + " is out of range (the file has " +
                                                       std::to_string(nv) + " vertices)");
             }
-            t[k] = static_cast<int32_t>(index);
+            if (polygon) face.corners.push_back(static_cast<int32_t>(index));
+            else t[k] = static_cast<int32_t>(index);
         }
         in.skip_line();  // an optional colour
-        s.triangles.push_back(t);
+        if (polygon) {
+            face.position = s.triangles.size();
+            face.face = f;
+            face.offset = in.offset_of(count_token);
+            out.polygons.push_back(std::move(face));
+        } else {
+            s.triangles.push_back(t);
+        }
     }
     const std::string_view extra = in.next_token();
     if (!extra.empty()) {
@@ -103,6 +120,7 @@ ReaderOutput read_off(std::string_view bytes, const std::string& name) {
                                               std::to_string(nf) + " announced faces (wrong counts in the header?)");
     }
     s.patches.assign(s.triangles.size(), 0);
+    insert_polygons(in, false, out);
     return out;
 }
 

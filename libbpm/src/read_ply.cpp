@@ -5,7 +5,8 @@
 // rather than refused. Used:
 //   element `vertex`: scalar properties x, y, z (any numeric type)
 //   element `face`:   the list property `vertex_indices` (or `vertex_index`), any count and
-//                     index type, exactly three entries per face (polygons are refused);
+//                     index type, three entries per face (polygons are refused, or
+//                     with accept_polygons triangulated: the triangulate-polygons repair);
 //                     the first scalar property, in header order, named patch, material,
 //                     region, label or physical gives the patch id (an integer value).
 // A file without a face element, or with no faces, has no triangles; read_surface()
@@ -189,7 +190,7 @@ private:
 
 }  // namespace
 
-ReaderOutput read_ply(std::string_view bytes, const std::string& name) {
+ReaderOutput read_ply(std::string_view bytes, const std::string& name, bool accept_polygons) {
     InputCursor in(bytes, name);
     ReaderOutput out;
     Surface& s = out.surface;
@@ -256,6 +257,8 @@ ReaderOutput read_ply(std::string_view bytes, const std::string& name) {
     bool seen_vertex = false, seen_face = false;
     std::vector<std::array<int64_t, 3>> raw_faces;
     std::vector<size_t> face_offsets;
+    std::vector<std::vector<int64_t>> raw_polygons;  // corners of out.polygons, checked at the end
+    std::vector<int64_t> polygon_corners;
     for (const PlyElement& e : elements) {
         const bool is_vertex = e.name == "vertex" && !seen_vertex;
         const bool is_face = e.name == "face" && !seen_face;
@@ -330,13 +333,28 @@ ReaderOutput read_ply(std::string_view bytes, const std::string& name) {
                                                      " entries runs past the end of the file");
                     }
                     if (at == indices) {
-                        if (n != 3) {
-                            const std::string message = label() + " has " + std::to_string(n) +
-                                                        " corners; only triangles are accepted (triangulate the surface first)";
+                        if (n != 3 && !(n > 3 && accept_polygons)) {
+                            const std::string message =
+                                label() + " has " + std::to_string(n) + " corners; only triangles are accepted" +
+                                (n > 3 ? " (the triangulate-polygons repair splits polygons into triangles)" : "");
                             if (binary) in.fail_offset(count_at, message);
                             in.fail_line(count_at, message);
                         }
-                        for (int k = 0; k < 3; ++k) face[k] = values.integer(p.type, Label(ename, i, ": a vertex index"));
+                        if (n == 3) {
+                            for (int k = 0; k < 3; ++k) face[k] = values.integer(p.type, Label(ename, i, ": a vertex index"));
+                        } else {
+                            // An ASCII index takes at least two bytes ("0 "), a binary one its size.
+                            const double least = binary ? static_cast<double>(ply_type_size(p.type)) : 2.0;
+                            if (static_cast<double>(n) * least > static_cast<double>(in.remaining()) + 1) {
+                                const std::string message = label() + ": " + std::to_string(n) +
+                                                            " corners announced, more than the rest of the file holds";
+                                if (binary) in.fail_offset(count_at, message);
+                                in.fail_line(count_at, message);
+                            }
+                            polygon_corners.clear();
+                            for (int64_t k = 0; k < n; ++k)
+                                polygon_corners.push_back(values.integer(p.type, Label(ename, i, ": a vertex index")));
+                        }
                     } else {
                         values.skip(p.type, n, Label(ename, i, ": list ", p.name.c_str()));
                     }
@@ -356,10 +374,19 @@ ReaderOutput read_ply(std::string_view bytes, const std::string& name) {
                     values.skip(p.type, 1, Label(ename, i, ": property ", p.name.c_str()));
                 }
             }
-            if (is_face) {
+            if (is_face && polygon_corners.empty()) {
                 raw_faces.push_back(face);
                 face_offsets.push_back(element_at);
                 s.patches.push_back(patch_id);
+            } else if (is_face) {
+                PolygonFace polygon;
+                polygon.position = raw_faces.size();
+                polygon.face = i;
+                polygon.offset = element_at;
+                polygon.patch = patch_id;
+                out.polygons.push_back(std::move(polygon));
+                raw_polygons.push_back(polygon_corners);
+                polygon_corners.clear();
             }
         }
     }
@@ -393,6 +420,20 @@ ReaderOutput read_ply(std::string_view bytes, const std::string& name) {
         }
         s.triangles.push_back(t);
     }
+    for (size_t i = 0; i < out.polygons.size(); ++i) {
+        PolygonFace& polygon = out.polygons[i];
+        for (const int64_t index : raw_polygons[i]) {
+            if (index < 0 || index >= nv) {
+                const std::string message = "face " + std::to_string(polygon.face) + ": vertex index " +
+                                            std::to_string(index) + " is out of range (the file has " +
+                                            std::to_string(nv) + " vertices)";
+                if (binary) in.fail_offset(polygon.offset, message);
+                in.fail_line(polygon.offset, message);
+            }
+            polygon.corners.push_back(static_cast<int32_t>(index));
+        }
+    }
+    insert_polygons(in, binary, out);
     return out;
 }
 

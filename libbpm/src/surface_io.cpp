@@ -93,10 +93,10 @@ Surface read_surface_from_memory(const std::string& bytes, SurfaceFormat format,
     detail::ReaderOutput parsed;
     try {
         switch (format) {
-            case SurfaceFormat::Off: parsed = detail::read_off(bytes, name); break;
-            case SurfaceFormat::Obj: parsed = detail::read_obj(bytes, name); break;
+            case SurfaceFormat::Off: parsed = detail::read_off(bytes, name, options.triangulate_polygons); break;
+            case SurfaceFormat::Obj: parsed = detail::read_obj(bytes, name, options.triangulate_polygons); break;
             case SurfaceFormat::Stl: parsed = detail::read_stl(bytes, name); break;
-            case SurfaceFormat::Ply: parsed = detail::read_ply(bytes, name); break;
+            case SurfaceFormat::Ply: parsed = detail::read_ply(bytes, name, options.triangulate_polygons); break;
             case SurfaceFormat::Msh: parsed = detail::read_msh(bytes, name); break;
         }
     } catch (const InputError& e) {

@@ -28,17 +28,30 @@
 
 namespace bpm::detail {
 
+// A face with more than three corners, kept when the caller accepts polygons (the
+// triangulate-polygons repair); insert_polygons() replaces it by triangles.
+struct PolygonFace {
+    size_t position = 0;           // triangles read before it: its triangles go there
+    int64_t face = 0;              // index of the face in the file, for messages
+    size_t offset = 0;             // where it starts in the file, for messages
+    int32_t patch = 0;
+    std::vector<int32_t> corners;  // vertex indices, in range
+};
+
 // What a reader produced besides the surface.
 struct ReaderOutput {
     Surface surface;
     int64_t skipped_elements = 0;    // MSH: elements that are not 3-node triangles
     std::vector<std::string> notes;  // remarks for SurfaceReadReport::notes
+    std::vector<PolygonFace> polygons;  // with accept_polygons only; in file order
 };
 
-ReaderOutput read_off(std::string_view bytes, const std::string& name);
-ReaderOutput read_obj(std::string_view bytes, const std::string& name);
+// `accept_polygons`: faces with more than three corners go to ReaderOutput::polygons
+// and are triangulated before the reader returns, instead of being refused.
+ReaderOutput read_off(std::string_view bytes, const std::string& name, bool accept_polygons = false);
+ReaderOutput read_obj(std::string_view bytes, const std::string& name, bool accept_polygons = false);
 ReaderOutput read_stl(std::string_view bytes, const std::string& name);
-ReaderOutput read_ply(std::string_view bytes, const std::string& name);
+ReaderOutput read_ply(std::string_view bytes, const std::string& name, bool accept_polygons = false);
 ReaderOutput read_msh(std::string_view bytes, const std::string& name);
 
 // A token for an error message: quoted, shortened, non-printable bytes as \xNN, so that
@@ -301,5 +314,11 @@ inline void check_count(const InputCursor& in, size_t at, bool binary, int64_t c
              " bytes left in the file cannot hold that many (truncated, or wrong counts?)");
     }
 }
+
+// Replaces out.polygons by their triangles (polygon_triangulation.h), each at its place
+// among the triangles and with its patch (out.surface.patches must be complete), and
+// adds a note. A polygon that cannot be triangulated fails with its face index and line
+// (text) or byte offset (binary).
+void insert_polygons(const InputCursor& in, bool binary, ReaderOutput& out);
 
 }  // namespace bpm::detail

@@ -6,8 +6,8 @@
 // indices in range, finite coordinates, at least one triangle) or throws bpm::InputError
 // naming the input with a non-empty message. Anything else (another exception, a crash,
 // ASan/UBSan report, a leak, a hang, a huge allocation) is a finding. The input is read
-// twice: with the default options and with both repairs (what the tools' --merge-
-// duplicate-vertices --drop-unreferenced-vertices do). A surface that reads is also run
+// twice: with the default options and with all three repairs (what the tools' --merge-
+// duplicate-vertices --drop-unreferenced-vertices --triangulate-polygons do). A surface that reads is also run
 // through the checks bpm-check --surface runs (topology, intersections) when small.
 
 #include <cmath>
@@ -44,6 +44,7 @@ inline int fuzz_surface_reader(const uint8_t* data, size_t size, SurfaceFormat f
     for (int repair = 0; repair < 2; ++repair) {
         SurfaceReadOptions options;
         options.merge_duplicate_vertices = options.drop_unreferenced_vertices = repair == 1;
+        options.triangulate_polygons = repair == 1;
         try {
             SurfaceReadReport report;
             const Surface s = read_surface_from_memory(bytes, format, kName, options, &report);

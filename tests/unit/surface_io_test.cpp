@@ -584,6 +584,88 @@ TEST_CASE("reject: polygons with more than three corners", "[surface_io]") {
                      SurfaceFormat::Ply, "face 0 has 4 corners");
 }
 
+// Sum of the triangles' vector areas: for a triangulation of a planar polygon with the
+// polygon's orientation this is the polygon's vector area (no triangle flipped).
+Vec3 vector_area(const Surface& s) {
+    Vec3 sum{0, 0, 0};
+    for (const Tri& t : s.triangles)
+        sum = sum + 0.5 * cross(s.vertices[t[1]] - s.vertices[t[0]], s.vertices[t[2]] - s.vertices[t[0]]);
+    return sum;
+}
+
+TEST_CASE("triangulate-polygons repair: polygons become triangles in place, orientation and patches kept",
+          "[surface_io]") {
+    SurfaceReadOptions repair;
+    repair.triangulate_polygons = true;
+    SECTION("OFF: a unit square and a triangle; the polygon's triangles stay where the face was") {
+        SurfaceReadReport report;
+        const Surface s = read_bytes("OFF\n5 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n0.5 0.5 1\n4 0 1 2 3\n3 0 4 1\n",
+                                     SurfaceFormat::Off, repair, &report);
+        REQUIRE(s.num_triangles() == 3);
+        CHECK(s.triangles[2] == Tri{0, 4, 1});
+        const Vec3 a = vector_area(Surface{s.vertices, {s.triangles[0], s.triangles[1]}, {0, 0}});
+        CHECK(a[0] == 0.0);
+        CHECK(a[1] == 0.0);
+        CHECK(a[2] == Approx(1.0));  // counter-clockwise seen from +z, as the face
+        REQUIRE(report.notes.size() == 1);
+        CHECK(report.notes[0] == "triangulated 1 polygon face (up to 4 corners)");
+    }
+    SECTION("a non-convex hexagon (an L) in a tilted plane: no flipped or overlapping triangle") {
+        // The L in the plane z = x + y, listed clockwise seen from +z (normal points down).
+        const double L[6][2] = {{0, 0}, {0, 2}, {1, 2}, {1, 1}, {2, 1}, {2, 0}};
+        std::string off = "OFF\n6 1 0\n";
+        for (auto& p : L) off += std::to_string(p[0]) + " " + std::to_string(p[1]) + " " + std::to_string(p[0] + p[1]) + "\n";
+        off += "6 0 1 2 3 4 5\n";
+        const Surface s = read_bytes(off, SurfaceFormat::Off, repair);
+        REQUIRE(s.num_triangles() == 4);
+        // Area of the L is 3; its normal direction is (1, 1, -1) / sqrt(3) flipped (clockwise from +z).
+        const Vec3 a = vector_area(s);
+        CHECK(norm(a) == Approx(3.0 * std::sqrt(3.0)));
+        CHECK(a[2] == Approx(-3.0));
+        for (const Tri& t : s.triangles) {
+            const Vec3 n = cross(s.vertices[t[1]] - s.vertices[t[0]], s.vertices[t[2]] - s.vertices[t[0]]);
+            CHECK(dot(n, a) > 0);  // every triangle oriented as the polygon
+        }
+    }
+    SECTION("OBJ: quads in two groups keep their groups' patches") {
+        const Surface s = read_bytes("v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\n"
+                                     "g a\nf 1 2 3 4\ng b\nf 1 5 6 2\n",
+                                     SurfaceFormat::Obj, repair);
+        REQUIRE(s.num_triangles() == 4);
+        CHECK(s.patches == std::vector<int32_t>{0, 0, 1, 1});
+    }
+    SECTION("PLY: a pentagon with its patch property, between two triangles") {
+        const Surface s = read_bytes(
+            "ply\nformat ascii 1.0\nelement vertex 6\nproperty double x\nproperty double y\nproperty double z\n"
+            "element face 3\nproperty list uchar int vertex_indices\nproperty int patch\nend_header\n"
+            "0 0 0\n2 0 0\n3 1 0\n1 2 0\n-1 1 0\n1 1 1\n3 0 1 5 4\n5 0 1 2 3 4 7\n3 1 2 5 9\n",
+            SurfaceFormat::Ply, repair);
+        REQUIRE(s.num_triangles() == 5);
+        CHECK(s.patches == std::vector<int32_t>{4, 7, 7, 7, 9});
+        CHECK(s.triangles[0] == Tri{0, 1, 5});
+        CHECK(s.triangles[4] == Tri{1, 2, 5});
+    }
+    SECTION("refused: a self-crossing quad (a bow tie), with the face and its line") {
+        // Lobes of different size, so that the polygon still has a net area.
+        const std::string bow = "OFF\n4 1 0\n0 0 0\n3 2 0\n3 0 0\n0 1 0\n4 0 1 2 3\n";
+        const std::string message = read_error(bow, SurfaceFormat::Off, repair);
+        CHECK_THAT(message, Catch::Contains("line 7: face 0 (4 corners) cannot be triangulated: the polygon is not simple"));
+    }
+    SECTION("refused: a corner twice, collinear corners, and a count larger than the file") {
+        CHECK_THAT(read_error("OFF\n4 1 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n4 0 1 2 1\n", SurfaceFormat::Off, repair),
+                   Catch::Contains("vertex 1 is a corner of the polygon twice"));
+        CHECK_THAT(read_error("OFF\n4 1 0\n0 0 0\n1 0 0\n2 0 0\n3 0 0\n4 0 1 2 3\n", SurfaceFormat::Off, repair),
+                   Catch::Contains("no area"));
+        CHECK_THAT(read_error("OFF\n4 1 0\n0 0 0\n1 0 0\n2 0 0\n3 0 0\n2000000000 0 1 2 3\n", SurfaceFormat::Off,
+                              repair),
+                   Catch::Contains("more than the rest of the file holds"));
+    }
+    SECTION("without the repair the message names it") {
+        CHECK_THAT(read_error("OFF\n4 1 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n4 0 1 2 3\n", SurfaceFormat::Off),
+                   Catch::Contains("the triangulate-polygons repair"));
+    }
+}
+
 TEST_CASE("reject: wrong counts in the header", "[surface_io]") {
     const std::string body = "0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
     CHECK_READ_ERROR("OFF\n4 3 0\n" + body, SurfaceFormat::Off, "after the last of the 3 announced faces");
@@ -807,6 +889,40 @@ TEST_CASE("real meshes with duplicate or unused vertices, flat triangles or poly
         CHECK((c.merge ? report.merged_vertices : report.dropped_vertices) == c.repaired);
         CHECK(s.num_triangles() > 0);
     }
+}
+
+TEST_CASE("real meshes with polygon faces read with the triangulate-polygons repair", "[surface_io][real]") {
+    const fs::path dir = BPM_MESH_DIR;
+    if (!fs::is_directory(dir)) {
+        WARN("no mesh directory " << dir.string() << "; skipped");
+        return;
+    }
+    int files = 0;
+    for (const char* name : {"3torus.off", "cube_quad.off", "torus_quad.off", "double-torus-example.off", "P.off"}) {
+        const fs::path path = dir / name;
+        if (!fs::exists(path)) continue;
+        ++files;
+        INFO(name);
+        // Expected triangles: sum over faces of (corners - 2), from the file itself.
+        std::ifstream in(path);
+        std::string keyword;
+        int64_t nv = 0, nf = 0, ne = 0;
+        in >> keyword >> nv >> nf >> ne;
+        std::string line;
+        for (int64_t i = 0; i < nv; ++i) std::getline(in >> std::ws, line);
+        int64_t expected = 0;
+        for (int64_t f = 0; f < nf; ++f) {
+            std::getline(in >> std::ws, line);
+            expected += std::stoll(line) - 2;
+        }
+        SurfaceReadOptions repair;
+        repair.triangulate_polygons = true;
+        SurfaceReadReport report;
+        const Surface s = read_surface(path.string(), repair, &report);
+        CHECK(s.num_triangles() == expected);
+        CHECK(s.num_vertices() == nv);
+    }
+    if (files == 0) WARN("none of the polygon meshes in " << dir.string());
 }
 
 TEST_CASE("real STL meshes read; the vertex count comes from merging corners", "[surface_io][real]") {

@@ -85,6 +85,10 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     app.add_flag("--surface", surface_mode,
                  "FILE is a plain surface (OFF, OBJ, STL, PLY, MSH): run intersections and topology on it alone");
+    bool triangulate_polygons = false;
+    app.add_flag("--triangulate-polygons", triangulate_polygons,
+                 "With --surface: split faces with more than 3 corners into triangles first (as bpm-simplify's "
+                 "repair of that name)");
     app.add_option("--format", surface_format, "Surface format for --surface when reading '-' (off, obj, stl, ply, msh)");
     bpm::tools::add_version_flag(app, tool);
 
@@ -124,6 +128,7 @@ int main(int argc, char** argv) {
                 sel.format = sel.bijectivity = false;
             }
             bpm::SurfaceReadOptions read_options;
+            read_options.triangulate_polygons = triangulate_polygons;
             if (!surface_format.empty()) {
                 read_options.format = bpm::surface_format_from_name(surface_format);
                 if (!read_options.format) throw CLI::ValidationError("--format", "unknown surface format " + surface_format);

@@ -56,6 +56,9 @@ int main(int argc, char** argv) {
                  "Repair: merge input vertices with identical coordinates (reported)");
     app.add_flag("--drop-unreferenced-vertices", read_options.drop_unreferenced_vertices,
                  "Repair: drop input vertices that no triangle uses (reported)");
+    app.add_flag("--triangulate-polygons", read_options.triangulate_polygons,
+                 "Repair: split faces with more than 3 corners (OFF, OBJ, PLY; e.g. quads of CAD exports) into "
+                 "triangles by ear clipping in the face's plane (reported)");
     app.add_option("--units", units, "Length unit of the coordinates, recorded in the file (e.g. mm)");
     app.add_option("--threads", options.threads,
                    "Threads that share the planning (default 1; 0 = up to 2 as the hardware allows); the output does not depend on it")

@@ -2,7 +2,8 @@
 // Reading and writing triangulated surfaces in the common mesh formats.
 //
 // Supported (chosen by file extension or explicitly):
-//   OFF   (.off)         ASCII; polygons with more than 3 corners are rejected
+//   OFF   (.off)         ASCII; polygons with more than 3 corners are rejected (OFF, OBJ,
+//                        PLY), unless the triangulate_polygons repair is asked for
 //   OBJ   (.obj)         `v`/`f` records; `g` and `usemtl` groups become patch ids
 //   STL   (.stl)         ASCII and binary; vertices are merged by exact position
 //   PLY   (.ply)         ASCII, binary_little_endian, binary_big_endian; a face property
@@ -47,6 +48,10 @@ struct SurfaceReadOptions {
     std::optional<SurfaceFormat> format;      // overrides the extension; required for "-"
     bool merge_duplicate_vertices = false;    // repair: merge vertices at identical positions
     bool drop_unreferenced_vertices = false;  // repair: remove vertices no triangle uses
+    // Repair: split faces with more than three corners (OFF, OBJ, PLY) into triangles by
+    // ear clipping in the face's plane (reported in SurfaceReadReport::notes); a face that
+    // is not a simple polygon seen along its normal is still refused.
+    bool triangulate_polygons = false;
 };
 
 // What a read did besides producing the surface, for the tool to report.
