@@ -596,8 +596,10 @@ def check_counts(report):
 
 
 def timed_check(bins, path, checks, log_stem, args):
-    """bpm-check --json [--checks C] PATH, args.check_repeats times; the run with the least CPU time, with its report.
+    """bpm-check --json [--checks C] PATH, args.check_repeats times; the run with the least CPU time (all checks: the
+    least wall time, what the issue's target is about; they run on two threads), with its report.
     Exit 1 (a check failed) still counts as a measurement: the report says what failed."""
+    key = "cpu_seconds" if checks else "seconds"
     best = None
     cmd = [bins["bpm-check"], "--json"] + (["--checks", checks] if checks else []) + [path]
     for i in range(args.check_repeats):
@@ -612,7 +614,7 @@ def timed_check(bins, path, checks, log_stem, args):
             res["passed"] = bool(res["report"].get("passed"))
             res["failed_checks"] = [c["name"] for c in res["report"].get("checks", []) if not c.get("passed")]
         if best is None or (res["status"] == "ok" and (best["status"] != "ok" or
-                                                        (res["cpu_seconds"] or 1e30) < (best["cpu_seconds"] or 1e30))):
+                                                        (res[key] or 1e30) < (best[key] or 1e30))):
             best = res
         if res["status"] != "ok":
             break
@@ -676,8 +678,10 @@ def check_markdown(header, rows):
            f"`bpm-simplify --vertices {header['target_vertices']}` (made here when missing or older than bpm-simplify). "
            "Each run is `bpm-check --json FILE` (all four checks: format, intersections, topology, bijectivity) or "
            "`bpm-check --json --checks C FILE` (one check), under `/usr/bin/time`: wall and CPU (user + system) "
-           "seconds of the whole process, reading the .bpm included; bpm-check is single-threaded. "
-           f"{'Best of ' + str(header['repeats']) + ' runs by CPU time; ' if header['repeats'] > 1 else ''}"
+           "seconds of the whole process, reading the .bpm included. bpm-check runs the structural checks (format, "
+           "intersections, topology) on a second thread next to bijectivity (its default `--threads 0`: up to 2), so "
+           "with all checks CPU can exceed wall; one check alone runs on one thread. "
+           f"{'Best of ' + str(header['repeats']) + ' runs (all checks: by wall time, the target; one check: by CPU time); ' if header['repeats'] > 1 else ''}"
            f"timeout {header['timeout_s']} s per run. The machine is shared, so wall times carry noise; CPU time is "
            "the steadier number.", "",
            "## All four checks", "",
@@ -698,6 +702,17 @@ def check_markdown(header, rows):
                    f"{fmt(a['cpu_seconds'], '.2f')} | {fmt(a['peak_mb'], '.0f')} | "
                    f"{kilo(per_second(n.get('original_triangles'), a['cpu_seconds']))} | "
                    f"{kilo(per_second(n.get('pieces'), a['cpu_seconds']))} | {result} |")
+    # The issue's target, on the largest input that was checked.
+    done = [r for r in rows if "error" not in r and r["all"]["status"] == "ok" and r["all"].get("seconds")
+            and r.get("counts", {}).get("original_triangles")]
+    if done:
+        big = max(done, key=lambda r: r["counts"]["original_triangles"])
+        t, wall = big["counts"]["original_triangles"], big["all"]["seconds"]
+        per_million = wall * 1e6 / t
+        out += ["", f"Target (issue 4): a file whose original has ~1 M triangles fully checked in ≤ 10 s on the 2-core "
+                    f"machine. Largest input here: {t / 1e3:,.0f}k original triangles in {wall:.2f} s wall, i.e. "
+                    f"{per_million:.1f} s per million original triangles (time is linear in the size: see the "
+                    f"throughput column) — target **{'met' if per_million <= 10 else 'not met'}**."]
     out += ["", "## Each check alone", "",
             "CPU seconds of `bpm-check --checks C` (one process per check, each reading the file). The `format` run "
             "is reading + the format check, the cheapest run possible, so for the other checks the check's own time "
@@ -1002,7 +1017,8 @@ def results_markdown(args, run, link):
             f"| bpm commit | {run['commit']} |"]
     for k, v in run.get("versions", {}).items():
         out.append(f"| {k} | {v} |")
-    out += ["", "The suites run one after the other, each tool single-threaded. On a shared or loaded machine the "
+    out += ["", "The suites run one after the other, each tool single-threaded except bpm-check (structural checks on a "
+                "second thread) and the φ throughput rows with 2 threads. On a shared or loaded machine the "
                 "wall times carry noise; the tables also give CPU seconds, the steadier number.", "",
             "## Commands", "",
             "Run from the repository root, in this order; logs in "
