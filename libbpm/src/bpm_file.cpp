@@ -21,6 +21,8 @@
 #include <limits>
 #include <optional>
 #include <sstream>
+#include <type_traits>
+#include <vector>
 
 #include "bpm/errors.h"
 #include "bpm/version.h"
@@ -602,15 +604,185 @@ std::string build_image(const BpmFile& file, const std::string& where) {
 constexpr double kMaxCompressionRatio = 1100;
 constexpr hsize_t kMaxRows = hsize_t(1) << 40;
 
+// The results of a Reader's calls, in call order. The isolated child records them
+// while it parses with HDF5 (read_checked); the parent replays them, so that it runs
+// our parsing and validation on exactly what the child saw without calling HDF5 on
+// the bytes itself (once per file instead of twice, and never in-process).
+class Tape {
+public:
+    Tape() = default;
+    explicit Tape(std::string bytes) : bytes_(std::move(bytes)) {}
+    std::string& bytes() { return bytes_; }
+    bool finished() const { return pos_ == bytes_.size(); }
+
+    template <class T>
+    void put(const T& value) {
+        static_assert(std::is_trivially_copyable_v<T>);
+        bytes_.append(reinterpret_cast<const char*>(&value), sizeof value);
+    }
+    template <class T>
+    void put(const std::vector<T>& values) {
+        put<uint64_t>(values.size());
+        bytes_.append(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(T));
+    }
+    void put(const std::string& text) {
+        put<uint64_t>(text.size());
+        bytes_.append(text);
+    }
+    void put(const std::vector<std::string>& texts) {
+        put<uint64_t>(texts.size());
+        for (const std::string& t : texts) put(t);
+    }
+    // Integers are read as int64 but mostly stored as int32: recorded as 32-bit values
+    // when they all fit, which halves the tape.
+    void put_ints(const std::vector<int64_t>& values) {
+        const bool narrow = std::all_of(values.begin(), values.end(), [](int64_t v) {
+            return v >= std::numeric_limits<int32_t>::min() && v <= std::numeric_limits<int32_t>::max();
+        });
+        put<uint8_t>(narrow ? 4 : 8);
+        if (!narrow) return put(values);
+        put<uint64_t>(values.size());
+        const size_t at = bytes_.size();
+        bytes_.resize(at + values.size() * sizeof(int32_t));
+        for (size_t i = 0; i < values.size(); ++i) {
+            const int32_t v = static_cast<int32_t>(values[i]);
+            std::memcpy(&bytes_[at + i * sizeof v], &v, sizeof v);
+        }
+    }
+
+    template <class T>
+    T get() {
+        static_assert(std::is_trivially_copyable_v<T>);
+        T value;
+        std::memcpy(&value, take(sizeof value), sizeof value);
+        return value;
+    }
+    template <class T>
+    std::vector<T> get_vector() {
+        const auto n = get<uint64_t>();
+        if (n > (bytes_.size() - pos_) / sizeof(T)) corrupt();
+        std::vector<T> out(static_cast<size_t>(n));
+        if (n) std::memcpy(out.data(), take(n * sizeof(T)), n * sizeof(T));
+        return out;
+    }
+    std::vector<int64_t> get_ints() {
+        if (get<uint8_t>() == 8) return get_vector<int64_t>();
+        const std::vector<int32_t> narrow = get_vector<int32_t>();
+        return std::vector<int64_t>(narrow.begin(), narrow.end());
+    }
+    std::string get_string() {
+        const auto n = get<uint64_t>();
+        if (n > bytes_.size() - pos_) corrupt();
+        return std::string(take(n), static_cast<size_t>(n));
+    }
+    std::vector<std::string> get_strings() {
+        const auto n = get<uint64_t>();
+        if (n > bytes_.size() - pos_) corrupt();
+        std::vector<std::string> out(static_cast<size_t>(n));
+        for (auto& t : out) t = get_string();
+        return out;
+    }
+
+private:
+    std::string bytes_;
+    size_t pos_ = 0;
+    const char* take(uint64_t n) {
+        if (n > bytes_.size() - pos_) corrupt();
+        const char* p = bytes_.data() + pos_;
+        pos_ += static_cast<size_t>(n);
+        return p;
+    }
+    // Only a bug could get here: the tape comes from a copy of this process running the
+    // same code on the same bytes.
+    [[noreturn]] static void corrupt() { throw AlgorithmError("internal error: the replayed HDF5 reads ran out"); }
+};
+
 class Reader {
 public:
     Reader(std::string where, size_t file_size) : where_(std::move(where)), file_size_(file_size) {}
+    // At most one of the two: record every result on `record` (while reading with
+    // HDF5), or take every result from `replay` instead of HDF5.
+    void set_tape(Tape* record, Tape* replay) {
+        record_ = record;
+        replay_ = replay;
+    }
+    bool replaying() const { return replay_ != nullptr; }
 
     [[noreturn]] void fail(const std::string& what) const { throw InputError(where_, what); }
 
     void set_file(hid_t f) { file_ = f; }
 
     bool exists(const std::string& path) const {
+        if (replay_) return replay_->get<uint8_t>() != 0;
+        const bool result = exists_live(path);
+        if (record_) record_->put<uint8_t>(result);
+        return result;
+    }
+
+    std::vector<double> read_floats(const std::string& path, hsize_t cols, const char* shape_text,
+                                    hsize_t& rows) const {
+        if (replay_) {
+            rows = replay_->get<hsize_t>();
+            return replay_->get_vector<double>();
+        }
+        auto result = read_floats_live(path, cols, shape_text, rows);
+        if (record_) {
+            record_->put(rows);
+            record_->put(result);
+        }
+        return result;
+    }
+
+    std::vector<int64_t> read_ints(const std::string& path, hsize_t cols, const char* shape_text, hsize_t& rows) const {
+        if (replay_) {
+            rows = replay_->get<hsize_t>();
+            return replay_->get_ints();
+        }
+        auto result = read_ints_live(path, cols, shape_text, rows);
+        if (record_) {
+            record_->put(rows);
+            record_->put_ints(result);
+        }
+        return result;
+    }
+
+    std::vector<std::string> read_strings(const std::string& path, hsize_t& rows) const {
+        if (replay_) {
+            rows = replay_->get<hsize_t>();
+            return replay_->get_strings();
+        }
+        auto result = read_strings_live(path, rows);
+        if (record_) {
+            record_->put(rows);
+            record_->put(result);
+        }
+        return result;
+    }
+
+    std::string read_string_attribute(const std::string& name, bool required) const {
+        if (replay_) return replay_->get_string();
+        auto result = read_string_attribute_live(name, required);
+        if (record_) record_->put(result);
+        return result;
+    }
+
+    std::vector<int64_t> read_object_int_attribute(const std::string& path, const std::string& name) const {
+        if (replay_) return replay_->get_vector<int64_t>();
+        auto result = read_object_int_attribute_live(path, name);
+        if (record_) record_->put(result);
+        return result;
+    }
+
+    std::vector<int64_t> read_int_attribute(const std::string& name) const {
+        if (replay_) return replay_->get_vector<int64_t>();
+        auto result = read_int_attribute_live(name);
+        if (record_) record_->put(result);
+        return result;
+    }
+
+private:
+    // ---- the HDF5 side: never calls the public (recording) functions above ----
+    bool exists_live(const std::string& path) const {
         // Walk the path one link at a time: H5Lexists fails on a missing parent.
         size_t pos = 1;
         while (true) {
@@ -624,7 +796,7 @@ public:
     }
 
     Handle open_dataset(const std::string& path) const {
-        if (!exists(path)) fail(path + ": missing dataset");
+        if (!exists_live(path)) fail(path + ": missing dataset");
         hid_t id = H5Oopen(file_, path.c_str(), H5P_DEFAULT);
         if (id < 0) fail(path + ": cannot open (" + hdf5_error_text() + ")");
         if (H5Iget_type(id) != H5I_DATASET) {
@@ -669,8 +841,8 @@ public:
         if (!type.valid() || H5Tget_class(type) != cls) fail(path + ": wrong datatype, expected " + what);
     }
 
-    std::vector<double> read_floats(const std::string& path, hsize_t cols, const char* shape_text,
-                                    hsize_t& rows) const {
+    std::vector<double> read_floats_live(const std::string& path, hsize_t cols, const char* shape_text,
+                                         hsize_t& rows) const {
         Handle ds = open_dataset(path);
         require_class(ds, path, H5T_FLOAT, "a floating-point type (float64)");
         rows = shape(ds, path, cols, shape_text);
@@ -682,7 +854,8 @@ public:
 
     // Integers are read as int64 whatever their stored width, so that out-of-range
     // values are seen (and reported) instead of being clipped by a conversion.
-    std::vector<int64_t> read_ints(const std::string& path, hsize_t cols, const char* shape_text, hsize_t& rows) const {
+    std::vector<int64_t> read_ints_live(const std::string& path, hsize_t cols, const char* shape_text,
+                                        hsize_t& rows) const {
         Handle ds = open_dataset(path);
         require_class(ds, path, H5T_INTEGER, "an integer type");
         rows = shape(ds, path, cols, shape_text);
@@ -692,7 +865,7 @@ public:
         return out;
     }
 
-    std::vector<std::string> read_strings(const std::string& path, hsize_t& rows) const {
+    std::vector<std::string> read_strings_live(const std::string& path, hsize_t& rows) const {
         Handle ds = open_dataset(path);
         require_class(ds, path, H5T_STRING, "a string type");
         rows = shape(ds, path, 0, "(#steps,)");
@@ -736,7 +909,7 @@ public:
     }
 
     // A scalar (or one-element) string attribute, fixed or variable length.
-    std::string read_string_attribute(const std::string& name, bool required) const {
+    std::string read_string_attribute_live(const std::string& name, bool required) const {
         Handle attr = open_attribute(name, required);
         if (!attr.valid()) return {};
         Handle ftype(H5Aget_type(attr), H5Tclose);
@@ -763,7 +936,7 @@ public:
     }
 
     // An integer attribute of the object at `path` (a group or dataset).
-    std::vector<int64_t> read_object_int_attribute(const std::string& path, const std::string& name) const {
+    std::vector<int64_t> read_object_int_attribute_live(const std::string& path, const std::string& name) const {
         const std::string what = path + ": attribute '" + name + "'";
         if (H5Aexists_by_name(file_, path.c_str(), name.c_str(), H5P_DEFAULT) <= 0) fail(what + ": missing");
         Handle attr(H5Aopen_by_name(file_, path.c_str(), name.c_str(), H5P_DEFAULT, H5P_DEFAULT), H5Aclose);
@@ -778,7 +951,7 @@ public:
         return out;
     }
 
-    std::vector<int64_t> read_int_attribute(const std::string& name) const {
+    std::vector<int64_t> read_int_attribute_live(const std::string& name) const {
         Handle attr = open_attribute(name, true);
         Handle ftype(H5Aget_type(attr), H5Tclose);
         if (!ftype.valid() || H5Tget_class(ftype) != H5T_INTEGER)
@@ -792,10 +965,11 @@ public:
         return out;
     }
 
-private:
     std::string where_;
     size_t file_size_;
     hid_t file_ = -1;
+    Tape* record_ = nullptr;
+    Tape* replay_ = nullptr;
 };
 
 // Narrows checked int64 values to int32; values outside int32 are reported here (the
@@ -905,7 +1079,10 @@ SimplificationSteps read_simplification_steps_group(const Reader& r, int64_t nv0
     return s;
 }
 
-BpmFile read_image(const std::string& bytes, const std::string& where) {
+// `record`: also record every HDF5 result there; `replay`: take them from there and
+// do not call HDF5 at all (see Tape).
+BpmFile read_image(const std::string& bytes, const std::string& where, Tape* record = nullptr,
+                   Tape* replay = nullptr) {
     silence_hdf5();
     if (bytes.empty()) throw InputError(where, "empty input, not a bpm file");
     static const char kSignature[8] = {'\x89', 'H', 'D', 'F', '\r', '\n', '\x1a', '\n'};
@@ -917,15 +1094,19 @@ BpmFile read_image(const std::string& bytes, const std::string& where) {
     if (!signature) throw InputError(where, "not an HDF5 file (no HDF5 signature), so not a bpm file");
 
     Reader r(where, bytes.size());
-    Handle fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose);
-    if (!fapl.valid() || H5Pset_fapl_core(fapl, size_t(1) << 20, false) < 0 ||
-        H5Pset_file_image(fapl, const_cast<char*>(bytes.data()), bytes.size()) < 0)
-        r.fail("cannot prepare the HDF5 file image (" + hdf5_error_text() + ")");
-    const std::string name = "bpm-read-" + std::to_string(g_image_counter++) + ".h5";
-    hid_t fid = H5Fopen(name.c_str(), H5F_ACC_RDONLY, fapl);
-    if (fid < 0) r.fail("cannot open as HDF5, file truncated or damaged (" + hdf5_error_text() + ")");
-    Handle f(fid, H5Fclose);
-    r.set_file(f);
+    r.set_tape(record, replay);
+    Handle f;
+    if (!r.replaying()) {
+        Handle fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose);
+        if (!fapl.valid() || H5Pset_fapl_core(fapl, size_t(1) << 20, false) < 0 ||
+            H5Pset_file_image(fapl, const_cast<char*>(bytes.data()), bytes.size()) < 0)
+            r.fail("cannot prepare the HDF5 file image (" + hdf5_error_text() + ")");
+        const std::string name = "bpm-read-" + std::to_string(g_image_counter++) + ".h5";
+        hid_t fid = H5Fopen(name.c_str(), H5F_ACC_RDONLY, fapl);
+        if (fid < 0) r.fail("cannot open as HDF5, file truncated or damaged (" + hdf5_error_text() + ")");
+        f = Handle(fid, H5Fclose);
+        r.set_file(f);
+    }
 
     BpmFile out;
     // Identification first, so that a file of some other kind, or from a future
@@ -1004,6 +1185,8 @@ BpmFile read_image(const std::string& bytes, const std::string& where) {
     if (r.exists("/tetmesh")) out.tetmesh = read_tetmesh_group(r, p.coarse);
     if (r.exists("/simplification_steps"))
         out.simplification_steps = read_simplification_steps_group(r, p.original.num_vertices());
+    if (replay && !replay->finished())
+        throw AlgorithmError("internal error: the replayed HDF5 reads did not match the recorded ones");
     // Non-crossing nodes carry NaN as their edge parameter; normalise whatever the file
     // had so that a read file compares equal to what was written.
     for (size_t i = 0; i < p.node_edge_parameter.size(); ++i)
@@ -1030,14 +1213,25 @@ namespace {
 // Validating the HDF5 structures ourselves would mean re-implementing much of HDF5 and
 // would still miss bugs in the parts we did not re-implement, and catching SIGSEGV
 // in-process cannot undo a corrupted heap. So, when isolation is on (the tools turn it
-// on), the bytes are parsed first in a forked child process: a crash there becomes an
-// InputError, and only bytes the child survived are parsed in-process (the child was an
-// exact copy of this process, so the second parse takes the same path). Costs one more
-// parse of the file.
+// on), the bytes are parsed in a forked child process: a crash there becomes an
+// InputError. The child records the result of every HDF5 read on a Tape and sends it
+// back; the parent then runs the same parsing and validation on the replayed results,
+// without calling HDF5 on the bytes (the child was an exact copy of this process, so
+// the parent asks for the same reads in the same order).
 std::atomic<bool> g_hdf5_isolation{false};
 
 BpmFile read_checked(const std::string& bytes, const std::string& where) {
-    if (g_hdf5_isolation) detail::run_isolated(where, "HDF5", [&] { (void)read_image(bytes, where); });
+    if (g_hdf5_isolation) {
+        std::optional<std::string> recorded = detail::run_isolated(where, "HDF5", [&] {
+            Tape tape;
+            (void)read_image(bytes, where, &tape);
+            return std::move(tape.bytes());
+        });
+        if (recorded) {
+            Tape tape(std::move(*recorded));
+            return read_image(bytes, where, nullptr, &tape);
+        }
+    }
     return read_image(bytes, where);
 }
 

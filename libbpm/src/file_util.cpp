@@ -9,13 +9,16 @@
 #include <sys/prctl.h>
 #endif
 
+#include <algorithm>
 #include <cerrno>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <iostream>
 #include <random>
+#include <vector>
 
 #include "bpm/errors.h"
 
@@ -182,15 +185,16 @@ constexpr int kChildInputError = 3;
 constexpr int kChildOtherError = 70;
 }  // namespace
 
-void run_isolated(const std::string& where, const std::string& library, const std::function<void()>& parse) {
+std::optional<std::string> run_isolated(const std::string& where, const std::string& library,
+                                        const std::function<std::string()>& parse) {
     int fds[2];
-    if (::pipe2(fds, O_CLOEXEC) != 0) return;
+    if (::pipe2(fds, O_CLOEXEC) != 0) return std::nullopt;
     std::fflush(nullptr);  // nothing buffered may be written twice
     const pid_t pid = ::fork();
     if (pid < 0) {
         ::close(fds[0]);
         ::close(fds[1]);
-        return;
+        return std::nullopt;
     }
     if (pid == 0) {
         // The child: parse, report, and leave with _exit (no atexit handlers, no stdio
@@ -209,17 +213,28 @@ void run_isolated(const std::string& where, const std::string& library, const st
             ::signal(std::atoi(crash), SIG_DFL);
             ::raise(std::atoi(crash));
         }
+        // The pipe carries the result on success, the message on an InputError; first
+        // its length (8 bytes), so that the parent can allocate it at once.
+        auto send = [&](const std::string& bytes) {
+            const uint64_t length = bytes.size();
+            const char* parts[2] = {reinterpret_cast<const char*>(&length), bytes.data()};
+            const size_t sizes[2] = {sizeof length, bytes.size()};
+            for (int part = 0; part < 2; ++part) {
+                size_t done = 0;
+                while (done < sizes[part]) {
+                    const ssize_t n = ::write(fds[1], parts[part] + done, sizes[part] - done);
+                    if (n < 0 && errno == EINTR) continue;
+                    if (n <= 0) return false;
+                    done += static_cast<size_t>(n);
+                }
+            }
+            return true;
+        };
         int code = kChildOk;
         try {
-            parse();
+            if (!send(parse())) code = kChildOtherError;  // the parent then parses in-process
         } catch (const InputError& e) {
-            const std::string message = e.what();
-            size_t done = 0;
-            while (done < message.size()) {
-                const ssize_t n = ::write(fds[1], message.data() + done, message.size() - done);
-                if (n <= 0 && errno != EINTR) break;
-                if (n > 0) done += static_cast<size_t>(n);
-            }
+            send(e.what());
             code = kChildInputError;
         } catch (...) {
             code = kChildOtherError;
@@ -227,20 +242,35 @@ void run_isolated(const std::string& where, const std::string& library, const st
         ::_exit(code);
     }
     ::close(fds[1]);
+    // The result, or the message of an InputError, after its 8-byte length. Whatever
+    // arrives is read to the end (the child must not block on a full pipe).
     std::string message;
-    char buffer[4096];
-    for (;;) {
-        const ssize_t n = ::read(fds[0], buffer, sizeof buffer);
-        if (n < 0 && errno == EINTR) continue;
-        if (n <= 0) break;
-        message.append(buffer, static_cast<size_t>(n));
+    {
+        uint64_t length = 0;
+        size_t got = 0;
+        std::vector<char> buffer(size_t(1) << 16);  // appended to `message`, reserved at once
+        for (;;) {
+            const bool header = got < sizeof length;
+            char* into = header ? reinterpret_cast<char*>(&length) + got : buffer.data();
+            const size_t room = header ? sizeof length - got : buffer.size();
+            const ssize_t n = ::read(fds[0], into, room);
+            if (n < 0 && errno == EINTR) continue;
+            if (n <= 0) break;
+            if (header) {
+                got += static_cast<size_t>(n);
+                if (got == sizeof length) message.reserve(static_cast<size_t>(std::min<uint64_t>(length, uint64_t(1) << 36)));
+            } else {
+                message.append(into, static_cast<size_t>(n));
+            }
+        }
     }
     ::close(fds[0]);
     int status = 0;
     while (::waitpid(pid, &status, 0) < 0) {
-        if (errno != EINTR) return;  // cannot tell what happened: parse in-process
+        if (errno != EINTR) return std::nullopt;  // cannot tell what happened: parse in-process
     }
-    if (WIFEXITED(status) && (WEXITSTATUS(status) == kChildOk || WEXITSTATUS(status) == kChildOtherError)) return;
+    if (WIFEXITED(status) && WEXITSTATUS(status) == kChildOk) return message;
+    if (WIFEXITED(status) && WEXITSTATUS(status) == kChildOtherError) return std::nullopt;
     if (WIFEXITED(status) && WEXITSTATUS(status) == kChildInputError) throw InputError(where, message);
     if (WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL)
         throw InputError(where, "the process reading it with the " + library +

@@ -3,6 +3,7 @@
 
 #include <cstddef>
 #include <functional>
+#include <optional>
 #include <string>
 
 namespace bpm::detail {
@@ -31,18 +32,18 @@ std::string display_name(const std::string& path);
 // on a corrupt input cannot take the caller down with it. The child's standard output
 // and error go to /dev/null; it dies with its parent (PR_SET_PDEATHSIG) and never writes
 // files. Outcomes:
-//   * `parse` returned in the child: returns. The caller then parses in-process; the child
-//     was an exact copy of this process, so the same bytes take the same (now known to be
-//     survivable) path.
+//   * `parse` returned in the child: returns what it returned, sent back through a pipe
+//     (e.g. the results of the parser's calls, for the caller to replay).
 //   * `parse` threw InputError in the child: throws InputError(where, its message).
 //   * the child died from a signal, or exited in any other way than the three above (an
 //     ASan/UBSan report in a sanitized build): throws InputError(where, "the <library>
 //     library crashed reading it (...): the file is corrupt").
-//   * `parse` threw anything else, or fork() failed: returns (the in-process parse then
-//     reports it as usual, or runs unprotected).
+//   * `parse` threw anything else, or fork() failed: returns nothing (the caller then
+//     parses in-process, which reports it as usual, or runs unprotected).
 // Test hook: with the environment variable BPM_TEST_ISOLATED_CRASH=N (a signal number)
 // the child raises signal N instead of parsing, so that tests can exercise the crash path
 // without a file that crashes the library for real.
-void run_isolated(const std::string& where, const std::string& library, const std::function<void()>& parse);
+std::optional<std::string> run_isolated(const std::string& where, const std::string& library,
+                                        const std::function<std::string()>& parse);
 
 }  // namespace bpm::detail
