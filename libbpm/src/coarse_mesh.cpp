@@ -134,14 +134,17 @@ void CoarseMesh::remove_triangle(int32_t t) {
 void CoarseMesh::mark_feature_edges(double feature_angle_degrees) {
     const double cos_limit = std::cos(feature_angle_degrees * M_PI / 180.0);
     const auto& p = *positions_;
-    std::unordered_set<uint64_t> seen;
     std::vector<int32_t> around;
     for (int32_t t = 0; t < int32_t(triangles_.size()); ++t) {
         if (!alive_[t]) continue;
         for (int k = 0; k < 3; ++k) {
             const int32_t a = triangles_[t][k], b = triangles_[t][(k + 1) % 3];
-            if (!seen.insert(edge_key(a, b)).second) continue;
+            // Each edge once, from the first triangle that has it: the triangle lists
+            // are in increasing id (nothing was removed yet), so that is around[0].
+            // (A triangle with a repeated corner may meet an edge twice; marking is
+            // idempotent.)
             edge_triangles(a, b, around);
+            if (around.empty() || around[0] != t) continue;
             bool feature = around.size() != 2;
             if (!feature && patches_[around[0]] != patches_[around[1]]) feature = true;
             if (feature) {

@@ -14,6 +14,51 @@ void erase_one(std::vector<int32_t>& list, int32_t value) {
 }
 }  // namespace
 
+void EdgeContentMap::rehash(size_t capacity) {
+    std::vector<value_type> old;
+    old.swap(slots_);
+    slots_.resize(capacity);
+    for (auto& slot : slots_) slot.first = kEmpty;
+    shift_ = 64;
+    for (size_t c = capacity; c > 1; c >>= 1) --shift_;
+    const size_t mask = capacity - 1;
+    for (auto& entry : old) {
+        if (entry.first == kEmpty) continue;
+        size_t i = home(entry.first);
+        while (slots_[i].first != kEmpty) i = (i + 1) & mask;
+        slots_[i] = std::move(entry);
+    }
+}
+
+EdgeContent& EdgeContentMap::operator[](uint64_t key) {
+    if (value_type* entry = find(key)) return entry->second;
+    if (2 * (size_ + 1) > slots_.size()) rehash(std::max<size_t>(64, 2 * slots_.size()));
+    const size_t mask = slots_.size() - 1;
+    size_t i = home(key);
+    while (slots_[i].first != kEmpty) i = (i + 1) & mask;
+    slots_[i].first = key;
+    ++size_;
+    return slots_[i].second;
+}
+
+void EdgeContentMap::erase(const value_type* entry) {
+    // Backward-shift deletion: move later entries of the probe run into the hole when
+    // their home slot does not lie after it, so that lookups need no tombstones.
+    const size_t mask = slots_.size() - 1;
+    size_t hole = static_cast<size_t>(entry - slots_.data());
+    for (size_t j = (hole + 1) & mask; slots_[j].first != kEmpty; j = (j + 1) & mask) {
+        const size_t h = home(slots_[j].first);
+        if (((j - h) & mask) >= ((j - hole) & mask)) {
+            slots_[hole] = std::move(slots_[j]);
+            hole = j;
+        }
+    }
+    slots_[hole].first = kEmpty;
+    slots_[hole].second.vertices.clear();
+    slots_[hole].second.crossing_edges.clear();
+    --size_;
+}
+
 void Embedding::init_identity(const Surface& s, int32_t triangle_capacity) {
     original = &s;
     const int32_t nv = s.num_vertices();

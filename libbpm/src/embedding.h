@@ -10,7 +10,7 @@
 // vertex removal only touches what lies strictly inside the removed star.
 
 #include <cstdint>
-#include <unordered_map>
+#include <utility>
 #include <vector>
 
 #include "bpm/geometry.h"
@@ -48,6 +48,42 @@ struct EdgeContent {
     std::vector<int32_t> crossing_edges;  // original edge ids with a Crossing here (once per edge)
 };
 
+// Edge key -> EdgeContent, open addressing with linear probing and backward-shift
+// deletion. The planner looks coarse edges up several times per plan, millions of
+// times per run; std::unordered_map's prime-modulo buckets and separate nodes made
+// those lookups cost a few percent of the run time. Interface as far as it is used:
+// find() gives a pointer to the (key, content) pair, or end() (nullptr); pointers are
+// valid until the next operator[] or erase().
+class EdgeContentMap {
+public:
+    using value_type = std::pair<uint64_t, EdgeContent>;
+    value_type* find(uint64_t key) { return const_cast<value_type*>(std::as_const(*this).find(key)); }
+    const value_type* find(uint64_t key) const {
+        if (slots_.empty()) return nullptr;
+        const size_t mask = slots_.size() - 1;
+        for (size_t i = home(key);; i = (i + 1) & mask) {
+            if (slots_[i].first == key) return &slots_[i];
+            if (slots_[i].first == kEmpty) return nullptr;
+        }
+    }
+    const value_type* end() const { return nullptr; }
+    EdgeContent& operator[](uint64_t key);  // inserts an empty content if absent
+    void erase(const value_type* entry);
+    void clear() {
+        slots_.clear();
+        size_ = 0;
+        shift_ = 64;
+    }
+
+private:
+    static constexpr uint64_t kEmpty = ~uint64_t(0);  // no edge_key(): both halves are < 2^31
+    std::vector<value_type> slots_;  // power-of-two size, at most half full
+    size_t size_ = 0;
+    int shift_ = 64;  // 64 - log2(slots_.size())
+    size_t home(uint64_t key) const { return size_t((key * 0x9E3779B97F4A7C15ull) >> shift_); }
+    void rehash(size_t capacity);
+};
+
 struct Embedding {
     const Surface* original = nullptr;
     std::vector<std::array<int32_t, 2>> edges;  // original edges (u < w), sorted
@@ -60,7 +96,7 @@ struct Embedding {
     std::vector<std::vector<Crossing>> path;     // per original edge, ordered from u to w
     std::vector<uint32_t> path_version;          // per original edge, bumped by set_path
     std::vector<std::vector<int32_t>> inside;    // per coarse triangle id: vertices located Inside
-    std::unordered_map<uint64_t, EdgeContent> edge_content;
+    EdgeContentMap edge_content;
 
     // Identity embedding: every original vertex at its own corner, no crossings.
     void init_identity(const Surface& original_surface, int32_t triangle_capacity);

@@ -34,7 +34,7 @@ inline bool three_on_one_edge(const GraphNode& a, const GraphNode& b, const Grap
 // Position of node n along local edge k, from corner k (0) to corner k+1 (1).
 inline double along_edge(const GraphNode& n, int k) { return n.bary[(k + 1) % 3]; }
 
-void set_reason(std::string* why, const std::string& text) {
+void set_reason(std::string* why, const char* text) {
     if (why) *why = text;
 }
 
@@ -72,8 +72,13 @@ bool image_barycentric(const GraphNode& n, const Embedding& embedding, int32_t o
     return false;
 }
 
-bool compute_faces(const TriangleGraph& graph, const Embedding& embedding, const std::vector<int8_t>& orientation_sign,
-                   std::vector<OverlayFace>& faces, std::string* why) {
+namespace {
+
+// compute_faces() without shrinking `faces` at the end: the first `face_count` entries
+// are the faces; the others keep their corner buffers for the next call.
+bool faces_into(const TriangleGraph& graph, const Embedding& embedding, const std::vector<int8_t>& orientation_sign,
+                std::vector<OverlayFace>& faces, size_t& face_count, std::string* why) {
+    face_count = 0;
     const auto& nodes = graph.nodes;
     const int32_t n = static_cast<int32_t>(nodes.size());
 
@@ -83,19 +88,16 @@ bool compute_faces(const TriangleGraph& graph, const Embedding& embedding, const
         int32_t edge;   // original edge id along this link, or -1
         bool boundary_ccw;  // a side of the triangle traversed counter-clockwise
         bool boundary_cw;   // the same side traversed the other way (outer face)
+        int8_t half = 0;    // sort key: half-plane of the direction, 0 for angles in [0, pi)
+        Vec2 far{};         // sort key: parameter point of `to`
     };
-    // Directed links in CSR form (thread-local buffers: this runs for every candidate
-    // removal, so it must not allocate).
-    struct Directed {
-        int32_t from;
-        Link link;
-    };
-    static thread_local std::vector<Directed> directed;
+    // Links of all nodes in CSR form (thread-local buffers: this runs for every candidate
+    // removal, so it must not allocate). Per node, the links are in the order: sides 0,
+    // 1, 2 split at their nodes, then the segments.
     static thread_local std::vector<Link> flat;
     static thread_local std::vector<int32_t> offset;
     static thread_local std::vector<uint8_t> used_flat;
-    static thread_local std::vector<int32_t> side;
-    directed.clear();
+    static thread_local std::vector<int32_t> chain[3];  // per side: its nodes from corner k to corner k+1
     int32_t num_edges = 0;
     int32_t corner_node[3] = {-1, -1, -1};
     for (int32_t i = 0; i < n; ++i)
@@ -105,25 +107,30 @@ bool compute_faces(const TriangleGraph& graph, const Embedding& embedding, const
             set_reason(why, "corner node missing");
             return false;
         }
+    // The nodes on each side, in one pass over the nodes (in increasing index, the
+    // order the sort below starts from).
     for (int k = 0; k < 3; ++k) {
-        side.clear();
-        for (int32_t i = 0; i < n; ++i)
-            if (nodes[i].on_edge == k) side.push_back(i);
-        std::sort(side.begin(), side.end(),
+        chain[k].clear();
+        chain[k].push_back(corner_node[k]);
+    }
+    for (int32_t i = 0; i < n; ++i)
+        if (nodes[i].on_edge >= 0) chain[nodes[i].on_edge].push_back(i);
+    offset.assign(n + 1, 0);
+    for (int k = 0; k < 3; ++k) {
+        auto& side = chain[k];
+        std::sort(side.begin() + 1, side.end(),
                   [&](int32_t a, int32_t b) { return along_edge(nodes[a], k) < along_edge(nodes[b], k); });
-        for (size_t j = 0; j < side.size(); ++j) {
+        for (size_t j = 1; j < side.size(); ++j) {
             const double x = along_edge(nodes[side[j]], k);
-            if (!(x > 0.0 && x < 1.0) || (j > 0 && !(along_edge(nodes[side[j - 1]], k) < x))) {
+            if (!(x > 0.0 && x < 1.0) || (j > 1 && !(along_edge(nodes[side[j - 1]], k) < x))) {
                 set_reason(why, "nodes on a coarse edge coincide or lie outside it");
                 return false;
             }
         }
-        side.insert(side.begin(), corner_node[k]);
         side.push_back(corner_node[(k + 1) % 3]);
         for (size_t j = 0; j + 1 < side.size(); ++j) {
-            const int32_t a = side[j], b = side[j + 1];
-            directed.push_back({a, {b, -1, true, false}});
-            directed.push_back({b, {a, -1, false, true}});
+            ++offset[side[j] + 1];
+            ++offset[side[j + 1] + 1];
             ++num_edges;
         }
     }
@@ -132,18 +139,25 @@ bool compute_faces(const TriangleGraph& graph, const Embedding& embedding, const
             set_reason(why, "degenerate segment");
             return false;
         }
-        directed.push_back({s.n0, {s.n1, s.edge, false, false}});
-        directed.push_back({s.n1, {s.n0, s.edge, false, false}});
+        ++offset[s.n0 + 1];
+        ++offset[s.n1 + 1];
         ++num_edges;
     }
-    offset.assign(n + 1, 0);
-    for (const Directed& d : directed) ++offset[d.from + 1];
     for (int32_t i = 0; i < n; ++i) offset[i + 1] += offset[i];
-    flat.resize(directed.size());
+    flat.resize(offset[n]);
     {
         static thread_local std::vector<int32_t> fill;
         fill.assign(offset.begin(), offset.end() - 1);
-        for (const Directed& d : directed) flat[fill[d.from]++] = d.link;
+        for (const auto& side : chain)
+            for (size_t j = 0; j + 1 < side.size(); ++j) {
+                const int32_t a = side[j], b = side[j + 1];
+                flat[fill[a]++] = {b, -1, true, false};
+                flat[fill[b]++] = {a, -1, false, true};
+            }
+        for (const GraphSegment& s : graph.segments) {
+            flat[fill[s.n0]++] = {s.n1, s.edge, false, false};
+            flat[fill[s.n1]++] = {s.n0, s.edge, false, false};
+        }
     }
     // links of node i: flat[offset[i] .. offset[i+1])
     auto begin_of = [&](int32_t i) { return flat.begin() + offset[i]; };
@@ -154,17 +168,19 @@ bool compute_faces(const TriangleGraph& graph, const Embedding& embedding, const
     // from one node mean two edges on top of each other.
     for (int32_t i = 0; i < n; ++i) {
         const Vec2 p = param_point(nodes[i]);
-        auto half = [&](const Vec2& q) { return (q[1] > p[1] || (q[1] == p[1] && q[0] > p[0])) ? 0 : 1; };
+        // The sort keys of each link, computed once instead of in every comparison.
+        for (auto l = begin_of(i); l != end_of(i); ++l) {
+            l->far = param_point(nodes[l->to]);
+            l->half = (l->far[1] > p[1] || (l->far[1] == p[1] && l->far[0] > p[0])) ? 0 : 1;
+        }
         std::sort(begin_of(i), end_of(i), [&](const Link& a, const Link& b) {
-            const Vec2 qa = param_point(nodes[a.to]), qb = param_point(nodes[b.to]);
-            const int ha = half(qa), hb = half(qb);
-            if (ha != hb) return ha < hb;
-            return orient2d(p, qa, qb) > 0;
+            if (a.half != b.half) return a.half < b.half;
+            return orient2d(p, a.far, b.far) > 0;
         });
         const Link* li = &flat[offset[i]];
         const size_t m = static_cast<size_t>(offset[i + 1] - offset[i]);
         for (size_t j = 0; m > 1 && j < m; ++j) {
-            const int32_t a = li[j].to, b = li[(j + 1) % m].to;
+            const int32_t a = li[j].to, b = li[j + 1 == m ? 0 : j + 1].to;
             if (a == b) {
                 set_reason(why, "duplicate edge");
                 return false;
@@ -187,7 +203,6 @@ bool compute_faces(const TriangleGraph& graph, const Embedding& embedding, const
     };
     int32_t num_faces = 0;
     static thread_local std::vector<int32_t> corners, face_edges, face_vertices;
-    size_t face_count = 0;
     for (int32_t start = 0; start < n; ++start) {
         for (size_t js = 0; js < size_t(offset[start + 1] - offset[start]); ++js) {
             if (used_flat[offset[start] + js]) continue;
@@ -206,7 +221,7 @@ bool compute_faces(const TriangleGraph& graph, const Embedding& embedding, const
                 const int32_t w = l.to;
                 const int32_t back = position_of(w, u);
                 const int32_t m = offset[w + 1] - offset[w];
-                j = static_cast<size_t>((back - 1 + m) % m);
+                j = static_cast<size_t>(back == 0 ? m - 1 : back - 1);
                 u = w;
                 if (++guard > 4 * size_t(num_edges) + 8) {
                     set_reason(why, "face traversal did not close");
@@ -229,9 +244,9 @@ bool compute_faces(const TriangleGraph& graph, const Embedding& embedding, const
             // left winds k times if its edge direction enters the upper half-plane k times.
             int windings = 0;
             for (size_t c = 0; c < m; ++c) {
-                const GraphNode& a = nodes[corners[(c + m - 1) % m]];
+                const GraphNode& a = nodes[corners[c == 0 ? m - 1 : c - 1]];
                 const GraphNode& b = nodes[corners[c]];
-                const GraphNode& d = nodes[corners[(c + 1) % m]];
+                const GraphNode& d = nodes[corners[c + 1 == m ? 0 : c + 1]];
                 const Vec2 pa = param_point(a), pb = param_point(b), pd = param_point(d);
                 if (!three_on_one_edge(a, b, d) && orient2d(pa, pb, pd) <= 0) {
                     set_reason(why, "face not convex or flipped");
@@ -261,7 +276,8 @@ bool compute_faces(const TriangleGraph& graph, const Embedding& embedding, const
                 tri = embedding.triangle_of_edges(face_edges[0], face_edges[1]);
             } else {
                 // Fewer than two known edges: the vertices on the boundary decide.
-                std::vector<int32_t> vs = face_vertices;
+                static thread_local std::vector<int32_t> vs;
+                vs.assign(face_vertices.begin(), face_vertices.end());
                 if (face_edges.size() == 1) {
                     vs.push_back(embedding.edges[face_edges[0]][0]);
                     vs.push_back(embedding.edges[face_edges[0]][1]);
@@ -280,18 +296,24 @@ bool compute_faces(const TriangleGraph& graph, const Embedding& embedding, const
             }
             // Every corner must lie on that triangle, and the image must have the
             // orientation the coarse surface has relative to it.
+            // (The area terms are summed in the order c = 0 .. m-1 of
+            // cross(image[c], image[c+1 mod m]).)
             Vec3 beta;
             double image_area2 = 0.0;
-            static thread_local std::vector<Vec2> image;
-            image.resize(m);
+            Vec2 first_image{}, previous_image{};
             for (size_t c = 0; c < m; ++c) {
                 if (!image_barycentric(nodes[corners[c]], embedding, tri, beta)) {
                     set_reason(why, "face corner not on its original triangle");
                     return false;
                 }
-                image[c] = {beta[1], beta[2]};
+                const Vec2 image{beta[1], beta[2]};
+                if (c == 0)
+                    first_image = image;
+                else
+                    image_area2 += cross(previous_image, image);
+                previous_image = image;
             }
-            for (size_t c = 0; c < m; ++c) image_area2 += cross(image[c], image[(c + 1) % m]);
+            image_area2 += cross(previous_image, first_image);
             if (!(image_area2 * orientation_sign[tri] > 0.0)) {
                 set_reason(why, "face image flipped or degenerate");
                 return false;
@@ -303,13 +325,28 @@ bool compute_faces(const TriangleGraph& graph, const Embedding& embedding, const
             ++face_count;
         }
     }
-    faces.resize(face_count);
     // A connected plane graph has V - E + F = 2; otherwise something floats in a face.
     if (n - num_edges + num_faces != 2) {
         set_reason(why, "overlay is not a connected plane graph");
         return false;
     }
     return true;
+}
+
+}  // namespace
+
+bool compute_faces(const TriangleGraph& graph, const Embedding& embedding, const std::vector<int8_t>& orientation_sign,
+                   std::vector<OverlayFace>& faces, std::string* why) {
+    size_t face_count = 0;
+    const bool ok = faces_into(graph, embedding, orientation_sign, faces, face_count, why);
+    faces.resize(face_count);
+    return ok;
+}
+
+bool check_faces(const TriangleGraph& graph, const Embedding& embedding, const std::vector<int8_t>& orientation_sign,
+                 std::vector<OverlayFace>& scratch, std::string* why) {
+    size_t face_count = 0;
+    return faces_into(graph, embedding, orientation_sign, scratch, face_count, why);
 }
 
 bool triangulate_faces(const TriangleGraph& graph, const Embedding& embedding,

@@ -63,6 +63,12 @@ bool compute_faces(const TriangleGraph& graph, const Embedding& embedding,
                    const std::vector<int8_t>& orientation_sign, std::vector<OverlayFace>& faces,
                    std::string* why = nullptr);
 
+// compute_faces() for validation only: `scratch` keeps the buffers of its elements
+// between calls (this runs for every new triangle of every full removal plan); its
+// contents afterwards are unspecified.
+bool check_faces(const TriangleGraph& graph, const Embedding& embedding, const std::vector<int8_t>& orientation_sign,
+                 std::vector<OverlayFace>& scratch, std::string* why = nullptr);
+
 // Splits every face into triangles that are positively oriented both in the
 // parameter triangle and (times the orientation sign) in the original triangle.
 bool triangulate_faces(const TriangleGraph& graph, const Embedding& embedding,

@@ -4,6 +4,7 @@
 #include "bpm/simplify.h"
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -188,7 +189,7 @@ private:
     std::vector<std::string> last_reason_;
     RemovalPlan plan_;
     std::vector<std::unique_ptr<VertexRemover>> removers_;  // of threads 1.. (thread 0 uses remover_)
-    std::vector<std::vector<int32_t>> candidates_;           // per thread, for intersects_rest
+    std::vector<std::vector<TriangleGrid::Entry>> candidates_;  // per thread, for intersects_rest
     int32_t first_new_ = 0;
     std::atomic<int64_t> plans_[2] = {{0}, {0}};
     int64_t commits_ = 0;
@@ -196,7 +197,7 @@ private:
 
     VertexRemover& remover(int thread) { return thread == 0 ? *remover_ : *removers_[thread - 1]; }
     void rebuild_grid();
-    bool intersects_rest(const RemovalPlan& plan, std::vector<int32_t>& candidates) const;
+    bool intersects_rest(const RemovalPlan& plan, std::vector<TriangleGrid::Entry>& candidates) const;
     // Cost of removing v, +infinity if it cannot be removed now (reason recorded).
     // `final` = full validation of the transfer (needed before commit). The global
     // intersection test is separate (admissible_globally).
@@ -259,64 +260,78 @@ void Simplifier::rebuild_grid() {
     grid_built_at_ = mesh_.num_alive_triangles();
 }
 
-bool Simplifier::intersects_rest(const RemovalPlan& plan, std::vector<int32_t>& candidates) const {
+bool Simplifier::intersects_rest(const RemovalPlan& plan, std::vector<TriangleGrid::Entry>& candidates) const {
     const auto& x = original_.vertices;
-    for (size_t i = 0; i < plan.new_triangles.size(); ++i) {
+    const size_t count_new = plan.new_triangles.size();
+    // Boxes of the new triangles, and the box around all of them: one grid query for
+    // the whole star (the new triangles overlap the same few cells) instead of one per
+    // new triangle. Every triangle whose box meets a new triangle's box is in a cell
+    // that box meets, so the pairs tested below are exactly those of a query per
+    // triangle; the answer does not depend on the order of the tests.
+    static thread_local std::vector<std::array<Vec3, 2>> boxes;
+    boxes.resize(count_new);
+    Vec3 all_lo{}, all_hi{};
+    for (size_t i = 0; i < count_new; ++i) {
         const Tri& a = plan.new_triangles[i];
-        const Vec3 pa[3] = {x[a[0]], x[a[1]], x[a[2]]};
-        Vec3 lo, hi;
+        Vec3& lo = boxes[i][0];
+        Vec3& hi = boxes[i][1];
         for (int k = 0; k < 3; ++k) {
-            lo[k] = std::min({pa[0][k], pa[1][k], pa[2][k]});
-            hi[k] = std::max({pa[0][k], pa[1][k], pa[2][k]});
+            lo[k] = std::min({x[a[0]][k], x[a[1]][k], x[a[2]][k]});
+            hi[k] = std::max({x[a[0]][k], x[a[1]][k], x[a[2]][k]});
+            all_lo[k] = i == 0 ? lo[k] : std::min(all_lo[k], lo[k]);
+            all_hi[k] = i == 0 ? hi[k] : std::max(all_hi[k], hi[k]);
         }
-        auto test = [&](const Tri& b) {
-            int shared[3];
-            int count = 0;
-            for (int k = 0; k < 3; ++k) {
-                shared[k] = -1;
-                for (int j = 0; j < 3; ++j)
-                    if (a[k] == b[j]) {
-                        shared[k] = j;
-                        ++count;
-                    }
-            }
-            const Vec3 pb[3] = {x[b[0]], x[b[1]], x[b[2]]};
-            // Fast exact rejection: the unshared corners of one triangle strictly on one
-            // side of the other's plane means they meet at most in what they share.
-            if (count < 2) {
-                auto one_side = [&](const Vec3 p[3], const Vec3 q[3], const Tri& tq, const Tri& tp) {
-                    int side = 0;
-                    for (int j = 0; j < 3; ++j) {
-                        if (tq[j] == tp[0] || tq[j] == tp[1] || tq[j] == tp[2]) continue;
-                        const int o = orient3d(p[0], p[1], p[2], q[j]);
-                        if (o == 0 || (side != 0 && o != side)) return false;
-                        side = o;
-                    }
-                    return side != 0;
-                };
-                if (one_side(pa, pb, b, a) || one_side(pb, pa, a, b)) return false;
-            }
-            return triangles_intersect_improperly(pa, pb, shared);
-        };
-        grid_.query(lo, hi, candidates);
-        for (int32_t t : candidates) {
-            if (!mesh_.alive(t)) continue;
-            if (std::find(plan.removed_triangles.begin(), plan.removed_triangles.end(), t) !=
-                plan.removed_triangles.end())
-                continue;
-            // Cheap box rejection before the exact test.
-            const Tri& b = mesh_.triangle(t);
-            bool apart = false;
-            for (int k = 0; k < 3 && !apart; ++k) {
-                const double blo = std::min({x[b[0]][k], x[b[1]][k], x[b[2]][k]});
-                const double bhi = std::max({x[b[0]][k], x[b[1]][k], x[b[2]][k]});
-                apart = bhi < lo[k] || blo > hi[k];
-            }
-            if (!apart && test(b)) return true;
-        }
-        for (size_t j = 0; j < i; ++j)
-            if (test(plan.new_triangles[j])) return true;
     }
+    auto test = [&](const Tri& a, const Tri& b) {
+        const Vec3 pa[3] = {x[a[0]], x[a[1]], x[a[2]]};
+        int shared[3];
+        int count = 0;
+        for (int k = 0; k < 3; ++k) {
+            shared[k] = -1;
+            for (int j = 0; j < 3; ++j)
+                if (a[k] == b[j]) {
+                    shared[k] = j;
+                    ++count;
+                }
+        }
+        const Vec3 pb[3] = {x[b[0]], x[b[1]], x[b[2]]};
+        // Fast exact rejection: the unshared corners of one triangle strictly on one
+        // side of the other's plane means they meet at most in what they share.
+        if (count < 2) {
+            auto one_side = [&](const Vec3 p[3], const Vec3 q[3], const Tri& tq, const Tri& tp) {
+                int side = 0;
+                for (int j = 0; j < 3; ++j) {
+                    if (tq[j] == tp[0] || tq[j] == tp[1] || tq[j] == tp[2]) continue;
+                    const int o = orient3d(p[0], p[1], p[2], q[j]);
+                    if (o == 0 || (side != 0 && o != side)) return false;
+                    side = o;
+                }
+                return side != 0;
+            };
+            if (one_side(pa, pb, b, a) || one_side(pb, pa, a, b)) return false;
+        }
+        return triangles_intersect_improperly(pa, pb, shared);
+    };
+    if (count_new == 0) return false;
+    // Only triangles whose box meets the box of all new triangles (the grid tests the
+    // boxes it stores), then the cheap box rejection per new triangle before the exact test.
+    grid_.query_boxes(all_lo, all_hi, candidates);
+    for (const TriangleGrid::Entry& candidate : candidates) {
+        const int32_t t = candidate.id;
+        if (!mesh_.alive(t)) continue;
+        if (std::find(plan.removed_triangles.begin(), plan.removed_triangles.end(), t) != plan.removed_triangles.end())
+            continue;
+        const Vec3& blo = candidate.lo;
+        const Vec3& bhi = candidate.hi;
+        for (size_t i = 0; i < count_new; ++i) {
+            bool apart = false;
+            for (int k = 0; k < 3 && !apart; ++k) apart = bhi[k] < boxes[i][0][k] || blo[k] > boxes[i][1][k];
+            if (!apart && test(plan.new_triangles[i], mesh_.triangle(t))) return true;
+        }
+    }
+    for (size_t i = 0; i < count_new; ++i)
+        for (size_t j = 0; j < i; ++j)
+            if (test(plan.new_triangles[i], plan.new_triangles[j])) return true;
     return false;
 }
 

@@ -45,17 +45,18 @@ void TriangleGrid::insert(int32_t id, const Vec3& a, const Vec3& b, const Vec3& 
     box_of(a, b, c, lo, hi);
     // Triangles much larger than a cell are kept in one list that every query sees.
     if (oversized(lo, hi)) {
-        big_.push_back(id);
+        big_.push_back({id, lo, hi});
         return;
     }
-    for_cells(lo, hi, [&](uint64_t key) { cells_[key].push_back(id); });
+    for_cells(lo, hi, [&](uint64_t key) { cells_[key].push_back({id, lo, hi}); });
 }
 
 void TriangleGrid::remove(int32_t id, const Vec3& a, const Vec3& b, const Vec3& c) {
     Vec3 lo, hi;
     box_of(a, b, c, lo, hi);
+    auto same_id = [id](const Entry& e) { return e.id == id; };
     if (oversized(lo, hi)) {
-        auto pos = std::find(big_.begin(), big_.end(), id);
+        auto pos = std::find_if(big_.begin(), big_.end(), same_id);
         if (pos != big_.end()) big_.erase(pos);
         return;
     }
@@ -63,7 +64,7 @@ void TriangleGrid::remove(int32_t id, const Vec3& a, const Vec3& b, const Vec3& 
         auto it = cells_.find(key);
         if (it == cells_.end()) return;
         auto& list = it->second;
-        auto pos = std::find(list.begin(), list.end(), id);
+        auto pos = std::find_if(list.begin(), list.end(), same_id);
         if (pos != list.end()) {
             *pos = list.back();
             list.pop_back();
@@ -72,18 +73,31 @@ void TriangleGrid::remove(int32_t id, const Vec3& a, const Vec3& b, const Vec3& 
     });
 }
 
-void TriangleGrid::query(const Vec3& lo, const Vec3& hi, std::vector<int32_t>& out) const {
-    out.assign(big_.begin(), big_.end());
+template <class F>
+void TriangleGrid::for_entries(const Vec3& lo, const Vec3& hi, F&& f) const {
+    for (const Entry& e : big_) f(e);
     if (oversized(lo, hi)) {
         // A huge query box: every registered triangle is a candidate.
-        for (const auto& cell : cells_) out.insert(out.end(), cell.second.begin(), cell.second.end());
+        for (const auto& cell : cells_)
+            for (const Entry& e : cell.second) f(e);
     } else
     for_cells(lo, hi, [&](uint64_t key) {
         auto it = cells_.find(key);
-        if (it != cells_.end()) out.insert(out.end(), it->second.begin(), it->second.end());
+        if (it != cells_.end())
+            for (const Entry& e : it->second) f(e);
     });
-    std::sort(out.begin(), out.end());
-    out.erase(std::unique(out.begin(), out.end()), out.end());
+}
+
+void TriangleGrid::query_boxes(const Vec3& lo, const Vec3& hi, std::vector<Entry>& out) const {
+    out.clear();
+    for_entries(lo, hi, [&](const Entry& e) {
+        for (int k = 0; k < 3; ++k)
+            if (e.hi[k] < lo[k] || e.lo[k] > hi[k]) return;
+        out.push_back(e);
+    });
+    std::sort(out.begin(), out.end(), [](const Entry& a, const Entry& b) { return a.id < b.id; });
+    out.erase(std::unique(out.begin(), out.end(), [](const Entry& a, const Entry& b) { return a.id == b.id; }),
+              out.end());
 }
 
 }  // namespace bpm::detail

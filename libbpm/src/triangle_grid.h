@@ -2,6 +2,7 @@
 // A uniform grid over triangle bounding boxes, for finding the triangles near a new
 // one while the surface changes. Internal to libbpm.
 
+#include <array>
 #include <cstdint>
 #include <unordered_map>
 #include <vector>
@@ -12,13 +13,21 @@ namespace bpm::detail {
 
 class TriangleGrid {
 public:
+    // A triangle with its bounding box, as stored in the cells: queries test the boxes
+    // while they scan a cell, without looking the triangles up.
+    struct Entry {
+        int32_t id;
+        Vec3 lo, hi;
+    };
+
     // `cell` is the edge length of a grid cell.
     explicit TriangleGrid(double cell) : cell_(cell) {}
     double cell() const { return cell_; }
     void insert(int32_t id, const Vec3& a, const Vec3& b, const Vec3& c);
     void remove(int32_t id, const Vec3& a, const Vec3& b, const Vec3& c);
-    // Ids of triangles whose cells overlap the box [lo, hi] (may repeat; sorted unique on return).
-    void query(const Vec3& lo, const Vec3& hi, std::vector<int32_t>& out) const;
+    // The triangles whose bounding box meets the closed box [lo, hi], sorted by id,
+    // each once.
+    void query_boxes(const Vec3& lo, const Vec3& hi, std::vector<Entry>& out) const;
     void clear() {
         cells_.clear();
         big_.clear();
@@ -26,11 +35,14 @@ public:
 
 private:
     double cell_;
-    std::unordered_map<uint64_t, std::vector<int32_t>> cells_;
-    std::vector<int32_t> big_;  // triangles spanning too many cells
+    std::unordered_map<uint64_t, std::vector<Entry>> cells_;
+    std::vector<Entry> big_;  // triangles spanning too many cells
     bool oversized(const Vec3& lo, const Vec3& hi) const;
     template <class F>
     void for_cells(const Vec3& lo, const Vec3& hi, F&& f) const;
+    // Calls f(entry) for every stored entry of a cell the box overlaps (repeats possible).
+    template <class F>
+    void for_entries(const Vec3& lo, const Vec3& hi, F&& f) const;
 };
 
 }  // namespace bpm::detail

@@ -90,7 +90,13 @@ private:
     uint32_t current_ = 1;
 };
 
-inline int32_t mod(int32_t i, int32_t n) { return ((i % n) + n) % n; }
+inline int32_t mod(int32_t i, int32_t n) {
+    // Nearly always one step outside [0, n): no division then.
+    if (i >= 0 && i < n) return i;
+    if (i < 0 && i >= -n) return i + n;
+    if (i >= n && i - n < n) return i - n;
+    return ((i % n) + n) % n;
+}
 
 // Rotates a triangle so that v is first; returns the other two in order.
 inline bool rotate_to(const Tri& t, int32_t v, int32_t& x, int32_t& y) {
@@ -131,7 +137,7 @@ namespace {
 
 // Builds the fans of v; returns the class. `why` says why a vertex is kept.
 VertexClass build_fans(const CoarseMesh& mesh, int32_t v, bool force_disk, std::vector<Fan>& fans,
-                       std::vector<int32_t>& around, bool& crease_line, std::string& why) {
+                       bool& crease_line, std::string& why) {
     crease_line = false;
     // `fans` keeps its elements' buffers between calls: resized, never cleared.
     const auto& tris = mesh.triangles_of(v);
@@ -141,12 +147,17 @@ VertexClass build_fans(const CoarseMesh& mesh, int32_t v, bool force_disk, std::
         return VertexClass::Feature;
     }
     static thread_local std::vector<int32_t> hard, crease, features, starts;
+    // The corners of the star's triangles, read once: the walks below look up the
+    // triangles on an edge (v, x) many times.
+    static thread_local std::vector<Tri> corners;
     hard.clear();
     crease.clear();
     features.clear();
     starts.clear();
-    for (int32_t t : tris)
-        for (int32_t x : mesh.triangle(t)) {
+    corners.clear();
+    for (int32_t t : tris) corners.push_back(mesh.triangle(t));
+    for (const Tri& c : corners)
+        for (int32_t x : c) {
             if (x == v) continue;
             const auto kind = mesh.feature(v, x);
             if (kind == CoarseMesh::Feature::Hard) hard.push_back(x);
@@ -166,10 +177,20 @@ VertexClass build_fans(const CoarseMesh& mesh, int32_t v, bool force_disk, std::
         crease_line = true;
     }
 
-    auto next_across = [&](int32_t t, int32_t x) -> int32_t {  // other triangle on edge (v,x)
-        mesh.edge_triangles(v, x, around);
-        if (around.size() != 2) return -1;
-        return around[0] == t ? around[1] : around[0];
+    // Other triangle on edge (v,x), or -1 unless the edge has exactly two: the alive
+    // triangles of v containing x, in the order of CoarseMesh::edge_triangles().
+    auto next_across = [&](int32_t t, int32_t x) -> int32_t {
+        int32_t found[2] = {-1, -1};
+        int count = 0;
+        for (size_t i = 0; i < corners.size(); ++i) {
+            const Tri& c = corners[i];
+            if (c[0] == x || c[1] == x || c[2] == x) {
+                if (count < 2) found[count] = tris[i];
+                ++count;
+            }
+        }
+        if (count != 2) return -1;
+        return found[0] == t ? found[1] : found[0];
     };
 
     if (features.empty()) {
@@ -306,6 +327,7 @@ public:
 
     // Outputs.
     std::vector<std::array<int32_t, 3>> new_tris;   // polygon corner indices, ccw
+    std::vector<double> new_aspects;                // aspect_ratio of each new triangle, corners in that order
     std::vector<std::array<int32_t, 2>> diagonals;  // polygon corner index pairs
     struct PathEdit {
         int32_t edge, first, last;
@@ -344,9 +366,11 @@ private:
     std::vector<std::array<int32_t, 2>> diagonal_triangles_;
     std::vector<int32_t> side_triangle_;
     std::vector<Piece> pieces_;
+    std::vector<std::array<double, 4>> triangle_boxes_;  // of locate_free_nodes: x/y min, x/y max
     TriangleGraph graph_;
     std::vector<int32_t> local_, touched_;
     std::vector<OverlayFace> faces_;
+    std::string reason_;  // of check_faces
     std::vector<int32_t> free_vertices_;
     std::vector<int32_t> sorted_;  // scratch for sorted copies of edge contents
     std::vector<StraightSegment> segments_;
@@ -478,15 +502,20 @@ bool FanPlanner::triangulate(std::string& why) {
     poly.resize(n_);
     for (int32_t i = 0; i < n_; ++i) poly[i] = i;
     new_tris.clear();
+    new_aspects.clear();
     diagonals.clear();
     // The ear at a corner only changes when a neighbouring ear is cut, so its aspect
     // ratio and whether its diagonal already exists are cached per corner.
-    static thread_local std::vector<double> ear_aspect;
-    static thread_local std::vector<int8_t> ear_blocked;  // -1 unknown, 0 free, 1 edge exists / degenerate
+    static thread_local std::vector<double> ear_aspect;   // NaN: unknown
+    static thread_local std::vector<int8_t> ear_blocked;  // -1 unknown, 0 free, 1 edge exists
     // Whether an ear is Delaunay-admissible: a cut only removes a test point, so an
     // admissible ear stays admissible unless it is one of the two ears next to the cut.
     static thread_local std::vector<int8_t> ear_delaunay;  // -1 unknown, 0 no, 1 yes
-    ear_aspect.assign(n_, 0.0);
+    // A corner found clearly inside the circle of a non-admissible ear: the ear stays
+    // non-admissible until that corner is cut off (or the ear itself changes).
+    static thread_local std::vector<int32_t> ear_witness;
+    ear_witness.assign(n_, -1);
+    ear_aspect.assign(n_, std::nan(""));
     ear_blocked.assign(n_, -1);
     ear_delaunay.assign(n_, cocircular_ ? 1 : -1);
     while (poly.size() > 3) {
@@ -496,19 +525,19 @@ bool FanPlanner::triangulate(std::string& why) {
         double best_aspect = std::numeric_limits<double>::infinity();
         for (int32_t c = 0; c < m; ++c) {
             const int32_t a = poly[mod(c - 1, m)], b = poly[c], d = poly[mod(c + 1, m)];
-            if (ear_blocked[b] < 0) {
-                // Topology condition (Conjecture 2.1): the new edge must not exist yet.
+            if (std::isnan(ear_aspect[b]))
                 ear_aspect[b] = aspect_ratio(x[fan_->link[a]], x[fan_->link[b]], x[fan_->link[d]]);
-                ear_blocked[b] = mesh_.has_edge(fan_->link[a], fan_->link[d]) || !std::isfinite(ear_aspect[b]);
-            }
-            if (ear_blocked[b]) continue;
             const double aspect = ear_aspect[b];
+            if (!std::isfinite(aspect)) continue;  // degenerate
             if (ear_delaunay[b] < 0) {
                 bool admissible = true;
                 for (int32_t o = 0; o < m && admissible; ++o) {
                     const int32_t p = poly[o];
                     if (p == a || p == b || p == d) continue;
-                    if (clearly_in_circle(q_[a], q_[b], q_[d], q_[p])) admissible = false;
+                    if (clearly_in_circle(q_[a], q_[b], q_[d], q_[p])) {
+                        admissible = false;
+                        ear_witness[b] = p;
+                    }
                 }
                 ear_delaunay[b] = admissible;
             }
@@ -517,6 +546,11 @@ bool FanPlanner::triangulate(std::string& why) {
             // Near-ties count as ties (first ear wins), so that rounding differences, e.g.
             // between a model and its scaled copy, do not change the triangulation.
             if ((delaunay && !best_delaunay) || (delaunay == best_delaunay && aspect < best_aspect * (1.0 - 1e-9))) {
+                // Topology condition (Conjecture 2.1): the new edge must not exist yet.
+                // Asked only of ears that would become the best: an ear that would not
+                // leaves the choice the same whether it is blocked or not.
+                if (ear_blocked[b] < 0) ear_blocked[b] = mesh_.has_edge(fan_->link[a], fan_->link[d]);
+                if (ear_blocked[b]) continue;
                 best = c;
                 best_delaunay = delaunay;
                 best_aspect = aspect;
@@ -528,17 +562,20 @@ bool FanPlanner::triangulate(std::string& why) {
         }
         const int32_t a = poly[mod(best - 1, m)], b = poly[best], d = poly[mod(best + 1, m)];
         new_tris.push_back({a, b, d});
+        new_aspects.push_back(ear_aspect[b]);  // ear_aspect[b] is that of (a, b, d) now
         diagonals.push_back({a, d});
         poly.erase(poly.begin() + best);
         ear_blocked[a] = ear_blocked[d] = -1;
+        ear_aspect[a] = ear_aspect[d] = std::nan("");
         ear_delaunay[a] = ear_delaunay[d] = cocircular_ ? 1 : -1;
         for (int32_t p : poly)
-            if (ear_delaunay[p] == 0) ear_delaunay[p] = -1;
+            if (ear_delaunay[p] == 0 && ear_witness[p] == b) ear_delaunay[p] = -1;
     }
     const Vec3& p0 = x[fan_->link[poly[0]]];
     const Vec3& p1 = x[fan_->link[poly[1]]];
     const Vec3& p2 = x[fan_->link[poly[2]]];
-    if (!std::isfinite(aspect_ratio(p0, p1, p2))) {
+    const double last_aspect = aspect_ratio(p0, p1, p2);
+    if (!std::isfinite(last_aspect)) {
         why = "retriangulation would create a degenerate triangle";
         return false;
     }
@@ -547,6 +584,7 @@ bool FanPlanner::triangulate(std::string& why) {
         return false;
     }
     new_tris.push_back({poly[0], poly[1], poly[2]});
+    new_aspects.push_back(last_aspect);
     return true;
 }
 
@@ -757,16 +795,22 @@ bool FanPlanner::gather_segments(std::string& why) {
     std::sort(candidates.begin(), candidates.end());
     candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
 
-    static thread_local std::vector<SurfacePoint> points;
-    static thread_local std::vector<double> sigmas;
     static thread_local std::vector<PointRole> roles;
     static thread_local std::vector<int32_t> node_of;
     for (int32_t e : candidates) {
-        emb_.path_points(e, points, sigmas);
-        const int32_t last = static_cast<int32_t>(points.size()) - 1;
-        roles.resize(points.size());
-        node_of.resize(points.size());
-        for (int32_t j = 0; j <= last; ++j) roles[j] = role(points[j], j == 0 || j == last, e, j, node_of[j]);
+        // The point sequence of Embedding::path_points, read in place: the two
+        // locations with the crossings in between.
+        const auto& path = emb_.path[e];
+        const int32_t last = static_cast<int32_t>(path.size()) + 1;
+        auto sigma_at = [&](int32_t j) { return j == 0 ? 0.0 : (j == last ? 1.0 : path[j - 1].sigma); };
+        roles.resize(last + 1);
+        node_of.resize(last + 1);
+        roles[0] = role(emb_.location[emb_.edges[e][0]], true, e, 0, node_of[0]);
+        for (int32_t j = 1; j < last; ++j) {
+            const Crossing& c = path[j - 1];
+            roles[j] = role(SurfacePoint{SurfacePoint::OnEdge, c.a, c.b, c.s, {}}, false, e, j, node_of[j]);
+        }
+        roles[last] = role(emb_.location[emb_.edges[e][1]], true, e, last, node_of[last]);
         // Is segment (j, j+1) inside the fan?
         auto inside_fan = [&](int32_t j) {
             const PointRole r0 = roles[j], r1 = roles[j + 1];
@@ -800,7 +844,7 @@ bool FanPlanner::gather_segments(std::string& why) {
                 why = "an original edge runs along a removed edge in an unexpected way";
                 return false;
             }
-            segments_.push_back({node_of[j], node_of[k], e, j, k, sigmas[j], sigmas[k]});
+            segments_.push_back({node_of[j], node_of[k], e, j, k, sigma_at(j), sigma_at(k)});
             j = k;
         }
     }
@@ -912,6 +956,16 @@ bool FanPlanner::floater(std::string& why) {
 
 bool FanPlanner::locate_free_nodes(std::string& why) {
     const int32_t ntris = static_cast<int32_t>(new_tris.size());
+    // Bounding boxes of the new triangles (counter-clockwise, non-degenerate: ears of
+    // a strictly convex polygon). A point strictly outside a box is strictly outside
+    // that triangle, so the exact tests below would find a negative orientation.
+    auto& boxes = triangle_boxes_;
+    boxes.resize(ntris);
+    for (int32_t t = 0; t < ntris; ++t) {
+        const Vec2 &p0 = q_[new_tris[t][0]], &p1 = q_[new_tris[t][1]], &p2 = q_[new_tris[t][2]];
+        boxes[t] = {std::min({p0[0], p1[0], p2[0]}), std::min({p0[1], p1[1], p2[1]}),
+                    std::max({p0[0], p1[0], p2[0]}), std::max({p0[1], p1[1], p2[1]})};
+    }
     // Free nodes strictly inside the polygon (by construction before straightening, so
     // only the full plan checks), then located in the new triangulation.
     for (StarNode& s : nodes_) {
@@ -925,6 +979,8 @@ bool FanPlanner::locate_free_nodes(std::string& why) {
         s.diagonal = -1;
         for (int32_t t = 0; t < ntris && s.new_triangle < 0 && s.diagonal < 0; ++t) {
             const auto& c = new_tris[t];
+            const auto& box = boxes[t];
+            if (s.pos[0] < box[0] || s.pos[1] < box[1] || s.pos[0] > box[2] || s.pos[1] > box[3]) continue;
             int zero = -1, negative = 0;
             for (int k = 0; k < 3 && !negative; ++k) {
                 const int o = orient2d(q_[c[k]], q_[c[(k + 1) % 3]], s.pos);
@@ -1025,8 +1081,17 @@ bool FanPlanner::transfer(std::string& why) {
             return false;
         }
         // Polygon corners on the segment would put a coarse vertex on an original edge.
+        // A corner strictly outside the segment's bounding box cannot be: exactly on the
+        // line AB but beyond an end, both factors of every term of the dot product
+        // below have one sign (rounding keeps signs of differences), so it is >= 0.
+        const double box_lo[2] = {std::min(A[0], B[0]), std::min(A[1], B[1])};
+        const double box_hi[2] = {std::max(A[0], B[0]), std::max(A[1], B[1])};
+        auto outside_box = [&](const Vec2& p) {
+            return p[0] < box_lo[0] || p[0] > box_hi[0] || p[1] < box_lo[1] || p[1] > box_hi[1];
+        };
         for (int32_t i = 0; i < n_; ++i) {
             if (i == nodes_[seg.a].poly_corner || i == nodes_[seg.b].poly_corner) continue;
+            if (outside_box(q_[i])) continue;
             if (orient2d(A, B, q_[i]) == 0 && dot(q_[i] - A, q_[i] - B) < 0) {
                 why = "an original edge would pass through a coarse vertex";
                 return false;
@@ -1038,6 +1103,11 @@ bool FanPlanner::transfer(std::string& why) {
             if ((nodes_[seg.a].free && nodes_[seg.a].diagonal == d) || (nodes_[seg.b].free && nodes_[seg.b].diagonal == d))
                 continue;
             const Vec2 P = q_[diagonals[d][0]], Q = q_[diagonals[d][1]];
+            // Segments whose bounding boxes are apart cannot cross properly (the exact
+            // tests below would say so too).
+            if (std::max(P[0], Q[0]) < box_lo[0] || std::min(P[0], Q[0]) > box_hi[0] ||
+                std::max(P[1], Q[1]) < box_lo[1] || std::min(P[1], Q[1]) > box_hi[1])
+                continue;
             const int oa = orient2d(P, Q, A), ob = orient2d(P, Q, B);
             if (oa == 0 || ob == 0 || oa == ob) continue;
             const int op = orient2d(A, B, P), oq = orient2d(A, B, Q);
@@ -1247,8 +1317,8 @@ bool FanPlanner::transfer(std::string& why) {
             graph.segments.push_back({i0, i1, p.edge});
         }
         for (int32_t item : touched_) local_[item] = -1;
-        std::string reason;
-        if (!compute_faces(graph, emb_, sign_, faces_, &reason)) {
+        std::string& reason = reason_;
+        if (!check_faces(graph, emb_, sign_, faces_, &reason)) {
             why = "invalid transfer: " + reason;
             return false;
         }
@@ -1302,8 +1372,22 @@ bool FanPlanner::run(std::string& why) {
 }  // namespace
 
 struct RemovalScratch {
+    // Aspect ratio per coarse triangle id, NaN until computed: a triangle's corners
+    // never change after construction, and every star is planned many times.
+    std::vector<double> triangle_aspect;
+    double aspect_of(const CoarseMesh& mesh, int32_t t) {
+        if (t >= int32_t(triangle_aspect.size()))
+            triangle_aspect.resize(std::max<size_t>(size_t(t) + 1, 2 * triangle_aspect.size()), std::nan(""));
+        double& a = triangle_aspect[t];
+        if (std::isnan(a)) {
+            const auto& x = mesh.positions();
+            const Tri& c = mesh.triangle(t);
+            a = aspect_ratio(x[c[0]], x[c[1]], x[c[2]]);
+        }
+        return a;
+    }
+    RemovalPlan disk;  // the second plan of plan(), kept for its buffers
     std::vector<Fan> fans;
-    std::vector<int32_t> around;
     std::vector<SurfacePoint> points;
     std::vector<double> sigmas;
     FanPlanner planner;
@@ -1323,9 +1407,9 @@ void VertexRemover::plan(int32_t v, bool validate, RemovalPlan& plan) {
     plan_once(v, false, validate, plan, crease_line);
     // A crease that cannot be followed here may still end here.
     if (!plan.valid && crease_line) {
-        RemovalPlan disk;
+        RemovalPlan& disk = scratch_->disk;
         plan_once(v, true, validate, disk, crease_line);
-        if (disk.valid) plan = std::move(disk);
+        if (disk.valid) std::swap(plan, disk);
     }
 }
 
@@ -1351,7 +1435,7 @@ void VertexRemover::plan_once(int32_t v, bool force_disk, bool validate, Removal
     plan.clear();
     plan.vertex = v;
     auto& fans = scratch_->fans;
-    const VertexClass cls = build_fans(mesh_, v, force_disk, fans, scratch_->around, crease_line, plan.reason);
+    const VertexClass cls = build_fans(mesh_, v, force_disk, fans, crease_line, plan.reason);
     if (cls == VertexClass::Feature) return;
     const auto& x = mesh_.positions();
 
@@ -1418,8 +1502,7 @@ void VertexRemover::plan_once(int32_t v, bool force_disk, bool validate, Removal
     for (const Fan& fan : fans) {
         for (int32_t t : fan.triangles) {
             plan.removed_triangles.push_back(t);
-            const Tri& c = mesh_.triangle(t);
-            plan.worst_old_aspect = std::max(plan.worst_old_aspect, aspect_ratio(x[c[0]], x[c[1]], x[c[2]]));
+            plan.worst_old_aspect = std::max(plan.worst_old_aspect, scratch_->aspect_of(mesh_, t));
         }
         FanPlanner& planner = scratch_->planner;
         planner.reset(v, fan, radius, &new_edge_params, validate);
@@ -1432,11 +1515,12 @@ void VertexRemover::plan_once(int32_t v, bool force_disk, bool validate, Removal
         plan.max_deviation = std::max(plan.max_deviation, planner.max_deviation);
         const int32_t base = static_cast<int32_t>(plan.new_triangles.size());
         const int32_t patch = mesh_.patch(fan.triangles[0]);
-        for (const auto& t : planner.new_tris) {
-            const Tri corners{fan.link[t[0]], fan.link[t[1]], fan.link[t[2]]};
-            plan.new_triangles.push_back(corners);
+        for (size_t i = 0; i < planner.new_tris.size(); ++i) {
+            const auto& t = planner.new_tris[i];
+            plan.new_triangles.push_back({fan.link[t[0]], fan.link[t[1]], fan.link[t[2]]});
             plan.new_patches.push_back(patch);
-            plan.worst_new_aspect = std::max(plan.worst_new_aspect, aspect_ratio(x[corners[0]], x[corners[1]], x[corners[2]]));
+            // The triangulation computed it already, for the same corners in the same order.
+            plan.worst_new_aspect = std::max(plan.worst_new_aspect, planner.new_aspects[i]);
         }
         for (const auto& d : planner.diagonals) {
             const int32_t a = fan.link[d[0]], b = fan.link[d[1]];
