@@ -326,18 +326,20 @@ def simplify_suite(args, bins, work):
                 rows.append(row)
                 continue
             outputs = {"bpm": stem + ".bpm", "psurface": stem + "-psurface.vtu", "cgal": stem + "-cgal.off"}
+            # Only the tools asked for: the others' binaries may not have been built.
             commands = {
-                "bpm": ([bins["bpm-simplify"], off, "-o", outputs["bpm"], "--vertices", str(target)], None),
-                "psurface": (["psurface-simplify", "-i", msh, "-o", outputs["psurface"], "-c", str(nv - target)]
-                             + args.psurface_flags.split(), work),
-                "cgal": ([bins["bpm-bench-cgal-decimate"], off, "-o", outputs["cgal"], "--vertices", str(target)], None),
+                "bpm": lambda: ([bins["bpm-simplify"], off, "-o", outputs["bpm"], "--vertices", str(target)], None),
+                "psurface": lambda: (["psurface-simplify", "-i", msh, "-o", outputs["psurface"], "-c",
+                                      str(nv - target)] + args.psurface_flags.split(), work),
+                "cgal": lambda: ([bins["bpm-bench-cgal-decimate"], off, "-o", outputs["cgal"], "--vertices",
+                                  str(target)], None),
             }
             for tool in args.tools:
                 log(f"{name} -> {target} vertices: {tool}")
                 for p in (outputs[tool], stem + "-psurface-graph.vtu" if tool == "psurface" else None):
                     if p and os.path.exists(p):
                         os.remove(p)
-                cmd, cwd = commands[tool]
+                cmd, cwd = commands[tool]()
                 res = timed(cmd, f"{stem}-{tool}.log", args.timeout, cwd=cwd)
                 res["command"] = " ".join(rel(c) for c in cmd)
                 if res["status"] == "ok" and not os.path.exists(outputs[tool]):
