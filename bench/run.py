@@ -257,7 +257,9 @@ def git_commit():
     try:
         git = ["git", "--no-optional-locks", "-C", ROOT]
         c = subprocess.run(git + ["rev-parse", "--short", "HEAD"], capture_output=True, text=True).stdout.strip()
-        dirty = subprocess.run(git + ["status", "--porcelain", "--untracked-files=no"],
+        # The results this very run rewrites do not count as changes to what is measured.
+        dirty = subprocess.run(git + ["status", "--porcelain", "--untracked-files=no", "--", ".",
+                                      ":(exclude)bench/results", ":(exclude)bench/RESULTS.md"],
                                capture_output=True, text=True).stdout.strip()
         return (c or "unknown") + (" (with uncommitted changes)" if dirty else "")
     except OSError:
