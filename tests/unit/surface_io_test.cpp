@@ -68,6 +68,13 @@ std::string read_error(const std::string& bytes, SurfaceFormat format, const Sur
     return "";
 }
 
+// The real meshes (scripts/setup.sh unpacks them); a test without them warns and passes.
+bool have_mesh_dir(const fs::path& dir) {
+    if (fs::is_directory(dir)) return true;
+    WARN("no mesh directory " << dir.string() << "; skipped");
+    return false;
+}
+
 #define CHECK_READ_ERROR(bytes, format, text)                               \
     do {                                                                    \
         const std::string message_ = read_error((bytes), (format));        \
@@ -814,10 +821,7 @@ std::pair<int64_t, int64_t> header_counts(const fs::path& path) {
 
 TEST_CASE("real meshes read with the counts of their headers", "[surface_io][real]") {
     const fs::path dir = BPM_MESH_DIR;
-    if (!fs::is_directory(dir)) {
-        WARN("no mesh directory " << dir.string() << "; skipped");
-        return;
-    }
+    if (!have_mesh_dir(dir)) return;
     for (const char* name : {"femur.off", "fandisk.off", "elephant.off", "armadillo.off", "mech-holes-shark.off",
                              "sphere.ply"}) {
         const fs::path path = dir / name;
@@ -836,10 +840,7 @@ TEST_CASE("real meshes read with the counts of their headers", "[surface_io][rea
 
 TEST_CASE("real meshes with problems are refused with a clear message", "[surface_io][real]") {
     const fs::path dir = BPM_MESH_DIR;
-    if (!fs::is_directory(dir)) {
-        WARN("no mesh directory " << dir.string() << "; skipped");
-        return;
-    }
+    if (!have_mesh_dir(dir)) return;
     // b9.ply is a point cloud: 22300 vertices, no faces.
     if (fs::exists(dir / "b9.ply")) {
         CHECK_THROWS_WITH(read_surface((dir / "b9.ply").string()), Catch::Contains("no triangles") && Catch::Contains("22300 vertices"));
@@ -858,10 +859,7 @@ TEST_CASE("real meshes with problems are refused with a clear message", "[surfac
 
 TEST_CASE("real meshes with duplicate or unused vertices, flat triangles or polygons", "[surface_io][real]") {
     const fs::path dir = BPM_MESH_DIR;
-    if (!fs::is_directory(dir)) {
-        WARN("no mesh directory " << dir.string() << "; skipped");
-        return;
-    }
+    if (!have_mesh_dir(dir)) return;
     struct Case {
         const char* name;
         const char* error;       // part of the message without repairs
@@ -893,10 +891,7 @@ TEST_CASE("real meshes with duplicate or unused vertices, flat triangles or poly
 
 TEST_CASE("real meshes with polygon faces read with the triangulate-polygons repair", "[surface_io][real]") {
     const fs::path dir = BPM_MESH_DIR;
-    if (!fs::is_directory(dir)) {
-        WARN("no mesh directory " << dir.string() << "; skipped");
-        return;
-    }
+    if (!have_mesh_dir(dir)) return;
     int files = 0;
     for (const char* name : {"3torus.off", "cube_quad.off", "torus_quad.off", "double-torus-example.off", "P.off"}) {
         const fs::path path = dir / name;
@@ -927,10 +922,7 @@ TEST_CASE("real meshes with polygon faces read with the triangulate-polygons rep
 
 TEST_CASE("real STL meshes read; the vertex count comes from merging corners", "[surface_io][real]") {
     const fs::path dir = BPM_MESH_DIR;
-    if (!fs::is_directory(dir)) {
-        WARN("no mesh directory " << dir.string() << "; skipped");
-        return;
-    }
+    if (!have_mesh_dir(dir)) return;
     int files = 0;
     for (const auto& entry : fs::directory_iterator(dir)) {
         if (entry.path().extension() != ".stl" && entry.path().extension() != ".obj") continue;
