@@ -321,8 +321,8 @@ bool Simplifier::intersects_rest(const RemovalPlan& plan, std::vector<TriangleGr
         if (!mesh_.alive(t)) continue;
         if (std::find(plan.removed_triangles.begin(), plan.removed_triangles.end(), t) != plan.removed_triangles.end())
             continue;
-        const Vec3& blo = candidate.lo;
-        const Vec3& bhi = candidate.hi;
+        const auto& blo = candidate.lo;  // float, rounded outwards: only a filter
+        const auto& bhi = candidate.hi;
         for (size_t i = 0; i < count_new; ++i) {
             bool apart = false;
             for (int k = 0; k < 3 && !apart; ++k) apart = bhi[k] < boxes[i][0][k] || blo[k] > boxes[i][1][k];

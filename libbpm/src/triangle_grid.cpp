@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace bpm::detail {
 
@@ -32,6 +33,28 @@ void box_of(const Vec3& a, const Vec3& b, const Vec3& c, Vec3& lo, Vec3& hi) {
         hi[k] = std::max({a[k], b[k], c[k]});
     }
 }
+
+// Floats at most / at least x (doubles beyond the float range included: converting
+// those directly would be undefined behaviour).
+float float_below(double x) {
+    constexpr float kMax = std::numeric_limits<float>::max();
+    if (x >= double(kMax)) return kMax;
+    if (x < -double(kMax)) return -std::numeric_limits<float>::infinity();
+    float f = static_cast<float>(x);
+    if (double(f) > x) f = std::nextafter(f, -std::numeric_limits<float>::infinity());
+    return f;
+}
+float float_above(double x) { return -float_below(-x); }
+
+// The float box that contains the double box [lo, hi].
+TriangleGrid::Entry entry(int32_t id, const Vec3& lo, const Vec3& hi) {
+    TriangleGrid::Entry e{id, {}, {}};
+    for (int k = 0; k < 3; ++k) {
+        e.lo[k] = float_below(lo[k]);
+        e.hi[k] = float_above(hi[k]);
+    }
+    return e;
+}
 }  // namespace
 
 bool TriangleGrid::oversized(const Vec3& lo, const Vec3& hi) const {
@@ -45,10 +68,11 @@ void TriangleGrid::insert(int32_t id, const Vec3& a, const Vec3& b, const Vec3& 
     box_of(a, b, c, lo, hi);
     // Triangles much larger than a cell are kept in one list that every query sees.
     if (oversized(lo, hi)) {
-        big_.push_back({id, lo, hi});
+        big_.push_back(entry(id, lo, hi));
         return;
     }
-    for_cells(lo, hi, [&](uint64_t key) { cells_[key].push_back({id, lo, hi}); });
+    const Entry e = entry(id, lo, hi);
+    for_cells(lo, hi, [&](uint64_t key) { cells_[key].push_back(e); });
 }
 
 void TriangleGrid::remove(int32_t id, const Vec3& a, const Vec3& b, const Vec3& c) {

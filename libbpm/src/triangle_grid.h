@@ -14,10 +14,12 @@ namespace bpm::detail {
 class TriangleGrid {
 public:
     // A triangle with its bounding box, as stored in the cells: queries test the boxes
-    // while they scan a cell, without looking the triangles up.
+    // while they scan a cell, without looking the triangles up. The box is in float,
+    // rounded outwards (it only filters candidates for exact tests, and a triangle sits
+    // in several cells, so the entries are a large part of the simplifier's memory).
     struct Entry {
         int32_t id;
-        Vec3 lo, hi;
+        std::array<float, 3> lo, hi;
     };
 
     // `cell` is the edge length of a grid cell.
