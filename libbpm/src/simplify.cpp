@@ -451,6 +451,7 @@ SimplifyResult Simplifier::run(Parametrization& out) {
     std::vector<int32_t> affected;
     SpeculativePlan speculative_slot;  // filled by a round, then moved to full_plans_
     std::string stop = "no vertex can be removed any more";
+    double error_so_far = 0.0;  // largest error of a committed removal (of the diagonal), for progress
     while (!queue_.empty()) {
         if (mesh_.num_vertices_alive() <= target) {
             stop = "target reached";
@@ -517,6 +518,7 @@ SimplifyResult Simplifier::run(Parametrization& out) {
             grid_.insert(t, x[c[0]], x[c[1]], x[c[2]]);
         }
         ++commits_;
+        error_so_far = std::max(error_so_far, plan_.max_deviation / diagonal_);
         ++stamp_[top.vertex];
         full_plans_.erase(top.vertex);
         ++result.removed;
@@ -564,7 +566,8 @@ SimplifyResult Simplifier::run(Parametrization& out) {
                                     ? double(start_vertices - mesh_.num_vertices_alive()) / double(start_vertices - target)
                                     : 1.0;
             char line[128];
-            std::snprintf(line, sizeof line, "simplifying: %d vertices left", mesh_.num_vertices_alive());
+            std::snprintf(line, sizeof line, "simplifying: %d vertices left, error %.2g of diagonal",
+                          mesh_.num_vertices_alive(), error_so_far);
             context_.report(0.2 + 0.75 * std::min(done, 1.0), line);
         }
     }
