@@ -250,9 +250,18 @@ void compact_vertices(Surface& surface, const std::vector<char>& keep, const std
     for (size_t v = 0; v < nv; ++v) {
         if (!keep[v]) continue;
         new_index[v] = static_cast<int32_t>(next);
+        for (VertexArray& array : surface.vertex_data) {
+            const size_t k = static_cast<size_t>(array.components);
+            if (array.values.size() != nv * k) continue;  // malformed: left for vertex_data_problems()
+            std::copy_n(array.values.begin() + static_cast<std::ptrdiff_t>(v * k), k,
+                        array.values.begin() + static_cast<std::ptrdiff_t>(next * k));
+        }
         surface.vertices[next++] = surface.vertices[v];
     }
     surface.vertices.resize(next);
+    for (VertexArray& array : surface.vertex_data)
+        if (array.values.size() == nv * static_cast<size_t>(array.components))
+            array.values.resize(next * static_cast<size_t>(array.components));
     for (Tri& tri : surface.triangles) {
         for (int32_t& v : tri) {
             v = v >= 0 && static_cast<size_t>(v) < nv ? new_index[static_cast<size_t>(target[static_cast<size_t>(v)])] : -1;
@@ -261,6 +270,27 @@ void compact_vertices(Surface& surface, const std::vector<char>& keep, const std
 }
 
 }  // namespace
+
+std::vector<std::string> vertex_data_problems(const Surface& surface) {
+    std::vector<std::string> problems;
+    const size_t nv = surface.vertices.size();
+    for (size_t i = 0; i < surface.vertex_data.size(); ++i) {
+        const VertexArray& a = surface.vertex_data[i];
+        const std::string label = "vertex data '" + a.name + "'";
+        if (a.name.empty() || a.name == "." || a.name.find('/') != std::string::npos)
+            problems.push_back(label + ": the name must not be empty, '.' or contain '/'");
+        for (size_t j = 0; j < i; ++j)
+            if (surface.vertex_data[j].name == a.name) problems.push_back(label + ": the name is used twice");
+        if (a.components < 1) {
+            problems.push_back(label + ": " + std::to_string(a.components) + " components (must be at least 1)");
+            continue;
+        }
+        if (a.values.size() != nv * static_cast<size_t>(a.components))
+            problems.push_back(label + ": " + std::to_string(a.values.size()) + " values for " + std::to_string(nv) +
+                               " vertices x " + std::to_string(a.components) + " components");
+    }
+    return problems;
+}
 
 int64_t merge_duplicate_vertices(Surface& surface) {
     const std::vector<int32_t> first = first_at_same_position(surface.vertices);

@@ -105,6 +105,11 @@ Surface read_surface_from_memory(const std::string& bytes, SurfaceFormat format,
         throw InputError(e.where(), e.what() + hint);
     }
     Surface surface = std::move(parsed.surface);
+    if (const std::vector<std::string> bad = vertex_data_problems(surface); !bad.empty()) {
+        std::string message = bad[0];
+        for (size_t i = 1; i < bad.size() && i < 10; ++i) message += "; " + bad[i];
+        throw InputError(name, message);
+    }
 
     SurfaceReadReport local;
     SurfaceReadReport& r = report ? *report : local;

@@ -13,10 +13,20 @@
 
 namespace bpm {
 
+// A named per-vertex data array of a surface: a scalar field (1 component), a vector
+// (normals: 3), colours, ... as read from PLY vertex properties or VTK POINT_DATA.
+// Carried through bpm files (/original/point_data) onto refined surfaces (bpm-refine --data).
+struct VertexArray {
+    std::string name;            // unique within the surface; no '/', not "." or empty
+    int components = 1;          // values per vertex, >= 1
+    std::vector<double> values;  // #V * components, row-major (vertex v at [v * components, (v+1) * components))
+};
+
 struct Surface {
     std::vector<Vec3> vertices;     // #V positions, double precision
     std::vector<Tri> triangles;     // #T triangles, indices into `vertices`
     std::vector<int32_t> patches;   // #T patch (material interface / group) id per triangle; same size as triangles
+    std::vector<VertexArray> vertex_data;  // optional per-vertex arrays; the repairs below keep them in step
 
     int32_t num_vertices() const { return static_cast<int32_t>(vertices.size()); }
     int32_t num_triangles() const { return static_cast<int32_t>(triangles.size()); }
@@ -70,9 +80,14 @@ std::vector<SurfaceProblem> validate_surface(const Surface& surface, const Valid
 // Repairs that only happen on request (tools: --merge-duplicate-vertices,
 // --drop-unreferenced-vertices). Each returns how many elements it changed.
 // Both keep the surviving vertices in their original order (a merged group is kept at
-// its smallest index) and renumber the triangles; triangle order and patches are not
+// its smallest index, with that vertex's data) and renumber the triangles; triangle order and patches are not
 // touched, so merging may leave repeated corners or duplicate triangles for
 // validate_surface() to report. Vertices with NaN/Inf coordinates are never merged.
+// Problems of the vertex data (wrong size, components < 1, empty, repeated or
+// unstorable name), one line each, e.g. "vertex data 'u': 12 values for 5 vertices x 3
+// components"; empty if none.
+std::vector<std::string> vertex_data_problems(const Surface& surface);
+
 int64_t merge_duplicate_vertices(Surface& surface);   // exact position equality
 int64_t drop_unreferenced_vertices(Surface& surface);
 
