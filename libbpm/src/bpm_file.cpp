@@ -232,6 +232,12 @@ std::string find_inconsistency(const BpmFile& file) {
         return {};
     };
     if (auto e = check_surface(p.original, "/original"); !e.empty()) return e;
+    if (const auto bad = vertex_data_problems(p.original); !bad.empty()) return "/original/point_data: " + bad[0];
+    for (const VertexArray& a : p.original.vertex_data)
+        for (size_t i = 0; i < a.values.size(); ++i)
+            if (!std::isfinite(a.values[i]))
+                return "/original/point_data/" + a.name + ": entry [" + num(i / size_t(a.components)) + ", " +
+                       num(i % size_t(a.components)) + "] is not finite (" + num(a.values[i]) + ")";
     if (auto e = check_surface(p.coarse, "/coarse"); !e.empty()) return e;
     if (p.original.vertices.size() > size_t(std::numeric_limits<int32_t>::max()) ||
         p.original.triangles.size() > size_t(std::numeric_limits<int32_t>::max()) ||
@@ -501,6 +507,12 @@ std::string build_image(const BpmFile& file, const std::string& where) {
     {
         Handle g = w.create_group(f, "original");
         write_surface(w, g, p.original);
+        if (!p.original.vertex_data.empty()) {
+            Handle pd = w.create_group(g, "point_data");
+            for (const VertexArray& a : p.original.vertex_data)
+                w.write_dataset(pd, a.name.c_str(), a.values.data(), p.original.vertices.size(),
+                                static_cast<hsize_t>(a.components), H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE);
+        }
     }
     {
         Handle g = w.create_group(f, "coarse");
@@ -759,6 +771,32 @@ public:
         return result;
     }
 
+    // Names of the links in the group at `path`, in increasing byte order (HDF5's name
+    // index), so that the result does not depend on the order they were created in.
+    std::vector<std::string> list_members(const std::string& path) const {
+        if (replay_) return replay_->get_strings();
+        auto result = list_members_live(path);
+        if (record_) record_->put(result);
+        return result;
+    }
+
+    // A 2-D float64 dataset with any number of columns (at least one).
+    std::vector<double> read_float_matrix(const std::string& path, const char* shape_text, hsize_t& rows,
+                                          hsize_t& cols) const {
+        if (replay_) {
+            rows = replay_->get<hsize_t>();
+            cols = replay_->get<hsize_t>();
+            return replay_->get_vector<double>();
+        }
+        auto result = read_float_matrix_live(path, shape_text, rows, cols);
+        if (record_) {
+            record_->put(rows);
+            record_->put(cols);
+            record_->put(result);
+        }
+        return result;
+    }
+
     std::string read_string_attribute(const std::string& name, bool required) const {
         if (replay_) return replay_->get_string();
         auto result = read_string_attribute_live(name, required);
@@ -861,6 +899,49 @@ private:
         rows = shape(ds, path, cols, shape_text);
         std::vector<int64_t> out(static_cast<size_t>(rows * (cols == 0 ? 1 : cols)));
         if (!out.empty() && H5Dread(ds, H5T_NATIVE_INT64, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data()) < 0)
+            fail(path + ": cannot read data (" + hdf5_error_text() + ")");
+        return out;
+    }
+
+    std::vector<std::string> list_members_live(const std::string& path) const {
+        if (!exists_live(path)) fail(path + ": missing group");
+        Handle group(H5Oopen(file_, path.c_str(), H5P_DEFAULT), H5Oclose);
+        if (!group.valid()) fail(path + ": cannot open (" + hdf5_error_text() + ")");
+        if (H5Iget_type(group) != H5I_GROUP) fail(path + ": is not a group");
+        struct Names {
+            std::vector<std::string> names;
+            size_t bytes = 0, limit = 0;
+        } names;
+        names.limit = file_size_;  // every name is stored in the file: more is corruption
+        auto collect = [](hid_t, const char* name, const H5L_info_t*, void* data) -> herr_t {
+            auto& n = *static_cast<Names*>(data);
+            n.bytes += std::strlen(name) + 1;
+            if (n.bytes > n.limit) return -1;
+            n.names.emplace_back(name);
+            return 0;
+        };
+        hsize_t index = 0;
+        if (H5Literate(group, H5_INDEX_NAME, H5_ITER_INC, &index, collect, &names) < 0)
+            fail(path + ": cannot list its members (" + hdf5_error_text() + ")");
+        return names.names;
+    }
+
+    std::vector<double> read_float_matrix_live(const std::string& path, const char* shape_text, hsize_t& rows,
+                                               hsize_t& cols) const {
+        Handle ds = open_dataset(path);
+        require_class(ds, path, H5T_FLOAT, "a floating-point type (float64)");
+        {
+            Handle space(H5Dget_space(ds), H5Sclose);
+            hsize_t dims[H5S_MAX_RANK] = {};
+            const int rank = space.valid() ? H5Sget_simple_extent_ndims(space) : -1;
+            if (rank != 2 || H5Sget_simple_extent_dims(space, dims, nullptr) < 0 || dims[1] < 1)
+                fail(path + ": expected shape " + shape_text + " with at least one column");
+            cols = dims[1];
+        }
+        if (cols > kMaxRows) fail(path + ": has an absurd number of columns (" + num(cols) + ")");
+        rows = shape(ds, path, cols, shape_text);
+        std::vector<double> out(static_cast<size_t>(rows * cols));
+        if (!out.empty() && H5Dread(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data()) < 0)
             fail(path + ": cannot read data (" + hdf5_error_text() + ")");
         return out;
     }
@@ -1124,6 +1205,19 @@ BpmFile read_image(const std::string& bytes, const std::string& where, Tape* rec
 
     Parametrization& p = out.param;
     p.original = read_surface(r, "/original");
+    if (r.exists("/original/point_data")) {
+        for (const std::string& name : r.list_members("/original/point_data")) {
+            const std::string path = "/original/point_data/" + name;
+            hsize_t rows = 0, cols = 0;
+            VertexArray a;
+            a.name = name;
+            a.values = r.read_float_matrix(path, "(#V0, k)", rows, cols);
+            check_finite(r, a.values, path, cols);
+            expect_rows(r, rows, p.original.vertices.size(), path, "one per row of /original/vertices");
+            a.components = static_cast<int>(cols);
+            p.original.vertex_data.push_back(std::move(a));
+        }
+    }
     p.coarse = read_surface(r, "/coarse");
     const hsize_t nt0 = p.original.triangles.size();
     const hsize_t nvc = p.coarse.vertices.size(), ntc = p.coarse.triangles.size();

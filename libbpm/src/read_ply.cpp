@@ -3,7 +3,11 @@
 // Every element and property type of PLY 1.0 is understood, so unknown elements
 // (edges, materials, ...) and unknown properties (normals, colours, ...) are skipped
 // rather than refused. Used:
-//   element `vertex`: scalar properties x, y, z (any numeric type)
+//   element `vertex`: scalar properties x, y, z (any numeric type); every other scalar
+//                     property becomes per-vertex data (Surface::vertex_data): nx/ny/nz
+//                     as "normals", red/green/blue(/alpha) as "colors", u/v (or s/t,
+//                     texture_u/texture_v) as "texture_coordinates", the rest one array
+//                     each under its own name (list properties of vertices are skipped)
 //   element `face`:   the list property `vertex_indices` (or `vertex_index`), any count and
 //                     index type, three entries per face (polygons are refused, or
 //                     with accept_polygons triangulated: the triangulate-polygons repair);
@@ -11,6 +15,8 @@
 //                     region, label or physical gives the patch id (an integer value).
 // A file without a face element, or with no faces, has no triangles; read_surface()
 // refuses that with its own message.
+#include <algorithm>
+#include <cctype>
 #include <string>
 
 #include "surface_readers.h"
@@ -118,6 +124,21 @@ public:
         const double value = binary_value(type, what);
         if (!std::isfinite(value)) in_.fail_offset(at, what.str() + " is " + (std::isnan(value) ? "NaN" : "infinite"));
         return value;
+    }
+
+    // A data value: like real(), but NaN and infinities (common in scanner properties
+    // such as confidence) come back as NaN instead of failing; malformed numbers still fail.
+    double data_value(PlyType type, const Label& what) {
+        if (!binary()) {
+            const std::string_view token = in_.next_token();
+            if (ply_type_is_integer(type)) return static_cast<double>(integer_token(token, type, what));
+            std::string t(token.substr(token.size() > 0 && (token[0] == '-' || token[0] == '+') ? 1 : 0));
+            for (char& c : t) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+            if (t == "nan" || t == "inf" || t == "infinity") return std::nan("");
+            return in_.to_double(token, what);
+        }
+        const double value = binary_value(type, what);
+        return std::isfinite(value) ? value : std::nan("");
     }
 
     // A value that must be an integer (indices, counts, patch ids).
@@ -297,11 +318,55 @@ ReaderOutput read_ply(std::string_view bytes, const std::string& name, bool acce
                 patch = at;
             }
         }
+        // Vertex data: (array, component) of every other scalar vertex property.
+        std::vector<std::pair<int, int>> data_slot(e.properties.size(), {-1, -1});
         if (is_vertex) {
             for (int k = 0; k < 3; ++k) {
                 if (coord[k] < 0) in.fail_line(e.header_at, std::string("the vertex element has no scalar property ") + "xyz"[k]);
             }
             s.vertices.resize(static_cast<size_t>(e.count));
+            s.vertex_data.clear();
+            // Known groups first (their components in this order), then single arrays.
+            static const std::vector<std::pair<const char*, std::vector<std::vector<const char*>>>> groups = {
+                {"normals", {{"nx", "ny", "nz"}}},
+                {"colors", {{"red", "green", "blue", "alpha"}, {"red", "green", "blue"}, {"r", "g", "b"}}},
+                {"texture_coordinates", {{"u", "v"}, {"s", "t"}, {"texture_u", "texture_v"}}},
+            };
+            auto find_scalar = [&](const char* name) {
+                for (size_t i = 0; i < e.properties.size(); ++i)
+                    if (!e.properties[i].is_list && e.properties[i].name == name && data_slot[i].first < 0 &&
+                        int(i) != coord[0] && int(i) != coord[1] && int(i) != coord[2])
+                        return static_cast<int>(i);
+                return -1;
+            };
+            for (const auto& [group, variants] : groups) {
+                for (const auto& names : variants) {
+                    std::vector<int> at;
+                    for (const char* n : names) at.push_back(find_scalar(n));
+                    if (std::find(at.begin(), at.end(), -1) != at.end()) continue;
+                    const int array = static_cast<int>(s.vertex_data.size());
+                    s.vertex_data.push_back({group, static_cast<int>(at.size()), {}});
+                    for (size_t c = 0; c < at.size(); ++c) data_slot[static_cast<size_t>(at[c])] = {array, static_cast<int>(c)};
+                    break;
+                }
+            }
+            for (size_t i = 0; i < e.properties.size(); ++i) {
+                const PlyProperty& p = e.properties[i];
+                const int at = static_cast<int>(i);
+                if (p.is_list || data_slot[i].first >= 0 || at == coord[0] || at == coord[1] || at == coord[2]) continue;
+                std::string name = p.name;
+                std::replace(name.begin(), name.end(), '/', '_');
+                if (name.empty() || name == ".") name = "property_" + std::to_string(i);
+                for (int suffix = 2;; ++suffix) {
+                    bool taken = false;
+                    for (const VertexArray& a : s.vertex_data) taken = taken || a.name == name;
+                    if (!taken) break;
+                    name = p.name + "_" + std::to_string(suffix);
+                }
+                data_slot[i] = {static_cast<int>(s.vertex_data.size()), 0};
+                s.vertex_data.push_back({name, 1, {}});
+            }
+            for (VertexArray& a : s.vertex_data) a.values.assign(static_cast<size_t>(e.count) * static_cast<size_t>(a.components), 0.0);
         }
         if (is_face) {
             if (indices < 0) in.fail_line(e.header_at, "the face element has no list property 'vertex_indices'");
@@ -361,6 +426,10 @@ ReaderOutput read_ply(std::string_view bytes, const std::string& name, bool acce
                 } else if (is_vertex && (at == coord[0] || at == coord[1] || at == coord[2])) {
                     const int k = at == coord[0] ? 0 : (at == coord[1] ? 1 : 2);
                     s.vertices[static_cast<size_t>(i)][k] = values.real(p.type, Label(ename, i, ": coordinate ", p.name.c_str()));
+                } else if (is_vertex && data_slot[pi].first >= 0) {
+                    VertexArray& a = s.vertex_data[static_cast<size_t>(data_slot[pi].first)];
+                    a.values[static_cast<size_t>(i) * static_cast<size_t>(a.components) + static_cast<size_t>(data_slot[pi].second)] =
+                        values.data_value(p.type, Label(ename, i, ": property ", p.name.c_str()));
                 } else if (at == patch) {
                     const size_t value_at = values.pos();
                     const int64_t v = values.integer(p.type, Label(ename, i, ": patch id ", p.name.c_str()));
@@ -403,6 +472,18 @@ ReaderOutput read_ply(std::string_view bytes, const std::string& name, bool acce
         }
     }
     if (!seen_vertex) in.fail("the PLY header declares no 'vertex' element");
+    // Data arrays with values that are not numbers cannot be interpolated: left out, said.
+    for (size_t i = 0; i < s.vertex_data.size();) {
+        const VertexArray& a = s.vertex_data[i];
+        const auto bad = std::find_if(a.values.begin(), a.values.end(), [](double x) { return !std::isfinite(x); });
+        if (bad == a.values.end()) {
+            ++i;
+            continue;
+        }
+        out.notes.push_back("vertex data '" + a.name + "' left out: vertex " +
+                            std::to_string((bad - a.values.begin()) / a.components) + " has a value that is not a finite number");
+        s.vertex_data.erase(s.vertex_data.begin() + static_cast<std::ptrdiff_t>(i));
+    }
 
     const int64_t nv = static_cast<int64_t>(s.vertices.size());
     s.triangles.reserve(raw_faces.size());

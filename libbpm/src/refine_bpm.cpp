@@ -537,9 +537,54 @@ private:
         for (size_t v = 0; v < o.coarse.vertices.size(); ++v)
             if (o.coarse_vertex_origin[v] < 0) throw AlgorithmError("refine: refined vertex " + std::to_string(v) + " unused");
         compact_original();
+        carry_vertex_data();
         // Coarse vertices exactly at their original positions.
         for (size_t v = 0; v < o.coarse.vertices.size(); ++v)
             o.coarse.vertices[v] = o.original.vertices[size_t(o.coarse_vertex_origin[v])];
+    }
+
+    // The new original surface is S0 cut into smaller triangles: its vertices of S0 keep
+    // their data, every new one (on an edge or inside a triangle of S0) gets the data
+    // interpolated linearly in the S0 triangle it lies in, like phi itself.
+    void carry_vertex_data() {
+        Parametrization& o = out_;
+        if (p_.original.vertex_data.empty()) return;
+        const size_t nv0 = p_.original.vertices.size(), nv = o.original.vertices.size();
+        std::vector<int32_t> host(nv, -1);  // S0 triangle holding each new vertex
+        for (size_t t = 0; t < o.original.triangles.size(); ++t)
+            for (int32_t v : o.original.triangles[t])
+                if (size_t(v) >= nv0 && host[size_t(v)] < 0) host[size_t(v)] = parent_triangle_[t];
+        o.original.vertex_data.clear();
+        for (const VertexArray& a : p_.original.vertex_data) {
+            const size_t k = size_t(a.components);
+            VertexArray b{a.name, a.components, std::vector<double>(nv * k, 0.0)};
+            std::copy(a.values.begin(), a.values.end(), b.values.begin());
+            for (size_t v = nv0; v < nv; ++v) {
+                if (host[v] < 0) continue;  // unused: compact_original() dropped all of those
+                const Tri& t = p_.original.triangles[size_t(host[v])];
+                const auto& x = p_.original.vertices;
+                const Vec3 w = barycentric_of(x[size_t(t[0])], x[size_t(t[1])], x[size_t(t[2])], o.original.vertices[v]);
+                for (int c = 0; c < 3; ++c)
+                    for (size_t j = 0; j < k; ++j) b.values[v * k + j] += w[size_t(c)] * a.values[size_t(t[size_t(c)]) * k + j];
+            }
+            o.original.vertex_data.push_back(std::move(b));
+        }
+    }
+    // Barycentric coordinates of p (on or within rounding distance of triangle abc)
+    // by least squares in the triangle's plane, clamped to the triangle.
+    static Vec3 barycentric_of(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& p) {
+        const Vec3 e0 = b - a, e1 = c - a, d = p - a;
+        const double d00 = dot(e0, e0), d01 = dot(e0, e1), d11 = dot(e1, e1), d20 = dot(d, e0), d21 = dot(d, e1);
+        const double det = d00 * d11 - d01 * d01;
+        if (!(det > 0)) return {1.0, 0.0, 0.0};
+        double v = (d11 * d20 - d01 * d21) / det, w = (d00 * d21 - d01 * d20) / det;
+        v = std::clamp(v, 0.0, 1.0);
+        w = std::clamp(w, 0.0, 1.0);
+        if (v + w > 1.0) {
+            const double sum = v + w;
+            v /= sum, w /= sum;
+        }
+        return {1.0 - v - w, v, w};
     }
 
     static std::string degenerate_message(size_t ri) {
@@ -562,6 +607,7 @@ private:
             o.piece_original_triangle.push_back(o.original.num_triangles());
             o.original.triangles.push_back(Tri{verts[a], verts[b], verts[c]});
             o.original.patches.push_back(p_.original.patches[size_t(poly.original_triangle)]);
+            parent_triangle_.push_back(poly.original_triangle);
         };
         while (ring.size() > 3) {
             const size_t n = ring.size();
@@ -595,6 +641,7 @@ private:
     std::vector<std::vector<Polygon>> polys_;
     std::vector<std::vector<int32_t>> by_coarse_;  // refined triangles per coarse triangle
     std::vector<Vec3> nb_;  // node barycentrics, snapped onto refined vertices and edges
+    std::vector<int32_t> parent_triangle_;  // S0 triangle of every new original triangle
     std::vector<int32_t> parent_;  // union-find over vertex ids: crossings merged because they are too close
 };
 

@@ -54,6 +54,39 @@ if [ -f "$meshes/femur.off" ]; then
     contains "$work/femur_adaptive.vtu" "Name=\"original_normal\"" "normals in VTU"
     expect 0 "refine femur K=1 to .off" -- "$refine" "$work/femur_smooth.bpm" -o "$work/femur_k1.off" --levels 1
     expect 0 "refined surface reads back" -- "$check" --surface --checks topology "$work/femur_k1.off"
+    # Vertex data of the input (PLY properties) travels through simplify, smooth and
+    # refine; a linear field of the position must come out as the same field of the
+    # refined positions (phi interpolates linearly in original triangles).
+    /usr/bin/python3 - "$meshes/femur.off" "$work/femur_data.ply" <<'PY'
+import sys
+t = open(sys.argv[1]).read().split()
+nv, nf = int(t[1]), int(t[2]); i = 4
+V = [tuple(map(float, t[i + 3 * k:i + 3 * k + 3])) for k in range(nv)]; i += 3 * nv
+with open(sys.argv[2], "w") as f:
+    f.write("ply\nformat ascii 1.0\nelement vertex %d\nproperty double x\nproperty double y\nproperty double z\n" % nv)
+    f.write("property double temperature\nproperty uchar red\nproperty uchar green\nproperty uchar blue\n")
+    f.write("element face %d\nproperty list uchar int vertex_indices\nend_header\n" % nf)
+    for (x, y, z) in V: f.write("%.17g %.17g %.17g %.17g 10 20 30\n" % (x, y, z, x + 2 * y + 3 * z))
+    for k in range(nf):
+        n = int(t[i]); f.write("%d %s\n" % (n, " ".join(t[i + 1:i + 1 + n]))); i += n + 1
+PY
+    expect 0 "simplify femur with vertex data" -- "$tools/bpm-simplify" "$work/femur_data.ply" -o "$work/femur_data.bpm" --ratio 0.1
+    expect 0 "smooth keeps it" -- "$smooth" "$work/femur_data.bpm" -o "$work/femur_data_s.bpm" --iterations 2
+    expect 0 "refine to .bpm keeps it" -- "$refine" "$work/femur_data_s.bpm" -o "$work/femur_data_k1.bpm" --levels 1
+    expect 0 "refine again with --data" -- "$refine" "$work/femur_data_k1.bpm" -o "$work/femur_data.vtu" --levels 2 --data
+    contains "$work/femur_data.vtu" "Name=\"temperature\"" "temperature in VTU"
+    expect 0 "temperature equals x + 2y + 3z at the refined vertices" -- /usr/bin/python3 - "$work/femur_data.vtu" <<'PY'
+import sys, vtk
+from vtk.util.numpy_support import vtk_to_numpy
+r = vtk.vtkXMLUnstructuredGridReader(); r.SetFileName(sys.argv[1]); r.Update()
+g = r.GetOutput(); P = vtk_to_numpy(g.GetPoints().GetData())
+T = vtk_to_numpy(g.GetPointData().GetArray("temperature")).reshape(-1)
+C = vtk_to_numpy(g.GetPointData().GetArray("colors"))
+err = abs(T - (P[:, 0] + 2 * P[:, 1] + 3 * P[:, 2])).max()
+print("points", len(P), "max error", err)
+assert len(P) > 10000 and err < 1e-9, err
+assert abs(C - [10, 20, 30]).max() < 1e-9
+PY
 else
     echo "skipping femur: $meshes/femur.off missing"
 fi

@@ -39,6 +39,12 @@ void require_equal(const Surface& a, const Surface& b) {
     REQUIRE(a.vertices == b.vertices);
     REQUIRE(a.triangles == b.triangles);
     REQUIRE(a.patches == b.patches);
+    REQUIRE(a.vertex_data.size() == b.vertex_data.size());
+    for (size_t i = 0; i < a.vertex_data.size(); ++i) {
+        CHECK(a.vertex_data[i].name == b.vertex_data[i].name);
+        CHECK(a.vertex_data[i].components == b.vertex_data[i].components);
+        CHECK(a.vertex_data[i].values == b.vertex_data[i].values);
+    }
 }
 
 void require_equal(const BpmFile& a, const BpmFile& b) {

@@ -298,6 +298,10 @@ Parametrization make_height_field(int n, int m, const HeightFunction& height) {
 BpmFile make_two_triangles_example() {
     BpmFile f;
     f.param = make_height_field(1, 1, [](double x, double y) { return 0.3 * (x + y - 2 * x * y); });
+    // One optional item of format 1.2: a scalar field x + y + z at the original vertices.
+    VertexArray temperature{"temperature", 1, {}};
+    for (const Vec3& x : f.param.original.vertices) temperature.values.push_back(x[0] + x[1] + x[2]);
+    f.param.original.vertex_data.push_back(std::move(temperature));
     f.units = "mm";
     f.provenance.push_back({"bpm-make-example", "1", "bpm-make-example two_triangles", ""});
     return f;

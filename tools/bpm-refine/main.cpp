@@ -96,8 +96,9 @@ int main(int argc, char** argv) {
     app.add_option("--max-level", options.max_level, "Adaptive: at most this many levels (default 8)")
         ->check(CLI::Range(0, 10));
     app.add_flag("--data", data,
-                 "Carry vertex data of the original surface onto the refined vertices (VTU point data): the vertex "
-                 "normals of S0 interpolated through phi, the parameter position and the original triangle");
+                 "Carry vertex data of the original surface onto the refined vertices (VTU point data): every data "
+                 "array of the input surface (PLY vertex properties, VTK point data; stored in the .bpm file) and the "
+                 "vertex normals of S0, interpolated through phi, plus the parameter position and the original triangle");
     bool volume = false;
     app.add_flag("--volume", volume,
                  "Refine the tetrahedral mesh stored in the file (made by bpm-mesh) instead of the surface: red "
@@ -187,6 +188,15 @@ int main(int argc, char** argv) {
                     if (l > 0) n[v] /= l, n[v + 1] /= l, n[v + 2] /= l;
                 }
                 point_data.push_back({"original_normal", 3, std::move(n)});
+                // The data arrays of the original surface (read from PLY / VTK input), by
+                // linear interpolation in the original triangle each vertex lies in.
+                for (const bpm::VertexArray& a : param.original.vertex_data)
+                    point_data.push_back({a.name == "original_normal" || a.name == "coarse_triangle" ||
+                                                  a.name == "coarse_barycentric" || a.name == "original_triangle"
+                                              ? a.name + "_data"  // the names bpm-refine uses itself
+                                              : a.name,
+                                          a.components,
+                                          bpm::transfer_vertex_data(refined, param.original, a.values, a.components)});
                 bpm::VtuArray tri{"coarse_triangle", 1, {}}, bary{"coarse_barycentric", 3, {}};
                 bpm::VtuArray otri{"original_triangle", 1, {}};
                 for (size_t v = 0; v < refined.vertex_coarse_triangle.size(); ++v) {

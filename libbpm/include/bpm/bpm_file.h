@@ -1,5 +1,5 @@
 #pragma once
-// The bpm file format v1.1 (spec/bpm-format.md is normative): one HDF5 file holding a
+// The bpm file format v1.2 (spec/bpm-format.md is normative): one HDF5 file holding a
 // parametrized surface, its provenance, and room for later groups.
 
 #include <optional>
