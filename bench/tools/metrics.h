@@ -28,6 +28,8 @@ struct OneSidedDistance {
     double rms = 0.0;
     // The sample point where the maximum was found.
     Vec3 max_at{0.0, 0.0, 0.0};
+    // A triangle of `from` that contains that sample point (for diagnostics).
+    int32_t max_triangle = -1;
 };
 
 struct DistanceReport {

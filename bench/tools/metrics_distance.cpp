@@ -13,6 +13,7 @@
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <random>
 #include <utility>
@@ -33,30 +34,38 @@ using Tree = CGAL::AABB_tree<Traits>;
 
 Point to_point(const Vec3& v) { return Point(v[0], v[1], v[2]); }
 
-// Calls `visit(point)` for every sample of `surface` (see the file comment).
+// Calls `visit(point, triangle)` for every sample of `surface` (see the file comment),
+// with a triangle of `surface` that contains the point.
 template <class Visit>
 void for_each_sample(const Surface& surface, const SamplingOptions& options, Visit&& visit) {
-    std::vector<char> used(surface.vertices.size(), 0);
-    for (const Tri& t : surface.triangles)
-        for (int32_t v : t) used[static_cast<size_t>(v)] = 1;
+    // A triangle of every used vertex (-1 = unused), reported with the sample.
+    std::vector<int32_t> used(surface.vertices.size(), -1);
+    for (size_t i = 0; i < surface.triangles.size(); ++i)
+        for (int32_t v : surface.triangles[i]) used[static_cast<size_t>(v)] = static_cast<int32_t>(i);
     for (size_t v = 0; v < surface.vertices.size(); ++v)
-        if (used[v]) visit(surface.vertices[v]);
+        if (used[v] >= 0) visit(surface.vertices[v], used[v]);
 
     // Edge midpoints, each edge once.
-    std::vector<std::pair<int32_t, int32_t>> edges;
+    std::vector<std::array<int32_t, 3>> edges;  // (u, w, a triangle of the edge)
     edges.reserve(surface.triangles.size() * 3);
-    for (const Tri& t : surface.triangles)
-        for (int k = 0; k < 3; ++k) edges.emplace_back(std::min(t[k], t[(k + 1) % 3]), std::max(t[k], t[(k + 1) % 3]));
+    for (size_t i = 0; i < surface.triangles.size(); ++i) {
+        const Tri& t = surface.triangles[i];
+        for (int k = 0; k < 3; ++k)
+            edges.push_back({std::min(t[k], t[(k + 1) % 3]), std::max(t[k], t[(k + 1) % 3]), static_cast<int32_t>(i)});
+    }
     std::sort(edges.begin(), edges.end());
-    edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
-    for (const auto& [u, w] : edges) visit(0.5 * (surface.vertices[u] + surface.vertices[w]));
+    edges.erase(std::unique(edges.begin(), edges.end(),
+                            [](const auto& a, const auto& b) { return a[0] == b[0] && a[1] == b[1]; }),
+                edges.end());
+    for (const auto& e : edges) visit(0.5 * (surface.vertices[e[0]] + surface.vertices[e[1]]), e[2]);
 
     double total_area = 0.0;
     for (const Tri& t : surface.triangles)
         total_area += triangle_area(surface.vertices[t[0]], surface.vertices[t[1]], surface.vertices[t[2]]);
     std::mt19937_64 rng(options.seed);
     std::uniform_real_distribution<double> uniform(0.0, 1.0);
-    for (const Tri& t : surface.triangles) {
+    for (size_t ti = 0; ti < surface.triangles.size(); ++ti) {
+        const Tri& t = surface.triangles[ti];
         const Vec3& a = surface.vertices[t[0]];
         const Vec3& b = surface.vertices[t[1]];
         const Vec3& c = surface.vertices[t[2]];
@@ -66,7 +75,7 @@ void for_each_sample(const Surface& surface, const SamplingOptions& options, Vis
         for (int64_t i = 0; i < count; ++i) {
             const double r1 = std::sqrt(uniform(rng));
             const double r2 = uniform(rng);
-            visit(barycentric_point(a, b, c, {1.0 - r1, r1 * (1.0 - r2), r1 * r2}));
+            visit(barycentric_point(a, b, c, {1.0 - r1, r1 * (1.0 - r2), r1 * r2}), static_cast<int32_t>(ti));
         }
     }
 }
@@ -82,7 +91,7 @@ OneSidedDistance one_sided(const Surface& from, const Surface& to, const Samplin
     tree.accelerate_distance_queries();
 
     double sum = 0.0, sum_sq = 0.0;
-    for_each_sample(from, options, [&](const Vec3& p) {
+    for_each_sample(from, options, [&](const Vec3& p, int32_t triangle) {
         const Point q = to_point(p);
         const double dist = std::sqrt(CGAL::to_double(tree.squared_distance(q)));
         ++d.samples;
@@ -91,6 +100,7 @@ OneSidedDistance one_sided(const Surface& from, const Surface& to, const Samplin
         if (dist > d.max) {
             d.max = dist;
             d.max_at = p;
+            d.max_triangle = triangle;
         }
     });
     if (d.samples > 0) {

@@ -142,7 +142,95 @@ std::string shape(const Parametrization& p, int levels) {
     return o.str();
 }
 
-std::string convergence(const Parametrization& p, const std::vector<int>& levels, const bench::SamplingOptions& sampling) {
+// How phi behaves on one coarse triangle, for locating where the Hausdorff distance
+// comes from: the largest angle between the coarse triangle's normal and the normal of
+// a piece's image (> 90 degrees: the original surface folds back over the triangle),
+// the original area phi maps into it over its own area, and the largest local area
+// stretch of a piece (image area / parameter area) over that mean.
+struct CoarseTriangleStats {
+    double normal_deviation_degrees = 0, area_ratio = 0, max_stretch = 0;
+    int64_t pieces = 0;
+};
+
+CoarseTriangleStats coarse_triangle_stats(const Parametrization& p, int32_t t) {
+    CoarseTriangleStats st;
+    const Tri& c = p.coarse.triangles[size_t(t)];
+    const Vec3 &c0 = p.coarse.vertices[size_t(c[0])], &c1 = p.coarse.vertices[size_t(c[1])],
+               &c2 = p.coarse.vertices[size_t(c[2])];
+    const Vec3 n = cross(c1 - c0, c2 - c0);
+    const double coarse_area = 0.5 * norm(n);
+    double image_area = 0;
+    std::vector<std::pair<double, double>> areas;  // (image, parameter) per piece
+    const int64_t base = p.node_offsets[size_t(t)];
+    for (int64_t i = p.piece_offsets[size_t(t)]; i < p.piece_offsets[size_t(t) + 1]; ++i) {
+        const Tri& q = p.pieces[size_t(i)];
+        const Vec3 &a = p.node_image[size_t(base + q[0])], &b = p.node_image[size_t(base + q[1])],
+                   &d = p.node_image[size_t(base + q[2])];
+        const Vec3 m = cross(b - a, d - a);
+        const double len = norm(m) * norm(n);
+        if (len > 0) {
+            const double cosine = std::max(-1.0, std::min(1.0, dot(m, n) / len));
+            st.normal_deviation_degrees = std::max(st.normal_deviation_degrees, std::acos(cosine) * 180.0 / M_PI);
+        }
+        auto param = [&](int32_t k) {
+            return barycentric_point(c0, c1, c2, p.node_barycentric[size_t(base + k)]);
+        };
+        const double pa = triangle_area(param(q[0]), param(q[1]), param(q[2]));
+        areas.push_back({0.5 * norm(m), pa});
+        image_area += 0.5 * norm(m);
+        ++st.pieces;
+    }
+    st.area_ratio = coarse_area > 0 ? image_area / coarse_area : 0;
+    const double mean = coarse_area > 0 ? image_area / coarse_area : 0;
+    for (const auto& [img, par] : areas)
+        if (par > 0 && mean > 0) st.max_stretch = std::max(st.max_stretch, img / par / mean);
+    return st;
+}
+
+std::string stats_of(const Parametrization& p, int32_t t) {
+    const CoarseTriangleStats st = coarse_triangle_stats(p, t);
+    std::ostringstream o;
+    o << "{\"coarse_triangle\": " << t << ", \"normal_deviation_degrees\": " << num(st.normal_deviation_degrees)
+      << ", \"area_ratio\": " << num(st.area_ratio) << ", \"max_stretch\": " << num(st.max_stretch)
+      << ", \"pieces\": " << st.pieces << "}";
+    return o.str();
+}
+
+// The coarse triangles phi maps (partly) onto original triangle T.
+std::vector<int32_t> coarse_triangles_of(const Parametrization& p, int32_t original_triangle) {
+    std::vector<int32_t> out;
+    for (int32_t t = 0; t < p.coarse.num_triangles(); ++t)
+        for (int64_t i = p.piece_offsets[size_t(t)]; i < p.piece_offsets[size_t(t) + 1]; ++i)
+            if (p.piece_original_triangle[size_t(i)] == original_triangle) {
+                out.push_back(t);
+                break;
+            }
+    return out;
+}
+
+// Where the larger one-sided maximum was found: the point, and the coarse triangle(s)
+// it belongs to with their CoarseTriangleStats.
+std::string worst_spot(const Parametrization& p, const RefinedSurface& r, const bench::DistanceReport& d,
+                       double diagonal) {
+    const bool from_original = d.original_to_coarse.max >= d.coarse_to_original.max;
+    const bench::OneSidedDistance& side = from_original ? d.original_to_coarse : d.coarse_to_original;
+    std::vector<int32_t> coarse;
+    if (side.max_triangle >= 0) {
+        if (from_original) coarse = coarse_triangles_of(p, side.max_triangle);
+        else coarse.push_back(r.triangle_coarse[size_t(side.max_triangle)]);
+    }
+    std::ostringstream o;
+    o << "{\"side\": \"" << (from_original ? "original_to_refined" : "refined_to_original")
+      << "\", \"distance_relative\": " << num(side.max / diagonal) << ", \"at\": [" << num(side.max_at[0]) << ", "
+      << num(side.max_at[1]) << ", " << num(side.max_at[2]) << "], \"triangle\": " << side.max_triangle
+      << ", \"coarse\": [";
+    for (size_t i = 0; i < coarse.size(); ++i) o << (i ? ", " : "") << stats_of(p, coarse[i]);
+    o << "]}";
+    return o.str();
+}
+
+std::string convergence(const Parametrization& p, const std::vector<int>& levels, const bench::SamplingOptions& sampling,
+                        bool diagnose) {
     const double diagonal = bounding_box_diagonal(p.original);
     std::ostringstream o;
     o << "{\"bbox_diagonal\": " << num(diagonal) << ", \"sampling\": {\"area_samples\": " << sampling.area_samples
@@ -166,10 +254,27 @@ std::string convergence(const Parametrization& p, const std::vector<int>& levels
             return s.str();
         };
         o << (first ? "" : ", ") << "\n  {\"K\": " << k << ", \"triangles\": " << r.surface.num_triangles()
-          << ", \"phi\": " << side(phi) << ", \"plain\": " << side(plain) << ", \"seconds\": " << num(seconds) << "}";
+          << ", \"phi\": " << side(phi) << ", \"plain\": " << side(plain) << ", \"seconds\": " << num(seconds);
+        if (diagnose) o << ", \"worst_with_phi\": " << worst_spot(p, r, phi, diagonal);
+        o << "}";
         first = false;
     }
-    o << "]}";
+    o << "]";
+    if (diagnose) {
+        // Distribution over the coarse triangles, to compare with the worst spots.
+        int64_t over90 = 0, over60 = 0;
+        double worst_dev = 0, worst_stretch = 0;
+        for (int32_t t = 0; t < p.coarse.num_triangles(); ++t) {
+            const CoarseTriangleStats st = coarse_triangle_stats(p, t);
+            over90 += st.normal_deviation_degrees > 90;
+            over60 += st.normal_deviation_degrees > 60;
+            worst_dev = std::max(worst_dev, st.normal_deviation_degrees);
+            worst_stretch = std::max(worst_stretch, st.max_stretch);
+        }
+        o << ", \"coarse_triangles_normal_deviation_over_60\": " << over60 << ", \"over_90\": " << over90
+          << ", \"max_normal_deviation_degrees\": " << num(worst_dev) << ", \"max_stretch\": " << num(worst_stretch);
+    }
+    o << "}";
     return o.str();
 }
 
@@ -269,6 +374,11 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     cv->add_option("--min-per-triangle", sampling.min_per_triangle, "Random samples at least per triangle")
         ->capture_default_str();
+    bool diagnose = false;
+    cv->add_flag("--diagnose", diagnose,
+                 "Also report, per K, where the largest distance with phi was found (the coarse triangle, the largest "
+                 "angle between its normal and the normals of the original pieces on it, and how much phi stretches "
+                 "them), and how many coarse triangles carry pieces turned by more than 60 / 90 degrees");
     auto* tp = app.add_subcommand("throughput", "phi evaluations per second for random points");
     tp->add_option("FILE", file, "Input .bpm")->required();
     tp->add_option("--points", points, "Number of random points")->capture_default_str();
@@ -283,7 +393,7 @@ int main(int argc, char** argv) {
         const BpmFile f = read_bpm(file);
         std::string json;
         if (*sh) json = shape(f.param, levels);
-        else if (*cv) json = convergence(f.param, parse_list(levels_text), sampling);
+        else if (*cv) json = convergence(f.param, parse_list(levels_text), sampling, diagnose);
         else json = throughput(f.param, points, parse_list(threads_text), std::max(1, repeat), seed);
         json += "\n";
         if (output == "-") {
