@@ -349,6 +349,11 @@ bool check_faces(const TriangleGraph& graph, const Embedding& embedding, const s
     return faces_into(graph, embedding, orientation_sign, scratch, face_count, why);
 }
 
+bool check_faces(const TriangleGraph& graph, const Embedding& embedding, const std::vector<int8_t>& orientation_sign,
+                 std::vector<OverlayFace>& scratch, size_t& face_count, std::string* why) {
+    return faces_into(graph, embedding, orientation_sign, scratch, face_count, why);
+}
+
 bool triangulate_faces(const TriangleGraph& graph, const Embedding& embedding,
                        const std::vector<int8_t>& orientation_sign, const std::vector<OverlayFace>& faces,
                        std::vector<Tri>& pieces, std::vector<int32_t>& piece_triangle, std::string* why) {

@@ -68,6 +68,10 @@ bool compute_faces(const TriangleGraph& graph, const Embedding& embedding,
 // contents afterwards are unspecified.
 bool check_faces(const TriangleGraph& graph, const Embedding& embedding, const std::vector<int8_t>& orientation_sign,
                  std::vector<OverlayFace>& scratch, std::string* why = nullptr);
+// The same, telling how many faces it found: on success scratch[0 .. face_count) are the
+// faces with their original triangles, as compute_faces() would return them.
+bool check_faces(const TriangleGraph& graph, const Embedding& embedding, const std::vector<int8_t>& orientation_sign,
+                 std::vector<OverlayFace>& scratch, size_t& face_count, std::string* why = nullptr);
 
 // Splits every face into triangles that are positively oriented both in the
 // parameter triangle and (times the orientation sign) in the original triangle.

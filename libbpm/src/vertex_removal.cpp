@@ -303,8 +303,9 @@ namespace {
 class FanPlanner {
 public:
     // Planners are reused across removals so that their buffers keep their capacity.
-    FanPlanner(const CoarseMesh& mesh, const Embedding& emb, const std::vector<int8_t>& sign)
-        : mesh_(mesh), emb_(emb), sign_(sign) {}
+    FanPlanner(const CoarseMesh& mesh, const Embedding& emb, const std::vector<int8_t>& sign,
+               const std::vector<Vec3>& normals)
+        : mesh_(mesh), emb_(emb), sign_(sign), normals_(normals) {}
     void reset(int32_t v, const Fan& fan, double radius_scale,
                const std::unordered_map<int32_t, double>* new_edge_params, bool validate) {
         v_ = v;
@@ -318,6 +319,7 @@ public:
         vertex_node_.resize(emb_.location.size());
         vertex_node_.clear();
         max_deviation = 0.0;
+        min_normal_cosine = 1.0;
         used_floater = false;
         path_edits.clear();
         locations.clear();
@@ -336,12 +338,16 @@ public:
     std::vector<PathEdit> path_edits;
     std::vector<std::pair<int32_t, SurfacePoint>> locations;  // free vertices; Inside uses -1-local
     double max_deviation = 0.0;
+    // Smallest cosine between a new triangle's normal and an original normal on it
+    // (RemovalPlan::max_normal_deviation).
+    double min_normal_cosine = 1.0;
     bool used_floater = false;
 
 private:
     const CoarseMesh& mesh_;
     const Embedding& emb_;
     const std::vector<int8_t>& sign_;
+    const std::vector<Vec3>& normals_;  // oriented unit normals of the original triangles
     int32_t v_ = -1;
     const Fan* fan_ = nullptr;
     double scale_ = 1.0;
@@ -375,6 +381,17 @@ private:
     std::vector<int32_t> sorted_;  // scratch for sorted copies of edge contents
     std::vector<StraightSegment> segments_;
     std::vector<std::vector<int32_t>> side_nodes_;  // per polygon side: fixed nodes on it
+    std::vector<Vec3> new_normals_;                 // unit normal of every new triangle
+
+    void compute_new_normals() {
+        if (normals_.empty()) return;
+        const auto& x = mesh_.positions();
+        new_normals_.resize(new_tris.size());
+        for (size_t t = 0; t < new_tris.size(); ++t) {
+            const auto& c = new_tris[t];
+            new_normals_[t] = triangle_normal(x[fan_->link[c[0]]], x[fan_->link[c[1]]], x[fan_->link[c[2]]]);
+        }
+    }
 
     Vec2 corner_pos(int32_t vertex) const {
         if (vertex == v_) return {0.0, 0.0};
@@ -1168,6 +1185,7 @@ bool FanPlanner::transfer(std::string& why) {
 
     // 3. Full: which new triangle every piece of a cut segment lies in, the graph of
     // every new triangle, validated exactly.
+    min_normal_cosine = 1.0;  // a second transfer (after Floater's map) starts afresh
     diagonal_triangles_.assign(diagonals.size(), {-1, -1});
     side_triangle_.assign(n_, -1);
     for (int32_t t = 0; t < ntris; ++t) {
@@ -1318,10 +1336,14 @@ bool FanPlanner::transfer(std::string& why) {
         }
         for (int32_t item : touched_) local_[item] = -1;
         std::string& reason = reason_;
-        if (!check_faces(graph, emb_, sign_, faces_, &reason)) {
+        size_t face_count = 0;
+        if (!check_faces(graph, emb_, sign_, faces_, face_count, &reason)) {
             why = "invalid transfer: " + reason;
             return false;
         }
+        // Every original triangle with a piece on t has a face here: exact.
+        for (size_t f = 0; f < face_count && !normals_.empty(); ++f)
+            min_normal_cosine = std::min(min_normal_cosine, dot(new_normals_[t], normals_[faces_[f].original_triangle]));
     }
 
     // 4. New locations of the free vertices.
@@ -1339,6 +1361,7 @@ bool FanPlanner::transfer(std::string& why) {
 bool FanPlanner::run(std::string& why) {
     if (!flatten(why)) return false;
     if (!triangulate(why)) return false;
+    compute_new_normals();
     if (!gather_nodes(why)) return false;
     if (!validate_) {
         // For ranking only: the deviation at the original vertices that move, placed by
@@ -1351,6 +1374,16 @@ bool FanPlanner::run(std::string& why) {
                 const auto& c = new_tris[s.new_triangle];
                 const Vec3 flat = barycentric_point(x[fan_->link[c[0]]], x[fan_->link[c[1]]], x[fan_->link[c[2]]], s.bary);
                 max_deviation = std::max(max_deviation, distance(x[s.vertex], flat));
+                // A vertex strictly inside a new triangle has a piece of every triangle
+                // around it there (the triangles of its edges): a lower bound of the
+                // full plan's value.
+                if (normals_.empty()) continue;
+                const Vec3& normal = new_normals_[s.new_triangle];
+                for (int32_t k = emb_.vertex_edge_offsets[s.vertex]; k < emb_.vertex_edge_offsets[s.vertex + 1]; ++k) {
+                    const int32_t e = emb_.vertex_edges[k];
+                    for (int32_t j = emb_.edge_triangle_offsets[e]; j < emb_.edge_triangle_offsets[e + 1]; ++j)
+                        min_normal_cosine = std::min(min_normal_cosine, dot(normal, normals_[emb_.edge_triangles[j]]));
+                }
             } else if ((s.free && s.diagonal >= 0) || (!fan_->closed && s.poly_edge == n_ - 1)) {
                 const Vec3 flat = (1.0 - s.edge_s) * x[s.edge_lo] + s.edge_s * x[s.edge_hi];
                 max_deviation = std::max(max_deviation, distance(x[s.vertex], flat));
@@ -1391,13 +1424,18 @@ struct RemovalScratch {
     std::vector<SurfacePoint> points;
     std::vector<double> sigmas;
     FanPlanner planner;
-    RemovalScratch(const CoarseMesh& mesh, const Embedding& embedding, const std::vector<int8_t>& sign)
-        : planner(mesh, embedding, sign) {}
+    RemovalScratch(const CoarseMesh& mesh, const Embedding& embedding, const std::vector<int8_t>& sign,
+                   const std::vector<Vec3>& normals)
+        : planner(mesh, embedding, sign, normals) {}
 };
 
 VertexRemover::VertexRemover(const CoarseMesh& mesh, const Embedding& embedding,
-                             const std::vector<int8_t>& orientation_sign)
-    : mesh_(mesh), embedding_(embedding), orientation_sign_(orientation_sign), scratch_(new RemovalScratch(mesh, embedding, orientation_sign)) {}
+                             const std::vector<int8_t>& orientation_sign, const std::vector<Vec3>& oriented_normals)
+    : mesh_(mesh),
+      embedding_(embedding),
+      orientation_sign_(orientation_sign),
+      oriented_normals_(oriented_normals),
+      scratch_(new RemovalScratch(mesh, embedding, orientation_sign, oriented_normals)) {}
 
 VertexRemover::~VertexRemover() { delete scratch_; }
 
@@ -1428,6 +1466,7 @@ void RemovalPlan::clear() {
     new_paths.clear();
     path_versions.clear();
     max_deviation = worst_old_aspect = worst_new_aspect = longest_new_edge = 0.0;
+    max_normal_deviation = 0.0;
     used_floater = false;
 }
 
@@ -1513,6 +1552,9 @@ void VertexRemover::plan_once(int32_t v, bool force_disk, bool validate, Removal
         }
         plan.used_floater = plan.used_floater || planner.used_floater;
         plan.max_deviation = std::max(plan.max_deviation, planner.max_deviation);
+        plan.max_normal_deviation =
+            std::max(plan.max_normal_deviation,
+                     std::acos(std::max(-1.0, std::min(1.0, planner.min_normal_cosine))) * (180.0 / M_PI));
         const int32_t base = static_cast<int32_t>(plan.new_triangles.size());
         const int32_t patch = mesh_.patch(fan.triangles[0]);
         for (size_t i = 0; i < planner.new_tris.size(); ++i) {

@@ -49,6 +49,13 @@ struct RemovalPlan {
     double worst_old_aspect = 0.0;  // max R/r of the removed triangles
     double worst_new_aspect = 0.0;  // max R/r of the new triangles
     double longest_new_edge = 0.0;
+    // Largest angle (degrees) between the normal of a new triangle and the normal of an
+    // original triangle that phi maps (partly) onto it, both in the coarse orientation.
+    // Above 90 the original surface folds back over the new triangle, and near 90 phi
+    // must squeeze it; refinement through phi then samples it badly. Full plans: exact,
+    // over the faces of the validated overlays. Cheap plans: a lower bound, over the
+    // triangles around the original vertices that move strictly inside a new triangle.
+    double max_normal_deviation = 0.0;
     bool used_floater = false;
 
     // Back to a fresh plan, keeping the buffers (plans are made millions of times).
@@ -59,7 +66,11 @@ struct RemovalScratch;  // reusable buffers, defined in vertex_removal.cpp
 
 class VertexRemover {
 public:
-    VertexRemover(const CoarseMesh& mesh, const Embedding& embedding, const std::vector<int8_t>& orientation_sign);
+    // `oriented_normals[T]`: unit normal of original triangle T in the coarse orientation
+    // (times its orientation sign), for RemovalPlan::max_normal_deviation; empty: that
+    // angle is not computed (left 0).
+    VertexRemover(const CoarseMesh& mesh, const Embedding& embedding, const std::vector<int8_t>& orientation_sign,
+                  const std::vector<Vec3>& oriented_normals);
     ~VertexRemover();
 
     // Plans the removal of v. Checks everything local: classification, the topology
@@ -74,6 +85,7 @@ private:
     const CoarseMesh& mesh_;
     const Embedding& embedding_;
     const std::vector<int8_t>& orientation_sign_;
+    const std::vector<Vec3>& oriented_normals_;
     RemovalScratch* scratch_;
 };
 

@@ -38,6 +38,12 @@ int main(int argc, char** argv) {
                    "Refuse removals that create a triangle with circumradius/inradius above this (2 = equilateral; "
                    "default 30), unless the removed triangles were worse")
         ->check(CLI::Range(2.0, 1e300));
+    app.add_option("--max-normal-deviation", options.max_normal_deviation_degrees,
+                   "Refuse removals after which some coarse triangle would carry a piece of the original surface "
+                   "turned by more than this many degrees from it (angle between the normals; above 90 the original "
+                   "folds back over the coarse triangle). Such pieces are squeezed by phi, and surfaces refined "
+                   "through phi converge to them slowly. Default 180 = off")
+        ->check(CLI::Range(0.0, 180.0));
     app.add_option("--aspect-weight", options.aspect_weight,
                    "Weight of triangle shape (circumradius/inradius) against geometric error in the cost (default 1)")
         ->check(CLI::NonNegativeNumber);

@@ -37,6 +37,12 @@ struct SimplifyOptions {
     // create, unless the triangles it removes were already worse. Mesh generators need
     // bounded aspect ratios; infinity disables.
     double max_aspect_ratio = 30.0;
+    // Largest angle (degrees) a removal may leave between the normal of a new coarse
+    // triangle and the normal of any original triangle that phi maps (partly) onto it.
+    // Where the original surface turns away from the coarse triangle (above 90 degrees
+    // it folds back over it), phi has to squeeze it, and refining through phi samples
+    // that part too coarsely to converge to it. 180 disables.
+    double max_normal_deviation_degrees = 180.0;
     // Longest edge a removal may create, relative to the diagonal.
     double max_edge_length = std::numeric_limits<double>::infinity();
     // Edges whose dihedral angle (between normals) exceeds this are creases, kept as
