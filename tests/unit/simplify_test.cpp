@@ -169,3 +169,54 @@ TEST_CASE("simplify honours its stopping rules", "[simplify]") {
         CHECK_THROWS_AS(simplify(s, options, Context{}, p), OptionError);
     }
 }
+
+namespace {
+
+// Largest angle (degrees) between a coarse triangle's normal and the normal of the image
+// of one of its pieces: computed from the output alone, independently of the simplifier.
+double max_normal_deviation(const Parametrization& p) {
+    double worst = 0.0;
+    for (int32_t t = 0; t < p.coarse.num_triangles(); ++t) {
+        const Tri& c = p.coarse.triangles[t];
+        const Vec3 n = triangle_normal(p.coarse.vertices[c[0]], p.coarse.vertices[c[1]], p.coarse.vertices[c[2]]);
+        const int64_t base = p.node_offsets[t];
+        for (int64_t i = p.piece_offsets[t]; i < p.piece_offsets[t + 1]; ++i) {
+            const Tri& q = p.pieces[i];
+            const Vec3 m = triangle_normal(p.node_image[base + q[0]], p.node_image[base + q[1]], p.node_image[base + q[2]]);
+            worst = std::max(worst, std::acos(std::max(-1.0, std::min(1.0, dot(n, m)))) * 180.0 / M_PI);
+        }
+    }
+    return worst;
+}
+
+}  // namespace
+
+TEST_CASE("simplify keeps the original's normals within --max-normal-deviation of the coarse triangles",
+          "[simplify]") {
+    // A flat 16 x 16 square with a steep bump in the middle: the triangles around the
+    // raised vertex are tilted by atan(2) = 63 degrees. Simplified to 10 vertices
+    // without the limit, the bump ends up on coarse triangles that are turned by more
+    // than 90 degrees from some of its pieces (measured: 102).
+    Surface s = fixtures::disk(16);
+    s.vertices[8 * 17 + 8][2] = 2.0;
+    SimplifyOptions options;
+    options.target_vertices = 10;
+    SECTION("without the limit the bump ends up on coarse triangles turned far from it") {
+        const Parametrization p = run(s, options);
+        CHECK(max_normal_deviation(p) > 45.0);
+    }
+    SECTION("with the limit no coarse triangle carries a piece turned by more than it") {
+        options.max_normal_deviation_degrees = 45.0;
+        SimplifyResult r;
+        const Parametrization p = run(s, options, &r);
+        require_valid(p, "bump with a normal deviation limit");
+        CHECK(max_normal_deviation(p) <= 45.0);
+        CHECK(p.coarse.num_vertices() < s.num_vertices());
+        if (!r.target_reached) CHECK(r.blocked.count("normal deviation limit (--max-normal-deviation)") == 1);
+    }
+    SECTION("an angle outside 0..180 is refused") {
+        options.max_normal_deviation_degrees = 200.0;
+        Parametrization p;
+        CHECK_THROWS_AS(simplify(s, options, Context{}, p), OptionError);
+    }
+}
