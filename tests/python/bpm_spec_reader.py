@@ -33,6 +33,14 @@ def read(path):
             d[group + "/triangles"] = f[group + "/triangles"][()].astype(np.int64)
             d[group + "/patches"] = f[group + "/patches"][()].astype(np.int64)
         d["coarse/vertex_origin"] = f["coarse/vertex_origin"][()].astype(np.int64)
+        # Optional since 1.2 (spec 5.1): per-vertex data of S0, one (#V0, k) dataset per array.
+        d["original/point_data"] = {}
+        if "original/point_data" in f:
+            for name, ds in f["original/point_data"].items():
+                a = ds[()].astype(np.float64)
+                if a.ndim != 2 or a.shape[0] != len(d["original/vertices"]) or a.shape[1] < 1:
+                    raise SpecError("/original/point_data/%s has shape %s" % (name, a.shape))
+                d["original/point_data"][name] = a
         for name in ("node_offsets", "node_kind", "node_original_vertex", "node_original_edge",
                      "piece_offsets", "pieces", "piece_original_triangle"):
             d["phi/" + name] = f["phi/" + name][()].astype(np.int64)
@@ -65,6 +73,14 @@ def node_in_original(d, node, tri):
     else:  # OriginalVertex (0) or CoarseCorner (2)
         beta[list(tri).index(d["phi/node_original_vertex"][node])] = 1
     return beta
+
+
+def data_at(d, name, otri, obary):
+    """The value of point data array `name` at points given by original triangle and
+    barycentric coordinates in it (from evaluate): linear interpolation, spec 5.1."""
+    values = d["original/point_data"][name]
+    corners = d["original/triangles"][otri]                         # (q, 3)
+    return np.einsum("qk,qkc->qc", obary, values[corners])
 
 
 def evaluate(d, triangles, barycentrics):

@@ -68,6 +68,13 @@ def compare(path, tools, work, rng, count):
         problems.append("original barycentrics differ by up to %g" % dbeta.max())
     if np.any(dn > 1e-12):
         problems.append("normals differ by up to %g" % dn.max())
+    # The spec example carries temperature = x + y + z at the original vertices: its
+    # interpolation at phi(x) must be that field of phi(x), computed from h5py alone.
+    if "temperature" in d["original/point_data"]:
+        temperature = spec.data_at(d, "temperature", otri, obary)[:, 0]
+        dt = np.abs(temperature - pos.sum(axis=1)).max()
+        if dt > 1e-12 * scale:
+            problems.append("point data 'temperature' differs from x + y + z by up to %g" % dt)
     return problems, int((~same).sum()), float(dpos.max() / scale)
 
 
