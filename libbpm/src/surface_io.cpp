@@ -32,6 +32,8 @@ const char* format_name(SurfaceFormat f) {
         case SurfaceFormat::Stl: return "STL";
         case SurfaceFormat::Ply: return "PLY";
         case SurfaceFormat::Msh: return "MSH";
+        case SurfaceFormat::Vtp: return "VTP";
+        case SurfaceFormat::Vtu: return "VTU";
     }
     return "?";
 }
@@ -44,6 +46,15 @@ std::string sniffed_format_hint(std::string_view bytes, SurfaceFormat chosen) {
     else if (head.substr(0, 11) == "$MeshFormat") seen = SurfaceFormat::Msh;
     else if (head.substr(0, 3) == "OFF" || head.substr(0, 4) == "COFF" || head.substr(0, 4) == "NOFF") seen = SurfaceFormat::Off;
     else if (head.substr(0, 5) == "solid") seen = SurfaceFormat::Stl;
+    else if (const size_t at = bytes.substr(0, 512).find("<VTKFile"); at != std::string_view::npos) {
+        const std::string_view tag = bytes.substr(at, 200);
+        if (tag.find("\"PolyData\"") != std::string_view::npos) seen = SurfaceFormat::Vtp;
+        else if (tag.find("\"UnstructuredGrid\"") != std::string_view::npos) seen = SurfaceFormat::Vtu;
+    }
+    // One reader reads both VTK XML types: no hint between them.
+    if (seen && (*seen == SurfaceFormat::Vtp || *seen == SurfaceFormat::Vtu) &&
+        (chosen == SurfaceFormat::Vtp || chosen == SurfaceFormat::Vtu))
+        return "";
     if (!seen || *seen == chosen) return "";
     return std::string(" (the file looks like ") + format_name(*seen) + ", not " + format_name(chosen) + ")";
 }
@@ -78,6 +89,8 @@ std::optional<SurfaceFormat> surface_format_from_name(const std::string& name) {
     if (n == "stl") return SurfaceFormat::Stl;
     if (n == "ply") return SurfaceFormat::Ply;
     if (n == "msh") return SurfaceFormat::Msh;
+    if (n == "vtp") return SurfaceFormat::Vtp;
+    if (n == "vtu") return SurfaceFormat::Vtu;
     return std::nullopt;
 }
 
@@ -98,6 +111,8 @@ Surface read_surface_from_memory(const std::string& bytes, SurfaceFormat format,
             case SurfaceFormat::Stl: parsed = detail::read_stl(bytes, name); break;
             case SurfaceFormat::Ply: parsed = detail::read_ply(bytes, name, options.triangulate_polygons); break;
             case SurfaceFormat::Msh: parsed = detail::read_msh(bytes, name); break;
+            case SurfaceFormat::Vtp:
+            case SurfaceFormat::Vtu: parsed = detail::read_vtk_xml(bytes, name, options.triangulate_polygons); break;
         }
     } catch (const InputError& e) {
         const std::string hint = sniffed_format_hint(bytes, format);
@@ -143,7 +158,7 @@ Surface read_surface(const std::string& path, const SurfaceReadOptions& options,
     if (!format) {
         throw InputError(name, path == "-" ? "the format of standard input must be given explicitly"
                                            : "cannot tell the surface format from the file name; expected the "
-                                             "extension .off, .obj, .stl, .ply or .msh, or an explicit format");
+                                             "extension .off, .obj, .stl, .ply, .msh, .vtp or .vtu, or an explicit format");
     }
     const std::string bytes = detail::read_whole_input(path);
     return read_surface_from_memory(bytes, *format, name, options, report);
@@ -318,6 +333,10 @@ void write_surface(const std::string& path, const Surface& surface, std::optiona
                                              : "cannot tell the surface format from the file name; expected the "
                                                "extension .off, .obj, .stl, .ply or .msh, or an explicit format");
     }
+    if (*format == SurfaceFormat::Vtp || *format == SurfaceFormat::Vtu) {
+        throw OutputError(where, std::string("cannot write ") + format_name(*format) +
+                                     ": VTK XML is an input format here (write .off, .obj, .stl, .ply or .msh)");
+    }
     // Refuse what would make a file no reader (bpm's included) can read back.
     if (surface.patches.size() != surface.triangles.size()) {
         throw OutputError(where, "cannot write: the surface has " + std::to_string(surface.patches.size()) +
@@ -355,6 +374,8 @@ void write_surface(const std::string& path, const Surface& surface, std::optiona
         case SurfaceFormat::Stl: bytes = write_stl(surface); break;
         case SurfaceFormat::Ply: bytes = write_ply(surface); break;
         case SurfaceFormat::Msh: bytes = write_msh(surface); break;
+        case SurfaceFormat::Vtp:
+        case SurfaceFormat::Vtu: break;  // refused above
     }
     detail::write_file_atomically(path, bytes);
 }

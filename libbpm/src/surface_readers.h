@@ -53,6 +53,8 @@ ReaderOutput read_obj(std::string_view bytes, const std::string& name, bool acce
 ReaderOutput read_stl(std::string_view bytes, const std::string& name);
 ReaderOutput read_ply(std::string_view bytes, const std::string& name, bool accept_polygons = false);
 ReaderOutput read_msh(std::string_view bytes, const std::string& name);
+// VTK XML PolyData and UnstructuredGrid (either file type, whichever format was chosen).
+ReaderOutput read_vtk_xml(std::string_view bytes, const std::string& name, bool accept_polygons = false);
 
 // A token for an error message: quoted, shortened, non-printable bytes as \xNN, so that
 // binary garbage never ends up raw in a terminal.

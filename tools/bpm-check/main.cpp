@@ -89,7 +89,7 @@ int main(int argc, char** argv) {
     app.add_flag("--triangulate-polygons", triangulate_polygons,
                  "With --surface: split faces with more than 3 corners into triangles first (as bpm-simplify's "
                  "repair of that name)");
-    app.add_option("--format", surface_format, "Surface format for --surface when reading '-' (off, obj, stl, ply, msh)");
+    app.add_option("--format", surface_format, "Surface format for --surface when reading '-' (off, obj, stl, ply, msh, vtp, vtu)");
     bpm::tools::add_version_flag(app, tool);
 
     return bpm::tools::run(tool, argc, argv, app, [&]() {

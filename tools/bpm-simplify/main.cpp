@@ -22,7 +22,7 @@ int main(int argc, char** argv) {
     std::string units;
     app.add_option("INPUT", input, "Input surface (.off .obj .stl .ply .msh), or - for standard input")->required();
     app.add_option("-o,--output", output, "Output .bpm file, or - for standard output")->required();
-    app.add_option("--format", format, "Input format when it cannot be told from the name: off, obj, stl, ply, msh");
+    app.add_option("--format", format, "Input format when it cannot be told from the name: off, obj, stl, ply, msh, vtp, vtu");
     app.add_option("--vertices", options.target_vertices, "Stop when the coarse surface has this many vertices")
         ->check(CLI::NonNegativeNumber);
     app.add_option("--ratio", options.target_ratio,

@@ -10,6 +10,12 @@
 //                        named patch / material / region / label / physical becomes the patch id
 //   MSH   (.msh)         Gmsh 2.2 and 4.1, ASCII and binary; triangles only (other elements
 //                        are skipped and counted); the physical tag is the patch id
+//   VTP, VTU (.vtp .vtu) VTK XML PolyData / UnstructuredGrid (read only): ascii, binary and
+//                        appended data, raw or base64, zlib-compressed or not; triangles,
+//                        strips (split), polygons and quads (with triangulate_polygons);
+//                        other cells skipped with a note. PointData arrays become vertex
+//                        data; a CellData array named patch / material / region / label /
+//                        physical / gmsh:physical / CellEntityIds / RegionId the patch id
 // Every triangle gets a patch id (0 when the format has none). In detail:
 //   OBJ  each distinct (group names, material) pair is a patch, numbered 0, 1, ... in the
 //        order faces first use it; but when there is no `usemtl` and every face is in a
@@ -37,9 +43,11 @@
 
 namespace bpm {
 
-enum class SurfaceFormat { Off, Obj, Stl, Ply, Msh };
+// Vtp, Vtu: VTK XML PolyData / UnstructuredGrid, read only (bpm-refine writes .vtu with
+// its own writer, write_vtu in bpm/refine.h).
+enum class SurfaceFormat { Off, Obj, Stl, Ply, Msh, Vtp, Vtu };
 
-// "off", "obj", "stl", "ply", "msh" (case-insensitive) -> format; nullopt otherwise.
+// "off", "obj", "stl", "ply", "msh", "vtp", "vtu" (case-insensitive) -> format; nullopt otherwise.
 std::optional<SurfaceFormat> surface_format_from_name(const std::string& name);
 // Format from the extension of `path`; nullopt if unknown.
 std::optional<SurfaceFormat> surface_format_from_path(const std::string& path);
@@ -75,6 +83,7 @@ Surface read_surface_from_memory(const std::string& bytes, SurfaceFormat format,
 
 // Writes OFF, OBJ (patches as `g patch_N`), STL (binary), PLY (binary little endian with
 // an int `patch` face property) or MSH 4.1 ASCII (patches as physical tags), atomically:
+// (VTP and VTU are refused: input formats only)
 // to a temporary name in the same directory, renamed when complete. "-" writes stdout.
 // Output is deterministic; text formats write doubles with 17 significant digits, so
 // reading back gives the same surface bit for bit (patches are lost in OFF; STL stores
