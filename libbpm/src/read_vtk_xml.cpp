@@ -118,12 +118,15 @@ XmlDocument scan_xml(const InputCursor& in) {
         if (b.substr(pos, 4) == "<!--") {
             const size_t end = b.find("-->", pos + 4);
             if (end == std::string_view::npos) in.fail_line(pos, "the comment is never closed");
+            // Not part of the element's text (DataArray values around it).
+            if (!open.empty()) doc.elements[open.back()].children_spans.emplace_back(pos, end + 3);
             pos = end + 3;
             continue;
         }
         if (b.substr(pos, 2) == "<?") {
             const size_t end = b.find("?>", pos + 2);
             if (end == std::string_view::npos) in.fail_line(pos, "the processing instruction is never closed");
+            if (!open.empty()) doc.elements[open.back()].children_spans.emplace_back(pos, end + 2);
             pos = end + 2;
             continue;
         }
