@@ -1,0 +1,159 @@
+"""VTK writes .vtp and .vtu files, bpm reads them: a vtkSphereSource with a point scalar
+"temperature" and a cell data "material" array, through vtkXMLPolyDataWriter in each data
+mode (ascii, binary, appended base64, appended raw) with and without zlib, UInt32 and
+UInt64 headers, big-endian, and through vtkXMLUnstructuredGridWriter. For each file bpm-check
+--surface must accept it, and bpm-simplify must read it with VTK's vertex and triangle
+counts and store the point data in the .bpm file with VTK's values and the material as
+patches."""
+import argparse
+import os
+import subprocess
+import sys
+
+import h5py
+import numpy as np
+
+
+def sphere():
+    import vtk
+    from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
+
+    source = vtk.vtkSphereSource()
+    source.SetThetaResolution(16)
+    source.SetPhiResolution(9)
+    source.Update()
+    poly = source.GetOutput()
+    xyz = vtk_to_numpy(poly.GetPoints().GetData()).astype(np.float64)
+    temperature = numpy_to_vtk(xyz[:, 0] + 2 * xyz[:, 1] + 3 * xyz[:, 2] + 1.0, deep=True)
+    temperature.SetName("temperature")
+    poly.GetPointData().AddArray(temperature)
+    material = numpy_to_vtk((np.arange(poly.GetNumberOfCells()) % 3 + 1).astype(np.int32), deep=True)
+    material.SetName("material")
+    poly.GetCellData().AddArray(material)
+    return poly
+
+
+def write_files(poly, work):
+    import vtk
+
+    files = []
+    modes = [("ascii", "SetDataModeToAscii", None), ("binary", "SetDataModeToBinary", None),
+             ("appended", "SetDataModeToAppended", True), ("appended_raw", "SetDataModeToAppended", False)]
+    for name, mode, encode in modes:
+        for compressor in ("None", "ZLib"):
+            for header in ("UInt32", "UInt64"):
+                if name == "ascii" and (compressor != "None" or header != "UInt32"):
+                    continue
+                w = vtk.vtkXMLPolyDataWriter()
+                w.SetInputData(poly)
+                getattr(w, mode)()
+                if encode is not None:
+                    w.SetEncodeAppendedData(encode)
+                getattr(w, "SetCompressorTypeTo" + compressor)()
+                getattr(w, "SetHeaderTypeTo" + header)()
+                path = os.path.join(work, "sphere_%s_%s_%s.vtp" % (name, compressor.lower(), header))
+                w.SetFileName(path)
+                if not w.Write():
+                    raise RuntimeError("VTK could not write " + path)
+                files.append(path)
+    for encode in (True, False):
+        w = vtk.vtkXMLPolyDataWriter()
+        w.SetInputData(poly)
+        w.SetDataModeToAppended()
+        w.SetEncodeAppendedData(encode)
+        w.SetCompressorTypeToZLib()
+        w.SetByteOrderToBigEndian()
+        path = os.path.join(work, "sphere_big_endian_%s.vtp" % ("base64" if encode else "raw"))
+        w.SetFileName(path)
+        if not w.Write():
+            raise RuntimeError("VTK could not write " + path)
+        files.append(path)
+    ugrid_filter = vtk.vtkAppendFilter()
+    ugrid_filter.AddInputData(poly)
+    ugrid_filter.Update()
+    grid = ugrid_filter.GetOutput()
+    for mode, compressor in (("SetDataModeToAppended", "ZLib"), ("SetDataModeToAscii", "None"),
+                             ("SetDataModeToBinary", "None")):
+        w = vtk.vtkXMLUnstructuredGridWriter()
+        w.SetInputData(grid)
+        getattr(w, mode)()
+        getattr(w, "SetCompressorTypeTo" + compressor)()
+        path = os.path.join(work, "sphere_%s_%s.vtu" % (mode[len("SetDataModeTo"):].lower(), compressor.lower()))
+        w.SetFileName(path)
+        if not w.Write():
+            raise RuntimeError("VTK could not write " + path)
+        files.append(path)
+    return files
+
+
+def vtk_counts(path):
+    import vtk
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+
+    reader = vtk.vtkXMLPolyDataReader() if path.endswith(".vtp") else vtk.vtkXMLUnstructuredGridReader()
+    reader.SetFileName(path)
+    reader.Update()
+    data = reader.GetOutput()
+    temperature = vtk_to_numpy(data.GetPointData().GetArray("temperature"))
+    material = vtk_to_numpy(data.GetCellData().GetArray("material"))
+    return data.GetNumberOfPoints(), data.GetNumberOfCells(), temperature, material
+
+
+def check(path, tools, work):
+    problems = []
+    npoints, ncells, temperature, material = vtk_counts(path)
+    r = subprocess.run([os.path.join(tools, "bpm-check"), "--surface", path], capture_output=True, text=True)
+    if r.returncode != 0:
+        return ["bpm-check --surface: exit %d: %s" % (r.returncode, (r.stderr or r.stdout).strip()[:300])]
+    out = os.path.join(work, os.path.basename(path) + ".bpm")
+    r = subprocess.run([os.path.join(tools, "bpm-simplify"), path, "-o", out, "--ratio", "0.5", "--deterministic",
+                        "-q"], capture_output=True, text=True)
+    if r.returncode != 0:
+        return ["bpm-simplify: exit %d: %s" % (r.returncode, r.stderr.strip()[:300])]
+    with h5py.File(out, "r") as f:
+        vertices = f["original/vertices"][()]
+        triangles = f["original/triangles"][()]
+        patches = f["original/patches"][()] if "original/patches" in f else None
+        group = f.get("original/point_data")
+        stored = group["temperature"][()] if group is not None and "temperature" in group else None
+    if len(vertices) != npoints:
+        problems.append("bpm read %d vertices, VTK %d points" % (len(vertices), npoints))
+    if len(triangles) != ncells:
+        problems.append("bpm read %d triangles, VTK %d cells" % (len(triangles), ncells))
+    if stored is None:
+        problems.append("no /original/point_data/temperature in the .bpm file")
+    elif not np.array_equal(np.asarray(stored).reshape(-1), temperature.astype(np.float64)):
+        problems.append("point data 'temperature' differs from what VTK reads")
+    if patches is None or not np.array_equal(np.asarray(patches).reshape(-1), material):
+        problems.append("patches differ from the cell data 'material'")
+    return problems
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--tools", required=True)
+    ap.add_argument("--source", required=True)
+    ap.add_argument("--meshes")
+    ap.add_argument("--work", required=True)
+    args = ap.parse_args()
+    try:
+        import vtk  # noqa: F401
+    except ImportError as e:
+        print("test_vtk_xml_reader: FAILED, cannot import vtk (python3-vtk9): %s" % e)
+        return 1
+    work = os.path.join(args.work, "vtk_xml_reader")
+    os.makedirs(work, exist_ok=True)
+    files = write_files(sphere(), work)
+    failed = 0
+    for path in files:
+        problems = check(path, args.tools, work)
+        print("%s: %s" % (os.path.basename(path), "ok" if not problems else "FAILED"))
+        for p in problems:
+            print("  " + p)
+        failed += bool(problems)
+    print("test_vtk_xml_reader: bpm reads %d of %d VTK XML files correctly" % (len(files) - failed, len(files)))
+    return 1 if failed else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
