@@ -137,7 +137,8 @@ XmlDocument scan_xml(const InputCursor& in) {
             while (i < b.size() && is_name_char(b[i])) ++i;
             const std::string_view name = b.substr(name_begin, i - name_begin);
             while (i < b.size() && is_space(b[i])) ++i;
-            if (i >= b.size() || b[i] != '>') in.fail_line(pos, "expected '>' after </" + std::string(name));
+            if (i >= b.size()) in.fail_line(pos, "the file ends inside a tag (truncated?)");
+            if (b[i] != '>') in.fail_line(pos, "expected '>' after </" + std::string(name));
             if (open.empty()) in.fail_line(pos, "</" + std::string(name) + "> closes no element");
             XmlElement& e = doc.elements[open.back()];
             if (name != e.name) {
@@ -159,11 +160,13 @@ XmlDocument scan_xml(const InputCursor& in) {
         const size_t name_begin = i;
         while (i < b.size() && is_name_char(b[i])) ++i;
         e.name = std::string(b.substr(name_begin, i - name_begin));
-        if (e.name.empty()) in.fail_line(pos, "expected an element name after '<'");
+        if (e.name.empty()) {
+            in.fail_line(pos, i >= b.size() ? "the file ends inside a tag (truncated?)" : "expected an element name after '<'");
+        }
         bool empty_tag = false;
         for (;;) {
             while (i < b.size() && is_space(b[i])) ++i;
-            if (i >= b.size()) in.fail_line(pos, "the start tag <" + e.name + "> is never closed");
+            if (i >= b.size()) in.fail_line(pos, "the start tag <" + e.name + "> is never closed (truncated?)");
             if (b[i] == '>') {
                 ++i;
                 break;

@@ -258,11 +258,88 @@ add("msh_binary_garbage.msh", b"$MeshFormat\n4.1 1 8\n" + struct.pack("<i", 1) +
 add("msh_random_bytes.msh", garbage(8, 300), "*")
 
 
+# ---- VTK XML (.vtp, .vtu) ----
+def vtk_array(name, typ, values, fmt="ascii", comps=1, appended=None, zlib_data=False, header=None):
+    """A DataArray element; binary data goes inline (base64) or into `appended` (a bytearray)."""
+    import base64
+    import zlib
+    code = {"Float64": "d", "Float32": "f", "Int32": "i", "Int64": "q", "UInt8": "B"}[typ]
+    attrs = '<DataArray type="%s" Name="%s" NumberOfComponents="%d" format="%s"' % (typ, name, comps, fmt)
+    if fmt == "ascii":
+        return attrs + ">\n" + " ".join(repr(v) if typ.startswith("Float") else str(v) for v in values) + "\n</DataArray>\n"
+    data = struct.pack("<%d%s" % (len(values), code), *values)
+    if zlib_data:
+        block = zlib.compress(data)
+        head = struct.pack("<4I", 1, 32768, len(data), len(block)) if header is None else header
+        payload = (head, block)
+    else:
+        payload = ((struct.pack("<I", len(data)) if header is None else header) + data,)
+    if fmt == "binary":
+        return attrs + ">\n" + "".join(base64.b64encode(x).decode() for x in payload) + "\n</DataArray>\n"
+    offset = len(appended)
+    appended += b"".join(payload)
+    return attrs + ' offset="%d"/>\n' % offset
+
+
+def vtp(fmt="ascii", vertices=TET_V, faces=TET_F, zlib_data=False, offsets=None, extra="", header_of=None):
+    appended = bytearray()
+    def arr(name, typ, values, comps=1):
+        return vtk_array(name, typ, values, fmt, comps, appended, zlib_data, header_of.get(name) if header_of else None)
+    flat = [c for v in vertices for c in v]
+    conn = [i for f in faces for i in f]
+    offs = offsets if offsets is not None else [3 * (i + 1) for i in range(len(faces))]
+    s = '<?xml version="1.0"?>\n<VTKFile type="PolyData" version="1.0" byte_order="LittleEndian" header_type="UInt32"%s>\n' % (
+        ' compressor="vtkZLibDataCompressor"' if zlib_data else "")
+    s += '<PolyData>\n<Piece NumberOfPoints="%d" NumberOfPolys="%d">\n' % (len(vertices), len(offs))
+    s += "<PointData>\n" + arr("temperature", "Float64", [float(i) for i in range(len(vertices))]) + "</PointData>\n" + extra
+    s += "<Points>\n" + arr("Points", "Float64", [float(c) for c in flat], 3) + "</Points>\n"
+    s += "<Polys>\n" + arr("connectivity", "Int64", conn) + arr("offsets", "Int64", offs) + "</Polys>\n"
+    s += "</Piece>\n</PolyData>\n"
+    data = s.encode()
+    if fmt == "appended":
+        data += b'<AppendedData encoding="raw">\n_' + bytes(appended) + b"\n</AppendedData>\n"
+    return data + b"</VTKFile>\n"
+
+
+def vtu_cells(types, conn, offs):
+    flat = [float(c) for v in TET_V for c in v]
+    s = '<?xml version="1.0"?>\n<VTKFile type="UnstructuredGrid" version="1.0" byte_order="LittleEndian">\n<UnstructuredGrid>\n'
+    s += '<Piece NumberOfPoints="4" NumberOfCells="%d">\n' % len(types)
+    s += "<Points>\n" + vtk_array("Points", "Float64", flat, comps=3) + "</Points>\n<Cells>\n"
+    s += vtk_array("connectivity", "Int64", conn) + vtk_array("offsets", "Int64", offs) + vtk_array("types", "UInt8", types)
+    return s + "</Cells>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n"
+
+
+add("vtp_empty.vtp", "", "empty")
+add("vtp_not_xml.vtp", "OFF\n3 1 0\n", "not an XML file")
+add("vtp_image_data.vtp", vtp().replace(b'type="PolyData"', b'type="ImageData"'), "VTKFile type 'ImageData' is not supported")
+add("vtp_unknown_element.vtp", vtp().replace(b"<Points>", b"<Pointz/>\n<Points>"), "line 10: unknown element <Pointz> in <Piece>")
+add("vtp_not_closed.vtp", vtp()[:-40], "the file ends inside a tag (truncated?)")
+add("vtp_truncated_in_data.vtp", vtp()[:vtp().rindex(b"</DataArray>")], "<DataArray> is never closed")
+add("vtp_mismatched_tag.vtp", vtp().replace(b"</Points>", b"</Polys>"), "</Polys> does not close <Points>")
+add("vtp_bad_base64.vtp", vtp("binary").replace(b"AAAAAAAA", b"AAA*AAAA", 1), "invalid base64 character '*'")
+add("vtp_offsets_decreasing.vtp", vtp(offsets=[3, 9, 6, 12]), "offsets must not decrease")
+add("vtp_offsets_past_end.vtp", vtp(offsets=[3, 6, 9, 13]), "holds 12 values, 13 expected")
+add("vtp_index_out_of_range.vtp", vtp(faces=[(0, 2, 1), (0, 1, 4), (0, 3, 2), (1, 2, 3)]), "is out of range (the piece has 4 points)")
+add("vtp_nan.vtp", vtp(vertices=[(0, 0, 0), (1, 0, float("nan")), (0, 1, 0), (0, 0, 1)]), "is not a finite number")
+add("vtp_quad.vtp", vtp(faces=[(0, 2, 1, 3)], offsets=[4]), "triangulate-polygons repair")
+add("vtp_appended_truncated.vtp", vtp("appended")[:-60], "(truncated?)")
+add("vtp_appended_bad_offset.vtp", vtp("appended").replace(b'offset="0"', b'offset="99999"'), "beyond the end of the appended data")
+add("vtp_appended_no_section.vtp", vtp("appended").split(b"<AppendedData")[0] + b"</VTKFile>\n", "the file has no <AppendedData>")
+add("vtp_zlib_absurd_size.vtp", vtp("binary", zlib_data=True, header_of={"temperature": struct.pack("<4I", 1, 4000000000, 0, 20)}),
+    "absurd decompressed size")
+add("vtp_zlib_corrupt.vtp", vtp("appended", zlib_data=True).replace(b"x\x9c", b"x\x9d", 1), "cannot be decompressed")
+add("vtp_lz4.vtp", vtp("binary").replace(b'header_type="UInt32"', b'header_type="UInt32" compressor="vtkLZ4DataCompressor"'),
+    "is not supported (only vtkZLibDataCompressor)")
+add("vtu_only_tetrahedra.vtu", vtu_cells([10], [0, 1, 2, 3], [4]), "extract the boundary first")
+add("vtu_triangle_with_four_points.vtu", vtu_cells([5], [0, 1, 2, 3], [4]), "triangle cell 0 has 4 points, 3 expected")
+
+
 def main():
     names = [f[0] for f in FILES]
     assert len(names) == len(set(names)), "duplicate file names"
     for old in os.listdir(HERE):
-        if old.split(".")[-1] in ("off", "obj", "stl", "ply", "msh"):
+        if old.split(".")[-1] in ("off", "obj", "stl", "ply", "msh", "vtp", "vtu"):
             os.remove(os.path.join(HERE, old))
     for name, data, _ in FILES:
         with open(os.path.join(HERE, name), "wb") as f:
