@@ -597,3 +597,36 @@ TEST_CASE("vtk xml: malformed files fail with their line", "[surface_io][vtk_xml
         CHECK_THAT(std::string(e.what()), Catch::Contains("looks like VTP"));
     }
 }
+
+TEST_CASE("vtk xml: the files VTK 9.1 wrote in tests/data/vtk_xml", "[surface_io][vtk_xml]") {
+    // make_vtk_xml_fixtures.py: a sphere of 6 points and 8 triangles, temperature =
+    // x + 2y + 3z + 1 (from the Float32 points, stored as Float64), material 1 2 3 1 ...
+    const fs::path dir = fs::path(BPM_SOURCE_DIR) / "tests" / "data" / "vtk_xml";
+    int files = 0;
+    Surface first;
+    for (const auto& entry : fs::directory_iterator(dir)) {
+        const std::string ext = entry.path().extension().string();
+        if (ext != ".vtp" && ext != ".vtu") continue;
+        INFO(entry.path().filename().string());
+        SurfaceReadReport report;
+        const Surface s = read_surface(entry.path().string(), {}, &report);
+        CHECK(report.format == (ext == ".vtp" ? SurfaceFormat::Vtp : SurfaceFormat::Vtu));
+        REQUIRE(s.num_vertices() == 6);
+        REQUIRE(s.num_triangles() == 8);
+        CHECK(s.patches == std::vector<int32_t>{1, 2, 3, 1, 2, 3, 1, 2});
+        const VertexArray* t = find_array(s, "temperature");
+        REQUIRE(t != nullptr);
+        for (int v = 0; v < 6; ++v) {
+            const Vec3& p = s.vertices[v];
+            CHECK(t->values[v] == p[0] + 2 * p[1] + 3 * p[2] + 1.0);
+        }
+        const VertexArray* n = find_array(s, "Normals");
+        REQUIRE(n != nullptr);
+        CHECK(n->components == 3);
+        if (files == 0) first = s;
+        CHECK(s.vertices == first.vertices);
+        CHECK(s.triangles == first.triangles);
+        ++files;
+    }
+    CHECK(files == 8);
+}
