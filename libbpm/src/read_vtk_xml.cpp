@@ -444,9 +444,12 @@ private:
             if (required) fail_at(e, "<" + e.name + "> has no attribute " + key);
             return fallback;
         }
+        std::string_view t = *v;
+        while (!t.empty() && is_space(t.front())) t.remove_prefix(1);
+        while (!t.empty() && is_space(t.back())) t.remove_suffix(1);
         int64_t x = 0;
-        const auto [end, ec] = std::from_chars(v->data(), v->data() + v->size(), x);
-        if (ec != std::errc() || end != v->data() + v->size() || x < 0) {
+        const auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), x);
+        if (t.empty() || ec != std::errc() || end != t.data() + t.size() || x < 0) {
             fail_at(e, "the attribute " + std::string(key) + " of <" + e.name + "> must be a non-negative integer, not " +
                            quote_token(*v));
         }
@@ -478,10 +481,10 @@ private:
 
     // Reads a DataArray. `expected`: the number of values it must hold (-1: any).
     // `finite`: NaN/Inf are refused (coordinates, indices); else they become NaN.
-    ArrayValues read_array(const XmlElement& e, const char* parent, int64_t expected, bool finite) const;
+    ArrayValues read_array(const XmlElement& e, const char* parent, int64_t expected, bool finite);
     void read_ascii(const XmlElement& e, const std::string& what, ArrayValues& a, bool finite) const;
     std::string read_payload(const XmlElement& e, const std::string& what, ByteSource& source, size_t type_size,
-                             int64_t expected_bytes) const;
+                             int64_t expected_bytes);
     uint64_t read_header_word(const XmlElement& e, const std::string& what, ByteSource& source) const;
 
     // Checks an index array read as doubles: whole numbers in [0, limit).
@@ -497,6 +500,7 @@ private:
     bool header64_ = false;
     bool zlib_ = false;
     bool appended_base64_ = false;
+    uint64_t consumed_ = 0;  // binary bytes (compressed or not) decoded so far, all arrays
     ReaderOutput out_;
 
     // Point data of the pieces so far, matched by name (and occurrence) across pieces.
@@ -534,14 +538,24 @@ uint64_t VtkXmlReader::read_header_word(const XmlElement& e, const std::string& 
 }
 
 std::string VtkXmlReader::read_payload(const XmlElement& e, const std::string& what, ByteSource& source,
-                                       size_t type_size, int64_t expected_bytes) const {
+                                       size_t type_size, int64_t expected_bytes) {
     std::string data;
+    // Arrays may not share binary data: with offsets pointing at the same bytes, a small
+    // file could otherwise make every array decode (and allocate) all of it again.
+    auto consume = [&](uint64_t n) {
+        if (n > in_.size() || consumed_ + n > in_.size()) {
+            fail_at(e, what + ": the binary data of the arrays add up to more bytes than the file holds "
+                              "(arrays overlapping in the appended data?)");
+        }
+        consumed_ += n;
+    };
     if (!zlib_) {
         const uint64_t n = read_header_word(e, what, source);
         if (n > source.max_remaining()) {
             fail_at(e, what + ": the header announces " + std::to_string(n) + " bytes, but at most " +
                            std::to_string(source.max_remaining()) + " follow (truncated?)");
         }
+        consume(n);
         if (expected_bytes >= 0 && n != static_cast<uint64_t>(expected_bytes)) {
             fail_at(e, what + ": the header announces " + std::to_string(n) + " bytes, " +
                            std::to_string(expected_bytes) + " expected");
@@ -574,6 +588,7 @@ std::string VtkXmlReader::read_payload(const XmlElement& e, const std::string& w
             fail_at(e, what + ": " + std::to_string(compressed_total) + " compressed bytes announced, but at most " +
                            std::to_string(source.max_remaining()) + " follow (truncated?)");
         }
+        consume(compressed_total);
         if (blocks > 0 && last_size > block_size) {
             fail_at(e, what + ": the last block (" + std::to_string(last_size) + " bytes) is larger than the block size (" +
                            std::to_string(block_size) + ")");
@@ -680,7 +695,7 @@ void VtkXmlReader::read_ascii(const XmlElement& e, const std::string& what, Arra
     }
 }
 
-ArrayValues VtkXmlReader::read_array(const XmlElement& e, const char* parent, int64_t expected, bool finite) const {
+ArrayValues VtkXmlReader::read_array(const XmlElement& e, const char* parent, int64_t expected, bool finite) {
     const std::string what = describe(e, parent);
     check_children(e, {"InformationKey"});
     ArrayValues a;

@@ -630,3 +630,27 @@ TEST_CASE("vtk xml: the files VTK 9.1 wrote in tests/data/vtk_xml", "[surface_io
     }
     CHECK(files == 8);
 }
+
+TEST_CASE("vtk xml: arrays sharing appended data are refused", "[surface_io][vtk_xml]") {
+    // Many arrays at the same offset would decode the same bytes again and again: a small
+    // file could allocate without bound. Legitimate files never share data.
+    const Fixture f;
+    Encoding e;
+    e.format = "appended";
+    e.raw = true;
+    VtkWriter w(e);
+    std::string piece = tet_piece(w, f);
+    const std::string big = w.array("Float64", "big", 1000, std::vector<double>(4000, 0.5));  // 32 KB
+    const size_t at = big.find("offset=\"") + 8;
+    const std::string offset = big.substr(at, big.find('"', at) - at);
+    std::string shared = big;
+    for (int i = 0; i < 3; ++i) {
+        shared += "<DataArray type=\"Float64\" Name=\"copy\" NumberOfComponents=\"1000\" format=\"appended\" offset=\"" +
+                  offset + "\"/>\n";
+    }
+    piece.replace(piece.find("</PointData>"), 0, shared);
+    const std::string bytes = w.file("PolyData", piece);
+    REQUIRE(bytes.size() < 2 * 32000);
+    CHECK_THAT(vtk_error(bytes), Catch::Contains("line 9: DataArray 'copy' of <PointData>") &&
+                                     Catch::Contains("arrays overlapping in the appended data"));
+}
