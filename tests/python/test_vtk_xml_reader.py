@@ -4,7 +4,7 @@ mode (ascii, binary, appended base64, appended raw) with and without zlib, UInt3
 UInt64 headers, big-endian, and through vtkXMLUnstructuredGridWriter. For each file bpm-check
 --surface must accept it, and bpm-simplify must read it with VTK's vertex and triangle
 counts and store the point data in the .bpm file with VTK's values and the material as
-patches."""
+patches. Last, bpm-refine --data writes one of the results as .vtu and bpm reads it back."""
 import argparse
 import os
 import subprocess
@@ -151,7 +151,38 @@ def main():
         for p in problems:
             print("  " + p)
         failed += bool(problems)
-    print("test_vtk_xml_reader: bpm reads %d of %d VTK XML files correctly" % (len(files) - failed, len(files)))
+    # Round trip through bpm-refine's own .vtu writer: the refined surface and its
+    # interpolated point data read back.
+    coarse = os.path.join(work, os.path.basename(files[0]) + ".bpm")
+    refined = os.path.join(work, "refined.vtu")
+    again = os.path.join(work, "refined.bpm")
+    problems = []
+    r = subprocess.run([os.path.join(args.tools, "bpm-refine"), coarse, "-o", refined, "--levels", "1", "--data", "-q"],
+                       capture_output=True, text=True)
+    if r.returncode != 0:
+        problems.append("bpm-refine -o refined.vtu --data: exit %d: %s" % (r.returncode, r.stderr.strip()[:300]))
+    else:
+        r = subprocess.run([os.path.join(args.tools, "bpm-simplify"), refined, "-o", again, "--ratio", "0.5", "-q",
+                            "--deterministic"], capture_output=True, text=True)
+        if r.returncode != 0:
+            problems.append("bpm-simplify refined.vtu: exit %d: %s" % (r.returncode, r.stderr.strip()[:300]))
+        else:
+            import vtk
+            reader = vtk.vtkXMLUnstructuredGridReader()
+            reader.SetFileName(refined)
+            reader.Update()
+            grid = reader.GetOutput()
+            with h5py.File(again, "r") as f:
+                if len(f["original/vertices"]) != grid.GetNumberOfPoints():
+                    problems.append("refined.vtu: bpm read %d vertices, VTK %d" % (len(f["original/vertices"]),
+                                                                                  grid.GetNumberOfPoints()))
+                if "original/point_data/temperature" not in f:
+                    problems.append("refined.vtu: the interpolated temperature did not come through")
+    print("refined.vtu (bpm-refine --data, read back): %s" % ("ok" if not problems else "FAILED"))
+    for p in problems:
+        print("  " + p)
+    failed += bool(problems)
+    print("test_vtk_xml_reader: bpm reads %d of %d VTK XML files correctly" % (len(files) + 1 - failed, len(files) + 1))
     return 1 if failed else 0
 
 
