@@ -32,6 +32,7 @@ const char* format_name(SurfaceFormat f) {
         case SurfaceFormat::Stl: return "STL";
         case SurfaceFormat::Ply: return "PLY";
         case SurfaceFormat::Msh: return "MSH";
+        case SurfaceFormat::Vtk: return "VTK";
     }
     return "?";
 }
@@ -44,6 +45,7 @@ std::string sniffed_format_hint(std::string_view bytes, SurfaceFormat chosen) {
     else if (head.substr(0, 11) == "$MeshFormat") seen = SurfaceFormat::Msh;
     else if (head.substr(0, 3) == "OFF" || head.substr(0, 4) == "COFF" || head.substr(0, 4) == "NOFF") seen = SurfaceFormat::Off;
     else if (head.substr(0, 5) == "solid") seen = SurfaceFormat::Stl;
+    else if (head.substr(0, 14) == "# vtk DataFile") seen = SurfaceFormat::Vtk;
     if (!seen || *seen == chosen) return "";
     return std::string(" (the file looks like ") + format_name(*seen) + ", not " + format_name(chosen) + ")";
 }
@@ -78,6 +80,7 @@ std::optional<SurfaceFormat> surface_format_from_name(const std::string& name) {
     if (n == "stl") return SurfaceFormat::Stl;
     if (n == "ply") return SurfaceFormat::Ply;
     if (n == "msh") return SurfaceFormat::Msh;
+    if (n == "vtk") return SurfaceFormat::Vtk;
     return std::nullopt;
 }
 
@@ -98,6 +101,7 @@ Surface read_surface_from_memory(const std::string& bytes, SurfaceFormat format,
             case SurfaceFormat::Stl: parsed = detail::read_stl(bytes, name); break;
             case SurfaceFormat::Ply: parsed = detail::read_ply(bytes, name, options.triangulate_polygons); break;
             case SurfaceFormat::Msh: parsed = detail::read_msh(bytes, name); break;
+            case SurfaceFormat::Vtk: parsed = detail::read_vtk(bytes, name, options.triangulate_polygons); break;
         }
     } catch (const InputError& e) {
         const std::string hint = sniffed_format_hint(bytes, format);
@@ -127,6 +131,9 @@ Surface read_surface_from_memory(const std::string& bytes, SurfaceFormat format,
                        " vertices and no faces: a point cloud?)";
         }
         if (r.skipped_elements > 0) message += "; " + std::to_string(r.skipped_elements) + " non-triangle elements were skipped";
+        // VTK: what was skipped ("12 line cells skipped") says what the file holds instead.
+        if (format == SurfaceFormat::Vtk)
+            for (const std::string& note : r.notes) message += "; " + note;
         throw InputError(name, message);
     }
     ValidateOptions validate;
@@ -143,7 +150,7 @@ Surface read_surface(const std::string& path, const SurfaceReadOptions& options,
     if (!format) {
         throw InputError(name, path == "-" ? "the format of standard input must be given explicitly"
                                            : "cannot tell the surface format from the file name; expected the "
-                                             "extension .off, .obj, .stl, .ply or .msh, or an explicit format");
+                                             "extension .off, .obj, .stl, .ply, .msh or .vtk, or an explicit format");
     }
     const std::string bytes = detail::read_whole_input(path);
     return read_surface_from_memory(bytes, *format, name, options, report);
@@ -348,6 +355,11 @@ void write_surface(const std::string& path, const Surface& surface, std::optiona
             }
         }
     }
+    if (*format == SurfaceFormat::Vtk) {
+        // Legacy VTK is read (inputs from VTK, ParaView, Slicer) but not written: bpm writes
+        // VTK's XML .vtu where point data matters (bpm-refine --data).
+        throw OutputError(where, "cannot write legacy VTK (.vtk): bpm reads it but writes only .off .obj .stl .ply .msh");
+    }
     std::string bytes;
     switch (*format) {
         case SurfaceFormat::Off: bytes = write_off(surface); break;
@@ -355,6 +367,7 @@ void write_surface(const std::string& path, const Surface& surface, std::optiona
         case SurfaceFormat::Stl: bytes = write_stl(surface); break;
         case SurfaceFormat::Ply: bytes = write_ply(surface); break;
         case SurfaceFormat::Msh: bytes = write_msh(surface); break;
+        case SurfaceFormat::Vtk: break;  // refused above
     }
     detail::write_file_atomically(path, bytes);
 }

@@ -134,7 +134,8 @@ int main(int argc, char** argv) {
         if (output == "-" && format.empty()) throw CLI::ValidationError("--format", "writing to - needs --format");
         const bool is_bpm = kind == "bpm", is_vtu = kind == "vtu";
         const auto surface_format = bpm::surface_format_from_name(kind);
-        if (!is_bpm && !is_vtu && (!surface_format || *surface_format == bpm::SurfaceFormat::Msh))
+        if (!is_bpm && !is_vtu && (!surface_format || *surface_format == bpm::SurfaceFormat::Msh ||
+                                        *surface_format == bpm::SurfaceFormat::Vtk))
             throw CLI::ValidationError("--output", "unknown output format '" + kind +
                                                        "' (use .off .obj .ply .stl .vtu .bpm or --format)");
         if (data && !is_vtu) throw CLI::ValidationError("--data", "--data needs .vtu output (the other formats hold no point data)");
