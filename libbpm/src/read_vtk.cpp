@@ -182,8 +182,9 @@ public:
 
 private:
     // ---- errors -----------------------------------------------------------------------
+    // At a value: its byte offset in a binary file, its line in an ASCII one.
     [[noreturn]] void fail_at(size_t at, const std::string& message) const {
-        if (binary_data_) in_.fail_offset(at, message);
+        if (binary_) in_.fail_offset(at, message);
         in_.fail_line(at, message);
     }
     // Keyword lines are text in binary files too: their errors name the line.
@@ -209,11 +210,7 @@ private:
 
     // ---- keyword lines ----------------------------------------------------------------
     // The next keyword (skipping blank lines); empty at the end of the file.
-    std::string_view keyword() {
-        const std::string_view k = in_.next_token();
-        binary_data_ = false;
-        return k;
-    }
+    std::string_view keyword() { return in_.next_token(); }
     std::string_view word(const char* what) {
         const std::string_view w = in_.token_on_line();
         if (w.empty()) in_.fail_token(w, what);
@@ -230,10 +227,7 @@ private:
         return t;
     }
     // Ends a keyword line; binary data starts right after its line end.
-    void end_line(const char* context) {
-        in_.expect_line_end(context);
-        binary_data_ = binary_;
-    }
+    void end_line(const char* context) { in_.expect_line_end(context); }
 
     // ---- values -----------------------------------------------------------------------
     // Where the next value starts (in ASCII after the white space before it).
@@ -312,7 +306,6 @@ private:
     InputCursor in_;
     bool accept_polygons_ = false;
     bool binary_ = false;
-    bool binary_data_ = false;  // the next bytes are binary values (messages give byte offsets)
     ReaderOutput out_;
     enum class Dataset { None, PolyData, UnstructuredGrid } dataset_ = Dataset::None;
     bool have_points_ = false;
