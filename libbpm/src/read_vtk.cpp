@@ -36,6 +36,8 @@
 // against the bytes left before anything is allocated for them.
 #include <algorithm>
 #include <string>
+#include <unordered_map>
+#include <unordered_set>
 
 #include "surface_readers.h"
 
@@ -139,8 +141,12 @@ std::string decode_name(std::string_view raw) {
     };
     std::string out;
     for (size_t i = 0; i < raw.size(); ++i) {
-        if (raw[i] == '%' && i + 2 < raw.size() && hex(raw[i + 1]) >= 0 && hex(raw[i + 2]) >= 0) {
-            out += static_cast<char>(hex(raw[i + 1]) * 16 + hex(raw[i + 2]));
+        const int code = raw[i] == '%' && i + 2 < raw.size() && hex(raw[i + 1]) >= 0 && hex(raw[i + 2]) >= 0
+                             ? hex(raw[i + 1]) * 16 + hex(raw[i + 2])
+                             : -1;
+        // Control characters (%00 ...) stay encoded: names end up as HDF5 link names.
+        if (code >= 0x20) {
+            out += static_cast<char>(code);
             i += 2;
         } else {
             out += raw[i];
@@ -267,11 +273,13 @@ private:
         if (type == VtkType::Int64) return in_.read_binary<int64_t>(true, what);
         if (type == VtkType::UInt64) {
             const uint64_t v = in_.read_binary<uint64_t>(true, what);
-            if (v > static_cast<uint64_t>(std::numeric_limits<int64_t>::max())) in_.fail_offset(at, what.str() + " is out of range");
+            if (v > static_cast<uint64_t>(std::numeric_limits<int64_t>::max()))
+                in_.fail_offset(at, what.str() + " is out of range");
             return static_cast<int64_t>(v);
         }
         const double v = binary_value(type, what);
-        if (!std::isfinite(v) || v != std::floor(v) || std::fabs(v) > 9e15) in_.fail_offset(at, what.str() + " is not an integer");
+        if (!std::isfinite(v) || v != std::floor(v) || std::fabs(v) > 9e15)
+            in_.fail_offset(at, what.str() + " is not an integer");
         return static_cast<int64_t>(v);
     }
     // A coordinate: finite.
@@ -312,7 +320,7 @@ private:
     CellList verts_, lines_, polys_, strips_, cells_;
     std::vector<uint8_t> cell_types_;  // unstructured grid: one per cell (values above 255 refused)
     bool have_cell_types_ = false;
-    size_t first_volume_at_ = 0;       // position of the first volume cell's type, for messages
+    size_t first_volume_at_ = 0;  // position of the first volume cell's type, for messages
     int64_t first_volume_cell_ = -1;
     int first_volume_type_ = 0;
     enum class Attribute { None, Point, Cell } attribute_ = Attribute::None;
@@ -323,6 +331,8 @@ private:
     std::string patch_name_;
     std::vector<std::string> ignored_cell_arrays_;
     std::vector<std::string> dropped_arrays_;
+    std::unordered_set<std::string> used_names_;
+    std::unordered_map<std::string, int> next_suffix_;
 };
 
 void VtkReader::data_values(VtkType type, int64_t count, std::vector<double>* out, bool& finite, const Label& what) {
@@ -371,7 +381,8 @@ void VtkReader::data_values(VtkType type, int64_t count, std::vector<double>* ou
             std::string_view t = token;
             if (t.size() > 1 && t[0] == '+' && t[1] != '-' && t[1] != '+') t.remove_prefix(1);
             const auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), v);
-            if (t.empty() || end != t.data() + t.size() || (ec != std::errc() && ec != std::errc::result_out_of_range)) {
+            if (t.empty() || end != t.data() + t.size() ||
+                (ec != std::errc() && ec != std::errc::result_out_of_range)) {
                 in_.fail_token(token, what.str() + " (a number)");
             }
             if (ec == std::errc::result_out_of_range) {
@@ -400,7 +411,9 @@ void VtkReader::skip_strings(int64_t count, const Label& what) {
         uint64_t length = first & 0x3f;
         const int extra = (first >> 6) == 3 ? 0 : (first >> 6) == 2 ? 1 : (first >> 6) == 1 ? 3 : 7;
         for (int k = 0; k < extra; ++k) length = (length << 8) | in_.read_binary<uint8_t>(true, what);
-        if (length > in_.remaining()) in_.fail_offset(at, what.str() + ": a string of " + std::to_string(length) + " bytes runs past the end of the file");
+        if (length > in_.remaining())
+            in_.fail_offset(
+                at, what.str() + ": a string of " + std::to_string(length) + " bytes runs past the end of the file");
         in_.seek(in_.pos() + static_cast<size_t>(length));
     }
 }
@@ -410,7 +423,8 @@ void VtkReader::read_points(size_t at) {
     if (have_points_) fail_line(at, "a second POINTS section");
     const int64_t n = line_int("the number of points");
     const VtkType type = data_type("the data type of the points");
-    if (type == VtkType::Bit || type == VtkType::String) fail_line(at, "points cannot have the data type bit or string");
+    if (type == VtkType::Bit || type == VtkType::String)
+        fail_line(at, "points cannot have the data type bit or string");
     end_line("after 'POINTS <n> <type>'");
     check_index_count(at, n, "points");
     check_values_fit(at, 3.0 * static_cast<double>(n), type, "point coordinates");
@@ -418,7 +432,8 @@ void VtkReader::read_points(size_t at) {
     s.vertices.resize(static_cast<size_t>(n));
     for (int64_t i = 0; i < n; ++i) {
         static const char* const axis[3] = {"x", "y", "z"};
-        for (int k = 0; k < 3; ++k) s.vertices[static_cast<size_t>(i)][k] = coordinate(type, Label("point ", i, ": coordinate ", axis[k]));
+        for (int k = 0; k < 3; ++k)
+            s.vertices[static_cast<size_t>(i)][k] = coordinate(type, Label("point ", i, ": coordinate ", axis[k]));
     }
     have_points_ = true;
 }
@@ -452,9 +467,11 @@ void VtkReader::read_cells(CellList& cells, size_t at, std::string_view section)
         const std::string_view okw = keyword();
         const size_t offsets_at = in_.offset_of(okw);
         const VtkType otype = data_type("the data type of OFFSETS");
-        if (!vtk_type_is_integer(otype) || otype == VtkType::Bit) fail_line(offsets_at, "OFFSETS must have an integer type");
+        if (!vtk_type_is_integer(otype) || otype == VtkType::Bit)
+            fail_line(offsets_at, "OFFSETS must have an integer type");
         end_line("after 'OFFSETS <type>'");
-        check_values_fit(at, static_cast<double>(n) + static_cast<double>(size), otype, "cell offsets and connectivity entries");
+        check_values_fit(at, static_cast<double>(n) + static_cast<double>(size), otype,
+                         "cell offsets and connectivity entries");
         const int64_t cells_n = n > 0 ? n - 1 : 0;
         cells.start.clear();
         cells.start.reserve(static_cast<size_t>(n > 0 ? n : 1));
@@ -463,22 +480,24 @@ void VtkReader::read_cells(CellList& cells, size_t at, std::string_view section)
             const int64_t o = integer(otype, Label("cell offset ", i));
             const int64_t previous = i == 0 ? 0 : cells.start.back();
             if ((i == 0 && o != 0) || o < previous || o > size) {
-                fail_at(where, kw + " offset " + std::to_string(i) + " is " + std::to_string(o) + "; expected " +
-                                   (i == 0 ? std::string("0") :
-                                             "a value from " + std::to_string(previous) + " to " + std::to_string(size)));
+                fail_at(where,
+                        kw + " offset " + std::to_string(i) + " is " + std::to_string(o) + "; expected " +
+                            (i == 0 ? std::string("0")
+                                    : "a value from " + std::to_string(previous) + " to " + std::to_string(size)));
             }
             cells.start.push_back(o);
         }
         if (n == 0) cells.start.push_back(0);
         if (cells.start.back() != size) {
-            fail_line(at, kw + ": the last offset is " + std::to_string(cells.start.back()) + ", but the connectivity has " +
-                              std::to_string(size) + " entries");
+            fail_line(at, kw + ": the last offset is " + std::to_string(cells.start.back()) +
+                              ", but the connectivity has " + std::to_string(size) + " entries");
         }
         const std::string_view ckw = keyword();
         if (!iequals(ckw, "CONNECTIVITY")) in_.fail_token(ckw, "CONNECTIVITY after the OFFSETS of " + kw);
         const size_t ckw_at = in_.offset_of(ckw);
         const VtkType ctype = data_type("the data type of CONNECTIVITY");
-        if (!vtk_type_is_integer(ctype) || ctype == VtkType::Bit) fail_line(ckw_at, "CONNECTIVITY must have an integer type");
+        if (!vtk_type_is_integer(ctype) || ctype == VtkType::Bit)
+            fail_line(ckw_at, "CONNECTIVITY must have an integer type");
         end_line("after 'CONNECTIVITY <type>'");
         check_values_fit(ckw_at, static_cast<double>(size), ctype, "connectivity entries");
         cells.connectivity.reserve(static_cast<size_t>(size));
@@ -503,7 +522,9 @@ void VtkReader::read_cells(CellList& cells, size_t at, std::string_view section)
     // Old layout: n records "count i0 i1 ...", size integers in all, 32-bit in binary files.
     check_index_count(at, n, "cells");
     check_index_count(at, size, "cell list entries");
-    if (n > size) fail_line(at, kw + ": " + std::to_string(n) + " cells cannot fit into a list of " + std::to_string(size) + " integers");
+    if (n > size)
+        fail_line(at, kw + ": " + std::to_string(n) + " cells cannot fit into a list of " + std::to_string(size) +
+                          " integers");
     check_values_fit(at, static_cast<double>(size), VtkType::Int32, "cell list entries");
     cells.start.reserve(static_cast<size_t>(n) + 1);
     cells.at.reserve(static_cast<size_t>(n));
@@ -514,8 +535,9 @@ void VtkReader::read_cells(CellList& cells, size_t at, std::string_view section)
         const int64_t count = integer(VtkType::Int32, Label("the point count of cell ", c));
         if (count < 0 || count > size - used - 1) {
             fail_at(where, kw + " cell " + std::to_string(c) + " has " + std::to_string(count) + " points, but only " +
-                               std::to_string(std::max<int64_t>(size - used - 1, 0)) + " of the " + std::to_string(size) +
-                               " announced entries are left (wrong size on the " + kw + " line?)");
+                               std::to_string(std::max<int64_t>(size - used - 1, 0)) + " of the " +
+                               std::to_string(size) + " announced entries are left (wrong size on the " + kw +
+                               " line?)");
         }
         cells.at.push_back(where);
         for (int64_t k = 0; k < count; ++k) {
@@ -541,14 +563,16 @@ void VtkReader::read_cell_types(size_t at) {
     const int64_t n = line_int("the number of cell types");
     end_line("after 'CELL_TYPES <n>'");
     if (n != static_cast<int64_t>(cells_.size())) {
-        fail_line(at, "CELL_TYPES " + std::to_string(n) + " for the " + std::to_string(cells_.size()) + " cells of CELLS");
+        fail_line(at,
+                  "CELL_TYPES " + std::to_string(n) + " for the " + std::to_string(cells_.size()) + " cells of CELLS");
     }
     check_values_fit(at, static_cast<double>(n), VtkType::Int32, "cell types");
     cell_types_.reserve(static_cast<size_t>(n));
     for (int64_t c = 0; c < n; ++c) {
         const size_t where = value_pos();
         const int64_t type = integer(VtkType::Int32, Label("the type of cell ", c));
-        if (type < 0 || type > 255) fail_at(where, "cell " + std::to_string(c) + ": unknown VTK cell type " + std::to_string(type));
+        if (type < 0 || type > 255)
+            fail_at(where, "cell " + std::to_string(c) + ": unknown VTK cell type " + std::to_string(type));
         const bool volume = (type >= 10 && type <= 16) || type == 42;
         if (volume && first_volume_cell_ < 0) {
             first_volume_cell_ = c;
@@ -596,7 +620,8 @@ void VtkReader::read_array_values(VtkArray& a, bool keep, const std::string& wha
     check_values_fit(a.at, count, a.type, what + " values");
     data_values(a.type, static_cast<int64_t>(count), keep ? &a.values : nullptr, a.finite, Label(what));
     for (double v : a.values) {
-        a.whole &= v == std::floor(v) && v >= std::numeric_limits<int32_t>::min() && v <= std::numeric_limits<int32_t>::max();
+        a.whole &=
+            v == std::floor(v) && v >= std::numeric_limits<int32_t>::min() && v <= std::numeric_limits<int32_t>::max();
     }
 }
 
@@ -627,26 +652,36 @@ void VtkReader::read_field(size_t at, bool keep) {
         }
         a.components = static_cast<int>(components);
         check_index_count(a.at, a.tuples, "tuples");
-        const bool matches = keep && a.type != VtkType::String &&
-                             a.tuples == (attribute_ == Attribute::Point ? static_cast<int64_t>(out_.surface.vertices.size()) : num_cells_);
+        const bool matches =
+            keep && a.type != VtkType::String &&
+            a.tuples ==
+                (attribute_ == Attribute::Point ? static_cast<int64_t>(out_.surface.vertices.size()) : num_cells_);
         read_array_values(a, matches, "field array '" + a.name + "'");
         if (keep && !matches) {
-            dropped_arrays_.push_back("'" + a.name + "' (" + (a.type == VtkType::String ? std::string("strings") :
-                                      std::to_string(a.tuples) + " tuples for " +
-                                      std::to_string(attribute_ == Attribute::Point ? out_.surface.vertices.size() : static_cast<size_t>(num_cells_)) +
-                                      (attribute_ == Attribute::Point ? " points" : " cells")) + ")");
+            dropped_arrays_.push_back(
+                "'" + a.name + "' (" +
+                (a.type == VtkType::String
+                     ? std::string("strings")
+                     : std::to_string(a.tuples) + " tuples for " +
+                           std::to_string(attribute_ == Attribute::Point ? out_.surface.vertices.size()
+                                                                         : static_cast<size_t>(num_cells_)) +
+                           (attribute_ == Attribute::Point ? " points" : " cells")) +
+                ")");
         } else if (matches) {
             take_array(std::move(a));
         }
         const size_t saved = in_.pos();
-        if (iequals(in_.next_token(), "METADATA")) skip_metadata();
-        else in_.seek(saved);
+        if (iequals(in_.next_token(), "METADATA"))
+            skip_metadata();
+        else
+            in_.seek(saved);
     }
 }
 
 void VtkReader::read_attribute(std::string_view kw, size_t at) {
     if (attribute_ == Attribute::None) fail_line(at, quote_token(kw) + " outside POINT_DATA and CELL_DATA");
-    const int64_t expected = attribute_ == Attribute::Point ? static_cast<int64_t>(out_.surface.vertices.size()) : num_cells_;
+    const int64_t expected =
+        attribute_ == Attribute::Point ? static_cast<int64_t>(out_.surface.vertices.size()) : num_cells_;
     VtkArray a;
     a.at = at;
     a.tuples = expected;
@@ -690,8 +725,10 @@ void VtkReader::read_attribute(std::string_view kw, size_t at) {
     }
     take_array(std::move(a));
     const size_t saved = in_.pos();
-    if (iequals(in_.next_token(), "METADATA")) skip_metadata();
-    else in_.seek(saved);
+    if (iequals(in_.next_token(), "METADATA"))
+        skip_metadata();
+    else
+        in_.seek(saved);
 }
 
 // A point array becomes vertex data; a cell array may give the patches.
@@ -707,8 +744,8 @@ void VtkReader::take_array(VtkArray&& a) {
             return false;
         };
         const int rank = is_one_of({"patch", "material", "region", "label", "physical"}) ? 0
-                         : is_one_of({"gmsh:physical", "CellEntityIds", "RegionId"})       ? 1
-                                                                                            : 2;
+                         : is_one_of({"gmsh:physical", "CellEntityIds", "RegionId"})     ? 1
+                                                                                         : 2;
         if (rank < patch_rank_ && a.components == 1 && a.whole) {
             if (patch_rank_ < 2) ignored_cell_arrays_.push_back(patch_name_);
             patch_rank_ = rank;
@@ -726,14 +763,16 @@ void VtkReader::take_array(VtkArray&& a) {
         if (c == '/') c = '_', renamed = true;
     }
     if (v.name.empty() || v.name == ".") v.name = "_", renamed = true;
+    // A set of the names and, per name, the next suffix to try: files with thousands of
+    // arrays of one name must not take quadratic time.
     std::string unique = v.name;
-    for (int k = 2;; ++k) {
-        bool used = false;
-        for (const VertexArray& other : out_.surface.vertex_data) used |= other.name == unique;
-        if (!used) break;
-        unique = v.name + "_" + std::to_string(k);
+    if (used_names_.count(unique)) {
+        int& k = next_suffix_[v.name];
+        if (k < 2) k = 2;
+        while (used_names_.count(unique = v.name + "_" + std::to_string(k))) ++k;
         renamed = true;
     }
+    used_names_.insert(unique);
     if (renamed) out_.notes.push_back("point data array '" + a.name + "' stored as '" + unique + "'");
     v.name = unique;
     v.components = a.components;
@@ -755,15 +794,18 @@ ReaderOutput VtkReader::read() {
         while (!version.empty() && is_space(version.front())) version.remove_prefix(1);
         while (!version.empty() && is_space(version.back())) version.remove_suffix(1);
         if (version.empty() || version[0] < '1' || version[0] > '5' || (version.size() > 1 && version[1] != '.')) {
-            in_.fail_line(0, "unsupported VTK file version " + quote_token(version) + " (bpm reads versions 1.0 to 5.1)");
+            in_.fail_line(0,
+                          "unsupported VTK file version " + quote_token(version) + " (bpm reads versions 1.0 to 5.1)");
         }
     }
     if (in_.at_end()) in_.fail_line(in_.pos(), "the file ends after the header line (expected a title line)");
     (void)in_.rest_of_line();  // the title
     {
         const std::string_view encoding = in_.token_on_line();
-        if (iequals(encoding, "BINARY")) binary_ = true;
-        else if (!iequals(encoding, "ASCII")) in_.fail_token(encoding, "ASCII or BINARY on the third line");
+        if (iequals(encoding, "BINARY"))
+            binary_ = true;
+        else if (!iequals(encoding, "ASCII"))
+            in_.fail_token(encoding, "ASCII or BINARY on the third line");
         in_.expect_line_end("after the file type");
     }
 
@@ -780,12 +822,13 @@ ReaderOutput VtkReader::read() {
                 dataset_ = Dataset::UnstructuredGrid;
             } else if (iequals(type, "STRUCTURED_POINTS") || iequals(type, "STRUCTURED_GRID") ||
                        iequals(type, "RECTILINEAR_GRID")) {
-                fail_line(at, "DATASET " + std::string(type) +
-                                  " is a grid, not a surface: bpm reads POLYDATA and UNSTRUCTURED_GRID (extract a surface, "
-                                  "e.g. with a contour filter, first)");
+                fail_line(at,
+                          "DATASET " + std::string(type) +
+                              " is a grid, not a surface: bpm reads POLYDATA and UNSTRUCTURED_GRID (extract a surface, "
+                              "e.g. with a contour filter, first)");
             } else {
-                fail_line(in_.offset_of(type), "unknown dataset type " + quote_token(type) +
-                                                   " (bpm reads POLYDATA and UNSTRUCTURED_GRID)");
+                fail_line(in_.offset_of(type),
+                          "unknown dataset type " + quote_token(type) + " (bpm reads POLYDATA and UNSTRUCTURED_GRID)");
             }
             in_.expect_line_end("after the dataset type");
         } else if (iequals(kw, "POINTS")) {
@@ -794,8 +837,15 @@ ReaderOutput VtkReader::read() {
                    iequals(kw, "LINES")) {
             if (dataset_ != Dataset::PolyData) fail_line(at, quote_token(kw) + " outside a POLYDATA dataset");
             if (attribute_ != Attribute::None) fail_line(at, quote_token(kw) + " after POINT_DATA / CELL_DATA");
-            CellList& cells = iequals(kw, "POLYGONS") ? polys_ : iequals(kw, "TRIANGLE_STRIPS") ? strips_ : iequals(kw, "VERTICES") ? verts_ : lines_;
-            read_cells(cells, at, iequals(kw, "POLYGONS") ? "POLYGONS" : iequals(kw, "TRIANGLE_STRIPS") ? "TRIANGLE_STRIPS" : iequals(kw, "VERTICES") ? "VERTICES" : "LINES");
+            CellList& cells = iequals(kw, "POLYGONS")          ? polys_
+                              : iequals(kw, "TRIANGLE_STRIPS") ? strips_
+                              : iequals(kw, "VERTICES")        ? verts_
+                                                               : lines_;
+            read_cells(cells, at,
+                       iequals(kw, "POLYGONS")          ? "POLYGONS"
+                       : iequals(kw, "TRIANGLE_STRIPS") ? "TRIANGLE_STRIPS"
+                       : iequals(kw, "VERTICES")        ? "VERTICES"
+                                                        : "LINES");
         } else if (iequals(kw, "CELLS")) {
             if (dataset_ != Dataset::UnstructuredGrid) fail_line(at, "CELLS outside an UNSTRUCTURED_GRID dataset");
             if (attribute_ != Attribute::None) fail_line(at, "CELLS after POINT_DATA / CELL_DATA");
@@ -805,16 +855,18 @@ ReaderOutput VtkReader::read() {
         } else if (iequals(kw, "POINT_DATA") || iequals(kw, "CELL_DATA")) {
             const bool point = iequals(kw, "POINT_DATA");
             if (!have_points_) fail_line(at, std::string(kw) + " before POINTS");
-            const int64_t n = line_int(point ? "the number of points of POINT_DATA" : "the number of cells of CELL_DATA");
+            const int64_t n =
+                line_int(point ? "the number of points of POINT_DATA" : "the number of cells of CELL_DATA");
             in_.expect_line_end("after the count");
-            if (dataset_ == Dataset::UnstructuredGrid && !have_cell_types_ && !point) fail_line(at, "CELL_DATA before CELL_TYPES");
+            if (dataset_ == Dataset::UnstructuredGrid && !have_cell_types_ && !point)
+                fail_line(at, "CELL_DATA before CELL_TYPES");
             num_cells_ = dataset_ == Dataset::UnstructuredGrid
                              ? static_cast<int64_t>(cells_.size())
                              : static_cast<int64_t>(verts_.size() + lines_.size() + polys_.size() + strips_.size());
             const int64_t expected = point ? static_cast<int64_t>(out_.surface.vertices.size()) : num_cells_;
             if (n != expected) {
-                fail_line(at, std::string(kw) + " " + std::to_string(n) + ", but the file has " + std::to_string(expected) +
-                                  (point ? " points" : " cells"));
+                fail_line(at, std::string(kw) + " " + std::to_string(n) + ", but the file has " +
+                                  std::to_string(expected) + (point ? " points" : " cells"));
             }
             attribute_ = point ? Attribute::Point : Attribute::Cell;
         } else if (iequals(kw, "SCALARS") || iequals(kw, "COLOR_SCALARS") || iequals(kw, "VECTORS") ||
@@ -822,7 +874,8 @@ ReaderOutput VtkReader::read() {
                    iequals(kw, "TENSORS6")) {
             read_attribute(kw, at);
         } else if (iequals(kw, "FIELD")) {
-            // Outside POINT_DATA / CELL_DATA: the dataset's own field data (time values, names), not read.
+            // Inside POINT_DATA / CELL_DATA: arrays of the points or cells. Before them: the
+            // dataset's own field data (time values, names), checked but not kept.
             read_field(at, attribute_ != Attribute::None);
         } else if (iequals(kw, "LOOKUP_TABLE")) {
             skip_lookup_table(at);
@@ -836,7 +889,8 @@ ReaderOutput VtkReader::read() {
     }
     if (dataset_ == Dataset::None) in_.fail("the file has no DATASET line");
     if (!have_points_) in_.fail("the file has no POINTS section");
-    if (dataset_ == Dataset::UnstructuredGrid && cells_.present && !have_cell_types_) in_.fail("CELLS without CELL_TYPES");
+    if (dataset_ == Dataset::UnstructuredGrid && cells_.present && !have_cell_types_)
+        in_.fail("CELLS without CELL_TYPES");
     assemble();
     return std::move(out_);
 }
@@ -867,15 +921,18 @@ void VtkReader::assemble() {
     std::vector<int32_t>& patches = s.patches;
     int64_t skipped_points = 0, skipped_lines = 0, skipped_volume = 0, degenerate_strip = 0;
     const bool have_patches = patch_rank_ < 2;
-    auto patch_of = [&](int64_t cell) { return have_patches ? static_cast<int32_t>(patch_values_[static_cast<size_t>(cell)]) : 0; };
+    auto patch_of = [&](int64_t cell) {
+        return have_patches ? static_cast<int32_t>(patch_values_[static_cast<size_t>(cell)]) : 0;
+    };
 
-    auto add_polygon = [&](const CellList& cells, size_t c, int64_t cell_id, const std::string& what, const int* order) {
+    auto add_polygon = [&](const CellList& cells, size_t c, int64_t cell_id, const std::string& what,
+                           const int* order) {
         const int64_t n = cells.corners(c);
-        const int32_t* v = cells.connectivity.data() + cells.start[c];
         if (n < 3) {
             fail_at(cells.at[c], what + " " + std::to_string(cell_id) + " has " + std::to_string(n) +
                                      " points; a polygon needs at least 3");
         }
+        const int32_t* v = cells.connectivity.data() + cells.start[c];
         if (n == 3) {
             tris.push_back({v[0], v[1], v[2]});
             patches.push_back(patch_of(cell_id));
@@ -896,8 +953,10 @@ void VtkReader::assemble() {
     };
     auto add_strip = [&](const CellList& cells, size_t c, int64_t cell_id, const std::string& what) {
         const int64_t n = cells.corners(c);
+        if (n < 3)
+            fail_at(cells.at[c], what + " " + std::to_string(cell_id) + " has " + std::to_string(n) +
+                                     " points; a strip needs at least 3");
         const int32_t* v = cells.connectivity.data() + cells.start[c];
-        if (n < 3) fail_at(cells.at[c], what + " " + std::to_string(cell_id) + " has " + std::to_string(n) + " points; a strip needs at least 3");
         for (int64_t i = 0; i + 2 < n; ++i) {
             // As vtkTriangleStrip: every odd triangle swaps its first two corners, which keeps
             // the orientation of the strip.
@@ -919,8 +978,10 @@ void VtkReader::assemble() {
         skipped_lines = static_cast<int64_t>(lines_.size());
         int64_t id = skipped_points + skipped_lines;
         size_t reserve = 0;
-        for (size_t c = 0; c < polys_.size(); ++c) reserve += static_cast<size_t>(std::max<int64_t>(polys_.corners(c) - 2, 0));
-        for (size_t c = 0; c < strips_.size(); ++c) reserve += static_cast<size_t>(std::max<int64_t>(strips_.corners(c) - 2, 0));
+        for (size_t c = 0; c < polys_.size(); ++c)
+            reserve += static_cast<size_t>(std::max<int64_t>(polys_.corners(c) - 2, 0));
+        for (size_t c = 0; c < strips_.size(); ++c)
+            reserve += static_cast<size_t>(std::max<int64_t>(strips_.corners(c) - 2, 0));
         tris.reserve(reserve);
         patches.reserve(reserve);
         for (size_t c = 0; c < polys_.size(); ++c, ++id) add_polygon(polys_, c, id, "POLYGONS cell", nullptr);
@@ -929,8 +990,9 @@ void VtkReader::assemble() {
         bool surface_cells = false;
         for (const uint8_t t : cell_types_) surface_cells |= t >= 5 && t <= 9;
         if (first_volume_cell_ >= 0 && !surface_cells) {
-            fail_at(first_volume_at_, "cell " + std::to_string(first_volume_cell_) + " is " + cell_type_name(first_volume_type_) +
-                                          " (VTK type " + std::to_string(first_volume_type_) +
+            fail_at(first_volume_at_, "cell " + std::to_string(first_volume_cell_) + " is " +
+                                          cell_type_name(first_volume_type_) + " (VTK type " +
+                                          std::to_string(first_volume_type_) +
                                           "): bpm reads surfaces; extract the boundary first (e.g. vtkGeometryFilter, "
                                           "ParaView's Extract Surface)");
         }
@@ -947,8 +1009,11 @@ void VtkReader::assemble() {
             } else if (type == 5 || type == 7 || type == 8 || type == 9) {
                 if ((type == 5 && n != 3) || ((type == 8 || type == 9) && n != 4)) {
                     fail_at(cells_.at[c], "cell " + std::to_string(c) + " of type " + std::to_string(type) + " (" +
-                                              (type == 5 ? "triangle" : type == 8 ? "pixel" : "quad") + ") has " +
-                                              std::to_string(n) + " points, expected " + (type == 5 ? "3" : "4"));
+                                              (type == 5   ? "triangle"
+                                               : type == 8 ? "pixel"
+                                                           : "quad") +
+                                              ") has " + std::to_string(n) + " points, expected " +
+                                              (type == 5 ? "3" : "4"));
                 }
                 add_polygon(cells_, c, id, what, type == 8 ? pixel_order : nullptr);
             } else if (type == 6) {
@@ -976,7 +1041,8 @@ void VtkReader::assemble() {
     if (have_patches) out_.notes.push_back("patch ids from the cell data array '" + patch_name_ + "'");
     if (!ignored_cell_arrays_.empty()) {
         std::string list;
-        for (size_t i = 0; i < ignored_cell_arrays_.size() && i < 8; ++i) list += (i ? ", '" : "'") + ignored_cell_arrays_[i] + "'";
+        for (size_t i = 0; i < ignored_cell_arrays_.size() && i < 8; ++i)
+            list += (i ? ", '" : "'") + ignored_cell_arrays_[i] + "'";
         if (ignored_cell_arrays_.size() > 8) list += ", ...";
         out_.notes.push_back("cell data ignored: " + list);
     }

@@ -10,9 +10,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <cstring>
 #include <limits>
 #include <sstream>
 #include <string>
@@ -123,8 +123,10 @@ std::string full_polydata(bool binary, bool new_layout) {
     w.line("LOOKUP_TABLE my_table");
     w.values(std::vector<double>{0, -0.0, 1, -1, 2, -2, 3, -3, 4, -4, 5, -5.125});
     w.line("LOOKUP_TABLE my_table 2");
-    if (binary) w.values(std::vector<uint8_t>{1, 2, 3, 4, 5, 6, 7, 8});
-    else w.values(std::vector<float>{0, 0.25f, 0.5f, 1, 1, 1, 1, 1});
+    if (binary)
+        w.values(std::vector<uint8_t>{1, 2, 3, 4, 5, 6, 7, 8});
+    else
+        w.values(std::vector<float>{0, 0.25f, 0.5f, 1, 1, 1, 1, 1});
     w.line("VECTORS vel double");
     w.values(std::vector<double>{0, 0.25, 0.5, 1, 1.25, 1.5, 2, 2.25, 2.5, 3, 3.25, 3.5, 4, 4.25, 4.5, 5, 5.25, 5.5});
     w.line("METADATA");
@@ -206,10 +208,10 @@ int line_of(const std::string& bytes, const std::string& marker) {
     return 1 + static_cast<int>(std::count(bytes.begin(), bytes.begin() + static_cast<std::ptrdiff_t>(at), '\n'));
 }
 
-#define CHECK_VTK_ERROR(bytes, text)                    \
-    do {                                                \
-        const std::string message_ = vtk_error(bytes);  \
-        INFO("message: " << message_);                  \
+#define CHECK_VTK_ERROR(bytes, text)                     \
+    do {                                                 \
+        const std::string message_ = vtk_error(bytes);   \
+        INFO("message: " << message_);                   \
         CHECK(message_.find(text) != std::string::npos); \
     } while (0)
 
@@ -235,8 +237,8 @@ TEST_CASE("VTK: ASCII and BINARY polydata, old and 5.1 cell layouts, give the sa
         for (const bool new_layout : {false, true}) {
             INFO((binary ? "BINARY" : "ASCII") << (new_layout ? " 5.1" : " 4.2"));
             SurfaceReadReport report;
-            const Surface s = read_surface_from_memory(full_polydata(binary, new_layout), SurfaceFormat::Vtk, "t.vtk",
-                                                       {}, &report);
+            const Surface s =
+                read_surface_from_memory(full_polydata(binary, new_layout), SurfaceFormat::Vtk, "t.vtk", {}, &report);
             REQUIRE(s.vertices.size() == 6);
             CHECK(s.vertices[5] == Vec3{1, 2, 0.5});
             // Polygons, then the strip split with the second triangle flipped: (0 1 2), (2 1 3).
@@ -254,7 +256,8 @@ TEST_CASE("VTK: ASCII and BINARY polydata, old and 5.1 cell layouts, give the sa
             REQUIRE(s.vertex_data.size() == 10);
             check_array(s, "temp", 1, {0, 0.5, 1, 1.5, 2, 2.5});
             check_array(s, "two", 2, {0, -0.0, 1, -1, 2, -2, 3, -3, 4, -4, 5, -5.125});
-            check_array(s, "vel", 3, {0, 0.25, 0.5, 1, 1.25, 1.5, 2, 2.25, 2.5, 3, 3.25, 3.5, 4, 4.25, 4.5, 5, 5.25, 5.5});
+            check_array(s, "vel", 3,
+                        {0, 0.25, 0.5, 1, 1.25, 1.5, 2, 2.25, 2.5, 3, 3.25, 3.5, 4, 4.25, 4.5, 5, 5.25, 5.5});
             check_array(s, "nrm", 3, {0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, -1, 0, 0, -1, 0, 1, 0});
             check_array(s, "uv", 2, {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11});
             std::vector<double> tensor, colour;
@@ -296,7 +299,8 @@ TEST_CASE("VTK: a quad is refused without the repair and split with it, keeping 
             w.values(std::vector<double>{4, -7});
             const std::string message = vtk_error(w.out);
             INFO(message);
-            CHECK(message.find("POLYGONS cell 1 has 4 corners; only triangles are accepted (the triangulate-polygons repair") !=
+            CHECK(message.find(
+                      "POLYGONS cell 1 has 4 corners; only triangles are accepted (the triangulate-polygons repair") !=
                   std::string::npos);
             CHECK(message.find(binary ? "byte offset " : "line ") == 0);
 
@@ -379,26 +383,49 @@ TEST_CASE("VTK: volume cells are skipped next to triangles and refused alone", "
     CHECK(s.triangles == std::vector<Tri>{{0, 2, 1}});
     CHECK(has_note(report, "1 volume cells skipped"));
     const std::string message = vtk_error(grid({10, 10}));
-    CHECK(message == "line 10: cell 0 is a tetrahedron (VTK type 10): bpm reads surfaces; extract the boundary first "
-                     "(e.g. vtkGeometryFilter, ParaView's Extract Surface)");
+    CHECK(message ==
+          "line 10: cell 0 is a tetrahedron (VTK type 10): bpm reads surfaces; extract the boundary first "
+          "(e.g. vtkGeometryFilter, ParaView's Extract Surface)");
     CHECK_VTK_ERROR(grid({22}), "cell 0 is a quadratic triangle (VTK type 22)");
 }
 
 TEST_CASE("VTK: point data with NaN is dropped with a note; a patch array must hold whole numbers",
           "[surface_io][vtk]") {
     const std::string head =
-        "# vtk DataFile Version 4.2\nt\nASCII\nDATASET POLYDATA\nPOINTS 3 float\n0 0 0 1 0 0 0 1 0\nPOLYGONS 1 4\n3 0 1 2\n";
+        "# vtk DataFile Version 4.2\nt\nASCII\nDATASET POLYDATA\nPOINTS 3 float\n0 0 0 1 0 0 0 1 0\nPOLYGONS 1 4\n3 0 "
+        "1 2\n";
     SurfaceReadReport report;
-    Surface s = read_surface_from_memory(head + "POINT_DATA 3\nSCALARS u float\nLOOKUP_TABLE default\n1 nan 2\n"
-                                                "SCALARS w float\nLOOKUP_TABLE default\n1 2 3\n",
+    Surface s = read_surface_from_memory(head +
+                                             "POINT_DATA 3\nSCALARS u float\nLOOKUP_TABLE default\n1 nan 2\n"
+                                             "SCALARS w float\nLOOKUP_TABLE default\n1 2 3\n",
                                          SurfaceFormat::Vtk, "t.vtk", {}, &report);
     REQUIRE(s.vertex_data.size() == 1);
     CHECK(s.vertex_data[0].name == "w");
     CHECK(has_note(report, "'u' (NaN or infinite values)"));
-    s = read_surface_from_memory(head + "CELL_DATA 1\nSCALARS label float\nLOOKUP_TABLE default\n1.5\n", SurfaceFormat::Vtk,
-                                 "t.vtk", {}, &report);
+    s = read_surface_from_memory(head + "CELL_DATA 1\nSCALARS label float\nLOOKUP_TABLE default\n1.5\n",
+                                 SurfaceFormat::Vtk, "t.vtk", {}, &report);
     CHECK(s.patches == std::vector<int32_t>{0});
     CHECK(has_note(report, "cell data ignored: 'label'"));
+}
+
+TEST_CASE("VTK: array names: %-decoded, '/' and empty replaced, repeats numbered, control characters kept encoded",
+          "[surface_io][vtk]") {
+    std::string bytes =
+        "# vtk DataFile Version 4.2\nt\nASCII\nDATASET POLYDATA\nPOINTS 3 float\n0 0 0 1 0 0 0 1 0\nPOLYGONS 1 4\n3 0 1 2\n"
+        "POINT_DATA 3\nFIELD f 4\nx%00y 1 3 int\n1 2 3\n. 1 3 int\n1 2 3\nx_2 1 3 int\n1 2 3\nNULL_ARRAY\n";
+    // 300 arrays of one name: numbered _2 ... _300, except x_2, which is taken.
+    for (int i = 0; i < 300; ++i) bytes += "SCALARS x float\nLOOKUP_TABLE default\n1 2 3\n";
+    SurfaceReadReport report;
+    const Surface s = read_surface_from_memory(bytes, SurfaceFormat::Vtk, "t.vtk", {}, &report);
+    REQUIRE(s.vertex_data.size() == 303);
+    CHECK(s.vertex_data[0].name == "x%00y");
+    CHECK(s.vertex_data[1].name == "_");
+    CHECK(s.vertex_data[2].name == "x_2");
+    CHECK(s.vertex_data[3].name == "x");
+    CHECK(s.vertex_data[4].name == "x_3");
+    CHECK(s.vertex_data[302].name == "x_301");
+    CHECK(has_note(report, "point data array '.' stored as '_'"));
+    CHECK(vertex_data_problems(s).empty());
 }
 
 TEST_CASE("VTK: errors name the line (ASCII) or byte offset (BINARY) and what was expected", "[surface_io][vtk]") {
@@ -409,12 +436,14 @@ TEST_CASE("VTK: errors name the line (ASCII) or byte offset (BINARY) and what wa
         CHECK(vtk_error("") == "the file is empty");
         CHECK_VTK_ERROR("# vtk DataFile Version 9.0\nt\nASCII\n", "line 1: unsupported VTK file version '9.0'");
         CHECK_VTK_ERROR("OFF\n3 1 0\n", "line 1: not a legacy VTK file");
-        CHECK_VTK_ERROR("# vtk DataFile Version 2.0\nt\nTEXT\n", "line 3: expected ASCII or BINARY on the third line, found 'TEXT'");
+        CHECK_VTK_ERROR("# vtk DataFile Version 2.0\nt\nTEXT\n",
+                        "line 3: expected ASCII or BINARY on the third line, found 'TEXT'");
         CHECK_VTK_ERROR("# vtk DataFile Version 2.0\nt\nASCII\nDATASET STRUCTURED_POINTS\nDIMENSIONS 2 2 2\n",
                         "line 4: DATASET STRUCTURED_POINTS is a grid, not a surface");
-        CHECK_VTK_ERROR("# vtk DataFile Version 2.0\nt\nASCII\nDATASET POLYDATA\nPOINTS 3 float\n0 0 0 1 0 0 0 1 0\n"
-                        "POLYGON 1 4\n3 0 1 2\n",
-                        "line 7: unknown keyword 'POLYGON'");
+        CHECK_VTK_ERROR(
+            "# vtk DataFile Version 2.0\nt\nASCII\nDATASET POLYDATA\nPOINTS 3 float\n0 0 0 1 0 0 0 1 0\n"
+            "POLYGON 1 4\n3 0 1 2\n",
+            "line 7: unknown keyword 'POLYGON'");
         CHECK_VTK_ERROR("# vtk DataFile Version 2.0\nt\nASCII\nDATASET POLYDATA\nPOINTS 3 real\n",
                         "line 5: unknown VTK data type 'real'");
     }
@@ -442,10 +471,12 @@ TEST_CASE("VTK: errors name the line (ASCII) or byte offset (BINARY) and what wa
         CHECK_VTK_ERROR(bad, "TRIANGLE_STRIPS: 1 cells use 5 integers, but 9 were announced");
         bad = ok;
         bad.replace(bad.find("TRIANGLE_STRIPS 1 5"), 19, "TRIANGLE_STRIPS 1 3");
-        CHECK_VTK_ERROR(bad, "line " + std::to_string(line_of(ok, "TRIANGLE_STRIPS") + 1) +
-                                 ": TRIANGLE_STRIPS cell 0 has 4 points, but only 2 of the 3 announced entries are left");
-        CHECK_VTK_ERROR(ok.substr(0, ok.find("3 5 4") + 3), "line " + std::to_string(line_of(ok, "POLYGONS")) +
-                                                                 ": 8 cell list entries announced, but the 13 bytes left");
+        CHECK_VTK_ERROR(bad,
+                        "line " + std::to_string(line_of(ok, "TRIANGLE_STRIPS") + 1) +
+                            ": TRIANGLE_STRIPS cell 0 has 4 points, but only 2 of the 3 announced entries are left");
+        CHECK_VTK_ERROR(ok.substr(0, ok.find("3 5 4") + 3),
+                        "line " + std::to_string(line_of(ok, "POLYGONS")) +
+                            ": 8 cell list entries announced, but the 13 bytes left");
         bad = ok;
         bad.replace(bad.find("SCALARS two double 2\n"), 20, "SCALARS two double 2 extra");
         CHECK_VTK_ERROR(bad, "line " + std::to_string(line_of(ok, "SCALARS two")) + ": unexpected 'extra'");
@@ -468,8 +499,9 @@ TEST_CASE("VTK: errors name the line (ASCII) or byte offset (BINARY) and what wa
     SECTION("BINARY") {
         const std::string bin = full_polydata(true, false);
         // A truncated point block: refused at the POINTS line before anything is read.
-        CHECK_VTK_ERROR(bin.substr(0, bin.find("POINTS 6 float\n") + 30),
-                        "line 8: 18 point coordinates announced, but the 15 bytes left in the file cannot hold that many");
+        CHECK_VTK_ERROR(
+            bin.substr(0, bin.find("POINTS 6 float\n") + 30),
+            "line 8: 18 point coordinates announced, but the 15 bytes left in the file cannot hold that many");
         // Truncated inside the cells: the POLYGONS data ends early.
         const size_t polygons = bin.find("POLYGONS 2 8\n") + 13;
         CHECK_VTK_ERROR(bin.substr(0, polygons + 20), "8 cell list entries announced, but the 20 bytes left");
@@ -554,9 +586,7 @@ for binary in (0, 1):
         w.SetFileType(2 if binary else 1); w.SetFileVersion(version); w.Write()
 )PY";
     const std::string script_path = dir + ".py";
-    {
-        std::ofstream(script_path) << script;
-    }
+    { std::ofstream(script_path) << script; }
     const int status = run_command("/usr/bin/python3 " + script_path + " " + dir + " 2>&1", out);
     INFO(out);
     REQUIRE(status == 0);
