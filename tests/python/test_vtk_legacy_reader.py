@@ -2,8 +2,8 @@
 binary, file versions 4.2 and 5.1, polygons and triangle strips) write a sphere with a
 point scalar array and an int cell array "material"; bpm-check --surface must accept every
 file and bpm-simplify must store, in /original of its .bpm output, exactly the points,
-triangles and material ids that VTK's own reader (vtkPolyDataReader /
-vtkUnstructuredGridReader) reads from the same file."""
+triangles, material ids and point data ("temperature") that VTK's own reader
+(vtkPolyDataReader / vtkUnstructuredGridReader) reads from the same file."""
 import argparse
 import os
 import subprocess
@@ -107,7 +107,8 @@ def vtk_reads(path):
         out = split.GetOutput()
         triangles = vtk_to_numpy(out.GetPolys().GetConnectivityArray()).reshape(-1, 3)
         patches = vtk_to_numpy(out.GetCellData().GetArray("material"))
-    return points, triangles, patches
+    temperature = vtk_to_numpy(data.GetPointData().GetArray("temperature")).astype(np.float64)
+    return points, triangles, patches, temperature
 
 
 def check(path, tools, work):
@@ -122,11 +123,12 @@ def check(path, tools, work):
         return problems + ["bpm-simplify: exit %d: %s" % (result.returncode, result.stderr)]
     if "patch ids from the cell data array 'material'" not in result.stderr:
         problems.append("bpm-simplify does not report the material array: %s" % result.stderr)
-    points, triangles, patches = vtk_reads(path)
+    points, triangles, patches, temperature = vtk_reads(path)
     with h5py.File(out, "r") as f:
         xyz = f["original/vertices"][()]
         tri = f["original/triangles"][()]
         pat = f["original/patches"][()]
+        data = f["original/point_data/temperature"][()] if "original/point_data/temperature" in f else None
     # VTK reads the text of an ASCII "POINTS n float" as float, bpm as double: the same
     # after rounding to float. Binary floats are the same doubles.
     if "ascii" in os.path.basename(path):
@@ -139,6 +141,10 @@ def check(path, tools, work):
         problems.append("/original/patches differ from the cell data 'material'")
     elif set(np.unique(pat)) != {3, 7}:
         problems.append("patches are %s, expected 3 and 7" % np.unique(pat))
+    if data is None:
+        problems.append("no /original/point_data/temperature")
+    elif data.shape != (len(points), 1) or not np.array_equal(data[:, 0], temperature):
+        problems.append("/original/point_data/temperature differs from the point data VTK reads")
     return problems
 
 

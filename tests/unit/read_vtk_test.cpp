@@ -389,7 +389,7 @@ TEST_CASE("VTK: volume cells are skipped next to triangles and refused alone", "
     CHECK_VTK_ERROR(grid({22}), "cell 0 is a quadratic triangle (VTK type 22)");
 }
 
-TEST_CASE("VTK: point data with NaN is dropped with a note; a patch array must hold whole numbers",
+TEST_CASE("VTK: point data with NaN is dropped with a note, a patch array must hold whole numbers",
           "[surface_io][vtk]") {
     const std::string head =
         "# vtk DataFile Version 4.2\nt\nASCII\nDATASET POLYDATA\nPOINTS 3 float\n0 0 0 1 0 0 0 1 0\nPOLYGONS 1 4\n3 0 "
