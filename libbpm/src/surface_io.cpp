@@ -32,6 +32,7 @@ const char* format_name(SurfaceFormat f) {
         case SurfaceFormat::Stl: return "STL";
         case SurfaceFormat::Ply: return "PLY";
         case SurfaceFormat::Msh: return "MSH";
+        case SurfaceFormat::Vtk: return "VTK";
         case SurfaceFormat::Vtp: return "VTP";
         case SurfaceFormat::Vtu: return "VTU";
     }
@@ -46,6 +47,7 @@ std::string sniffed_format_hint(std::string_view bytes, SurfaceFormat chosen) {
     else if (head.substr(0, 11) == "$MeshFormat") seen = SurfaceFormat::Msh;
     else if (head.substr(0, 3) == "OFF" || head.substr(0, 4) == "COFF" || head.substr(0, 4) == "NOFF") seen = SurfaceFormat::Off;
     else if (head.substr(0, 5) == "solid") seen = SurfaceFormat::Stl;
+    else if (head.substr(0, 14) == "# vtk DataFile") seen = SurfaceFormat::Vtk;
     else if (const size_t at = bytes.substr(0, 512).find("<VTKFile"); at != std::string_view::npos) {
         const std::string_view tag = bytes.substr(at, 200);
         if (tag.find("\"PolyData\"") != std::string_view::npos) seen = SurfaceFormat::Vtp;
@@ -89,6 +91,7 @@ std::optional<SurfaceFormat> surface_format_from_name(const std::string& name) {
     if (n == "stl") return SurfaceFormat::Stl;
     if (n == "ply") return SurfaceFormat::Ply;
     if (n == "msh") return SurfaceFormat::Msh;
+    if (n == "vtk") return SurfaceFormat::Vtk;
     if (n == "vtp") return SurfaceFormat::Vtp;
     if (n == "vtu") return SurfaceFormat::Vtu;
     return std::nullopt;
@@ -111,6 +114,7 @@ Surface read_surface_from_memory(const std::string& bytes, SurfaceFormat format,
             case SurfaceFormat::Stl: parsed = detail::read_stl(bytes, name); break;
             case SurfaceFormat::Ply: parsed = detail::read_ply(bytes, name, options.triangulate_polygons); break;
             case SurfaceFormat::Msh: parsed = detail::read_msh(bytes, name); break;
+            case SurfaceFormat::Vtk: parsed = detail::read_vtk(bytes, name, options.triangulate_polygons); break;
             case SurfaceFormat::Vtp:
             case SurfaceFormat::Vtu: parsed = detail::read_vtk_xml(bytes, name, options.triangulate_polygons); break;
         }
@@ -142,6 +146,9 @@ Surface read_surface_from_memory(const std::string& bytes, SurfaceFormat format,
                        " vertices and no faces: a point cloud?)";
         }
         if (r.skipped_elements > 0) message += "; " + std::to_string(r.skipped_elements) + " non-triangle elements were skipped";
+        // VTK: what was skipped ("12 line cells skipped") says what the file holds instead.
+        if (format == SurfaceFormat::Vtk || format == SurfaceFormat::Vtp || format == SurfaceFormat::Vtu)
+            for (const std::string& note : r.notes) message += "; " + note;
         throw InputError(name, message);
     }
     ValidateOptions validate;
@@ -158,7 +165,7 @@ Surface read_surface(const std::string& path, const SurfaceReadOptions& options,
     if (!format) {
         throw InputError(name, path == "-" ? "the format of standard input must be given explicitly"
                                            : "cannot tell the surface format from the file name; expected the "
-                                             "extension .off, .obj, .stl, .ply, .msh, .vtp or .vtu, or an explicit format");
+                                             "extension .off, .obj, .stl, .ply, .msh, .vtk, .vtp or .vtu, or an explicit format");
     }
     const std::string bytes = detail::read_whole_input(path);
     return read_surface_from_memory(bytes, *format, name, options, report);
@@ -367,6 +374,11 @@ void write_surface(const std::string& path, const Surface& surface, std::optiona
             }
         }
     }
+    if (*format == SurfaceFormat::Vtk) {
+        // Legacy VTK is read (inputs from VTK, ParaView, Slicer) but not written: bpm writes
+        // VTK's XML .vtu where point data matters (bpm-refine --data).
+        throw OutputError(where, "cannot write legacy VTK (.vtk): bpm reads it but writes only .off .obj .stl .ply .msh");
+    }
     std::string bytes;
     switch (*format) {
         case SurfaceFormat::Off: bytes = write_off(surface); break;
@@ -374,6 +386,7 @@ void write_surface(const std::string& path, const Surface& surface, std::optiona
         case SurfaceFormat::Stl: bytes = write_stl(surface); break;
         case SurfaceFormat::Ply: bytes = write_ply(surface); break;
         case SurfaceFormat::Msh: bytes = write_msh(surface); break;
+        case SurfaceFormat::Vtk: break;  // refused above
         case SurfaceFormat::Vtp:
         case SurfaceFormat::Vtu: break;  // refused above
     }

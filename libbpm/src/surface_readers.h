@@ -41,7 +41,7 @@ struct PolygonFace {
 // What a reader produced besides the surface.
 struct ReaderOutput {
     Surface surface;
-    int64_t skipped_elements = 0;    // MSH: elements that are not 3-node triangles
+    int64_t skipped_elements = 0;    // MSH: elements that are not 3-node triangles; VTK: vertex, line, volume cells
     std::vector<std::string> notes;  // remarks for SurfaceReadReport::notes
     std::vector<PolygonFace> polygons;  // with accept_polygons only; in file order
 };
@@ -53,6 +53,7 @@ ReaderOutput read_obj(std::string_view bytes, const std::string& name, bool acce
 ReaderOutput read_stl(std::string_view bytes, const std::string& name);
 ReaderOutput read_ply(std::string_view bytes, const std::string& name, bool accept_polygons = false);
 ReaderOutput read_msh(std::string_view bytes, const std::string& name);
+ReaderOutput read_vtk(std::string_view bytes, const std::string& name, bool accept_polygons = false);
 // VTK XML PolyData and UnstructuredGrid (either file type, whichever format was chosen).
 ReaderOutput read_vtk_xml(std::string_view bytes, const std::string& name, bool accept_polygons = false);
 

@@ -1,5 +1,5 @@
 // bpm-fuzz-seeds OUTDIR: writes small valid files of every input format into
-// OUTDIR/{off,obj,stl,ply,msh,bpm}/, the seed corpora of the fuzz targets
+// OUTDIR/{off,obj,stl,ply,msh,vtk,bpm}/, the seed corpora of the fuzz targets
 // (scripts/fuzz.sh adds the malformed files of tests/data/bad/ and spec/examples/).
 //
 // Surfaces come from the library's writers (one encoding per format) and, for the
@@ -211,6 +211,123 @@ std::string msh41_binary(const Surface& s) {
     return o;
 }
 
+
+// Legacy VTK: POLYDATA in both encodings and both cell layouts (4.2 records, 5.1
+// OFFSETS / CONNECTIVITY), with a line cell, a strip, cell data patches and point data of
+// several kinds; an UNSTRUCTURED_GRID with a skipped vertex cell.
+struct VtkSeed {
+    bool binary;
+    std::string o;
+    void line(const std::string& t) { o += t + "\n"; }
+    template <class T>
+    void values(const std::vector<T>& v) {
+        for (size_t i = 0; i < v.size(); ++i) {
+            if (binary) put<T>(o, v[i], true);
+            else o += (i ? " " : "") + num(static_cast<double>(v[i]));
+        }
+        o += "\n";
+    }
+    void cells(const std::string& keyword, const std::vector<std::vector<int32_t>>& cells, bool new_layout) {
+        size_t total = 0;
+        for (const auto& c : cells) total += c.size();
+        if (new_layout) {
+            line(keyword + " " + std::to_string(cells.size() + 1) + " " + std::to_string(total));
+            std::vector<int64_t> offsets{0}, connectivity;
+            for (const auto& c : cells) {
+                offsets.push_back(offsets.back() + static_cast<int64_t>(c.size()));
+                connectivity.insert(connectivity.end(), c.begin(), c.end());
+            }
+            line("OFFSETS vtktypeint64");
+            values(offsets);
+            line("CONNECTIVITY vtktypeint64");
+            values(connectivity);
+        } else {
+            line(keyword + " " + std::to_string(cells.size()) + " " + std::to_string(total + cells.size()));
+            std::vector<int32_t> flat;
+            for (const auto& c : cells) {
+                flat.push_back(static_cast<int32_t>(c.size()));
+                flat.insert(flat.end(), c.begin(), c.end());
+            }
+            values(flat);
+        }
+    }
+};
+
+std::string vtk_polydata(const Surface& s, bool binary, bool new_layout) {
+    VtkSeed w{binary, std::string("# vtk DataFile Version ") + (new_layout ? "5.1" : "4.2") + "\nseed\n" +
+                          (binary ? "BINARY" : "ASCII") + "\n"};
+    w.line("DATASET POLYDATA");
+    w.line("FIELD FieldData 1");
+    w.line("TimeValue 1 1 double");
+    w.values(std::vector<double>{1.5});
+    w.line("POINTS " + std::to_string(s.vertices.size()) + " double");
+    std::vector<double> xyz;
+    for (const Vec3& p : s.vertices) xyz.insert(xyz.end(), p.begin(), p.end());
+    w.values(xyz);
+    std::vector<std::vector<int32_t>> polys;
+    for (size_t t = 1; t < s.triangles.size(); ++t) polys.push_back({s.triangles[t][0], s.triangles[t][1], s.triangles[t][2]});
+    w.cells("LINES", {{0, 1}}, new_layout);
+    w.cells("POLYGONS", polys, new_layout);
+    // The first triangle as a strip of three points.
+    w.cells("TRIANGLE_STRIPS", {{s.triangles[0][0], s.triangles[0][1], s.triangles[0][2]}}, new_layout);
+    w.line("CELL_DATA " + std::to_string(s.triangles.size() + 1));
+    w.line("SCALARS material int 1");
+    w.line("LOOKUP_TABLE default");
+    std::vector<int32_t> patches{0};
+    for (size_t t = 1; t < s.triangles.size(); ++t) patches.push_back(s.patches[t]);
+    patches.push_back(s.patches[0]);
+    w.values(patches);
+    w.line("POINT_DATA " + std::to_string(s.vertices.size()));
+    w.line("SCALARS temp float");
+    w.line("LOOKUP_TABLE default");
+    std::vector<float> temp;
+    for (size_t i = 0; i < s.vertices.size(); ++i) temp.push_back(static_cast<float>(i) * 0.5f);
+    w.values(temp);
+    w.line("NORMALS Normals double");
+    w.values(xyz);
+    w.line("METADATA");
+    w.line("INFORMATION 1");
+    w.line("NAME L2_NORM_RANGE LOCATION vtkDataArray");
+    w.line("DATA 2 0 1");
+    w.line("");
+    w.line("COLOR_SCALARS rgb 3");
+    if (binary) w.values(std::vector<uint8_t>(3 * s.vertices.size(), 128));
+    else w.values(std::vector<float>(3 * s.vertices.size(), 0.5f));
+    w.line("FIELD FieldData 2");
+    w.line("ids 1 " + std::to_string(s.vertices.size()) + " vtkIdType");
+    std::vector<int32_t> ids;
+    for (size_t i = 0; i < s.vertices.size(); ++i) ids.push_back(static_cast<int32_t>(i));
+    w.values(ids);
+    w.line("bits 1 " + std::to_string(s.vertices.size()) + " bit");
+    if (binary) w.values(std::vector<uint8_t>((s.vertices.size() + 7) / 8, 0xa5));
+    else w.values(std::vector<int32_t>(s.vertices.size(), 1));
+    return w.o;
+}
+
+std::string vtk_grid(const Surface& s, bool binary) {
+    VtkSeed w{binary, std::string("# vtk DataFile Version 5.1\nseed\n") + (binary ? "BINARY" : "ASCII") + "\n"};
+    w.line("DATASET UNSTRUCTURED_GRID");
+    w.line("POINTS " + std::to_string(s.vertices.size()) + " float");
+    std::vector<float> xyz;
+    for (const Vec3& p : s.vertices)
+        for (double x : p) xyz.push_back(static_cast<float>(x));
+    w.values(xyz);
+    std::vector<std::vector<int32_t>> cells{{0}};
+    for (const Tri& t : s.triangles) cells.push_back({t[0], t[1], t[2]});
+    w.cells("CELLS", cells, true);
+    w.line("CELL_TYPES " + std::to_string(cells.size()));
+    std::vector<int32_t> types(cells.size(), 5);
+    types[0] = 1;
+    w.values(types);
+    w.line("CELL_DATA " + std::to_string(cells.size()));
+    w.line("FIELD FieldData 1");
+    w.line("gmsh:physical 1 " + std::to_string(cells.size()) + " int");
+    std::vector<int32_t> physical{0};
+    physical.insert(physical.end(), s.patches.begin(), s.patches.end());
+    w.values(physical);
+    return w.o;
+}
+
 void write_surface_seeds(const std::string& stem, const Surface& s) {
     for (const char* ext : {"off", "obj", "stl", "ply", "msh"})
         write_surface((g_out / ext / (stem + "." + ext)).string(), s);
@@ -223,6 +340,12 @@ void write_surface_seeds(const std::string& stem, const Surface& s) {
     put_file("msh", stem + "_22_binary.msh", msh22_binary(s, false));
     put_file("msh", stem + "_22_binary_be.msh", msh22_binary(s, true));
     put_file("msh", stem + "_41_binary.msh", msh41_binary(s));
+    for (const bool binary : {false, true}) {
+        const std::string encoding = binary ? "_binary" : "_ascii";
+        put_file("vtk", stem + encoding + "_42.vtk", vtk_polydata(s, binary, false));
+        put_file("vtk", stem + encoding + "_51.vtk", vtk_polydata(s, binary, true));
+        put_file("vtk", stem + encoding + "_grid.vtk", vtk_grid(s, binary));
+    }
 }
 
 BpmFile wrap(Parametrization p, const std::string& what) {
@@ -242,7 +365,7 @@ int main(int argc, char** argv) {
     }
     g_out = argv[1];
     try {
-        for (const char* d : {"off", "obj", "stl", "ply", "msh", "bpm"}) fs::create_directories(g_out / d);
+        for (const char* d : {"off", "obj", "stl", "ply", "msh", "vtk", "bpm"}) fs::create_directories(g_out / d);
 
         write_surface_seeds("tetrahedron", tetrahedron());
         write_surface_seeds("octahedron1", test::make_subdivided_octahedron(1).original);

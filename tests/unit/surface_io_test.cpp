@@ -154,7 +154,8 @@ void check_same(const Surface& a, const Surface& b) {
 TEST_CASE("format from name and extension", "[surface_io]") {
     CHECK(surface_format_from_name("OFF") == SurfaceFormat::Off);
     CHECK(surface_format_from_name("msh") == SurfaceFormat::Msh);
-    CHECK_FALSE(surface_format_from_name("vtk").has_value());
+    CHECK(surface_format_from_name("vtk") == SurfaceFormat::Vtk);
+    CHECK_FALSE(surface_format_from_name("vtu").has_value());
     CHECK(surface_format_from_path("a/b.c/mesh.PLY") == SurfaceFormat::Ply);
     CHECK(surface_format_from_path("x.stl") == SurfaceFormat::Stl);
     CHECK(surface_format_from_path("x.obj") == SurfaceFormat::Obj);
@@ -496,7 +497,7 @@ TEST_CASE("writer refuses inconsistent surfaces and unknown formats", "[surface_
 
 TEST_CASE("reject: empty file", "[surface_io]") {
     for (SurfaceFormat f : {SurfaceFormat::Off, SurfaceFormat::Obj, SurfaceFormat::Stl, SurfaceFormat::Ply,
-                            SurfaceFormat::Msh}) {
+                            SurfaceFormat::Msh, SurfaceFormat::Vtk}) {
         CHECK_READ_ERROR("", f, "empty");
     }
 }
@@ -727,7 +728,7 @@ TEST_CASE("reject: binary garbage in every format", "[surface_io]") {
             c = static_cast<char>(state >> 24);
         }
         for (SurfaceFormat f : {SurfaceFormat::Off, SurfaceFormat::Obj, SurfaceFormat::Stl, SurfaceFormat::Ply,
-                                SurfaceFormat::Msh}) {
+                                SurfaceFormat::Msh, SurfaceFormat::Vtk}) {
             CHECK_THROWS_AS(read_bytes(bytes, f), InputError);
         }
     }

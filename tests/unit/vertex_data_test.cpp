@@ -177,3 +177,46 @@ TEST_CASE("vertex data is carried through phi onto refined surfaces and refined 
     out.param = rp;
     CHECK(read_bpm_from_memory(write_bpm_to_memory(out), "mem").param.original.vertex_data.size() == 2);
 }
+
+TEST_CASE("OFF vertex normals, colours and texture coordinates become vertex data", "[vertex-data][io]") {
+    const std::string square_faces = "3 0 1 2\n3 0 2 3\n";
+    SECTION("CNOFF (normals, then RGBA colours) ") {
+        const Surface s = read_surface_from_memory("CNOFF\n4 2 0\n"
+                                                   "0 0 0  0 0 1  255 0 0 255\n"
+                                                   "1 0 0  0 0 1  0 255 0 255\n"
+                                                   "1 1 0  0 0 1  0 0 255 255\n"
+                                                   "0 1 0  0 0 1  9 9 9 128\n" + square_faces,
+                                                   SurfaceFormat::Off, "t.off", {});
+        REQUIRE(s.vertex_data.size() == 2);
+        CHECK(s.vertex_data[0].name == "normals");
+        CHECK(s.vertex_data[0].values == std::vector<double>{0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1});
+        CHECK(s.vertex_data[1].name == "colors");
+        CHECK(s.vertex_data[1].components == 4);
+        CHECK(s.vertex_data[1].values[15] == 128);
+    }
+    SECTION("STCOFF with RGB colours") {
+        const Surface s = read_surface_from_memory("STCOFF 4 2 0\n"
+                                                   "0 0 0  1 0 0  0 0\n1 0 0  0 1 0  1 0\n"
+                                                   "1 1 0  0 0 1  1 1\n0 1 0  1 1 1  0 1\n" + square_faces,
+                                                   SurfaceFormat::Off, "t.off", {});
+        REQUIRE(s.vertex_data.size() == 2);
+        CHECK(s.vertex_data[0].name == "colors");
+        CHECK(s.vertex_data[0].components == 3);
+        CHECK(s.vertex_data[1].name == "texture_coordinates");
+        CHECK(s.vertex_data[1].values == std::vector<double>{0, 0, 1, 0, 1, 1, 0, 1});
+    }
+    SECTION("a vertex line that does not fit the layout leaves the data out, with a note") {
+        SurfaceReadReport report;
+        const Surface s = read_surface_from_memory("COFF\n4 2 0\n0 0 0 1 0 0\n1 0 0 0 1 0\n1 1 0 0 0\n0 1 0 1 1 1\n" +
+                                                       square_faces,
+                                                   SurfaceFormat::Off, "t.off", {}, &report);
+        CHECK(s.vertex_data.empty());
+        REQUIRE(report.notes.size() == 1);
+        CHECK(report.notes[0].find("vertex 2 has 2 values after its coordinates") != std::string::npos);
+    }
+    SECTION("plain OFF has no vertex data") {
+        const Surface s = read_surface_from_memory("OFF\n4 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n" + square_faces,
+                                                   SurfaceFormat::Off, "t.off", {});
+        CHECK(s.vertex_data.empty());
+    }
+}

@@ -20,9 +20,9 @@ int main(int argc, char** argv) {
     bpm::SurfaceReadOptions read_options;
     bool verbose = false, quiet = false, allow_intersections = false, deterministic = false;
     std::string units;
-    app.add_option("INPUT", input, "Input surface (.off .obj .stl .ply .msh), or - for standard input")->required();
+    app.add_option("INPUT", input, "Input surface (.off .obj .stl .ply .msh .vtk), or - for standard input")->required();
     app.add_option("-o,--output", output, "Output .bpm file, or - for standard output")->required();
-    app.add_option("--format", format, "Input format when it cannot be told from the name: off, obj, stl, ply, msh, vtp, vtu");
+    app.add_option("--format", format, "Input format when it cannot be told from the name: off, obj, stl, ply, msh, vtk (legacy VTK), vtp, vtu (VTK XML)");
     app.add_option("--vertices", options.target_vertices, "Stop when the coarse surface has this many vertices")
         ->check(CLI::NonNegativeNumber);
     app.add_option("--ratio", options.target_ratio,
@@ -63,7 +63,7 @@ int main(int argc, char** argv) {
     app.add_flag("--drop-unreferenced-vertices", read_options.drop_unreferenced_vertices,
                  "Repair: drop input vertices that no triangle uses (reported)");
     app.add_flag("--triangulate-polygons", read_options.triangulate_polygons,
-                 "Repair: split faces with more than 3 corners (OFF, OBJ, PLY; e.g. quads of CAD exports) into "
+                 "Repair: split faces with more than 3 corners (OFF, OBJ, PLY, VTK; e.g. quads of CAD exports) into "
                  "triangles by ear clipping in the face's plane (reported)");
     app.add_option("--units", units, "Length unit of the coordinates, recorded in the file (e.g. mm)");
     app.add_option("--threads", options.threads,

@@ -10,6 +10,13 @@
 //                        named patch / material / region / label / physical becomes the patch id
 //   MSH   (.msh)         Gmsh 2.2 and 4.1, ASCII and binary; triangles only (other elements
 //                        are skipped and counted); the physical tag is the patch id
+//   VTK   (.vtk)         legacy VTK 1.0-5.1, ASCII and BINARY, POLYDATA (polygons, triangle
+//                        strips) and UNSTRUCTURED_GRID (triangles, quads, polygons, strips);
+//                        vertex, line and (next to surface cells) volume cells are skipped and
+//                        counted; every POINT_DATA array becomes a VertexArray; a CELL_DATA
+//                        array named patch / material / region / label / physical (or
+//                        gmsh:physical, CellEntityIds, RegionId) gives the patch id. Read only:
+//                        write_surface refuses VTK.
 //   VTP, VTU (.vtp .vtu) VTK XML PolyData / UnstructuredGrid (read only): ascii, binary and
 //                        appended data, raw or base64, zlib-compressed or not; triangles,
 //                        strips (split), polygons and quads (with triangulate_polygons);
@@ -25,6 +32,8 @@
 //   PLY  the first such face property in header order; integer values only.
 //   MSH  2.2: the first element tag (physical); 4.1: the first physical tag of the
 //        element's entity in $Entities; 0 when there is none.
+//   VTK  the first such integer-valued 1-component cell array (SCALARS or FIELD); the
+//        triangles of a strip or polygon keep their cell's id. Details in read_vtk.cpp.
 // Polygons (faces with more than three corners) are refused in every format, never
 // triangulated silently.
 //
@@ -45,9 +54,9 @@ namespace bpm {
 
 // Vtp, Vtu: VTK XML PolyData / UnstructuredGrid, read only (bpm-refine writes .vtu with
 // its own writer, write_vtu in bpm/refine.h).
-enum class SurfaceFormat { Off, Obj, Stl, Ply, Msh, Vtp, Vtu };
+enum class SurfaceFormat { Off, Obj, Stl, Ply, Msh, Vtk, Vtp, Vtu };
 
-// "off", "obj", "stl", "ply", "msh", "vtp", "vtu" (case-insensitive) -> format; nullopt otherwise.
+// "off", "obj", "stl", "ply", "msh", "vtk", "vtp", "vtu" (case-insensitive) -> format; nullopt otherwise.
 std::optional<SurfaceFormat> surface_format_from_name(const std::string& name);
 // Format from the extension of `path`; nullopt if unknown.
 std::optional<SurfaceFormat> surface_format_from_path(const std::string& path);
@@ -56,7 +65,7 @@ struct SurfaceReadOptions {
     std::optional<SurfaceFormat> format;      // overrides the extension; required for "-"
     bool merge_duplicate_vertices = false;    // repair: merge vertices at identical positions
     bool drop_unreferenced_vertices = false;  // repair: remove vertices no triangle uses
-    // Repair: split faces with more than three corners (OFF, OBJ, PLY) into triangles by
+    // Repair: split faces with more than three corners (OFF, OBJ, PLY, VTK) into triangles by
     // ear clipping in the face's plane (reported in SurfaceReadReport::notes); a face that
     // is not a simple polygon seen along its normal is still refused.
     bool triangulate_polygons = false;
@@ -67,7 +76,7 @@ struct SurfaceReadReport {
     SurfaceFormat format = SurfaceFormat::Off;
     int64_t merged_vertices = 0;       // by the requested repair
     int64_t dropped_vertices = 0;      // by the requested repair
-    int64_t skipped_elements = 0;      // non-triangle elements of MSH files that were ignored
+    int64_t skipped_elements = 0;      // non-triangle elements of MSH files, non-surface cells of VTK files, that were ignored
     std::vector<std::string> notes;    // other human-readable remarks
 };
 
@@ -82,8 +91,8 @@ Surface read_surface_from_memory(const std::string& bytes, SurfaceFormat format,
                                  const SurfaceReadOptions& options = {}, SurfaceReadReport* report = nullptr);
 
 // Writes OFF, OBJ (patches as `g patch_N`), STL (binary), PLY (binary little endian with
-// an int `patch` face property) or MSH 4.1 ASCII (patches as physical tags), atomically:
-// (VTP and VTU are refused: input formats only)
+// an int `patch` face property) or MSH 4.1 ASCII (patches as physical tags), atomically
+// (not VTK, VTP or VTU: an OutputError):
 // to a temporary name in the same directory, renamed when complete. "-" writes stdout.
 // Output is deterministic; text formats write doubles with 17 significant digits, so
 // reading back gives the same surface bit for bit (patches are lost in OFF; STL stores

@@ -257,6 +257,60 @@ add("msh41_unreferenced_node.msh", msh41_ascii(TET_V + [(4, 4, 4)], TET_F), "not
 add("msh_binary_garbage.msh", b"$MeshFormat\n4.1 1 8\n" + struct.pack("<i", 1) + b"\n$EndMeshFormat\n$Nodes\n" + garbage(7, 200), "*")
 add("msh_random_bytes.msh", garbage(8, 300), "*")
 
+# ---- VTK (legacy) ----------------------------------------------------------------
+def vtk_ascii(vertices, faces, version="4.2", body_extra=""):
+    s = "# vtk DataFile Version %s\nbad corpus\nASCII\nDATASET POLYDATA\nPOINTS %d double\n" % (version, len(vertices))
+    s += "".join(" ".join(str(c) for c in v) + "\n" for v in vertices)
+    s += "POLYGONS %d %d\n" % (len(faces), sum(len(f) + 1 for f in faces))
+    s += "".join("%d %s\n" % (len(f), " ".join(str(i) for i in f)) for f in faces)
+    return s + body_extra
+
+
+def vtk_binary(vertices, faces, cells_line=None):
+    out = b"# vtk DataFile Version 4.2\nbad corpus\nBINARY\nDATASET POLYDATA\nPOINTS %d double\n" % len(vertices)
+    out += b"".join(struct.pack(">3d", *v) for v in vertices) + b"\n"
+    out += cells_line if cells_line is not None else b"POLYGONS %d %d\n" % (len(faces), sum(len(f) + 1 for f in faces))
+    out += b"".join(struct.pack(">%di" % (len(f) + 1), len(f), *f) for f in faces)
+    return out + b"\n"
+
+
+add("vtk_empty.vtk", "", "empty")
+add("vtk_no_header.vtk", vtk_ascii(TET_V, TET_F).replace("# vtk DataFile Version 4.2\n", ""), "not a legacy VTK file")
+add("vtk_version9.vtk", vtk_ascii(TET_V, TET_F, version="9.0"), "unsupported VTK file version")
+add("vtk_no_encoding.vtk", vtk_ascii(TET_V, TET_F).replace("ASCII\n", "TEXT\n"), "expected ASCII or BINARY")
+add("vtk_structured_points.vtk", "# vtk DataFile Version 3.0\nimage\nASCII\nDATASET STRUCTURED_POINTS\n"
+    "DIMENSIONS 2 2 2\nORIGIN 0 0 0\nSPACING 1 1 1\n", "is a grid, not a surface")
+add("vtk_unknown_keyword.vtk", vtk_ascii(TET_V, TET_F).replace("POLYGONS", "POLYGON"), "unknown keyword 'POLYGON'")
+add("vtk_unknown_type.vtk", vtk_ascii(TET_V, TET_F).replace("POINTS 4 double", "POINTS 4 real"), "unknown VTK data type 'real'")
+add("vtk_nan.vtk", vtk_ascii([(0, 0, 0), (1, "nan", 0), (0, 1, 0), (0, 0, 1)], TET_F), "is not a finite number")
+add("vtk_index_out_of_range.vtk", vtk_ascii(TET_V, TET_F[:3] + [(1, 2, 4)]), "point index 4 is out of range")
+add("vtk_billions.vtk", "# vtk DataFile Version 4.2\nx\nASCII\nDATASET POLYDATA\nPOINTS 4000000000 float\n0 0 0\n",
+    "bpm supports at most")
+add("vtk_big_counts.vtk", vtk_ascii(TET_V, TET_F).replace("POLYGONS 4 16", "POLYGONS 100000000 400000000"),
+    "cannot hold that many")
+add("vtk_wrong_size.vtk", vtk_ascii(TET_V, TET_F).replace("POLYGONS 4 16", "POLYGONS 3 16"), "3 cells use 12 integers, but 16 were announced")
+add("vtk_quad.vtk", vtk_ascii(TET_V + [(1, 1, 0)], TET_F[:3] + [(1, 4, 2, 3)]), "the triangulate-polygons repair")
+add("vtk_cells_before_points.vtk", "# vtk DataFile Version 4.2\nx\nASCII\nDATASET POLYDATA\nPOLYGONS 1 4\n3 0 1 2\n",
+    "before POINTS")
+add("vtk_point_data_count.vtk", vtk_ascii(TET_V, TET_F, body_extra="POINT_DATA 5\nSCALARS s float\nLOOKUP_TABLE default\n"
+    "1 2 3 4 5\n"), "POINT_DATA 5, but the file has 4 points")
+add("vtk_only_lines.vtk", vtk_ascii(TET_V, []).replace("POLYGONS 0 0\n", "LINES 2 6\n2 0 1\n2 1 2\n"), "2 line cells skipped")
+add("vtk_tetrahedra.vtk", "# vtk DataFile Version 4.2\nx\nASCII\nDATASET UNSTRUCTURED_GRID\nPOINTS 4 float\n"
+    "0 0 0 1 0 0 0 1 0 0 0 1\nCELLS 1 5\n4 0 1 2 3\nCELL_TYPES 1\n10\n", "is a tetrahedron (VTK type 10)")
+add("vtk_51_bad_offsets.vtk", "# vtk DataFile Version 5.1\nx\nASCII\nDATASET POLYDATA\nPOINTS 3 float\n"
+    "0 0 0 1 0 0 0 1 0\nPOLYGONS 2 3\nOFFSETS vtktypeint64\n0 4\nCONNECTIVITY vtktypeint64\n0 1 2\n",
+    "offset 1 is 4; expected a value from 0 to 3")
+add("vtk_unreferenced_vertex.vtk", vtk_ascii(TET_V + [(3, 3, 3)], TET_F), "not used by any triangle")
+add("vtk_binary_truncated.vtk", vtk_binary(TET_V, TET_F)[:-30], "cannot hold that many")
+add("vtk_binary_nan.vtk", vtk_binary([(0, 0, 0), (1, 0, 0), (0, float("nan"), 0), (0, 0, 1)], TET_F), "is NaN")
+add("vtk_binary_index_out_of_range.vtk", vtk_binary(TET_V, TET_F[:3] + [(1, 2, 99)]), "point index 99 is out of range")
+# Little-endian data under a format that is big endian by definition: counts come out huge.
+add("vtk_binary_little_endian.vtk", vtk_binary(TET_V, TET_F).replace(
+    b"".join(struct.pack(">4i", 3, *f) for f in TET_F), b"".join(struct.pack("<4i", 3, *f) for f in TET_F)), "cell 0 has")
+add("vtk_binary_garbage.vtk", b"# vtk DataFile Version 4.2\nx\nBINARY\nDATASET POLYDATA\nPOINTS 5 float\n" +
+    garbage(9, 150), "*")
+add("vtk_random_bytes.vtk", garbage(10, 300), "*")
+
 
 # ---- VTK XML (.vtp, .vtu) ----
 def vtk_array(name, typ, values, fmt="ascii", comps=1, appended=None, zlib_data=False, header=None):
@@ -339,7 +393,7 @@ def main():
     names = [f[0] for f in FILES]
     assert len(names) == len(set(names)), "duplicate file names"
     for old in os.listdir(HERE):
-        if old.split(".")[-1] in ("off", "obj", "stl", "ply", "msh", "vtp", "vtu"):
+        if old.split(".")[-1] in ("off", "obj", "stl", "ply", "msh", "vtk", "vtp", "vtu"):
             os.remove(os.path.join(HERE, old))
     for name, data, _ in FILES:
         with open(os.path.join(HERE, name), "wb") as f:
