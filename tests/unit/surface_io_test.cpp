@@ -155,7 +155,8 @@ TEST_CASE("format from name and extension", "[surface_io]") {
     CHECK(surface_format_from_name("OFF") == SurfaceFormat::Off);
     CHECK(surface_format_from_name("msh") == SurfaceFormat::Msh);
     CHECK(surface_format_from_name("vtk") == SurfaceFormat::Vtk);
-    CHECK_FALSE(surface_format_from_name("vtu").has_value());
+    CHECK(surface_format_from_name("vtu") == SurfaceFormat::Vtu);  // VTK XML, read only
+    CHECK_FALSE(surface_format_from_name("vti").has_value());        // image data: no surface
     CHECK(surface_format_from_path("a/b.c/mesh.PLY") == SurfaceFormat::Ply);
     CHECK(surface_format_from_path("x.stl") == SurfaceFormat::Stl);
     CHECK(surface_format_from_path("x.obj") == SurfaceFormat::Obj);
