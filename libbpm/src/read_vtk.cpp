@@ -40,12 +40,12 @@
 #include <unordered_set>
 
 #include "surface_readers.h"
+#include "vtk_types.h"
 
 namespace bpm::detail {
 
 namespace {
 
-enum class VtkType { Bit, Int8, UInt8, Int16, UInt16, Int32, UInt32, Int64, UInt64, Float32, Float64, String };
 
 char lower_char(char c) { return (c >= 'A' && c <= 'Z') ? static_cast<char>(c - 'A' + 'a') : c; }
 
@@ -102,25 +102,6 @@ bool vtk_type_from_name(std::string_view name, VtkType& type) {
     return false;
 }
 
-size_t vtk_type_size(VtkType t) {
-    switch (t) {
-        case VtkType::Bit:
-        case VtkType::String:
-        case VtkType::Int8:
-        case VtkType::UInt8: return 1;
-        case VtkType::Int16:
-        case VtkType::UInt16: return 2;
-        case VtkType::Int32:
-        case VtkType::UInt32:
-        case VtkType::Float32: return 4;
-        case VtkType::Int64:
-        case VtkType::UInt64:
-        case VtkType::Float64: return 8;
-    }
-    return 8;
-}
-
-bool vtk_type_is_integer(VtkType t) { return t != VtkType::Float32 && t != VtkType::Float64 && t != VtkType::String; }
 
 // Bytes that `count` values take at least: their size in a binary file (bits packed eight
 // to a byte), a digit and a separator in an ASCII one.
