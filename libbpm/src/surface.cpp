@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <map>
 #include <numeric>
 #include <string>
 
@@ -290,6 +291,63 @@ std::vector<std::string> vertex_data_problems(const Surface& surface) {
                                " vertices x " + std::to_string(a.components) + " components");
     }
     return problems;
+}
+
+Surface combine_surfaces(const std::vector<Surface>& parts, std::vector<std::pair<int, int32_t>>* patch_origin,
+                         std::vector<std::string>* dropped_arrays) {
+    Surface out;
+    std::map<std::pair<int, int32_t>, int32_t> patch_id;
+    std::vector<std::pair<int, int32_t>> origin;
+    // Arrays every part has, with the same number of components (in the first part's order).
+    std::vector<const VertexArray*> kept;
+    if (!parts.empty())
+        for (const VertexArray& a : parts[0].vertex_data) {
+            bool everywhere = true;
+            for (const Surface& part : parts) {
+                bool found = false;
+                for (const VertexArray& b : part.vertex_data) found = found || (b.name == a.name && b.components == a.components);
+                everywhere = everywhere && found;
+            }
+            if (everywhere) {
+                kept.push_back(&a);
+                out.vertex_data.push_back({a.name, a.components, {}});
+            }
+        }
+    if (dropped_arrays) {
+        dropped_arrays->clear();
+        for (const Surface& part : parts)
+            for (const VertexArray& a : part.vertex_data) {
+                bool is_kept = false;
+                for (const VertexArray* k : kept) is_kept = is_kept || k->name == a.name;
+                if (!is_kept && std::find(dropped_arrays->begin(), dropped_arrays->end(), a.name) == dropped_arrays->end())
+                    dropped_arrays->push_back(a.name);
+            }
+    }
+    for (size_t i = 0; i < parts.size(); ++i) {
+        const Surface& part = parts[i];
+        const int32_t offset = static_cast<int32_t>(out.vertices.size());
+        out.vertices.insert(out.vertices.end(), part.vertices.begin(), part.vertices.end());
+        for (size_t t = 0; t < part.triangles.size(); ++t) {
+            Tri tri = part.triangles[t];
+            for (int32_t& v : tri) v += offset;
+            out.triangles.push_back(tri);
+            const std::pair<int, int32_t> key{static_cast<int>(i), t < part.patches.size() ? part.patches[t] : 0};
+            auto it = patch_id.find(key);
+            if (it == patch_id.end()) {
+                it = patch_id.emplace(key, static_cast<int32_t>(origin.size())).first;
+                origin.push_back(key);
+            }
+            out.patches.push_back(it->second);
+        }
+        for (size_t k = 0; k < kept.size(); ++k)
+            for (const VertexArray& b : part.vertex_data)
+                if (b.name == kept[k]->name) {
+                    out.vertex_data[k].values.insert(out.vertex_data[k].values.end(), b.values.begin(), b.values.end());
+                    break;
+                }
+    }
+    if (patch_origin) *patch_origin = std::move(origin);
+    return out;
 }
 
 int64_t merge_duplicate_vertices(Surface& surface) {

@@ -171,6 +171,48 @@ Surface read_surface(const std::string& path, const SurfaceReadOptions& options,
     return read_surface_from_memory(bytes, *format, name, options, report);
 }
 
+Surface read_surfaces(const std::vector<std::string>& paths, const SurfaceReadOptions& options,
+                      SurfaceReadReport* report) {
+    if (paths.size() == 1) return read_surface(paths[0], options, report);
+    if (paths.empty()) throw OptionError("no input surface given");
+    for (const std::string& path : paths)
+        if (path == "-") throw OptionError("'-' (standard input) can only be the one input, not one of several");
+    SurfaceReadReport local;
+    SurfaceReadReport& r = report ? *report : local;
+    r = SurfaceReadReport{};
+    std::vector<Surface> parts;
+    std::string names;
+    for (size_t i = 0; i < paths.size(); ++i) {
+        const std::string name = detail::display_name(paths[i]);
+        names += (i ? " + " : "") + name;
+        SurfaceReadReport one;
+        parts.push_back(read_surface(paths[i], options, &one));
+        if (i == 0) r.format = one.format;
+        r.merged_vertices += one.merged_vertices;
+        r.dropped_vertices += one.dropped_vertices;
+        r.skipped_elements += one.skipped_elements;
+        for (const std::string& note : one.notes) r.notes.push_back(name + ": " + note);
+    }
+    std::vector<std::pair<int, int32_t>> origin;
+    std::vector<std::string> dropped;
+    Surface surface = combine_surfaces(parts, &origin, &dropped);
+    for (size_t p = 0; p < origin.size(); ++p)
+        r.notes.push_back("patch " + std::to_string(p) + " = " + detail::display_name(paths[size_t(origin[p].first)]) +
+                          " patch " + std::to_string(origin[p].second));
+    for (const std::string& name : dropped)
+        r.notes.push_back("vertex data '" + name + "' left out: not every input has it (with the same components)");
+    // Inputs that touch share positions, not vertices, until the repair merges them.
+    if (options.merge_duplicate_vertices) r.merged_vertices += merge_duplicate_vertices(surface);
+    ValidateOptions validate;
+    validate.max_problems = 100;
+    validate.allow_unreferenced_vertices = options.drop_unreferenced_vertices;
+    const std::vector<SurfaceProblem> problems = validate_surface(surface, validate);
+    if (!problems.empty())
+        throw InputError(names, "the inputs together (vertices and triangles numbered across the files in order): " +
+                                    problems_message(problems, surface, validate.max_problems));
+    return surface;
+}
+
 // ---- writing ----------------------------------------------------------------------
 
 namespace {

@@ -33,6 +33,27 @@ ok "identical runs give identical bytes except the file name in provenance" -- \
     test "$(cmp -l "$work/a.bpm" "$work/b.bpm" | wc -l)" -le 2
 expect 0 "file passes bpm-check" -- "$check" "$work/a.bpm"
 
+# Several inputs (one surface per material, as segmentation tools export them): one
+# coarse surface, the files' patches apart; the same file twice shares every position.
+/usr/bin/python3 - "$femur" "$work/femur_moved.off" <<'PY'
+import sys
+t = open(sys.argv[1]).read().split()
+nv, nf = int(t[1]), int(t[2]); i = 4
+with open(sys.argv[2], "w") as f:
+    f.write("OFF\n%d %d 0\n" % (nv, nf))
+    for k in range(nv): f.write("%r %s %s\n" % (float(t[i + 3 * k]) + 3.0, t[i + 3 * k + 1], t[i + 3 * k + 2]))
+    i += 3 * nv
+    for k in range(nf):
+        n = int(t[i]); f.write(" ".join(t[i:i + n + 1]) + "\n"); i += n + 1
+PY
+expect 0 "two inputs simplified together" -- "$simplify" "$femur" "$work/femur_moved.off" -o "$work/two.bpm" --ratio 0.1
+contains "$work/err" "femur_moved.off patch 0" "the second file's patch is named"
+expect 0 "the pair passes bpm-check" -- "$check" "$work/two.bpm"
+contains "$work/out" "2 components" "two components"
+expect 3 "the same file twice: duplicate positions across the inputs" -- "$simplify" "$femur" "$femur" -o "$work/dup.bpm" --ratio 0.1
+contains "$work/err" "the inputs together" "says it is the combination"
+expect 2 "standard input is not one of several inputs" -- "$simplify" - "$femur" -o "$work/x.bpm" --ratio 0.1
+
 # Usage errors (2) before any work, input errors (3), nothing left behind.
 expect 2 "no stopping rule" -- "$simplify" "$femur" -o "$work/x.bpm"
 expect 2 "ratio out of range" -- "$simplify" "$femur" -o "$work/x.bpm" --ratio 1.5

@@ -220,3 +220,27 @@ TEST_CASE("OFF vertex normals, colours and texture coordinates become vertex dat
         CHECK(s.vertex_data.empty());
     }
 }
+
+TEST_CASE("several inputs are combined with their patches apart and their common vertex data", "[vertex-data][io]") {
+    Surface a, b;
+    a.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+    a.triangles = {{0, 1, 2}};
+    a.patches = {7};
+    a.vertex_data = {{"t", 1, {1, 2, 3}}, {"only_a", 1, {0, 0, 0}}};
+    b.vertices = {{5, 0, 0}, {6, 0, 0}, {5, 1, 0}, {6, 1, 0}};
+    b.triangles = {{0, 1, 2}, {2, 1, 3}};
+    b.patches = {7, 8};
+    b.vertex_data = {{"t", 1, {4, 5, 6, 7}}, {"only_a", 2, {0, 0, 0, 0, 0, 0, 0, 0}}};
+    std::vector<std::pair<int, int32_t>> origin;
+    std::vector<std::string> dropped;
+    const Surface c = combine_surfaces({a, b}, &origin, &dropped);
+    REQUIRE(c.vertices.size() == 7);
+    CHECK(c.triangles == std::vector<Tri>{{0, 1, 2}, {3, 4, 5}, {5, 4, 6}});
+    // Patch 7 of a and patch 7 of b are different materials: different ids.
+    CHECK(c.patches == std::vector<int32_t>{0, 1, 2});
+    CHECK(origin == std::vector<std::pair<int, int32_t>>{{0, 7}, {1, 7}, {1, 8}});
+    REQUIRE(c.vertex_data.size() == 1);  // "only_a" has other components in b
+    CHECK(c.vertex_data[0].values == std::vector<double>{1, 2, 3, 4, 5, 6, 7});
+    CHECK(dropped == std::vector<std::string>{"only_a"});
+    CHECK(vertex_data_problems(c).empty());
+}

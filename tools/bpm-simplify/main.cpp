@@ -15,12 +15,17 @@ int main(int argc, char** argv) {
         "the coarse surface onto the original (Krause & Sander). Writes a .bpm file (spec/bpm-format.md).\n"
         "Stops at the first of --vertices / --ratio / --max-error that is reached.",
         tool};
-    std::string input, output, format;
+    std::vector<std::string> inputs;
+    std::string output, format;
     bpm::SimplifyOptions options;
     bpm::SurfaceReadOptions read_options;
     bool verbose = false, quiet = false, allow_intersections = false, deterministic = false;
     std::string units;
-    app.add_option("INPUT", input, "Input surface (.off .obj .stl .ply .msh .vtk), or - for standard input")->required();
+    app.add_option("INPUT", inputs,
+                   "Input surface (.off .obj .stl .ply .msh .vtk .vtp .vtu), or - for standard input. Several inputs "
+                   "(e.g. one closed surface per material) are simplified together as one surface; the patches of "
+                   "different inputs are kept apart")
+        ->required();
     app.add_option("-o,--output", output, "Output .bpm file, or - for standard output")->required();
     app.add_option("--format", format, "Input format when it cannot be told from the name: off, obj, stl, ply, msh, vtk (legacy VTK), vtp, vtu (VTK XML)");
     app.add_option("--vertices", options.target_vertices, "Stop when the coarse surface has this many vertices")
@@ -89,7 +94,7 @@ int main(int argc, char** argv) {
         const bpm::Context context = bpm::tools::make_context(tool, verbose, quiet);
 
         bpm::SurfaceReadReport report;
-        const bpm::Surface surface = bpm::read_surface(input, read_options, &report);
+        const bpm::Surface surface = bpm::read_surfaces(inputs, read_options, &report);
         for (const auto& note : report.notes) context.info(note);
         context.info("read " + std::to_string(surface.num_vertices()) + " vertices, " +
                      std::to_string(surface.num_triangles()) + " triangles");

@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "bpm/geometry.h"
@@ -87,6 +88,16 @@ std::vector<SurfaceProblem> validate_surface(const Surface& surface, const Valid
 // unstorable name), one line each, e.g. "vertex data 'u': 12 values for 5 vertices x 3
 // components"; empty if none.
 std::vector<std::string> vertex_data_problems(const Surface& surface);
+
+// Several surfaces as one, e.g. one file per material (bpm-simplify A.stl B.stl ...):
+// vertices and triangles appended in order; patch ids renumbered 0, 1, 2, ... by
+// (part, patch) in order of first use, so that patches of different parts never merge;
+// vertex data arrays that every part has with the same name and components are kept,
+// the others dropped. `patch_origin`, if given, receives for every new patch id its
+// (part index, patch id in that part); `dropped_arrays` the names of dropped arrays.
+Surface combine_surfaces(const std::vector<Surface>& parts,
+                         std::vector<std::pair<int, int32_t>>* patch_origin = nullptr,
+                         std::vector<std::string>* dropped_arrays = nullptr);
 
 int64_t merge_duplicate_vertices(Surface& surface);   // exact position equality
 int64_t drop_unreferenced_vertices(Surface& surface);

@@ -86,6 +86,15 @@ struct SurfaceReadReport {
 Surface read_surface(const std::string& path, const SurfaceReadOptions& options = {},
                      SurfaceReadReport* report = nullptr);
 
+// Several surfaces read as one (one file per material, say): each is read as above, then
+// combined by combine_surfaces (bpm/surface.h; patches of different files stay apart,
+// notes say which new patch is which file's), the merge repair is applied across the
+// files, and the combination is validated again (touching inputs share positions: without
+// --merge-duplicate-vertices that is reported as duplicate vertices). One path is
+// read_surface(); "-" may only be the one path (throws OptionError otherwise).
+Surface read_surfaces(const std::vector<std::string>& paths, const SurfaceReadOptions& options = {},
+                      SurfaceReadReport* report = nullptr);
+
 // Same, from an in-memory buffer; `name` is used in error messages.
 Surface read_surface_from_memory(const std::string& bytes, SurfaceFormat format, const std::string& name,
                                  const SurfaceReadOptions& options = {}, SurfaceReadReport* report = nullptr);
