@@ -132,9 +132,14 @@ public:
         if (!binary()) {
             const std::string_view token = in_.next_token();
             if (ply_type_is_integer(type)) return static_cast<double>(integer_token(token, type, what));
-            std::string t(token.substr(token.size() > 0 && (token[0] == '-' || token[0] == '+') ? 1 : 0));
-            for (char& c : t) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-            if (t == "nan" || t == "inf" || t == "infinity") return std::nan("");
+            // Only a token starting with a letter can be NaN or an infinity: numbers take
+            // the plain path without a copy.
+            const std::string_view u = token.substr(token.size() > 0 && (token[0] == '-' || token[0] == '+') ? 1 : 0);
+            if (!u.empty() && std::isalpha(static_cast<unsigned char>(u[0]))) {
+                std::string t(u);
+                for (char& c : t) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+                if (t == "nan" || t == "inf" || t == "infinity") return std::nan("");
+            }
             return in_.to_double(token, what);
         }
         const double value = binary_value(type, what);
