@@ -94,7 +94,10 @@ std::string hdf5_error_text() {
 // ---------------------------------------------------------------------------
 
 constexpr hsize_t kChunkRows = 65536;    // rows per chunk of a large dataset
-constexpr hsize_t kChunkThreshold = 4096;  // datasets with more rows are chunked + compressed
+// Datasets with more rows are chunked + compressed. Compression costs about 10% of a
+// small simplification (femur to 1000 vertices: 0.285 -> 0.251 s uncompressed, 1.1 -> 2.1 MB)
+// and matters for size only on large files.
+constexpr hsize_t kChunkThreshold = 262144;
 constexpr unsigned kDeflateLevel = 1;  // level 4 cost 3x the time for ~5% smaller files
 
 class Writer {
