@@ -210,7 +210,10 @@ private:
     // `final` = full validation of the transfer (needed before commit). The global
     // intersection test is separate (admissible_globally).
     double evaluate(int32_t v, bool final, RemovalPlan& plan, int thread = 0);
-    double judge(int32_t v, const RemovalPlan& plan);
+    // `estimate`: the cost a full plan is ranked by first, from its estimated_deviation and
+    // without the normal limit (known only after validation); the same for a plan whose
+    // validation is pending and for a complete one.
+    double judge(int32_t v, const RemovalPlan& plan, bool estimate = false);
     bool admissible_globally(int32_t v, const RemovalPlan& plan);
     // A full plan made earlier is still exact if its star is unchanged (stamp), no
     // edited path changed elsewhere, and its new edges still do not exist.
@@ -367,12 +370,12 @@ bool Simplifier::admissible_globally(int32_t v, const RemovalPlan& plan) {
     return true;
 }
 
-double Simplifier::judge(int32_t v, const RemovalPlan& plan) {
-    if (!plan.valid) {
+double Simplifier::judge(int32_t v, const RemovalPlan& plan, bool estimate) {
+    if (!plan.valid && !(estimate && plan.estimated)) {
         last_reason_[v] = plan.reason;
         return std::numeric_limits<double>::infinity();
     }
-    const double error = plan.max_deviation / diagonal_;
+    const double error = (estimate ? plan.estimated_deviation : plan.max_deviation) / diagonal_;
     if (error > options_.max_error) {
         last_reason_[v] = "geometric error limit (--max-error)";
         return std::numeric_limits<double>::infinity();
@@ -385,7 +388,7 @@ double Simplifier::judge(int32_t v, const RemovalPlan& plan) {
         last_reason_[v] = "edge length limit (--max-edge-length)";
         return std::numeric_limits<double>::infinity();
     }
-    if (plan.max_normal_deviation > options_.max_normal_deviation_degrees) {
+    if (!estimate && plan.max_normal_deviation > options_.max_normal_deviation_degrees) {
         last_reason_[v] = "normal deviation limit (--max-normal-deviation)";
         return std::numeric_limits<double>::infinity();
     }
@@ -476,7 +479,11 @@ SimplifyResult Simplifier::run(Parametrization& out) {
         // The neighbourhood is unchanged since the evaluation (stamp), but other
         // removals may have changed things near it: plan and test again, or reuse a
         // full plan that is provably still the same.
-        double cost;
+        // A full plan is ranked by its estimate first (the cost before validation): if that
+        // is above the next entry, the removal waits, and a plan of this thread waits
+        // unvalidated (most never come back unchanged). Otherwise the plan is completed
+        // and ranked by its real cost, which Floater's map or the normal limit may raise.
+        // Speculative plans (made on other threads) are complete, and decide the same.
         int known_intersection = -1;  // -1 unknown, else whether it intersects the rest
         auto cached = full_plans_.find(top.vertex);
         if (cached != full_plans_.end() && cached->second.stamp == stamp_[top.vertex] &&
@@ -485,21 +492,34 @@ SimplifyResult Simplifier::run(Parametrization& out) {
             if (sp.made_at == commits_ && std::isfinite(sp.cost)) known_intersection = sp.intersects;
             plan_ = std::move(sp.plan);
             full_plans_.erase(cached);
-            cost = judge(top.vertex, plan_);
             ++speculation_hits_;
         } else {
-            cost = evaluate(top.vertex, true, plan_);
+            remover_->plan_deferred(top.vertex, plan_);
+            plans_[1].fetch_add(1, std::memory_order_relaxed);
         }
+        auto waits = [&](double c) { return c > top.cost + 1e-15 && !queue_.empty() && c > queue_.top().cost; };
+        auto push_back = [&](double c) {
+            if (plan_.valid) {  // complete: kept for when it comes back
+                SpeculativePlan& sp = full_plans_[top.vertex];
+                sp.stamp = stamp_[top.vertex];
+                sp.made_at = known_intersection < 0 ? -1 : commits_;  // -1: intersections not tested yet
+                sp.cost = c;
+                sp.intersects = known_intersection == 1;
+                sp.plan = std::move(plan_);
+            }
+            queue_.push({c, top.vertex, stamp_[top.vertex]});
+        };
+        const double estimate = judge(top.vertex, plan_, true);
+        if (!std::isfinite(estimate)) continue;
+        if (waits(estimate)) {
+            push_back(estimate);
+            continue;
+        }
+        if (plan_.pending) remover_->finish(plan_);
+        const double cost = judge(top.vertex, plan_);
         if (!std::isfinite(cost)) continue;
-        if (cost > top.cost + 1e-15 && !queue_.empty() && cost > queue_.top().cost) {
-            SpeculativePlan& sp = full_plans_[top.vertex];
-            sp.stamp = stamp_[top.vertex];
-            sp.made_at = commits_;
-            sp.cost = cost;
-            sp.intersects = known_intersection == 1;
-            if (known_intersection < 0) sp.made_at = -1;  // intersections not tested yet
-            sp.plan = std::move(plan_);
-            queue_.push({cost, top.vertex, stamp_[top.vertex]});
+        if (waits(cost)) {
+            push_back(cost);
             continue;
         }
         if (known_intersection >= 0 ? known_intersection == 1 : !admissible_globally(top.vertex, plan_)) {

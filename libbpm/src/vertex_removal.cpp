@@ -319,13 +319,25 @@ public:
         vertex_node_.resize(emb_.location.size());
         vertex_node_.clear();
         max_deviation = 0.0;
+        estimated_deviation = 0.0;
         min_normal_cosine = 1.0;
         used_floater = false;
         path_edits.clear();
         locations.clear();
     }
 
-    bool run(std::string& why);
+    // Full plans run in two steps: estimate() stops once the straightened transfer has
+    // its cost (the part that ranks the removal), finish() validates the overlays of the
+    // new triangles (about two thirds of the work), with Floater's map if they are not
+    // valid. Most full plans are of removals that turn out dearer than the next queue
+    // entry and wait; their validation is not needed until they come back.
+    enum class Stage { Failed, Estimated, Done };
+    Stage estimate(std::string& why);
+    bool finish(std::string& why);  // after Stage::Estimated
+    bool run(std::string& why) {
+        const Stage stage = estimate(why);
+        return stage == Stage::Done || (stage == Stage::Estimated && finish(why));
+    }
 
     // Outputs.
     std::vector<std::array<int32_t, 3>> new_tris;   // polygon corner indices, ccw
@@ -338,6 +350,9 @@ public:
     std::vector<PathEdit> path_edits;
     std::vector<std::pair<int32_t, SurfacePoint>> locations;  // free vertices; Inside uses -1-local
     double max_deviation = 0.0;
+    // max_deviation of the first transfer that got its cost (before validation and a
+    // possible re-embedding with Floater's map): what a full plan is ranked by first.
+    double estimated_deviation = 0.0;
     // Smallest cosine between a new triangle's normal and an original normal on it
     // (RemovalPlan::max_normal_deviation).
     double min_normal_cosine = 1.0;
@@ -411,8 +426,12 @@ private:
     bool gather_nodes(std::string& why);
     bool gather_segments(std::string& why);
     bool locate_free_nodes(std::string& why);
-    bool transfer(std::string& why);
+    // transfer = transfer_cost (re-cut, deviation) + transfer_validate (overlays).
+    bool transfer(std::string& why) { return transfer_cost(why) && (!validate_ || transfer_validate(why)); }
+    bool transfer_cost(std::string& why);
+    bool transfer_validate(std::string& why);
     bool floater(std::string& why);
+    std::string first_reason_;  // why the first transfer failed (before Floater's map)
     // Interior edge (v, link[i]) of this fan? (in an open fan the first and last are the
     // feature edges, which are boundary)
     bool is_interior_spoke(int32_t i) const { return fan_->closed || (i > 0 && i < n_ - 1); }
@@ -1081,10 +1100,8 @@ bool FanPlanner::locate_free_nodes(std::string& why) {
     return true;
 }
 
-bool FanPlanner::transfer(std::string& why) {
+bool FanPlanner::transfer_cost(std::string& why) {
     const auto& x = mesh_.positions();
-    const int32_t ntris = static_cast<int32_t>(new_tris.size());
-    const int32_t nnodes = static_cast<int32_t>(nodes_.size());
     if (!locate_free_nodes(why)) return false;
 
     // 2. Cut the straightened segments along the diagonals.
@@ -1181,8 +1198,12 @@ bool FanPlanner::transfer(std::string& why) {
         const Vec3 image = (1.0 - c.sigma) * ox[e[0]] + c.sigma * ox[e[1]];
         max_deviation = std::max(max_deviation, deviation_on_side(image, c.lo, c.hi, c.s));
     }
-    if (!validate_) return true;
+    return true;
+}
 
+bool FanPlanner::transfer_validate(std::string& why) {
+    const int32_t ntris = static_cast<int32_t>(new_tris.size());
+    const int32_t nnodes = static_cast<int32_t>(nodes_.size());
     // 3. Full: which new triangle every piece of a cut segment lies in, the graph of
     // every new triangle, validated exactly.
     min_normal_cosine = 1.0;  // a second transfer (after Floater's map) starts afresh
@@ -1358,15 +1379,15 @@ bool FanPlanner::transfer(std::string& why) {
     return true;
 }
 
-bool FanPlanner::run(std::string& why) {
-    if (!flatten(why)) return false;
-    if (!triangulate(why)) return false;
+FanPlanner::Stage FanPlanner::estimate(std::string& why) {
+    if (!flatten(why)) return Stage::Failed;
+    if (!triangulate(why)) return Stage::Failed;
     compute_new_normals();
-    if (!gather_nodes(why)) return false;
+    if (!gather_nodes(why)) return Stage::Failed;
     if (!validate_) {
         // For ranking only: the deviation at the original vertices that move, placed by
         // the flattening. The full plan adds the new edge crossings and validates.
-        if (!locate_free_nodes(why)) return false;
+        if (!locate_free_nodes(why)) return Stage::Failed;
         const auto& x = mesh_.positions();
         max_deviation = 0.0;
         for (const StarNode& s : nodes_) {
@@ -1389,16 +1410,39 @@ bool FanPlanner::run(std::string& why) {
                 max_deviation = std::max(max_deviation, distance(x[s.vertex], flat));
             }
         }
-        return true;
+        estimated_deviation = max_deviation;
+        return Stage::Done;
     }
-    if (!gather_segments(why)) return false;
-    std::string first_reason;
-    if (transfer(first_reason)) return true;
+    if (!gather_segments(why)) return Stage::Failed;
+    first_reason_.clear();
+    if (transfer_cost(first_reason_)) {
+        estimated_deviation = max_deviation;
+        return Stage::Estimated;
+    }
     // Straightening flipped or squeezed something: reposition with Floater's map.
+    if (!floater(why)) return Stage::Failed;
+    used_floater = true;
+    if (!transfer_cost(why)) {
+        why = "transfer failed (" + first_reason_ + "; after shape-preserving map: " + why + ")";
+        return Stage::Failed;
+    }
+    estimated_deviation = max_deviation;
+    return finish(why) ? Stage::Done : Stage::Failed;
+}
+
+bool FanPlanner::finish(std::string& why) {
+    if (used_floater) {
+        // The transfer after Floater's map has its cost: only its validation is left.
+        if (transfer_validate(why)) return true;
+        why = "transfer failed (" + first_reason_ + "; after shape-preserving map: " + why + ")";
+        return false;
+    }
+    if (transfer_validate(first_reason_)) return true;
+    // The overlays are not valid: reposition with Floater's map.
     if (!floater(why)) return false;
     used_floater = true;
     if (transfer(why)) return true;
-    why = "transfer failed (" + first_reason + "; after shape-preserving map: " + why + ")";
+    why = "transfer failed (" + first_reason_ + "; after shape-preserving map: " + why + ")";
     return false;
 }
 
@@ -1424,10 +1468,18 @@ struct RemovalScratch {
     std::vector<SurfacePoint> points;
     std::vector<double> sigmas;
     FanPlanner planner;
+    std::vector<FanPlanner::PathEdit> edits;               // of all fans of a plan
+    std::unordered_map<int32_t, double> new_edge_params;  // see plan_once
     RemovalScratch(const CoarseMesh& mesh, const Embedding& embedding, const std::vector<int8_t>& sign,
                    const std::vector<Vec3>& normals)
         : planner(mesh, embedding, sign, normals) {}
 };
+
+namespace {
+// The parts of a plan taken from a planned fan, and the rewritten paths at the end.
+void add_fan(const CoarseMesh& mesh, RemovalScratch& scratch, const Fan& fan, FanPlanner& planner, RemovalPlan& plan);
+void finish_paths(const CoarseMesh& mesh, const Embedding& embedding, RemovalScratch& scratch, RemovalPlan& plan);
+}  // namespace
 
 VertexRemover::VertexRemover(const CoarseMesh& mesh, const Embedding& embedding,
                              const std::vector<int8_t>& orientation_sign, const std::vector<Vec3>& oriented_normals)
@@ -1442,13 +1494,38 @@ VertexRemover::~VertexRemover() { delete scratch_; }
 
 void VertexRemover::plan(int32_t v, bool validate, RemovalPlan& plan) {
     bool crease_line = false;
-    plan_once(v, false, validate, plan, crease_line);
+    plan_once(v, false, validate, false, plan, crease_line);
     // A crease that cannot be followed here may still end here.
     if (!plan.valid && crease_line) {
         RemovalPlan& disk = scratch_->disk;
-        plan_once(v, true, validate, disk, crease_line);
+        plan_once(v, true, validate, false, disk, crease_line);
         if (disk.valid) std::swap(plan, disk);
     }
+}
+
+void VertexRemover::plan_deferred(int32_t v, RemovalPlan& plan) {
+    bool crease_line = false;
+    plan_once(v, false, true, true, plan, crease_line);
+    if (plan.pending) return;  // a single fan, not on a crease: nothing to retry
+    if (!plan.valid && crease_line) {
+        RemovalPlan& disk = scratch_->disk;
+        plan_once(v, true, true, false, disk, crease_line);
+        if (disk.valid) std::swap(plan, disk);
+    }
+}
+
+void VertexRemover::finish(RemovalPlan& plan) {
+    if (!plan.pending) return;
+    plan.pending = false;
+    FanPlanner& planner = scratch_->planner;
+    std::string why;
+    if (!planner.finish(why)) {
+        plan.reason = why;
+        return;
+    }
+    plan.max_deviation = 0.0;  // Floater's map may have changed it: add_fan sets it again
+    add_fan(mesh_, *scratch_, scratch_->fans[0], planner, plan);
+    finish_paths(mesh_, embedding_, *scratch_, plan);
 }
 
 void RemovalPlan::clear() {
@@ -1467,10 +1544,13 @@ void RemovalPlan::clear() {
     path_versions.clear();
     max_deviation = worst_old_aspect = worst_new_aspect = longest_new_edge = 0.0;
     max_normal_deviation = 0.0;
+    estimated_deviation = 0.0;
+    estimated = pending = false;
     used_floater = false;
 }
 
-void VertexRemover::plan_once(int32_t v, bool force_disk, bool validate, RemovalPlan& plan, bool& crease_line) {
+void VertexRemover::plan_once(int32_t v, bool force_disk, bool validate, bool defer, RemovalPlan& plan,
+                              bool& crease_line) {
     plan.clear();
     plan.vertex = v;
     auto& fans = scratch_->fans;
@@ -1509,14 +1589,12 @@ void VertexRemover::plan_once(int32_t v, bool force_disk, bool validate, Removal
         plan.new_edges.push_back({std::min(a, b), std::max(a, b)});
     }
 
-    auto& locations = plan.new_locations;
-    // Path edits of all fans, grouped by edge below (a feature-line vertex has two fans
-    // that an original edge may both pass).
-    static thread_local std::vector<FanPlanner::PathEdit> edits;
-    edits.clear();
+    // Path edits of all fans, grouped by edge in finish_paths() (a feature-line vertex
+    // has two fans that an original edge may both pass).
+    scratch_->edits.clear();
     // v and the vertices on its two feature edges end up on the new feature edge a--b,
     // in the order a, ..., v, ..., b, at parameters proportional to 3D distance.
-    static thread_local std::unordered_map<int32_t, double> new_edge_params;
+    auto& new_edge_params = scratch_->new_edge_params;
     new_edge_params.clear();
     if (plan.feature_line) {
         const int32_t a = plan.feature_a, b = plan.feature_b;
@@ -1526,7 +1604,7 @@ void VertexRemover::plan_once(int32_t v, bool force_disk, bool validate, Removal
         auto put = [&](int32_t u, double from_a) {
             const double s = a == lo ? from_a : 1.0 - from_a;
             new_edge_params[u] = s;
-            locations.push_back({u, SurfacePoint{SurfacePoint::OnEdge, lo, hi, s, {}}});
+            plan.new_locations.push_back({u, SurfacePoint{SurfacePoint::OnEdge, lo, hi, s, {}}});
         };
         put(v, v_from_a);
         for (int32_t end : {a, b}) {
@@ -1538,6 +1616,9 @@ void VertexRemover::plan_once(int32_t v, bool force_disk, bool validate, Removal
             }
         }
     }
+    // A single fan off crease lines can stop after the transfer's cost (finish() goes on
+    // from there); several fans share one planner, and a crease may need the retry as a disk.
+    defer = defer && validate && fans.size() == 1 && !crease_line;
     for (const Fan& fan : fans) {
         for (int32_t t : fan.triangles) {
             plan.removed_triangles.push_back(t);
@@ -1546,34 +1627,66 @@ void VertexRemover::plan_once(int32_t v, bool force_disk, bool validate, Removal
         FanPlanner& planner = scratch_->planner;
         planner.reset(v, fan, radius, &new_edge_params, validate);
         std::string why;
-        if (!planner.run(why)) {
+        const FanPlanner::Stage stage = planner.estimate(why);
+        if (stage == FanPlanner::Stage::Failed) {
             plan.reason = why;
             return;
         }
-        plan.used_floater = plan.used_floater || planner.used_floater;
-        plan.max_deviation = std::max(plan.max_deviation, planner.max_deviation);
-        plan.max_normal_deviation =
-            std::max(plan.max_normal_deviation,
-                     std::acos(std::max(-1.0, std::min(1.0, planner.min_normal_cosine))) * (180.0 / M_PI));
-        const int32_t base = static_cast<int32_t>(plan.new_triangles.size());
-        const int32_t patch = mesh_.patch(fan.triangles[0]);
-        for (size_t i = 0; i < planner.new_tris.size(); ++i) {
-            const auto& t = planner.new_tris[i];
-            plan.new_triangles.push_back({fan.link[t[0]], fan.link[t[1]], fan.link[t[2]]});
-            plan.new_patches.push_back(patch);
-            // The triangulation computed it already, for the same corners in the same order.
-            plan.worst_new_aspect = std::max(plan.worst_new_aspect, planner.new_aspects[i]);
+        // What judging the estimate needs: the deviation, shapes and edges of the new triangles.
+        plan.estimated = true;
+        plan.estimated_deviation = std::max(plan.estimated_deviation, planner.estimated_deviation);
+        for (double a : planner.new_aspects) plan.worst_new_aspect = std::max(plan.worst_new_aspect, a);
+        for (const auto& d : planner.diagonals)
+            plan.longest_new_edge = std::max(plan.longest_new_edge, distance(x[fan.link[d[0]]], x[fan.link[d[1]]]));
+        for (const auto& ne : plan.new_edges)
+            plan.longest_new_edge = std::max(plan.longest_new_edge, distance(x[ne[0]], x[ne[1]]));
+        if (stage == FanPlanner::Stage::Estimated) {
+            if (defer) {
+                plan.pending = true;
+                plan.max_deviation = planner.estimated_deviation;
+                return;
+            }
+            if (!planner.finish(why)) {
+                plan.reason = why;
+                return;
+            }
         }
-        for (const auto& d : planner.diagonals) {
-            const int32_t a = fan.link[d[0]], b = fan.link[d[1]];
-            plan.new_edges.push_back({std::min(a, b), std::max(a, b)});
-        }
-        for (auto loc : planner.locations) {
-            if (loc.second.kind == SurfacePoint::Inside) loc.second.a = -1 - (base + (-1 - loc.second.a));
-            locations.push_back(loc);
-        }
-        for (auto& e : planner.path_edits) edits.push_back(std::move(e));
+        add_fan(mesh_, *scratch_, fan, planner, plan);
     }
+    finish_paths(mesh_, embedding_, *scratch_, plan);
+}
+
+namespace {
+
+void add_fan(const CoarseMesh& mesh_, RemovalScratch& scratch, const Fan& fan, FanPlanner& planner, RemovalPlan& plan) {
+    plan.used_floater = plan.used_floater || planner.used_floater;
+    plan.max_deviation = std::max(plan.max_deviation, planner.max_deviation);
+    plan.max_normal_deviation = std::max(
+        plan.max_normal_deviation, std::acos(std::max(-1.0, std::min(1.0, planner.min_normal_cosine))) * (180.0 / M_PI));
+    const int32_t base = static_cast<int32_t>(plan.new_triangles.size());
+    const int32_t patch = mesh_.patch(fan.triangles[0]);
+    for (size_t i = 0; i < planner.new_tris.size(); ++i) {
+        const auto& t = planner.new_tris[i];
+        plan.new_triangles.push_back({fan.link[t[0]], fan.link[t[1]], fan.link[t[2]]});
+        plan.new_patches.push_back(patch);
+        // The triangulation computed it already, for the same corners in the same order.
+        plan.worst_new_aspect = std::max(plan.worst_new_aspect, planner.new_aspects[i]);
+    }
+    for (const auto& d : planner.diagonals) {
+        const int32_t a = fan.link[d[0]], b = fan.link[d[1]];
+        plan.new_edges.push_back({std::min(a, b), std::max(a, b)});
+    }
+    for (auto loc : planner.locations) {
+        if (loc.second.kind == SurfacePoint::Inside) loc.second.a = -1 - (base + (-1 - loc.second.a));
+        plan.new_locations.push_back(loc);
+    }
+    for (auto& e : planner.path_edits) scratch.edits.push_back(std::move(e));
+}
+
+void finish_paths(const CoarseMesh& mesh, const Embedding& embedding, RemovalScratch& scratch, RemovalPlan& plan) {
+    const auto& x = mesh.positions();
+    auto& locations = plan.new_locations;
+    auto& edits = scratch.edits;
     std::sort(locations.begin(), locations.end(),
               [](const auto& p, const auto& q) { return p.first < q.first; });
 
@@ -1581,13 +1694,13 @@ void VertexRemover::plan_once(int32_t v, bool force_disk, bool validate, Removal
     std::stable_sort(edits.begin(), edits.end(), [](const auto& p, const auto& q) {
         return p.edge < q.edge || (p.edge == q.edge && p.first < q.first);
     });
-    auto& points = scratch_->points;
-    auto& sigmas = scratch_->sigmas;
+    auto& points = scratch.points;
+    auto& sigmas = scratch.sigmas;
     for (size_t begin = 0, end = 0; begin < edits.size(); begin = end) {
         const int32_t e = edits[begin].edge;
         for (end = begin; end < edits.size() && edits[end].edge == e; ++end) {
         }
-        embedding_.path_points(e, points, sigmas);
+        embedding.path_points(e, points, sigmas);
         std::vector<Crossing> crossings;
         const int32_t last = static_cast<int32_t>(points.size()) - 1;
         auto keep = [&](int32_t j) { crossings.push_back({points[j].a, points[j].b, points[j].s, sigmas[j]}); };
@@ -1600,12 +1713,14 @@ void VertexRemover::plan_once(int32_t v, bool force_disk, bool validate, Removal
         }
         for (; j < last; ++j) keep(j);
         plan.new_paths.push_back({e, std::move(crossings)});
-        plan.path_versions.push_back(embedding_.path_version[e]);
+        plan.path_versions.push_back(embedding.path_version[e]);
     }
     for (const auto& ne : plan.new_edges)
         plan.longest_new_edge = std::max(plan.longest_new_edge, distance(x[ne[0]], x[ne[1]]));
     plan.valid = true;
 }
+
+}  // namespace
 
 void commit_removal(CoarseMesh& mesh, Embedding& embedding, const RemovalPlan& plan) {
     // Unregister moved vertices first: their old triangles are about to disappear.

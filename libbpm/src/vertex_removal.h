@@ -57,6 +57,18 @@ struct RemovalPlan {
     // triangles around the original vertices that move strictly inside a new triangle.
     double max_normal_deviation = 0.0;
     bool used_floater = false;
+    // The deviation of the first transfer that got a cost, before its validation and a
+    // possible re-embedding with Floater's map (then max_deviation differs): full plans
+    // are ranked by it first (Simplifier), so that deferring the validation
+    // (plan_deferred) decides the same as validating at once.
+    double estimated_deviation = 0.0;
+    // The estimate is known: estimated_deviation, worst_new_aspect and longest_new_edge
+    // were set before the validation, also if the validation then failed (!valid).
+    bool estimated = false;
+    // plan_deferred() stopped before the validation: the costs above are known except
+    // max_normal_deviation, the rest is missing. finish() completes the plan (or makes
+    // it invalid).
+    bool pending = false;
 
     // Back to a fresh plan, keeping the buffers (plans are made millions of times).
     void clear();
@@ -79,9 +91,14 @@ public:
     // are the caller's. Without `validate` the overlays of the new triangles are not
     // checked: cheaper, for ranking; a plan must be made with `validate` before commit.
     void plan(int32_t v, bool validate, RemovalPlan& plan);
+    // A full plan that may stop before the validation (plan.pending), for a removal that
+    // may be put back into the queue by its cost. finish() must follow before any other
+    // plan of this remover.
+    void plan_deferred(int32_t v, RemovalPlan& plan);
+    void finish(RemovalPlan& plan);
 
 private:
-    void plan_once(int32_t v, bool force_disk, bool validate, RemovalPlan& plan, bool& crease_line);
+    void plan_once(int32_t v, bool force_disk, bool validate, bool defer, RemovalPlan& plan, bool& crease_line);
     const CoarseMesh& mesh_;
     const Embedding& embedding_;
     const std::vector<int8_t>& orientation_sign_;
