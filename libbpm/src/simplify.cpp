@@ -139,11 +139,11 @@ private:
     }
 };
 
-// A full plan made ahead of time for the vertex most likely removed next.
-struct SpeculativePlan {
+// A complete full plan of a removal that waits in the queue (its cost after validation
+// was above the next entry), reused when the entry comes back unchanged.
+struct WaitingPlan {
     uint32_t stamp = 0;      // stamp of the vertex when planned
-    int64_t made_at = -1;    // number of removals committed when planned
-    double cost = 0.0;
+    int64_t made_at = -1;    // number of removals committed when the intersections were tested, or -1
     bool intersects = false; // intersects_rest, valid while no removal was committed since
     RemovalPlan plan;
 };
@@ -201,11 +201,13 @@ private:
     int32_t first_new_ = 0;
     std::atomic<int64_t> plans_[2] = {{0}, {0}};
     int64_t commits_ = 0;
-    int64_t speculation_hits_ = 0;
+    int64_t reused_plans_ = 0;
 
     VertexRemover& remover(int thread) { return thread == 0 ? *remover_ : *removers_[thread - 1]; }
     void rebuild_grid();
-    bool intersects_rest(const RemovalPlan& plan, std::vector<TriangleGrid::Entry>& candidates) const;
+    // Would the new triangles intersect each other or the alive triangles other than `removed`?
+    bool intersects_rest(const std::vector<Tri>& new_triangles, const std::vector<int32_t>& removed,
+                         std::vector<TriangleGrid::Entry>& candidates) const;
     // Cost of removing v, +infinity if it cannot be removed now (reason recorded).
     // `final` = full validation of the transfer (needed before commit). The global
     // intersection test is separate (admissible_globally).
@@ -220,8 +222,7 @@ private:
     bool still_current(const RemovalPlan& plan) const;
     // Full plans of entries pushed back because their real cost was higher than the
     // estimate; reused when the entry comes back with the same stamp.
-    // Also holds the speculative plans of the rounds (see run()).
-    std::unordered_map<int32_t, SpeculativePlan> full_plans_;
+    std::unordered_map<int32_t, WaitingPlan> full_plans_;
     void self_check(int32_t removed_vertex, const std::vector<int32_t>& link, int64_t step);
 };
 
@@ -271,9 +272,10 @@ void Simplifier::rebuild_grid() {
     grid_built_at_ = mesh_.num_alive_triangles();
 }
 
-bool Simplifier::intersects_rest(const RemovalPlan& plan, std::vector<TriangleGrid::Entry>& candidates) const {
+bool Simplifier::intersects_rest(const std::vector<Tri>& new_triangles, const std::vector<int32_t>& removed,
+                                 std::vector<TriangleGrid::Entry>& candidates) const {
     const auto& x = original_.vertices;
-    const size_t count_new = plan.new_triangles.size();
+    const size_t count_new = new_triangles.size();
     // Boxes of the new triangles, and the box around all of them: one grid query for
     // the whole star (the new triangles overlap the same few cells) instead of one per
     // new triangle. Every triangle whose box meets a new triangle's box is in a cell
@@ -283,7 +285,7 @@ bool Simplifier::intersects_rest(const RemovalPlan& plan, std::vector<TriangleGr
     boxes.resize(count_new);
     Vec3 all_lo{}, all_hi{};
     for (size_t i = 0; i < count_new; ++i) {
-        const Tri& a = plan.new_triangles[i];
+        const Tri& a = new_triangles[i];
         Vec3& lo = boxes[i][0];
         Vec3& hi = boxes[i][1];
         for (int k = 0; k < 3; ++k) {
@@ -330,19 +332,18 @@ bool Simplifier::intersects_rest(const RemovalPlan& plan, std::vector<TriangleGr
     for (const TriangleGrid::Entry& candidate : candidates) {
         const int32_t t = candidate.id;
         if (!mesh_.alive(t)) continue;
-        if (std::find(plan.removed_triangles.begin(), plan.removed_triangles.end(), t) != plan.removed_triangles.end())
-            continue;
+        if (std::find(removed.begin(), removed.end(), t) != removed.end()) continue;
         const auto& blo = candidate.lo;  // float, rounded outwards: only a filter
         const auto& bhi = candidate.hi;
         for (size_t i = 0; i < count_new; ++i) {
             bool apart = false;
             for (int k = 0; k < 3 && !apart; ++k) apart = bhi[k] < boxes[i][0][k] || blo[k] > boxes[i][1][k];
-            if (!apart && test(plan.new_triangles[i], mesh_.triangle(t))) return true;
+            if (!apart && test(new_triangles[i], mesh_.triangle(t))) return true;
         }
     }
     for (size_t i = 0; i < count_new; ++i)
         for (size_t j = 0; j < i; ++j)
-            if (test(plan.new_triangles[i], plan.new_triangles[j])) return true;
+            if (test(new_triangles[i], new_triangles[j])) return true;
     return false;
 }
 
@@ -363,7 +364,7 @@ bool Simplifier::still_current(const RemovalPlan& plan) const {
 }
 
 bool Simplifier::admissible_globally(int32_t v, const RemovalPlan& plan) {
-    if (options_.prevent_intersections && intersects_rest(plan, candidates_[0])) {
+    if (options_.prevent_intersections && intersects_rest(plan.new_triangles, plan.removed_triangles, candidates_[0])) {
         last_reason_[v] = "would create a self-intersection";
         return false;
     }
@@ -417,26 +418,31 @@ SimplifyResult Simplifier::run(Parametrization& out) {
     if (options_.record_steps) result.steps.emplace();  // record of the removals (bpm-check --replay)
 
     const int32_t nv = original_.num_vertices();
-    // Every plan below reads the state and writes only its own outputs, so the planning
-    // of a round is shared by threads; the state changes only between rounds.
+    // Every task below reads the state and writes only its own outputs, so the tasks of
+    // a round are shared by threads; the state changes only between rounds. Which tasks
+    // a round has never depends on the thread count, so neither does the output.
+    enum class Job : uint8_t {
+        Rank,       // cheap plan of `vertex`, cost into `cost`
+        Finish,     // validate plan_ (remover_ planned it; only this task touches it)
+        Intersect,  // intersects_rest for the new triangles of plan_, copied before the round
+    };
     struct Task {
         int32_t vertex = -1;
-        bool full = false;
+        Job job = Job::Rank;
         double cost = 0.0;
-        SpeculativePlan* speculative = nullptr;
     };
     std::vector<Task> tasks;
     std::vector<RemovalPlan> cheap_plans(removers_.size() + 1);
+    std::vector<Tri> pending_new;        // the new triangles of a pending plan_, for Job::Intersect
+    std::vector<int32_t> pending_removed;
+    bool pending_intersects = false;
     PlanningPool pool(static_cast<int>(removers_.size()) + 1, [&](int thread, size_t i) {
         Task& task = tasks[i];
-        if (!task.full) {
-            task.cost = evaluate(task.vertex, false, cheap_plans[thread], thread);
-            return;
+        switch (task.job) {
+            case Job::Rank: task.cost = evaluate(task.vertex, false, cheap_plans[thread], thread); break;
+            case Job::Finish: remover_->finish(plan_); break;
+            case Job::Intersect: pending_intersects = intersects_rest(pending_new, pending_removed, candidates_[thread]); break;
         }
-        SpeculativePlan& sp = *task.speculative;
-        sp.cost = evaluate(task.vertex, true, sp.plan, thread);
-        sp.intersects = std::isfinite(sp.cost) && options_.prevent_intersections &&
-                        intersects_rest(sp.plan, candidates_[thread]);
     });
 
     // First ranking of all vertices, in chunks.
@@ -464,7 +470,6 @@ SimplifyResult Simplifier::run(Parametrization& out) {
     }
     const int64_t start_vertices = mesh_.num_vertices_alive();
     std::vector<int32_t> affected;
-    SpeculativePlan speculative_slot;  // filled by a round, then moved to full_plans_
     std::string stop = "no vertex can be removed any more";
     double error_so_far = 0.0;  // largest error of a committed removal (of the diagonal), for progress
     while (!queue_.empty()) {
@@ -480,46 +485,50 @@ SimplifyResult Simplifier::run(Parametrization& out) {
         // removals may have changed things near it: plan and test again, or reuse a
         // full plan that is provably still the same.
         // A full plan is ranked by its estimate first (the cost before validation): if that
-        // is above the next entry, the removal waits, and a plan of this thread waits
-        // unvalidated (most never come back unchanged). Otherwise the plan is completed
-        // and ranked by its real cost, which Floater's map or the normal limit may raise.
-        // Speculative plans (made on other threads) are complete, and decide the same.
+        // is above the next entry, the removal waits, unvalidated (most such plans never
+        // come back unchanged). Otherwise the plan is validated, and in the same round its
+        // new triangles are tested against the rest of the surface. Floater's map or the
+        // normal limit may still raise the cost; then it waits with its complete plan.
         int known_intersection = -1;  // -1 unknown, else whether it intersects the rest
         auto cached = full_plans_.find(top.vertex);
         if (cached != full_plans_.end() && cached->second.stamp == stamp_[top.vertex] &&
-            (cached->second.plan.valid ? still_current(cached->second.plan) : cached->second.made_at == commits_)) {
-            SpeculativePlan& sp = cached->second;
-            if (sp.made_at == commits_ && std::isfinite(sp.cost)) known_intersection = sp.intersects;
-            plan_ = std::move(sp.plan);
+            still_current(cached->second.plan)) {
+            WaitingPlan& wp = cached->second;
+            if (wp.made_at == commits_) known_intersection = wp.intersects;
+            plan_ = std::move(wp.plan);
             full_plans_.erase(cached);
-            ++speculation_hits_;
+            ++reused_plans_;
         } else {
             remover_->plan_deferred(top.vertex, plan_);
             plans_[1].fetch_add(1, std::memory_order_relaxed);
         }
         auto waits = [&](double c) { return c > top.cost + 1e-15 && !queue_.empty() && c > queue_.top().cost; };
-        auto push_back = [&](double c) {
-            if (plan_.valid) {  // complete: kept for when it comes back
-                SpeculativePlan& sp = full_plans_[top.vertex];
-                sp.stamp = stamp_[top.vertex];
-                sp.made_at = known_intersection < 0 ? -1 : commits_;  // -1: intersections not tested yet
-                sp.cost = c;
-                sp.intersects = known_intersection == 1;
-                sp.plan = std::move(plan_);
-            }
-            queue_.push({c, top.vertex, stamp_[top.vertex]});
-        };
         const double estimate = judge(top.vertex, plan_, true);
         if (!std::isfinite(estimate)) continue;
         if (waits(estimate)) {
-            push_back(estimate);
+            queue_.push({estimate, top.vertex, stamp_[top.vertex]});
             continue;
         }
-        if (plan_.pending) remover_->finish(plan_);
+        if (plan_.pending) {
+            tasks.clear();
+            tasks.push_back(Task{top.vertex, Job::Finish});
+            if (options_.prevent_intersections && known_intersection < 0) {
+                pending_new = plan_.new_triangles;
+                pending_removed = plan_.removed_triangles;
+                tasks.push_back(Task{top.vertex, Job::Intersect});
+            }
+            pool.run_round(tasks.size());
+            if (tasks.size() > 1) known_intersection = pending_intersects;
+        }
         const double cost = judge(top.vertex, plan_);
         if (!std::isfinite(cost)) continue;
         if (waits(cost)) {
-            push_back(cost);
+            WaitingPlan& wp = full_plans_[top.vertex];
+            wp.stamp = stamp_[top.vertex];
+            wp.made_at = known_intersection < 0 ? -1 : commits_;
+            wp.intersects = known_intersection == 1;
+            wp.plan = std::move(plan_);
+            queue_.push({cost, top.vertex, stamp_[top.vertex]});
             continue;
         }
         if (known_intersection >= 0 ? known_intersection == 1 : !admissible_globally(top.vertex, plan_)) {
@@ -562,39 +571,16 @@ SimplifyResult Simplifier::run(Parametrization& out) {
         std::sort(affected.begin(), affected.end());
         affected.erase(std::unique(affected.begin(), affected.end()), affected.end());
 
-        // The round: new costs of the vertices around the removal (their stars changed),
-        // and a full plan of the vertex now at the top of the queue, which is usually the
-        // next one removed.
+        // The round: new costs of the vertices around the removal (their stars changed).
         tasks.clear();
         for (int32_t u : affected) {
             ++stamp_[u];
             full_plans_.erase(u);
             tasks.push_back(Task{u});
         }
-        while (!queue_.empty() &&
-               (queue_.top().stamp != stamp_[queue_.top().vertex] || !mesh_.vertex_alive(queue_.top().vertex)))
-            queue_.pop();
-        SpeculativePlan* speculative = nullptr;
-        if (!queue_.empty() && mesh_.num_vertices_alive() > target && !removers_.empty()) {
-            const int32_t w = queue_.top().vertex;
-            auto it = full_plans_.find(w);
-            if (it == full_plans_.end() || it->second.stamp != stamp_[w]) {
-                speculative = &speculative_slot;
-                speculative->stamp = stamp_[w];
-                speculative->made_at = commits_;
-                Task task{w, true};
-                task.speculative = speculative;
-                tasks.insert(tasks.begin(), task);  // the longest task first
-            }
-        }
         pool.run_round(tasks.size());
-        for (const Task& task : tasks) {
-            if (task.full) {
-                full_plans_[task.vertex] = std::move(*task.speculative);
-                continue;
-            }
+        for (const Task& task : tasks)
             if (std::isfinite(task.cost)) queue_.push({task.cost, task.vertex, stamp_[task.vertex]});
-        }
         if ((result.removed & 255) == 0) {
             const double done = start_vertices > target
                                     ? double(start_vertices - mesh_.num_vertices_alive()) / double(start_vertices - target)
@@ -681,7 +667,7 @@ SimplifyResult Simplifier::run(Parametrization& out) {
             aspect_ratio(out.coarse.vertices[t[0]], out.coarse.vertices[t[1]], out.coarse.vertices[t[2]]));
     result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     context_.debug("plans: " + std::to_string(plans_[0].load()) + " cheap, " + std::to_string(plans_[1].load()) +
-                   " full (" + std::to_string(speculation_hits_) + " made ahead or reused); " +
+                   " full (" + std::to_string(reused_plans_) + " reused); " +
                    std::to_string(result.shape_preserving_repairs) + " removals re-embedded with Floater's map");
     context_.report(1.0, "done");
     return result;

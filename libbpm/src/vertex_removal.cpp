@@ -1524,6 +1524,7 @@ void VertexRemover::finish(RemovalPlan& plan) {
         return;
     }
     plan.max_deviation = 0.0;  // Floater's map may have changed it: add_fan sets it again
+    plan.new_triangles.clear();
     add_fan(mesh_, *scratch_, scratch_->fans[0], planner, plan);
     finish_paths(mesh_, embedding_, *scratch_, plan);
 }
@@ -1644,6 +1645,10 @@ void VertexRemover::plan_once(int32_t v, bool force_disk, bool validate, bool de
             if (defer) {
                 plan.pending = true;
                 plan.max_deviation = planner.estimated_deviation;
+                // The new triangles too, for the intersection test that may run while
+                // finish() validates (finish() sets them again).
+                for (const auto& t : planner.new_tris)
+                    plan.new_triangles.push_back({fan.link[t[0]], fan.link[t[1]], fan.link[t[2]]});
                 return;
             }
             if (!planner.finish(why)) {

@@ -66,7 +66,7 @@ struct RemovalPlan {
     // were set before the validation, also if the validation then failed (!valid).
     bool estimated = false;
     // plan_deferred() stopped before the validation: the costs above are known except
-    // max_normal_deviation, the rest is missing. finish() completes the plan (or makes
+    // max_normal_deviation, and removed_triangles and new_triangles; the rest is missing. finish() completes the plan (or makes
     // it invalid).
     bool pending = false;
 
