@@ -11,6 +11,7 @@
 #include <condition_variable>
 #include <cstdio>
 #include <exception>
+#include <future>
 #include <functional>
 #include <memory>
 #include <mutex>
@@ -32,6 +33,13 @@ namespace bpm {
 using namespace detail;
 
 namespace {
+
+// Threads of a simplification: --threads, or 0 = up to 2 as the hardware allows.
+int planning_threads(const SimplifyOptions& options) {
+    const int threads = options.threads > 0 ? options.threads
+                                            : static_cast<int>(std::min(2u, std::max(1u, std::thread::hardware_concurrency())));
+    return std::max(1, std::min(threads, 64));
+}
 
 struct QueueEntry {
     double cost;
@@ -169,9 +177,7 @@ public:
         }
         embedding_.init_identity(original, mesh_.triangle_capacity());
         remover_ = std::make_unique<VertexRemover>(mesh_, embedding_, sign_, oriented_normals_);
-        int threads = options.threads > 0 ? options.threads
-                                          : static_cast<int>(std::min(2u, std::max(1u, std::thread::hardware_concurrency())));
-        threads = std::max(1, std::min(threads, 64));
+        const int threads = planning_threads(options);
         for (int i = 1; i < threads; ++i) removers_.push_back(std::make_unique<VertexRemover>(mesh_, embedding_, sign_, oriented_normals_));
         candidates_.resize(threads);
         stamp_.assign(original.vertices.size(), 0);
@@ -223,6 +229,7 @@ private:
     // Full plans of entries pushed back because their real cost was higher than the
     // estimate; reused when the entry comes back with the same stamp.
     std::unordered_map<int32_t, WaitingPlan> full_plans_;
+    std::function<void(size_t)> export_chunk_;  // the export's task (see run())
     void self_check(int32_t removed_vertex, const std::vector<int32_t>& link, int64_t step);
 };
 
@@ -425,6 +432,7 @@ SimplifyResult Simplifier::run(Parametrization& out) {
         Rank,       // cheap plan of `vertex`, cost into `cost`
         Finish,     // validate plan_ (remover_ planned it; only this task touches it)
         Intersect,  // intersects_rest for the new triangles of plan_, copied before the round
+        Export,     // export_chunk_(vertex) at the end
     };
     struct Task {
         int32_t vertex = -1;
@@ -442,6 +450,7 @@ SimplifyResult Simplifier::run(Parametrization& out) {
             case Job::Rank: task.cost = evaluate(task.vertex, false, cheap_plans[thread], thread); break;
             case Job::Finish: remover_->finish(plan_); break;
             case Job::Intersect: pending_intersects = intersects_rest(pending_new, pending_removed, candidates_[thread]); break;
+            case Job::Export: export_chunk_(size_t(task.vertex)); break;
         }
     });
 
@@ -618,45 +627,93 @@ SimplifyResult Simplifier::run(Parametrization& out) {
     out = Parametrization();
     out.original = original_;
     out.coarse = mesh_.to_surface(out.coarse_vertex_origin);
+    // The parametrization of every coarse triangle, in chunks of consecutive triangles
+    // that the threads share; the chunks are concatenated in order.
+    std::vector<int32_t> alive;
+    for (int32_t t = 0; t < mesh_.triangle_capacity(); ++t)
+        if (mesh_.alive(t)) alive.push_back(t);
+    struct ExportChunk {
+        size_t begin = 0, end = 0;  // into `alive`
+        Parametrization part;       // its node_* and piece* arrays, offsets from 0
+        double max_deviation = 0.0;
+        size_t failed = SIZE_MAX;   // index into `alive` of the first invalid triangle
+        std::string why;
+    };
+    constexpr size_t kExportChunk = 512;
+    std::vector<ExportChunk> chunks((alive.size() + kExportChunk - 1) / kExportChunk);
+    for (size_t c = 0; c < chunks.size(); ++c) {
+        chunks[c].begin = c * kExportChunk;
+        chunks[c].end = std::min(alive.size(), (c + 1) * kExportChunk);
+    }
+    auto export_chunk = [&](ExportChunk& chunk) {
+        TriangleGraph graph;
+        std::vector<OverlayFace> faces;
+        std::vector<Tri> pieces;
+        std::vector<int32_t> piece_triangle;
+        const auto& x = original_.vertices;
+        Parametrization& part = chunk.part;
+        part.node_offsets.push_back(0);
+        part.piece_offsets.push_back(0);
+        for (size_t i = chunk.begin; i < chunk.end; ++i) {
+            const int32_t t = alive[i];
+            build_triangle_graph(mesh_, embedding_, t, graph);
+            if (!compute_faces(graph, embedding_, sign_, faces, &chunk.why) ||
+                !triangulate_faces(graph, embedding_, sign_, faces, pieces, piece_triangle, &chunk.why)) {
+                chunk.failed = i;
+                return;
+            }
+            const Tri& c = mesh_.triangle(t);
+            for (const GraphNode& g : graph.nodes) {
+                part.node_barycentric.push_back(g.bary);
+                const Vec3 image = node_image(g, embedding_);
+                part.node_image.push_back(image);
+                chunk.max_deviation =
+                    std::max(chunk.max_deviation, distance(image, barycentric_point(x[c[0]], x[c[1]], x[c[2]], g.bary)));
+                part.node_kind.push_back(g.kind);
+                part.node_original_vertex.push_back(g.kind == NodeKind::EdgeCrossing ? -1 : g.vertex);
+                if (g.kind == NodeKind::EdgeCrossing) {
+                    part.node_original_edge.push_back(embedding_.edges[g.edge]);
+                    part.node_edge_parameter.push_back(g.sigma);
+                } else {
+                    part.node_original_edge.push_back({-1, -1});
+                    part.node_edge_parameter.push_back(std::nan(""));
+                }
+            }
+            part.pieces.insert(part.pieces.end(), pieces.begin(), pieces.end());
+            part.piece_original_triangle.insert(part.piece_original_triangle.end(), piece_triangle.begin(),
+                                                piece_triangle.end());
+            part.node_offsets.push_back(static_cast<int64_t>(part.node_kind.size()));
+            part.piece_offsets.push_back(static_cast<int64_t>(part.pieces.size()));
+        }
+    };
+    tasks.clear();
+    for (size_t c = 0; c < chunks.size(); ++c) tasks.push_back(Task{int32_t(c), Job::Export});
+    export_chunk_ = [&](size_t c) { export_chunk(chunks[c]); };
+    pool.run_round(tasks.size());
+    double max_deviation = 0.0;
     out.node_offsets.push_back(0);
     out.piece_offsets.push_back(0);
-    TriangleGraph graph;
-    std::vector<OverlayFace> faces;
-    std::vector<Tri> pieces;
-    std::vector<int32_t> piece_triangle;
-    double max_deviation = 0.0;
-    const auto& x = original_.vertices;
-    int32_t coarse_index = 0;
-    for (int32_t t = 0; t < mesh_.triangle_capacity(); ++t) {
-        if (!mesh_.alive(t)) continue;
-        build_triangle_graph(mesh_, embedding_, t, graph);
-        std::string why;
-        if (!compute_faces(graph, embedding_, sign_, faces, &why) ||
-            !triangulate_faces(graph, embedding_, sign_, faces, pieces, piece_triangle, &why))
-            throw AlgorithmError("internal error: coarse triangle " + std::to_string(coarse_index) +
-                                 " has an invalid parametrization (" + why + ")");
-        const Tri& c = mesh_.triangle(t);
-        for (const GraphNode& g : graph.nodes) {
-            out.node_barycentric.push_back(g.bary);
-            const Vec3 image = node_image(g, embedding_);
-            out.node_image.push_back(image);
-            max_deviation = std::max(max_deviation, distance(image, barycentric_point(x[c[0]], x[c[1]], x[c[2]], g.bary)));
-            out.node_kind.push_back(g.kind);
-            out.node_original_vertex.push_back(g.kind == NodeKind::EdgeCrossing ? -1 : g.vertex);
-            if (g.kind == NodeKind::EdgeCrossing) {
-                out.node_original_edge.push_back(embedding_.edges[g.edge]);
-                out.node_edge_parameter.push_back(g.sigma);
-            } else {
-                out.node_original_edge.push_back({-1, -1});
-                out.node_edge_parameter.push_back(std::nan(""));
-            }
+    for (ExportChunk& chunk : chunks) {
+        if (chunk.failed != SIZE_MAX)
+            throw AlgorithmError("internal error: coarse triangle " + std::to_string(chunk.failed) +
+                                 " has an invalid parametrization (" + chunk.why + ")");
+        const Parametrization& part = chunk.part;
+        const int64_t node_base = out.node_offsets.back(), piece_base = out.piece_offsets.back();
+        auto append = [](auto& to, const auto& from) { to.insert(to.end(), from.begin(), from.end()); };
+        append(out.node_barycentric, part.node_barycentric);
+        append(out.node_image, part.node_image);
+        append(out.node_kind, part.node_kind);
+        append(out.node_original_vertex, part.node_original_vertex);
+        append(out.node_original_edge, part.node_original_edge);
+        append(out.node_edge_parameter, part.node_edge_parameter);
+        append(out.pieces, part.pieces);
+        append(out.piece_original_triangle, part.piece_original_triangle);
+        for (size_t k = 1; k < part.node_offsets.size(); ++k) {
+            out.node_offsets.push_back(node_base + part.node_offsets[k]);
+            out.piece_offsets.push_back(piece_base + part.piece_offsets[k]);
         }
-        out.pieces.insert(out.pieces.end(), pieces.begin(), pieces.end());
-        out.piece_original_triangle.insert(out.piece_original_triangle.end(), piece_triangle.begin(),
-                                           piece_triangle.end());
-        out.node_offsets.push_back(static_cast<int64_t>(out.node_kind.size()));
-        out.piece_offsets.push_back(static_cast<int64_t>(out.pieces.size()));
-        ++coarse_index;
+        max_deviation = std::max(max_deviation, chunk.max_deviation);
+        chunk.part = Parametrization();
     }
     result.output_vertices = out.coarse.num_vertices();
     result.output_triangles = out.coarse.num_triangles();
@@ -687,19 +744,31 @@ SimplifyResult simplify(const Surface& original, const SimplifyOptions& options,
         throw OptionError("--max-normal-deviation must be between 0 and 180 degrees");
     if (!(options.feature_angle_degrees >= 0 && options.feature_angle_degrees <= 180))
         throw OptionError("--feature-angle must be between 0 and 180 degrees");
+    std::unique_ptr<Simplifier> simplifier;
     if (options.reject_self_intersecting_input) {
         context.report(0.0, "checking the input for self-intersections");
         CheckOptions check_options;
         check_options.max_problems = 1;
-        const CheckResult r = check_intersections(original, check_options, context, "input intersections");
+        CheckResult r;
+        if (planning_threads(options) > 1) {
+            // The check and the set-up of the simplification (coarse mesh, features,
+            // embedding, grid) only read the input: side by side.
+            auto check = std::async(std::launch::async, [&] {
+                return check_intersections(original, check_options, Context{}, "input intersections");
+            });
+            simplifier = std::make_unique<Simplifier>(original, options, context);
+            r = check.get();
+        } else {
+            r = check_intersections(original, check_options, context, "input intersections");
+        }
         if (!r.passed)
             throw AlgorithmError("the input surface intersects itself (" + std::to_string(r.problem_count) +
                                  " problems; first: " + (r.problems.empty() ? std::string("?") : r.problems[0].describe()) +
                                  "); bpm needs a surface without self-intersections to produce a coarse surface "
                                  "without them. Repair the input, or use --allow-self-intersecting-input");
     }
-    Simplifier simplifier(original, options, context);
-    return simplifier.run(out);
+    if (!simplifier) simplifier = std::make_unique<Simplifier>(original, options, context);
+    return simplifier->run(out);
 }
 
 }  // namespace bpm
