@@ -372,6 +372,7 @@ private:
 
     int32_t n_ = 0;                // polygon corners
     std::vector<Vec2> q_;          // polygon corners in 2D
+    std::vector<double> theta_, phi_, radius_;  // of flatten(): angles at v, polar angles, radii
     bool cocircular_ = false;      // q_ on a circle (the convex fallback flattening)
     std::vector<StarNode> nodes_;
     VertexSlots vertex_node_;
@@ -475,7 +476,8 @@ bool FanPlanner::flatten(std::string& why) {
     const auto& x = mesh_.positions();
     n_ = static_cast<int32_t>(fan_->link.size());
     const int32_t ntri = static_cast<int32_t>(fan_->triangles.size());
-    std::vector<double> theta(ntri);
+    auto& theta = theta_;
+    theta.resize(ntri);
     double total = 0.0;
     for (int32_t i = 0; i < ntri; ++i) {
         const Vec3 a = x[fan_->link[i]] - x[v_], b = x[fan_->link[mod(i + 1, n_)]] - x[v_];
@@ -489,14 +491,16 @@ bool FanPlanner::flatten(std::string& why) {
     const double alpha = (fan_->closed ? 2.0 * M_PI : M_PI) / total;
     cocircular_ = false;
     q_.assign(n_, {0.0, 0.0});
-    std::vector<double> phi(n_, 0.0);
+    auto& phi = phi_;
+    phi.assign(n_, 0.0);
     for (int32_t i = 1; i < n_; ++i) phi[i] = phi[i - 1] + alpha * theta[i - 1];
     for (int32_t i = 0; i < ntri; ++i)
         if (!(alpha * theta[i] < M_PI)) {
             why = "flattened star angle too wide";
             return false;
         }
-    std::vector<double> r(n_);
+    auto& r = radius_;
+    r.resize(n_);
     for (int32_t i = 0; i < n_; ++i) r[i] = distance(x[fan_->link[i]], x[v_]) / scale_;
     // Closed: the polar map z -> z^alpha (conformal). Open: angles scaled, radii kept,
     // so that the position of v on the new edge is the same in every half-disk.
@@ -1708,6 +1712,9 @@ void finish_paths(const CoarseMesh& mesh, const Embedding& embedding, RemovalScr
         embedding.path_points(e, points, sigmas);
         std::vector<Crossing> crossings;
         const int32_t last = static_cast<int32_t>(points.size()) - 1;
+        size_t count = std::max(last - 1, 0);
+        for (size_t k = begin; k < end; ++k) count += edits[k].middle.size();
+        crossings.reserve(count);  // at most: the old middle points and all new crossings
         auto keep = [&](int32_t j) { crossings.push_back({points[j].a, points[j].b, points[j].s, sigmas[j]}); };
         int32_t j = 1;  // next old middle point to copy; points[0] and points[last] are the vertices
         for (size_t k = begin; k < end; ++k) {
