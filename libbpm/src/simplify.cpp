@@ -433,6 +433,7 @@ SimplifyResult Simplifier::run(Parametrization& out) {
         Finish,     // validate plan_ (remover_ planned it; only this task touches it)
         Intersect,  // intersects_rest for the new triangles of plan_, copied before the round
         Export,     // export_chunk_(vertex) at the end
+        Grid,       // grid_removed out of the grid, the triangles from `vertex` on into it
     };
     struct Task {
         int32_t vertex = -1;
@@ -444,6 +445,7 @@ SimplifyResult Simplifier::run(Parametrization& out) {
     std::vector<Tri> pending_new;        // the new triangles of a pending plan_, for Job::Intersect
     std::vector<int32_t> pending_removed;
     bool pending_intersects = false;
+    std::vector<std::pair<int32_t, Tri>> grid_removed;  // of the last commit, for Job::Grid
     PlanningPool pool(static_cast<int>(removers_.size()) + 1, [&](int thread, size_t i) {
         Task& task = tasks[i];
         switch (task.job) {
@@ -451,6 +453,15 @@ SimplifyResult Simplifier::run(Parametrization& out) {
             case Job::Finish: remover_->finish(plan_); break;
             case Job::Intersect: pending_intersects = intersects_rest(pending_new, pending_removed, candidates_[thread]); break;
             case Job::Export: export_chunk_(size_t(task.vertex)); break;
+            case Job::Grid: {
+                const auto& x = original_.vertices;
+                for (const auto& [t, c] : grid_removed) grid_.remove(t, x[c[0]], x[c[1]], x[c[2]]);
+                for (int32_t t = task.vertex; t < mesh_.triangle_capacity(); ++t) {
+                    const Tri& c = mesh_.triangle(t);
+                    grid_.insert(t, x[c[0]], x[c[1]], x[c[2]]);
+                }
+                break;
+            }
         }
     });
 
@@ -556,19 +567,13 @@ SimplifyResult Simplifier::run(Parametrization& out) {
         for (int32_t t : plan_.removed_triangles)
             for (int32_t u : mesh_.triangle(t))
                 if (u != top.vertex) affected.push_back(u);
-        const auto& x = original_.vertices;
-        for (int32_t t : plan_.removed_triangles) {
-            const Tri& c = mesh_.triangle(t);
-            grid_.remove(t, x[c[0]], x[c[1]], x[c[2]]);
-        }
+        // The grid follows in the round below (its planning does not read the grid).
+        grid_removed.clear();
+        for (int32_t t : plan_.removed_triangles) grid_removed.push_back({t, mesh_.triangle(t)});
         const int32_t first_new = mesh_.triangle_capacity();
         first_new_ = first_new;
         commit_removal(mesh_, embedding_, plan_);
         if (result.steps) result.steps->append(top.vertex, plan_.new_triangles, plan_.new_patches);
-        for (int32_t t = first_new; t < mesh_.triangle_capacity(); ++t) {
-            const Tri& c = mesh_.triangle(t);
-            grid_.insert(t, x[c[0]], x[c[1]], x[c[2]]);
-        }
         ++commits_;
         error_so_far = std::max(error_so_far, plan_.max_deviation / diagonal_);
         ++stamp_[top.vertex];
@@ -576,20 +581,21 @@ SimplifyResult Simplifier::run(Parametrization& out) {
         ++result.removed;
         if (plan_.used_floater) ++result.shape_preserving_repairs;
         if (options_.self_check) self_check(top.vertex, affected, result.removed);
-        if (mesh_.num_alive_triangles() * 4 < grid_built_at_) rebuild_grid();
         std::sort(affected.begin(), affected.end());
         affected.erase(std::unique(affected.begin(), affected.end()), affected.end());
 
-        // The round: new costs of the vertices around the removal (their stars changed).
-        tasks.clear();
+        // The round: new costs of the vertices around the removal (their stars changed),
+        // and the grid update.
+        tasks.assign(1, Task{first_new, Job::Grid});
         for (int32_t u : affected) {
             ++stamp_[u];
             full_plans_.erase(u);
             tasks.push_back(Task{u});
         }
         pool.run_round(tasks.size());
+        if (mesh_.num_alive_triangles() * 4 < grid_built_at_) rebuild_grid();
         for (const Task& task : tasks)
-            if (std::isfinite(task.cost)) queue_.push({task.cost, task.vertex, stamp_[task.vertex]});
+            if (task.job == Job::Rank && std::isfinite(task.cost)) queue_.push({task.cost, task.vertex, stamp_[task.vertex]});
         if ((result.removed & 255) == 0) {
             const double done = start_vertices > target
                                     ? double(start_vertices - mesh_.num_vertices_alive()) / double(start_vertices - target)
