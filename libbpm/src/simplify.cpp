@@ -430,7 +430,7 @@ SimplifyResult Simplifier::run(Parametrization& out) {
     // a round has never depends on the thread count, so neither does the output.
     enum class Job : uint8_t {
         Rank,       // cheap plan of `vertex`, cost into `cost`
-        Finish,     // validate plan_ (remover_ planned it; only this task touches it)
+        Finish,     // part `vertex` of the validation of plan_ (VertexRemover::finish_part of remover_)
         Intersect,  // intersects_rest for the new triangles of plan_, copied before the round
         Export,     // export_chunk_(vertex) at the end
         Grid,       // grid_removed out of the grid, the triangles from `vertex` on into it
@@ -445,12 +445,13 @@ SimplifyResult Simplifier::run(Parametrization& out) {
     std::vector<Tri> pending_new;        // the new triangles of a pending plan_, for Job::Intersect
     std::vector<int32_t> pending_removed;
     bool pending_intersects = false;
+    const int finish_parts = std::min<int>(VertexRemover::kMaxFinishParts, int(removers_.size()) + 1);
     std::vector<std::pair<int32_t, Tri>> grid_removed;  // of the last commit, for Job::Grid
     PlanningPool pool(static_cast<int>(removers_.size()) + 1, [&](int thread, size_t i) {
         Task& task = tasks[i];
         switch (task.job) {
             case Job::Rank: task.cost = evaluate(task.vertex, false, cheap_plans[thread], thread); break;
-            case Job::Finish: remover_->finish(plan_); break;
+            case Job::Finish: remover_->finish_part(task.vertex, finish_parts); break;
             case Job::Intersect: pending_intersects = intersects_rest(pending_new, pending_removed, candidates_[thread]); break;
             case Job::Export: export_chunk_(size_t(task.vertex)); break;
             case Job::Grid: {
@@ -530,15 +531,19 @@ SimplifyResult Simplifier::run(Parametrization& out) {
             continue;
         }
         if (plan_.pending) {
+            // Part 0 first: the other parts wait for its preparation.
             tasks.clear();
-            tasks.push_back(Task{top.vertex, Job::Finish});
-            if (options_.prevent_intersections && known_intersection < 0) {
+            tasks.push_back(Task{0, Job::Finish});
+            const bool test_intersections = options_.prevent_intersections && known_intersection < 0;
+            if (test_intersections) {
                 pending_new = plan_.new_triangles;
                 pending_removed = plan_.removed_triangles;
                 tasks.push_back(Task{top.vertex, Job::Intersect});
             }
+            for (int part = 1; part < finish_parts; ++part) tasks.push_back(Task{part, Job::Finish});
             pool.run_round(tasks.size());
-            if (tasks.size() > 1) known_intersection = pending_intersects;
+            remover_->finish_parts_done(plan_, finish_parts);
+            if (test_intersections) known_intersection = pending_intersects;
         }
         const double cost = judge(top.vertex, plan_);
         if (!std::isfinite(cost)) continue;

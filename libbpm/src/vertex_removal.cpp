@@ -1,8 +1,10 @@
 #include "vertex_removal.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
+#include <thread>
 #include <unordered_map>
 
 #include <Eigen/Sparse>
@@ -334,6 +336,21 @@ public:
     enum class Stage { Failed, Estimated, Done };
     Stage estimate(std::string& why);
     bool finish(std::string& why);  // after Stage::Estimated
+    // finish() in steps, so that the checks of the new triangles (most of its work) can
+    // be shared by threads: prepare_checks(), then check_triangles() for ranges of the new
+    // triangles, on any threads with a TriangleCheck each, then end_finish() with
+    // whether all passed (and the reason of the failure in the first triangle that failed).
+    struct TriangleCheck {
+        TriangleGraph graph;
+        std::vector<int32_t> local, touched;
+        std::vector<OverlayFace> faces;
+        std::string reason;
+    };
+    bool prepare_checks(std::string& why);
+    bool check_triangles(int32_t begin, int32_t end, TriangleCheck& check, double& min_cosine, int32_t& failed,
+                         std::string& why) const;
+    bool end_finish(bool checks_passed, const std::string& reason, double min_cosine, std::string& why);
+    int32_t num_new_triangles() const { return static_cast<int32_t>(new_tris.size()); }
     bool run(std::string& why) {
         const Stage stage = estimate(why);
         return stage == Stage::Done || (stage == Stage::Estimated && finish(why));
@@ -389,10 +406,7 @@ private:
     std::vector<int32_t> side_triangle_;
     std::vector<Piece> pieces_;
     std::vector<std::array<double, 4>> triangle_boxes_;  // of locate_free_nodes: x/y min, x/y max
-    TriangleGraph graph_;
-    std::vector<int32_t> local_, touched_;
-    std::vector<OverlayFace> faces_;
-    std::string reason_;  // of check_faces
+    TriangleCheck own_check_;  // of finish() and transfer_validate()
     std::vector<int32_t> free_vertices_;
     std::vector<int32_t> sorted_;  // scratch for sorted copies of edge contents
     std::vector<StraightSegment> segments_;
@@ -431,6 +445,7 @@ private:
     bool transfer(std::string& why) { return transfer_cost(why) && (!validate_ || transfer_validate(why)); }
     bool transfer_cost(std::string& why);
     bool transfer_validate(std::string& why);
+    void set_locations();
     bool floater(std::string& why);
     std::string first_reason_;  // why the first transfer failed (before Floater's map)
     // Interior edge (v, link[i]) of this fan? (in an open fan the first and last are the
@@ -1206,6 +1221,16 @@ bool FanPlanner::transfer_cost(std::string& why) {
 }
 
 bool FanPlanner::transfer_validate(std::string& why) {
+    if (!prepare_checks(why)) return false;
+    double min_cosine = 1.0;
+    int32_t failed = -1;
+    if (!check_triangles(0, int32_t(new_tris.size()), own_check_, min_cosine, failed, why)) return false;
+    min_normal_cosine = min_cosine;
+    set_locations();
+    return true;
+}
+
+bool FanPlanner::prepare_checks(std::string& why) {
     const int32_t ntris = static_cast<int32_t>(new_tris.size());
     const int32_t nnodes = static_cast<int32_t>(nodes_.size());
     // 3. Full: which new triangle every piece of a cut segment lies in, the graph of
@@ -1285,9 +1310,18 @@ bool FanPlanner::transfer_validate(std::string& why) {
         path_edits.push_back(std::move(edit));
     }
 
-    TriangleGraph& graph = graph_;
+    return true;
+}
+
+bool FanPlanner::check_triangles(int32_t begin, int32_t end, TriangleCheck& check, double& min_cosine,
+                                 int32_t& failed, std::string& why) const {
+    const int32_t nnodes = static_cast<int32_t>(nodes_.size());
+    TriangleGraph& graph = check.graph;
+    auto& local_ = check.local;
+    auto& touched_ = check.touched;
     local_.assign(nnodes + crossings_.size(), -1);
-    for (int32_t t = 0; t < ntris; ++t) {
+    for (int32_t t = begin; t < end; ++t) {
+        failed = t;
         const auto& c = new_tris[t];
         graph.nodes.clear();
         graph.segments.clear();
@@ -1360,17 +1394,21 @@ bool FanPlanner::transfer_validate(std::string& why) {
             graph.segments.push_back({i0, i1, p.edge});
         }
         for (int32_t item : touched_) local_[item] = -1;
-        std::string& reason = reason_;
+        std::string& reason = check.reason;
         size_t face_count = 0;
-        if (!check_faces(graph, emb_, sign_, faces_, face_count, &reason)) {
+        if (!check_faces(graph, emb_, sign_, check.faces, face_count, &reason)) {
             why = "invalid transfer: " + reason;
             return false;
         }
         // Every original triangle with a piece on t has a face here: exact.
         for (size_t f = 0; f < face_count && !normals_.empty(); ++f)
-            min_normal_cosine = std::min(min_normal_cosine, dot(new_normals_[t], normals_[faces_[f].original_triangle]));
+            min_cosine = std::min(min_cosine, dot(new_normals_[t], normals_[check.faces[f].original_triangle]));
     }
+    failed = -1;
+    return true;
+}
 
+void FanPlanner::set_locations() {
     // 4. New locations of the free vertices.
     locations.clear();
     for (const StarNode& s : nodes_) {
@@ -1380,7 +1418,6 @@ bool FanPlanner::transfer_validate(std::string& why) {
         else
             locations.push_back({s.vertex, SurfacePoint{SurfacePoint::OnEdge, s.edge_lo, s.edge_hi, s.edge_s, {}}});
     }
-    return true;
 }
 
 FanPlanner::Stage FanPlanner::estimate(std::string& why) {
@@ -1435,13 +1472,26 @@ FanPlanner::Stage FanPlanner::estimate(std::string& why) {
 }
 
 bool FanPlanner::finish(std::string& why) {
+    std::string reason;
+    const bool prepared = prepare_checks(reason);
+    double min_cosine = 1.0;
+    int32_t failed = -1;
+    const bool ok = prepared && check_triangles(0, int32_t(new_tris.size()), own_check_, min_cosine, failed, reason);
+    return end_finish(ok, reason, min_cosine, why);
+}
+
+bool FanPlanner::end_finish(bool checks_passed, const std::string& reason, double min_cosine, std::string& why) {
+    if (checks_passed) {
+        min_normal_cosine = min_cosine;
+        set_locations();
+        return true;
+    }
     if (used_floater) {
-        // The transfer after Floater's map has its cost: only its validation is left.
-        if (transfer_validate(why)) return true;
-        why = "transfer failed (" + first_reason_ + "; after shape-preserving map: " + why + ")";
+        // The transfer after Floater's map had its cost: only its validation was left.
+        why = "transfer failed (" + first_reason_ + "; after shape-preserving map: " + reason + ")";
         return false;
     }
-    if (transfer_validate(first_reason_)) return true;
+    first_reason_ = reason;
     // The overlays are not valid: reposition with Floater's map.
     if (!floater(why)) return false;
     used_floater = true;
@@ -1473,6 +1523,17 @@ struct RemovalScratch {
     std::vector<double> sigmas;
     FanPlanner planner;
     std::vector<FanPlanner::PathEdit> edits;               // of all fans of a plan
+    // finish_part(): 0 while part 0 prepares the checks, then 1 (prepared) or 2 (failed).
+    std::atomic<int> prepared{0};
+    std::string prepare_reason;
+    struct Part {
+        bool passed = false;
+        int32_t failed = -1;
+        double min_cosine = 1.0;
+        std::string reason;
+        FanPlanner::TriangleCheck check;
+    };
+    Part parts[VertexRemover::kMaxFinishParts];
     std::unordered_map<int32_t, double> new_edge_params;  // see plan_once
     RemovalScratch(const CoarseMesh& mesh, const Embedding& embedding, const std::vector<int8_t>& sign,
                    const std::vector<Vec3>& normals)
@@ -1516,6 +1577,60 @@ void VertexRemover::plan_deferred(int32_t v, RemovalPlan& plan) {
         plan_once(v, true, true, false, disk, crease_line);
         if (disk.valid) std::swap(plan, disk);
     }
+}
+
+void VertexRemover::finish_part(int part, int parts) {
+    FanPlanner& planner = scratch_->planner;
+    int state;
+    if (part == 0) {
+        state = planner.prepare_checks(scratch_->prepare_reason) ? 1 : 2;
+        scratch_->prepared.store(state, std::memory_order_release);
+    } else {
+        // Part 0 was taken first (tasks start in order) and runs on another thread.
+        while ((state = scratch_->prepared.load(std::memory_order_acquire)) == 0) {
+#if defined(__x86_64__) || defined(__i386__)
+            __builtin_ia32_pause();
+#else
+            std::this_thread::yield();
+#endif
+        }
+    }
+    RemovalScratch::Part& p = scratch_->parts[part];
+    p.passed = false;
+    p.failed = -1;
+    p.min_cosine = 1.0;
+    if (state != 1) return;
+    const int32_t n = planner.num_new_triangles();
+    p.passed = planner.check_triangles(n * part / parts, n * (part + 1) / parts, p.check, p.min_cosine, p.failed,
+                                       p.reason);
+}
+
+void VertexRemover::finish_parts_done(RemovalPlan& plan, int parts) {
+    if (!plan.pending) return;
+    plan.pending = false;
+    FanPlanner& planner = scratch_->planner;
+    const bool prepared = scratch_->prepared.load(std::memory_order_acquire) == 1;
+    scratch_->prepared.store(0, std::memory_order_relaxed);
+    bool passed = prepared;
+    double min_cosine = 1.0;
+    const std::string* reason = &scratch_->prepare_reason;
+    for (int k = 0; k < parts && passed; ++k) {
+        const RemovalScratch::Part& p = scratch_->parts[k];
+        min_cosine = std::min(min_cosine, p.min_cosine);
+        if (!p.passed) {
+            passed = false;  // the first failing triangle is in the first failing part
+            reason = &p.reason;
+        }
+    }
+    std::string why;
+    if (!planner.end_finish(passed, *reason, min_cosine, why)) {
+        plan.reason = why;
+        return;
+    }
+    plan.max_deviation = 0.0;  // Floater's map may have changed it: add_fan sets it again
+    plan.new_triangles.clear();
+    add_fan(mesh_, *scratch_, scratch_->fans[0], planner, plan);
+    finish_paths(mesh_, embedding_, *scratch_, plan);
 }
 
 void VertexRemover::finish(RemovalPlan& plan) {

@@ -96,6 +96,12 @@ public:
     // plan of this remover.
     void plan_deferred(int32_t v, RemovalPlan& plan);
     void finish(RemovalPlan& plan);
+    // finish() shared by threads: finish_part(k, parts) for k = 0 .. parts-1 as tasks of
+    // one round whose tasks start in order (part 0 prepares, the others wait for that;
+    // each checks its share of the new triangles), then finish_parts_done(). Same result.
+    static constexpr int kMaxFinishParts = 2;
+    void finish_part(int part, int parts);
+    void finish_parts_done(RemovalPlan& plan, int parts);
 
 private:
     void plan_once(int32_t v, bool force_disk, bool validate, bool defer, RemovalPlan& plan, bool& crease_line);
