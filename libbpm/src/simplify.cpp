@@ -10,6 +10,7 @@
 #include <cmath>
 #include <condition_variable>
 #include <cstdio>
+#include <cstdlib>
 #include <exception>
 #include <future>
 #include <functional>
@@ -34,11 +35,14 @@ using namespace detail;
 
 namespace {
 
-// Threads of a simplification: --threads, or 0 = up to 2 as the hardware allows.
+// Threads of a simplification: --threads, or for 0 two if a second core is idle.
 int planning_threads(const SimplifyOptions& options) {
-    const int threads = options.threads > 0 ? options.threads
-                                            : static_cast<int>(std::min(2u, std::max(1u, std::thread::hardware_concurrency())));
-    return std::max(1, std::min(threads, 64));
+    if (options.threads > 0) return std::min(options.threads, 64);
+    const unsigned cores = std::thread::hardware_concurrency();
+    if (cores < 2) return 1;
+    double load = 0.0;
+    if (getloadavg(&load, 1) == 1 && load > double(cores) - 0.5) return 1;
+    return 2;
 }
 
 struct QueueEntry {
@@ -158,7 +162,7 @@ struct WaitingPlan {
 
 class Simplifier {
 public:
-    Simplifier(const Surface& original, const SimplifyOptions& options, const Context& context)
+    Simplifier(const Surface& original, const SimplifyOptions& options, const Context& context, int threads)
         : original_(original),
           options_(options),
           context_(context),
@@ -177,7 +181,6 @@ public:
         }
         embedding_.init_identity(original, mesh_.triangle_capacity());
         remover_ = std::make_unique<VertexRemover>(mesh_, embedding_, sign_, oriented_normals_);
-        const int threads = planning_threads(options);
         for (int i = 1; i < threads; ++i) removers_.push_back(std::make_unique<VertexRemover>(mesh_, embedding_, sign_, oriented_normals_));
         candidates_.resize(threads);
         stamp_.assign(original.vertices.size(), 0);
@@ -755,19 +758,22 @@ SimplifyResult simplify(const Surface& original, const SimplifyOptions& options,
         throw OptionError("--max-normal-deviation must be between 0 and 180 degrees");
     if (!(options.feature_angle_degrees >= 0 && options.feature_angle_degrees <= 180))
         throw OptionError("--feature-angle must be between 0 and 180 degrees");
+    const int threads = planning_threads(options);
+    context.debug(std::to_string(threads) + (threads == 1 ? " thread" : " threads") +
+                  (options.threads == 0 ? " (automatic: --threads 0)" : ""));
     std::unique_ptr<Simplifier> simplifier;
     if (options.reject_self_intersecting_input) {
         context.report(0.0, "checking the input for self-intersections");
         CheckOptions check_options;
         check_options.max_problems = 1;
         CheckResult r;
-        if (planning_threads(options) > 1) {
+        if (threads > 1) {
             // The check and the set-up of the simplification (coarse mesh, features,
             // embedding, grid) only read the input: side by side.
             auto check = std::async(std::launch::async, [&] {
                 return check_intersections(original, check_options, Context{}, "input intersections");
             });
-            simplifier = std::make_unique<Simplifier>(original, options, context);
+            simplifier = std::make_unique<Simplifier>(original, options, context, threads);
             r = check.get();
         } else {
             r = check_intersections(original, check_options, context, "input intersections");
@@ -778,7 +784,7 @@ SimplifyResult simplify(const Surface& original, const SimplifyOptions& options,
                                  "); bpm needs a surface without self-intersections to produce a coarse surface "
                                  "without them. Repair the input, or use --allow-self-intersecting-input");
     }
-    if (!simplifier) simplifier = std::make_unique<Simplifier>(original, options, context);
+    if (!simplifier) simplifier = std::make_unique<Simplifier>(original, options, context, threads);
     return simplifier->run(out);
 }
 
