@@ -17,6 +17,7 @@
 #include <memory>
 #include <mutex>
 #include <queue>
+#include <stdexcept>
 #include <thread>
 #include <unordered_map>
 
@@ -82,10 +83,11 @@ public:
             for (size_t i = 0; i < tasks; ++i) work_(0, i);
             return;
         }
+        if (tasks > kIndexMask) throw std::length_error("planning round with too many tasks");
         failure_ = nullptr;
-        tasks_.store(tasks);
         done_.store(0);
-        next_.store(0);
+        round_id_ = (round_id_ + 1) & kRoundMask;
+        slot_.store((round_id_ << 40) | (uint64_t(tasks) << 20));
         round_.fetch_add(1);
         if (sleeping_.load() > 0) {
             std::lock_guard<std::mutex> lock(mutex_);
@@ -99,8 +101,16 @@ public:
 private:
     std::function<void(int, size_t)> work_;
     std::vector<std::thread> workers_;
-    std::atomic<uint64_t> round_{0};
-    std::atomic<size_t> tasks_{0}, next_{0}, done_{0};
+    std::atomic<uint64_t> round_{0};  // wakes the workers
+    // The round's tasks: (round id << 40) | (number of tasks << 20) | next task. A task is
+    // taken by a compare-and-swap of the whole word, so a thread that comes late from an
+    // earlier round can never take (or count) a task of a later one. (A shared counter
+    // reset per round let a late fetch_add run a task of the next round twice, once
+    // with the previous round's task count.)
+    static constexpr uint64_t kIndexMask = (uint64_t(1) << 20) - 1, kRoundMask = (uint64_t(1) << 24) - 1;
+    std::atomic<uint64_t> slot_{0};
+    uint64_t round_id_ = 0;
+    std::atomic<size_t> done_{0};
     std::atomic<int> sleeping_{0};
     std::mutex mutex_;  // guards stop_ and the sleeping side of round_
     std::condition_variable wake_;
@@ -116,7 +126,11 @@ private:
 #endif
     }
     void take_tasks(int thread) {
-        for (size_t i = next_.fetch_add(1); i < tasks_.load(); i = next_.fetch_add(1)) {
+        uint64_t v = slot_.load();
+        while (true) {
+            const size_t i = v & kIndexMask, tasks = (v >> 20) & kIndexMask;
+            if (i >= tasks) return;
+            if (!slot_.compare_exchange_weak(v, v + 1)) continue;  // v is reloaded
             try {
                 work_(thread, i);
             } catch (...) {
@@ -124,6 +138,7 @@ private:
                 if (!failure_) failure_ = std::current_exception();
             }
             done_.fetch_add(1);
+            v = slot_.load();
         }
     }
     void serve(int thread) {
