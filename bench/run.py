@@ -396,7 +396,7 @@ def simplify_markdown(header, rows):
     one_thread = "--threads=1" in bpm_flags.split() or "--threads 1" in bpm_flags
     threads_note = ("here bpm runs on one thread (`--threads 1`), like the other two, so CPU ≈ wall on an idle machine"
                     if one_thread else
-                    "psurface and CGAL are single-threaded; bpm runs on 2 threads when a second core is idle (its "
+                    "psurface and CGAL are single-threaded; bpm runs on 2 threads unless every core is busy (its "
                     "default `--threads 0`), and then takes about 1.5x as much CPU time as wall time: the second thread "
                     "spins between the short planning rounds. `simplify-1thread.md` has bpm with `--threads 1`")
     out = ["# bpm-simplify vs psurface-simplify, with CGAL's edge collapse as a plain-decimation reference", "",
@@ -1037,7 +1037,7 @@ def results_markdown(args, run, link):
     for k, v in run.get("versions", {}).items():
         out.append(f"| {k} | {v} |")
     out += ["", "The suites run one after the other, each tool single-threaded except bpm-simplify (2 threads when a "
-                "second core is idle, its default; the simplify-1thread suite runs it on one), bpm-check (structural "
+                "core is free, its default; the simplify-1thread suite runs it on one), bpm-check (structural "
                 "checks on a second thread) and the φ throughput rows with 2 threads. On a shared or loaded machine the "
                 "wall times carry noise; the tables also give CPU seconds, the steadier number.", "",
             "## Commands", "",

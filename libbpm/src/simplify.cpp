@@ -36,13 +36,14 @@ using namespace detail;
 
 namespace {
 
-// Threads of a simplification: --threads, or for 0 two if a second core is idle.
+// Threads of a simplification: --threads, or for 0 two unless every core is busy. (The
+// second thread spins between rounds, so bpm's own earlier runs count in the load too.)
 int planning_threads(const SimplifyOptions& options) {
     if (options.threads > 0) return std::min(options.threads, 64);
     const unsigned cores = std::thread::hardware_concurrency();
     if (cores < 2) return 1;
     double load = 0.0;
-    if (getloadavg(&load, 1) == 1 && load > double(cores) - 0.5) return 1;
+    if (getloadavg(&load, 1) == 1 && load >= double(cores)) return 1;
     return 2;
 }
 
@@ -800,7 +801,9 @@ SimplifyResult simplify(const Surface& original, const SimplifyOptions& options,
                                  "without them. Repair the input, or use --allow-self-intersecting-input");
     }
     if (!simplifier) simplifier = std::make_unique<Simplifier>(original, options, context, threads);
-    return simplifier->run(out);
+    SimplifyResult result = simplifier->run(out);
+    result.threads = threads;
+    return result;
 }
 
 }  // namespace bpm

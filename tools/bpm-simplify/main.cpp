@@ -72,7 +72,7 @@ int main(int argc, char** argv) {
                  "triangles by ear clipping in the face's plane (reported)");
     app.add_option("--units", units, "Length unit of the coordinates, recorded in the file (e.g. mm)");
     app.add_option("--threads", options.threads,
-                   "Threads (default 0 = automatic: 2 if a second core is idle, judged by the 1-minute load average, "
+                   "Threads (default 0 = automatic: 2 unless every core is busy, judged by the 1-minute load average; "
                    "else 1). Two take about 1.2x less time and 1.5x more CPU time; the output does not depend on it")
         ->check(CLI::Range(0, 64));
     app.add_flag("--trace", options.trace_removals, "With -v: one line per removed vertex (cost, error, aspect ratio)");
@@ -111,9 +111,10 @@ int main(int argc, char** argv) {
         char line[512];
         std::snprintf(line, sizeof line,
                       "%lld -> %lld vertices (%lld triangles), max error %.3g of diagonal, worst aspect ratio %.3g, "
-                      "%.2f s",
+                      "%.2f s (%d %s)",
                       (long long)result.input_vertices, (long long)result.output_vertices,
-                      (long long)result.output_triangles, result.max_error, result.worst_aspect_ratio, result.seconds);
+                      (long long)result.output_triangles, result.max_error, result.worst_aspect_ratio, result.seconds,
+                      result.threads, result.threads == 1 ? "thread" : "threads");
         context.info(line);
         if (!result.target_reached) {
             context.warn("stopped before the target: " + result.stop_reason);

@@ -62,7 +62,8 @@ struct SimplifyOptions {
     bool trace_removals = false;
     // Threads that share the work (planning rounds, the input check, the export); the
     // output is the same for every thread count. 0 = automatic: 2 if the hardware has a
-    // second core and it is idle (1-minute load average below cores - 0.5), else 1. Two
+    // second core and not every core is busy (1-minute load average below the number of
+    // cores), else 1. Two
     // threads take about 1.2x less wall time and 1.5x more CPU time (the second thread
     // spins between the short rounds), so a busy machine is better off with one.
     int threads = 0;
@@ -79,6 +80,7 @@ struct SimplifyResult {
     double max_error = 0.0;           // final max |phi(x) - x| / diagonal
     double worst_aspect_ratio = 0.0;  // of the coarse surface
     double seconds = 0.0;
+    int threads = 1;  // threads used (SimplifyOptions::threads, or what 0 chose)
     bool target_reached = false;
     std::string stop_reason;          // human readable
     // Why the vertices that remained could not be removed, counted by reason.
