@@ -930,17 +930,17 @@ def all_suites(args, invocation):
     suite_timeout = args.external_timeout
     step("simplify", "simplify: bpm vs psurface vs CGAL", py + ["simplify"] + suite_args(args, "simplify"), suite_timeout,
          [os.path.join(args.results_dir, "simplify.md")])
-    if not args.quick and "psurface" in args.tools and not args.psurface_flags:
+    def without_cgal():
         variant = [a for a in suite_args(args, "simplify")]
         variant[variant.index("--tools") + 1] = ",".join(t for t in args.tools if t != "cgal")
+        return variant
+    if not args.quick and "psurface" in args.tools and not args.psurface_flags:
         step("simplify-psurface-s", "simplify, psurface forbidding self-intersections (-s)",
-             py + ["simplify"] + variant + ["--psurface-flags=-s", "--suffix=-psurface-s"], suite_timeout,
+             py + ["simplify"] + without_cgal() + ["--psurface-flags=-s", "--suffix=-psurface-s"], suite_timeout,
              [os.path.join(args.results_dir, "simplify-psurface-s.md")])
     if not args.quick and "psurface" in args.tools and not args.bpm_flags:
-        variant = [a for a in suite_args(args, "simplify")]
-        variant[variant.index("--tools") + 1] = ",".join(t for t in args.tools if t != "cgal")
         step("simplify-1thread", "simplify, bpm on one thread (--threads 1)",
-             py + ["simplify"] + variant + ["--bpm-flags=--threads=1", "--suffix=-1thread"], suite_timeout,
+             py + ["simplify"] + without_cgal() + ["--bpm-flags=--threads=1", "--suffix=-1thread"], suite_timeout,
              [os.path.join(args.results_dir, "simplify-1thread.md")])
     step("scaling", "scaling", py + ["scaling"] + suite_args(args, "scaling"), suite_timeout, [os.path.join(args.results_dir, "scaling.md")])
     step("check", "check speed", py + ["check"] + suite_args(args, "check"), suite_timeout, [os.path.join(args.results_dir, "check.md")])

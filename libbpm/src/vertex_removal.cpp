@@ -1633,21 +1633,6 @@ void VertexRemover::finish_parts_done(RemovalPlan& plan, int parts) {
     finish_paths(mesh_, embedding_, *scratch_, plan);
 }
 
-void VertexRemover::finish(RemovalPlan& plan) {
-    if (!plan.pending) return;
-    plan.pending = false;
-    FanPlanner& planner = scratch_->planner;
-    std::string why;
-    if (!planner.finish(why)) {
-        plan.reason = why;
-        return;
-    }
-    plan.max_deviation = 0.0;  // Floater's map may have changed it: add_fan sets it again
-    plan.new_triangles.clear();
-    add_fan(mesh_, *scratch_, scratch_->fans[0], planner, plan);
-    finish_paths(mesh_, embedding_, *scratch_, plan);
-}
-
 void RemovalPlan::clear() {
     vertex = -1;
     valid = false;

@@ -66,8 +66,8 @@ struct RemovalPlan {
     // were set before the validation, also if the validation then failed (!valid).
     bool estimated = false;
     // plan_deferred() stopped before the validation: the costs above are known except
-    // max_normal_deviation, and removed_triangles and new_triangles; the rest is missing. finish() completes the plan (or makes
-    // it invalid).
+    // max_normal_deviation, and removed_triangles and new_triangles; the rest is missing.
+    // VertexRemover::finish_part / finish_parts_done complete the plan (or make it invalid).
     bool pending = false;
 
     // Back to a fresh plan, keeping the buffers (plans are made millions of times).
@@ -92,13 +92,12 @@ public:
     // checked: cheaper, for ranking; a plan must be made with `validate` before commit.
     void plan(int32_t v, bool validate, RemovalPlan& plan);
     // A full plan that may stop before the validation (plan.pending), for a removal that
-    // may be put back into the queue by its cost. finish() must follow before any other
-    // plan of this remover.
+    // may be put back into the queue by its cost. A pending plan is completed, before any
+    // other plan of this remover, by finish_part(k, parts) for k = 0 .. parts-1, run as
+    // tasks of one round whose tasks start in order (part 0 prepares, the others wait for
+    // that; each checks its share of the new triangles), then finish_parts_done(). The
+    // result is the same for every number of parts (1 = on one thread).
     void plan_deferred(int32_t v, RemovalPlan& plan);
-    void finish(RemovalPlan& plan);
-    // finish() shared by threads: finish_part(k, parts) for k = 0 .. parts-1 as tasks of
-    // one round whose tasks start in order (part 0 prepares, the others wait for that;
-    // each checks its share of the new triangles), then finish_parts_done(). Same result.
     static constexpr int kMaxFinishParts = 2;
     void finish_part(int part, int parts);
     void finish_parts_done(RemovalPlan& plan, int parts);
