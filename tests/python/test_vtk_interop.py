@@ -1,13 +1,14 @@
 """Opens bpm files with VTK's own HDF reader (vtkHDFReader, VTK 9.1 as in ParaView
 5.11) through the /VTKHDF group and checks that VTK sees the coarse surface: point and
 cell counts, triangle cells with the right connectivity, and the patch cell data."""
-import argparse
 import os
 import subprocess
 import sys
 
 import h5py
 import numpy as np
+
+import vtk_test_common as common
 
 
 def check(path):
@@ -48,31 +49,18 @@ def check(path):
 
 
 def main():
-    ap = argparse.ArgumentParser()
-    ap.add_argument("--tools", required=True)
-    ap.add_argument("--source", required=True)
-    ap.add_argument("--meshes")
-    ap.add_argument("--work", required=True)
-    args = ap.parse_args()
-    try:
-        import vtkmodules.vtkIOHDF  # noqa: F401
-    except ImportError as e:
-        print("test_vtk_interop: FAILED, cannot import vtkmodules.vtkIOHDF (python3-vtk9): %s" % e)
+    args = common.parse_args()
+    missing = common.vtk_missing("test_vtk_interop", "vtkmodules.vtkIOHDF")
+    if missing:
+        print(missing)
         return 1
-    work = os.path.join(args.work, "vtk_interop")
-    os.makedirs(work, exist_ok=True)
+    work = common.work_dir(args, "vtk_interop")
     files = [os.path.join(args.source, "spec", "examples", "two_triangles.bpm")]
     for kind in (["height_field", "24", "4"], ["octahedron", "3"], ["height_field", "240", "60"]):
         out = os.path.join(work, "_".join(kind) + ".bpm")
         subprocess.run([os.path.join(args.tools, "bpm-make-example")] + kind + [out], check=True)
         files.append(out)
-    failed = 0
-    for path in files:
-        problems = check(path)
-        print("%s: %s" % (os.path.basename(path), "ok" if not problems else "FAILED"))
-        for p in problems:
-            print("  " + p)
-        failed += bool(problems)
+    failed = common.report(files, check)
     print("test_vtk_interop: vtkHDFReader reads %d of %d bpm files correctly" % (len(files) - failed, len(files)))
     return 1 if failed else 0
 

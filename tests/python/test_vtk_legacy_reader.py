@@ -4,13 +4,14 @@ point scalar array and an int cell array "material"; bpm-check --surface must ac
 file and bpm-simplify must store, in /original of its .bpm output, exactly the points,
 triangles, material ids and point data ("temperature") that VTK's own reader
 (vtkPolyDataReader / vtkUnstructuredGridReader) reads from the same file."""
-import argparse
 import os
 import subprocess
 import sys
 
 import h5py
 import numpy as np
+
+import vtk_test_common as common
 
 
 def make_sphere():
@@ -149,27 +150,14 @@ def check(path, tools, work):
 
 
 def main():
-    ap = argparse.ArgumentParser()
-    ap.add_argument("--tools", required=True)
-    ap.add_argument("--source", required=True)
-    ap.add_argument("--meshes")
-    ap.add_argument("--work", required=True)
-    args = ap.parse_args()
-    try:
-        import vtk  # noqa: F401
-    except ImportError as e:
-        print("test_vtk_legacy_reader: FAILED, cannot import vtk (python3-vtk9): %s" % e)
+    args = common.parse_args()
+    missing = common.vtk_missing("test_vtk_legacy_reader", "vtk")
+    if missing:
+        print(missing)
         return 1
-    work = os.path.join(args.work, "vtk_legacy_reader")
-    os.makedirs(work, exist_ok=True)
+    work = common.work_dir(args, "vtk_legacy_reader")
     files = write_files(work)
-    failed = 0
-    for path in files:
-        problems = check(path, args.tools, work)
-        print("%s: %s" % (os.path.basename(path), "ok" if not problems else "FAILED"))
-        for p in problems:
-            print("  " + p)
-        failed += bool(problems)
+    failed = common.report(files, lambda path: check(path, args.tools, work))
     print("test_vtk_legacy_reader: bpm reads %d of %d VTK-written .vtk files like VTK does" % (len(files) - failed, len(files)))
     return 1 if failed else 0
 

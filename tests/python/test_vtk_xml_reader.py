@@ -5,13 +5,14 @@ UInt64 headers, big-endian, and through vtkXMLUnstructuredGridWriter. For each f
 --surface must accept it, and bpm-simplify must read it with VTK's vertex and triangle
 counts and store the point data in the .bpm file with VTK's values and the material as
 patches. Last, bpm-refine --data writes one of the results as .vtu and bpm reads it back."""
-import argparse
 import os
 import subprocess
 import sys
 
 import h5py
 import numpy as np
+
+import vtk_test_common as common
 
 
 def sphere():
@@ -130,27 +131,14 @@ def check(path, tools, work):
 
 
 def main():
-    ap = argparse.ArgumentParser()
-    ap.add_argument("--tools", required=True)
-    ap.add_argument("--source", required=True)
-    ap.add_argument("--meshes")
-    ap.add_argument("--work", required=True)
-    args = ap.parse_args()
-    try:
-        import vtk  # noqa: F401
-    except ImportError as e:
-        print("test_vtk_xml_reader: FAILED, cannot import vtk (python3-vtk9): %s" % e)
+    args = common.parse_args()
+    missing = common.vtk_missing("test_vtk_xml_reader", "vtk")
+    if missing:
+        print(missing)
         return 1
-    work = os.path.join(args.work, "vtk_xml_reader")
-    os.makedirs(work, exist_ok=True)
+    work = common.work_dir(args, "vtk_xml_reader")
     files = write_files(sphere(), work)
-    failed = 0
-    for path in files:
-        problems = check(path, args.tools, work)
-        print("%s: %s" % (os.path.basename(path), "ok" if not problems else "FAILED"))
-        for p in problems:
-            print("  " + p)
-        failed += bool(problems)
+    failed = common.report(files, lambda path: check(path, args.tools, work))
     # Round trip through bpm-refine's own .vtu writer: the refined surface and its
     # interpolated point data read back.
     coarse = os.path.join(work, os.path.basename(files[0]) + ".bpm")
