@@ -230,13 +230,10 @@ private:
 
     VertexRemover& remover(int thread) { return thread == 0 ? *remover_ : *removers_[thread - 1]; }
     void rebuild_grid();
-    // Would the new triangles intersect each other or the alive triangles other than `removed`?
-    bool intersects_rest(const std::vector<Tri>& new_triangles, const std::vector<int32_t>& removed,
-                         std::vector<TriangleGrid::Entry>& candidates) const;
-    // Cost of removing v, +infinity if it cannot be removed now (reason recorded).
-    // `final` = full validation of the transfer (needed before commit). The global
-    // intersection test is separate (admissible_globally).
-    double evaluate(int32_t v, bool final, RemovalPlan& plan, int thread = 0);
+    bool intersects_rest(const RemovalPlan& plan, std::vector<TriangleGrid::Entry>& candidates) const;
+    // Queue key of v from a cheap plan (a lower bound of the full plan's cost), +infinity
+    // if it cannot be removed now (reason recorded). On the remover of `thread`.
+    double rank(int32_t v, RemovalPlan& plan, int thread);
     // `estimate`: the cost a full plan is ranked by first, from its estimated_deviation and
     // without the normal limit (known only after validation); the same for a plan whose
     // validation is pending and for a complete one.
@@ -248,7 +245,6 @@ private:
     // Full plans of entries pushed back because their real cost was higher than the
     // estimate; reused when the entry comes back with the same stamp.
     std::unordered_map<int32_t, WaitingPlan> full_plans_;
-    std::function<void(size_t)> export_chunk_;  // the export's task (see run())
     void self_check(int32_t removed_vertex, const std::vector<int32_t>& link, int64_t step);
 };
 
@@ -298,9 +294,10 @@ void Simplifier::rebuild_grid() {
     grid_built_at_ = mesh_.num_alive_triangles();
 }
 
-bool Simplifier::intersects_rest(const std::vector<Tri>& new_triangles, const std::vector<int32_t>& removed,
-                                 std::vector<TriangleGrid::Entry>& candidates) const {
+bool Simplifier::intersects_rest(const RemovalPlan& plan, std::vector<TriangleGrid::Entry>& candidates) const {
     const auto& x = original_.vertices;
+    const auto& new_triangles = plan.new_triangles;
+    const auto& removed = plan.removed_triangles;
     const size_t count_new = new_triangles.size();
     // Boxes of the new triangles, and the box around all of them: one grid query for
     // the whole star (the new triangles overlap the same few cells) instead of one per
@@ -373,9 +370,9 @@ bool Simplifier::intersects_rest(const std::vector<Tri>& new_triangles, const st
     return false;
 }
 
-double Simplifier::evaluate(int32_t v, bool final, RemovalPlan& plan, int thread) {
-    remover(thread).plan(v, final, plan);
-    plans_[final ? 1 : 0].fetch_add(1, std::memory_order_relaxed);
+double Simplifier::rank(int32_t v, RemovalPlan& plan, int thread) {
+    remover(thread).plan(v, false, plan);
+    plans_[0].fetch_add(1, std::memory_order_relaxed);
     return judge(v, plan);
 }
 
@@ -390,7 +387,7 @@ bool Simplifier::still_current(const RemovalPlan& plan) const {
 }
 
 bool Simplifier::admissible_globally(int32_t v, const RemovalPlan& plan) {
-    if (options_.prevent_intersections && intersects_rest(plan.new_triangles, plan.removed_triangles, candidates_[0])) {
+    if (options_.prevent_intersections && intersects_rest(plan, candidates_[0])) {
         last_reason_[v] = "would create a self-intersection";
         return false;
     }
@@ -450,8 +447,8 @@ SimplifyResult Simplifier::run(Parametrization& out) {
     enum class Job : uint8_t {
         Rank,       // cheap plan of `vertex`, cost into `cost`
         Finish,     // part `vertex` of the validation of plan_ (VertexRemover::finish_part of remover_)
-        Intersect,  // intersects_rest for the new triangles of plan_, copied before the round
-        Export,     // export_chunk_(vertex) at the end
+        Intersect,  // intersects_rest for plan_ (whose triangles the Finish parts do not touch)
+        Export,     // export_task(vertex), at the end
         Grid,       // grid_removed out of the grid, the triangles from `vertex` on into it
     };
     struct Task {
@@ -461,18 +458,17 @@ SimplifyResult Simplifier::run(Parametrization& out) {
     };
     std::vector<Task> tasks;
     std::vector<RemovalPlan> cheap_plans(removers_.size() + 1);
-    std::vector<Tri> pending_new;        // the new triangles of a pending plan_, for Job::Intersect
-    std::vector<int32_t> pending_removed;
     bool pending_intersects = false;
+    std::function<void(size_t)> export_task;  // chunk `vertex` of the export (set there)
     const int finish_parts = std::min<int>(VertexRemover::kMaxFinishParts, int(removers_.size()) + 1);
     std::vector<std::pair<int32_t, Tri>> grid_removed;  // of the last commit, for Job::Grid
     PlanningPool pool(static_cast<int>(removers_.size()) + 1, [&](int thread, size_t i) {
         Task& task = tasks[i];
         switch (task.job) {
-            case Job::Rank: task.cost = evaluate(task.vertex, false, cheap_plans[thread], thread); break;
+            case Job::Rank: task.cost = rank(task.vertex, cheap_plans[thread], thread); break;
             case Job::Finish: remover_->finish_part(task.vertex, finish_parts); break;
-            case Job::Intersect: pending_intersects = intersects_rest(pending_new, pending_removed, candidates_[thread]); break;
-            case Job::Export: export_chunk_(size_t(task.vertex)); break;
+            case Job::Intersect: pending_intersects = intersects_rest(plan_, candidates_[thread]); break;
+            case Job::Export: export_task(size_t(task.vertex)); break;
             case Job::Grid: {
                 const auto& x = original_.vertices;
                 for (const auto& [t, c] : grid_removed) grid_.remove(t, x[c[0]], x[c[1]], x[c[2]]);
@@ -521,10 +517,9 @@ SimplifyResult Simplifier::run(Parametrization& out) {
         const QueueEntry top = queue_.top();
         queue_.pop();
         if (top.stamp != stamp_[top.vertex] || !mesh_.vertex_alive(top.vertex)) continue;
-        // The neighbourhood is unchanged since the evaluation (stamp), but other
-        // removals may have changed things near it: plan and test again, or reuse a
-        // full plan that is provably still the same.
-        // A full plan is ranked by its estimate first (the cost before validation): if that
+        // The neighbourhood is unchanged since the ranking (stamp), but other removals may
+        // have changed things near it: plan again, or reuse a full plan that is provably
+        // still the same. A full plan is ranked by its estimate first (the cost before validation): if that
         // is above the next entry, the removal waits, unvalidated (most such plans never
         // come back unchanged). Otherwise the plan is validated, and in the same round its
         // new triangles are tested against the rest of the surface. Floater's map or the
@@ -554,11 +549,7 @@ SimplifyResult Simplifier::run(Parametrization& out) {
             tasks.clear();
             tasks.push_back(Task{0, Job::Finish});
             const bool test_intersections = options_.prevent_intersections && known_intersection < 0;
-            if (test_intersections) {
-                pending_new = plan_.new_triangles;
-                pending_removed = plan_.removed_triangles;
-                tasks.push_back(Task{top.vertex, Job::Intersect});
-            }
+            if (test_intersections) tasks.push_back(Task{top.vertex, Job::Intersect});
             for (int part = 1; part < finish_parts; ++part) tasks.push_back(Task{part, Job::Finish});
             pool.run_round(tasks.size());
             remover_->finish_parts_done(plan_, finish_parts);
@@ -718,7 +709,7 @@ SimplifyResult Simplifier::run(Parametrization& out) {
     };
     tasks.clear();
     for (size_t c = 0; c < chunks.size(); ++c) tasks.push_back(Task{int32_t(c), Job::Export});
-    export_chunk_ = [&](size_t c) { export_chunk(chunks[c]); };
+    export_task = [&](size_t c) { export_chunk(chunks[c]); };
     pool.run_round(tasks.size());
     double max_deviation = 0.0;
     out.node_offsets.push_back(0);

@@ -347,8 +347,7 @@ public:
         std::string reason;
     };
     bool prepare_checks(std::string& why);
-    bool check_triangles(int32_t begin, int32_t end, TriangleCheck& check, double& min_cosine, int32_t& failed,
-                         std::string& why) const;
+    bool check_triangles(int32_t begin, int32_t end, TriangleCheck& check, double& min_cosine, std::string& why) const;
     bool end_finish(bool checks_passed, const std::string& reason, double min_cosine, std::string& why);
     int32_t num_new_triangles() const { return static_cast<int32_t>(new_tris.size()); }
     bool run(std::string& why) {
@@ -1223,8 +1222,7 @@ bool FanPlanner::transfer_cost(std::string& why) {
 bool FanPlanner::transfer_validate(std::string& why) {
     if (!prepare_checks(why)) return false;
     double min_cosine = 1.0;
-    int32_t failed = -1;
-    if (!check_triangles(0, int32_t(new_tris.size()), own_check_, min_cosine, failed, why)) return false;
+    if (!check_triangles(0, int32_t(new_tris.size()), own_check_, min_cosine, why)) return false;
     min_normal_cosine = min_cosine;
     set_locations();
     return true;
@@ -1314,14 +1312,13 @@ bool FanPlanner::prepare_checks(std::string& why) {
 }
 
 bool FanPlanner::check_triangles(int32_t begin, int32_t end, TriangleCheck& check, double& min_cosine,
-                                 int32_t& failed, std::string& why) const {
+                                 std::string& why) const {
     const int32_t nnodes = static_cast<int32_t>(nodes_.size());
     TriangleGraph& graph = check.graph;
     auto& local_ = check.local;
     auto& touched_ = check.touched;
     local_.assign(nnodes + crossings_.size(), -1);
     for (int32_t t = begin; t < end; ++t) {
-        failed = t;
         const auto& c = new_tris[t];
         graph.nodes.clear();
         graph.segments.clear();
@@ -1404,7 +1401,6 @@ bool FanPlanner::check_triangles(int32_t begin, int32_t end, TriangleCheck& chec
         for (size_t f = 0; f < face_count && !normals_.empty(); ++f)
             min_cosine = std::min(min_cosine, dot(new_normals_[t], normals_[check.faces[f].original_triangle]));
     }
-    failed = -1;
     return true;
 }
 
@@ -1475,8 +1471,7 @@ bool FanPlanner::finish(std::string& why) {
     std::string reason;
     const bool prepared = prepare_checks(reason);
     double min_cosine = 1.0;
-    int32_t failed = -1;
-    const bool ok = prepared && check_triangles(0, int32_t(new_tris.size()), own_check_, min_cosine, failed, reason);
+    const bool ok = prepared && check_triangles(0, int32_t(new_tris.size()), own_check_, min_cosine, reason);
     return end_finish(ok, reason, min_cosine, why);
 }
 
@@ -1528,7 +1523,6 @@ struct RemovalScratch {
     std::string prepare_reason;
     struct Part {
         bool passed = false;
-        int32_t failed = -1;
         double min_cosine = 1.0;
         std::string reason;
         FanPlanner::TriangleCheck check;
@@ -1583,7 +1577,12 @@ void VertexRemover::finish_part(int part, int parts) {
     FanPlanner& planner = scratch_->planner;
     int state;
     if (part == 0) {
-        state = planner.prepare_checks(scratch_->prepare_reason) ? 1 : 2;
+        try {
+            state = planner.prepare_checks(scratch_->prepare_reason) ? 1 : 2;
+        } catch (...) {
+            scratch_->prepared.store(2, std::memory_order_release);  // the other parts must not wait forever
+            throw;
+        }
         scratch_->prepared.store(state, std::memory_order_release);
     } else {
         // Part 0 was taken first (tasks start in order) and runs on another thread.
@@ -1597,12 +1596,10 @@ void VertexRemover::finish_part(int part, int parts) {
     }
     RemovalScratch::Part& p = scratch_->parts[part];
     p.passed = false;
-    p.failed = -1;
     p.min_cosine = 1.0;
     if (state != 1) return;
     const int32_t n = planner.num_new_triangles();
-    p.passed = planner.check_triangles(n * part / parts, n * (part + 1) / parts, p.check, p.min_cosine, p.failed,
-                                       p.reason);
+    p.passed = planner.check_triangles(n * part / parts, n * (part + 1) / parts, p.check, p.min_cosine, p.reason);
 }
 
 void VertexRemover::finish_parts_done(RemovalPlan& plan, int parts) {
@@ -1721,9 +1718,11 @@ void VertexRemover::plan_once(int32_t v, bool force_disk, bool validate, bool de
             }
         }
     }
-    // A single fan off crease lines can stop after the transfer's cost (finish() goes on
-    // from there); several fans share one planner, and a crease may need the retry as a disk.
+    // A single fan off crease lines can stop after the transfer's cost (finish_part() goes
+    // on from there); several fans share one planner, and a crease may need the retry as a disk.
     defer = defer && validate && fans.size() == 1 && !crease_line;
+    for (const auto& ne : plan.new_edges)  // the new feature edge; the diagonals follow per fan
+        plan.longest_new_edge = std::max(plan.longest_new_edge, distance(x[ne[0]], x[ne[1]]));
     for (const Fan& fan : fans) {
         for (int32_t t : fan.triangles) {
             plan.removed_triangles.push_back(t);
@@ -1743,14 +1742,12 @@ void VertexRemover::plan_once(int32_t v, bool force_disk, bool validate, bool de
         for (double a : planner.new_aspects) plan.worst_new_aspect = std::max(plan.worst_new_aspect, a);
         for (const auto& d : planner.diagonals)
             plan.longest_new_edge = std::max(plan.longest_new_edge, distance(x[fan.link[d[0]]], x[fan.link[d[1]]]));
-        for (const auto& ne : plan.new_edges)
-            plan.longest_new_edge = std::max(plan.longest_new_edge, distance(x[ne[0]], x[ne[1]]));
         if (stage == FanPlanner::Stage::Estimated) {
             if (defer) {
                 plan.pending = true;
                 plan.max_deviation = planner.estimated_deviation;
                 // The new triangles too, for the intersection test that may run while
-                // finish() validates (finish() sets them again).
+                // finish_part() validates (finish_parts_done() sets them again).
                 for (const auto& t : planner.new_tris)
                     plan.new_triangles.push_back({fan.link[t[0]], fan.link[t[1]], fan.link[t[2]]});
                 return;

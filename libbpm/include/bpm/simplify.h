@@ -63,9 +63,9 @@ struct SimplifyOptions {
     // Threads that share the work (planning rounds, the input check, the export); the
     // output is the same for every thread count. 0 = automatic: 2 if the hardware has a
     // second core and not every core is busy (1-minute load average below the number of
-    // cores), else 1. Two
-    // threads take about 1.2x less wall time and 1.5x more CPU time (the second thread
-    // spins between the short rounds), so a busy machine is better off with one.
+    // cores), else 1. Two threads take about 1.2x less wall time and 1.5x more CPU time
+    // (the second thread spins between the short rounds), so a busy machine is better
+    // off with one.
     int threads = 0;
     // Record every committed removal (the vertex and the triangles that replaced its
     // star) in SimplifyResult::steps, so that bpm-check --replay can re-apply them.
