@@ -397,7 +397,8 @@ def simplify_markdown(header, rows):
     threads_note = ("here bpm runs on one thread (`--threads 1`), like the other two, so CPU ≈ wall on an idle machine"
                     if one_thread else
                     "psurface and CGAL are single-threaded; bpm runs on 2 threads unless every core is busy (its "
-                    "default `--threads 0`), and then takes about 1.5x as much CPU time as wall time: the second thread "
+                    "default `--threads 0`), and then takes about 1.9x as much CPU time as wall time (about 1.5x the CPU "
+                    "time of one thread): the second thread "
                     "spins between the short planning rounds. `simplify-1thread.md` has bpm with `--threads 1`")
     out = ["# bpm-simplify vs psurface-simplify, with CGAL's edge collapse as a plain-decimation reference", "",
            f"Measured {header['date']}; bpm commit {header['commit']}; {header.get('binary', '')}. "
