@@ -537,7 +537,11 @@ SimplifyResult Simplifier::run(Parametrization& out) {
             remover_->plan_deferred(top.vertex, plan_);
             plans_[1].fetch_add(1, std::memory_order_relaxed);
         }
-        auto waits = [&](double c) { return c > top.cost + 1e-15 && !queue_.empty() && c > queue_.top().cost; };
+        auto waits = [&](double c) {
+            if (!(c > top.cost + 1e-15) || queue_.empty()) return false;
+            const double next = queue_.top().cost;
+            return c > next + options_.queue_tolerance * std::abs(next);
+        };
         const double estimate = judge(top.vertex, plan_, true);
         if (!std::isfinite(estimate)) continue;
         if (waits(estimate)) {
@@ -763,6 +767,8 @@ SimplifyResult simplify(const Surface& original, const SimplifyOptions& options,
     if (!(options.max_aspect_ratio >= 2)) throw OptionError("--max-aspect must be at least 2 (equilateral)");
     if (!(options.max_normal_deviation_degrees >= 0 && options.max_normal_deviation_degrees <= 180))
         throw OptionError("--max-normal-deviation must be between 0 and 180 degrees");
+    if (!(options.queue_tolerance >= 0 && options.queue_tolerance <= 10))
+        throw OptionError("--queue-tolerance must be between 0 and 10");
     if (!(options.feature_angle_degrees >= 0 && options.feature_angle_degrees <= 180))
         throw OptionError("--feature-angle must be between 0 and 180 degrees");
     const int threads = planning_threads(options);
