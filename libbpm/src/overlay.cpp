@@ -186,7 +186,9 @@ bool faces_into(const TriangleGraph& graph, const Embedding& embedding, const st
                 return false;
             }
             const Vec2 pa = param_point(nodes[a]), pb = param_point(nodes[b]);
-            if (orient2d(p, pa, pb) == 0 && dot(pa - p, pb - p) > 0 && !(three_on_one_edge(nodes[i], nodes[a], nodes[b]))) {
+            // The cheap tests first: the two links along a side of the coarse triangle are
+            // collinear, and on a slanted side only the exact predicate can tell.
+            if (dot(pa - p, pb - p) > 0 && !three_on_one_edge(nodes[i], nodes[a], nodes[b]) && orient2d(p, pa, pb) == 0) {
                 set_reason(why, "overlapping edges");
                 return false;
             }
