@@ -379,4 +379,70 @@ int64_t drop_unreferenced_vertices(Surface& surface) {
     return dropped;
 }
 
+int64_t fuse_duplicate_triangles(Surface& surface, std::vector<FusedPatch>* interfaces) {
+    auto& T = surface.triangles;
+    auto& P = surface.patches;
+    const int64_t nv = surface.num_vertices();
+    if (P.size() != T.size()) return 0;  // validate_surface() reports it
+    // (sorted corners, index) of every usable triangle; equal keys are one set.
+    std::vector<std::pair<Tri, int32_t>> keys;
+    keys.reserve(T.size());
+    for (size_t t = 0; t < T.size(); ++t) {
+        Tri k = T[t];
+        if (k[0] < 0 || k[1] < 0 || k[2] < 0 || k[0] >= nv || k[1] >= nv || k[2] >= nv) continue;
+        if (k[0] == k[1] || k[0] == k[2] || k[1] == k[2]) continue;
+        std::sort(k.begin(), k.end());
+        keys.push_back({k, static_cast<int32_t>(t)});
+    }
+    std::sort(keys.begin(), keys.end());
+    std::vector<char> keep(T.size(), 1);
+    // Each set, in order of its first triangle: the new patch is numbered in that order.
+    std::vector<std::pair<int32_t, std::vector<int32_t>>> sets;  // (first triangle, patches of the set)
+    for (size_t begin = 0, end = 0; begin < keys.size(); begin = end) {
+        for (end = begin + 1; end < keys.size() && keys[end].first == keys[begin].first; ++end) {
+        }
+        if (end - begin < 2) continue;
+        std::vector<int32_t> patches;
+        for (size_t i = begin; i < end; ++i) {
+            patches.push_back(P[size_t(keys[i].second)]);
+            if (i > begin) keep[size_t(keys[i].second)] = 0;  // keys[begin] has the smallest index
+        }
+        std::sort(patches.begin(), patches.end());
+        patches.erase(std::unique(patches.begin(), patches.end()), patches.end());
+        sets.push_back({keys[begin].second, std::move(patches)});
+    }
+    if (sets.empty()) return 0;
+    std::sort(sets.begin(), sets.end());
+    int32_t next = 0;
+    for (int32_t p : P) next = std::max(next, p + 1);
+    std::map<std::vector<int32_t>, size_t> made;  // patches joined -> index into *interfaces
+    std::vector<FusedPatch> fused;
+    for (auto& [t, patches] : sets) {
+        if (patches.size() < 2) continue;  // a plain duplicate within one patch
+        auto it = made.find(patches);
+        if (it == made.end()) {
+            it = made.emplace(patches, fused.size()).first;
+            fused.push_back({next++, patches, 0});
+        }
+        FusedPatch& f = fused[it->second];
+        P[size_t(t)] = f.patch;
+        ++f.triangles;
+    }
+    int64_t removed = 0;
+    size_t out = 0;
+    for (size_t t = 0; t < T.size(); ++t) {
+        if (!keep[t]) {
+            ++removed;
+            continue;
+        }
+        T[out] = T[t];
+        P[out] = P[t];
+        ++out;
+    }
+    T.resize(out);
+    P.resize(out);
+    if (interfaces) *interfaces = std::move(fused);
+    return removed;
+}
+
 }  // namespace bpm

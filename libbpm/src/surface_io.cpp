@@ -61,6 +61,23 @@ std::string sniffed_format_hint(std::string_view bytes, SurfaceFormat chosen) {
     return std::string(" (the file looks like ") + format_name(*seen) + ", not " + format_name(chosen) + ")";
 }
 
+// The merge-duplicate-triangles repair, with a note per new interface patch.
+void fuse_triangles(Surface& surface, SurfaceReadReport& r, const std::string& prefix) {
+    std::vector<FusedPatch> fused;
+    const int64_t removed = fuse_duplicate_triangles(surface, &fused);
+    r.fused_triangles += removed;
+    if (removed == 0) return;
+    r.notes.push_back(prefix + "removed " + std::to_string(removed) + " duplicate triangles (" +
+                      std::to_string(surface.triangles.size()) + " triangles left)");
+    for (const FusedPatch& f : fused) {
+        std::string joins;
+        for (size_t i = 0; i < f.joins.size(); ++i)
+            joins += (i == 0 ? "" : i + 1 == f.joins.size() ? " and " : ", ") + std::to_string(f.joins[i]);
+        r.notes.push_back(prefix + "patch " + std::to_string(f.patch) + " = the " + std::to_string(f.triangles) +
+                          " triangles that patches " + joins + " had in common (fused)");
+    }
+}
+
 // Why a surface that parsed is still unusable, with the repair that would help.
 std::string problems_message(const std::vector<SurfaceProblem>& problems, const Surface& surface, size_t limit) {
     using Kind = SurfaceProblem::Kind;
@@ -69,10 +86,17 @@ std::string problems_message(const std::vector<SurfaceProblem>& problems, const 
     for (size_t i = 0; i < shown; ++i) {
         if (i > 0) message += "; ";
         message += describe_problem(problems[i], surface);
+        // The repair that helps, once per kind of problem.
+        bool hinted = false;
+        for (size_t j = 0; j < i; ++j) hinted = hinted || problems[j].kind == problems[i].kind;
+        if (hinted) continue;
         if (problems[i].kind == Kind::UnreferencedVertex) {
             message += " (the drop-unreferenced-vertices repair removes such vertices)";
         } else if (problems[i].kind == Kind::DuplicateVertex) {
             message += " (the merge-duplicate-vertices repair merges them)";
+        } else if (problems[i].kind == Kind::DuplicateTriangle) {
+            message += " (the merge-duplicate-triangles repair fuses them; an interface between two "
+                       "materials becomes a patch of its own)";
         }
     }
     if (problems.size() > shown) {
@@ -138,6 +162,7 @@ Surface read_surface_from_memory(const std::string& bytes, SurfaceFormat format,
     r.notes = std::move(parsed.notes);
     if (options.merge_duplicate_vertices) r.merged_vertices = merge_duplicate_vertices(surface);
     if (options.drop_unreferenced_vertices) r.dropped_vertices = drop_unreferenced_vertices(surface);
+    if (options.merge_duplicate_triangles) fuse_triangles(surface, r, "");
 
     if (surface.triangles.empty()) {
         std::string message = "the surface has no triangles";
@@ -190,6 +215,7 @@ Surface read_surfaces(const std::vector<std::string>& paths, const SurfaceReadOp
         if (i == 0) r.format = one.format;
         r.merged_vertices += one.merged_vertices;
         r.dropped_vertices += one.dropped_vertices;
+        r.fused_triangles += one.fused_triangles;
         r.skipped_elements += one.skipped_elements;
         for (const std::string& note : one.notes) r.notes.push_back(name + ": " + note);
     }
@@ -203,6 +229,8 @@ Surface read_surfaces(const std::vector<std::string>& paths, const SurfaceReadOp
         r.notes.push_back("vertex data '" + name + "' left out: not every input has it (with the same components)");
     // Inputs that touch share positions, not vertices, until the repair merges them.
     if (options.merge_duplicate_vertices) r.merged_vertices += merge_duplicate_vertices(surface);
+    // Then the interfaces that two files both have are the same triangles.
+    if (options.merge_duplicate_triangles) fuse_triangles(surface, r, "the inputs together: ");
     ValidateOptions validate;
     validate.max_problems = 100;
     validate.allow_unreferenced_vertices = options.drop_unreferenced_vertices;

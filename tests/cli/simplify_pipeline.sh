@@ -53,6 +53,41 @@ contains "$work/out" "2 components" "two components"
 expect 3 "the same file twice: duplicate positions across the inputs" -- "$simplify" "$femur" "$femur" -o "$work/dup.bpm" --ratio 0.1
 contains "$work/err" "the inputs together" "says it is the combination"
 expect 2 "standard input is not one of several inputs" -- "$simplify" - "$femur" -o "$work/x.bpm" --ratio 0.1
+# One closed surface per material with a shared interface (two unit cubes touching at
+# x = 1): the interface is in both files. Refused as duplicate triangles with the repair
+# named; with it the interface becomes a sheet between the two materials.
+/usr/bin/python3 - "$work/cube_a.off" "$work/cube_b.off" <<'PY'
+import sys
+def cube(x0, res, path):
+    index, verts, faces = {}, [], []
+    def v(p):
+        if p not in index: index[p] = len(verts); verts.append(p)
+        return index[p]
+    for axis in range(3):
+        o = [k for k in range(3) if k != axis]
+        for side in (0, 1):
+            for i in range(res):
+                for j in range(res):
+                    def pt(a, b):
+                        c = [0, 0, 0]; c[axis] = side * res; c[o[0]] = a; c[o[1]] = b
+                        return (x0 * res + c[0], c[1], c[2])
+                    q = [v(pt(i, j)), v(pt(i + 1, j)), v(pt(i + 1, j + 1)), v(pt(i, j + 1))]
+                    if (side == 0) != (axis == 1): q = [q[0], q[3], q[2], q[1]]  # outwards
+                    faces += [(q[0], q[1], q[2]), (q[0], q[2], q[3])]
+    with open(path, "w") as f:
+        f.write("OFF\n%d %d 0\n" % (len(verts), len(faces)))
+        for p in verts: f.write("%r %r %r\n" % tuple(c / res for c in p))
+        for t in faces: f.write("3 %d %d %d\n" % t)
+cube(0, 4, sys.argv[1]); cube(1, 4, sys.argv[2])
+PY
+expect 3 "two touching materials without the repairs" -- "$simplify" "$work/cube_a.off" "$work/cube_b.off" -o "$work/ab.bpm" --ratio 0.3 --merge-duplicate-vertices
+contains "$work/err" "merge-duplicate-triangles repair" "the refusal names the repair"
+expect 0 "two touching materials with --merge-duplicate-triangles" -- "$simplify" "$work/cube_a.off" "$work/cube_b.off" -o "$work/ab.bpm" --ratio 0.3 --merge-duplicate-vertices --merge-duplicate-triangles
+contains "$work/err" "removed 32 duplicate triangles" "the fused triangles are reported"
+contains "$work/err" "patch 2 = the 32 triangles that patches 0 and 1 had in common" "the interface patch is named"
+expect 0 "the two materials pass bpm-check" -- "$check" "$work/ab.bpm"
+contains "$work/out" "non-manifold" "the interface is a sheet"
+contains "$work/out" "1 feature lines" "its rim is a feature line of three sheets"
 
 # Usage errors (2) before any work, input errors (3), nothing left behind.
 expect 2 "no stopping rule" -- "$simplify" "$femur" -o "$work/x.bpm"

@@ -143,6 +143,25 @@ TEST_CASE("simplify gives the same output for every thread count", "[simplify]")
     }
 }
 
+TEST_CASE("simplify one closed surface per material once their shared faces are fused", "[simplify]") {
+    // What --merge-duplicate-vertices --merge-duplicate-triangles make of two touching
+    // cubes given as two closed surfaces: two cubes with a sheet between them.
+    Surface s = combine_surfaces({fixtures::voxel_surface(2, 1, 1, {1, 0}, 4), fixtures::voxel_surface(2, 1, 1, {0, 2}, 4)});
+    merge_duplicate_vertices(s);
+    REQUIRE(fuse_duplicate_triangles(s) == 32);
+    SimplifyOptions options;
+    options.target_ratio = 0.3;
+    SimplifyResult r;
+    const Parametrization p = run(s, options, &r);
+    require_valid(p, "two cubes fused from one surface per material");
+    CHECK(p.coarse.num_vertices() < s.num_vertices());
+    // The three patches (two outsides, the interface) stay apart.
+    std::vector<int32_t> patches = p.coarse.patches;
+    std::sort(patches.begin(), patches.end());
+    patches.erase(std::unique(patches.begin(), patches.end()), patches.end());
+    CHECK(patches == std::vector<int32_t>{0, 1, 2});
+}
+
 TEST_CASE("simplify in strict cost order (queue tolerance 0)", "[simplify]") {
     Surface s = fixtures::torus(40, 24);
     for (size_t i = 0; i < s.vertices.size(); ++i)

@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "bpm/surface.h"
+#include "fixtures_surfaces.h"
 
 using namespace bpm;
 using Kind = SurfaceProblem::Kind;
@@ -245,4 +246,44 @@ TEST_CASE("drop_unreferenced_vertices leaves bad indices detectable", "[validate
     CHECK(drop_unreferenced_vertices(s) == 1);
     CHECK(s.triangles.back()[2] == -1);
     CHECK(of_kind(validate_surface(s), Kind::IndexOutOfRange).size() == 1);
+}
+
+TEST_CASE("fuse_duplicate_triangles keeps the first of each set and gives shared ones a patch", "[validate]") {
+    // A tetrahedron (patch 0) and a second one on its face (0, 1, 2) (patch 1, that face
+    // reversed): the shared face once, in its first orientation, as patch 2; a plain
+    // duplicate within patch 1 is just removed.
+    Surface s;
+    s.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {0, 0, -1}};
+    s.triangles = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3},   // tetrahedron 0123, outwards
+                   {0, 1, 2}, {0, 4, 1}, {0, 2, 4}, {1, 4, 2},   // tetrahedron 0124, outwards
+                   {4, 1, 0}};                                   // duplicate of (0, 4, 1)
+    s.patches = {0, 0, 0, 0, 1, 1, 1, 1, 1};
+    CHECK(validate_surface(s).at(0).kind == Kind::DuplicateTriangle);
+    std::vector<FusedPatch> fused;
+    CHECK(fuse_duplicate_triangles(s, &fused) == 2);
+    CHECK(s.triangles == std::vector<Tri>{{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}, {0, 4, 1}, {0, 2, 4}, {1, 4, 2}});
+    CHECK(s.patches == std::vector<int32_t>{2, 0, 0, 0, 1, 1, 1});
+    REQUIRE(fused.size() == 1);
+    CHECK(fused[0].patch == 2);
+    CHECK(fused[0].joins == std::vector<int32_t>{0, 1});
+    CHECK(fused[0].triangles == 1);
+    CHECK(validate_surface(s).empty());
+    CHECK(fuse_duplicate_triangles(s) == 0);
+}
+
+TEST_CASE("fuse_duplicate_triangles: one closed cube per material becomes two cubes with a shared sheet",
+          "[validate]") {
+    // Each cube alone (labels 1 | 0 and 0 | 2), as two files would hold them.
+    std::vector<std::pair<int, int32_t>> origin;
+    Surface s = combine_surfaces({fixtures::voxel_surface(2, 1, 1, {1, 0}, 3), fixtures::voxel_surface(2, 1, 1, {0, 2}, 3)},
+                                 &origin);
+    CHECK(merge_duplicate_vertices(s) == 16);  // the 4 x 4 grid of the shared square
+    std::vector<FusedPatch> fused;
+    CHECK(fuse_duplicate_triangles(s, &fused) == 18);  // 3 x 3 quads of two triangles
+    REQUIRE(fused.size() == 1);
+    CHECK(fused[0].triangles == 18);
+    CHECK(validate_surface(s).empty());
+    const Surface reference = fixtures::two_cubes(3);
+    CHECK(s.num_vertices() == reference.num_vertices());
+    CHECK(s.num_triangles() == reference.num_triangles());
 }

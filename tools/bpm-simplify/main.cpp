@@ -70,6 +70,9 @@ int main(int argc, char** argv) {
                  "itself too and fail bpm-check)");
     app.add_flag("--merge-duplicate-vertices", read_options.merge_duplicate_vertices,
                  "Repair: merge input vertices with identical coordinates (reported)");
+    app.add_flag("--merge-duplicate-triangles", read_options.merge_duplicate_triangles,
+                 "Repair: fuse triangles with the same three vertices into one; with one closed surface per material "
+                 "(and --merge-duplicate-vertices) each shared interface becomes a patch of its own (reported)");
     app.add_flag("--drop-unreferenced-vertices", read_options.drop_unreferenced_vertices,
                  "Repair: drop input vertices that no triangle uses (reported)");
     app.add_flag("--triangulate-polygons", read_options.triangulate_polygons,

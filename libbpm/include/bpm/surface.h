@@ -102,4 +102,22 @@ Surface combine_surfaces(const std::vector<Surface>& parts,
 int64_t merge_duplicate_vertices(Surface& surface);   // exact position equality
 int64_t drop_unreferenced_vertices(Surface& surface);
 
+// Repair (--merge-duplicate-triangles) for one closed surface per material read together:
+// an interface between two materials is then in both files, as the same triangles in
+// opposite orientation (once the touching files share vertices, see
+// merge_duplicate_vertices). Every set of triangles with the same three vertices (any
+// order and orientation) becomes its first triangle (smallest index, its orientation);
+// the others are removed, the order of the rest is kept. A set whose triangles had
+// different patches gets a new patch, one per distinct set of patches, numbered from the
+// largest patch + 1 in order of first use: the interface is then a patch of its own, a
+// sheet between the materials. `interfaces`, if given, receives every new patch with the
+// patches it joins (sorted). Triangles with repeated corners or vertex indices out of
+// range are left for validate_surface() to report. Returns the number of triangles removed.
+struct FusedPatch {
+    int32_t patch = -1;
+    std::vector<int32_t> joins;  // the patches whose triangles became this patch's
+    int64_t triangles = 0;       // how many fused triangles it has
+};
+int64_t fuse_duplicate_triangles(Surface& surface, std::vector<FusedPatch>* interfaces = nullptr);
+
 }  // namespace bpm

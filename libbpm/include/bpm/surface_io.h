@@ -65,6 +65,10 @@ struct SurfaceReadOptions {
     std::optional<SurfaceFormat> format;      // overrides the extension; required for "-"
     bool merge_duplicate_vertices = false;    // repair: merge vertices at identical positions
     bool drop_unreferenced_vertices = false;  // repair: remove vertices no triangle uses
+    // Repair: fuse triangles with the same three vertices into one (fuse_duplicate_triangles
+    // in bpm/surface.h; after merge_duplicate_vertices): the shared interfaces of one closed
+    // surface per material become patches of their own (reported in notes).
+    bool merge_duplicate_triangles = false;
     // Repair: split faces with more than three corners (OFF, OBJ, PLY, VTK) into triangles by
     // ear clipping in the face's plane (reported in SurfaceReadReport::notes); a face that
     // is not a simple polygon seen along its normal is still refused.
@@ -76,6 +80,7 @@ struct SurfaceReadReport {
     SurfaceFormat format = SurfaceFormat::Off;
     int64_t merged_vertices = 0;       // by the requested repair
     int64_t dropped_vertices = 0;      // by the requested repair
+    int64_t fused_triangles = 0;       // removed by the requested repair (merge_duplicate_triangles)
     int64_t skipped_elements = 0;      // non-triangle elements of MSH files, non-surface cells of VTK files, that were ignored
     std::vector<std::string> notes;    // other human-readable remarks
 };
