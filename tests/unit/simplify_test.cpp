@@ -162,6 +162,27 @@ TEST_CASE("simplify one closed surface per material once their shared faces are 
     CHECK(patches == std::vector<int32_t>{0, 1, 2});
 }
 
+TEST_CASE("simplify a cube of eight materials given as eight closed surfaces", "[simplify]") {
+    // Octants: edges where four sheets meet, a vertex where six feature lines meet.
+    std::vector<Surface> parts;
+    for (int k = 0; k < 8; ++k) {
+        std::vector<int> labels(8, 0);
+        labels[size_t(k)] = k + 1;
+        parts.push_back(fixtures::voxel_surface(2, 2, 2, labels, 3));
+    }
+    Surface s = combine_surfaces(parts);
+    merge_duplicate_vertices(s);
+    std::vector<FusedPatch> fused;
+    CHECK(fuse_duplicate_triangles(s, &fused) == 12 * 18);  // 12 inner squares of 3 x 3 quads
+    CHECK(fused.size() == 12);
+    CHECK(validate_surface(s).empty());
+    SimplifyOptions options;
+    options.target_ratio = 0.3;
+    const Parametrization p = run(s, options);
+    require_valid(p, "eight octants fused from one surface per material");
+    CHECK(p.coarse.num_vertices() < s.num_vertices());
+}
+
 TEST_CASE("simplify in strict cost order (queue tolerance 0)", "[simplify]") {
     Surface s = fixtures::torus(40, 24);
     for (size_t i = 0; i < s.vertices.size(); ++i)
