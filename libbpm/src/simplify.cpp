@@ -483,13 +483,15 @@ SimplifyResult Simplifier::run(Parametrization& out) {
 
     // First ranking of all vertices, in chunks.
     {
-        constexpr int32_t kChunk = 256;
+        // 256 vertices per task, more on inputs so large that a round would exceed the
+        // pool's 2^20 tasks (above 2^27 vertices); the costs do not depend on it.
+        const int32_t kChunk = std::max<int32_t>(256, int32_t((int64_t(nv) + (1 << 19) - 1) >> 19));
         tasks.clear();
-        for (int32_t v = 0; v < nv; v += kChunk) tasks.push_back(Task{v});
+        for (int64_t v = 0; v < nv; v += kChunk) tasks.push_back(Task{int32_t(v)});
         std::vector<double> costs(nv, std::numeric_limits<double>::infinity());
         std::atomic<int32_t> ranked{0};
         PlanningPool ranking(pool.threads(), [&](int thread, size_t i) {
-            const int32_t first = tasks[i].vertex, last = std::min(nv, first + kChunk);
+            const int32_t first = tasks[i].vertex, last = int32_t(std::min<int64_t>(nv, int64_t(first) + kChunk));
             for (int32_t v = first; v < last; ++v) {
                 remover(thread).plan(v, false, cheap_plans[thread]);
                 costs[v] = judge(v, cheap_plans[thread]);
@@ -664,7 +666,8 @@ SimplifyResult Simplifier::run(Parametrization& out) {
         size_t failed = SIZE_MAX;   // index into `alive` of the first invalid triangle
         std::string why;
     };
-    constexpr size_t kExportChunk = 512;
+    // Likewise at most 2^19 chunks (the output is concatenated in order either way).
+    const size_t kExportChunk = std::max<size_t>(512, (alive.size() + (size_t(1) << 19) - 1) >> 19);
     std::vector<ExportChunk> chunks((alive.size() + kExportChunk - 1) / kExportChunk);
     for (size_t c = 0; c < chunks.size(); ++c) {
         chunks[c].begin = c * kExportChunk;
