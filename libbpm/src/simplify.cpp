@@ -483,8 +483,8 @@ SimplifyResult Simplifier::run(Parametrization& out) {
 
     // First ranking of all vertices, in chunks.
     {
-        // 256 vertices per task, more on inputs so large that a round would exceed the
-        // pool's 2^20 tasks (above 2^27 vertices); the costs do not depend on it.
+        // 256 vertices per task; above 2^27 vertices more, so that a round has at most
+        // 2^19 tasks (the pool takes fewer than 2^20). The costs do not depend on it.
         const int32_t kChunk = std::max<int32_t>(256, int32_t((int64_t(nv) + (1 << 19) - 1) >> 19));
         tasks.clear();
         for (int64_t v = 0; v < nv; v += kChunk) tasks.push_back(Task{int32_t(v)});
@@ -521,11 +521,12 @@ SimplifyResult Simplifier::run(Parametrization& out) {
         if (top.stamp != stamp_[top.vertex] || !mesh_.vertex_alive(top.vertex)) continue;
         // The neighbourhood is unchanged since the ranking (stamp), but other removals may
         // have changed things near it: plan again, or reuse a full plan that is provably
-        // still the same. A full plan is ranked by its estimate first (the cost before validation): if that
-        // is above the next entry, the removal waits, unvalidated (most such plans never
-        // come back unchanged). Otherwise the plan is validated, and in the same round its
-        // new triangles are tested against the rest of the surface. Floater's map or the
-        // normal limit may still raise the cost; then it waits with its complete plan.
+        // still the same. A full plan is ranked by its estimate first (the cost before
+        // validation): if that is above the next entry by more than the queue tolerance,
+        // the removal waits, unvalidated (most such plans never come back unchanged).
+        // Otherwise the plan is validated, and in the same round its new triangles are
+        // tested against the rest of the surface. Floater's map or the normal limit may
+        // still raise the cost; then it waits with its complete plan.
         int known_intersection = -1;  // -1 unknown, else whether it intersects the rest
         auto cached = full_plans_.find(top.vertex);
         if (cached != full_plans_.end() && cached->second.stamp == stamp_[top.vertex] &&

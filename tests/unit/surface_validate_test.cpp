@@ -274,9 +274,7 @@ TEST_CASE("fuse_duplicate_triangles keeps the first of each set and gives shared
 TEST_CASE("fuse_duplicate_triangles: one closed cube per material becomes two cubes with a shared sheet",
           "[validate]") {
     // Each cube alone (labels 1 | 0 and 0 | 2), as two files would hold them.
-    std::vector<std::pair<int, int32_t>> origin;
-    Surface s = combine_surfaces({fixtures::voxel_surface(2, 1, 1, {1, 0}, 3), fixtures::voxel_surface(2, 1, 1, {0, 2}, 3)},
-                                 &origin);
+    Surface s = combine_surfaces({fixtures::voxel_surface(2, 1, 1, {1, 0}, 3), fixtures::voxel_surface(2, 1, 1, {0, 2}, 3)});
     CHECK(merge_duplicate_vertices(s) == 16);  // the 4 x 4 grid of the shared square
     std::vector<FusedPatch> fused;
     CHECK(fuse_duplicate_triangles(s, &fused) == 18);  // 3 x 3 quads of two triangles
