@@ -197,6 +197,7 @@ public:
         }
         embedding_.init_identity(original, mesh_.triangle_capacity());
         remover_ = std::make_unique<VertexRemover>(mesh_, embedding_, sign_, oriented_normals_);
+        second_remover_ = std::make_unique<VertexRemover>(mesh_, embedding_, sign_, oriented_normals_);
         for (int i = 1; i < threads; ++i) removers_.push_back(std::make_unique<VertexRemover>(mesh_, embedding_, sign_, oriented_normals_));
         candidates_.resize(threads);
         stamp_.assign(original.vertices.size(), 0);
@@ -214,6 +215,8 @@ private:
     std::vector<int8_t> sign_;
     std::vector<Vec3> oriented_normals_;  // unit normals of the original triangles, coarse orientation
     std::unique_ptr<VertexRemover> remover_;
+    std::unique_ptr<VertexRemover> second_remover_;  // of the second removal of an iteration
+    RemovalPlan second_plan_;
     double diagonal_;
     TriangleGrid grid_;
     int32_t grid_built_at_ = 0;  // alive triangles when the grid was last rebuilt
@@ -231,6 +234,9 @@ private:
     VertexRemover& remover(int thread) { return thread == 0 ? *remover_ : *removers_[thread - 1]; }
     void rebuild_grid();
     bool intersects_rest(const RemovalPlan& plan, std::vector<TriangleGrid::Entry>& candidates) const;
+    bool meet_improperly(const Tri& a, const Tri& b) const;
+    // Whether a new triangle of `plan` meets one of `others` other than in what they share.
+    bool meets_new_triangles(const RemovalPlan& plan, const std::vector<Tri>& others) const;
     // Queue key of v from a cheap plan (a lower bound of the full plan's cost), +infinity
     // if it cannot be removed now (reason recorded). On the remover of `thread`.
     double rank(int32_t v, RemovalPlan& plan, int thread);
@@ -294,6 +300,46 @@ void Simplifier::rebuild_grid() {
     grid_built_at_ = mesh_.num_alive_triangles();
 }
 
+// Whether coarse triangles a and b (given by vertices) meet other than in what they share.
+bool Simplifier::meet_improperly(const Tri& a, const Tri& b) const {
+    const auto& x = original_.vertices;
+    const Vec3 pa[3] = {x[a[0]], x[a[1]], x[a[2]]};
+    int shared[3];
+    int count = 0;
+    for (int k = 0; k < 3; ++k) {
+        shared[k] = -1;
+        for (int j = 0; j < 3; ++j)
+            if (a[k] == b[j]) {
+                shared[k] = j;
+                ++count;
+            }
+    }
+    const Vec3 pb[3] = {x[b[0]], x[b[1]], x[b[2]]};
+    // Fast exact rejection: the unshared corners of one triangle strictly on one
+    // side of the other's plane means they meet at most in what they share.
+    if (count < 2) {
+        auto one_side = [&](const Vec3 p[3], const Vec3 q[3], const Tri& tq, const Tri& tp) {
+            int side = 0;
+            for (int j = 0; j < 3; ++j) {
+                if (tq[j] == tp[0] || tq[j] == tp[1] || tq[j] == tp[2]) continue;
+                const int o = orient3d(p[0], p[1], p[2], q[j]);
+                if (o == 0 || (side != 0 && o != side)) return false;
+                side = o;
+            }
+            return side != 0;
+        };
+        if (one_side(pa, pb, b, a) || one_side(pb, pa, a, b)) return false;
+    }
+    return triangles_intersect_improperly(pa, pb, shared);
+}
+
+bool Simplifier::meets_new_triangles(const RemovalPlan& plan, const std::vector<Tri>& others) const {
+    for (const Tri& a : plan.new_triangles)
+        for (const Tri& b : others)
+            if (meet_improperly(a, b)) return true;
+    return false;
+}
+
 bool Simplifier::intersects_rest(const RemovalPlan& plan, std::vector<TriangleGrid::Entry>& candidates) const {
     const auto& x = original_.vertices;
     const auto& new_triangles = plan.new_triangles;
@@ -318,36 +364,7 @@ bool Simplifier::intersects_rest(const RemovalPlan& plan, std::vector<TriangleGr
             all_hi[k] = i == 0 ? hi[k] : std::max(all_hi[k], hi[k]);
         }
     }
-    auto test = [&](const Tri& a, const Tri& b) {
-        const Vec3 pa[3] = {x[a[0]], x[a[1]], x[a[2]]};
-        int shared[3];
-        int count = 0;
-        for (int k = 0; k < 3; ++k) {
-            shared[k] = -1;
-            for (int j = 0; j < 3; ++j)
-                if (a[k] == b[j]) {
-                    shared[k] = j;
-                    ++count;
-                }
-        }
-        const Vec3 pb[3] = {x[b[0]], x[b[1]], x[b[2]]};
-        // Fast exact rejection: the unshared corners of one triangle strictly on one
-        // side of the other's plane means they meet at most in what they share.
-        if (count < 2) {
-            auto one_side = [&](const Vec3 p[3], const Vec3 q[3], const Tri& tq, const Tri& tp) {
-                int side = 0;
-                for (int j = 0; j < 3; ++j) {
-                    if (tq[j] == tp[0] || tq[j] == tp[1] || tq[j] == tp[2]) continue;
-                    const int o = orient3d(p[0], p[1], p[2], q[j]);
-                    if (o == 0 || (side != 0 && o != side)) return false;
-                    side = o;
-                }
-                return side != 0;
-            };
-            if (one_side(pa, pb, b, a) || one_side(pb, pa, a, b)) return false;
-        }
-        return triangles_intersect_improperly(pa, pb, shared);
-    };
+    auto test = [&](const Tri& a, const Tri& b) { return meet_improperly(a, b); };
     if (count_new == 0) return false;
     // Only triangles whose box meets the box of all new triangles (the grid tests the
     // boxes it stores), then the cheap box rejection per new triangle before the exact test.
@@ -446,8 +463,9 @@ SimplifyResult Simplifier::run(Parametrization& out) {
     // a round has never depends on the thread count, so neither does the output.
     enum class Job : uint8_t {
         Rank,       // cheap plan of `vertex`, cost into `cost`
-        Finish,     // part `vertex` of the validation of plan_ (VertexRemover::finish_part of remover_)
-        Intersect,  // intersects_rest for plan_ (whose triangles the Finish parts do not touch)
+        PlanTop,    // full plan of candidate `slot` (VertexRemover::plan_deferred)
+        Finish,     // part `vertex` of the validation of candidate `slot`'s plan (VertexRemover::finish_part)
+        Intersect,  // intersects_rest for candidate `slot` (whose triangles the Finish parts do not touch)
         Export,     // export_task(vertex), at the end
         Grid,       // grid_removed out of the grid, the triangles from `vertex` on into it
     };
@@ -455,10 +473,20 @@ SimplifyResult Simplifier::run(Parametrization& out) {
         int32_t vertex = -1;
         Job job = Job::Rank;
         double cost = 0.0;
+        int8_t slot = 0;  // candidate of PlanTop, Finish and Intersect
     };
+    // The (at most two) removals tried in one iteration.
+    struct Candidate {
+        QueueEntry entry{};
+        RemovalPlan* plan;
+        VertexRemover* remover;     // of the plan (a pending plan's validation is in it)
+        int known_intersection = -1;  // -1 unknown, else whether it intersects the rest
+        bool intersects = false;    // result of Job::Intersect
+        bool live = false;          // still to be committed in this iteration
+    };
+    Candidate candidates[2] = {{{}, &plan_, remover_.get()}, {{}, &second_plan_, second_remover_.get()}};
     std::vector<Task> tasks;
     std::vector<RemovalPlan> cheap_plans(removers_.size() + 1);
-    bool pending_intersects = false;
     std::function<void(size_t)> export_task;  // chunk `vertex` of the export (set there)
     const int finish_parts = std::min<int>(VertexRemover::kMaxFinishParts, int(removers_.size()) + 1);
     std::vector<std::pair<int32_t, Tri>> grid_removed;  // of the last commit, for Job::Grid
@@ -466,8 +494,13 @@ SimplifyResult Simplifier::run(Parametrization& out) {
         Task& task = tasks[i];
         switch (task.job) {
             case Job::Rank: task.cost = rank(task.vertex, cheap_plans[thread], thread); break;
-            case Job::Finish: remover_->finish_part(task.vertex, finish_parts); break;
-            case Job::Intersect: pending_intersects = intersects_rest(plan_, candidates_[thread]); break;
+            case Job::PlanTop: candidates[task.slot].remover->plan_deferred(task.vertex, *candidates[task.slot].plan); break;
+            case Job::Finish: candidates[task.slot].remover->finish_part(task.vertex, finish_parts); break;
+            case Job::Intersect: {
+                Candidate& c = candidates[task.slot];
+                c.intersects = intersects_rest(*c.plan, candidates_[thread]);
+                break;
+            }
             case Job::Export: export_task(size_t(task.vertex)); break;
             case Job::Grid: {
                 const auto& x = original_.vertices;
@@ -510,103 +543,182 @@ SimplifyResult Simplifier::run(Parametrization& out) {
     std::vector<int32_t> affected;
     std::string stop = "no vertex can be removed any more";
     double error_so_far = 0.0;  // largest error of a committed removal (of the diagonal), for progress
-    while (!queue_.empty()) {
+    int64_t next_report = 256;  // removals
+    auto current = [&](const QueueEntry& e) { return e.stamp == stamp_[e.vertex] && mesh_.vertex_alive(e.vertex); };
+    std::vector<int32_t> star_a;       // the link of the first candidate, and itself
+    std::vector<QueueEntry> skipped;   // entries passed over when looking for a second candidate
+    std::vector<int32_t> committed;    // vertices removed in this iteration
+    while (true) {
         if (mesh_.num_vertices_alive() <= target) {
             stop = "target reached";
             result.target_reached = true;
             break;
         }
-        const QueueEntry top = queue_.top();
+        while (!queue_.empty() && !current(queue_.top())) queue_.pop();
+        if (queue_.empty()) break;
+        // Up to two removals per iteration: the queue's top, and the best entry among the
+        // next few that is not in the top's star, so that its star shares no triangle
+        // with the top's. Their plans, validations and re-rankings share the rounds (the
+        // second thread otherwise idles while the top is planned). The second is
+        // committed after the first only if its plan is provably unchanged by it (no
+        // vertex of its star moved, no path it edits changed, its new edges still new)
+        // and its new triangles do not meet the first's; otherwise it goes back into
+        // the queue as it was.
+        int count = 0;
+        candidates[count++].entry = queue_.top();
         queue_.pop();
-        if (top.stamp != stamp_[top.vertex] || !mesh_.vertex_alive(top.vertex)) continue;
-        // The neighbourhood is unchanged since the ranking (stamp), but other removals may
-        // have changed things near it: plan again, or reuse a full plan that is provably
-        // still the same. A full plan is ranked by its estimate first (the cost before
-        // validation): if that is above the next entry by more than the queue tolerance,
-        // the removal waits, unvalidated (most such plans never come back unchanged).
-        // Otherwise the plan is validated, and in the same round its new triangles are
-        // tested against the rest of the surface. Floater's map or the normal limit may
-        // still raise the cost; then it waits with its complete plan.
-        int known_intersection = -1;  // -1 unknown, else whether it intersects the rest
-        auto cached = full_plans_.find(top.vertex);
-        if (cached != full_plans_.end() && cached->second.stamp == stamp_[top.vertex] &&
-            still_current(cached->second.plan)) {
-            WaitingPlan& wp = cached->second;
-            if (wp.made_at == commits_) known_intersection = wp.intersects;
-            plan_ = std::move(wp.plan);
-            full_plans_.erase(cached);
-            ++reused_plans_;
-        } else {
-            remover_->plan_deferred(top.vertex, plan_);
-            plans_[1].fetch_add(1, std::memory_order_relaxed);
+        if (options_.batch_removals) {
+            star_a.assign(1, candidates[0].entry.vertex);
+            for (int32_t t : mesh_.triangles_of(candidates[0].entry.vertex))
+                for (int32_t u : mesh_.triangle(t)) star_a.push_back(u);
+            skipped.clear();
+            while (!queue_.empty() && skipped.size() < 3) {
+                const QueueEntry e = queue_.top();
+                queue_.pop();
+                if (!current(e)) continue;
+                if (std::find(star_a.begin(), star_a.end(), e.vertex) == star_a.end()) {
+                    candidates[count++].entry = e;
+                    break;
+                }
+                skipped.push_back(e);
+            }
+            for (const QueueEntry& e : skipped) queue_.push(e);
         }
-        auto waits = [&](double c) {
-            if (!(c > top.cost + 1e-15) || queue_.empty()) return false;
-            const double next = queue_.top().cost;
+        // The neighbourhood of a candidate is unchanged since its ranking (stamp), but
+        // other removals may have changed things near it: plan again, or reuse a full plan
+        // that is provably still the same.
+        tasks.clear();
+        for (int k = 0; k < count; ++k) {
+            Candidate& c = candidates[k];
+            c.known_intersection = -1;
+            c.live = true;
+            const int32_t v = c.entry.vertex;
+            auto cached = full_plans_.find(v);
+            if (cached != full_plans_.end() && cached->second.stamp == c.entry.stamp && still_current(cached->second.plan)) {
+                WaitingPlan& wp = cached->second;
+                if (wp.made_at == commits_) c.known_intersection = wp.intersects;
+                *c.plan = std::move(wp.plan);
+                full_plans_.erase(cached);
+                ++reused_plans_;
+            } else {
+                tasks.push_back(Task{v, Job::PlanTop, 0.0, int8_t(k)});
+            }
+        }
+        pool.run_round(tasks.size());
+        plans_[1].fetch_add(int64_t(tasks.size()), std::memory_order_relaxed);
+        // A full plan is ranked by its estimate first (the cost before validation): if
+        // that is above the next entry by more than the queue tolerance, the removal
+        // waits, unvalidated (most such plans never come back unchanged).
+        auto waits = [&](int k, double c) {
+            double next = std::numeric_limits<double>::infinity();
+            if (!queue_.empty()) next = queue_.top().cost;
+            for (int j = k + 1; j < count; ++j)
+                if (candidates[j].live) next = std::min(next, candidates[j].entry.cost);
+            if (!(c > candidates[k].entry.cost + 1e-15) || !std::isfinite(next)) return false;
             return c > next + options_.queue_tolerance * std::abs(next);
         };
-        const double estimate = judge(top.vertex, plan_, true);
-        if (!std::isfinite(estimate)) continue;
-        if (waits(estimate)) {
-            queue_.push({estimate, top.vertex, stamp_[top.vertex]});
-            continue;
+        for (int k = 0; k < count; ++k) {
+            Candidate& c = candidates[k];
+            const int32_t v = c.entry.vertex;
+            const double estimate = judge(v, *c.plan, true);
+            if (!std::isfinite(estimate)) {
+                c.live = false;
+            } else if (waits(k, estimate)) {
+                queue_.push({estimate, v, stamp_[v]});
+                c.live = false;
+            }
         }
-        if (plan_.pending) {
-            // Part 0 first: the other parts wait for its preparation.
-            tasks.clear();
-            tasks.push_back(Task{0, Job::Finish});
-            const bool test_intersections = options_.prevent_intersections && known_intersection < 0;
-            if (test_intersections) tasks.push_back(Task{top.vertex, Job::Intersect});
-            for (int part = 1; part < finish_parts; ++part) tasks.push_back(Task{part, Job::Finish});
-            pool.run_round(tasks.size());
-            remover_->finish_parts_done(plan_, finish_parts);
-            if (test_intersections) known_intersection = pending_intersects;
+        // The validations, and in the same round the intersection tests of the new
+        // triangles against the rest of the surface; parts 0 first (the other parts wait
+        // for their preparation).
+        tasks.clear();
+        for (int k = 0; k < count; ++k)
+            if (candidates[k].live && candidates[k].plan->pending) tasks.push_back(Task{0, Job::Finish, 0.0, int8_t(k)});
+        for (int k = 0; k < count; ++k)
+            if (candidates[k].live && options_.prevent_intersections && candidates[k].known_intersection < 0)
+                tasks.push_back(Task{candidates[k].entry.vertex, Job::Intersect, 0.0, int8_t(k)});
+        for (int part = 1; part < finish_parts; ++part)
+            for (int k = 0; k < count; ++k)
+                if (candidates[k].live && candidates[k].plan->pending) tasks.push_back(Task{part, Job::Finish, 0.0, int8_t(k)});
+        pool.run_round(tasks.size());
+        for (const Task& task : tasks) {
+            Candidate& c = candidates[task.slot];
+            if (task.job == Job::Intersect) c.known_intersection = c.intersects;
+            if (task.job == Job::Finish && task.vertex == 0) c.remover->finish_parts_done(*c.plan, finish_parts);
         }
-        const double cost = judge(top.vertex, plan_);
-        if (!std::isfinite(cost)) continue;
-        if (waits(cost)) {
-            WaitingPlan& wp = full_plans_[top.vertex];
-            wp.stamp = stamp_[top.vertex];
-            wp.made_at = known_intersection < 0 ? -1 : commits_;
-            wp.intersects = known_intersection == 1;
-            wp.plan = std::move(plan_);
-            queue_.push({cost, top.vertex, stamp_[top.vertex]});
-            continue;
-        }
-        if (known_intersection >= 0 ? known_intersection == 1 : !admissible_globally(top.vertex, plan_)) {
-            if (known_intersection == 1) last_reason_[top.vertex] = "would create a self-intersection";
-            continue;
-        }
-        if (options_.trace_removals) {
-            char line[200];
-            std::snprintf(line, sizeof line,
-                          "remove vertex %d: cost %.10g, error %.6g, worst aspect %.4g (was %.4g), normal deviation %.3g deg",
-                          top.vertex, cost, plan_.max_deviation / diagonal_, plan_.worst_new_aspect, plan_.worst_old_aspect,
-                          plan_.max_normal_deviation);
-            context_.debug(line);
-        }
-        affected.clear();
-        for (int32_t t : plan_.removed_triangles)
-            for (int32_t u : mesh_.triangle(t))
-                if (u != top.vertex) affected.push_back(u);
-        // The grid follows in the round below (its planning does not read the grid).
-        grid_removed.clear();
-        for (int32_t t : plan_.removed_triangles) grid_removed.push_back({t, mesh_.triangle(t)});
+        const int64_t commits_before = commits_;
         const int32_t first_new = mesh_.triangle_capacity();
-        first_new_ = first_new;
-        commit_removal(mesh_, embedding_, plan_);
-        if (result.steps) result.steps->append(top.vertex, plan_.new_triangles, plan_.new_patches);
-        ++commits_;
-        error_so_far = std::max(error_so_far, plan_.max_deviation / diagonal_);
-        ++stamp_[top.vertex];
-        full_plans_.erase(top.vertex);
-        ++result.removed;
-        if (plan_.used_floater) ++result.shape_preserving_repairs;
-        if (options_.self_check) self_check(top.vertex, affected, result.removed);
+        affected.clear();
+        grid_removed.clear();
+        committed.clear();
+        for (int k = 0; k < count; ++k) {
+            Candidate& c = candidates[k];
+            if (!c.live) continue;
+            const int32_t v = c.entry.vertex;
+            RemovalPlan& plan = *c.plan;
+            // Floater's map or the normal limit may still raise the cost; then it waits
+            // with its complete plan.
+            const double cost = judge(v, plan);
+            if (!std::isfinite(cost)) continue;
+            if (waits(k, cost)) {
+                WaitingPlan& wp = full_plans_[v];
+                wp.stamp = stamp_[v];
+                wp.made_at = c.known_intersection < 0 ? -1 : commits_before;
+                wp.intersects = c.known_intersection == 1;
+                wp.plan = std::move(plan);
+                queue_.push({cost, v, stamp_[v]});
+                continue;
+            }
+            if (k > 0 && commits_ > commits_before) {
+                // After the first removal of this iteration: is this plan still exact?
+                // Its intersection test saw the first one's old triangles, which may be
+                // all it met: then it is tested again later.
+                if (mesh_.num_vertices_alive() <= target || !still_current(plan) || c.known_intersection == 1) {
+                    queue_.push(c.entry);
+                    continue;
+                }
+                if (options_.prevent_intersections && meets_new_triangles(plan, candidates[0].plan->new_triangles)) {
+                    last_reason_[v] = "would create a self-intersection";
+                    continue;
+                }
+            } else if (c.known_intersection >= 0 ? c.known_intersection == 1 : !admissible_globally(v, plan)) {
+                if (c.known_intersection == 1) last_reason_[v] = "would create a self-intersection";
+                continue;
+            }
+            if (options_.trace_removals) {
+                char line[200];
+                std::snprintf(line, sizeof line,
+                              "remove vertex %d: cost %.10g, error %.6g, worst aspect %.4g (was %.4g), normal deviation %.3g deg",
+                              v, cost, plan.max_deviation / diagonal_, plan.worst_new_aspect, plan.worst_old_aspect,
+                              plan.max_normal_deviation);
+                context_.debug(line);
+            }
+            const size_t affected_begin = affected.size();
+            for (int32_t t : plan.removed_triangles)
+                for (int32_t u : mesh_.triangle(t))
+                    if (u != v) affected.push_back(u);
+            // The grid follows in the round below (its planning does not read the grid).
+            for (int32_t t : plan.removed_triangles) grid_removed.push_back({t, mesh_.triangle(t)});
+            first_new_ = mesh_.triangle_capacity();
+            commit_removal(mesh_, embedding_, plan);
+            if (result.steps) result.steps->append(v, plan.new_triangles, plan.new_patches);
+            ++commits_;
+            committed.push_back(v);
+            error_so_far = std::max(error_so_far, plan.max_deviation / diagonal_);
+            ++stamp_[v];
+            full_plans_.erase(v);
+            ++result.removed;
+            if (plan.used_floater) ++result.shape_preserving_repairs;
+            if (options_.self_check)
+                self_check(v, std::vector<int32_t>(affected.begin() + affected_begin, affected.end()), result.removed);
+        }
+        if (committed.empty()) continue;
+        if (committed.size() == 2) ++result.paired_steps;
+        // Vertices removed in this iteration were in no star but their own.
         std::sort(affected.begin(), affected.end());
         affected.erase(std::unique(affected.begin(), affected.end()), affected.end());
 
-        // The round: new costs of the vertices around the removal (their stars changed),
+        // The round: new costs of the vertices around the removals (their stars changed),
         // and the grid update.
         tasks.assign(1, Task{first_new, Job::Grid});
         for (int32_t u : affected) {
@@ -618,7 +730,8 @@ SimplifyResult Simplifier::run(Parametrization& out) {
         if (mesh_.num_alive_triangles() * 4 < grid_built_at_) rebuild_grid();
         for (const Task& task : tasks)
             if (task.job == Job::Rank && std::isfinite(task.cost)) queue_.push({task.cost, task.vertex, stamp_[task.vertex]});
-        if ((result.removed & 255) == 0) {
+        if (result.removed >= next_report) {
+            next_report = result.removed + 256;
             const double done = start_vertices > target
                                     ? double(start_vertices - mesh_.num_vertices_alive()) / double(start_vertices - target)
                                     : 1.0;
@@ -753,7 +866,8 @@ SimplifyResult Simplifier::run(Parametrization& out) {
             aspect_ratio(out.coarse.vertices[t[0]], out.coarse.vertices[t[1]], out.coarse.vertices[t[2]]));
     result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     context_.debug("plans: " + std::to_string(plans_[0].load()) + " cheap, " + std::to_string(plans_[1].load()) +
-                   " full (" + std::to_string(reused_plans_) + " reused); " +
+                    " full (" + std::to_string(reused_plans_) + " reused); " + std::to_string(result.paired_steps) +
+                   " steps removed two vertices; " +
                    std::to_string(result.shape_preserving_repairs) + " removals re-embedded with Floater's map");
     context_.report(1.0, "done");
     return result;

@@ -57,6 +57,7 @@ TEST_CASE("simplify keeps a valid parametrization on synthetic surfaces", "[simp
         {"octants", fixtures::octants(4)},
         {"hourglass", fixtures::hourglass(24)},
     };
+    int64_t paired_steps = 0;
     for (auto& c : cases) {
         INFO("fixture: " << c.name);
         SimplifyOptions options;
@@ -66,7 +67,10 @@ TEST_CASE("simplify keeps a valid parametrization on synthetic surfaces", "[simp
         const Parametrization p = run(c.surface, options, &result);
         INFO(c.name << ": " << result.input_vertices << " -> " << result.output_vertices);
         require_valid(p, c.name);
+        paired_steps += result.paired_steps;
     }
+    // The self-check ran after second removals of a step too.
+    CHECK(paired_steps > 100);
 }
 
 TEST_CASE("simplify keeps a valid parametrization on real meshes", "[simplify][real]") {
@@ -197,6 +201,7 @@ TEST_CASE("simplify in strict cost order (queue tolerance 0)", "[simplify]") {
     SimplifyOptions options;
     options.target_vertices = 80;
     SECTION("valid, the same for every thread count, and another order than the default's") {
+        options.batch_removals = false;
         const Parametrization tolerant = run(s, options);
         options.queue_tolerance = 0.0;
         options.threads = 1;
@@ -213,6 +218,28 @@ TEST_CASE("simplify in strict cost order (queue tolerance 0)", "[simplify]") {
         Parametrization p;
         CHECK_THROWS_AS(simplify(s, options, Context{}, p), OptionError);
     }
+}
+
+TEST_CASE("simplify with two removals per step and with one", "[simplify]") {
+    const Surface s = noisy_torus();
+    SimplifyOptions options;
+    options.target_vertices = 80;
+    options.self_check = true;
+    SimplifyResult paired_result;
+    const Parametrization paired = run(s, options, &paired_result);
+    require_valid(paired, "torus, two removals per step");
+    CHECK(paired.coarse.num_vertices() == 80);
+    // Most steps pair up on a torus: far-apart vertices have similar costs.
+    CHECK(paired_result.paired_steps > paired_result.removed / 4);
+    options.batch_removals = false;
+    SimplifyResult single_result;
+    const Parametrization single = run(s, options, &single_result);
+    require_valid(single, "torus, one removal per step");
+    CHECK(single.coarse.num_vertices() == 80);
+    CHECK(single_result.paired_steps == 0);
+    CHECK(kept_vertices(paired) != kept_vertices(single));
+    options.threads = 2;
+    CHECK(run(s, options).pieces == single.pieces);
 }
 
 TEST_CASE("simplify honours its stopping rules", "[simplify]") {

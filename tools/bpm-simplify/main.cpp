@@ -54,9 +54,14 @@ int main(int argc, char** argv) {
         ->check(CLI::NonNegativeNumber);
     app.add_option("--queue-tolerance", options.queue_tolerance,
                    "Remove the best candidate at once if its full cost is at most this fraction above the next "
-                   "candidate's estimate, instead of putting it back in the queue (default 0.1; 0 = strict cost "
-                   "order, a few percent slower, results about as good)")
+                   "candidate's estimate, instead of putting it back in the queue (default 0.1; 0 with "
+                   "--one-removal-per-step = strict cost order, a few percent slower, results about as good)")
         ->check(CLI::Range(0.0, 10.0));
+    bool one_removal_per_step = false;
+    app.add_flag("--one-removal-per-step", one_removal_per_step,
+                 "Remove one vertex per step. By default a step also removes the best of the next few candidates "
+                 "outside the first one's neighbourhood when the first removal leaves its plan unchanged; the two "
+                 "share the threads' work (about 10 % faster, results about as good)");
     app.add_option("--feature-angle", options.feature_angle_degrees,
                    "Keep edges whose normals differ by more than this many degrees as feature lines (default 60; "
                    "180 = off). Boundaries, patch borders and edges of 3 or more sheets are always kept")
@@ -99,6 +104,7 @@ int main(int argc, char** argv) {
         if (options.target_vertices == 0 && options.target_ratio == 0 && !std::isfinite(options.max_error))
             throw CLI::ValidationError("give at least one of --vertices, --ratio, --max-error");
         options.prevent_intersections = !allow_intersections;
+        options.batch_removals = !one_removal_per_step;
         options.reject_self_intersecting_input = !allow_bad_input;
         const bpm::Context context = bpm::tools::make_context(tool, verbose, quiet);
 
