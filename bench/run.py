@@ -70,6 +70,7 @@ PROFILES = {
     "check_levels": ("0,1,2", "0,1"),
     "check_timeout": (900, 300),
     "check_repeats": (3, 1),
+    "repeats": (3, 1),
     "external_timeout": (7200, 1800),
 }
 QUICK_REFINE_MESHES = "femur"
@@ -309,7 +310,8 @@ def simplify_suite(args, bins, work):
     md_path = os.path.join(args.results_dir, f"simplify{args.suffix}.md")
     header = {"date": machine_line(), "commit": git_commit(), "binary": binary_line(bins["bpm-simplify"]),
               "timeout_s": args.timeout, "tools": args.tools,
-              "metrics_samples": args.samples, "psurface_flags": args.psurface_flags, "bpm_flags": args.bpm_flags}
+              "metrics_samples": args.samples, "psurface_flags": args.psurface_flags, "bpm_flags": args.bpm_flags,
+              "repeats": args.repeats}
     for name in args.meshes:
         off = os.path.join(MESHES, name + ".off")
         if not os.path.exists(off):
@@ -337,18 +339,34 @@ def simplify_suite(args, bins, work):
                 "cgal": lambda: ([bins["bpm-bench-cgal-decimate"], off, "-o", outputs["cgal"], "--vertices",
                                   str(target)], None),
             }
+            # Each tool args.repeats times, the tools taking turns (so that a slow spell of the shared
+            # machine hits them alike); the run with the median wall time is reported.
+            runs = {tool: [] for tool in args.tools}
+            for repeat in range(args.repeats):
+                for tool in args.tools:
+                    if runs[tool] and runs[tool][-1]["status"] != "ok":
+                        continue  # a failure is reported as it is, not repeated
+                    log(f"{name} -> {target} vertices: {tool}" + (f" (run {repeat + 1} of {args.repeats})"
+                                                                  if args.repeats > 1 else ""))
+                    for p in (outputs[tool], stem + "-psurface-graph.vtu" if tool == "psurface" else None):
+                        if p and os.path.exists(p):
+                            os.remove(p)
+                    cmd, cwd = commands[tool]()
+                    res = timed(cmd, f"{stem}-{tool}.log", args.timeout, cwd=cwd)
+                    res["command"] = " ".join(rel(c) for c in cmd)
+                    if res["status"] == "ok" and not os.path.exists(outputs[tool]):
+                        res["status"], res["message"] = "failed", "exit 0 but no output file"
+                    log(f"  {tool}: {res['status']} {fmt(res['seconds'], '.2f')} s {fmt(res['peak_mb'], '.0f')} MB "
+                        f"{res['message']}")
+                    runs[tool].append(res)
             for tool in args.tools:
-                log(f"{name} -> {target} vertices: {tool}")
-                for p in (outputs[tool], stem + "-psurface-graph.vtu" if tool == "psurface" else None):
-                    if p and os.path.exists(p):
-                        os.remove(p)
-                cmd, cwd = commands[tool]()
-                res = timed(cmd, f"{stem}-{tool}.log", args.timeout, cwd=cwd)
-                res["command"] = " ".join(rel(c) for c in cmd)
-                if res["status"] == "ok" and not os.path.exists(outputs[tool]):
-                    res["status"], res["message"] = "failed", "exit 0 but no output file"
-                log(f"  {tool}: {res['status']} {fmt(res['seconds'], '.2f')} s {fmt(res['peak_mb'], '.0f')} MB "
-                    f"{res['message']}")
+                done = runs[tool]
+                if done[-1]["status"] != "ok":
+                    row[tool] = done[-1]
+                    continue
+                by_wall = sorted(done, key=lambda r: r["seconds"])
+                res = dict(by_wall[(len(by_wall) - 1) // 2])
+                res["wall_runs"] = [r["seconds"] for r in done]
                 row[tool] = res
             for tool in args.tools:
                 res = row[tool]
@@ -414,7 +432,9 @@ def simplify_markdown(header, rows):
            "for the quality and the speed of a tool that does less than the other two.", "",
            "Memory = peak resident set (MB), times from `/usr/bin/time -f \"%e %M %U %S\"` (the whole process: "
            f"reading, simplifying, writing); timeout {header['timeout_s']} s per run. The machine is shared, so times "
-           "carry noise.", "",
+           "carry noise" + (f": each tool ran {header['repeats']} times per row, the tools taking turns, and the "
+                            "run with the median wall time is reported (all wall times are in the .json)."
+                            if header.get("repeats", 1) > 1 else "."), "",
            "## Time and memory", "",
            "Wall = elapsed seconds; CPU = user + system seconds (less sensitive to other load on the machine; "
            f"{threads_note}). Ratios are the other tool's time over bpm's: > 1 means bpm is faster.", ""]
@@ -865,7 +885,8 @@ def suite_args(args, suite):
     common = ["--no-build", "--build-dir", rel(args.build_dir), "--results-dir", rel(args.results_dir)]
     if suite == "simplify":
         return common + ["--meshes", ",".join(args.meshes), "--tools", ",".join(args.tools),
-                         "--timeout", str(args.timeout), "--samples", str(args.samples)] + (
+                         "--timeout", str(args.timeout), "--samples", str(args.samples),
+                         "--repeats", str(args.repeats)] + (
             [f"--psurface-flags={args.psurface_flags}"] if args.psurface_flags else []) + (
             [f"--bpm-flags={args.bpm_flags}"] if args.bpm_flags else [])
     if suite == "scaling":
@@ -1117,6 +1138,8 @@ def main():
     ap.add_argument("--samples", type=int, help="bpm-bench-metrics --samples (500000; --quick 100000)")
     ap.add_argument("--psurface-flags", default="", help="extra psurface-simplify flags, e.g. '-s'")
     ap.add_argument("--bpm-flags", default="", help="extra bpm-simplify flags, e.g. '--threads=1'")
+    ap.add_argument("--repeats", type=int, help="simplify suite: runs per tool and row, the median wall time is "
+                    "reported (3; --quick 1)")
     ap.add_argument("--suffix", default="", help="results go to results/simplify<SUFFIX>.md etc. (e.g. '-psurface-s')")
     ap.add_argument("--levels", help="Loop subdivision levels for the scaling suite (0,1,2; --quick 0,1)")
     ap.add_argument("--scaling-target", type=int, default=10000)

@@ -560,10 +560,10 @@ SimplifyResult Simplifier::run(Parametrization& out) {
         // next few that is not in the top's star, so that its star shares no triangle
         // with the top's. Their plans, validations and re-rankings share the rounds (the
         // second thread otherwise idles while the top is planned). The second is
-        // committed after the first only if its plan is provably unchanged by it (no
-        // vertex of its star moved, no path it edits changed, its new edges still new)
-        // and its new triangles do not meet the first's; otherwise it goes back into
-        // the queue as it was.
+        // committed after the first only if its plan is provably unchanged by it (its
+        // star's triangles are still there, no path it edits changed, its new edges are
+        // still new; as for a waiting plan), else it goes back into the queue as it was;
+        // and it is refused if its new triangles meet the first's.
         int count = 0;
         candidates[count++].entry = queue_.top();
         queue_.pop();

@@ -44,7 +44,7 @@ struct SimplifyOptions {
     // Up to two removals per step: with the queue's top, the best of the next few entries
     // outside the top's star, committed after it if its plan is still exact then. The two
     // share the parallel rounds (planning, validation, re-ranking), which the second
-    // thread otherwise mostly waits through: 7-11 % less time on the bench meshes. The
+    // thread otherwise mostly waits through: 6-11 % less time on the bench meshes. The
     // second removal comes before the re-ranked neighbours of the first, so the order
     // changes a little: the Hausdorff distances of the bench rows moved by -3 % to +6 %.
     // false: one removal per step (with queue_tolerance 0: strict cost order).
