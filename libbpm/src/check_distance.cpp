@@ -61,6 +61,12 @@ using Ids = std::vector<std::pair<std::string, int64_t>>;
 constexpr int kMaxDivisions = 256;   // per triangle side: at most 33 153 grid samples per triangle
 constexpr double kFloor = 1e-12;     // rounding level, relative to diagonal + largest |coordinate|
 constexpr double kLargestCoordinate = 1e150;  // beyond this, squared distances may overflow
+constexpr double kSmallestDiagonal = 1e-30;    // below this, squared areas of ordinary triangles underflow
+// CGAL's closest point on a triangle whose squared normal (|ab x ac|^2) underflows, which
+// happens for sides below about 1e-80 whatever the rest of the surface, is NaN, and NaN
+// handed to its exact fallback raises SIGFPE (GMP; found by fuzz_read_bpm with pieces of
+// side 1e-155). Triangles below this squared normal are measured by hand instead.
+constexpr double kSmallestTreeNormal2 = 1e-200;
 constexpr size_t kMaxCandidates = 48;  // local-bound candidates per sample, beyond which only the tree is asked
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
@@ -148,35 +154,59 @@ public:
     std::pair<double, int64_t> query(const Vec3& p, int64_t hint = -1) {
         ++queries;
         if (count_ == 0) return {kInf, -1};
-        if (!tree_) {
-            triangles_.reserve(static_cast<size_t>(count_));
-            for (int64_t i = 0; i < count_; ++i) {
-                const auto c = corners_(i);
-                triangles_.emplace_back(to_point(c[0]), to_point(c[1]), to_point(c[2]));
+        if (!built_) build();
+        std::pair<double, int64_t> best{kInf, -1};
+        if (tree_) {
+            const Point q = to_point(p);
+            Tree::Point_and_primitive_id hit;
+            const int64_t at = hint >= 0 && hint < count_ ? tree_position_[static_cast<size_t>(hint)] : -1;
+            if (at >= 0) {
+                const Triangle3& t = triangles_[static_cast<size_t>(at)];
+                int nearest_corner = 0;
+                for (int k = 1; k < 3; ++k)
+                    if (CGAL::squared_distance(q, t.vertex(k)) < CGAL::squared_distance(q, t.vertex(nearest_corner)))
+                        nearest_corner = k;
+                hit = tree_->closest_point_and_primitive(q, {t.vertex(nearest_corner), triangles_.cbegin() + at});
+            } else {
+                hit = tree_->closest_point_and_primitive(q);
             }
-            tree_ = std::make_unique<Tree>(triangles_.begin(), triangles_.end());
+            const Vec3 nearest{hit.first.x(), hit.first.y(), hit.first.z()};
+            best = {distance(p, nearest), tree_ids_[static_cast<size_t>(hit.second - triangles_.cbegin())]};
         }
-        const Point q = to_point(p);
-        Tree::Point_and_primitive_id hit;
-        if (hint >= 0 && hint < count_) {
-            const Triangle3& t = triangles_[static_cast<size_t>(hint)];
-            int best = 0;
-            for (int k = 1; k < 3; ++k)
-                if (CGAL::squared_distance(q, t.vertex(k)) < CGAL::squared_distance(q, t.vertex(best))) best = k;
-            hit = tree_->closest_point_and_primitive(q, {t.vertex(best), triangles_.cbegin() + hint});
-        } else {
-            hit = tree_->closest_point_and_primitive(q);
+        for (int64_t i : tiny_) {
+            const auto c = corners_(i);
+            const double d = std::sqrt(triangle_squared_distance(p, c[0], c[1], c[2]));
+            if (d < best.first || best.second < 0) best = {d, i};
         }
-        const Vec3 nearest{hit.first.x(), hit.first.y(), hit.first.z()};
-        return {distance(p, nearest), static_cast<int64_t>(hit.second - triangles_.cbegin())};
+        return best;
     }
     int64_t queries = 0;
 
 private:
     int64_t count_;
     std::function<std::array<Vec3, 3>(int64_t)> corners_;
-    std::vector<Triangle3> triangles_;
+    std::vector<Triangle3> triangles_;     // those in the tree
+    std::vector<int64_t> tree_ids_;        // index of each of triangles_
+    std::vector<int64_t> tree_position_;   // per index: position in triangles_, or -1 (tiny)
+    std::vector<int64_t> tiny_;            // indices of the triangles measured by hand
     std::unique_ptr<Tree> tree_;
+    bool built_ = false;
+
+    void build() {
+        built_ = true;
+        tree_position_.assign(static_cast<size_t>(count_), -1);
+        for (int64_t i = 0; i < count_; ++i) {
+            const auto c = corners_(i);
+            if (!(squared(cross(c[1] - c[0], c[2] - c[0])) >= kSmallestTreeNormal2)) {
+                tiny_.push_back(i);
+                continue;
+            }
+            tree_position_[static_cast<size_t>(i)] = static_cast<int64_t>(triangles_.size());
+            tree_ids_.push_back(i);
+            triangles_.emplace_back(to_point(c[0]), to_point(c[1]), to_point(c[2]));
+        }
+        if (!triangles_.empty()) tree_ = std::make_unique<Tree>(triangles_.begin(), triangles_.end());
+    }
 };
 
 // The largest distance found so far and where.
@@ -244,6 +274,12 @@ CheckResult check_distance(const Parametrization& p, const CheckOptions& options
     double largest = magnitude;
     for (const auto* points : {&p.coarse.vertices, &p.node_image})
         for (const Vec3& x : *points) largest = std::max({largest, std::abs(x[0]), std::abs(x[1]), std::abs(x[2])});
+    if (!(diagonal >= kSmallestDiagonal)) {
+        detail::refuse(r, "the original surface is too small to measure distances in double precision (diagonal " +
+                              detail::format_number(diagonal) + ", limit " + detail::format_number(kSmallestDiagonal) +
+                              "): scale it");
+        return r;
+    }
     if (!(largest <= kLargestCoordinate)) {
         detail::refuse(r, "coordinates up to " + detail::format_number(largest) +
                               " are too large to measure distances in double precision (limit " +

@@ -684,6 +684,56 @@ TEST_CASE("distance gate: coordinates too large for double-precision distances a
     REQUIRE(r.problem_count >= 1);
 }
 
+TEST_CASE("distance gate: pieces too small for CGAL's closest points are measured, not handed to it",
+          "[check][distance]") {
+    // Found by fuzz_read_bpm: node images of 1e-155 made pieces whose squared normals
+    // underflow; CGAL's closest point on them is NaN, and its exact fallback raised SIGFPE.
+    for (double scale : {1e-155, 1e-90, 0.0}) {
+        Parametrization p = test::make_height_field(8, 2, test::default_height);
+        CheckOptions o;
+        o.max_error = 0.2;
+        for (int t : {0, 3})
+            for (int64_t n = p.node_offsets[t]; n < p.node_offsets[t + 1]; ++n)
+                for (int k = 0; k < 3; ++k) p.node_image[n][k] *= scale;
+        const CheckResult r = check_distance(p, o);
+        INFO("scale " << scale << ": " << problems_text(r));
+        // Measured: the collapsed pieces are far from S0 (the intact file: about 1e-15).
+        const WorstValue* image = measure(r, "image_hausdorff");
+        REQUIRE(image);
+        CHECK(image->value > 0.1);
+    }
+    {
+        // The fuzzer's file: the spec example with every node image within 1e-154 of the origin.
+        Parametrization p = test::make_two_triangles_example().param;
+        const double a = 7.458340731200207e-155, b = 4.475004438720124e-155;
+        const std::vector<Vec3> images = {{0, 0, 0}, {a, 0, b}, {a, a, b}, {a, a, 0},
+                                          {0, 0, 0}, {a, a, b}, {0, a, b}, {a, a, 0}};
+        REQUIRE(p.node_image.size() == images.size());
+        p.node_image = images;
+        CheckOptions o;
+        o.max_error = 0.01;
+        o.error_sample_spacing = 0.05;
+        const CheckResult r = check_distance(p, o);
+        INFO(problems_text(r));
+        CHECK_FALSE(r.passed);
+        const WorstValue* image = measure(r, "image_hausdorff");
+        REQUIRE(image);
+        CHECK(image->value > 0.5);
+    }
+    // A whole surface that small is refused.
+    Parametrization p = test::make_height_field(8, 2, test::default_height);
+    for (auto* points : {&p.original.vertices, &p.coarse.vertices, &p.node_image})
+        for (Vec3& x : *points)
+            for (double& c : x) c *= 1e-40;
+    CheckOptions o;
+    o.max_error = 0.2;
+    const CheckResult r = check_distance(p, o);
+    INFO(problems_text(r));
+    CHECK_FALSE(r.passed);
+    REQUIRE(r.problem_count == 1);
+    CHECK(r.problems[0].message.find("too small") != std::string::npos);
+}
+
 TEST_CASE("distance: sampled estimates respect the exact bound and are deterministic", "[check][distance]") {
     for (const Parametrization& p : {test::make_height_field(12, 3, test::default_height),
                                      test::make_subdivided_octahedron(3)}) {
