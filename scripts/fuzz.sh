@@ -5,7 +5,7 @@
 #   scripts/fuzz.sh [SECONDS] [TARGET...]      e.g.  scripts/fuzz.sh 600 fuzz_read_bpm
 #
 # Targets: fuzz_read_off fuzz_read_obj fuzz_read_stl fuzz_read_ply fuzz_read_msh fuzz_read_vtk
-# fuzz_read_bpm fuzz_read_vtk_xml (default: all). Seeds: small valid files of every format written by
+# fuzz_read_bpm fuzz_read_vtk_xml fuzz_read_surf (default: all). Seeds: small valid files of every format written by
 # bpm-fuzz-seeds, the malformed corpora of tests/data/bad/ and spec/examples/, all
 # generated or copied into build-fuzz/seeds/ at run time. What a target finds is kept
 # in build-fuzz/corpus/TARGET/ (reused by the next run), crashes in
@@ -18,7 +18,7 @@ cd "$(dirname "$0")/.."
 seconds=${1:-30}
 shift || true
 all=(fuzz_read_off fuzz_read_obj fuzz_read_stl fuzz_read_ply fuzz_read_msh fuzz_read_vtk fuzz_read_bpm)
-all+=(fuzz_read_vtk_xml)
+all+=(fuzz_read_vtk_xml fuzz_read_surf)
 targets=("$@")
 [ ${#targets[@]} -gt 0 ] || targets=("${all[@]}")
 case $seconds in '' | *[!0-9]*) echo "fuzz: SECONDS must be a whole number, not '$seconds'" >&2; exit 2 ;; esac
@@ -41,7 +41,7 @@ fi
 seeds=$build/seeds
 rm -rf "$seeds"
 ASAN_OPTIONS=detect_leaks=0 $build/fuzz/bpm-fuzz-seeds "$seeds" >&2
-for ext in off obj stl ply msh vtk; do
+for ext in off obj stl ply msh vtk surf; do
     cp tests/data/bad/*."$ext" "$seeds/$ext/" 2>/dev/null || true
 done
 cp spec/examples/*.bpm "$seeds/bpm/"

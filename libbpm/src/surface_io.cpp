@@ -35,12 +35,13 @@ const char* format_name(SurfaceFormat f) {
         case SurfaceFormat::Vtk: return "VTK";
         case SurfaceFormat::Vtp: return "VTP";
         case SurfaceFormat::Vtu: return "VTU";
+        case SurfaceFormat::Surf: return "HyperSurface";
     }
     return "?";
 }
 
-// A hint for an error on a file that is plainly of another format than the one chosen.
-std::string sniffed_format_hint(std::string_view bytes, SurfaceFormat chosen) {
+// The format a file's head plainly shows, if any.
+std::optional<SurfaceFormat> format_from_head(std::string_view bytes) {
     std::optional<SurfaceFormat> seen;
     const std::string_view head = bytes.substr(0, 64);
     if (head.substr(0, 3) == "ply") seen = SurfaceFormat::Ply;
@@ -48,11 +49,18 @@ std::string sniffed_format_hint(std::string_view bytes, SurfaceFormat chosen) {
     else if (head.substr(0, 3) == "OFF" || head.substr(0, 4) == "COFF" || head.substr(0, 4) == "NOFF") seen = SurfaceFormat::Off;
     else if (head.substr(0, 5) == "solid") seen = SurfaceFormat::Stl;
     else if (head.substr(0, 14) == "# vtk DataFile") seen = SurfaceFormat::Vtk;
+    else if (head.substr(0, 14) == "# HyperSurface" || head.substr(0, 13) == "#HyperSurface") seen = SurfaceFormat::Surf;
     else if (const size_t at = bytes.substr(0, 512).find("<VTKFile"); at != std::string_view::npos) {
         const std::string_view tag = bytes.substr(at, 200);
         if (tag.find("\"PolyData\"") != std::string_view::npos) seen = SurfaceFormat::Vtp;
         else if (tag.find("\"UnstructuredGrid\"") != std::string_view::npos) seen = SurfaceFormat::Vtu;
     }
+    return seen;
+}
+
+// A hint for an error on a file that is plainly of another format than the one chosen.
+std::string sniffed_format_hint(std::string_view bytes, SurfaceFormat chosen) {
+    const std::optional<SurfaceFormat> seen = format_from_head(bytes);
     // One reader reads both VTK XML types: no hint between them.
     if (seen && (*seen == SurfaceFormat::Vtp || *seen == SurfaceFormat::Vtu) &&
         (chosen == SurfaceFormat::Vtp || chosen == SurfaceFormat::Vtu))
@@ -118,6 +126,7 @@ std::optional<SurfaceFormat> surface_format_from_name(const std::string& name) {
     if (n == "vtk") return SurfaceFormat::Vtk;
     if (n == "vtp") return SurfaceFormat::Vtp;
     if (n == "vtu") return SurfaceFormat::Vtu;
+    if (n == "surf") return SurfaceFormat::Surf;
     return std::nullopt;
 }
 
@@ -141,6 +150,7 @@ Surface read_surface_from_memory(const std::string& bytes, SurfaceFormat format,
             case SurfaceFormat::Vtk: parsed = detail::read_vtk(bytes, name, options.triangulate_polygons); break;
             case SurfaceFormat::Vtp:
             case SurfaceFormat::Vtu: parsed = detail::read_vtk_xml(bytes, name, options.triangulate_polygons); break;
+            case SurfaceFormat::Surf: parsed = detail::read_surf(bytes, name); break;
         }
     } catch (const InputError& e) {
         const std::string hint = sniffed_format_hint(bytes, format);
@@ -187,12 +197,16 @@ Surface read_surface(const std::string& path, const SurfaceReadOptions& options,
     const std::string name = detail::display_name(path);
     std::optional<SurfaceFormat> format = options.format;
     if (!format) format = surface_format_from_path(path);
-    if (!format) {
-        throw InputError(name, path == "-" ? "the format of standard input must be given explicitly"
-                                           : "cannot tell the surface format from the file name; expected the "
-                                             "extension .off, .obj, .stl, .ply, .msh, .vtk, .vtp or .vtu, or an explicit format");
-    }
+    if (!format && path == "-") throw InputError(name, "the format of standard input must be given explicitly");
     const std::string bytes = detail::read_whole_input(path);
+    // No (known) extension: only a HyperSurface head is taken as the format (a first line
+    // "# HyperSurface" cannot be mistaken for anything else); every other format needs its
+    // extension or an explicit choice.
+    if (!format && format_from_head(bytes) == SurfaceFormat::Surf) format = SurfaceFormat::Surf;
+    if (!format) {
+        throw InputError(name, "cannot tell the surface format from the file name; expected the extension .off, "
+                               ".obj, .stl, .ply, .msh, .vtk, .vtp, .vtu or .surf, or an explicit format");
+    }
     return read_surface_from_memory(bytes, *format, name, options, report);
 }
 
@@ -414,6 +428,11 @@ void write_surface(const std::string& path, const Surface& surface, std::optiona
         throw OutputError(where, std::string("cannot write ") + format_name(*format) +
                                      ": VTK XML is an input format here (write .off, .obj, .stl, .ply or .msh)");
     }
+    if (*format == SurfaceFormat::Surf) {
+        // Region names would have to be made up: a bpm patch is not a pair of materials.
+        throw OutputError(where, "cannot write Amira HyperSurface (.surf): bpm reads it but writes only .off .obj .stl "
+                                 ".ply .msh");
+    }
     // Refuse what would make a file no reader (bpm's included) can read back.
     if (surface.patches.size() != surface.triangles.size()) {
         throw OutputError(where, "cannot write: the surface has " + std::to_string(surface.patches.size()) +
@@ -459,6 +478,7 @@ void write_surface(const std::string& path, const Surface& surface, std::optiona
         case SurfaceFormat::Vtk: break;  // refused above
         case SurfaceFormat::Vtp:
         case SurfaceFormat::Vtu: break;  // refused above
+        case SurfaceFormat::Surf: break;  // refused above
     }
     detail::write_file_atomically(path, bytes);
 }

@@ -56,6 +56,8 @@ ReaderOutput read_msh(std::string_view bytes, const std::string& name);
 ReaderOutput read_vtk(std::string_view bytes, const std::string& name, bool accept_polygons = false);
 // VTK XML PolyData and UnstructuredGrid (either file type, whichever format was chosen).
 ReaderOutput read_vtk_xml(std::string_view bytes, const std::string& name, bool accept_polygons = false);
+// Amira / Avizo HyperSurface (.surf), ASCII and BINARY; one patch per Patches entry.
+ReaderOutput read_surf(std::string_view bytes, const std::string& name);
 
 // A token for an error message: quoted, shortened, non-printable bytes as \xNN, so that
 // binary garbage never ends up raw in a terminal.

@@ -88,6 +88,33 @@ contains "$work/err" "patch 2 = the 32 triangles that patches 0 and 1 had in com
 expect 0 "the two materials pass bpm-check" -- "$check" "$work/ab.bpm"
 contains "$work/out" "non-manifold" "the interface is a sheet"
 contains "$work/out" "1 feature lines" "its rim is a feature line of three sheets"
+# The same two materials as an Amira HyperSurface (BINARY): one vertex list, the patches
+# Exterior|A, Exterior|B and A|B; no repairs needed, the interface is stored once.
+/usr/bin/python3 - "$work/cube_a.off" "$work/cube_b.off" "$work/ab.surf" <<'PY'
+import struct, sys
+index, verts, tris = {}, [], []
+for path in sys.argv[1:3]:
+    t = open(path).read().split(); nv, nf = int(t[1]), int(t[2])
+    p = [tuple(t[4 + 3 * k:7 + 3 * k]) for k in range(nv)]
+    for p_ in p: index.setdefault(p_, len(index) + 1)
+    o = 4 + 3 * nv
+    tris.append([tuple(index[p[int(i)]] for i in t[o + 4 * k + 1:o + 4 * k + 4]) for k in range(nf)])
+shared = set(map(frozenset, tris[0])) & set(map(frozenset, tris[1]))
+patches = [("A", "Exterior", [x for x in tris[0] if frozenset(x) not in shared]),
+           ("B", "Exterior", [x for x in tris[1] if frozenset(x) not in shared]),
+           ("A", "B", [x for x in tris[0] if frozenset(x) in shared])]
+out = b'# HyperSurface 0.1 BINARY\n\nParameters {\n    Materials { Exterior { Id 0 } A { Id 1 } B { Id 2 } }\n}\n'
+out += b"Vertices %d\n" % len(index) + b"".join(struct.pack(">3f", *map(float, p)) for p in index) + b"\n"
+out += b"NBranchingPoints 0\nNVerticesOnCurves 0\nBoundaryCurves 0\nPatches 3\n"
+for inner, outer, ts in patches:
+    out += b"{\nInnerRegion %s\nOuterRegion %s\nBoundaryID 0\nBranchingPoints 0\n\nTriangles %d\n" % (inner.encode(), outer.encode(), len(ts))
+    out += b"".join(struct.pack(">3i", *x) for x in ts) + b"\n}\n"
+open(sys.argv[3], "wb").write(out)
+PY
+expect 0 "two materials as one HyperSurface (.surf)" -- "$simplify" "$work/ab.surf" -o "$work/surf.bpm" --ratio 0.3
+contains "$work/err" "patch 2 = InnerRegion A / OuterRegion B (32 triangles)" "the interface patch is named by its regions"
+expect 0 "the HyperSurface materials pass bpm-check" -- "$check" "$work/surf.bpm"
+contains "$work/out" "non-manifold" "the interface is a sheet"
 
 # Usage errors (2) before any work, input errors (3), nothing left behind.
 expect 2 "no stopping rule" -- "$simplify" "$femur" -o "$work/x.bpm"

@@ -1,12 +1,12 @@
 // bpm-fuzz-seeds OUTDIR: writes small valid files of every input format into
-// OUTDIR/{off,obj,stl,ply,msh,vtk,bpm}/, the seed corpora of the fuzz targets
+// OUTDIR/{off,obj,stl,ply,msh,vtk,surf,bpm}/, the seed corpora of the fuzz targets
 // (scripts/fuzz.sh adds the malformed files of tests/data/bad/ and spec/examples/).
 //
 // Surfaces come from the library's writers (one encoding per format) and, for the
-// encodings and features the writers do not produce (ASCII PLY and STL, big-endian PLY,
-// MSH 2.2, binary MSH, OBJ groups / materials / relative indices, OFF colours), from the
-// small text builders below, so that the fuzzer starts inside every branch of every
-// reader. .bpm seeds are the fixtures of tests/unit/fixtures_phi.h, a simplified
+// encodings, features and formats the writers do not produce (ASCII PLY and STL,
+// big-endian PLY, MSH 2.2, binary MSH, OBJ groups / materials / relative indices, OFF
+// colours, legacy VTK, Amira HyperSurface), from the small builders below, so that the
+// fuzzer starts inside every branch of every reader. .bpm seeds are the fixtures of tests/unit/fixtures_phi.h, a simplified
 // octahedron with its record of steps, one with a tetrahedral mesh (if tetgen is
 // installed) and one with a refined one.
 // Exit codes: 0 ok, 2 usage, 4 output error.
@@ -328,6 +328,51 @@ std::string vtk_grid(const Surface& s, bool binary) {
     return w.o;
 }
 
+// Amira HyperSurface: one Patches entry per patch id (a run of triangles), with the
+// sections that are parsed and skipped (Parameters, boundary curves, branching points,
+// Surfaces); binary values big-endian.
+std::string surf(const Surface& s, bool binary) {
+    std::string o = std::string("# HyperSurface 0.1 ") + (binary ? "BINARY" : "ASCII") + "\n\n";
+    o += "Parameters {\n    Materials {\n        Exterior { Id 0 }\n        M0 { Color 1 0.5 0, Id 1 }\n    }\n"
+         "    Units { Coordinates \"mm\" } # comment }\n}\n";
+    auto ints = [&](const std::string& key, const std::vector<int32_t>& v, size_t per) {
+        o += key + " " + std::to_string(v.size() / per) + "\n";
+        for (size_t i = 0; i < v.size(); ++i) {
+            if (binary) put<int32_t>(o, v[i], true);
+            else o += std::to_string(v[i]) + (i % per == per - 1 ? "\n" : " ");
+        }
+        if (binary) o += "\n";
+    };
+    o += "Vertices " + std::to_string(s.vertices.size()) + "\n";
+    for (const Vec3& p : s.vertices) {
+        for (int k = 0; k < 3; ++k) {
+            if (binary) put<float>(o, static_cast<float>(p[k]), true);
+            else o += num(p[k]) + (k == 2 ? "\n" : " ");
+        }
+    }
+    if (binary) o += "\n";
+    o += "NBranchingPoints 1\nNVerticesOnCurves 0\nBoundaryCurves 1\n{\n";
+    ints("Vertices", {1, 2, 1}, 1);
+    std::vector<std::pair<size_t, size_t>> runs;  // [begin, end) of each patch run
+    for (size_t t = 0; t < s.triangles.size(); ++t) {
+        if (t == 0 || s.patches[t] != s.patches[t - 1]) runs.push_back({t, t});
+        runs.back().second = t + 1;
+    }
+    o += "}\nPatches " + std::to_string(runs.size()) + "\n";
+    for (size_t r = 0; r < runs.size(); ++r) {
+        o += "{\nInnerRegion M" + std::to_string(r) + "\nOuterRegion Exterior\nBoundaryID 0\n";
+        ints("BranchingPoints", {1}, 1);
+        std::vector<int32_t> indices;
+        for (size_t t = runs[r].first; t < runs[r].second; ++t)
+            for (int32_t v : s.triangles[t]) indices.push_back(v + 1);
+        ints("Triangles", indices, 3);
+        o += "}\n";
+    }
+    o += "Surfaces 1\n{\nRegion M0\n";
+    ints("Patches", {1}, 1);
+    return o + "}\n";
+}
+
 void write_surface_seeds(const std::string& stem, const Surface& s) {
     for (const char* ext : {"off", "obj", "stl", "ply", "msh"})
         write_surface((g_out / ext / (stem + "." + ext)).string(), s);
@@ -345,6 +390,7 @@ void write_surface_seeds(const std::string& stem, const Surface& s) {
         put_file("vtk", stem + encoding + "_42.vtk", vtk_polydata(s, binary, false));
         put_file("vtk", stem + encoding + "_51.vtk", vtk_polydata(s, binary, true));
         put_file("vtk", stem + encoding + "_grid.vtk", vtk_grid(s, binary));
+        put_file("surf", stem + encoding + ".surf", surf(s, binary));
     }
 }
 
@@ -365,7 +411,7 @@ int main(int argc, char** argv) {
     }
     g_out = argv[1];
     try {
-        for (const char* d : {"off", "obj", "stl", "ply", "msh", "vtk", "bpm"}) fs::create_directories(g_out / d);
+        for (const char* d : {"off", "obj", "stl", "ply", "msh", "vtk", "surf", "bpm"}) fs::create_directories(g_out / d);
 
         write_surface_seeds("tetrahedron", tetrahedron());
         write_surface_seeds("octahedron1", test::make_subdivided_octahedron(1).original);

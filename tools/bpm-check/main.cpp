@@ -84,12 +84,12 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(0, 64))
         ->capture_default_str();
     app.add_flag("--surface", surface_mode,
-                 "FILE is a plain surface (OFF, OBJ, STL, PLY, MSH, VTK): run intersections and topology on it alone");
+                 "FILE is a plain surface (OFF, OBJ, STL, PLY, MSH, VTK, VTP, VTU, SURF): run intersections and topology on it alone");
     bool triangulate_polygons = false;
     app.add_flag("--triangulate-polygons", triangulate_polygons,
                  "With --surface: split faces with more than 3 corners into triangles first (as bpm-simplify's "
                  "repair of that name)");
-    app.add_option("--format", surface_format, "Surface format for --surface when reading '-' (off, obj, stl, ply, msh, vtk, vtp, vtu)");
+    app.add_option("--format", surface_format, "Surface format for --surface when reading '-' (off, obj, stl, ply, msh, vtk, vtp, vtu, surf)");
     bpm::tools::add_version_flag(app, tool);
 
     return bpm::tools::run(tool, argc, argv, app, [&]() {

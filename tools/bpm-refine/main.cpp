@@ -136,7 +136,8 @@ int main(int argc, char** argv) {
         const auto surface_format = bpm::surface_format_from_name(kind);
         if (!is_bpm && !is_vtu && (!surface_format || *surface_format == bpm::SurfaceFormat::Msh ||
                                         *surface_format == bpm::SurfaceFormat::Vtk ||
-                                        *surface_format == bpm::SurfaceFormat::Vtp))
+                                        *surface_format == bpm::SurfaceFormat::Vtp ||
+                                        *surface_format == bpm::SurfaceFormat::Surf))
             throw CLI::ValidationError("--output", "unknown output format '" + kind +
                                                        "' (use .off .obj .ply .stl .vtu .bpm or --format)");
         if (data && !is_vtu) throw CLI::ValidationError("--data", "--data needs .vtu output (the other formats hold no point data)");

@@ -22,12 +22,12 @@ int main(int argc, char** argv) {
     bool verbose = false, quiet = false, allow_intersections = false, deterministic = false;
     std::string units;
     app.add_option("INPUT", inputs,
-                   "Input surface (.off .obj .stl .ply .msh .vtk .vtp .vtu), or - for standard input. Several inputs "
+                   "Input surface (.off .obj .stl .ply .msh .vtk .vtp .vtu .surf), or - for standard input. Several inputs "
                    "(e.g. one closed surface per material) are simplified together as one surface; the patches of "
                    "different inputs are kept apart")
         ->required();
     app.add_option("-o,--output", output, "Output .bpm file, or - for standard output")->required();
-    app.add_option("--format", format, "Input format when it cannot be told from the name: off, obj, stl, ply, msh, vtk (legacy VTK), vtp, vtu (VTK XML)");
+    app.add_option("--format", format, "Input format when it cannot be told from the name: off, obj, stl, ply, msh, vtk (legacy VTK), vtp, vtu (VTK XML), surf (Amira HyperSurface)");
     app.add_option("--vertices", options.target_vertices, "Stop when the coarse surface has this many vertices")
         ->check(CLI::NonNegativeNumber);
     app.add_option("--ratio", options.target_ratio,

@@ -23,6 +23,10 @@
 //                        other cells skipped with a note. PointData arrays become vertex
 //                        data; a CellData array named patch / material / region / label /
 //                        physical / gmsh:physical / CellEntityIds / RegionId the patch id
+//   SURF  (.surf)        Amira / Avizo HyperSurface 0.1, ASCII and BINARY (read only): each
+//                        Patches entry is a patch (0, 1, ... in file order; the notes name
+//                        its InnerRegion / OuterRegion); Parameters, BoundaryCurves and
+//                        Surfaces are parsed and not used. Details in read_surf.cpp.
 // Every triangle gets a patch id (0 when the format has none). In detail:
 //   OBJ  each distinct (group names, material) pair is a patch, numbered 0, 1, ... in the
 //        order faces first use it; but when there is no `usemtl` and every face is in a
@@ -36,6 +40,9 @@
 //        triangles of a strip or polygon keep their cell's id. Details in read_vtk.cpp.
 // Polygons (faces with more than three corners) are refused in every format, never
 // triangulated silently.
+//
+// The format is chosen by options.format, else by the extension; a file without a known
+// extension whose first line starts with "# HyperSurface" is read as SURF.
 //
 // Errors: every malformed input throws bpm::InputError naming the file and the line
 // (text formats) or element / byte offset (binary formats). Counts in headers are never
@@ -53,10 +60,10 @@
 namespace bpm {
 
 // Vtp, Vtu: VTK XML PolyData / UnstructuredGrid, read only (bpm-refine writes .vtu with
-// its own writer, write_vtu in bpm/refine.h).
-enum class SurfaceFormat { Off, Obj, Stl, Ply, Msh, Vtk, Vtp, Vtu };
+// its own writer, write_vtu in bpm/refine.h). Surf: Amira HyperSurface, read only.
+enum class SurfaceFormat { Off, Obj, Stl, Ply, Msh, Vtk, Vtp, Vtu, Surf };
 
-// "off", "obj", "stl", "ply", "msh", "vtk", "vtp", "vtu" (case-insensitive) -> format; nullopt otherwise.
+// "off", "obj", "stl", "ply", "msh", "vtk", "vtp", "vtu", "surf" (case-insensitive) -> format; nullopt otherwise.
 std::optional<SurfaceFormat> surface_format_from_name(const std::string& name);
 // Format from the extension of `path`; nullopt if unknown.
 std::optional<SurfaceFormat> surface_format_from_path(const std::string& path);
@@ -106,7 +113,7 @@ Surface read_surface_from_memory(const std::string& bytes, SurfaceFormat format,
 
 // Writes OFF, OBJ (patches as `g patch_N`), STL (binary), PLY (binary little endian with
 // an int `patch` face property) or MSH 4.1 ASCII (patches as physical tags), atomically
-// (not VTK, VTP or VTU: an OutputError):
+// (not VTK, VTP, VTU or SURF: an OutputError):
 // to a temporary name in the same directory, renamed when complete. "-" writes stdout.
 // Output is deterministic; text formats write doubles with 17 significant digits, so
 // reading back gives the same surface bit for bit (patches are lost in OFF; STL stores

@@ -388,12 +388,59 @@ add("vtp_lz4.vtp", vtp("binary").replace(b'header_type="UInt32"', b'header_type=
 add("vtu_only_tetrahedra.vtu", vtu_cells([10], [0, 1, 2, 3], [4]), "extract the boundary first")
 add("vtu_triangle_with_four_points.vtu", vtu_cells([5], [0, 1, 2, 3], [4]), "triangle cell 0 has 4 points, 3 expected")
 
+# ---- Amira HyperSurface (.surf) ---------------------------------------------------
+def surf(vertices=TET_V, patches=(("A", "Exterior", TET_F),), binary=False):
+    out = b"# HyperSurface 0.1 %s\n\n" % (b"BINARY" if binary else b"ASCII")
+    out += b'Parameters {\n    Materials {\n        Exterior { Id 0 }\n        A { Color 1 0 0, Id 1 }\n    }\n'
+    out += b'    Units { Coordinates "mm" }\n}\n'
+    out += b"Vertices %d\n" % len(vertices)
+    for v in vertices:
+        out += struct.pack(">3f", *(float(c) for c in v)) if binary else (" ".join(str(c) for c in v) + "\n").encode()
+    if binary:
+        out += b"\n"
+    out += b"NBranchingPoints 0\nNVerticesOnCurves 0\nBoundaryCurves 0\nPatches %d\n" % len(patches)
+    for inner, outer, faces in patches:
+        out += ("{\nInnerRegion %s\nOuterRegion %s\nBoundaryID 0\nBranchingPoints 0\n\nTriangles %d\n"
+                % (inner, outer, len(faces))).encode()
+        for f in faces:  # one-based in the file
+            g = tuple(i + 1 for i in f)
+            out += struct.pack(">3i", *g) if binary else ("%d %d %d\n" % g).encode()
+        if binary:
+            out += b"\n"
+        out += b"}\n"
+    return out
+
+
+add("surf_empty.surf", "", "empty")
+add("surf_amira_mesh.surf", "# AmiraMesh BINARY-LITTLE-ENDIAN 2.1\ndefine Nodes 4\n", "an AmiraMesh file, not a HyperSurface")
+add("surf_version.surf", surf().replace(b"0.1 ASCII", b"0.2 ASCII"), "HyperSurface version '0.2' is not supported")
+add("surf_index_zero.surf", surf(patches=(("A", "Exterior", TET_F[:3] + [(1, -1, 3)]),)), "vertex index 0 is out of range")
+add("surf_index_out_of_range.surf", surf(patches=(("A", "Exterior", TET_F[:3] + [(1, 2, 4)]),)),
+    "vertex index 5 is out of range (the file has 4 vertices, numbered from 1)")
+add("surf_nan.surf", surf([(0, 0, 0), (1, "nan", 0), (0, 1, 0), (0, 0, 1)]), "is not a finite number")
+add("surf_missing_triangle_count.surf", surf().replace(b"Triangles 4\n", b"Triangles\n"),
+    "expected a count after 'Triangles', found the end of the line")
+add("surf_unbalanced_braces.surf", surf().replace(b'"mm" }\n}\n', b'"mm" }\n'), "is never closed (unbalanced braces")
+add("surf_patch_not_closed.surf", surf()[:-2], "the '{' of patch 0 is never closed")
+add("surf_too_few_patches.surf", surf().replace(b"Patches 1", b"Patches 2"), "expected '{' opening patch 1")
+add("surf_no_patches.surf", surf().split(b"Patches")[0], "no Patches section")
+add("surf_interface_twice.surf", surf(patches=(("A", "Exterior", TET_F), ("A", "B", TET_F[:1]))),
+    "the merge-duplicate-triangles repair")
+add("surf_binary_truncated.surf", surf(binary=True)[:-30], "cannot hold that many")
+add("surf_binary_nan.surf", surf([(0, 0, 0), (1, 0, 0), (0, float("nan"), 0), (0, 0, 1)], binary=True), "coordinate y is NaN")
+add("surf_binary_index_out_of_range.surf", surf(patches=(("A", "Exterior", TET_F[:3] + [(1, 2, 98)]),), binary=True),
+    "vertex index 99 is out of range")
+add("surf_binary_unknown_key.surf", surf(binary=True).replace(b"BoundaryID 0\n", b"BoundaryID 0\nColour 1 0 0\n"),
+    "cannot be skipped safely")
+add("surf_random_bytes.surf", b"# HyperSurface 0.1 BINARY\n" + garbage(11, 300), "*")
+
+
 
 def main():
     names = [f[0] for f in FILES]
     assert len(names) == len(set(names)), "duplicate file names"
     for old in os.listdir(HERE):
-        if old.split(".")[-1] in ("off", "obj", "stl", "ply", "msh", "vtk", "vtp", "vtu"):
+        if old.split(".")[-1] in ("off", "obj", "stl", "ply", "msh", "vtk", "vtp", "vtu", "surf"):
             os.remove(os.path.join(HERE, old))
     for name, data, _ in FILES:
         with open(os.path.join(HERE, name), "wb") as f:
