@@ -58,7 +58,7 @@ TEST_CASE("simplify records one step per removal, only when asked", "[steps]") {
     CHECK(torus.num_triangles() - 2 * st.num_steps() == with.param.coarse.num_triangles());
 }
 
-TEST_CASE("the record round-trips through the file; files without one are unchanged", "[steps][format]") {
+TEST_CASE("the record round-trips through the file, and files without one are unchanged", "[steps][format]") {
     const BpmFile f = simplified(fixtures::two_cubes(3), 0.3, true);
     const std::string bytes = write_bpm_to_memory(f);
     const BpmFile g = read_bpm_from_memory(bytes, "mem");

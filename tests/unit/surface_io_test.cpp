@@ -203,7 +203,7 @@ TEST_CASE("OBJ: groups named patch_N keep N as the patch id", "[surface_io]") {
     CHECK(read_bytes(mixed, SurfaceFormat::Obj).patches == std::vector<int32_t>{0, 0, 1, 1});
 }
 
-TEST_CASE("STL: ASCII with two solids gives two patches and shared vertices; normals are ignored", "[surface_io]") {
+TEST_CASE("STL: ASCII with two solids gives two patches and shared vertices, normals are ignored", "[surface_io]") {
     const Surface t = tetrahedron();
     std::string text;
     for (int solid = 0; solid < 2; ++solid) {
@@ -922,7 +922,7 @@ TEST_CASE("real meshes with polygon faces read with the triangulate-polygons rep
     if (files == 0) WARN("none of the polygon meshes in " << dir.string());
 }
 
-TEST_CASE("real STL meshes read; the vertex count comes from merging corners", "[surface_io][real]") {
+TEST_CASE("real STL meshes read, the vertex count comes from merging corners", "[surface_io][real]") {
     const fs::path dir = BPM_MESH_DIR;
     if (!have_mesh_dir(dir)) return;
     int files = 0;

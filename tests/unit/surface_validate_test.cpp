@@ -138,7 +138,7 @@ TEST_CASE("validate: unreferenced vertices unless allowed", "[validate]") {
     CHECK(validate_surface(s, allow).empty());
 }
 
-TEST_CASE("validate: duplicate vertices unless allowed; -0 equals +0", "[validate]") {
+TEST_CASE("validate: duplicate vertices unless allowed, and -0 equals +0", "[validate]") {
     Surface s = tetrahedron();
     s.vertices.push_back({-0.0, 0.0, 1.0});  // same position as vertex 3
     s.triangles[3] = {1, 2, 4};
