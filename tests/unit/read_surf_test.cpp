@@ -19,28 +19,16 @@
 
 #include "bpm/errors.h"
 #include "bpm/surface_io.h"
+#include "test_bytes.h"
+#include "test_support.h"
 
 namespace fs = std::filesystem;
 using namespace bpm;
 
 namespace {
 
-template <class T>
-void put(std::string& out, T value, bool big_endian) {
-    unsigned char raw[sizeof(T)];
-    std::memcpy(raw, &value, sizeof(T));
-    const uint16_t probe = 1;
-    const bool host_big = *reinterpret_cast<const unsigned char*>(&probe) == 0;
-    if (host_big != big_endian) std::reverse(raw, raw + sizeof(T));
-    out.append(reinterpret_cast<const char*>(raw), sizeof(T));
-}
-
-std::string text(double x) {
-    std::ostringstream s;
-    s.precision(17);
-    s << x;
-    return s.str();
-}
+using test_bytes::put;
+using test_bytes::text;
 
 // Writes a HyperSurface file: keyword lines as text, the values after a count line as
 // text lines or, in BINARY files, as big-endian (or little-endian) 4-byte values followed
@@ -162,12 +150,7 @@ std::string surf_error(const std::string& bytes) {
     return "";
 }
 
-// The line (1-based) of the first occurrence of `marker`.
-int line_of(const std::string& bytes, const std::string& marker) {
-    const size_t at = bytes.find(marker);
-    REQUIRE(at != std::string::npos);
-    return 1 + static_cast<int>(std::count(bytes.begin(), bytes.begin() + static_cast<std::ptrdiff_t>(at), '\n'));
-}
+using test_support::line_of;
 std::string line(const std::string& bytes, const std::string& marker) {
     return "line " + std::to_string(line_of(bytes, marker)) + ": ";
 }

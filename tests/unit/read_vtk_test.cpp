@@ -20,6 +20,8 @@
 
 #include "bpm/errors.h"
 #include "bpm/surface_io.h"
+#include "test_bytes.h"
+#include "test_support.h"
 
 using namespace bpm;
 
@@ -27,20 +29,9 @@ namespace {
 
 template <class T>
 void put_be(std::string& out, T value) {
-    unsigned char raw[sizeof(T)];
-    std::memcpy(raw, &value, sizeof(T));
-    const uint16_t probe = 1;
-    const bool host_big = *reinterpret_cast<const unsigned char*>(&probe) == 0;
-    if (!host_big) std::reverse(raw, raw + sizeof(T));
-    out.append(reinterpret_cast<const char*>(raw), sizeof(T));
+    test_bytes::put(out, value, true);
 }
-
-std::string text(double x) {
-    std::ostringstream s;
-    s.precision(17);
-    s << x;
-    return s.str();
-}
+using test_bytes::text;
 
 // Writes a legacy VTK file in either encoding: keyword lines as text, values as text or
 // big-endian binary (followed by a line end, as vtkDataWriter does).
@@ -201,12 +192,7 @@ std::string vtk_error(const std::string& bytes, const SurfaceReadOptions& option
     return "";
 }
 
-// The line (1-based) of the first occurrence of `marker`.
-int line_of(const std::string& bytes, const std::string& marker) {
-    const size_t at = bytes.find(marker);
-    REQUIRE(at != std::string::npos);
-    return 1 + static_cast<int>(std::count(bytes.begin(), bytes.begin() + static_cast<std::ptrdiff_t>(at), '\n'));
-}
+using test_support::line_of;
 
 #define CHECK_VTK_ERROR(bytes, text)                     \
     do {                                                 \

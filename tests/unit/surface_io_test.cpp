@@ -15,6 +15,7 @@
 
 #include "bpm/errors.h"
 #include "bpm/surface_io.h"
+#include "test_bytes.h"
 
 using namespace bpm;
 namespace fs = std::filesystem;
@@ -86,12 +87,7 @@ bool have_mesh_dir(const fs::path& dir) {
 // ---- byte builders for the binary formats ----
 template <class T>
 void put(std::string& out, T value, bool big_endian = false) {
-    unsigned char raw[sizeof(T)];
-    std::memcpy(raw, &value, sizeof(T));
-    const uint16_t probe = 1;
-    const bool host_big = *reinterpret_cast<const unsigned char*>(&probe) == 0;
-    if (big_endian != host_big) std::reverse(raw, raw + sizeof(T));
-    out.append(reinterpret_cast<const char*>(raw), sizeof(T));
+    test_bytes::put(out, value, big_endian);
 }
 
 std::string binary_stl(const Surface& s, const std::string& header) {

@@ -3,6 +3,7 @@
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <string>
@@ -55,6 +56,13 @@ inline const Parametrization* simplified_femur() {
         }
     }
     return p.coarse.num_triangles() > 0 ? &p : nullptr;
+}
+
+// The line (1-based) of a text file's first occurrence of `marker`, for expected messages.
+inline int line_of(const std::string& bytes, const std::string& marker) {
+    const size_t at = bytes.find(marker);
+    REQUIRE(at != std::string::npos);
+    return 1 + static_cast<int>(std::count(bytes.begin(), bytes.begin() + static_cast<std::ptrdiff_t>(at), '\n'));
 }
 
 }  // namespace bpm::test_support

@@ -17,6 +17,7 @@
 #include "bpm/errors.h"
 #include "bpm/refine.h"
 #include "bpm/surface_io.h"
+#include "test_bytes.h"
 
 using namespace bpm;
 namespace fs = std::filesystem;
@@ -59,14 +60,7 @@ public:
 
     template <class T>
     void put(std::string& out, T value) const {
-        unsigned char raw[sizeof(T)];
-        std::memcpy(raw, &value, sizeof(T));
-        const uint16_t probe = 1;
-        unsigned char first;
-        std::memcpy(&first, &probe, 1);
-        const bool host_big = first == 0;
-        if (host_big != e_.big_endian) std::reverse(raw, raw + sizeof(T));
-        out.append(reinterpret_cast<const char*>(raw), sizeof(T));
+        test_bytes::put(out, value, e_.big_endian);
     }
     void put_header(std::string& out, uint64_t v) const {
         if (e_.header64) put<uint64_t>(out, v);
