@@ -560,10 +560,13 @@ SimplifyResult Simplifier::run(Parametrization& out) {
         // next few that is not in the top's star, so that its star shares no triangle
         // with the top's. Their plans, validations and re-rankings share the rounds (the
         // second thread otherwise idles while the top is planned). The second is
-        // committed after the first only if its plan is provably unchanged by it (its
-        // star's triangles are still there, no path it edits changed, its new edges are
-        // still new; as for a waiting plan), else it goes back into the queue as it was;
-        // and it is refused if its new triangles meet the first's.
+        // committed after the first only if its plan is still valid then (its star's
+        // triangles are still there, no path it edits changed, its new edges and
+        // triangles are still new: what a reused waiting plan is checked for), else it
+        // goes back into the queue as it was; and it is refused if its new triangles
+        // meet the first's. (The plan is valid, not necessarily the one a planner would
+        // choose after the first removal: an ear the first removal blocked could have
+        // changed a near-tie, or let a crease be followed where the plan ends it.)
         int count = 0;
         candidates[count++].entry = queue_.top();
         queue_.pop();
@@ -656,6 +659,15 @@ SimplifyResult Simplifier::run(Parametrization& out) {
             if (!c.live) continue;
             const int32_t v = c.entry.vertex;
             RemovalPlan& plan = *c.plan;
+            const bool after_first = k > 0 && commits_ > commits_before;
+            // After the first removal of this step: is this plan still valid? (Its
+            // intersection test saw the first one's old triangles, which may be all it
+            // met: then it is tested again later.)
+            if (after_first &&
+                (mesh_.num_vertices_alive() <= target || !still_current(plan) || c.known_intersection == 1)) {
+                queue_.push(c.entry);
+                continue;
+            }
             // Floater's map or the normal limit may still raise the cost; then it waits
             // with its complete plan.
             const double cost = judge(v, plan);
@@ -669,14 +681,7 @@ SimplifyResult Simplifier::run(Parametrization& out) {
                 queue_.push({cost, v, stamp_[v]});
                 continue;
             }
-            if (k > 0 && commits_ > commits_before) {
-                // After the first removal of this iteration: is this plan still exact?
-                // Its intersection test saw the first one's old triangles, which may be
-                // all it met: then it is tested again later.
-                if (mesh_.num_vertices_alive() <= target || !still_current(plan) || c.known_intersection == 1) {
-                    queue_.push(c.entry);
-                    continue;
-                }
+            if (after_first) {
                 if (options_.prevent_intersections && meets_new_triangles(plan, candidates[0].plan->new_triangles)) {
                     last_reason_[v] = "would create a self-intersection";
                     continue;

@@ -42,7 +42,7 @@ struct SimplifyOptions {
     // to +-8 %, either way.
     double queue_tolerance = 0.1;
     // Up to two removals per step: with the queue's top, the best of the next few entries
-    // outside the top's star, committed after it if its plan is still exact then. The two
+    // outside the top's star, committed after it if its plan is still valid then. The two
     // share the parallel rounds (planning, validation, re-ranking), which the second
     // thread otherwise mostly waits through: 6-11 % less time on the bench meshes. The
     // second removal comes before the re-ranked neighbours of the first, so the order
