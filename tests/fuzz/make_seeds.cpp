@@ -25,6 +25,7 @@
 #include "bpm/tet_refine.h"
 #include "bpm/tetmesh.h"
 #include "fixtures_phi.h"
+#include "test_bytes.h"
 
 namespace fs = std::filesystem;
 using namespace bpm;
@@ -41,17 +42,10 @@ void put_file(const std::string& format, const std::string& name, const std::str
 
 template <class T>
 void put(std::string& out, T value, bool big_endian = false) {
-    unsigned char raw[sizeof(T)];
-    std::memcpy(raw, &value, sizeof(T));
-    if (big_endian) std::reverse(raw, raw + sizeof(T));  // the host is little endian (x86-64)
-    out.append(reinterpret_cast<const char*>(raw), sizeof(T));
+    test_bytes::put(out, value, big_endian);
 }
 
-std::string num(double x) {
-    char buffer[40];
-    std::snprintf(buffer, sizeof buffer, "%.17g", x);
-    return buffer;
-}
+std::string num(double x) { return test_bytes::text(x); }
 
 Surface tetrahedron() {
     Surface s;
