@@ -1061,7 +1061,9 @@ ReaderOutput VtkXmlReader::read() {
     if (!polydata && *type != "UnstructuredGrid") {
         fail_at(root, "VTKFile type " + quote_token(*type) +
                           " is not supported; bpm reads PolyData (.vtp) and UnstructuredGrid (.vtu) surfaces" +
-                          (type->size() > 1 && (*type)[0] == 'P' ? " (a parallel file: read its pieces instead)" : ""));
+                          (type->size() > 1 && (*type)[0] == 'P'
+                               ? " (a parallel file: bpm reads its pieces when given its path, not its bytes alone)"
+                               : ""));
     }
     if (const std::string* order = root.attribute("byte_order")) {
         if (*order == "BigEndian") big_endian_ = true;
@@ -1162,6 +1164,45 @@ ReaderOutput VtkXmlReader::read() {
 ReaderOutput read_vtk_xml(std::string_view bytes, const std::string& name, bool accept_polygons) {
     VtkXmlReader reader(bytes, name, accept_polygons);
     return reader.read();
+}
+
+bool is_parallel_vtk_xml(std::string_view bytes) {
+    const size_t at = bytes.substr(0, 512).find("<VTKFile");
+    if (at == std::string_view::npos) return false;
+    const std::string_view tag = bytes.substr(at, 200);
+    return tag.find("\"PPolyData\"") != std::string_view::npos ||
+           tag.find("\"PUnstructuredGrid\"") != std::string_view::npos;
+}
+
+std::vector<std::string> parallel_vtk_xml_sources(std::string_view bytes, const std::string& name) {
+    const InputCursor in(bytes, name);
+    if (in.size() == 0) in.fail("the file is empty");
+    const XmlDocument doc = scan_xml(in);
+    const XmlElement& root = doc.elements[0];
+    if (root.name != "VTKFile") in.fail_line(root.at, "the root element is <" + root.name + ">, not <VTKFile>: not a VTK XML file");
+    const std::string* type = root.attribute("type");
+    if (!type || (*type != "PPolyData" && *type != "PUnstructuredGrid"))
+        in.fail_line(root.at, "not a parallel VTK XML file (VTKFile type PPolyData or PUnstructuredGrid)");
+    const XmlElement* dataset = nullptr;
+    for (size_t c : root.children)
+        if (doc.elements[c].name == *type) dataset = &doc.elements[c];
+    if (!dataset) in.fail_line(root.at, "<VTKFile type=\"" + *type + "\"> has no <" + *type + "> element");
+    if (const std::string* ghosts = dataset->attribute("GhostLevel"); ghosts && *ghosts != "0") {
+        // Ghost cells are copies of the neighbouring pieces' cells: the union would hold
+        // every border triangle twice.
+        in.fail_line(dataset->at, "GhostLevel " + quote_token(*ghosts) +
+                              ": pieces with ghost cells are not supported; write the file with ghost level 0");
+    }
+    std::vector<std::string> sources;
+    for (size_t c : dataset->children) {
+        const XmlElement& piece = doc.elements[c];
+        if (piece.name != "Piece") continue;
+        const std::string* source = piece.attribute("Source");
+        if (!source || source->empty()) in.fail_line(piece.at, "<Piece> has no attribute Source (the file of the piece)");
+        sources.push_back(*source);
+    }
+    if (sources.empty()) in.fail_line(dataset->at, "<" + *type + "> lists no <Piece Source=...>: no piece files to read");
+    return sources;
 }
 
 }  // namespace bpm::detail

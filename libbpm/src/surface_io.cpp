@@ -9,6 +9,7 @@
 #include <cstdarg>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <limits>
 #include <map>
 
@@ -126,6 +127,8 @@ std::optional<SurfaceFormat> surface_format_from_name(const std::string& name) {
     if (n == "vtk") return SurfaceFormat::Vtk;
     if (n == "vtp") return SurfaceFormat::Vtp;
     if (n == "vtu") return SurfaceFormat::Vtu;
+    if (n == "pvtp") return SurfaceFormat::Vtp;  // parallel: its pieces are read (read_surface)
+    if (n == "pvtu") return SurfaceFormat::Vtu;
     if (n == "surf") return SurfaceFormat::Surf;
     return std::nullopt;
 }
@@ -136,6 +139,9 @@ std::optional<SurfaceFormat> surface_format_from_path(const std::string& path) {
     if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return std::nullopt;
     return surface_format_from_name(path.substr(dot + 1));
 }
+
+static Surface finish_reading(detail::ReaderOutput parsed, SurfaceFormat format, const std::string& name,
+                              const SurfaceReadOptions& options, SurfaceReadReport* report);
 
 Surface read_surface_from_memory(const std::string& bytes, SurfaceFormat format, const std::string& name,
                                  const SurfaceReadOptions& options, SurfaceReadReport* report) {
@@ -157,6 +163,75 @@ Surface read_surface_from_memory(const std::string& bytes, SurfaceFormat format,
         if (hint.empty()) throw;
         throw InputError(e.where(), e.what() + hint);
     }
+    return finish_reading(std::move(parsed), format, name, options, report);
+}
+
+// The pieces of a parallel VTK XML file (.pvtp / .pvtu), read from the files its <Piece
+// Source=...> elements name (relative to its directory) and joined into one surface:
+// triangles and patches in piece order, the point data arrays every piece has, and the
+// points that several pieces share (their borders) merged.
+static detail::ReaderOutput read_parallel_vtk_xml(const std::string& path, const std::string& name, const std::string& bytes,
+                                                  const SurfaceReadOptions& options) {
+    const std::vector<std::string> sources = detail::parallel_vtk_xml_sources(bytes, name);
+    const std::filesystem::path dir = std::filesystem::path(path).parent_path();
+    detail::ReaderOutput all;
+    Surface& s = all.surface;
+    std::vector<std::string> dropped;  // point data arrays not in every piece
+    for (size_t k = 0; k < sources.size(); ++k) {
+        const std::string piece_path = (dir / sources[k]).string();
+        std::string piece_bytes;
+        try {
+            piece_bytes = detail::read_whole_input(piece_path);
+        } catch (const InputError& e) {
+            throw InputError(name, "piece " + std::to_string(k) + " (Source " + detail::quote_token(sources[k]) + "): " +
+                                       e.where() + ": " + e.what());
+        }
+        detail::ReaderOutput part =
+            detail::read_vtk_xml(piece_bytes, detail::display_name(piece_path), options.triangulate_polygons);
+        const int32_t offset = s.num_vertices();
+        if (int64_t(offset) + part.surface.num_vertices() > std::numeric_limits<int32_t>::max())
+            throw InputError(name, "the pieces have more than 2147483647 points together");
+        s.vertices.insert(s.vertices.end(), part.surface.vertices.begin(), part.surface.vertices.end());
+        for (Tri t : part.surface.triangles) {
+            for (int32_t& v : t) v += offset;
+            s.triangles.push_back(t);
+        }
+        s.patches.insert(s.patches.end(), part.surface.patches.begin(), part.surface.patches.end());
+        if (k == 0) {
+            s.vertex_data = std::move(part.surface.vertex_data);
+        } else {
+            std::vector<VertexArray> kept;
+            for (VertexArray& a : s.vertex_data) {
+                auto match = std::find_if(part.surface.vertex_data.begin(), part.surface.vertex_data.end(),
+                                          [&](const VertexArray& b) { return b.name == a.name && b.components == a.components; });
+                if (match == part.surface.vertex_data.end()) {
+                    dropped.push_back(a.name);
+                    continue;
+                }
+                a.values.insert(a.values.end(), match->values.begin(), match->values.end());
+                kept.push_back(std::move(a));
+            }
+            for (const VertexArray& b : part.surface.vertex_data)
+                if (std::none_of(kept.begin(), kept.end(), [&](const VertexArray& a) { return a.name == b.name; }))
+                    dropped.push_back(b.name);
+            s.vertex_data = std::move(kept);
+        }
+        all.skipped_elements += part.skipped_elements;
+        for (std::string& note : part.notes) all.notes.push_back(sources[k] + ": " + note);
+    }
+    std::sort(dropped.begin(), dropped.end());
+    dropped.erase(std::unique(dropped.begin(), dropped.end()), dropped.end());
+    for (const std::string& d : dropped)
+        all.notes.push_back("point data " + detail::quote_token(d) + " left out: not in every piece (or not with the same components)");
+    const int64_t merged = merge_duplicate_vertices(s);
+    all.notes.push_back(std::to_string(sources.size()) + (sources.size() == 1 ? " piece" : " pieces") + " joined; " +
+                        std::to_string(merged) + " points that pieces share merged");
+    return all;
+}
+
+// After a reader: the repairs asked for, then the validation.
+static Surface finish_reading(detail::ReaderOutput parsed, SurfaceFormat format, const std::string& name,
+                              const SurfaceReadOptions& options, SurfaceReadReport* report) {
     Surface surface = std::move(parsed.surface);
     if (const std::vector<std::string> bad = vertex_data_problems(surface); !bad.empty()) {
         std::string message = bad[0];
@@ -199,13 +274,16 @@ Surface read_surface(const std::string& path, const SurfaceReadOptions& options,
     if (!format) format = surface_format_from_path(path);
     if (!format && path == "-") throw InputError(name, "the format of standard input must be given explicitly");
     const std::string bytes = detail::read_whole_input(path);
+    if ((!format || format == SurfaceFormat::Vtp || format == SurfaceFormat::Vtu) && detail::is_parallel_vtk_xml(bytes))
+        return finish_reading(read_parallel_vtk_xml(path, name, bytes, options), format.value_or(SurfaceFormat::Vtp),
+                              name, options, report);
     // No (known) extension: only a HyperSurface head is taken as the format (a first line
     // "# HyperSurface" cannot be mistaken for anything else); every other format needs its
     // extension or an explicit choice.
     if (!format && format_from_head(bytes) == SurfaceFormat::Surf) format = SurfaceFormat::Surf;
     if (!format) {
         throw InputError(name, "cannot tell the surface format from the file name; expected the extension .off, "
-                               ".obj, .stl, .ply, .msh, .vtk, .vtp, .vtu or .surf, or an explicit format");
+                               ".obj, .stl, .ply, .msh, .vtk, .vtp, .vtu, .pvtp, .pvtu or .surf, or an explicit format");
     }
     return read_surface_from_memory(bytes, *format, name, options, report);
 }

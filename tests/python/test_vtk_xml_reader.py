@@ -4,7 +4,10 @@ mode (ascii, binary, appended base64, appended raw) with and without zlib, UInt3
 UInt64 headers, big-endian, and through vtkXMLUnstructuredGridWriter. For each file bpm-check
 --surface must accept it, and bpm-simplify must read it with VTK's vertex and triangle
 counts and store the point data in the .bpm file with VTK's values and the material as
-patches. Last, bpm-refine --data writes one of the results as .vtu and bpm reads it back."""
+patches. The parallel writers' .pvtp and .pvtu (3 pieces each) must read as the whole
+sphere: the points the pieces share merged, every triangle once, the point data and the
+material kept. Last, bpm-refine --data writes one of the results as .vtu and bpm reads it
+back."""
 import os
 import subprocess
 import sys
@@ -87,6 +90,73 @@ def write_files(poly, work):
     return files
 
 
+def write_parallel_files(poly, work):
+    """The sphere in 3 pieces through vtkXMLPPolyDataWriter and vtkXMLPUnstructuredGridWriter
+    (the pieces cut from the whole data by vtkExtract*Piece), ghost level 0."""
+    import vtk
+
+    producer = vtk.vtkTrivialProducer()
+    producer.SetOutput(poly)
+    ugrid_filter = vtk.vtkAppendFilter()
+    ugrid_filter.AddInputData(poly)
+    ugrid_filter.Update()
+    grid_producer = vtk.vtkTrivialProducer()
+    grid_producer.SetOutput(ugrid_filter.GetOutput())
+    files = []
+    for name, extract, writer, source in (("pvtp", vtk.vtkExtractPolyDataPiece, vtk.vtkXMLPPolyDataWriter, producer),
+                                          ("pvtu", vtk.vtkExtractUnstructuredGridPiece,
+                                           vtk.vtkXMLPUnstructuredGridWriter, grid_producer)):
+        pieces = extract()
+        pieces.SetInputConnection(source.GetOutputPort())
+        w = writer()
+        w.SetInputConnection(pieces.GetOutputPort())
+        w.SetNumberOfPieces(3)
+        w.SetStartPiece(0)
+        w.SetEndPiece(2)
+        w.SetGhostLevel(0)
+        path = os.path.join(work, "sphere_parallel.%s" % name)
+        w.SetFileName(path)
+        if not w.Write():
+            raise RuntimeError("VTK could not write " + path)
+        files.append(path)
+    return files
+
+
+def check_parallel(path, poly, tools, work):
+    """bpm reads the pieces as the whole sphere."""
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+
+    r = subprocess.run([os.path.join(tools, "bpm-check"), "--surface", path], capture_output=True, text=True)
+    if r.returncode != 0:
+        return ["bpm-check --surface: exit %d: %s" % (r.returncode, (r.stderr or r.stdout).strip()[:300])]
+    out = os.path.join(work, os.path.basename(path) + ".bpm")
+    r = subprocess.run([os.path.join(tools, "bpm-simplify"), path, "-o", out, "--ratio", "0.5", "--deterministic"],
+                       capture_output=True, text=True)
+    if r.returncode != 0:
+        return ["bpm-simplify: exit %d: %s" % (r.returncode, r.stderr.strip()[:300])]
+    problems = []
+    if "3 pieces joined" not in r.stderr:
+        problems.append("no '3 pieces joined' note in the log: " + r.stderr.strip()[:300])
+    with h5py.File(out, "r") as f:
+        vertices = f["original/vertices"][()]
+        triangles = f["original/triangles"][()]
+        patches = np.asarray(f["original/patches"][()]).reshape(-1)
+        stored = np.asarray(f["original/point_data/temperature"][()]).reshape(-1)
+    if len(vertices) != poly.GetNumberOfPoints():
+        problems.append("bpm read %d vertices, the whole sphere has %d points" % (len(vertices), poly.GetNumberOfPoints()))
+    if len(triangles) != poly.GetNumberOfCells():
+        problems.append("bpm read %d triangles, the whole sphere has %d" % (len(triangles), poly.GetNumberOfCells()))
+    # The point data went with its points: temperature = x + 2y + 3z + 1 at every vertex.
+    expected = vertices[:, 0] + 2 * vertices[:, 1] + 3 * vertices[:, 2] + 1.0
+    if len(stored) != len(vertices) or not np.array_equal(stored, expected):
+        problems.append("point data 'temperature' does not match its points")
+    # Each triangle kept its material: the same count of each material as the whole sphere.
+    material = vtk_to_numpy(poly.GetCellData().GetArray("material"))
+    if sorted(np.unique(patches, return_counts=True)[1]) != sorted(np.unique(material, return_counts=True)[1]):
+        problems.append("patch sizes differ from the materials' cell counts")
+    return problems
+
+
 def vtk_counts(path):
     import vtk
     from vtkmodules.util.numpy_support import vtk_to_numpy
@@ -137,8 +207,12 @@ def main():
         print(missing)
         return 1
     work = common.work_dir(args, "vtk_xml_reader")
-    files = write_files(sphere(), work)
+    poly = sphere()
+    files = write_files(poly, work)
     failed = common.report(files, lambda path: check(path, args.tools, work))
+    parallel = write_parallel_files(poly, work)
+    failed += common.report(parallel, lambda path: check_parallel(path, poly, args.tools, work))
+    files += parallel
     # Round trip through bpm-refine's own .vtu writer: the refined surface and its
     # interpolated point data read back.
     coarse = os.path.join(work, os.path.basename(files[0]) + ".bpm")

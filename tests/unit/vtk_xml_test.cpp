@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <limits>
 
 #include "bpm/errors.h"
@@ -647,4 +648,77 @@ TEST_CASE("vtk xml: arrays sharing appended data are refused", "[surface_io][vtk
     REQUIRE(bytes.size() < 2 * 32000);
     CHECK_THAT(vtk_error(bytes), Catch::Contains("line 9: DataArray 'copy' of <PointData>") &&
                                      Catch::Contains("arrays overlapping in the appended data"));
+}
+
+namespace {
+
+// An ascii .vtp of the given triangles over the given points.
+std::string ascii_vtp(const std::vector<Vec3>& points, const std::vector<Tri>& triangles) {
+    std::string s = "<?xml version=\"1.0\"?>\n<VTKFile type=\"PolyData\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
+                    "<PolyData><Piece NumberOfPoints=\"" + std::to_string(points.size()) +
+                    "\" NumberOfPolys=\"" + std::to_string(triangles.size()) + "\">\n"
+                    "<Points><DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">";
+    for (const Vec3& p : points) s += " " + test_bytes::text(p[0]) + " " + test_bytes::text(p[1]) + " " + test_bytes::text(p[2]);
+    s += "</DataArray></Points>\n<Polys><DataArray type=\"Int32\" Name=\"connectivity\" format=\"ascii\">";
+    for (const Tri& t : triangles) s += " " + std::to_string(t[0]) + " " + std::to_string(t[1]) + " " + std::to_string(t[2]);
+    s += "</DataArray><DataArray type=\"Int32\" Name=\"offsets\" format=\"ascii\">";
+    for (size_t i = 1; i <= triangles.size(); ++i) s += " " + std::to_string(3 * i);
+    s += "</DataArray></Polys>\n</Piece></PolyData></VTKFile>\n";
+    return s;
+}
+
+std::string pvtp(const std::vector<std::string>& sources, const std::string& ghost_level = "0") {
+    std::string s = "<?xml version=\"1.0\"?>\n<VTKFile type=\"PPolyData\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
+                    "<PPolyData GhostLevel=\"" + ghost_level + "\">\n"
+                    "<PPoints><PDataArray type=\"Float64\" NumberOfComponents=\"3\"/></PPoints>\n";
+    for (const std::string& source : sources) s += "<Piece Source=\"" + source + "\"/>\n";
+    return s + "</PPolyData></VTKFile>\n";
+}
+
+void put_text_file(const fs::path& path, const std::string& text) {
+    std::ofstream out(path, std::ios::binary);
+    out << text;
+    REQUIRE(out.good());
+}
+
+}  // namespace
+
+TEST_CASE("vtk xml: a parallel file (.pvtp) reads as the union of its pieces", "[surface_io][vtk_xml]") {
+    const fs::path dir = fs::temp_directory_path() / ("bpm_pvtp_test_" + std::to_string(::getpid()));
+    fs::create_directories(dir / "parts");
+    // A tetrahedron in two pieces of two triangles; the pieces share all four points.
+    const std::vector<Vec3> x = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    put_text_file(dir / "parts" / "t_0.vtp", ascii_vtp(x, {{0, 2, 1}, {0, 1, 3}}));
+    put_text_file(dir / "parts" / "t_1.vtp", ascii_vtp({x[0], x[3], x[2], x[1]}, {{0, 1, 2}, {3, 2, 1}}));
+    put_text_file(dir / "t.pvtp", pvtp({"parts/t_0.vtp", "parts/t_1.vtp"}));
+    CHECK(surface_format_from_path("t.pvtp") == SurfaceFormat::Vtp);
+    CHECK(surface_format_from_path("t.pvtu") == SurfaceFormat::Vtu);
+    SurfaceReadReport report;
+    const Surface s = read_surface((dir / "t.pvtp").string(), {}, &report);
+    CHECK(s.num_vertices() == 4);
+    CHECK(s.num_triangles() == 4);
+    CHECK(s.vertices == x);
+    CHECK(s.triangles[2] == Tri{0, 3, 2});  // the second piece's points merged into the first's
+    bool joined = false;
+    for (const std::string& note : report.notes) joined |= note.find("2 pieces joined; 4 points that pieces share merged") != std::string::npos;
+    CHECK(joined);
+
+    auto error_of = [&](const std::string& wrapper) {
+        put_text_file(dir / "bad.pvtp", wrapper);
+        try {
+            (void)read_surface((dir / "bad.pvtp").string());
+        } catch (const InputError& e) {
+            return std::string(e.where()) + ": " + e.what();
+        }
+        return std::string("no error");
+    };
+    CHECK_THAT(error_of(pvtp({"parts/t_0.vtp", "parts/missing.vtp"})),
+               Catch::Contains("bad.pvtp: piece 1 (Source 'parts/missing.vtp')"));
+    CHECK_THAT(error_of(pvtp({"parts/t_0.vtp"}, "1")), Catch::Contains("line 3: GhostLevel '1': pieces with ghost cells"));
+    CHECK_THAT(error_of(pvtp({})), Catch::Contains("lists no <Piece Source=...>"));
+    CHECK_THAT(error_of(pvtp({""})), Catch::Contains("<Piece> has no attribute Source"));
+    // An error inside a piece names the piece file and its line.
+    put_text_file(dir / "parts" / "broken.vtp", "<?xml version=\"1.0\"?>\n<VTKFile type=\"PolyData\">\n<PolyData>\n");
+    CHECK_THAT(error_of(pvtp({"parts/t_0.vtp", "parts/broken.vtp"})), Catch::Contains("broken.vtp: line"));
+    fs::remove_all(dir);
 }

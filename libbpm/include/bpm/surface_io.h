@@ -44,6 +44,12 @@
 // The format is chosen by options.format, else by the extension; a file without a known
 // extension whose first line starts with "# HyperSurface" is read as SURF.
 //
+// Parallel VTK XML (.pvtp / .pvtu, read_surface only: the pieces are other files): the
+// files its <Piece Source=...> name, relative to its directory, are read as VTP / VTU and
+// joined in order, and the points that pieces share (their borders) are merged; point
+// data arrays not in every piece are left out with a note. Ghost levels above 0 are
+// refused (the ghost cells would be there twice).
+//
 // Errors: every malformed input throws bpm::InputError naming the file and the line
 // (text formats) or element / byte offset (binary formats). Counts in headers are never
 // trusted for allocation before they are checked against the size of the input. A file
