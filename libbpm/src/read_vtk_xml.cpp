@@ -1166,14 +1166,6 @@ ReaderOutput read_vtk_xml(std::string_view bytes, const std::string& name, bool 
     return reader.read();
 }
 
-bool is_parallel_vtk_xml(std::string_view bytes) {
-    const size_t at = bytes.substr(0, 512).find("<VTKFile");
-    if (at == std::string_view::npos) return false;
-    const std::string_view tag = bytes.substr(at, 200);
-    return tag.find("\"PPolyData\"") != std::string_view::npos ||
-           tag.find("\"PUnstructuredGrid\"") != std::string_view::npos;
-}
-
 std::vector<std::string> parallel_vtk_xml_sources(std::string_view bytes, const std::string& name) {
     const InputCursor in(bytes, name);
     if (in.size() == 0) in.fail("the file is empty");

@@ -364,7 +364,6 @@ bool Simplifier::intersects_rest(const RemovalPlan& plan, std::vector<TriangleGr
             all_hi[k] = i == 0 ? hi[k] : std::max(all_hi[k], hi[k]);
         }
     }
-    auto test = [&](const Tri& a, const Tri& b) { return meet_improperly(a, b); };
     if (count_new == 0) return false;
     // Only triangles whose box meets the box of all new triangles (the grid tests the
     // boxes it stores), then the cheap box rejection per new triangle before the exact test.
@@ -378,12 +377,12 @@ bool Simplifier::intersects_rest(const RemovalPlan& plan, std::vector<TriangleGr
         for (size_t i = 0; i < count_new; ++i) {
             bool apart = false;
             for (int k = 0; k < 3 && !apart; ++k) apart = bhi[k] < boxes[i][0][k] || blo[k] > boxes[i][1][k];
-            if (!apart && test(new_triangles[i], mesh_.triangle(t))) return true;
+            if (!apart && meet_improperly(new_triangles[i], mesh_.triangle(t))) return true;
         }
     }
     for (size_t i = 0; i < count_new; ++i)
         for (size_t j = 0; j < i; ++j)
-            if (test(new_triangles[i], new_triangles[j])) return true;
+            if (meet_improperly(new_triangles[i], new_triangles[j])) return true;
     return false;
 }
 
@@ -547,7 +546,6 @@ SimplifyResult Simplifier::run(Parametrization& out) {
     auto current = [&](const QueueEntry& e) { return e.stamp == stamp_[e.vertex] && mesh_.vertex_alive(e.vertex); };
     std::vector<int32_t> star_a;       // the link of the first candidate, and itself
     std::vector<QueueEntry> skipped;   // entries passed over when looking for a second candidate
-    std::vector<int32_t> committed;    // vertices removed in this iteration
     while (true) {
         if (mesh_.num_vertices_alive() <= target) {
             stop = "target reached";
@@ -653,7 +651,7 @@ SimplifyResult Simplifier::run(Parametrization& out) {
         const int32_t first_new = mesh_.triangle_capacity();
         affected.clear();
         grid_removed.clear();
-        committed.clear();
+        int committed = 0;  // removals in this step
         for (int k = 0; k < count; ++k) {
             Candidate& c = candidates[k];
             if (!c.live) continue;
@@ -708,7 +706,7 @@ SimplifyResult Simplifier::run(Parametrization& out) {
             commit_removal(mesh_, embedding_, plan);
             if (result.steps) result.steps->append(v, plan.new_triangles, plan.new_patches);
             ++commits_;
-            committed.push_back(v);
+            ++committed;
             error_so_far = std::max(error_so_far, plan.max_deviation / diagonal_);
             ++stamp_[v];
             full_plans_.erase(v);
@@ -717,9 +715,9 @@ SimplifyResult Simplifier::run(Parametrization& out) {
             if (options_.self_check)
                 self_check(v, std::vector<int32_t>(affected.begin() + affected_begin, affected.end()), result.removed);
         }
-        if (committed.empty()) continue;
-        if (committed.size() == 2) ++result.paired_steps;
-        // Vertices removed in this iteration were in no star but their own.
+        if (committed == 0) continue;
+        if (committed == 2) ++result.paired_steps;
+        // Neither removed vertex was in the other's star: `affected` holds live vertices only.
         std::sort(affected.begin(), affected.end());
         affected.erase(std::unique(affected.begin(), affected.end()), affected.end());
 
@@ -871,7 +869,7 @@ SimplifyResult Simplifier::run(Parametrization& out) {
             aspect_ratio(out.coarse.vertices[t[0]], out.coarse.vertices[t[1]], out.coarse.vertices[t[2]]));
     result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     context_.debug("plans: " + std::to_string(plans_[0].load()) + " cheap, " + std::to_string(plans_[1].load()) +
-                    " full (" + std::to_string(reused_plans_) + " reused); " + std::to_string(result.paired_steps) +
+                   " full (" + std::to_string(reused_plans_) + " reused); " + std::to_string(result.paired_steps) +
                    " steps removed two vertices; " +
                    std::to_string(result.shape_preserving_repairs) + " removals re-embedded with Floater's map");
     context_.report(1.0, "done");

@@ -41,6 +41,19 @@ const char* format_name(SurfaceFormat f) {
     return "?";
 }
 
+// The start tag of a VTK XML file's <VTKFile> element (its first 200 bytes), or empty.
+std::string_view vtk_file_tag(std::string_view bytes) {
+    const size_t at = bytes.substr(0, 512).find("<VTKFile");
+    return at == std::string_view::npos ? std::string_view() : bytes.substr(at, 200);
+}
+
+// Whether the head says parallel VTK XML (.pvtp / .pvtu): a list of piece files.
+bool is_parallel_vtk_xml(std::string_view bytes) {
+    const std::string_view tag = vtk_file_tag(bytes);
+    return tag.find("\"PPolyData\"") != std::string_view::npos ||
+           tag.find("\"PUnstructuredGrid\"") != std::string_view::npos;
+}
+
 // The format a file's head plainly shows, if any.
 std::optional<SurfaceFormat> format_from_head(std::string_view bytes) {
     std::optional<SurfaceFormat> seen;
@@ -51,8 +64,7 @@ std::optional<SurfaceFormat> format_from_head(std::string_view bytes) {
     else if (head.substr(0, 5) == "solid") seen = SurfaceFormat::Stl;
     else if (head.substr(0, 14) == "# vtk DataFile") seen = SurfaceFormat::Vtk;
     else if (head.substr(0, 14) == "# HyperSurface" || head.substr(0, 13) == "#HyperSurface") seen = SurfaceFormat::Surf;
-    else if (const size_t at = bytes.substr(0, 512).find("<VTKFile"); at != std::string_view::npos) {
-        const std::string_view tag = bytes.substr(at, 200);
+    else if (const std::string_view tag = vtk_file_tag(bytes); !tag.empty()) {
         if (tag.find("\"PolyData\"") != std::string_view::npos) seen = SurfaceFormat::Vtp;
         else if (tag.find("\"UnstructuredGrid\"") != std::string_view::npos) seen = SurfaceFormat::Vtu;
     }
@@ -186,6 +198,10 @@ static detail::ReaderOutput read_parallel_vtk_xml(const std::string& path, const
             throw InputError(name, "piece " + std::to_string(k) + " (Source " + detail::quote_token(sources[k]) + "): " +
                                        e.where() + ": " + e.what());
         }
+        if (is_parallel_vtk_xml(piece_bytes)) {
+            throw InputError(name, "piece " + std::to_string(k) + " (Source " + detail::quote_token(sources[k]) +
+                                       ") is a parallel file itself; the pieces must be .vtp or .vtu files");
+        }
         detail::ReaderOutput part =
             detail::read_vtk_xml(piece_bytes, detail::display_name(piece_path), options.triangulate_polygons);
         const int32_t offset = s.num_vertices();
@@ -274,7 +290,7 @@ Surface read_surface(const std::string& path, const SurfaceReadOptions& options,
     if (!format) format = surface_format_from_path(path);
     if (!format && path == "-") throw InputError(name, "the format of standard input must be given explicitly");
     const std::string bytes = detail::read_whole_input(path);
-    if ((!format || format == SurfaceFormat::Vtp || format == SurfaceFormat::Vtu) && detail::is_parallel_vtk_xml(bytes))
+    if ((!format || format == SurfaceFormat::Vtp || format == SurfaceFormat::Vtu) && is_parallel_vtk_xml(bytes))
         return finish_reading(read_parallel_vtk_xml(path, name, bytes, options), format.value_or(SurfaceFormat::Vtp),
                               name, options, report);
     // No (known) extension: only a HyperSurface head is taken as the format (a first line

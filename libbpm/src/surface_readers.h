@@ -56,9 +56,8 @@ ReaderOutput read_msh(std::string_view bytes, const std::string& name);
 ReaderOutput read_vtk(std::string_view bytes, const std::string& name, bool accept_polygons = false);
 // VTK XML PolyData and UnstructuredGrid (either file type, whichever format was chosen).
 ReaderOutput read_vtk_xml(std::string_view bytes, const std::string& name, bool accept_polygons = false);
-// Parallel VTK XML (.pvtp / .pvtu): whether the head says so, and the Source of each
-// <Piece> in file order (relative to the file's directory). Refuses ghost levels above 0.
-bool is_parallel_vtk_xml(std::string_view bytes);
+// Parallel VTK XML (.pvtp / .pvtu): the Source of each <Piece> in file order (relative to
+// the file's directory). Refuses ghost levels above 0.
 std::vector<std::string> parallel_vtk_xml_sources(std::string_view bytes, const std::string& name);
 // Amira / Avizo HyperSurface (.surf), ASCII and BINARY; one patch per Patches entry.
 ReaderOutput read_surf(std::string_view bytes, const std::string& name);

@@ -717,6 +717,7 @@ TEST_CASE("vtk xml: a parallel file (.pvtp) reads as the union of its pieces", "
     CHECK_THAT(error_of(pvtp({"parts/t_0.vtp"}, "1")), Catch::Contains("line 3: GhostLevel '1': pieces with ghost cells"));
     CHECK_THAT(error_of(pvtp({})), Catch::Contains("lists no <Piece Source=...>"));
     CHECK_THAT(error_of(pvtp({""})), Catch::Contains("<Piece> has no attribute Source"));
+    CHECK_THAT(error_of(pvtp({"bad.pvtp"})), Catch::Contains("piece 0 (Source 'bad.pvtp') is a parallel file itself"));
     // An error inside a piece names the piece file and its line.
     put_text_file(dir / "parts" / "broken.vtp", "<?xml version=\"1.0\"?>\n<VTKFile type=\"PolyData\">\n<PolyData>\n");
     CHECK_THAT(error_of(pvtp({"parts/t_0.vtp", "parts/broken.vtp"})), Catch::Contains("broken.vtp: line"));
