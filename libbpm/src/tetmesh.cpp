@@ -38,6 +38,7 @@
 #include "bpm/errors.h"
 #include "bpm/predicates.h"
 #include "bpm/surface_topology.h"
+#include "tetgen_poly.h"
 #include "tetmesh_internal.h"
 
 namespace bpm {

@@ -22,6 +22,7 @@
 #include "bpm/errors.h"
 #include "bpm/predicates.h"
 #include "bpm/tetmesh.h"
+#include "../../libbpm/src/tetgen_poly.h"
 #include "fixtures_surfaces.h"
 
 using namespace bpm;

@@ -26,7 +26,7 @@
 #include "bpm/geometry.h"
 #include "bpm/parametrization.h"
 #include "bpm/surface.h"
-#include "bpm/tetmesh_smooth.h"
+#include "bpm/tetmesh_smooth_options.h"
 
 namespace bpm {
 
@@ -86,10 +86,6 @@ struct TetMeshResult {
 // bpm::AlgorithmError naming the first problem and where it is, e.g.
 // "surface has 12 boundary edges, first at vertices 3-17 (TetGen needs closed surfaces)".
 void check_meshable(const Surface& surface, const Context& context = {});
-
-// The surface as a TetGen .poly file (0-based, facet markers = patch ids), with the given
-// region points (`region_points[r]` gets region attribute r + 1).
-std::string tetgen_poly(const Surface& surface, const std::vector<Vec3>& region_points);
 
 // Meshes the volume bounded by param.coarse (see the top of this file).
 // \throw AlgorithmError if check_meshable fails or TetGen's mesh does not contain S

@@ -33,18 +33,10 @@
 
 #include "bpm/context.h"
 #include "bpm/geometry.h"
+#include "bpm/tetmesh.h"
+#include "bpm/tetmesh_smooth_options.h"
 
 namespace bpm {
-
-struct TetMesh;  // bpm/tetmesh.h (which includes this header for TetSmoothOptions)
-
-struct TetSmoothOptions {
-    int sweeps = 3;                // passes over the vertices to improve (0 = nothing moves)
-    double target_degrees = 15;    // a vertex is improved while a tetrahedron around it has a smaller dihedral angle
-    bool laplacian = true;         // step 1 (smart Laplacian)
-    bool optimize = true;          // step 2 (local optimisation of the worst dihedral angle)
-    int max_iterations = 3;        // optimisation steps per vertex and visit (more sweeps beat more steps)
-};
 
 struct TetSmoothResult {
     int64_t visits = 0;            // vertex visits over all sweeps
