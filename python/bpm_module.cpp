@@ -1,0 +1,316 @@
+// The Python module bpm (package python/bpm, extension bpm._bpm): read a .bpm file and
+// evaluate phi from Python with numpy arrays, through libbpm.so.
+//
+// Arrays are copies made once when the file is read (numpy owns them; they are read-only
+// so that nobody expects a change to reach phi). Batched calls copy their inputs, release
+// the GIL and run libbpm's batched evaluation; they can use several threads.
+// libbpm's exceptions become bpm.Error subclasses with the tools' messages
+// ("FILE: message" for input and output errors, tools/common/tool_main.cpp); bad shapes
+// and indices are ValueError (bpm.OptionError is a ValueError too).
+
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <cstdint>
+#include <cmath>
+#include <cstring>
+#include <map>
+#include <memory>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "bpm/bpm_file.h"
+#include "bpm/errors.h"
+#include "bpm/phi_evaluation.h"
+#include "bpm/refine.h"
+#include "bpm/version.h"
+
+namespace py = pybind11;
+
+namespace {
+
+// ---- numpy <-> std::vector --------------------------------------------------------
+
+template <class T, size_t N>
+py::array rows(const std::vector<std::array<T, N>>& v) {
+    py::array_t<T> a({static_cast<py::ssize_t>(v.size()), static_cast<py::ssize_t>(N)});
+    if (!v.empty()) std::memcpy(a.mutable_data(), v.data(), v.size() * sizeof(v[0]));
+    return std::move(a);
+}
+
+template <class T>
+py::array column(const std::vector<T>& v) {
+    py::array_t<T> a(static_cast<py::ssize_t>(v.size()));
+    if (!v.empty()) std::memcpy(a.mutable_data(), v.data(), v.size() * sizeof(T));
+    return std::move(a);
+}
+
+py::array read_only(py::array a) {
+    a.attr("setflags")(py::arg("write") = false);
+    return a;
+}
+
+// Query triangles: a 1-D array of integers (any integer dtype; floats are refused rather
+// than truncated), each in [0, num_triangles).
+std::vector<int32_t> query_triangles(const py::object& obj, int32_t num_triangles) {
+    py::array in = py::array::ensure(obj);  // lists and other sequences too
+    if (!in) throw py::value_error("triangles must be an array of integers");
+    if (in.ndim() != 1) throw py::value_error("triangles must be a 1-D array, got " + std::to_string(in.ndim()) + " dimensions");
+    const char kind = in.dtype().kind();
+    if (in.size() > 0 && kind != 'i' && kind != 'u')
+        throw py::value_error(std::string("triangles must be integers, got dtype kind '") + kind + "'");
+    auto t = py::array_t<int64_t, py::array::c_style | py::array::forcecast>::ensure(in);
+    std::vector<int32_t> out(static_cast<size_t>(t.size()));
+    const int64_t* p = t.data();
+    for (size_t i = 0; i < out.size(); ++i) {
+        if (p[i] < 0 || p[i] >= num_triangles)
+            throw py::value_error("triangles[" + std::to_string(i) + "] = " + std::to_string(p[i]) +
+                                  " is not a coarse triangle (0 <= t < " + std::to_string(num_triangles) + ")");
+        out[i] = static_cast<int32_t>(p[i]);
+    }
+    return out;
+}
+
+// Barycentric coordinates: (k, 3) floats, finite.
+std::vector<bpm::Vec3> query_barycentrics(const py::object& obj, size_t k) {
+    py::array in = py::array::ensure(obj);
+    if (!in) throw py::value_error("barycentrics must be an array of shape (k, 3)");
+    if (in.ndim() != 2 || in.shape(1) != 3 || static_cast<size_t>(in.shape(0)) != k)
+        throw py::value_error("barycentrics must have shape (" + std::to_string(k) + ", 3) to match triangles, got " +
+                              py::str(py::tuple(in.attr("shape"))).cast<std::string>());
+    auto b = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(in);
+    std::vector<bpm::Vec3> out(k);
+    if (k) std::memcpy(out.data(), b.data(), k * sizeof(bpm::Vec3));
+    for (size_t i = 0; i < k; ++i)
+        for (double x : out[i])
+            if (!std::isfinite(x)) throw py::value_error("barycentrics[" + std::to_string(i) + "] is not finite");
+    return out;
+}
+
+int thread_count(int threads) {
+    if (threads < 0) throw py::value_error("threads must be >= 0 (0 = all cores), got " + std::to_string(threads));
+    return threads;
+}
+
+// ---- the file object -----------------------------------------------------------------
+
+class File {
+public:
+    explicit File(const std::string& path) : file_(std::make_unique<bpm::BpmFile>(bpm::read_bpm(path))), path_(path) {
+        const bpm::Parametrization& p = file_->param;
+        arrays_["coarse_vertices"] = read_only(rows(p.coarse.vertices));
+        arrays_["coarse_triangles"] = read_only(rows(p.coarse.triangles));
+        arrays_["coarse_patches"] = read_only(column(p.coarse.patches));
+        arrays_["original_vertices"] = read_only(rows(p.original.vertices));
+        arrays_["original_triangles"] = read_only(rows(p.original.triangles));
+        arrays_["original_patches"] = read_only(column(p.original.patches));
+        arrays_["coarse_vertex_origin"] = read_only(column(p.coarse_vertex_origin));
+        if (file_->tetmesh) {
+            const bpm::TetMesh& m = *file_->tetmesh;
+            arrays_["tet_vertices"] = read_only(rows(m.vertices));
+            arrays_["tet_tetrahedra"] = read_only(rows(m.tetrahedra));
+            arrays_["tet_regions"] = read_only(column(m.regions));
+            arrays_["tet_faces"] = read_only(rows(m.faces));
+            arrays_["tet_face_coarse_triangle"] = read_only(column(m.face_coarse_triangle));
+            arrays_["tet_vertex_parameter_triangle"] = read_only(column(m.vertex_parameter_triangle));
+            arrays_["tet_vertex_parameter_barycentric"] = read_only(rows(m.vertex_parameter_barycentric));
+        }
+    }
+
+    py::object array(const char* name) const {
+        auto it = arrays_.find(name);
+        return it == arrays_.end() ? py::none() : py::object(it->second);
+    }
+    bool has_tetmesh() const { return file_->tetmesh.has_value(); }
+    const std::string& path() const { return path_; }
+    const std::string& units() const { return file_->units; }
+    int32_t num_coarse_triangles() const { return file_->param.coarse.num_triangles(); }
+
+    py::array phi(const py::object& triangles, const py::object& barycentrics, int threads) {
+        std::vector<int32_t> t = query_triangles(triangles, num_coarse_triangles());
+        std::vector<bpm::Vec3> b = query_barycentrics(barycentrics, t.size());
+        threads = thread_count(threads);
+        const bpm::PhiEvaluator& ev = evaluator();
+        std::vector<bpm::Vec3> positions;
+        {
+            py::gil_scoped_release release;
+            ev.evaluate_positions(t, b, positions, threads);
+        }
+        return rows(positions);
+    }
+
+    py::dict phi_samples(const py::object& triangles, const py::object& barycentrics, int threads) {
+        std::vector<int32_t> t = query_triangles(triangles, num_coarse_triangles());
+        std::vector<bpm::Vec3> b = query_barycentrics(barycentrics, t.size());
+        threads = thread_count(threads);
+        const bpm::PhiEvaluator& ev = evaluator();
+        std::vector<bpm::PhiSample> samples;
+        std::vector<bpm::Vec3> pos, normal, obary;
+        std::vector<int32_t> otri;
+        {
+            py::gil_scoped_release release;
+            ev.evaluate(t, b, samples, threads);
+            pos.resize(samples.size()), normal.resize(samples.size()), obary.resize(samples.size()),
+                otri.resize(samples.size());
+            for (size_t i = 0; i < samples.size(); ++i) {
+                pos[i] = samples[i].position;
+                normal[i] = samples[i].normal;
+                otri[i] = samples[i].original_triangle;
+                obary[i] = samples[i].original_barycentric;
+            }
+        }
+        py::dict d;
+        d["positions"] = rows(pos);
+        d["normals"] = rows(normal);
+        d["original_triangles"] = column(otri);
+        d["original_barycentrics"] = rows(obary);
+        return d;
+    }
+
+    py::tuple refine(int levels, double tolerance, int max_level) {
+        bpm::RefineOptions options;
+        options.levels = levels;
+        options.tolerance = tolerance;
+        options.max_level = max_level;
+        bpm::RefinedSurface out;
+        {
+            py::gil_scoped_release release;
+            bpm::refine(file_->param, options, bpm::Context{}, out);
+        }
+        return py::make_tuple(rows(out.surface.vertices), rows(out.surface.triangles));
+    }
+
+private:
+    // Built on first use (O(#pieces)); the GIL is held here, so only one thread builds it.
+    const bpm::PhiEvaluator& evaluator() {
+        if (!phi_) phi_ = std::make_unique<bpm::PhiEvaluator>(file_->param);
+        return *phi_;
+    }
+
+    std::unique_ptr<bpm::BpmFile> file_;  // stable address: phi_ keeps a reference into it
+    std::unique_ptr<bpm::PhiEvaluator> phi_;
+    std::map<std::string, py::array> arrays_;
+    std::string path_;
+};
+
+// Python exception classes: bpm.Error and one subclass per libbpm exception type; the
+// file errors are OSErrors too, option errors ValueErrors.
+PyObject* new_exception(py::module_& m, const char* name, PyObject* base, PyObject* second_base, const char* doc) {
+    PyObject* bases = second_base ? PyTuple_Pack(2, base, second_base) : PyTuple_Pack(1, base);
+    std::string qualified = std::string("bpm.") + name;
+    PyObject* type = PyErr_NewExceptionWithDoc(qualified.c_str(), doc, bases, nullptr);
+    Py_DECREF(bases);
+    if (!type) throw py::error_already_set();
+    m.add_object(name, py::handle(type));  // the module keeps a reference
+    return type;
+}
+
+std::string with_where(const std::string& where, const char* what) {
+    return where.empty() ? std::string(what) : where + ": " + what;
+}
+
+}  // namespace
+
+PYBIND11_MODULE(_bpm, m) {
+    m.doc() = "bpm: read boundary-parametrized surfaces (.bpm) and evaluate phi (see README, "
+              "'Using bpm from a solver')";
+    m.attr("__version__") = BPM_VERSION_STRING;
+    m.attr("format_version") = py::make_tuple(BPM_FORMAT_VERSION_MAJOR, BPM_FORMAT_VERSION_MINOR);
+
+    static PyObject* error = new_exception(m, "Error", PyExc_Exception, nullptr, "Base of every error bpm reports.");
+    static PyObject* input_error = new_exception(m, "InputError", error, PyExc_OSError,
+                                                 "A .bpm file is missing, unreadable or malformed.");
+    static PyObject* output_error =
+        new_exception(m, "OutputError", error, PyExc_OSError, "An output could not be written.");
+    static PyObject* option_error =
+        new_exception(m, "OptionError", error, PyExc_ValueError, "Options out of range or contradicting each other.");
+    static PyObject* algorithm_error =
+        new_exception(m, "AlgorithmError", error, nullptr, "An algorithm cannot proceed on this (valid) input.");
+    py::register_exception_translator([](std::exception_ptr p) {
+        try {
+            if (p) std::rethrow_exception(p);
+        } catch (const bpm::InputError& e) {
+            PyErr_SetString(input_error, with_where(e.where(), e.what()).c_str());
+        } catch (const bpm::OutputError& e) {
+            PyErr_SetString(output_error, with_where(e.where(), e.what()).c_str());
+        } catch (const bpm::OptionError& e) {
+            PyErr_SetString(option_error, e.what());
+        } catch (const bpm::AlgorithmError& e) {
+            PyErr_SetString(algorithm_error, e.what());
+        } catch (const bpm::Error& e) {
+            PyErr_SetString(error, e.what());
+        } catch (const std::out_of_range& e) {  // libbpm's index checks
+            PyErr_SetString(PyExc_ValueError, e.what());
+        } catch (const std::invalid_argument& e) {
+            PyErr_SetString(PyExc_ValueError, e.what());
+        }
+    });
+
+    py::class_<File>(m, "File", "A .bpm file read into memory (bpm.read). Arrays are read-only numpy copies.")
+        .def_property_readonly("path", &File::path)
+        .def_property_readonly("units", &File::units, "free text, e.g. 'mm'; '' if unknown")
+        .def_property_readonly("coarse_vertices", [](const File& f) { return f.array("coarse_vertices"); },
+                               "(n, 3) float64 vertices of the coarse surface S")
+        .def_property_readonly("coarse_triangles", [](const File& f) { return f.array("coarse_triangles"); },
+                               "(m, 3) int32 triangles of S (counter-clockwise seen from the front)")
+        .def_property_readonly("coarse_patches", [](const File& f) { return f.array("coarse_patches"); },
+                               "(m,) int32 patch id of every coarse triangle")
+        .def_property_readonly("patches", [](const File& f) { return f.array("coarse_patches"); },
+                               "the same as coarse_patches")
+        .def_property_readonly("coarse_vertex_origin", [](const File& f) { return f.array("coarse_vertex_origin"); },
+                               "(n,) int32 the original vertex each coarse vertex is")
+        .def_property_readonly("original_vertices", [](const File& f) { return f.array("original_vertices"); },
+                               "(n0, 3) float64 vertices of the original surface S0")
+        .def_property_readonly("original_triangles", [](const File& f) { return f.array("original_triangles"); },
+                               "(m0, 3) int32 triangles of S0")
+        .def_property_readonly("original_patches", [](const File& f) { return f.array("original_patches"); },
+                               "(m0,) int32 patch id of every original triangle")
+        .def_property_readonly("has_tetmesh", &File::has_tetmesh, "whether the file has a /tetmesh group")
+        .def_property_readonly("tet_vertices", [](const File& f) { return f.array("tet_vertices"); },
+                               "(v, 3) float64 tet-mesh vertices, or None without /tetmesh")
+        .def_property_readonly("tet_tetrahedra", [](const File& f) { return f.array("tet_tetrahedra"); },
+                               "(t, 4) int32 positively oriented tetrahedra, or None")
+        .def_property_readonly("tet_regions", [](const File& f) { return f.array("tet_regions"); },
+                               "(t,) int32 region id >= 1 of every tetrahedron, or None")
+        .def_property_readonly("tet_faces", [](const File& f) { return f.array("tet_faces"); },
+                               "(f, 3) int32 faces on S, oriented like their coarse triangle, or None")
+        .def_property_readonly("tet_face_coarse_triangle",
+                               [](const File& f) { return f.array("tet_face_coarse_triangle"); },
+                               "(f,) int32 the coarse triangle each face lies on, or None")
+        .def_property_readonly("tet_vertex_parameter_triangle",
+                               [](const File& f) { return f.array("tet_vertex_parameter_triangle"); },
+                               "(v,) int32 coarse triangle containing each vertex, -1 inside; or None")
+        .def_property_readonly("tet_vertex_parameter_barycentric",
+                               [](const File& f) { return f.array("tet_vertex_parameter_barycentric"); },
+                               "(v, 3) float64 barycentric coordinates there (0 inside); or None")
+        .def("phi", &File::phi, py::arg("triangles"), py::arg("barycentrics"), py::arg("threads") = 1,
+             "phi at points of S given by coarse triangle (k,) and barycentric coordinates (k, 3):\n"
+             "positions (k, 3) on S0. threads=0 uses all cores; the result does not depend on it.")
+        .def("phi_samples", &File::phi_samples, py::arg("triangles"), py::arg("barycentrics"),
+             py::arg("threads") = 1,
+             "Like phi, and also the unit normal of S0 and the original triangle and barycentric\n"
+             "coordinates there: dict of positions (k, 3), normals (k, 3), original_triangles (k,)\n"
+             "int32, original_barycentrics (k, 3).")
+        .def("refine", &File::refine, py::arg("levels") = -1, py::arg("tolerance") = 0.0, py::arg("max_level") = 8,
+             "The coarse surface refined through phi (bpm/refine.h): levels=K splits each coarse\n"
+             "triangle into 4**K (0 <= K <= 10); or adaptive with tolerance > 0 (fraction of the\n"
+             "bounding-box diagonal of S0). Returns (vertices (n, 3) float64, triangles (m, 3) int32).")
+        .def("__repr__", [](const File& f) {
+            return "<bpm.File '" + f.path() + "': " + std::to_string(f.num_coarse_triangles()) + " coarse triangles" +
+                   (f.has_tetmesh() ? ", tet mesh>" : ">");
+        });
+
+    m.def("read", [](const py::object& path) {
+              // str or any os.PathLike (pathlib.Path); bytes paths are decoded by os.fsdecode.
+              return File(py::module_::import("os").attr("fsdecode")(path).cast<std::string>());
+          },
+          py::arg("path"),
+          "Reads a .bpm file (bpm/bpm_file.h). Raises bpm.InputError (an OSError) with the\n"
+          "file name and what is wrong.");
+    m.def("set_hdf5_isolation", &bpm::set_hdf5_isolation, py::arg("enabled"),
+          "Parse .bpm files in a forked child first, so that a corrupt file that crashes HDF5\n"
+          "raises bpm.InputError instead of killing Python (off by default; bpm/bpm_file.h).");
+}

@@ -1,0 +1,219 @@
+"""The Python module bpm (python/), run with pytest (ctest: python.module).
+
+libbpm's phi through the module must agree with the independent spec reader
+(tests/python/bpm_spec_reader.py, h5py + numpy only) on random points of real meshes; the
+arrays must be the file's datasets; bad input must raise the documented exceptions with
+libbpm's messages; refine must give 4**K triangles per coarse triangle.
+
+Environment (set by ctest; defaults for a run from the source tree after a build in build/):
+  BPM_TOOLS   the built tools (build/bin)       BPM_MESHES  the real meshes (.data/meshes)
+  BPM_WORK    a scratch directory               PYTHONPATH  must find the package (build/python)
+"""
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import h5py
+import numpy as np
+import pytest
+
+import bpm
+
+HERE = Path(__file__).resolve().parent
+SOURCE = HERE.parents[2]
+sys.path.insert(0, str(HERE.parent))
+import bpm_spec_reader as spec  # noqa: E402
+
+TOOLS = Path(os.environ.get("BPM_TOOLS", SOURCE / "build" / "bin"))
+MESHES = Path(os.environ.get("BPM_MESHES", SOURCE / ".data" / "meshes"))
+WORK = Path(os.environ.get("BPM_WORK", SOURCE / "build" / "tests" / "work" / "python_module"))
+
+
+def simplified(name):
+    """The real mesh `name` simplified to 10 % by the built bpm-simplify (made once)."""
+    WORK.mkdir(parents=True, exist_ok=True)
+    out = WORK / f"{name}.bpm"
+    if not out.exists():
+        subprocess.run([str(TOOLS / "bpm-simplify"), str(MESHES / f"{name}.off"), "--ratio", "0.1",
+                        "--deterministic", "-o", str(out)], check=True, stderr=subprocess.DEVNULL)
+    return out
+
+
+@pytest.fixture(scope="session")
+def femur():
+    return simplified("femur")
+
+
+@pytest.fixture(scope="session")
+def meshed_elephant():
+    """The elephant at 10 % with a /tetmesh group (bpm-mesh, needs TetGen)."""
+    out = WORK / "elephant_tet.bpm"
+    if not out.exists():
+        subprocess.run([str(TOOLS / "bpm-mesh"), str(simplified("elephant")), "-o", str(out)], check=True,
+                       stderr=subprocess.DEVNULL)
+    return out
+
+
+def random_points(rng, num_triangles, count):
+    """Random parameter points; a tenth on coarse edges and some at corners (where the
+    pieces of neighbouring triangles meet)."""
+    t = rng.integers(0, num_triangles, count).astype(np.int32)
+    a, b = rng.random(count), rng.random(count)
+    flip = a + b > 1
+    a[flip], b[flip] = 1 - a[flip], 1 - b[flip]
+    bary = np.stack([1 - a - b, a, b], axis=1)
+    for i in range(count // 10):
+        j, s = rng.integers(0, 3), rng.random()
+        bary[i] = 0
+        bary[i, j], bary[i, (j + 1) % 3] = 1 - s, s
+    for i in range(count // 10, count // 10 + 10):
+        bary[i] = 0
+        bary[i, rng.integers(0, 3)] = 1
+    return t, bary
+
+
+def test_readme_example(femur):
+    # README-BEGIN
+    import numpy as np
+    import bpm
+
+    f = bpm.read(femur)                      # a .bpm file (bpm-simplify's output)
+    print(f.coarse_vertices.shape, f.coarse_triangles.shape, f.original_vertices.shape)
+
+    # phi at the centroid of every coarse triangle, on 2 threads
+    t = np.arange(len(f.coarse_triangles), dtype=np.int32)
+    b = np.full((len(t), 3), 1.0 / 3)
+    x = f.phi(t, b, threads=2)               # (k, 3) points on the original surface
+    s = f.phi_samples(t, b)                  # + normals, original triangle and barycentric
+    v, tri = f.refine(levels=2)              # the coarse surface refined onto S0
+    # README-END
+    assert x.shape == (len(t), 3) and np.isfinite(x).all()
+    lo, hi = f.original_vertices.min(axis=0), f.original_vertices.max(axis=0)
+    assert (x >= lo - 1e-9).all() and (x <= hi + 1e-9).all()
+    assert np.array_equal(s["positions"], x)
+    assert len(tri) == 16 * len(f.coarse_triangles)
+
+
+@pytest.mark.parametrize("name", ["femur", "elephant"])
+def test_phi_agrees_with_the_spec_reader(name):
+    path = simplified(name)
+    f = bpm.read(path)
+    d = spec.read(path)
+    rng = np.random.default_rng(17)
+    t, b = random_points(rng, len(d["coarse/triangles"]), 3000)
+    pos, otri, obary, normal = spec.evaluate(d, t, b)
+    scale = float(np.linalg.norm(d["original/vertices"].max(axis=0) - d["original/vertices"].min(axis=0)))
+    tol = 1e-12 * max(1.0, scale)
+
+    x = f.phi(t, b)
+    assert np.abs(x - pos).max() <= tol
+    s = f.phi_samples(t, b, threads=2)
+    assert np.array_equal(s["positions"], x)  # the two calls, and 1 or 2 threads, agree exactly
+    same = s["original_triangles"] == otri
+    # On a piece boundary the two may pick different, equally right original triangles.
+    assert same.mean() > 0.95
+    assert np.abs(s["original_barycentrics"][same] - obary[same]).max() <= 1e-9
+    assert np.abs(s["normals"][same] - normal[same]).max() <= 1e-9
+    # Every answer reproduces its point from its own original triangle.
+    X, T0 = d["original/vertices"], d["original/triangles"]
+    rebuilt = np.einsum("qk,qkd->qd", s["original_barycentrics"], X[T0[s["original_triangles"]]])
+    assert np.abs(rebuilt - x).max() <= 1e-9 * max(1.0, scale)
+
+
+def test_arrays_are_the_file_datasets(femur):
+    f = bpm.read(str(femur))
+    d = spec.read(femur)
+    for attr, key, dtype in [("coarse_vertices", "coarse/vertices", np.float64),
+                             ("coarse_triangles", "coarse/triangles", np.int32),
+                             ("original_vertices", "original/vertices", np.float64),
+                             ("original_triangles", "original/triangles", np.int32),
+                             ("patches", "coarse/patches", np.int32),
+                             ("coarse_patches", "coarse/patches", np.int32),
+                             ("original_patches", "original/patches", np.int32),
+                             ("coarse_vertex_origin", "coarse/vertex_origin", np.int32)]:
+        a = getattr(f, attr)
+        assert a.dtype == dtype, attr
+        assert np.array_equal(a, d[key]), attr
+        assert not a.flags.writeable, attr
+    assert not f.has_tetmesh
+    for attr in ("tet_vertices", "tet_tetrahedra", "tet_regions", "tet_faces", "tet_face_coarse_triangle",
+                 "tet_vertex_parameter_triangle", "tet_vertex_parameter_barycentric"):
+        assert getattr(f, attr) is None, attr
+
+
+def test_tetmesh_arrays_are_the_file_datasets(meshed_elephant):
+    f = bpm.read(meshed_elephant)
+    assert f.has_tetmesh
+    with h5py.File(meshed_elephant, "r") as h:
+        for attr, name in [("tet_vertices", "vertices"), ("tet_tetrahedra", "tetrahedra"),
+                           ("tet_regions", "regions"), ("tet_faces", "faces"),
+                           ("tet_face_coarse_triangle", "face_coarse_triangle"),
+                           ("tet_vertex_parameter_triangle", "vertex_parameter_triangle"),
+                           ("tet_vertex_parameter_barycentric", "vertex_parameter_barycentric")]:
+            assert np.array_equal(getattr(f, attr), h["tetmesh/" + name][()]), attr
+    # The boundary vertices' parameter points, through phi, are where the tet mesh has them
+    # (level 0: the coarse vertices themselves, which phi keeps fixed).
+    on_s = f.tet_vertex_parameter_triangle >= 0
+    x = f.phi(f.tet_vertex_parameter_triangle[on_s], f.tet_vertex_parameter_barycentric[on_s])
+    assert np.abs(x - f.tet_vertices[on_s]).max() <= 1e-9
+
+
+@pytest.mark.parametrize("levels", [0, 1, 2])
+def test_refine_counts(femur, levels):
+    f = bpm.read(femur)
+    v, t = f.refine(levels=levels)
+    m, n = len(f.coarse_triangles), len(f.coarse_vertices)
+    assert t.shape == (m * 4 ** levels, 3) and t.dtype == np.int32
+    # A closed surface keeps its Euler characteristic: V - E + F with E = 3F/2.
+    assert len(v) - 3 * len(t) // 2 + len(t) == n - 3 * m // 2 + m
+    assert t.min() == 0 and t.max() == len(v) - 1
+    if levels == 0:
+        assert np.array_equal(v, f.coarse_vertices)
+
+
+def test_missing_file_is_an_input_error_naming_it(tmp_path):
+    path = str(tmp_path / "missing.bpm")
+    with pytest.raises(bpm.InputError) as e:
+        bpm.read(path)
+    assert isinstance(e.value, OSError) and isinstance(e.value, bpm.Error)
+    assert str(e.value).startswith(path + ": ")
+
+
+def test_file_that_is_not_hdf5_is_an_input_error(tmp_path):
+    path = tmp_path / "not.bpm"
+    path.write_text("OFF\n0 0 0\n")
+    with pytest.raises(bpm.InputError, match="not.bpm"):
+        bpm.read(str(path))
+
+
+def test_bad_queries_are_value_errors(femur):
+    f = bpm.read(femur)
+    m = len(f.coarse_triangles)
+    b = np.full((2, 3), 1.0 / 3)
+    with pytest.raises(ValueError, match=r"triangles\[1\] = %d is not a coarse triangle" % m):
+        f.phi(np.array([0, m]), b)
+    with pytest.raises(ValueError, match="is not a coarse triangle"):
+        f.phi_samples(np.array([-1, 0]), b)
+    with pytest.raises(ValueError, match=r"shape \(2, 3\)"):
+        f.phi(np.array([0, 1]), np.ones((3, 3)) / 3)
+    with pytest.raises(ValueError, match="1-D"):
+        f.phi(np.zeros((2, 1), dtype=np.int32), b)
+    with pytest.raises(ValueError, match="integers"):
+        f.phi(np.array([0.0, 1.5]), b)
+    with pytest.raises(ValueError, match="not finite"):
+        f.phi(np.array([0, 1]), np.array([[np.nan, 0, 1], [1, 0, 0]]))
+    with pytest.raises(ValueError, match="threads"):
+        f.phi(np.array([0, 1]), b, threads=-1)
+    assert f.phi(np.zeros(0, dtype=np.int32), np.zeros((0, 3))).shape == (0, 3)
+    # Lists are arrays too.
+    assert np.array_equal(f.phi([0, 1], b.tolist()), f.phi(np.array([0, 1]), b))
+
+
+def test_refine_options_are_option_errors_with_libbpm_messages(femur):
+    f = bpm.read(femur)
+    with pytest.raises(bpm.OptionError) as e:
+        f.refine()  # neither levels nor tolerance
+    assert isinstance(e.value, ValueError)
+    with pytest.raises(bpm.OptionError):
+        f.refine(levels=11)
