@@ -22,9 +22,11 @@
 #include <string>
 #include <vector>
 
+#include "bpm/boundary_repair.h"
 #include "bpm/bpm_file.h"
 #include "bpm/errors.h"
 #include "bpm/phi_evaluation.h"
+#include "bpm/phi_inverse.h"
 #include "bpm/refine.h"
 #include "bpm/version.h"
 
@@ -53,41 +55,59 @@ py::array read_only(py::array a) {
     return a;
 }
 
-// Query triangles: a 1-D array of integers (any integer dtype; floats are refused rather
-// than truncated), each in [0, num_triangles).
-std::vector<int32_t> query_triangles(const py::object& obj, int32_t num_triangles) {
+std::string shape_of(const py::array& a) { return py::str(py::tuple(a.attr("shape"))).cast<std::string>(); }
+
+// Integer indices (any integer dtype; floats are refused rather than truncated) in
+// [lowest, bound), `what` naming them; of shape (k,) (columns = 0) or (k, columns).
+std::vector<int32_t> query_indices(const py::object& obj, const char* name, int64_t lowest, int64_t bound,
+                                   const char* what, int columns = 0) {
     py::array in = py::array::ensure(obj);  // lists and other sequences too
-    if (!in) throw py::value_error("triangles must be an array of integers");
-    if (in.ndim() != 1) throw py::value_error("triangles must be a 1-D array, got " + std::to_string(in.ndim()) + " dimensions");
+    if (!in) throw py::value_error(std::string(name) + " must be an array of integers");
+    if (columns == 0 && in.ndim() != 1)
+        throw py::value_error(std::string(name) + " must be a 1-D array, got " + std::to_string(in.ndim()) + " dimensions");
+    if (columns > 0 && (in.ndim() != 2 || in.shape(1) != columns))
+        throw py::value_error(std::string(name) + " must have shape (k, " + std::to_string(columns) + "), got " +
+                              shape_of(in));
     const char kind = in.dtype().kind();
     if (in.size() > 0 && kind != 'i' && kind != 'u')
-        throw py::value_error(std::string("triangles must be integers, got dtype kind '") + kind + "'");
+        throw py::value_error(std::string(name) + " must be integers, got dtype kind '" + kind + "'");
     auto t = py::array_t<int64_t, py::array::c_style | py::array::forcecast>::ensure(in);
     std::vector<int32_t> out(static_cast<size_t>(t.size()));
     const int64_t* p = t.data();
     for (size_t i = 0; i < out.size(); ++i) {
-        if (p[i] < 0 || p[i] >= num_triangles)
-            throw py::value_error("triangles[" + std::to_string(i) + "] = " + std::to_string(p[i]) +
-                                  " is not a coarse triangle (0 <= t < " + std::to_string(num_triangles) + ")");
+        if (p[i] < lowest || p[i] >= bound) {
+            const std::string at = columns ? std::to_string(i / columns) + ", " + std::to_string(i % columns)
+                                           : std::to_string(i);
+            throw py::value_error(std::string(name) + "[" + at + "] = " + std::to_string(p[i]) + " is not " + what +
+                                  " (" + std::to_string(lowest) + " <= i < " + std::to_string(bound) + ")");
+        }
         out[i] = static_cast<int32_t>(p[i]);
     }
     return out;
 }
 
-// Barycentric coordinates: (k, 3) floats, finite.
-std::vector<bpm::Vec3> query_barycentrics(const py::object& obj, size_t k) {
+std::vector<int32_t> query_triangles(const py::object& obj, int32_t num_triangles) {
+    return query_indices(obj, "triangles", 0, num_triangles, "a coarse triangle");
+}
+
+// Points or barycentric coordinates: (k, 3) floats, finite.
+std::vector<bpm::Vec3> query_vec3(const py::object& obj, const char* name, size_t k, const char* match) {
     py::array in = py::array::ensure(obj);
-    if (!in) throw py::value_error("barycentrics must be an array of shape (k, 3)");
-    if (in.ndim() != 2 || in.shape(1) != 3 || static_cast<size_t>(in.shape(0)) != k)
-        throw py::value_error("barycentrics must have shape (" + std::to_string(k) + ", 3) to match triangles, got " +
-                              py::str(py::tuple(in.attr("shape"))).cast<std::string>());
+    if (!in) throw py::value_error(std::string(name) + " must be an array of shape (k, 3)");
+    if (in.ndim() != 2 || in.shape(1) != 3 || (match && static_cast<size_t>(in.shape(0)) != k))
+        throw py::value_error(std::string(name) + " must have shape (" + (match ? std::to_string(k) : "k") + ", 3)" +
+                              (match ? std::string(" to match ") + match : "") + ", got " + shape_of(in));
     auto b = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(in);
-    std::vector<bpm::Vec3> out(k);
-    if (k) std::memcpy(out.data(), b.data(), k * sizeof(bpm::Vec3));
-    for (size_t i = 0; i < k; ++i)
+    std::vector<bpm::Vec3> out(static_cast<size_t>(in.shape(0)));
+    if (!out.empty()) std::memcpy(out.data(), b.data(), out.size() * sizeof(bpm::Vec3));
+    for (size_t i = 0; i < out.size(); ++i)
         for (double x : out[i])
-            if (!std::isfinite(x)) throw py::value_error("barycentrics[" + std::to_string(i) + "] is not finite");
+            if (!std::isfinite(x)) throw py::value_error(std::string(name) + "[" + std::to_string(i) + "] is not finite");
     return out;
+}
+
+std::vector<bpm::Vec3> query_barycentrics(const py::object& obj, size_t k) {
+    return query_vec3(obj, "barycentrics", k, "triangles");
 }
 
 int thread_count(int threads) {
@@ -170,6 +190,97 @@ public:
         return d;
     }
 
+    // Inverse phi of points of S0 given exactly (original triangle, barycentric).
+    py::tuple phi_inverse(const py::object& original_triangles, const py::object& original_barycentrics,
+                          int threads) {
+        std::vector<int32_t> t = query_indices(original_triangles, "original_triangles", 0,
+                                               file_->param.original.num_triangles(), "an original triangle");
+        std::vector<bpm::Vec3> b = query_vec3(original_barycentrics, "original_barycentrics", t.size(),
+                                              "original_triangles");
+        threads = thread_count(threads);
+        const bpm::PhiInverse& inv = inverse();
+        std::vector<bpm::OriginalPoint> in(t.size());
+        for (size_t i = 0; i < t.size(); ++i) in[i] = {t[i], b[i]};
+        std::vector<bpm::SurfacePoint> out;
+        {
+            py::gil_scoped_release release;
+            inv.from_original(in, out, threads);
+        }
+        return surface_points(out);
+    }
+
+    // Inverse phi of positions on or near S0: the closest point of S0 first.
+    py::dict phi_inverse_positions(const py::object& positions, int threads) {
+        std::vector<bpm::Vec3> x = query_vec3(positions, "positions", 0, nullptr);
+        threads = thread_count(threads);
+        const bpm::PhiInverse& inv = inverse();
+        std::vector<bpm::PhiInverseSample> out;
+        std::vector<bpm::SurfacePoint> points;
+        std::vector<int32_t> otri;
+        std::vector<bpm::Vec3> obary, feet;
+        std::vector<double> distances;
+        {
+            py::gil_scoped_release release;
+            inv.from_position(x, out, threads);
+            for (const bpm::PhiInverseSample& s : out) {
+                points.push_back(s.point);
+                otri.push_back(s.original.triangle);
+                obary.push_back(s.original.barycentric);
+                feet.push_back(s.foot);
+                distances.push_back(s.distance);
+            }
+        }
+        py::tuple tb = surface_points(points);
+        py::dict d;
+        d["triangles"] = tb[0];
+        d["barycentrics"] = tb[1];
+        d["feet"] = rows(feet);
+        d["original_triangles"] = column(otri);
+        d["original_barycentrics"] = rows(obary);
+        d["distances"] = column(distances);
+        return d;
+    }
+
+    // repair_boundary (bpm/boundary_repair.h) on a copy of `vertices`.
+    py::tuple repair(const py::object& vertices, const py::object& tetrahedra, const py::object& parameter_triangles,
+                     const py::object& parameter_barycentrics, const bpm::BoundaryRepairOptions& options) {
+        std::vector<bpm::Vec3> x = query_vec3(vertices, "vertices", 0, nullptr);
+        const int64_t n = static_cast<int64_t>(x.size());
+        std::vector<int32_t> flat = query_indices(tetrahedra, "tetrahedra", 0, n, "a vertex", 4);
+        std::vector<bpm::Tet> tets(flat.size() / 4);
+        if (!tets.empty()) std::memcpy(tets.data(), flat.data(), flat.size() * sizeof(int32_t));
+        std::vector<int32_t> pt = query_indices(parameter_triangles, "parameter_triangles", -1, num_coarse_triangles(),
+                                                "a coarse triangle or -1");
+        if (static_cast<int64_t>(pt.size()) != n)
+            throw py::value_error("parameter_triangles must have one entry per vertex (" + std::to_string(n) +
+                                  "), got " + std::to_string(pt.size()));
+        std::vector<bpm::Vec3> pb = query_vec3(parameter_barycentrics, "parameter_barycentrics", pt.size(),
+                                               "parameter_triangles");
+        std::vector<bpm::SurfacePoint> points(pt.size());
+        for (size_t i = 0; i < pt.size(); ++i) points[i] = {pt[i], pb[i]};
+        const bpm::PhiEvaluator& ev = evaluator();
+        bpm::BoundaryRepairResult r;
+        {
+            py::gil_scoped_release release;
+            r = bpm::repair_boundary(ev, x, tets, points, options, bpm::Context{});
+        }
+        py::dict d;
+        d["boundary_vertices"] = r.boundary_vertices;
+        d["at_phi_before"] = r.at_phi_before;
+        d["at_phi"] = r.at_phi;
+        d["held_back"] = r.held_back;
+        d["not_moved"] = r.not_moved;
+        d["max_distance"] = r.max_distance;
+        d["max_distance_relative"] = r.max_distance_relative;
+        d["min_phi_fraction"] = r.min_phi_fraction;
+        d["smoothed_vertices"] = r.smoothed_vertices;
+        d["min_dihedral_degrees"] = r.min_dihedral_degrees;
+        d["inverted_before"] = r.inverted_before;
+        d["inverted_after"] = r.inverted_after;
+        d["seconds"] = r.seconds;
+        return py::make_tuple(rows(x), d);
+    }
+
     py::tuple refine(int levels, double tolerance, int max_level) {
         bpm::RefineOptions options;
         options.levels = levels;
@@ -184,14 +295,26 @@ public:
     }
 
 private:
-    // Built on first use (O(#pieces)); the GIL is held here, so only one thread builds it.
+    // Built on first use (O(#pieces), O(#pieces + #S0.T)); the GIL is held here, so only
+    // one thread builds them.
     const bpm::PhiEvaluator& evaluator() {
         if (!phi_) phi_ = std::make_unique<bpm::PhiEvaluator>(file_->param);
         return *phi_;
     }
+    const bpm::PhiInverse& inverse() {
+        if (!inverse_) inverse_ = std::make_unique<bpm::PhiInverse>(file_->param);
+        return *inverse_;
+    }
+    static py::tuple surface_points(const std::vector<bpm::SurfacePoint>& points) {
+        std::vector<int32_t> t(points.size());
+        std::vector<bpm::Vec3> b(points.size());
+        for (size_t i = 0; i < points.size(); ++i) t[i] = points[i].triangle, b[i] = points[i].barycentric;
+        return py::make_tuple(column(t), rows(b));
+    }
 
     std::unique_ptr<bpm::BpmFile> file_;  // stable address: phi_ keeps a reference into it
     std::unique_ptr<bpm::PhiEvaluator> phi_;
+    std::unique_ptr<bpm::PhiInverse> inverse_;
     std::map<std::string, py::array> arrays_;
     std::string path_;
 };
@@ -294,6 +417,42 @@ PYBIND11_MODULE(_bpm, m) {
              "Like phi, and also the unit normal of S0 and the original triangle and barycentric\n"
              "coordinates there: dict of positions (k, 3), normals (k, 3), original_triangles (k,)\n"
              "int32, original_barycentrics (k, 3).")
+        .def("phi_inverse", &File::phi_inverse, py::arg("original_triangles"), py::arg("original_barycentrics"),
+             py::arg("threads") = 1,
+             "Inverse phi (bpm/phi_inverse.h) of points of S0 given as original triangle (k,) and\n"
+             "barycentric coordinates there (k, 3): the parameter points (triangles (k,) int32,\n"
+             "barycentrics (k, 3)) with phi(parameter point) == that point up to rounding.")
+        .def("phi_inverse_positions", &File::phi_inverse_positions, py::arg("positions"), py::arg("threads") = 1,
+             "Inverse phi of positions (k, 3) on or near S0: the closest point of S0 (foot), then its\n"
+             "parameter point. dict of triangles (k,) int32, barycentrics (k, 3), feet (k, 3),\n"
+             "original_triangles (k,), original_barycentrics (k, 3), distances (k,) |position - foot|.")
+        .def("repair",
+             [](File& f, const py::object& vertices, const py::object& tetrahedra, const py::object& parameter_triangles,
+                const py::object& parameter_barycentrics, int bisection_steps, double min_volume_fraction,
+                double min_dihedral_degrees, int boundary_steps, int retry_passes, bool smooth) {
+                 bpm::BoundaryRepairOptions o;
+                 o.bisection_steps = bisection_steps;
+                 o.min_volume_fraction = min_volume_fraction;
+                 o.min_dihedral_degrees = min_dihedral_degrees;
+                 o.boundary_steps = boundary_steps;
+                 o.retry_passes = retry_passes;
+                 o.smooth = smooth;
+                 return f.repair(vertices, tetrahedra, parameter_triangles, parameter_barycentrics, o);
+             },
+             py::arg("vertices"), py::arg("tetrahedra"), py::arg("parameter_triangles"),
+             py::arg("parameter_barycentrics"), py::kw_only(),
+             py::arg("bisection_steps") = bpm::BoundaryRepairOptions{}.bisection_steps,
+             py::arg("min_volume_fraction") = bpm::BoundaryRepairOptions{}.min_volume_fraction,
+             py::arg("min_dihedral_degrees") = bpm::BoundaryRepairOptions{}.min_dihedral_degrees,
+             py::arg("boundary_steps") = bpm::BoundaryRepairOptions{}.boundary_steps,
+             py::arg("retry_passes") = bpm::BoundaryRepairOptions{}.retry_passes,
+             py::arg("smooth") = bpm::BoundaryRepairOptions{}.smooth,
+             "Repair after a solver refines (bpm/boundary_repair.h): moves the boundary vertices of a\n"
+             "tet mesh (vertices (n, 3), positively oriented tetrahedra (m, 4)) towards phi of their\n"
+             "parameter points (parameter_triangles (n,), -1 for interior vertices;\n"
+             "parameter_barycentrics (n, 3)), holding a vertex back where phi would invert or flatten\n"
+             "a tetrahedron, and smooths the interior. Returns (new vertices (n, 3), dict of counts:\n"
+             "boundary_vertices, at_phi, held_back, max_distance, inverted_before/after, ...).")
         .def("refine", &File::refine, py::arg("levels") = -1, py::arg("tolerance") = 0.0, py::arg("max_level") = 8,
              "The coarse surface refined through phi (bpm/refine.h): levels=K splits each coarse\n"
              "triangle into 4**K (0 <= K <= 10); or adaptive with tolerance > 0 (fraction of the\n"

@@ -4,8 +4,9 @@
 // solver"); tests/consumer/check_readme.sh keeps the two equal.
 //
 //   consumer FILE.bpm    prints phi at the centre of coarse triangle 0 and checks that
-//                        every coarse centroid maps to a finite point in the bounding
-//                        box of the original surface; exit 0 ok, 1 check failed,
+//                        inverse phi takes it back, and that every coarse centroid maps
+//                        to a finite point in the bounding box of the original surface;
+//                        exit 0 ok, 1 check failed,
 //                        3 the file could not be read (bpm::Error caught across libbpm.so)
 #include <cmath>
 #include <cstdio>
@@ -14,6 +15,7 @@
 #include "bpm/bpm_file.h"
 #include "bpm/errors.h"
 #include "bpm/phi_evaluation.h"
+#include "bpm/phi_inverse.h"
 
 int main(int argc, char** argv) {
     if (argc != 2) {
@@ -33,15 +35,22 @@ int main(int argc, char** argv) {
 
         // Many points at once (what a solver does after refining): the centroid of every
         // coarse triangle, on 2 threads.
-        std::vector<int32_t> triangles;
-        std::vector<bpm::Vec3> barycentrics;
-        for (int32_t t = 0; t < param.coarse.num_triangles(); ++t) {
-            triangles.push_back(t);
-            barycentrics.push_back({1.0 / 3, 1.0 / 3, 1.0 / 3});
-        }
+        std::vector<bpm::SurfacePoint> points;  // {coarse triangle, barycentric}
+        for (int32_t t = 0; t < param.coarse.num_triangles(); ++t) points.push_back({t, {1.0 / 3, 1.0 / 3, 1.0 / 3}});
         std::vector<bpm::Vec3> positions;
-        phi.evaluate_positions(triangles, barycentrics, positions, /*threads=*/2);
+        phi.evaluate_positions(points, positions, /*threads=*/2);
+
+        // Back from S0 to S (data given on the original surface, or a solver's physical point).
+        bpm::PhiInverse inverse(param);
+        bpm::SurfacePoint p = inverse.from_original({s.original_triangle, s.original_barycentric});
+        bpm::PhiInverseSample q = inverse.from_position(s.position);  // closest point of S0 first
         // README-END
+        const bpm::Vec3 back = phi.evaluate(p).position, back2 = phi.evaluate(q.point).position;
+        if (bpm::distance(back, s.position) > 1e-9 * bpm::bounding_box_diagonal(param.original) ||
+            bpm::distance(back2, s.position) > 1e-9 * bpm::bounding_box_diagonal(param.original)) {
+            std::fprintf(stderr, "consumer: phi(inverse phi(x)) is not x\n");
+            return 1;
+        }
 
         // Every image must be a point of S0: finite and inside its bounding box.
         bpm::Vec3 lo = param.original.vertices.at(0), hi = lo;

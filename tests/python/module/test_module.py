@@ -1,9 +1,11 @@
 """The Python module bpm (python/), run with pytest (ctest: python.module).
 
 libbpm's phi through the module must agree with the independent spec reader
-(tests/python/bpm_spec_reader.py, h5py + numpy only) on random points of real meshes; the
-arrays must be the file's datasets; bad input must raise the documented exceptions with
-libbpm's messages; refine must give 4**K triangles per coarse triangle.
+(tests/python/bpm_spec_reader.py, h5py + numpy only) on random points of real meshes, and
+so must inverse phi (the spec reader's phi of the returned parameter points is the
+original point); the arrays must be the file's datasets; bad input must raise the
+documented exceptions with libbpm's messages; refine must give 4**K triangles per coarse
+triangle; repair must move a solver's flat refined boundary onto S0 without inverting.
 
 Environment (set by ctest; defaults for a run from the source tree after a build in build/):
   BPM_TOOLS   the built tools (build/bin)       BPM_MESHES  the real meshes (.data/meshes)
@@ -86,12 +88,14 @@ def test_readme_example(femur):
     b = np.full((len(t), 3), 1.0 / 3)
     x = f.phi(t, b, threads=2)               # (k, 3) points on the original surface
     s = f.phi_samples(t, b)                  # + normals, original triangle and barycentric
+    t2, b2 = f.phi_inverse(s["original_triangles"], s["original_barycentrics"])  # back to S
     v, tri = f.refine(levels=2)              # the coarse surface refined onto S0
     # README-END
     assert x.shape == (len(t), 3) and np.isfinite(x).all()
     lo, hi = f.original_vertices.min(axis=0), f.original_vertices.max(axis=0)
     assert (x >= lo - 1e-9).all() and (x <= hi + 1e-9).all()
     assert np.array_equal(s["positions"], x)
+    assert np.abs(f.phi(t2, b2) - x).max() <= 1e-9
     assert len(tri) == 16 * len(f.coarse_triangles)
 
 
@@ -157,6 +161,90 @@ def test_tetmesh_arrays_are_the_file_datasets(meshed_elephant):
     on_s = f.tet_vertex_parameter_triangle >= 0
     x = f.phi(f.tet_vertex_parameter_triangle[on_s], f.tet_vertex_parameter_barycentric[on_s])
     assert np.abs(x - f.tet_vertices[on_s]).max() <= 1e-9
+
+
+@pytest.mark.parametrize("name", ["femur", "elephant"])
+def test_inverse_phi_agrees_with_the_spec_reader(name):
+    path = simplified(name)
+    f = bpm.read(path)
+    d = spec.read(path)
+    X, T0 = d["original/vertices"], d["original/triangles"]
+    scale = max(1.0, float(np.linalg.norm(X.max(axis=0) - X.min(axis=0))))
+    rng = np.random.default_rng(23)
+    # Random points of S0 as (original triangle, barycentric), corners and edges included.
+    ot, ob = random_points(rng, len(T0), 3000)
+    target = np.einsum("qk,qkd->qd", ob, X[T0[ot]])
+    t, b = f.phi_inverse(ot, ob, threads=2)
+    assert t.dtype == np.int32 and t.shape == (3000,) and b.shape == (3000, 3)
+    assert (t >= 0).all() and (t < len(d["coarse/triangles"])).all()
+    assert np.abs(b.sum(axis=1) - 1).max() <= 1e-12 and (b >= -1e-12).all()
+    pos, _, _, _ = spec.evaluate(d, t, b)  # phi of the answer, by the independent reader
+    assert np.abs(pos - target).max() <= 1e-9 * scale
+    # Positions: points of S0 pushed off along the normal come back to their foot point,
+    # except where another part of S0 is nearer (concave edges): never farther than that.
+    s = f.phi_samples(*random_points(rng, len(d["coarse/triangles"]), 500))
+    offset = 1e-4 * scale
+    r = f.phi_inverse_positions(s["positions"] + offset * s["normals"])
+    assert (r["distances"] <= offset * (1 + 1e-9)).all()
+    back = np.linalg.norm(r["feet"] - s["positions"], axis=1) <= 1e-6 * offset
+    assert back.mean() > 0.9
+    assert np.abs(r["distances"][back] - offset).max() <= 1e-6 * offset
+    pos, _, _, _ = spec.evaluate(d, r["triangles"], r["barycentrics"])
+    assert np.abs(pos - r["feet"]).max() <= 1e-9 * scale
+
+
+def test_inverse_phi_errors(femur):
+    f = bpm.read(femur)
+    n0 = len(f.original_triangles)
+    b = np.full((1, 3), 1.0 / 3)
+    with pytest.raises(ValueError, match=r"original_triangles\[0\] = %d is not an original triangle" % n0):
+        f.phi_inverse([n0], b)
+    with pytest.raises(ValueError, match=r"original_barycentrics must have shape \(1, 3\)"):
+        f.phi_inverse([0], np.ones((1, 2)))
+    with pytest.raises(ValueError, match="not finite"):
+        f.phi_inverse_positions([[0.0, np.inf, 0.0]])
+
+
+def test_repair_moves_a_flat_refined_boundary_onto_the_original_surface():
+    """bpm-mesh --refine 1 --no-smooth gives a level-1 mesh with every vertex's parameter
+    point; putting its new boundary vertices back on the flat coarse surface (where a
+    solver's red refinement leaves them) and calling repair must bring them to phi or hold
+    them back on their segment, with no tetrahedron inverted."""
+    out = WORK / "elephant_tet1.bpm"
+    if not out.exists():
+        subprocess.run([str(TOOLS / "bpm-mesh"), str(simplified("elephant")), "--refine", "1", "--no-smooth",
+                        "-o", str(out)], check=True, stderr=subprocess.DEVNULL)
+    f = bpm.read(out)
+    pt, pb = f.tet_vertex_parameter_triangle, f.tet_vertex_parameter_barycentric
+    with h5py.File(out, "r") as h:
+        coarse_vertex = h["tetmesh/vertex_coarse_vertex"][()]
+    new_on_s = (pt >= 0) & (coarse_vertex < 0)
+    assert new_on_s.sum() > 100
+    flat = f.tet_vertices.copy()
+    C, T = f.coarse_vertices, f.coarse_triangles
+    flat[new_on_s] = np.einsum("qk,qkd->qd", pb[new_on_s], C[T[pt[new_on_s]]])
+    at_phi = f.phi(pt[new_on_s], pb[new_on_s])
+
+    x, r = f.repair(flat, f.tet_tetrahedra, pt, pb)
+    assert r["boundary_vertices"] == (pt >= 0).sum()
+    assert r["at_phi"] + r["held_back"] == r["boundary_vertices"]
+    assert r["inverted_before"] == 0 and r["inverted_after"] == 0
+    assert r["at_phi"] > r["at_phi_before"]
+    before = np.linalg.norm(flat[new_on_s] - at_phi, axis=1)
+    after = np.linalg.norm(x[new_on_s] - at_phi, axis=1)
+    assert (after <= before + 1e-12).all() and after.sum() < 0.5 * before.sum()
+    assert np.isclose(after.max(), r["max_distance"])
+    d = np.linalg.det(np.stack([x[f.tet_tetrahedra[:, k]] - x[f.tet_tetrahedra[:, 0]] for k in (1, 2, 3)], axis=1))
+    assert (d > 0).all()
+
+    with pytest.raises(ValueError, match=r"tetrahedra\[0, 2\] = %d is not a vertex" % len(x)):
+        bad = f.tet_tetrahedra.copy()
+        bad[0, 2] = len(x)
+        f.repair(flat, bad, pt, pb)
+    with pytest.raises(ValueError, match="one entry per vertex"):
+        f.repair(flat, f.tet_tetrahedra, pt[:-1], pb[:-1])
+    with pytest.raises(bpm.OptionError):
+        f.repair(flat, f.tet_tetrahedra, pt, pb, boundary_steps=0)
 
 
 @pytest.mark.parametrize("levels", [0, 1, 2])
