@@ -38,6 +38,7 @@
 
 #include "bpm/bpm_file.h"
 #include "bpm/dune/uggrid_from_bpm.h"
+#include "bpm/dune/uggrid_repair.h"
 #include "bpm/errors.h"
 #include "bpm/phi_evaluation.h"
 #include "bpm/predicates.h"
@@ -63,6 +64,8 @@ struct LevelReport {
     long inverted = 0;
     double min_dihedral_degrees = 180;
     double max_boundary_offset = 0;  // max |x - phi(parameter point)| over boundary vertices
+    long inverted_before_repair = 0;  // with UG's new boundary vertices at phi
+    long held_back = 0;               // boundary vertices the repair kept short of phi
     int cg_iterations = 0;
     bool cg_converged = false;
     double seconds = 0;
@@ -85,6 +88,16 @@ double min_dihedral(const std::array<bpm::Vec3, 4>& x) {
         worst = std::min(worst, std::acos(std::clamp(c, -1.0, 1.0)) * 180.0 / M_PI);
     }
     return worst;
+}
+
+long count_inverted(const Grid& grid) {
+    long inverted = 0;
+    for (const auto& element : elements(grid.leafGridView())) {
+        const auto g = element.geometry();
+        if (bpm::orient3d(to_vec3(g.corner(0)), to_vec3(g.corner(1)), to_vec3(g.corner(2)), to_vec3(g.corner(3))) != 1)
+            ++inverted;
+    }
+    return inverted;
 }
 
 // Region id of a leaf element: that of its level-0 ancestor.
@@ -306,11 +319,13 @@ int main(int argc, char** argv) {
                  "boundary refines through phi; reports J = ∫u, volume and element quality per level."};
     std::string input;
     int levels = 2;
-    bool flat = false, adaptive = false, json = false;
+    bool flat = false, adaptive = false, json = false, no_repair = false;
     app.add_option("INPUT", input, ".bpm file with a tet mesh (bpm-mesh)")->required();
     app.add_option("--levels", levels, "Refinement steps K: levels 0..K are solved")->check(CLI::Range(0, 8));
     app.add_flag("--flat", flat, "Refine without phi: new boundary vertices at plain edge midpoints");
     app.add_flag("--adaptive", adaptive, "Refine locally by a residual estimator (red-green) instead of uniformly");
+    app.add_flag("--no-repair", no_repair,
+                 "Leave UG's new boundary vertices at phi (no bpm::repair_boundary; elements may invert)");
     app.add_flag("--json", json, "Print the report as JSON on standard output");
     CLI11_PARSE(app, argc, argv);
 
@@ -345,24 +360,34 @@ int main(int argc, char** argv) {
                 } else {
                     grid.globalRefine(1);
                 }
-                params.update(grid);
             }
             LevelReport report;
             report.level = level;
+            if (level > 0) {
+                const auto added = params.update(grid);
+                if (!flat) {
+                    report.inverted_before_repair = count_inverted(grid);
+                    if (!no_repair) {
+                        const bpm::BoundaryRepairResult r = bpm::dune::repair_uggrid(grid, params, added, *phi);
+                        report.held_back = r.held_back;
+                    }
+                }
+            }
             solve_torsion(grid, report, gradients);
             measure(grid, built, params, *phi, regions, report);
             report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
             reports.push_back(report);
             if (!json)
                 std::cerr << "level " << level << ": " << report.tets << " tets, J = " << report.J
-                          << ", volume = " << report.volume << ", inverted " << report.inverted << ", min dihedral "
+                          << ", volume = " << report.volume << ", inverted " << report.inverted << " (" << report.inverted_before_repair
+                          << " before repair, " << report.held_back << " held back), min dihedral "
                           << report.min_dihedral_degrees << " deg, CG " << report.cg_iterations << " it\n";
         }
 
         if (json) {
             std::ostringstream out;
             out << "{\"input\": \"" << input << "\", \"boundary\": \"" << (flat ? "flat" : "phi")
-                << "\", \"refinement\": \"" << (adaptive ? "adaptive" : "global") << "\", \"repair\": false"
+                << "\", \"refinement\": \"" << (adaptive ? "adaptive" : "global") << "\", \"repair\": " << (flat || no_repair ? "false" : "true")
                 << ", \"original_region_volumes\": [";
             for (size_t r = 0; r < original_volumes.size(); ++r) out << (r ? ", " : "") << json_number(original_volumes[r]);
             out << "]";
@@ -379,6 +404,8 @@ int main(int argc, char** argv) {
                 out << "], \"inverted\": " << r.inverted
                     << ", \"min_dihedral_degrees\": " << json_number(r.min_dihedral_degrees)
                     << ", \"max_boundary_offset\": " << json_number(r.max_boundary_offset)
+                    << ", \"inverted_before_repair\": " << r.inverted_before_repair
+                    << ", \"held_back\": " << r.held_back
                     << ", \"cg_iterations\": " << r.cg_iterations
                     << ", \"cg_converged\": " << (r.cg_converged ? "true" : "false")
                     << ", \"seconds\": " << json_number(r.seconds) << "}";

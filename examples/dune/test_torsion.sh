@@ -7,8 +7,10 @@
 #     coarse polyhedron's J, not the original surface's);
 #   - the flat volume changes under refinement, or the phi volume does not approach the
 #     volume enclosed by the original surface at every level;
+#   - with the repair (bpm/dune/uggrid_repair.h) any tet is inverted, or the next uniform
+#     refinement does not give 8 children per tet;
 #   - without the repair, a new boundary vertex is not at phi of its parameter point (the
-#     segment corner order or the parameter tracking is wrong); with it, any tet is inverted.
+#     segment corner order or the parameter tracking is wrong).
 # J_REF: femur.off itself (bpm-simplify --ratio 1, bpm-mesh, bpm-torsion --flat --levels 2:
 # 1.191403e-5, 1.307130e-5, 1.343640e-5 on 33897 ... 2169408 tets, Richardson-extrapolated
 # with h^2 as below; bench/RESULTS.md "Solvers: DUNE torsion"). Measured here: phi
@@ -26,10 +28,11 @@ mesh=$src/.data/meshes/femur.off
 "$bin/bpm-mesh" "$work/femur1000.bpm" -o "$work/femur1000.tets.bpm" -q --deterministic
 "$bin/bpm-torsion" "$work/femur1000.tets.bpm" --levels 2 --flat --json > "$work/flat.json"
 "$bin/bpm-torsion" "$work/femur1000.tets.bpm" --levels 2 --json > "$work/phi.json"
+"$bin/bpm-torsion" "$work/femur1000.tets.bpm" --levels 1 --no-repair --json > "$work/phi-no-repair.json"
 
-J_REF=1.35581e-05 /usr/bin/python3 - "$work/flat.json" "$work/phi.json" <<'PY'
+J_REF=1.35581e-05 /usr/bin/python3 - "$work/flat.json" "$work/phi.json" "$work/phi-no-repair.json" <<'PY'
 import json, os, sys
-flat, phi = (json.load(open(p)) for p in sys.argv[1:3])
+flat, phi, unrepaired = (json.load(open(p)) for p in sys.argv[1:4])
 j_ref = float(os.environ["J_REF"])
 failures = []
 def check(ok, what):
@@ -63,11 +66,13 @@ ev = [abs(l["volume"] - v_orig) / v_orig for l in phi["levels"]]
 print("phi volume rel. errors", ev)
 check(all(b < a for a, b in zip(ev, ev[1:])), "phi: the volume error falls at every level")
 
-if phi.get("repair"):
-    check(all(l["inverted"] == 0 for l in phi["levels"]), "with the repair no tet is inverted")
-else:
-    # Relative to the femur's size (its bounding box is about 0.5 units).
-    offsets = [l["max_boundary_offset"] for l in phi["levels"]]
-    check(max(offsets) < 1e-9, "new boundary vertices are at phi of their parameter points")
+check(phi["repair"] and all(l["inverted"] == 0 for l in phi["levels"]), "with the repair no tet is inverted")
+check(all(l["tets"] == phi["levels"][0]["tets"] * 8 ** l["level"] for l in phi["levels"]),
+      "uniform refinement after the repair gives 8 children per tet (UG keeps refining the repaired grid)")
+# UG alone: every new boundary vertex at phi of its tracked parameter point (femur's
+# bounding box is about 0.5 units), and elements inverted, which is why the repair is there.
+offsets = [l["max_boundary_offset"] for l in unrepaired["levels"]]
+check(max(offsets) < 1e-9, "without the repair, new boundary vertices are at phi of their parameter points")
+check(unrepaired["levels"][1]["inverted"] > 0, "without the repair UG's phi vertices invert some tets")
 sys.exit(1 if failures else 0)
 PY

@@ -19,6 +19,9 @@
 //   inside one) are *not* boundary segments: UG has no interior boundaries, so they are
 //   refined flat (new vertices at edge midpoints) and leave the original surface.
 //   The per-region volumes that bpm-torsion reports show the size of that error.
+//
+// After each refinement: BoundaryParameterPoints::update, then repair_uggrid
+// (bpm/dune/uggrid_repair.h), so that no element is inverted.
 
 #include <algorithm>
 #include <array>
@@ -164,12 +167,21 @@ class BoundaryParameterPoints {
 public:
     using IdType = UGGrid3::GlobalIdSet::IdType;
 
+    // A boundary vertex that update() found at the midpoint of its father's edge (ends).
+    struct NewVertex {
+        IdType vertex;
+        std::array<IdType, 2> ends;
+    };
+
     explicit BoundaryParameterPoints(const UGGridFromBpm& built, const Surface& coarse)
         : built_(built), coarse_(coarse), points_(built.level0_parameter_points) {}
 
+    // Returns the boundary vertices it added, coarser levels first, with the ends of the
+    // edges they split (what bpm::repair_boundary needs to put them back at midpoints).
     // \throw AlgorithmError if a new boundary vertex is not an edge midpoint of its
     //        father or its father's corners have no known parameter point.
-    void update(const UGGrid3& grid) {
+    std::vector<NewVertex> update(const UGGrid3& grid) {
+        std::vector<NewVertex> added;
         const auto& ids = grid.globalIdSet();
         const auto& tet = Dune::referenceElement<double, 3>(Dune::GeometryTypes::tetrahedron);
         for (int level = 1; level <= grid.maxLevel(); ++level) {
@@ -183,11 +195,14 @@ public:
                         const int corner = tet.subEntity(face, 1, c, 3);
                         const IdType id = ids.subId(element, corner, 3);
                         if (points_.count(id)) continue;
-                        points_.emplace(id, from_father(element, corner, t, ids));
+                        NewVertex v{id, {id, id}};
+                        points_.emplace(id, from_father(element, corner, t, ids, v.ends));
+                        if (v.ends[0] != id) added.push_back(v);
                     }
                 }
             }
         }
+        return added;
     }
 
     // The parameter point of a boundary vertex, or nullptr for interior or unknown ones.
@@ -199,7 +214,8 @@ public:
 
 private:
     template <class Element, class Ids>
-    SurfacePoint from_father(const Element& element, int corner, int32_t t, const Ids& ids) const {
+    SurfacePoint from_father(const Element& element, int corner, int32_t t, const Ids& ids,
+                             std::array<IdType, 2>& end_ids) const {
         const auto father = element.father();
         const auto local = element.geometryInFather().corner(corner);
         // Father corners at unit reference coordinates: (0,0,0), e1, e2, e3.
@@ -225,8 +241,9 @@ private:
                                  "father element (local coordinates " + std::to_string(local[0]) + ", " +
                                  std::to_string(local[1]) + ", " + std::to_string(local[2]) + ")");
         Vec3 b{0, 0, 0};
-        for (int end : ends) {
-            const SurfacePoint* p = find(ids.subId(father, end, 3));
+        for (int k = 0; k < 2; ++k) {
+            end_ids[k] = ids.subId(father, ends[k], 3);
+            const SurfacePoint* p = find(end_ids[k]);
             const auto in_t = p ? barycentric_in_triangle(coarse_, *p, t) : std::nullopt;
             if (!in_t)
                 throw AlgorithmError("bpm::dune: the ends of a refined boundary edge have no parameter points in "
