@@ -21,10 +21,12 @@
 // refuses options with smooth = true; uggrid_repair_options() gives the defaults without it.
 // Known limit (open): they still disturb it a little. Femur at 10 %, level 3 after
 // repaired levels 1 and 2: 1048422 instead of 1048576 tetrahedra, and 3 inverted after the
-// repair (8652 with UG's vertices at phi): some elements next to moved vertices are not
-// refined as the rest, and the midpoint positions of their children are not all positive,
-// which the repair cannot undo (it never moves a vertex onto an inverting position, but
-// does not untangle without smoothing).
+// repair (8652 with UG's vertices at phi): although globalRefine marks every element red,
+// UG refines 104 of the 131072 level-2 elements with irregular rules (678 children instead
+// of 832), and 3 of those children are inverted with every new vertex at its edge
+// midpoint, which the repair cannot undo (it never moves a vertex onto an inverting
+// position, and does not untangle without smoothing). Without any setPosition all 131072
+// are refined red.
 //
 // Call it after each adapt()/globalRefine(n = 1) and BoundaryParameterPoints::update, with
 // what update returned.
