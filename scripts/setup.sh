@@ -28,6 +28,12 @@ declare -A NEED=(
   [pkg-config]=/usr/bin/pkg-config
   [clang]=/usr/bin/clang++
   [libclang-rt-14-dev]=/usr/lib/llvm-14/lib/clang/14.0.6/lib/linux/libclang_rt.fuzzer-x86_64.a
+  # DUNE 2.9 with UG (examples/dune: bpm-torsion, scripts/demo-solver.sh); Debian's UG is
+  # built for MPI, so the MPI headers and libraries are needed too.
+  [libdune-grid-dev]=/usr/include/dune/grid/uggrid.hh
+  [libdune-uggrid-dev]=/usr/lib/x86_64-linux-gnu/cmake/dune-uggrid/dune-uggrid-config.cmake
+  [libdune-istl-dev]=/usr/include/dune/istl/paamg/amg.hh
+  [mpi-default-dev]=/usr/share/doc/mpi-default-dev/copyright
 )
 missing=()
 for pkg in "${!NEED[@]}"; do

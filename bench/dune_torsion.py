@@ -1,0 +1,145 @@
+#!/usr/bin/env python3
+"""The paper's §3 experiment in DUNE: the torsion problem on femur at 10 % (bench/RESULTS.md,
+"Solvers: DUNE torsion").
+
+bpm-simplify --ratio R -> bpm-mesh -> examples/dune/bpm-torsion on levels 0..K, with the
+boundary refined through phi and flat (plain midpoints), uniformly and adaptively; the
+reference J is the same problem on a mesh of the original surface itself (--ratio 1),
+refined flat (its boundary is the original) and Richardson-extrapolated (P1: J_h = J + C h^2).
+Writes RESULTS_DIR/dune_torsion.md and .json.
+
+Usage: bench/dune_torsion.py [--build-dir build] [--work-dir DIR] [--results-dir bench/results]
+                             [--mesh femur] [--ratio 0.1] [--levels 3] [--reference-levels 2]
+                             [--adaptive-levels 6]
+Needs build-dir/bin/{bpm-simplify,bpm-mesh,bpm-torsion} (bpm-torsion is built with the tests
+when DUNE 2.9 with UG is installed). Non-interactive; progress on stderr.
+"""
+import argparse
+import json
+import os
+import subprocess
+import sys
+import time
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+
+def run(cmd, out=None):
+    print("+ " + " ".join(cmd), file=sys.stderr, flush=True)
+    start = time.time()
+    result = subprocess.run(cmd, check=True, stdout=subprocess.PIPE, text=True)
+    seconds = time.time() - start
+    if out:
+        with open(out, "w") as f:
+            f.write(result.stdout)
+    return result.stdout, seconds
+
+
+def richardson(levels):
+    j = [l["J"] for l in levels]
+    return j[-1] + (j[-1] - j[-2]) / 3.0
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--build-dir", default="build")
+    ap.add_argument("--work-dir", default=None)
+    ap.add_argument("--results-dir", default="bench/results")
+    ap.add_argument("--mesh", default="femur")
+    ap.add_argument("--ratio", default="0.1")
+    ap.add_argument("--levels", type=int, default=3)
+    ap.add_argument("--reference-levels", type=int, default=2)
+    ap.add_argument("--adaptive-levels", type=int, default=6)
+    ap.add_argument("--reference-json", default=None,
+                    help="reuse the JSON of an earlier reference run (bpm-torsion --flat --json on the --ratio 1 mesh)")
+    args = ap.parse_args()
+    os.chdir(ROOT)
+    bin_dir = os.path.join(args.build_dir, "bin")
+    work = args.work_dir or os.path.join(args.build_dir, "bench-work", "dune_torsion")
+    os.makedirs(work, exist_ok=True)
+    os.makedirs(args.results_dir, exist_ok=True)
+    surface = os.path.join(".data", "meshes", args.mesh + ".off")
+    tool = lambda name: os.path.join(bin_dir, name)
+
+    def mesh(ratio, tag):
+        coarse = os.path.join(work, f"{args.mesh}-{tag}.bpm")
+        tets = os.path.join(work, f"{args.mesh}-{tag}.tets.bpm")
+        run([tool("bpm-simplify"), surface, "--ratio", str(ratio), "-o", coarse, "-q", "--deterministic"])
+        run([tool("bpm-mesh"), coarse, "-o", tets, "-q", "--deterministic"])
+        return tets
+
+    def torsion(tets, levels, *flags):
+        name = os.path.basename(tets).replace(".tets.bpm", "") + "".join(f.replace("--", "-") for f in flags)
+        out, seconds = run([tool("bpm-torsion"), tets, "--levels", str(levels), "--json", *flags],
+                           os.path.join(work, name + ".json"))
+        data = json.loads(out)
+        data["wall_seconds"] = seconds
+        return data
+
+    if args.reference_json:
+        with open(args.reference_json) as f:
+            reference = json.load(f)
+    else:
+        reference_tets = mesh(1, "original")
+        reference = torsion(reference_tets, args.reference_levels, "--flat")
+    j_ref = richardson(reference["levels"])
+    tets = mesh(args.ratio, f"r{args.ratio}")
+    runs = {
+        "flat": torsion(tets, args.levels, "--flat"),
+        "phi": torsion(tets, args.levels),
+        "adaptive flat": torsion(tets, args.adaptive_levels, "--flat", "--adaptive"),
+        "adaptive phi": torsion(tets, args.adaptive_levels, "--adaptive"),
+    }
+    v_orig = sum(runs["phi"]["original_region_volumes"])
+
+    lines = []
+    lines.append(f"### Torsion -Δu = 1 on {args.mesh} at {float(args.ratio) * 100:g} % (bench/dune_torsion.py)\n")
+    lines.append("P1 elements on Dune::UGGrid<3> (DUNE 2.9), CG with dune-istl's AMG (relative residual 1e-10); "
+                 "`bpm-torsion` (examples/dune). *phi*: UG's refinement puts new boundary vertices at phi of their "
+                 "parameter points (one bpm::dune::PhiBoundarySegment per boundary face); *flat*: at edge "
+                 "midpoints. Errors are relative to the reference J and to the volume enclosed by the original "
+                 f"surface ({v_orig:.6g}).\n")
+    lines.append(f"Reference: {args.mesh}.off itself (bpm-simplify --ratio 1, bpm-mesh, flat refinement, whose "
+                 "boundary is the original surface): J = " +
+                 ", ".join(f"{l['J']:.6g}" for l in reference["levels"]) +
+                 f" on {', '.join(str(l['tets']) for l in reference['levels'])} tets; Richardson-extrapolated "
+                 f"J_ref = {j_ref:.6g}.\n")
+    lines.append("phi runs apply bpm::repair_boundary after every refinement (bpm/dune/uggrid_repair.h: UG's new "
+                 "boundary vertices back to their edge midpoints, then towards phi as far as no element inverts or "
+                 "flattens; no interior smoothing, which UG's refinement does not survive); *without repair* counts "
+                 "the inverted elements with UG's vertices at phi, before the repair.\n")
+    lines.append("| level | tets (flat / phi) | J flat | error flat | J phi | error phi | volume error flat | volume error phi "
+                 "| inverted phi (without repair) | held back | min dihedral flat / phi (deg) | CG iterations phi |")
+    lines.append("|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
+    for a, b in zip(runs["flat"]["levels"], runs["phi"]["levels"]):
+        tets = str(a["tets"]) if a["tets"] == b["tets"] else f"{a['tets']} / {b['tets']}"
+        lines.append(f"| {a['level']} | {tets} | {a['J']:.6g} | {abs(a['J'] - j_ref) / j_ref:.2%} "
+                     f"| {b['J']:.6g} | {abs(b['J'] - j_ref) / j_ref:.2%} "
+                     f"| {abs(a['volume'] - v_orig) / v_orig:.3%} | {abs(b['volume'] - v_orig) / v_orig:.3%} "
+                     f"| {b['inverted']} ({b['inverted_before_repair']}) | {b['held_back']} "
+                     f"| {a['min_dihedral_degrees']:.3g} / {b['min_dihedral_degrees']:.3g} | {b['cg_iterations']} |")
+    xf, xp = richardson(runs["flat"]["levels"]), richardson(runs["phi"]["levels"])
+    lines.append("")
+    lines.append(f"Extrapolated from the last two levels: flat {xf:.6g} ({abs(xf - j_ref) / j_ref:.2%} from J_ref), "
+                 f"phi {xp:.6g} ({abs(xp - j_ref) / j_ref:.2%}).\n")
+    lines.append("Adaptive (residual estimator, Dörfler marking of half the estimate, UG red-green refinement):\n")
+    lines.append("| run | step | tets | unknowns | J | error | inverted (without repair) | min dihedral (deg) |")
+    lines.append("|---|---:|---:|---:|---:|---:|---:|---:|")
+    for name in ("adaptive flat", "adaptive phi"):
+        for l in runs[name]["levels"]:
+            lines.append(f"| {name} | {l['level']} | {l['tets']} | {l['unknowns']} | {l['J']:.6g} "
+                         f"| {abs(l['J'] - j_ref) / j_ref:.2%} | {l['inverted']} ({l['inverted_before_repair']}) "
+                         f"| {l['min_dihedral_degrees']:.3g} |")
+    for name in ("adaptive flat", "adaptive phi"):
+        if "adaptive_stopped" in runs[name]:
+            lines.append(f"\n{name}: stopped at {runs[name]['adaptive_stopped']}.")
+    text = "\n".join(lines) + "\n"
+    with open(os.path.join(args.results_dir, "dune_torsion.md"), "w") as f:
+        f.write(text)
+    with open(os.path.join(args.results_dir, "dune_torsion.json"), "w") as f:
+        json.dump({"reference": reference, "j_ref": j_ref, "runs": runs}, f, indent=1)
+    print(text)
+
+
+if __name__ == "__main__":
+    main()

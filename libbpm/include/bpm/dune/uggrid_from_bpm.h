@@ -1,0 +1,261 @@
+#pragma once
+// A Dune::UGGrid<3> from the tet mesh of a .bpm file, with phi as its boundary geometry,
+// and the parameter points of its boundary vertices after refinement.
+//
+// Compiling: Debian's dune-uggrid 2.9 is built for MPI, so code including this header
+// needs -DModelP -DENABLE_MPI=1 -DHAVE_MPI=1 -DHAVE_DUNE_UGGRID=1 and MPI's include path
+// and libraries (CMake: find_package(MPI), find_package(dune-grid); link `dunegrid`, which
+// brings duneuggrid and its compile definitions; examples/dune/CMakeLists.txt does this),
+// and the program must create Dune::MPIHelper::instance(argc, argv) before the grid.
+//
+// What becomes of the bpm mesh:
+// - level-0 vertex with insertion index i = tetmesh vertex i (UG itself stores boundary
+//   vertices first; GridFactory::insertionIndex translates), element insertion index t =
+//   tetrahedron t;
+// - one boundary segment per face of the tet mesh on the domain boundary (a face of
+//   exactly one tetrahedron; each is a face in /tetmesh/faces), whose geometry is phi on
+//   that face's part of its coarse triangle (bpm/dune/boundary_segment.h);
+// - faces of /tetmesh/faces between two tetrahedra (interfaces between regions, or sheets
+//   inside one) are *not* boundary segments: UG has no interior boundaries, so they are
+//   refined flat (new vertices at edge midpoints) and leave the original surface.
+//   The per-region volumes that bpm-torsion reports show the size of that error.
+//
+// After each refinement: BoundaryParameterPoints::update, then repair_uggrid
+// (bpm/dune/uggrid_repair.h), so that no element is inverted.
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <dune/geometry/referenceelements.hh>
+#include <dune/grid/common/gridfactory.hh>
+#include <dune/grid/uggrid.hh>
+
+#include "bpm/bpm_file.h"
+#include "bpm/dune/boundary_segment.h"
+#include "bpm/errors.h"
+#include "bpm/phi_evaluation.h"
+#include "bpm/surface_point.h"
+
+namespace bpm::dune {
+
+using UGGrid3 = Dune::UGGrid<3>;
+
+struct UGGridFromBpm {
+    std::unique_ptr<UGGrid3> grid;
+    // [boundary segment index] = coarse triangle of that segment (the grid's
+    // Intersection::boundarySegmentIndex()).
+    std::vector<int32_t> segment_coarse_triangle;
+    // [level-0 element index in grid->levelIndexSet(0)] = region id of that tetrahedron.
+    std::vector<int32_t> level0_element_region;
+    // Parameter points of the level-0 boundary vertices, keyed by global id.
+    std::map<UGGrid3::GlobalIdSet::IdType, SurfacePoint> level0_parameter_points;
+};
+
+enum class BoundaryGeometry {
+    Phi,   // segments evaluate phi: new boundary vertices land on the original surface
+    Flat,  // plane segments: new boundary vertices at edge midpoints (comparison runs)
+};
+
+namespace detail {
+inline std::array<int32_t, 3> sorted_face(int32_t a, int32_t b, int32_t c) {
+    std::array<int32_t, 3> f{a, b, c};
+    std::sort(f.begin(), f.end());
+    return f;
+}
+}  // namespace detail
+
+// Builds the grid. `phi` (evaluating file.param) is required for BoundaryGeometry::Phi and
+// shared by all segments; file.param and phi must outlive the grid.
+// \throw InputError if the file has no tet mesh, or a boundary face of the tet mesh is not
+//        in /tetmesh/faces, or a face corner has no parameter point in the face's coarse
+//        triangle; std::invalid_argument if phi is null with BoundaryGeometry::Phi;
+//        Dune::GridError from UG.
+inline UGGridFromBpm make_uggrid(const BpmFile& file, std::shared_ptr<const PhiEvaluator> phi,
+                                 BoundaryGeometry geometry = BoundaryGeometry::Phi) {
+    if (!file.tetmesh) throw InputError("/tetmesh", "the .bpm file has no tet mesh (/tetmesh): run bpm-mesh first");
+    if (geometry == BoundaryGeometry::Phi && !phi) throw std::invalid_argument("make_uggrid: phi is null");
+    const TetMesh& mesh = *file.tetmesh;
+    const Surface& coarse = file.param.coarse;
+
+    // Faces of exactly one tetrahedron are the domain boundary.
+    std::map<std::array<int32_t, 3>, int> face_count;
+    for (const Tet& t : mesh.tetrahedra) {
+        ++face_count[detail::sorted_face(t[1], t[2], t[3])];
+        ++face_count[detail::sorted_face(t[0], t[2], t[3])];
+        ++face_count[detail::sorted_face(t[0], t[1], t[3])];
+        ++face_count[detail::sorted_face(t[0], t[1], t[2])];
+    }
+
+    Dune::GridFactory<UGGrid3> factory;
+    for (const Vec3& x : mesh.vertices) factory.insertVertex({x[0], x[1], x[2]});
+    for (const Tet& t : mesh.tetrahedra)
+        factory.insertElement(Dune::GeometryTypes::tetrahedron,
+                              {static_cast<unsigned>(t[0]), static_cast<unsigned>(t[1]),
+                               static_cast<unsigned>(t[2]), static_cast<unsigned>(t[3])});
+
+    UGGridFromBpm out;
+    size_t boundary_faces_listed = 0;
+    for (size_t f = 0; f < mesh.faces.size(); ++f) {
+        const Tri& face = mesh.faces[f];
+        if (face_count[detail::sorted_face(face[0], face[1], face[2])] != 1) continue;  // interface
+        ++boundary_faces_listed;
+        const int32_t t = mesh.face_coarse_triangle[f];
+        std::array<Vec3, 3> corner_barycentric;
+        std::array<Vec3, 3> corner_position;
+        for (int i = 0; i < 3; ++i) {
+            const int32_t v = face[i];
+            const SurfacePoint p{mesh.vertex_parameter_triangle[v], mesh.vertex_parameter_barycentric[v]};
+            const auto b = p.valid() ? barycentric_in_triangle(coarse, p, t) : std::nullopt;
+            if (!b)
+                throw InputError("/tetmesh", "/tetmesh: vertex " + std::to_string(v) + " of boundary face " + std::to_string(f) +
+                                 " has no parameter point in the face's coarse triangle " + std::to_string(t));
+            corner_barycentric[i] = *b;
+            corner_position[i] = mesh.vertices[v];
+        }
+        std::shared_ptr<Dune::BoundarySegment<3>> segment;
+        if (geometry == BoundaryGeometry::Phi)
+            segment = std::make_shared<PhiBoundarySegment>(phi, t, corner_barycentric);
+        else
+            segment = std::make_shared<FlatBoundarySegment>(corner_position);
+        // Insertion order = corner order of the face: the segment's local coordinates
+        // refer to these corners (boundary_segment.h).
+        factory.insertBoundarySegment({static_cast<unsigned>(face[0]), static_cast<unsigned>(face[1]),
+                                       static_cast<unsigned>(face[2])},
+                                      segment);
+        out.segment_coarse_triangle.push_back(t);
+    }
+    size_t boundary_faces = 0;
+    for (const auto& [key, count] : face_count) boundary_faces += (count == 1);
+    if (boundary_faces != boundary_faces_listed)
+        throw InputError("/tetmesh", "/tetmesh: " + std::to_string(boundary_faces - boundary_faces_listed) +
+                         " boundary faces of the tet mesh are not in /tetmesh/faces");
+
+    out.grid = factory.createGrid();
+    // UG numbers the segments in insertion order; every boundary face has one, so
+    // boundarySegmentIndex() is an index into segment_coarse_triangle.
+    const auto level0 = out.grid->levelGridView(0);
+    const auto& ids = out.grid->globalIdSet();
+    out.level0_element_region.assign(static_cast<size_t>(level0.size(0)), 0);
+    for (const auto& element : elements(level0)) {
+        const auto t = factory.insertionIndex(element);
+        out.level0_element_region[level0.indexSet().index(element)] = mesh.regions.at(t);
+    }
+    for (const auto& vertex : vertices(level0)) {
+        const auto v = factory.insertionIndex(vertex);
+        const SurfacePoint p{mesh.vertex_parameter_triangle.at(v), mesh.vertex_parameter_barycentric.at(v)};
+        if (p.valid()) out.level0_parameter_points.emplace(ids.id(vertex), p);
+    }
+    return out;
+}
+
+// Parameter points of the boundary vertices of a refined UGGrid, keyed by global id (UG
+// keeps a vertex's id on every level it appears on).
+//
+// update() visits levels 1..maxLevel and, for each boundary face there whose corners are
+// not known yet, takes the corner's position in its father element (geometryInFather):
+// UG's tetrahedron rules only put new vertices at midpoints of the father's edges, and UG
+// computes a new boundary vertex as the segment at the midpoint of the edge's ends in the
+// segment's parameter domain. The edge lies on one segment, so both ends are expressed in
+// that segment's coarse triangle and averaged there: exactly the point phi was evaluated at.
+class BoundaryParameterPoints {
+public:
+    using IdType = UGGrid3::GlobalIdSet::IdType;
+
+    // A boundary vertex that update() found at the midpoint of its father's edge (ends).
+    struct NewVertex {
+        IdType vertex;
+        std::array<IdType, 2> ends;
+    };
+
+    explicit BoundaryParameterPoints(const UGGridFromBpm& built, const Surface& coarse)
+        : built_(built), coarse_(coarse), points_(built.level0_parameter_points) {}
+
+    // Returns the boundary vertices it added, coarser levels first, with the ends of the
+    // edges they split (what bpm::repair_boundary needs to put them back at midpoints).
+    // \throw AlgorithmError if a new boundary vertex is not an edge midpoint of its
+    //        father or its father's corners have no known parameter point.
+    std::vector<NewVertex> update(const UGGrid3& grid) {
+        std::vector<NewVertex> added;
+        const auto& ids = grid.globalIdSet();
+        const auto& tet = Dune::referenceElement<double, 3>(Dune::GeometryTypes::tetrahedron);
+        for (int level = 1; level <= grid.maxLevel(); ++level) {
+            for (const auto& element : elements(grid.levelGridView(level))) {
+                if (!element.hasBoundaryIntersections()) continue;
+                for (const auto& is : intersections(grid.levelGridView(level), element)) {
+                    if (!is.boundary()) continue;
+                    const int32_t t = built_.segment_coarse_triangle.at(is.boundarySegmentIndex());
+                    const int face = is.indexInInside();
+                    for (int c = 0; c < 3; ++c) {
+                        const int corner = tet.subEntity(face, 1, c, 3);
+                        const IdType id = ids.subId(element, corner, 3);
+                        if (points_.count(id)) continue;
+                        NewVertex v{id, {id, id}};
+                        points_.emplace(id, from_father(element, corner, t, ids, v.ends));
+                        if (v.ends[0] != id) added.push_back(v);
+                    }
+                }
+            }
+        }
+        return added;
+    }
+
+    // The parameter point of a boundary vertex, or nullptr for interior or unknown ones.
+    const SurfacePoint* find(IdType id) const {
+        const auto it = points_.find(id);
+        return it == points_.end() ? nullptr : &it->second;
+    }
+    size_t size() const { return points_.size(); }
+
+private:
+    template <class Element, class Ids>
+    SurfacePoint from_father(const Element& element, int corner, int32_t t, const Ids& ids,
+                             std::array<IdType, 2>& end_ids) const {
+        const auto father = element.father();
+        const auto local = element.geometryInFather().corner(corner);
+        // Father corners at unit reference coordinates: (0,0,0), e1, e2, e3.
+        const std::array<double, 4> w{1.0 - local[0] - local[1] - local[2], local[0], local[1], local[2]};
+        for (int j = 0; j < 4; ++j) {
+            if (std::abs(w[j] - 1.0) < 1e-12) {
+                // A corner of the father: its id would have been found unless the father's
+                // copy of the vertex is not a boundary vertex, which cannot be.
+                const SurfacePoint* p = find(ids.subId(father, j, 3));
+                if (!p) throw AlgorithmError("bpm::dune: a boundary vertex of the father has no parameter point");
+                return *p;
+            }
+        }
+        std::array<int, 2> ends{-1, -1};
+        int n = 0;
+        for (int j = 0; j < 4; ++j) {
+            if (std::abs(w[j]) < 1e-12) continue;
+            if (n == 2 || std::abs(w[j] - 0.5) > 1e-12) { n = 3; break; }
+            ends[n++] = j;
+        }
+        if (n != 2)
+            throw AlgorithmError("bpm::dune: UG put a boundary vertex at a point that is not an edge midpoint of its "
+                                 "father element (local coordinates " + std::to_string(local[0]) + ", " +
+                                 std::to_string(local[1]) + ", " + std::to_string(local[2]) + ")");
+        Vec3 b{0, 0, 0};
+        for (int k = 0; k < 2; ++k) {
+            end_ids[k] = ids.subId(father, ends[k], 3);
+            const SurfacePoint* p = find(end_ids[k]);
+            const auto in_t = p ? barycentric_in_triangle(coarse_, *p, t) : std::nullopt;
+            if (!in_t)
+                throw AlgorithmError("bpm::dune: the ends of a refined boundary edge have no parameter points in "
+                                     "coarse triangle " + std::to_string(t));
+            b = b + 0.5 * *in_t;
+        }
+        return SurfacePoint{t, b};
+    }
+
+    const UGGridFromBpm& built_;
+    const Surface& coarse_;
+    std::map<IdType, SurfacePoint> points_;
+};
+
+}  // namespace bpm::dune
