@@ -110,7 +110,9 @@ for line in open("/proc/cpuinfo"):
         break
 try:
     commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True).stdout.strip()
-    if subprocess.run(["git", "--no-optional-locks", "status", "--porcelain", "--untracked-files=no"],
+    # (the results themselves do not count: RESULTS.md may be edited while this runs)
+    if subprocess.run(["git", "--no-optional-locks", "status", "--porcelain", "--untracked-files=no", "--", ".",
+                       ":!bench/RESULTS.md", ":!bench/results"],
                       capture_output=True, text=True).stdout.strip():
         commit += " with uncommitted changes"
 except OSError:
