@@ -15,7 +15,8 @@ check     bpm-check on the scaling suite's outputs (52k / 208k / 832k original t
           second -> results/check.{md,json}
 all       the one command: builds every tool once in Release, runs simplify, scaling and
           check (each as `run.py SUITE --no-build ...`), then bench/refine.py (refinement
-          convergence, shape, phi throughput; if present), bench/tetmesh.sh (tet meshes) and
+          convergence, shape, phi throughput; if present), bench/tetmesh.sh (tet meshes),
+          bench/repair.sh (the repair call on a 1 M-tet mesh; if present) and
           bench/corpus.sh (the whole libcgal-demo corpus), and writes bench/RESULTS.md:
           machine, date, commit, every command run, every table.
 
@@ -1022,6 +1023,11 @@ def all_suites(args, invocation):
              note="bench/tetmesh.sh does not accept `--no-build --build-dir` yet and writes no results file; it was "
                   "run with its positional interface (TOOL_DIR WORK_DIR) on the binaries built above, and its "
                   "standard output is copied below.")
+
+    repair = os.path.join(BENCH, "repair.sh")
+    if os.path.exists(repair):
+        # --quick: 2 flat levels (131k tetrahedra on femur) instead of 3 (1 M).
+        external("repair", "repair after a solver refines", repair, [rel(repair)], [("--levels", "2")], "repair*.md")
 
     step("corpus", "the whole libcgal-demo corpus", [rel(os.path.join(BENCH, "corpus.sh")), rel(args.build_dir)],
          args.external_timeout, [os.path.join(RESULTS, "corpus.md")])

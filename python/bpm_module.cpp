@@ -135,8 +135,15 @@ public:
             arrays_["tet_regions"] = read_only(column(m.regions));
             arrays_["tet_faces"] = read_only(rows(m.faces));
             arrays_["tet_face_coarse_triangle"] = read_only(column(m.face_coarse_triangle));
-            arrays_["tet_vertex_parameter_triangle"] = read_only(column(m.vertex_parameter_triangle));
-            arrays_["tet_vertex_parameter_barycentric"] = read_only(rows(m.vertex_parameter_barycentric));
+            // The file's two datasets, one column each, from the SurfacePoint per vertex.
+            std::vector<int32_t> triangles(m.vertex_parameter_points.size());
+            std::vector<bpm::Vec3> barycentrics(m.vertex_parameter_points.size());
+            for (size_t v = 0; v < m.vertex_parameter_points.size(); ++v) {
+                triangles[v] = m.vertex_parameter_points[v].triangle;
+                barycentrics[v] = m.vertex_parameter_points[v].barycentric;
+            }
+            arrays_["tet_vertex_parameter_triangle"] = read_only(column(triangles));
+            arrays_["tet_vertex_parameter_barycentric"] = read_only(rows(barycentrics));
         }
     }
 

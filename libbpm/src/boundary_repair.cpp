@@ -254,8 +254,9 @@ BoundaryRepairResult repair_boundary(const PhiEvaluator& phi, std::vector<Vec3>&
     for (size_t v = 0; v < nv; ++v) movable[v] = !parameter_points[v].valid();
     const std::vector<Vec3> reference = vertices;
     const std::vector<bool> all_positive;  // the mesh's own orientation: positive
-    detail::repair_boundary_vertices(vertices, tetrahedra, all_positive, reference, movers, movable, seg, options,
-                                     context, 0.05, 0.9, "repair: boundary vertices towards phi");
+    result.smoothing_seconds =
+        detail::repair_boundary_vertices(vertices, tetrahedra, all_positive, reference, movers, movable, seg, options,
+                                         context, 0.05, 0.9, "repair: boundary vertices towards phi");
 
     for (int32_t v : movers) {
         if (vertices[v] == seg.target[v]) continue;

@@ -410,10 +410,16 @@ void write_tetmesh_group(const Writer& w, hid_t f, const TetMesh& m) {
                     H5T_NATIVE_INT32);
     w.write_dataset(g, "vertex_coarse_vertex", m.vertex_coarse_vertex.data(), m.vertex_coarse_vertex.size(), 0,
                     H5T_STD_I32LE, H5T_NATIVE_INT32);
-    w.write_dataset(g, "vertex_parameter_triangle", m.vertex_parameter_triangle.data(),
-                    m.vertex_parameter_triangle.size(), 0, H5T_STD_I32LE, H5T_NATIVE_INT32);
-    const auto bary = flatten(m.vertex_parameter_barycentric);
-    w.write_dataset(g, "vertex_parameter_barycentric", bary.data(), m.vertex_parameter_barycentric.size(), 3,
+    // The parameter points as two datasets (spec/tetmesh.md): triangles, barycentrics.
+    std::vector<int32_t> parameter_triangles(m.vertex_parameter_points.size());
+    std::vector<double> bary(3 * m.vertex_parameter_points.size());
+    for (size_t v = 0; v < m.vertex_parameter_points.size(); ++v) {
+        parameter_triangles[v] = m.vertex_parameter_points[v].triangle;
+        for (int c = 0; c < 3; ++c) bary[3 * v + c] = m.vertex_parameter_points[v].barycentric[c];
+    }
+    w.write_dataset(g, "vertex_parameter_triangle", parameter_triangles.data(), parameter_triangles.size(), 0,
+                    H5T_STD_I32LE, H5T_NATIVE_INT32);
+    w.write_dataset(g, "vertex_parameter_barycentric", bary.data(), m.vertex_parameter_points.size(), 3,
                     H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE);
     if (!m.tet_ancestor.empty())
         w.write_dataset(g, "tet_ancestor", m.tet_ancestor.data(), m.tet_ancestor.size(), 0, H5T_STD_I32LE,
@@ -1131,13 +1137,16 @@ TetMesh read_tetmesh_group(const Reader& r, const Surface& coarse) {
     m.vertex_coarse_vertex =
         narrow(r, r.read_ints("/tetmesh/vertex_coarse_vertex", 0, "(#V,)", rows), "/tetmesh/vertex_coarse_vertex");
     expect_rows(r, rows, nv, "/tetmesh/vertex_coarse_vertex", "one per row of /tetmesh/vertices");
-    m.vertex_parameter_triangle = narrow(r, r.read_ints("/tetmesh/vertex_parameter_triangle", 0, "(#V,)", rows),
-                                         "/tetmesh/vertex_parameter_triangle");
+    const std::vector<int32_t> parameter_triangles = narrow(
+        r, r.read_ints("/tetmesh/vertex_parameter_triangle", 0, "(#V,)", rows), "/tetmesh/vertex_parameter_triangle");
     expect_rows(r, rows, nv, "/tetmesh/vertex_parameter_triangle", "one per row of /tetmesh/vertices");
     const auto bary = r.read_floats("/tetmesh/vertex_parameter_barycentric", 3, "(#V, 3)", rows);
     expect_rows(r, rows, nv, "/tetmesh/vertex_parameter_barycentric", "one per row of /tetmesh/vertices");
     check_finite(r, bary, "/tetmesh/vertex_parameter_barycentric", 3);
-    m.vertex_parameter_barycentric = to_vec3(bary);
+    const std::vector<Vec3> barycentrics = to_vec3(bary);
+    m.vertex_parameter_points.resize(parameter_triangles.size());
+    for (size_t v = 0; v < parameter_triangles.size(); ++v)
+        m.vertex_parameter_points[v] = {parameter_triangles[v], barycentrics[v]};
     if (r.exists("/tetmesh/tet_ancestor")) {
         m.tet_ancestor = narrow(r, r.read_ints("/tetmesh/tet_ancestor", 0, "(#Tet,)", rows), "/tetmesh/tet_ancestor");
         expect_rows(r, rows, nt, "/tetmesh/tet_ancestor", "one per row of /tetmesh/tetrahedra");

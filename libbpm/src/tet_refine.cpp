@@ -57,8 +57,8 @@ struct State {
     std::vector<Tri> faces;
     std::vector<int32_t> face_triangle;
     std::vector<std::array<Vec3, 3>> face_bary;  // corners' barycentrics in the face's coarse triangle
-    std::vector<int32_t> coarse_vertex, param_triangle;
-    std::vector<Vec3> param_bary;
+    std::vector<int32_t> coarse_vertex;
+    std::vector<SurfacePoint> param;  // parameter point of each vertex (invalid for interior ones)
 };
 
 }  // namespace
@@ -91,8 +91,7 @@ TetRefineResult refine_tetmesh(const Parametrization& param, const TetMesh& coar
     s.faces = coarse.faces;
     s.face_triangle = coarse.face_coarse_triangle;
     s.coarse_vertex = coarse.vertex_coarse_vertex;
-    s.param_triangle = coarse.vertex_parameter_triangle;
-    s.param_bary = coarse.vertex_parameter_barycentric;
+    s.param = coarse.vertex_parameter_points;
     // Barycentrics of each face corner in the face's own coarse triangle: at level 0 the
     // faces are the coarse triangles (unit vectors); for a refined input, locate the corner
     // parameter positions in the face's triangle.
@@ -101,26 +100,26 @@ TetRefineResult refine_tetmesh(const Parametrization& param, const TetMesh& coar
         const int32_t t = s.face_triangle[f];
         for (int c = 0; c < 3; ++c) {
             const int32_t v = s.faces[f][c];
-            if (s.param_triangle[v] < 0)
+            if (!s.param[v].valid())
                 throw AlgorithmError("vertex " + std::to_string(v) + " of boundary face " + std::to_string(f) +
                                      " has no parameter position");
-            if (s.param_triangle[v] == t) {
-                s.face_bary[f][c] = s.param_bary[v];
+            if (s.param[v].triangle == t) {
+                s.face_bary[f][c] = s.param[v].barycentric;
                 continue;
             }
             // Same point expressed in triangle t: map through the coarse vertices.
-            const Tri& from = S.triangles[s.param_triangle[v]];
+            const Tri& from = S.triangles[s.param[v].triangle];
             const Tri& to = S.triangles[t];
             Vec3 b{0, 0, 0};
             for (int i = 0; i < 3; ++i) {
-                if (s.param_bary[v][i] == 0) continue;
+                if (s.param[v].barycentric[i] == 0) continue;
                 int j = -1;
                 for (int k = 0; k < 3; ++k)
                     if (to[k] == from[i]) j = k;
                 if (j < 0)
                     throw AlgorithmError("boundary vertex " + std::to_string(v) + " is not on coarse triangle " +
                                          std::to_string(t) + " of its face");
-                b[j] = s.param_bary[v][i];
+                b[j] = s.param[v].barycentric[i];
             }
             s.face_bary[f][c] = b;
         }
@@ -139,13 +138,14 @@ TetRefineResult refine_tetmesh(const Parametrization& param, const TetMesh& coar
     seg.target.assign(s.x.size(), Vec3{0, 0, 0});
     seg.fraction.assign(s.x.size(), 1.0);
     for (size_t v = 0; v < s.x.size(); ++v) {
-        if (s.param_triangle[v] < 0) continue;
+        if (!s.param[v].valid()) continue;
         seg.base[v] = s.x[v];
-        seg.target[v] = s.coarse_vertex[v] >= 0 ? s.x[v] : phi.evaluate(s.param_triangle[v], s.param_bary[v]).position;
+        seg.target[v] =
+            s.coarse_vertex[v] >= 0 ? s.x[v] : phi.evaluate(s.param[v].triangle, s.param[v].barycentric).position;
         if (seg.target[v] != seg.base[v]) seg.fraction[v] = 0;
     }
     auto off_surface = [&](size_t v) {
-        return options.move_to_surface && s.param_triangle[v] >= 0 && seg.fraction[v] < 1 && s.x[v] != seg.target[v];
+        return options.move_to_surface && s.param[v].valid() && seg.fraction[v] < 1 && s.x[v] != seg.target[v];
     };
     std::vector<char> movable;  // interior vertices, for smoothing
 
@@ -172,8 +172,7 @@ TetRefineResult refine_tetmesh(const Parametrization& param, const TetMesh& coar
         s.x.resize(nv);
         for (size_t e = 0; e < edges.size(); ++e) s.x[nv_old + e] = flat[e];
         s.coarse_vertex.resize(nv, -1);
-        s.param_triangle.resize(nv, -1);
-        s.param_bary.resize(nv, Vec3{0, 0, 0});
+        s.param.resize(nv);
 
         // 2. Faces on S: 1 -> 4, and the parameter positions of the new boundary vertices.
         std::vector<Tri> faces;
@@ -192,10 +191,7 @@ TetRefineResult refine_tetmesh(const Parametrization& param, const TetMesh& coar
                 const Vec3& a = B[k];
                 const Vec3& b = B[(k + 1) % 3];
                 mb[k] = {0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1]), 0.5 * (a[2] + b[2])};
-                if (s.param_triangle[m[k]] < 0) {
-                    s.param_triangle[m[k]] = t;
-                    s.param_bary[m[k]] = mb[k];
-                }
+                if (!s.param[m[k]].valid()) s.param[m[k]] = {t, mb[k]};
             }
             const Tri children[4] = {{F[0], m[0], m[2]}, {m[0], F[1], m[1]}, {m[2], m[1], F[2]}, {m[0], m[1], m[2]}};
             const std::array<Vec3, 3> cb[4] = {
@@ -245,15 +241,15 @@ TetRefineResult refine_tetmesh(const Parametrization& param, const TetMesh& coar
         seg.fraction.resize(nv, 1.0);
         std::vector<int32_t> fresh;  // new boundary vertices
         for (size_t v = nv_old; v < nv; ++v)
-            if (s.param_triangle[v] >= 0) fresh.push_back(static_cast<int32_t>(v));
+            if (s.param[v].valid()) fresh.push_back(static_cast<int32_t>(v));
         info.new_boundary_vertices = static_cast<int64_t>(fresh.size());
         {
             std::vector<PhiSample> samples;
             std::vector<int32_t> triangles(fresh.size());
             std::vector<Vec3> barycentrics(fresh.size());
             for (size_t i = 0; i < fresh.size(); ++i) {
-                triangles[i] = s.param_triangle[fresh[i]];
-                barycentrics[i] = s.param_bary[fresh[i]];
+                triangles[i] = s.param[fresh[i]].triangle;
+                barycentrics[i] = s.param[fresh[i]].barycentric;
             }
             phi.evaluate(triangles, barycentrics, samples, 1);
             for (size_t i = 0; i < fresh.size(); ++i) {
@@ -267,9 +263,9 @@ TetRefineResult refine_tetmesh(const Parametrization& param, const TetMesh& coar
         std::vector<int32_t> movers;
         if (options.move_to_surface)
             for (size_t v = 0; v < nv; ++v)
-                if (s.param_triangle[v] >= 0 && seg.fraction[v] < 1) movers.push_back(static_cast<int32_t>(v));
+                if (s.param[v].valid() && seg.fraction[v] < 1) movers.push_back(static_cast<int32_t>(v));
         movable.assign(nv, 0);
-        for (size_t v = 0; v < nv; ++v) movable[v] = s.param_triangle[v] < 0;
+        for (size_t v = 0; v < nv; ++v) movable[v] = !s.param[v].valid();
         const double span = 1.0 / options.levels;
         info.smoothing_seconds = detail::repair_boundary_vertices(
             s.x, s.tets, s.negative, reference, movers, movable, seg, options.repair, context,
@@ -325,15 +321,14 @@ TetRefineResult refine_tetmesh(const Parametrization& param, const TetMesh& coar
     out.face_patches.resize(out.faces.size());
     for (size_t f = 0; f < out.faces.size(); ++f) out.face_patches[f] = S.patches[out.face_coarse_triangle[f]];
     out.vertex_coarse_vertex = std::move(s.coarse_vertex);
-    out.vertex_parameter_triangle = std::move(s.param_triangle);
-    out.vertex_parameter_barycentric = std::move(s.param_bary);
+    out.vertex_parameter_points = std::move(s.param);
     out.level = coarse.level + options.levels;
     out.tet_ancestor = options.levels > 0 || !coarse.tet_ancestor.empty() ? std::move(s.ancestor) : std::vector<int32_t>();
 
     result.vertices = out.num_vertices();
     result.tetrahedra = out.num_tetrahedra();
     result.faces = static_cast<int64_t>(out.faces.size());
-    for (int32_t t : out.vertex_parameter_triangle) result.boundary_vertices += t >= 0;
+    for (const SurfacePoint& p : out.vertex_parameter_points) result.boundary_vertices += p.valid();
     for (const Tet& t : out.tetrahedra)
         if (orient3d(out.vertices[t[0]], out.vertices[t[1]], out.vertices[t[2]], out.vertices[t[3]]) != 1)
             ++result.inverted;

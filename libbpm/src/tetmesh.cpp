@@ -549,16 +549,14 @@ TetMeshResult generate_tetmesh(const Parametrization& param, const TetMeshOption
     out.face_patches = s.patches;
     const size_t nv = out.vertices.size();
     out.vertex_coarse_vertex.assign(nv, -1);
-    out.vertex_parameter_triangle.assign(nv, -1);
-    out.vertex_parameter_barycentric.assign(nv, Vec3{0, 0, 0});
+    out.vertex_parameter_points.assign(nv, SurfacePoint{});
     for (int32_t t = s.num_triangles() - 1; t >= 0; --t)  // the first triangle of each vertex wins
         for (int c = 0; c < 3; ++c) {
             const int32_t v = s.triangles[t][c];
             out.vertex_coarse_vertex[v] = v;
-            out.vertex_parameter_triangle[v] = t;
             Vec3 b{0, 0, 0};
             b[c] = 1;
-            out.vertex_parameter_barycentric[v] = b;
+            out.vertex_parameter_points[v] = {t, b};
         }
     out.level = 0;
     if (options.smooth) {
@@ -592,8 +590,7 @@ std::string find_tetmesh_inconsistency(const TetMesh& m, const Surface& coarse) 
                    sizes(m.face_coarse_triangle.size(), nf, "face_coarse_triangle", "one per face"),
                    sizes(m.face_patches.size(), nf, "face_patches", "one per face"),
                    sizes(m.vertex_coarse_vertex.size(), nv, "vertex_coarse_vertex", "one per vertex"),
-                   sizes(m.vertex_parameter_triangle.size(), nv, "vertex_parameter_triangle", "one per vertex"),
-                   sizes(m.vertex_parameter_barycentric.size(), nv, "vertex_parameter_barycentric", "one per vertex")})
+                   sizes(m.vertex_parameter_points.size(), nv, "vertex_parameter_triangle", "one per vertex")})
         if (!e.empty()) return e;
     if (!m.tet_ancestor.empty())
         if (auto e = sizes(m.tet_ancestor.size(), nt, "tet_ancestor", "one per tetrahedron, or absent"); !e.empty())
@@ -631,14 +628,14 @@ std::string find_tetmesh_inconsistency(const TetMesh& m, const Surface& coarse) 
         if (cv < -1 || cv >= nvc)
             return "/tetmesh/vertex_coarse_vertex: entry " + num(v) + " = " + num(cv) + " is out of range [-1, " +
                    num(nvc) + ")";
-        const int32_t t = m.vertex_parameter_triangle[v];
+        const int32_t t = m.vertex_parameter_points[v].triangle;
         if (t < -1 || t >= ntc)
             return "/tetmesh/vertex_parameter_triangle: entry " + num(v) + " = " + num(t) + " is out of range [-1, " +
                    num(ntc) + ")";
         if (cv >= 0 && t < 0)
             return "/tetmesh/vertex_parameter_triangle: entry " + num(v) + " is -1 but the vertex is coarse vertex " +
                    num(cv);
-        const Vec3& b = m.vertex_parameter_barycentric[v];
+        const Vec3& b = m.vertex_parameter_points[v].barycentric;
         for (int c = 0; c < 3; ++c)
             if (!std::isfinite(b[c]) || (t >= 0 && b[c] < 0))
                 return "/tetmesh/vertex_parameter_barycentric: entry [" + num(v) + ", " + num(c) +

@@ -161,7 +161,7 @@ std::string write_medit(const TetMesh& m) {
     std::string out = "MeshVersionFormatted 2\nDimension 3\n\nVertices\n" + num(m.num_vertices()) + "\n";
     for (int32_t v = 0; v < m.num_vertices(); ++v) {
         append_point(out, m.vertices[v]);
-        out += m.vertex_parameter_triangle[v] >= 0 ? " 1\n" : " 0\n";
+        out += m.vertex_parameter_points[v].valid() ? " 1\n" : " 0\n";
     }
     out += "\nTetrahedra\n" + num(m.num_tetrahedra()) + "\n";
     for (size_t t = 0; t < m.tetrahedra.size(); ++t) {
@@ -205,7 +205,7 @@ std::string write_tetmesh_to_string(const TetMesh& mesh, TetMeshFormat format) {
     const int64_t nv = mesh.num_vertices();
     if (mesh.regions.size() != mesh.tetrahedra.size() || mesh.face_patches.size() != mesh.faces.size() ||
         mesh.vertex_coarse_vertex.size() != mesh.vertices.size() ||
-        mesh.vertex_parameter_triangle.size() != mesh.vertices.size())
+        mesh.vertex_parameter_points.size() != mesh.vertices.size())
         throw OutputError("<tetmesh>", "cannot write an inconsistent tetrahedral mesh (array sizes differ)");
     for (const Tet& t : mesh.tetrahedra)
         for (int32_t v : t)

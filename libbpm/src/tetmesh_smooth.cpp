@@ -370,7 +370,7 @@ TetSmoothResult smooth_tetmesh(TetMesh& mesh, const TetSmoothOptions& options, c
     detail::check_smooth_options(options);
     std::vector<char> movable(mesh.vertices.size(), 0);
     for (size_t v = 0; v < movable.size(); ++v)
-        movable[v] = v < mesh.vertex_parameter_triangle.size() && mesh.vertex_parameter_triangle[v] < 0;
+        movable[v] = v < mesh.vertex_parameter_points.size() && !mesh.vertex_parameter_points[v].valid();
     const TetSmoothResult r =
         detail::smooth_interior(mesh.vertices, mesh.tetrahedra, {}, movable, nullptr, options, context, 0, 1);
     context.report(1.0, "smoothing done");

@@ -26,12 +26,6 @@ int64_t count_inverted(const std::vector<Vec3>& x, const std::vector<Tet>& tets)
     return n;
 }
 
-std::vector<SurfacePoint> parameter_points(const TetMesh& m) {
-    std::vector<SurfacePoint> p(m.vertices.size());
-    for (size_t v = 0; v < p.size(); ++v) p[v] = {m.vertex_parameter_triangle[v], m.vertex_parameter_barycentric[v]};
-    return p;
-}
-
 // The coarse tetrahedron (0,0,0), e1, e2, e3 (fixtures::tetrahedron) meshed by three
 // tetrahedra around vertex 4, a point of its bottom face z = 0 (coarse triangle 0 =
 // (0, 2, 1), barycentric (3/8, 1/4, 3/8), i.e. (0.375, 0.25, 0)). phi maps that point to
@@ -203,7 +197,7 @@ TEST_CASE("boundary_repair: a solver's flat refinement of the femur, repaired af
         TetMesh fine;
         refine_tetmesh(*femur, mesh, flat, {}, fine);
         REQUIRE(count_inverted(fine.vertices, fine.tetrahedra) == 0);
-        const std::vector<SurfacePoint> points = parameter_points(fine);
+        const std::vector<SurfacePoint> points = fine.vertex_parameter_points;
         const BoundaryRepairResult r = repair_boundary(phi, fine.vertices, fine.tetrahedra, points);
         INFO("level " << level << ": " << r.boundary_vertices << " boundary vertices, " << r.held_back
                       << " held back (max " << r.max_distance_relative << " of the diagonal), min 1-lambda "
@@ -238,7 +232,7 @@ TEST_CASE("boundary_repair: a solver's flat refinement of the femur, repaired af
     }
 
     // Calling it again keeps every vertex at phi bit for bit and inverts nothing.
-    const std::vector<SurfacePoint> points = parameter_points(mesh);
+    const std::vector<SurfacePoint> points = mesh.vertex_parameter_points;
     std::vector<Vec3> y = mesh.vertices;
     const BoundaryRepairResult again = repair_boundary(phi, y, mesh.tetrahedra, points);
     CHECK(again.inverted_after == 0);
@@ -275,7 +269,7 @@ TEST_CASE("boundary_repair: on one level of red refinement it is refine_tetmesh'
         refine_tetmesh(*femur, coarse, flat, {}, plain);
         REQUIRE(moved.tetrahedra == plain.tetrahedra);
         std::vector<Vec3> x = plain.vertices;
-        const BoundaryRepairResult r = repair_boundary(phi, x, plain.tetrahedra, parameter_points(plain), o.repair);
+        const BoundaryRepairResult r = repair_boundary(phi, x, plain.tetrahedra, plain.vertex_parameter_points, o.repair);
         CHECK(r.held_back == rr.remedied_vertices);
         CHECK(r.max_distance == rr.max_remedy_distance);
         CHECK(r.min_phi_fraction == rr.min_phi_fraction);

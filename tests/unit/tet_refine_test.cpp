@@ -70,8 +70,9 @@ int64_t count_off_surface(const Parametrization& p, const TetMesh& m, double* ma
     int64_t off = 0;
     double gap = 0;
     for (int32_t v = 0; v < m.num_vertices(); ++v) {
-        if (m.vertex_parameter_triangle[v] < 0) continue;
-        const Vec3 x = phi.evaluate(m.vertex_parameter_triangle[v], m.vertex_parameter_barycentric[v]).position;
+        const SurfacePoint& q = m.vertex_parameter_points[v];
+        if (!q.valid()) continue;
+        const Vec3 x = phi.evaluate(q.triangle, q.barycentric).position;
         if (x != m.vertices[v]) {
             ++off;
             gap = std::max(gap, distance(x, m.vertices[v]));
@@ -114,7 +115,7 @@ TEST_CASE("tet_refine: red refinement multiplies elements by 8 and faces by 4, k
             std::set<int32_t> on_faces;
             for (const Tri& f : fine.faces) on_faces.insert(f.begin(), f.end());
             for (int32_t v = 0; v < fine.num_vertices(); ++v)
-                CHECK((fine.vertex_parameter_triangle[v] >= 0) == (on_faces.count(v) == 1));
+                CHECK(fine.vertex_parameter_points[v].valid() == (on_faces.count(v) == 1));
             CHECK(count_off_surface(p, fine) == 0);
         }
     }
@@ -191,9 +192,8 @@ TEST_CASE("tet_refine: the lambda remedy keeps every tetrahedron positive at a c
         refine_tetmesh(p, coarse, flat, {}, naive);
         PhiEvaluator phi(p);
         for (int32_t v = coarse.num_vertices(); v < naive.num_vertices(); ++v)
-            if (naive.vertex_parameter_triangle[v] >= 0)
-                naive.vertices[v] =
-                    phi.evaluate(naive.vertex_parameter_triangle[v], naive.vertex_parameter_barycentric[v]).position;
+            if (const SurfacePoint& q = naive.vertex_parameter_points[v]; q.valid())
+                naive.vertices[v] = phi.evaluate(q.triangle, q.barycentric).position;
         CHECK(count_inverted(naive) > 0);
     }
 
@@ -232,7 +232,7 @@ TEST_CASE("tet_refine: multi-material meshes keep their regions and interface fa
     CHECK(back.tetmesh->level == 2);
     CHECK(back.tetmesh->tet_ancestor == fine.tet_ancestor);
     CHECK(back.tetmesh->vertices == fine.vertices);
-    CHECK(back.tetmesh->vertex_parameter_barycentric == fine.vertex_parameter_barycentric);
+    CHECK(back.tetmesh->vertex_parameter_points == fine.vertex_parameter_points);
     // Refining the refined mesh again continues from its parameter positions.
     TetMesh finer;
     TetRefineOptions one;
@@ -327,7 +327,7 @@ TEST_CASE("tet_smooth: smoothing the interior never inverts, raises the worst an
     CHECK(r.moved_vertices > 0);
     int64_t interior_moved = 0;
     for (int32_t v = 0; v < moved.num_vertices(); ++v) {
-        if (moved.vertex_parameter_triangle[v] >= 0) {
+        if (moved.vertex_parameter_points[v].valid()) {
             INFO("boundary vertex " << v);
             CHECK(smoothed.vertices[v] == moved.vertices[v]);  // bit for bit
         } else {
@@ -372,8 +372,7 @@ TEST_CASE("tet_refine: smoothing during refinement beats smoothing off, with the
     // Same connectivity and parameter positions; boundary vertices at phi except the
     // remedied ones, and smoothing lets no more of them stay off S0.
     CHECK(a.tetrahedra == b.tetrahedra);
-    CHECK(a.vertex_parameter_triangle == b.vertex_parameter_triangle);
-    CHECK(a.vertex_parameter_barycentric == b.vertex_parameter_barycentric);
+    CHECK(a.vertex_parameter_points == b.vertex_parameter_points);
     CHECK(count_off_surface(p, a) == ra.remedied_vertices);
     CHECK(ra.remedied_vertices <= rb.remedied_vertices);
     // The per-level report describes the mesh.

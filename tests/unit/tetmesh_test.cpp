@@ -276,8 +276,7 @@ TEST_CASE("tetmesh: .bpm files carry the tet mesh through write and read", "[tet
     CHECK(a.face_coarse_triangle == b.face_coarse_triangle);
     CHECK(a.face_patches == b.face_patches);
     CHECK(a.vertex_coarse_vertex == b.vertex_coarse_vertex);
-    CHECK(a.vertex_parameter_triangle == b.vertex_parameter_triangle);
-    CHECK(a.vertex_parameter_barycentric == b.vertex_parameter_barycentric);
+    CHECK(a.vertex_parameter_points == b.vertex_parameter_points);
     CHECK(a.level == b.level);
     CHECK(b.tet_ancestor.empty());
     // Without a tet mesh nothing changes and nothing is read.

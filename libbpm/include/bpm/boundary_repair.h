@@ -70,7 +70,7 @@
 #include "bpm/geometry.h"
 #include "bpm/phi_evaluation.h"
 #include "bpm/surface_point.h"
-#include "bpm/tetmesh_smooth.h"
+#include "bpm/tetmesh_smooth_options.h"
 
 namespace bpm {
 
@@ -118,6 +118,7 @@ struct BoundaryRepairResult {
     int64_t inverted_before = 0;     // tetrahedra not positively oriented on entry (exact orient3d)
     int64_t inverted_after = 0;      // the same on exit: <= inverted_before, 0 if it was 0
     double seconds = 0;              // wall time of the call
+    double smoothing_seconds = 0;    // of which interior smoothing
 };
 
 // Moves the boundary vertices of the tetrahedral mesh (vertices, tetrahedra) towards phi

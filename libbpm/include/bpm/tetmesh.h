@@ -26,6 +26,7 @@
 #include "bpm/geometry.h"
 #include "bpm/parametrization.h"
 #include "bpm/surface.h"
+#include "bpm/surface_point.h"
 #include "bpm/tetmesh_smooth_options.h"
 
 namespace bpm {
@@ -48,8 +49,10 @@ struct TetMesh {
     std::vector<int32_t> face_patches;          // #F = coarse patch of face_coarse_triangle
     // Where each vertex sits on S, so that a solver can apply phi (bpm/phi_evaluation.h):
     std::vector<int32_t> vertex_coarse_vertex;        // #V the coarse vertex it is, or -1
-    std::vector<int32_t> vertex_parameter_triangle;   // #V a coarse triangle containing it, -1 for interior vertices
-    std::vector<Vec3> vertex_parameter_barycentric;   // #V its barycentric coordinates there ({0,0,0} for interior)
+    // #V its parameter point: a coarse triangle containing it and its barycentric
+    // coordinates there; invalid (triangle -1, barycentric {0,0,0}) for interior vertices.
+    // Stored as the datasets vertex_parameter_triangle and vertex_parameter_barycentric.
+    std::vector<SurfacePoint> vertex_parameter_points;
     // Refinement level (0 = TetGen's mesh) and, for refined meshes, the level-0
     // tetrahedron each tetrahedron descends from (empty at level 0).
     int32_t level = 0;

@@ -47,7 +47,7 @@ struct TetSmoothResult {
     double seconds = 0;
 };
 
-// Moves the interior vertices of `mesh` (vertex_parameter_triangle < 0); vertices on S,
+// Moves the interior vertices of `mesh` (vertex_parameter_points invalid); vertices on S,
 // interfaces between regions included, do not move. \pre tetrahedra are positively
 // oriented (inverted ones are allowed and may get untangled, never the other way round).
 // \throw OptionError for sweeps < 0, max_iterations < 0 or target_degrees outside (0, 180)

@@ -110,7 +110,7 @@ inline UGGridFromBpm make_uggrid(const BpmFile& file, std::shared_ptr<const PhiE
         std::array<Vec3, 3> corner_position;
         for (int i = 0; i < 3; ++i) {
             const int32_t v = face[i];
-            const SurfacePoint p{mesh.vertex_parameter_triangle[v], mesh.vertex_parameter_barycentric[v]};
+            const SurfacePoint& p = mesh.vertex_parameter_points[v];
             const auto b = p.valid() ? barycentric_in_triangle(coarse, p, t) : std::nullopt;
             if (!b)
                 throw InputError("/tetmesh", "/tetmesh: vertex " + std::to_string(v) + " of boundary face " + std::to_string(f) +
@@ -148,7 +148,7 @@ inline UGGridFromBpm make_uggrid(const BpmFile& file, std::shared_ptr<const PhiE
     }
     for (const auto& vertex : vertices(level0)) {
         const auto v = factory.insertionIndex(vertex);
-        const SurfacePoint p{mesh.vertex_parameter_triangle.at(v), mesh.vertex_parameter_barycentric.at(v)};
+        const SurfacePoint p = mesh.vertex_parameter_points.at(v);
         if (p.valid()) out.level0_parameter_points.emplace(ids.id(vertex), p);
     }
     return out;
