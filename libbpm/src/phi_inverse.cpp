@@ -119,6 +119,14 @@ inline void prefetch_line(const void* address) {
 #endif
 }
 
+// The query's input, which in grouped order is read from a scattered place (perf: the
+// load of the query position was the hot instruction before this).
+template <class T>
+inline void prefetch_input(const T* query) {
+    prefetch_line<false>(query);
+    prefetch_line<false>(reinterpret_cast<const char*>(query) + sizeof(T) - 1);
+}
+
 // Runs eval(i) for every query i in [0, n), on `threads` threads; see the file comment.
 // key(i) < nkeys groups the queries of a chunk; prefetch(i) is called a few queries
 // ahead of eval(i) in the visiting order.
@@ -623,8 +631,9 @@ void PhiInverse::from_original(const std::vector<OriginalPoint>& points, std::ve
         [&](size_t i) { return static_cast<size_t>(impl.rank[static_cast<size_t>(points[i].triangle)] / kTriangleGroup); },
         [&](size_t i) { out[i] = impl.from_original(points[i]); },
         [&](size_t i) {
-            prefetch_line<false>(&points[i]);
+            prefetch_input(&points[i]);
             prefetch_line<true>(&out[i]);
+            prefetch_line<true>(reinterpret_cast<const char*>(&out[i]) + sizeof(SurfacePoint) - 1);
         });
 }
 
@@ -641,6 +650,7 @@ void PhiInverse::from_position(const std::vector<Vec3>& positions, std::vector<P
             if (!impl.sample(positions[i], out[i])) failed.store(true, std::memory_order_relaxed);
         },
         [&](size_t i) {
+            prefetch_input(&positions[i]);
             const char* a = reinterpret_cast<const char*>(&out[i]);
             prefetch_line<true>(a);
             prefetch_line<true>(a + sizeof(PhiInverseSample) - 1);
@@ -663,7 +673,11 @@ void PhiInverse::from_position(const std::vector<Vec3>& positions, std::vector<S
             out[i] = impl.point(positions[i]);
             if (!out[i].valid()) failed.store(true, std::memory_order_relaxed);
         },
-        [&](size_t i) { prefetch_line<true>(&out[i]); });
+        [&](size_t i) {
+            prefetch_input(&positions[i]);
+            prefetch_line<true>(&out[i]);
+            prefetch_line<true>(reinterpret_cast<const char*>(&out[i]) + sizeof(SurfacePoint) - 1);
+        });
     if (failed)
         for (size_t i = 0; i < out.size(); ++i)  // the first failure in query order
             if (!out[i].valid()) from_position(positions[i]);
