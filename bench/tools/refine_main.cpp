@@ -16,6 +16,14 @@
 //       full PhiSample output and evaluate_positions, on the whole batch), wall and CPU
 //       time (process CPU time: all threads); plus single-query loops in random and in
 //       grouped order for reference. Input generation and output allocation are not timed.
+//   inverse FILE.bpm [--points N] [--threads 1,2] [--repeat R] [--seed S] [--offset F]
+//       inverse phi (PhiInverse) next to phi, batched, per thread count: N random parameter
+//       points x (as for throughput) give y = phi(x) untimed; then, alternating within each
+//       repetition, phi (PhiSample and positions only), from_original(T, beta of y),
+//       from_position(y + F * diagonal * normal) with SurfacePoint and with full
+//       PhiInverseSample output. Median wall and CPU seconds over R repetitions, points
+//       per second and per CPU second, and the largest round-trip error |phi(phi^-1(y)) - y|
+//       / diagonal of each inverse form.
 
 #include <sys/resource.h>
 #include <time.h>
@@ -33,6 +41,7 @@
 #include "bpm/bpm_file.h"
 #include "bpm/errors.h"
 #include "bpm/phi_evaluation.h"
+#include "bpm/phi_inverse.h"
 #include "bpm/refine.h"
 #include "common/tool_main.h"
 #include "metrics.h"
@@ -351,6 +360,91 @@ std::string throughput(const Parametrization& p, int64_t points, const std::vect
     return o.str();
 }
 
+std::string inverse_throughput(const Parametrization& p, int64_t points, const std::vector<int>& threads, int repeat,
+                               uint64_t seed, double offset) {
+    const double diagonal = bounding_box_diagonal(p.original);
+    double t0 = wall_seconds();
+    const PhiEvaluator phi(p);
+    const double build_phi = wall_seconds() - t0;
+    t0 = wall_seconds();
+    const PhiInverse inverse(p);
+    const double build_inverse = wall_seconds() - t0;
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> u(0, 1);
+    const int32_t nt = p.coarse.num_triangles();
+    const size_t n = static_cast<size_t>(points);
+    std::vector<SurfacePoint> xs(n);
+    for (size_t i = 0; i < n; ++i) {
+        double a = u(rng), b = u(rng);
+        if (a + b > 1) a = 1 - a, b = 1 - b;
+        xs[i] = {int32_t(rng() % uint64_t(nt)), {1 - a - b, a, b}};
+    }
+    std::vector<PhiSample> ys;
+    phi.evaluate(xs, ys, 2);
+    std::vector<OriginalPoint> originals(n);
+    std::vector<Vec3> positions(n);
+    for (size_t i = 0; i < n; ++i) {
+        originals[i] = {ys[i].original_triangle, ys[i].original_barycentric};
+        positions[i] = ys[i].position + (offset * diagonal) * ys[i].normal;
+    }
+    // Outputs, allocated by one untimed call each.
+    std::vector<PhiSample> samples;
+    std::vector<Vec3> images;
+    std::vector<SurfacePoint> from_original, from_position;
+    std::vector<PhiInverseSample> inverse_samples;
+    const char* names[5] = {"phi PhiSample", "phi position", "inverse from_original", "inverse from_position",
+                            "inverse from_position PhiInverseSample"};
+    const auto run = [&](int form, int th) {
+        switch (form) {
+        case 0: phi.evaluate(xs, samples, th); break;
+        case 1: phi.evaluate_positions(xs, images, th); break;
+        case 2: inverse.from_original(originals, from_original, th); break;
+        case 3: inverse.from_position(positions, from_position, th); break;
+        default: inverse.from_position(positions, inverse_samples, th); break;
+        }
+    };
+    for (int form = 0; form < 5; ++form) run(form, 1);
+    // Round trips (untimed): phi of the inverse against y.
+    double err_original = 0, err_position = 0;
+    {
+        std::vector<Vec3> back;
+        phi.evaluate_positions(from_original, back, 2);
+        for (size_t i = 0; i < n; ++i) err_original = std::max(err_original, distance(back[i], ys[i].position));
+        phi.evaluate_positions(from_position, back, 2);
+        for (size_t i = 0; i < n; ++i) err_position = std::max(err_position, distance(back[i], ys[i].position));
+    }
+    std::vector<std::vector<double>> wall(5 * threads.size()), cpu(5 * threads.size());
+    for (int rep = 0; rep < repeat; ++rep)
+        for (size_t k = 0; k < threads.size(); ++k)
+            for (int form = 0; form < 5; ++form) {
+                const double w0 = wall_seconds(), c0 = cpu_seconds();
+                run(form, threads[k]);
+                wall[5 * k + size_t(form)].push_back(wall_seconds() - w0);
+                cpu[5 * k + size_t(form)].push_back(cpu_seconds() - c0);
+            }
+    std::ostringstream o;
+    o << "{\"coarse_triangles\": " << nt << ", \"original_triangles\": " << p.original.num_triangles()
+      << ", \"pieces\": " << p.num_pieces() << ", \"points\": " << points << ", \"offset_relative\": " << num(offset)
+      << ", \"build_seconds_phi\": " << num(build_phi) << ", \"build_seconds_inverse\": " << num(build_inverse)
+      << ", \"max_round_trip_error_relative\": {\"from_original\": " << num(err_original / diagonal)
+      << ", \"from_position\": " << num(err_position / diagonal) << "}, \"batched\": [";
+    bool first = true;
+    for (size_t k = 0; k < threads.size(); ++k)
+        for (int form = 0; form < 5; ++form) {
+            std::vector<double> w = wall[5 * k + size_t(form)], c = cpu[5 * k + size_t(form)];
+            std::sort(w.begin(), w.end());
+            std::sort(c.begin(), c.end());
+            const double median = w[w.size() / 2], cpu_median = c[c.size() / 2];
+            o << (first ? "" : ", ") << "\n  {\"call\": \"" << names[form] << "\", \"threads\": " << threads[k]
+              << ", \"median_wall_seconds\": " << num(median) << ", \"median_cpu_seconds\": " << num(cpu_median)
+              << ", \"per_second_median\": " << num(double(points) / median)
+              << ", \"per_cpu_second\": " << num(double(points) / cpu_median) << "}";
+            first = false;
+        }
+    o << "]}";
+    return o.str();
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -387,6 +481,17 @@ int main(int argc, char** argv) {
     tp->add_option("--repeat", repeat, "Repetitions per thread count (best and median reported)")
         ->capture_default_str();
     tp->add_option("--seed", seed, "Seed of the random points")->capture_default_str();
+    double offset = 0;
+    auto* iv = app.add_subcommand("inverse", "inverse phi evaluations per second next to phi's, for random points");
+    iv->add_option("FILE", file, "Input .bpm")->required();
+    iv->add_option("--points", points, "Number of random points")->capture_default_str();
+    iv->add_option("--threads", threads_text, "Comma-separated thread counts for the batched calls")
+        ->capture_default_str();
+    iv->add_option("--repeat", repeat, "Repetitions (median reported)")->capture_default_str();
+    iv->add_option("--seed", seed, "Seed of the random points")->capture_default_str();
+    iv->add_option("--offset", offset,
+                   "Move the position queries this far (relative to the bounding-box diagonal) along the normal")
+        ->capture_default_str();
     app.add_option("-o,--output", output, "Write the JSON here instead of standard output");
     tools::add_version_flag(app, tool);
     return tools::run(tool, argc, argv, app, [&]() {
@@ -394,6 +499,7 @@ int main(int argc, char** argv) {
         std::string json;
         if (*sh) json = shape(f.param, levels);
         else if (*cv) json = convergence(f.param, parse_list(levels_text), sampling, diagnose);
+        else if (*iv) json = inverse_throughput(f.param, points, parse_list(threads_text), std::max(1, repeat), seed, offset);
         else json = throughput(f.param, points, parse_list(threads_text), std::max(1, repeat), seed);
         json += "\n";
         if (output == "-") {

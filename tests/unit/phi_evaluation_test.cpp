@@ -222,6 +222,42 @@ TEST_CASE("batched evaluation matches single evaluation", "[phi]") {
     CHECK_THROWS(eval.evaluate(tris, bs, out));
 }
 
+TEST_CASE("SurfacePoint queries give the parallel-list results bit for bit", "[phi]") {
+    // Large enough to be grouped and chunked (2^20 + a few), on two threads.
+    const Parametrization p = test::make_height_field(12, 3, test::default_height);
+    PhiEvaluator eval(p);
+    std::mt19937_64 rng(19);
+    const size_t n = (size_t(1) << 20) + 33;
+    std::vector<int32_t> tris(n);
+    std::vector<Vec3> bs(n);
+    std::vector<SurfacePoint> points(n);
+    for (size_t i = 0; i < n; ++i) {
+        tris[i] = static_cast<int32_t>(rng() % static_cast<uint64_t>(p.coarse.num_triangles()));
+        bs[i] = random_barycentric(rng);
+        points[i] = {tris[i], bs[i]};
+    }
+    std::vector<PhiSample> lists, structs;
+    std::vector<Vec3> lists_positions, structs_positions;
+    eval.evaluate(tris, bs, lists, 2);
+    eval.evaluate(points, structs, 2);
+    eval.evaluate_positions(tris, bs, lists_positions, 1);
+    eval.evaluate_positions(points, structs_positions, 2);
+    REQUIRE(structs.size() == n);
+    REQUIRE(structs_positions.size() == n);
+    size_t mismatches = 0;
+    for (size_t i = 0; i < n; ++i) {
+        mismatches += !(lists[i].position == structs[i].position &&
+                        lists[i].original_triangle == structs[i].original_triangle &&
+                        lists[i].original_barycentric == structs[i].original_barycentric &&
+                        lists[i].normal == structs[i].normal && lists_positions[i] == structs_positions[i]);
+        if (i % 4099 == 0) mismatches += !(eval.evaluate(points[i]).position == lists[i].position);
+    }
+    CHECK(mismatches == 0);
+    points[n / 3].triangle = -1;  // an invalid SurfacePoint
+    CHECK_THROWS_AS(eval.evaluate(points, structs, 2), std::out_of_range);
+    CHECK_THROWS_AS(eval.evaluate_positions(points, structs_positions), std::out_of_range);
+}
+
 TEST_CASE("large batches: grouped, chunked and threaded evaluation gives the single-query results", "[phi]") {
     // More than one chunk of 2^20 queries, so chunking, grouping by coarse triangle and
     // two threads are all exercised.

@@ -241,6 +241,47 @@ TEST_CASE("inverse phi round trips on femur simplified to 10%", "[phi_inverse][r
     check_round_trips(*femur, random_points(*femur, 3000, 23), 1e-9);
 }
 
+TEST_CASE("inverse phi of positions off femur at 10% is the inverse of the foot point", "[phi_inverse][real]") {
+    // Points of S0 inside an original triangle, moved along its normal by a distance small
+    // against the local feature size (1e-6 of the diagonal): the closest point of S0 is the
+    // point itself, so from_position must give from_original of it.
+    const Parametrization* femur = test_support::simplified_femur();
+    if (!femur) {
+        WARN("femur.off missing: real-mesh case skipped");
+        return;
+    }
+    const Parametrization& p = *femur;
+    PhiInverse inverse(p);
+    PhiEvaluator phi(p);
+    const double scale = bounding_box_diagonal(p.original);
+    std::mt19937_64 rng(29);
+    std::uniform_real_distribution<double> u(0.25, 0.4);
+    std::vector<Vec3> positions;
+    std::vector<OriginalPoint> feet;
+    for (int k = 0; k < 3000; ++k) {
+        const int32_t T = static_cast<int32_t>(rng() % static_cast<uint64_t>(p.original.num_triangles()));
+        const double a = u(rng), b = u(rng);
+        const OriginalPoint y{T, {1 - a - b, a, b}};
+        const Tri& tri = p.original.triangles[static_cast<size_t>(T)];
+        const Vec3 n = triangle_normal(p.original.vertices[static_cast<size_t>(tri[0])],
+                                       p.original.vertices[static_cast<size_t>(tri[1])],
+                                       p.original.vertices[static_cast<size_t>(tri[2])]);
+        positions.push_back(original_position(p, y) + ((k % 2 ? 1 : -1) * 1e-6 * scale) * n);
+        feet.push_back(y);
+    }
+    std::vector<PhiInverseSample> samples;
+    std::vector<SurfacePoint> direct;
+    inverse.from_position(positions, samples, 2);
+    inverse.from_original(feet, direct, 2);
+    for (size_t i = 0; i < feet.size(); ++i) {
+        INFO("query " << i << ", original triangle " << feet[i].triangle);
+        REQUIRE(samples[i].original.triangle == feet[i].triangle);
+        REQUIRE(samples[i].distance == Approx(1e-6 * scale).epsilon(1e-6));
+        REQUIRE(distance(coarse_position(p, samples[i].point), coarse_position(p, direct[i])) <= 1e-12 * scale);
+        REQUIRE(distance(phi.evaluate(samples[i].point).position, original_position(p, feet[i])) <= 1e-12 * scale);
+    }
+}
+
 TEST_CASE("inverse phi rejects bad queries", "[phi_inverse]") {
     const Parametrization p = test::make_height_field(4, 2, test::default_height);
     PhiInverse inverse(p);

@@ -42,15 +42,20 @@ struct PhiInverseSample {
 // Precomputes, per original triangle, the pieces that map into it (CSR) with the
 // matrices that take barycentric coordinates in the original triangle to coordinates in
 // the piece and those to coordinates in the coarse triangle (all derived exactly from the
-// node kinds, as PhiEvaluator does), and a uniform grid over the original triangles for
-// closest-point queries. Keeps a reference to `param`, which must outlive it and not
-// change. Construction is O(#pieces + #S0.T); every query is const and safe to call from
-// several threads at once.
+// node kinds, as PhiEvaluator does), and a block-sparse uniform grid over the original
+// triangles for closest-point queries. Keeps a reference to `param`, which must outlive
+// it and not change. Construction is O(#pieces + #S0.T log #S0.T); every query is const
+// and safe to call from several threads at once.
 //
-// Closest points: exact Euclidean closest point on the triangles of S0 (ties, e.g. a
-// point on an edge shared by two triangles, go to the smaller triangle index). The grid
-// answers points on or near S0 from one cell; a query far from S0 (many grid cells away)
-// is correct but slower.
+// Closest points: exact Euclidean closest point on the triangles of S0 (Ericson's
+// region test; ties in distance go to the smaller original triangle index). A point on
+// or near S0 is answered from one grid cell; a query far from S0 (many cells away) is
+// correct but slower.
+//
+// Throughput: like PhiEvaluator's, single queries in random order are bound by memory
+// latency; the batched calls group their queries (by grid block or original triangle)
+// and can use several threads, so prefer them for large query sets (bpm-bench-refine
+// inverse measures both forms next to phi).
 class PhiInverse {
 public:
     // \throw std::invalid_argument if `param` is not consistent enough to index (piece or
