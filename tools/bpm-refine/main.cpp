@@ -62,7 +62,7 @@ int refine_volume(const std::string& tool, int argc, char** argv, const std::str
                                    deterministic ? std::string() : bpm::tools::utc_timestamp()});
         bpm::write_bpm(output, file);
     } else {
-        bpm::write_tetmesh(output, fine, *out_format);
+        bpm::write_tetmesh(output, fine, *out_format, file.patch_info);
     }
     return r.inverted == 0 ? int(bpm::tools::kOk) : int(bpm::tools::kAlgorithm);
 }
