@@ -160,10 +160,14 @@ MaterialResult assign_materials(TetMesh& mesh, const std::vector<PatchInfo>& pat
     std::vector<Constraint> constraints;
     {
         const std::vector<Sides> sides = face_sides(mesh);
+        std::map<int32_t, const PatchInfo*> by_patch;
+        for (const PatchInfo& i : patch_info)
+            if (!i.front.empty() || !i.back.empty()) by_patch.emplace(i.patch, &i);
         std::set<std::array<int32_t, 3>> seen;
         for (size_t f = 0; f < mesh.faces.size(); ++f) {
-            const PatchInfo* info = find_patch_info(patch_info, mesh.face_patches[f]);
-            if (!info || (info->front.empty() && info->back.empty())) continue;
+            const auto found = by_patch.find(mesh.face_patches[f]);
+            if (found == by_patch.end()) continue;
+            const PatchInfo* info = found->second;
             if (!seen.insert({sides[f].front, sides[f].back, mesh.face_patches[f]}).second) continue;
             if (info->oriented && (info->front.empty() || info->back.empty())) {
                 // One side known: constrain that side only (a pair with itself never conflicts).

@@ -74,6 +74,13 @@ names = [n.decode() for n in tm["material_names"][()]]
 mat = tm["region_material"][()][tm["regions"][()] - 1]
 assert sorted(set(names[m - 1] for m in mat)) == ["left", "right"], names
 ' "$work/cubes.tet.bpm"
+ok "the spec's independent reader reads /patch_info" -- $py -c '
+import sys
+sys.path.insert(0, sys.argv[2] + "/tests/python")
+import bpm_spec_reader
+d = bpm_spec_reader.read(sys.argv[1])
+assert d["patch_info"][2] == {"name": "left|right", "front": "right", "back": "left", "oriented": True}, d["patch_info"]
+' "$work/cubes.tet.bpm" "$src"
 expect 0 "the meshed file passes bpm-check" -- "$tools/bpm-check" "$work/cubes.tet.bpm"
 
 # Exports.
