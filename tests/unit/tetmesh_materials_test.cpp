@@ -273,3 +273,21 @@ TEST_CASE("materials: MSH export names physical volumes by material and keeps th
     CHECK(medit.find("# material 2 B\n") != std::string::npos);
     CHECK(medit.find("1 3 2 5 2\n") != std::string::npos);  // tet B with reference 2
 }
+
+TEST_CASE("MSH reader: $PhysicalNames name patches (2.2 too) and a name without quotes is refused with its line",
+          "[materials][surface_io]") {
+    const std::string head = "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$PhysicalNames\n3\n2 7 \"pair_liver_exterior\"\n";
+    const std::string rest =
+        "3 1 \"liver\"\n$EndPhysicalNames\n$Nodes\n3\n1 0 0 0\n2 1 0 0\n3 0 1 0\n$EndNodes\n"
+        "$Elements\n1\n1 2 2 7 1 1 2 3\n$EndElements\n";
+    SurfaceReadReport report;
+    const Surface s =
+        read_surface_from_memory(head + "2 8 \"outer wall\"\n" + rest, SurfaceFormat::Msh, "seg.msh", {}, &report);
+    CHECK(s.patches == std::vector<int32_t>{7});
+    // Volume names (dimension 3) are not patches.
+    REQUIRE(report.patch_info.size() == 2);
+    CHECK(report.patch_info[0] == PatchInfo{7, "pair_liver_exterior", "liver", "exterior", false});
+    CHECK(report.patch_info[1] == PatchInfo{8, "outer wall", "", "", true});
+    CHECK_THROWS_WITH(read_surface_from_memory(head + "2 8 outer\n" + rest, SurfaceFormat::Msh, "seg.msh"),
+                      Catch::Contains("line 7: expected a quoted name after physical tag 8"));
+}
