@@ -109,6 +109,9 @@ int main(int argc, char** argv) {
                                                                         "': use .bpm .msh .vtu .mesh or --format"
                                                                   : "unknown format '" + format + "'");
         if (json && output == "-") throw CLI::ValidationError("--json", "needs an output file (stdout carries the JSON)");
+        if (max_volume > 0) options.max_volume = max_volume;
+        if (min_dihedral >= 0) options.min_dihedral_degrees = min_dihedral;
+        options.smooth = !no_smooth;
         bpm::MaterialOptions material_options;
         for (const std::string& a : material_args) {
             const size_t eq = a.find('=');
@@ -123,9 +126,6 @@ int main(int argc, char** argv) {
             }
             material_options.region_names[region] = a.substr(eq + 1);
         }
-        if (max_volume > 0) options.max_volume = max_volume;
-        if (min_dihedral >= 0) options.min_dihedral_degrees = min_dihedral;
-        options.smooth = !no_smooth;
         const bpm::Context context = bpm::tools::make_context(tool, verbose, quiet);
 
         bpm::BpmFile file = bpm::read_bpm(input);
