@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "bpm/errors.h"
+#include "bpm/tetmesh_materials.h"
 #include "bpm/version.h"
 #include "file_util.h"
 
@@ -424,6 +425,33 @@ void write_tetmesh_group(const Writer& w, hid_t f, const TetMesh& m) {
     if (!m.tet_ancestor.empty())
         w.write_dataset(g, "tet_ancestor", m.tet_ancestor.data(), m.tet_ancestor.size(), 0, H5T_STD_I32LE,
                         H5T_NATIVE_INT32);
+    // Materials (format 1.3): only when assigned, so meshes without keep their bytes.
+    if (!m.material_names.empty()) {
+        w.write_dataset(g, "region_material", m.region_material.data(), m.region_material.size(), 0, H5T_STD_I32LE,
+                        H5T_NATIVE_INT32);
+        w.write_strings(g, "material_names", m.material_names);
+    }
+}
+
+// The optional /patch_info group (format 1.3, spec/bpm-format.md §5.2); written only when
+// something is known, so files without keep their layout.
+void write_patch_info_group(const Writer& w, hid_t f, const std::vector<PatchInfo>& infos) {
+    Handle g = w.create_group(f, "patch_info");
+    std::vector<int32_t> patch;
+    std::vector<int8_t> oriented;
+    std::vector<std::string> name, front, back;
+    for (const PatchInfo& i : infos) {
+        patch.push_back(i.patch);
+        oriented.push_back(i.oriented ? 1 : 0);
+        name.push_back(i.name);
+        front.push_back(i.front);
+        back.push_back(i.back);
+    }
+    w.write_dataset(g, "patch", patch.data(), patch.size(), 0, H5T_STD_I32LE, H5T_NATIVE_INT32);
+    w.write_strings(g, "name", name);
+    w.write_strings(g, "front_material", front);
+    w.write_strings(g, "back_material", back);
+    w.write_dataset(g, "oriented", oriented.data(), oriented.size(), 0, H5T_STD_I8LE, H5T_NATIVE_INT8);
 }
 
 // ---------------------------------------------------------------------------
@@ -486,8 +514,13 @@ std::string build_image(const BpmFile& file, const std::string& where) {
     silence_hdf5();
     if (auto problem = find_inconsistency(file); !problem.empty())
         throw OutputError(where, "refusing to write an inconsistent parametrization: " + problem);
+    if (auto problem = patch_info_problem(file.patch_info); !problem.empty())
+        throw OutputError(where, "refusing to write inconsistent patch information: /patch_info: " + problem);
     if (file.tetmesh)
         if (auto problem = find_tetmesh_inconsistency(*file.tetmesh, file.param.coarse); !problem.empty())
+            throw OutputError(where, "refusing to write an inconsistent tetrahedral mesh: " + problem);
+    if (file.tetmesh)
+        if (auto problem = find_material_inconsistency(*file.tetmesh); !problem.empty())
             throw OutputError(where, "refusing to write an inconsistent tetrahedral mesh: " + problem);
     if (file.simplification_steps)
         if (auto problem = find_steps_inconsistency(*file.simplification_steps, file.param.original.num_vertices());
@@ -605,6 +638,7 @@ std::string build_image(const BpmFile& file, const std::string& where) {
     }
     if (file.tetmesh) write_tetmesh_group(w, f, *file.tetmesh);
     if (file.simplification_steps) write_simplification_steps_group(w, f, *file.simplification_steps);
+    if (!file.patch_info.empty()) write_patch_info_group(w, f, file.patch_info);
 
     w.check(H5Fflush(f, H5F_SCOPE_GLOBAL), "cannot flush the in-memory file");
     const ssize_t size = H5Fget_file_image(f, nullptr, 0);
@@ -1151,7 +1185,13 @@ TetMesh read_tetmesh_group(const Reader& r, const Surface& coarse) {
         m.tet_ancestor = narrow(r, r.read_ints("/tetmesh/tet_ancestor", 0, "(#Tet,)", rows), "/tetmesh/tet_ancestor");
         expect_rows(r, rows, nt, "/tetmesh/tet_ancestor", "one per row of /tetmesh/tetrahedra");
     }
+    if (r.exists("/tetmesh/region_material") || r.exists("/tetmesh/material_names")) {
+        m.region_material =
+            narrow(r, r.read_ints("/tetmesh/region_material", 0, "(#R,)", rows), "/tetmesh/region_material");
+        m.material_names = r.read_strings("/tetmesh/material_names", rows);
+    }
     if (auto problem = find_tetmesh_inconsistency(m, coarse); !problem.empty()) r.fail(problem);
+    if (auto problem = find_material_inconsistency(m); !problem.empty()) r.fail(problem);
     return m;
 }
 
@@ -1170,6 +1210,29 @@ SimplificationSteps read_simplification_steps_group(const Reader& r, int64_t nv0
     expect_rows(r, rows, nr, g + "/triangle_patches", "one per row of " + g + "/triangles");
     if (auto problem = find_steps_inconsistency(s, nv0); !problem.empty()) r.fail(problem);
     return s;
+}
+
+// The optional /patch_info group (format 1.3, spec/bpm-format.md §5.2).
+std::vector<PatchInfo> read_patch_info_group(const Reader& r) {
+    const std::string g = "/patch_info";
+    hsize_t n = 0, rows = 0;
+    const auto patch = narrow(r, r.read_ints(g + "/patch", 0, "(#PI,)", n), g + "/patch");
+    auto name = r.read_strings(g + "/name", rows);
+    expect_rows(r, rows, n, g + "/name", "one per entry of " + g + "/patch");
+    auto front = r.read_strings(g + "/front_material", rows);
+    expect_rows(r, rows, n, g + "/front_material", "one per entry of " + g + "/patch");
+    auto back = r.read_strings(g + "/back_material", rows);
+    expect_rows(r, rows, n, g + "/back_material", "one per entry of " + g + "/patch");
+    const auto oriented = r.read_ints(g + "/oriented", 0, "(#PI,)", rows);
+    expect_rows(r, rows, n, g + "/oriented", "one per entry of " + g + "/patch");
+    std::vector<PatchInfo> out(static_cast<size_t>(n));
+    for (size_t i = 0; i < out.size(); ++i) {
+        if (oriented[i] != 0 && oriented[i] != 1)
+            r.fail(g + "/oriented: entry " + num(i) + " = " + num(oriented[i]) + " is not 0 or 1");
+        out[i] = {patch[i], std::move(name[i]), std::move(front[i]), std::move(back[i]), oriented[i] == 1};
+    }
+    if (auto problem = patch_info_problem(out); !problem.empty()) r.fail(g + ": " + problem);
+    return out;
 }
 
 // `record`: also record every HDF5 result there; `replay`: take them from there and
@@ -1291,6 +1354,7 @@ BpmFile read_image(const std::string& bytes, const std::string& where, Tape* rec
     if (r.exists("/tetmesh")) out.tetmesh = read_tetmesh_group(r, p.coarse);
     if (r.exists("/simplification_steps"))
         out.simplification_steps = read_simplification_steps_group(r, p.original.num_vertices());
+    if (r.exists("/patch_info")) out.patch_info = read_patch_info_group(r);
     if (replay && !replay->finished())
         throw AlgorithmError("internal error: the replayed HDF5 reads did not match the recorded ones");
     // Non-crossing nodes carry NaN as their edge parameter; normalise whatever the file

@@ -1,7 +1,9 @@
 // Gmsh MSH reader: versions 2.2 and 4.1, ASCII and binary.
 //
-// Read: $MeshFormat, $Nodes, $Elements, and for 4.1 $Entities; every other section
-// ($PhysicalNames, $Periodic, $NodeData, $Comments, ...) is skipped. Node tags may be
+// Read: $MeshFormat, $Nodes, $Elements, $PhysicalNames (the names of dimension 2 become
+// PatchInfo names; "A|B" / "pair_A_B" names also give the two materials, unordered: see
+// materials_from_patch_name), and for 4.1 $Entities; every other section ($Periodic,
+// $NodeData, $Comments, ...) is skipped. Node tags may be
 // sparse and in any order; vertices are numbered in the order of the nodes in the file,
 // triangles in the order of the elements. Element type 2 (3-node triangle) becomes a
 // triangle; every other element type is skipped and counted (SurfaceReadReport::
@@ -109,6 +111,9 @@ public:
             } else if (section == "Entities" && version4_) {
                 read_entities();
                 expect_end("Entities");
+            } else if (section == "PhysicalNames") {
+                read_physical_names();
+                expect_end("PhysicalNames");
             } else if (section == "MeshFormat") {
                 in_.fail_line(in_.offset_of(token), "a second $MeshFormat section");
             } else {
@@ -179,6 +184,29 @@ private:
         }
         in_.seek(found);
         (void)in_.next_token();
+    }
+
+    // `n`, then n lines `dim tag "name"` (text also in binary files).
+    void read_physical_names() {
+        const size_t at = in_.pos();
+        const int64_t n = in_.any_int("the number of physical names");
+        check_count(in_, at, false, n, 6, "physical names");
+        for (int64_t i = 0; i < n; ++i) {
+            const int64_t dim = in_.any_int("the dimension of a physical name");
+            const std::string_view tag_token = in_.next_token();
+            const int64_t tag = in_.to_int(tag_token, "a physical tag");
+            in_.skip_blanks();
+            const size_t name_at = in_.pos();
+            std::string_view name = in_.rest_of_line();
+            while (!name.empty() && (name.back() == ' ' || name.back() == '\t')) name.remove_suffix(1);
+            if (name.size() < 2 || name.front() != '"' || name.back() != '"')
+                in_.fail_line(name_at, "expected a quoted name after physical tag " + std::to_string(tag));
+            name = name.substr(1, name.size() - 2);
+            if (dim != 2) continue;
+            if (tag < std::numeric_limits<int32_t>::min() || tag > std::numeric_limits<int32_t>::max())
+                in_.fail_line(in_.offset_of(tag_token), "physical tag " + std::to_string(tag) + " is out of range");
+            physical_names_[static_cast<int32_t>(tag)] = std::string(name);
+        }
     }
 
     // ---- values: ASCII tokens or binary of the file's byte order ----
@@ -469,6 +497,15 @@ private:
                 s.patches[t] = it == entity_physical_.end() ? 0 : it->second;
             }
         }
+        for (const auto& [tag, name] : physical_names_) {
+            PatchInfo info{tag, name, {}, {}, true};
+            if (const auto pair = materials_from_patch_name(name)) {
+                info.front = pair->first;
+                info.back = pair->second;
+                info.oriented = false;  // a name does not say which side is which
+            }
+            out.patch_info.push_back(std::move(info));
+        }
         out.skipped_elements = skipped_;
         if (skipped_ > 0) {
             out.notes.push_back("skipped " + std::to_string(skipped_) + " MSH element" + (skipped_ == 1 ? "" : "s") +
@@ -490,6 +527,7 @@ private:
     std::vector<int32_t> patches_;
     std::vector<std::pair<int, int>> entities_;
     std::map<std::pair<int, int>, int32_t> entity_physical_;
+    std::map<int32_t, std::string> physical_names_;  // dimension 2 only
     int64_t skipped_ = 0;
 };
 

@@ -23,7 +23,8 @@
 // with the other byte order.
 //
 // Read: Vertices, and each Patches entry as one patch id (0, 1, 2, ... in file order), with
-// a note naming its regions. Parsed and not used: Parameters (nested braces, quoted strings
+// a note naming its regions and a PatchInfo (name "Inner|Outer", front = OuterRegion,
+// back = InnerRegion: Amira's triangles face the outer region). Parsed and not used: Parameters (nested braces, quoted strings
 // and comments skipped), the branching-point counts, BoundaryCurves, BoundaryID, Surfaces.
 // ASCII only: an unknown key inside a block, or an unknown section, is skipped with its
 // values (a `{ ... }` block, or the rest of its line and the lines of numbers after it),
@@ -70,7 +71,7 @@ std::string_view trim(std::string_view s) {
 
 enum class Block { Patch, BoundaryCurve, Surface };
 
-struct PatchInfo {
+struct SurfPatch {
     std::string inner, outer;
     bool has_boundary_id = false;
     int64_t boundary_id = 0;
@@ -350,7 +351,7 @@ private:
         }
     }
 
-    void read_triangles(std::string_view key, int64_t patch, PatchInfo& info) {
+    void read_triangles(std::string_view key, int64_t patch, SurfPatch& info) {
         const std::string where = "patch " + std::to_string(patch);
         if (info.triangles >= 0) fail_at(in_.offset_of(key), "a second 'Triangles' in " + where);
         const std::string_view count_token = peek(true);
@@ -380,7 +381,7 @@ private:
     }
 
     // One `{ key value ... }` block of Patches (into `info`), BoundaryCurves or Surfaces.
-    void read_block(Block kind, int64_t index, PatchInfo* info) {
+    void read_block(Block kind, int64_t index, SurfPatch* info) {
         const char* kind_name = kind == Block::Patch           ? "patch "
                                 : kind == Block::BoundaryCurve ? "boundary curve "
                                                                : "surface ";
@@ -439,9 +440,16 @@ private:
         s.vertices = std::move(vertices_);
         s.triangles = std::move(triangles_);
         s.patches = std::move(patches_);
+        // Amira orients a patch's triangles from its inner to its outer region.
+        for (size_t p = 0; p < infos_.size(); ++p) {
+            const SurfPatch& i = infos_[p];
+            if (i.inner.empty() && i.outer.empty()) continue;
+            out.patch_info.push_back(
+                bpm::PatchInfo{static_cast<int32_t>(p), i.inner + "|" + i.outer, i.outer, i.inner, true});
+        }
         const size_t shown = infos_.size() <= 24 ? infos_.size() : 20;
         for (size_t p = 0; p < shown; ++p) {
-            const PatchInfo& i = infos_[p];
+            const SurfPatch& i = infos_[p];
             std::string regions;
             if (!i.inner.empty()) regions += "InnerRegion " + i.inner;
             if (!i.outer.empty()) regions += (regions.empty() ? "" : " / ") + ("OuterRegion " + i.outer);
@@ -478,7 +486,7 @@ private:
     std::vector<Vec3> vertices_;
     std::vector<Tri> triangles_;
     std::vector<int32_t> patches_;
-    std::vector<PatchInfo> infos_;
+    std::vector<SurfPatch> infos_;
     std::map<std::string, SkippedKey> skipped_;
     std::vector<std::string> skipped_order_;
 };

@@ -422,9 +422,10 @@ int64_t fuse_duplicate_triangles(Surface& surface, std::vector<FusedPatch>* inte
         auto it = made.find(patches);
         if (it == made.end()) {
             it = made.emplace(patches, fused.size()).first;
-            fused.push_back({next++, patches, 0});
+            fused.push_back({next++, patches, 0, P[size_t(t)]});
         }
         FusedPatch& f = fused[it->second];
+        if (f.kept_from != P[size_t(t)]) f.kept_from = -1;
         P[size_t(t)] = f.patch;
         ++f.triangles;
     }

@@ -88,6 +88,7 @@ void fuse_triangles(Surface& surface, SurfaceReadReport& r, const std::string& p
     const int64_t removed = fuse_duplicate_triangles(surface, &fused);
     r.fused_triangles += removed;
     if (removed == 0) return;
+    add_fused_patch_info(r.patch_info, fused);
     r.notes.push_back(prefix + "removed " + std::to_string(removed) + " duplicate triangles (" +
                       std::to_string(surface.triangles.size()) + " triangles left)");
     for (const FusedPatch& f : fused) {
@@ -153,10 +154,12 @@ std::optional<SurfaceFormat> surface_format_from_path(const std::string& path) {
 }
 
 static Surface finish_reading(detail::ReaderOutput parsed, SurfaceFormat format, const std::string& name,
-                              const SurfaceReadOptions& options, SurfaceReadReport* report);
+                              const SurfaceReadOptions& options, SurfaceReadReport* report,
+                              const std::string& material = {});
 
-Surface read_surface_from_memory(const std::string& bytes, SurfaceFormat format, const std::string& name,
-                                 const SurfaceReadOptions& options, SurfaceReadReport* report) {
+static Surface read_from_memory(const std::string& bytes, SurfaceFormat format, const std::string& name,
+                                const SurfaceReadOptions& options, SurfaceReadReport* report,
+                                const std::string& material) {
     detail::ReaderOutput parsed;
     try {
         switch (format) {
@@ -175,7 +178,12 @@ Surface read_surface_from_memory(const std::string& bytes, SurfaceFormat format,
         if (hint.empty()) throw;
         throw InputError(e.where(), e.what() + hint);
     }
-    return finish_reading(std::move(parsed), format, name, options, report);
+    return finish_reading(std::move(parsed), format, name, options, report, material);
+}
+
+Surface read_surface_from_memory(const std::string& bytes, SurfaceFormat format, const std::string& name,
+                                 const SurfaceReadOptions& options, SurfaceReadReport* report) {
+    return read_from_memory(bytes, format, name, options, report, {});
 }
 
 // The pieces of a parallel VTK XML file (.pvtp / .pvtu), read from the files its <Piece
@@ -245,9 +253,11 @@ static detail::ReaderOutput read_parallel_vtk_xml(const std::string& path, const
     return all;
 }
 
-// After a reader: the repairs asked for, then the validation.
+// After a reader: the repairs asked for, then the validation. `material`: the material
+// the file encloses if its format says nothing about its patches (apply_file_material).
 static Surface finish_reading(detail::ReaderOutput parsed, SurfaceFormat format, const std::string& name,
-                              const SurfaceReadOptions& options, SurfaceReadReport* report) {
+                              const SurfaceReadOptions& options, SurfaceReadReport* report,
+                              const std::string& material) {
     Surface surface = std::move(parsed.surface);
     if (const std::vector<std::string> bad = vertex_data_problems(surface); !bad.empty()) {
         std::string message = bad[0];
@@ -261,6 +271,8 @@ static Surface finish_reading(detail::ReaderOutput parsed, SurfaceFormat format,
     r.format = format;
     r.skipped_elements = parsed.skipped_elements;
     r.notes = std::move(parsed.notes);
+    r.patch_info = std::move(parsed.patch_info);
+    apply_file_material(r.patch_info, surface, material);
     if (options.merge_duplicate_vertices) r.merged_vertices = merge_duplicate_vertices(surface);
     if (options.drop_unreferenced_vertices) r.dropped_vertices = drop_unreferenced_vertices(surface);
     if (options.merge_duplicate_triangles) fuse_triangles(surface, r, "");
@@ -290,9 +302,11 @@ Surface read_surface(const std::string& path, const SurfaceReadOptions& options,
     if (!format) format = surface_format_from_path(path);
     if (!format && path == "-") throw InputError(name, "the format of standard input must be given explicitly");
     const std::string bytes = detail::read_whole_input(path);
+    // One file per material: the material is the file's name without directory and extension.
+    const std::string material = path == "-" ? std::string() : std::filesystem::path(path).stem().string();
     if ((!format || format == SurfaceFormat::Vtp || format == SurfaceFormat::Vtu) && is_parallel_vtk_xml(bytes))
         return finish_reading(read_parallel_vtk_xml(path, name, bytes, options), format.value_or(SurfaceFormat::Vtp),
-                              name, options, report);
+                              name, options, report, material);
     // No (known) extension: only a HyperSurface head is taken as the format (a first line
     // "# HyperSurface" cannot be mistaken for anything else); every other format needs its
     // extension or an explicit choice.
@@ -301,7 +315,7 @@ Surface read_surface(const std::string& path, const SurfaceReadOptions& options,
         throw InputError(name, "cannot tell the surface format from the file name; expected the extension .off, "
                                ".obj, .stl, .ply, .msh, .vtk, .vtp, .vtu, .pvtp, .pvtu or .surf, or an explicit format");
     }
-    return read_surface_from_memory(bytes, *format, name, options, report);
+    return read_from_memory(bytes, *format, name, options, report, material);
 }
 
 Surface read_surfaces(const std::vector<std::string>& paths, const SurfaceReadOptions& options,
@@ -314,6 +328,7 @@ Surface read_surfaces(const std::vector<std::string>& paths, const SurfaceReadOp
     SurfaceReadReport& r = report ? *report : local;
     r = SurfaceReadReport{};
     std::vector<Surface> parts;
+    std::vector<std::vector<PatchInfo>> part_infos;
     std::string names;
     for (size_t i = 0; i < paths.size(); ++i) {
         const std::string name = detail::display_name(paths[i]);
@@ -326,13 +341,19 @@ Surface read_surfaces(const std::vector<std::string>& paths, const SurfaceReadOp
         r.fused_triangles += one.fused_triangles;
         r.skipped_elements += one.skipped_elements;
         for (const std::string& note : one.notes) r.notes.push_back(name + ": " + note);
+        part_infos.push_back(std::move(one.patch_info));
     }
     std::vector<std::pair<int, int32_t>> origin;
     std::vector<std::string> dropped;
     Surface surface = combine_surfaces(parts, &origin, &dropped);
-    for (size_t p = 0; p < origin.size(); ++p)
+    for (size_t p = 0; p < origin.size(); ++p) {
         r.notes.push_back("patch " + std::to_string(p) + " = " + detail::display_name(paths[size_t(origin[p].first)]) +
                           " patch " + std::to_string(origin[p].second));
+        if (const PatchInfo* info = find_patch_info(part_infos[size_t(origin[p].first)], origin[p].second)) {
+            r.patch_info.push_back(*info);
+            r.patch_info.back().patch = static_cast<int32_t>(p);
+        }
+    }
     for (const std::string& name : dropped)
         r.notes.push_back("vertex data '" + name + "' left out: not every input has it (with the same components)");
     // Inputs that touch share positions, not vertices, until the repair merges them.

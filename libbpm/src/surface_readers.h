@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "bpm/errors.h"
+#include "bpm/patch_info.h"
 #include "bpm/surface.h"
 
 namespace bpm::detail {
@@ -44,6 +45,7 @@ struct ReaderOutput {
     int64_t skipped_elements = 0;    // MSH: elements that are not 3-node triangles; VTK: vertex, line, volume cells
     std::vector<std::string> notes;  // remarks for SurfaceReadReport::notes
     std::vector<PolygonFace> polygons;  // with accept_polygons only; in file order
+    std::vector<PatchInfo> patch_info;  // what the file says about its patches (SURF, MSH), by patch id
 };
 
 // `accept_polygons`: faces with more than three corners go to ReaderOutput::polygons

@@ -324,6 +324,9 @@ TetRefineResult refine_tetmesh(const Parametrization& param, const TetMesh& coar
     out.vertex_parameter_points = std::move(s.param);
     out.level = coarse.level + options.levels;
     out.tet_ancestor = options.levels > 0 || !coarse.tet_ancestor.empty() ? std::move(s.ancestor) : std::vector<int32_t>();
+    // Refinement keeps every region, so it keeps their materials.
+    out.region_material = coarse.region_material;
+    out.material_names = coarse.material_names;
 
     result.vertices = out.num_vertices();
     result.tetrahedra = out.num_tetrahedra();

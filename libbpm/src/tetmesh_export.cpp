@@ -9,6 +9,7 @@
 
 #include "bpm/errors.h"
 #include "bpm/tetmesh.h"
+#include "bpm/tetmesh_materials.h"
 #include "file_util.h"
 
 namespace bpm {
@@ -44,20 +45,40 @@ void bounding_box(const TetMesh& m, const std::vector<int32_t>& vertices, std::s
     append_point(out, hi);
 }
 
-// Gmsh MSH 4.1: volume entity r = region r (physical tag r), surface entity i+1 = i-th
-// patch in increasing order (physical tag = patch id). All nodes in one block of volume
-// entity 1 (the format allows nodes to be classified on any entity).
-std::string write_msh(const TetMesh& m) {
+// A name for a quoted MSH string (Gmsh names cannot hold '"' or line ends).
+std::string msh_name(std::string name) {
+    for (char& c : name)
+        if (c == '"' || c == '\n' || c == '\r') c = '\'';
+    return name;
+}
+
+// Gmsh MSH 4.1: volume entity r = region r (physical tag = its material id, or r without
+// materials), surface entity i+1 = i-th patch in increasing order (physical tag = patch
+// id, named as the input named it). All nodes in one block of volume entity 1 (the format
+// allows nodes to be classified on any entity).
+std::string write_msh(const TetMesh& m, const std::vector<PatchInfo>& patch_info) {
     const int32_t nr = m.num_regions();
+    const bool materials = !m.region_material.empty();
+    auto volume_tag = [&](int32_t r) { return materials ? m.region_material[size_t(r - 1)] : r; };
+    auto patch_name = [&](int32_t patch) {
+        const PatchInfo* info = find_patch_info(patch_info, patch);
+        return info && !info->name.empty() ? msh_name(info->name) : "patch_" + num(patch);
+    };
+    const int64_t volume_names = materials ? static_cast<int64_t>(m.material_names.size()) : nr;
     std::map<int32_t, int> entity_of_patch;
     for (int32_t p : m.face_patches) entity_of_patch.emplace(p, 0);
     int next = 1;
     for (auto& [patch, entity] : entity_of_patch) entity = next++;
 
     std::string out = "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$PhysicalNames\n";
-    out += num(nr + static_cast<int64_t>(entity_of_patch.size())) + "\n";
-    for (const auto& [patch, entity] : entity_of_patch) out += "2 " + num(patch) + " \"patch_" + num(patch) + "\"\n";
-    for (int32_t r = 1; r <= nr; ++r) out += "3 " + num(r) + " \"region_" + num(r) + "\"\n";
+    out += num(volume_names + static_cast<int64_t>(entity_of_patch.size())) + "\n";
+    for (const auto& [patch, entity] : entity_of_patch) out += "2 " + num(patch) + " \"" + patch_name(patch) + "\"\n";
+    if (materials) {
+        for (size_t i = 0; i < m.material_names.size(); ++i)
+            out += "3 " + num(int64_t(i) + 1) + " \"" + msh_name(m.material_names[i]) + "\"\n";
+    } else {
+        for (int32_t r = 1; r <= nr; ++r) out += "3 " + num(r) + " \"region_" + num(r) + "\"\n";
+    }
     out += "$EndPhysicalNames\n$Entities\n";
     out += "0 0 " + num(static_cast<int64_t>(entity_of_patch.size())) + " " + num(nr) + "\n";
     for (const auto& [patch, entity] : entity_of_patch) {
@@ -75,7 +96,7 @@ std::string write_msh(const TetMesh& m) {
         if (used.empty()) used.push_back(0);
         out += num(r) + " ";
         bounding_box(m, used, out);
-        out += " 1 " + num(r) + " 0\n";
+        out += " 1 " + num(volume_tag(r)) + " 0\n";
     }
     out += "$EndEntities\n$Nodes\n";
     const int64_t nv = m.num_vertices();
@@ -126,6 +147,17 @@ std::string write_vtu(const TetMesh& m) {
         "<?xml version=\"1.0\"?>\n"
         "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n"
         "  <UnstructuredGrid>\n";
+    if (!m.material_names.empty()) {
+        // VTK's ASCII string arrays: each string as its byte values, ended by a 0.
+        out += "    <FieldData>\n      <Array type=\"String\" Name=\"material_names\" NumberOfTuples=\"" +
+               num(int64_t(m.material_names.size())) + "\" format=\"ascii\">\n";
+        for (const std::string& n : m.material_names) {
+            out += "       ";
+            for (unsigned char c : n) out += " " + num(c);
+            out += " 0\n";
+        }
+        out += "      </Array>\n    </FieldData>\n";
+    }
     out += "    <Piece NumberOfPoints=\"" + num(nv) + "\" NumberOfCells=\"" + num(nt) + "\">\n";
     out += "      <PointData Scalars=\"coarse_vertex\">\n"
            "        <DataArray type=\"Int32\" Name=\"coarse_vertex\" format=\"ascii\">\n";
@@ -134,6 +166,11 @@ std::string write_vtu(const TetMesh& m) {
     out += "      <CellData Scalars=\"region\">\n        <DataArray type=\"Int32\" Name=\"region\" format=\"ascii\">\n";
     for (int32_t r : m.regions) out += num(r) + "\n";
     out += "        </DataArray>\n";
+    if (!m.region_material.empty()) {
+        out += "        <DataArray type=\"Int32\" Name=\"material\" format=\"ascii\">\n";
+        for (int32_t id : tet_materials(m)) out += num(id) + "\n";
+        out += "        </DataArray>\n";
+    }
     if (!m.tet_ancestor.empty()) {
         out += "        <DataArray type=\"Int32\" Name=\"ancestor\" format=\"ascii\">\n";
         for (int32_t a : m.tet_ancestor) out += num(a) + "\n";
@@ -158,7 +195,14 @@ std::string write_vtu(const TetMesh& m) {
 }
 
 std::string write_medit(const TetMesh& m) {
-    std::string out = "MeshVersionFormatted 2\nDimension 3\n\nVertices\n" + num(m.num_vertices()) + "\n";
+    std::string out = "MeshVersionFormatted 2\nDimension 3\n";
+    for (size_t i = 0; i < m.material_names.size(); ++i) {
+        std::string name = m.material_names[i];
+        std::replace(name.begin(), name.end(), '\n', ' ');
+        out += "# material " + num(int64_t(i) + 1) + " " + name + "\n";
+    }
+    const std::vector<int32_t> material = tet_materials(m);
+    out += "\nVertices\n" + num(m.num_vertices()) + "\n";
     for (int32_t v = 0; v < m.num_vertices(); ++v) {
         append_point(out, m.vertices[v]);
         out += m.vertex_parameter_points[v].valid() ? " 1\n" : " 0\n";
@@ -167,7 +211,7 @@ std::string write_medit(const TetMesh& m) {
     for (size_t t = 0; t < m.tetrahedra.size(); ++t) {
         const Tet& x = m.tetrahedra[t];
         out += num(x[0] + 1) + " " + num(x[1] + 1) + " " + num(x[2] + 1) + " " + num(x[3] + 1) + " " +
-               num(m.regions[t]) + "\n";
+               num(material.empty() ? m.regions[t] : material[t]) + "\n";
     }
     out += "\nTriangles\n" + num(static_cast<int64_t>(m.faces.size())) + "\n";
     for (size_t f = 0; f < m.faces.size(); ++f) {
@@ -201,7 +245,7 @@ std::optional<TetMeshFormat> tetmesh_format_from_path(const std::string& path) {
     return tetmesh_format_from_name(path.substr(dot + 1));
 }
 
-std::string write_tetmesh_to_string(const TetMesh& mesh, TetMeshFormat format) {
+std::string write_tetmesh_to_string(const TetMesh& mesh, TetMeshFormat format, const std::vector<PatchInfo>& patch_info) {
     const int64_t nv = mesh.num_vertices();
     if (mesh.regions.size() != mesh.tetrahedra.size() || mesh.face_patches.size() != mesh.faces.size() ||
         mesh.vertex_coarse_vertex.size() != mesh.vertices.size() ||
@@ -210,8 +254,10 @@ std::string write_tetmesh_to_string(const TetMesh& mesh, TetMeshFormat format) {
     for (const Tet& t : mesh.tetrahedra)
         for (int32_t v : t)
             if (v < 0 || v >= nv) throw OutputError("<tetmesh>", "cannot write: a tetrahedron corner is out of range");
+    if (const std::string problem = find_material_inconsistency(mesh); !problem.empty())
+        throw OutputError("<tetmesh>", "cannot write an inconsistent tetrahedral mesh: " + problem);
     switch (format) {
-        case TetMeshFormat::Msh: return write_msh(mesh);
+        case TetMeshFormat::Msh: return write_msh(mesh, patch_info);
         case TetMeshFormat::Vtu: return write_vtu(mesh);
         case TetMeshFormat::Medit: return write_medit(mesh);
         case TetMeshFormat::Bpm: break;
@@ -219,10 +265,11 @@ std::string write_tetmesh_to_string(const TetMesh& mesh, TetMeshFormat format) {
     throw OutputError("<tetmesh>", "the .bpm format holds a whole parametrization: use write_bpm");
 }
 
-void write_tetmesh(const std::string& path, const TetMesh& mesh, TetMeshFormat format) {
+void write_tetmesh(const std::string& path, const TetMesh& mesh, TetMeshFormat format,
+                   const std::vector<PatchInfo>& patch_info) {
     std::string text;
     try {
-        text = write_tetmesh_to_string(mesh, format);
+        text = write_tetmesh_to_string(mesh, format, patch_info);
     } catch (const OutputError& e) {
         throw OutputError(path == "-" ? "<stdout>" : path, e.what());
     }

@@ -115,6 +115,13 @@ expect 0 "two materials as one HyperSurface (.surf)" -- "$simplify" "$work/ab.su
 contains "$work/err" "patch 2 = InnerRegion A / OuterRegion B (32 triangles)" "the interface patch is named by its regions"
 expect 0 "the HyperSurface materials pass bpm-check" -- "$check" "$work/surf.bpm"
 contains "$work/out" "non-manifold" "the interface is a sheet"
+# Both simplified inputs mesh into two regions named by their materials (spec/tetmesh.md 3.7).
+if command -v tetgen >/dev/null; then
+    expect 0 "mesh the two files' materials" -- "$tools/bpm-mesh" "$work/ab.bpm" -o "$work/ab.msh"
+    contains "$work/err" "2 materials: 1 cube_b (region 1); 2 cube_a (region 2)" "regions named after the files"
+    expect 0 "mesh the HyperSurface materials" -- "$tools/bpm-mesh" "$work/surf.bpm" -o "$work/surf.msh"
+    contains "$work/err" "2 materials: 1 B (region 1); 2 A (region 2)" "regions named as in the HyperSurface"
+fi
 
 # Usage errors (2) before any work, input errors (3), nothing left behind.
 expect 2 "no stopping rule" -- "$simplify" "$femur" -o "$work/x.bpm"

@@ -46,6 +46,16 @@ def read(path):
             d["phi/" + name] = f["phi/" + name][()].astype(np.int64)
         for name in ("node_barycentric", "node_image", "node_edge_parameter"):
             d["phi/" + name] = f["phi/" + name][()].astype(np.float64)
+        # Optional since 1.3 (spec 5.2): per patch a name and the materials on its two sides.
+        d["patch_info"] = {}
+        if "patch_info" in f:
+            g = f["patch_info"]
+            rows = zip(g["patch"][()], g["name"][()], g["front_material"][()], g["back_material"][()], g["oriented"][()])
+            for patch, name, front, back, oriented in rows:
+                if int(oriented) not in (0, 1) or int(patch) in d["patch_info"]:
+                    raise SpecError("/patch_info: bad row for patch %d" % int(patch))
+                d["patch_info"][int(patch)] = {"name": _string(name), "front": _string(front),
+                                               "back": _string(back), "oriented": bool(oriented)}
         d["provenance"] = [
             tuple(_string(x) for x in row)
             for row in zip(*(f["provenance/" + k][()] for k in ("tool", "version", "arguments", "timestamp")))

@@ -8,6 +8,7 @@
 #include "bpm/errors.h"
 #include "bpm/tet_refine.h"
 #include "bpm/tetmesh.h"
+#include "bpm/tetmesh_materials.h"
 #include "common/tool_main.h"
 
 namespace {
@@ -19,6 +20,23 @@ std::string json_double(double v) {
     return buffer;
 }
 
+std::string json_escape(const std::string& s) {
+    std::string out;
+    for (unsigned char c : s) {
+        if (c == '"' || c == '\\') {
+            out += '\\';
+            out += char(c);
+        } else if (c < 0x20) {
+            char buffer[8];
+            std::snprintf(buffer, sizeof buffer, "\\u%04x", c);
+            out += buffer;
+        } else {
+            out += char(c);
+        }
+    }
+    return out;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -26,7 +44,10 @@ int main(int argc, char** argv) {
     CLI::App app{
         "Tetrahedral mesh of the volume bounded by the coarse surface of a .bpm file, made by TetGen (Debian\n"
         "package 'tetgen', found on PATH) with the surface kept exactly (-p -Y -q -A). Every enclosed region of\n"
-        "a multi-material surface gets its own region id (1, 2, ...); the outside is not meshed.\n"
+        "a multi-material surface gets its own region id (1, 2, ...); the outside is not meshed. Every region\n"
+        "gets a material from the patch information of the input (Amira InnerRegion/OuterRegion, one input\n"
+        "file per material, Gmsh physical names 'A|B' or 'pair_A_B'; spec/tetmesh.md 3.7) or from --material;\n"
+        "regions nothing decides are materials of their own, named region_<id>.\n"
         "Output by extension: .bpm (the input file plus a /tetmesh group, spec/tetmesh.md), .msh (Gmsh 4.1),\n"
         ".vtu (VTK), .mesh (MEDIT). With --refine K the mesh is red-refined K times and new boundary vertices\n"
         "are moved onto the original surface through phi (Krause & Sander §3.3). Vertices not on the surface\n"
@@ -70,6 +91,11 @@ int main(int argc, char** argv) {
     app.add_flag("--flat", flat, "With --refine: leave new boundary vertices on the coarse surface (red refinement of the boundary)");
     app.add_option("--tetgen", options.tetgen, "TetGen executable (default: tetgen on PATH)");
     app.add_flag("--keep-temporary", options.keep_temporary, "Keep TetGen's input and output files (path on stderr)");
+    std::vector<std::string> material_args;
+    app.add_option("--material", material_args,
+                   "REGION=NAME: region REGION (an id the log and --json list) is material NAME; repeatable, "
+                   "overrides what the input says")
+        ->type_name("REGION=NAME");
     app.add_flag("--json", json, "Print a JSON report (counts, timings, region volumes, quality) on standard output");
     bpm::tools::add_output_tool_flags(app, tool, deterministic, verbose, quiet);
 
@@ -86,6 +112,20 @@ int main(int argc, char** argv) {
         if (max_volume > 0) options.max_volume = max_volume;
         if (min_dihedral >= 0) options.min_dihedral_degrees = min_dihedral;
         options.smooth = !no_smooth;
+        bpm::MaterialOptions material_options;
+        for (const std::string& a : material_args) {
+            const size_t eq = a.find('=');
+            int region = 0;
+            try {
+                if (eq == std::string::npos || eq == 0 || eq + 1 == a.size()) throw std::invalid_argument(a);
+                size_t used = 0;
+                region = std::stoi(a.substr(0, eq), &used);
+                if (used != eq) throw std::invalid_argument(a);
+            } catch (const std::exception&) {
+                throw CLI::ValidationError("--material", "expected REGION=NAME with a region id, got '" + a + "'");
+            }
+            material_options.region_names[region] = a.substr(eq + 1);
+        }
         const bpm::Context context = bpm::tools::make_context(tool, verbose, quiet);
 
         bpm::BpmFile file = bpm::read_bpm(input);
@@ -125,6 +165,23 @@ int main(int argc, char** argv) {
                           refine_result.max_remedy_distance_relative, refine_result.seconds);
             context.info(line);
         }
+        const bpm::MaterialResult materials = bpm::assign_materials(*file.tetmesh, file.patch_info, material_options);
+        {
+            const bpm::TetMesh& m = *file.tetmesh;
+            std::string line = std::to_string(materials.materials) + " material" + (materials.materials == 1 ? "" : "s") + ":";
+            for (size_t i = 0; i < m.material_names.size() && i < 20; ++i) {
+                std::string regions;
+                for (size_t r = 0; r < m.region_material.size(); ++r)
+                    if (m.region_material[r] == int32_t(i) + 1) regions += (regions.empty() ? "" : ",") + std::to_string(r + 1);
+                line += std::string(i ? ";" : "") + " " + std::to_string(i + 1) + " " + m.material_names[i] +
+                        " (region" + (regions.find(',') == std::string::npos ? " " : "s ") + regions + ")";
+            }
+            context.info(line);
+            if (materials.orientation_ignored)
+                context.warn("the patches' front/back materials contradict each other (reversed normals?): read them "
+                             "as unordered pairs");
+            for (const std::string& p : materials.problems) context.warn(p);
+        }
         const bpm::TetMeshStats stats = bpm::tetmesh_stats(*file.tetmesh);
         if (stats.inverted > 0) context.warn(std::to_string(stats.inverted) + " inverted tetrahedra");
 
@@ -133,7 +190,7 @@ int main(int argc, char** argv) {
                                        deterministic ? std::string() : bpm::tools::utc_timestamp()});
             bpm::write_bpm(output, file);
         } else {
-            bpm::write_tetmesh(output, *file.tetmesh, *out_format);
+            bpm::write_tetmesh(output, *file.tetmesh, *out_format, file.patch_info);
         }
 
         if (json) {
@@ -160,13 +217,20 @@ int main(int argc, char** argv) {
                             json_double(refine_result.max_remedy_distance_relative) +
                             ", \"refine_seconds\": " + json_double(refine_result.seconds) + ", \"regions\": [";
             for (size_t r = 0; r < stats.region_volumes.size(); ++r) {
+                const int32_t mat = m.region_material[r];
                 j += std::string(r ? ", " : "") + "{\"id\": " + std::to_string(r + 1) +
+                     ", \"material\": " + std::to_string(mat) + ", \"material_name\": \"" +
+                     json_escape(m.material_names[size_t(mat - 1)]) + "\"" +
                      ", \"volume\": " + json_double(stats.region_volumes[r]) +
                      ", \"coarse_volume\": " +
                      json_double(r < coarse_stats.region_volumes.size() ? coarse_stats.region_volumes[r] : NAN) +
                      ", \"original_volume\": " + json_double(r < original.size() ? original[r] : NAN) + "}";
             }
-            j += "]}";
+            j += "], \"materials\": [";
+            for (size_t i = 0; i < m.material_names.size(); ++i)
+                j += std::string(i ? ", " : "") + "{\"id\": " + std::to_string(i + 1) + ", \"name\": \"" +
+                     json_escape(m.material_names[i]) + "\"}";
+            j += "], \"material_problems\": " + std::to_string(materials.problems.size()) + "}";
             std::cout << j << std::endl;
         }
         return int(bpm::tools::kOk);

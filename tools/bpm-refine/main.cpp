@@ -62,7 +62,7 @@ int refine_volume(const std::string& tool, int argc, char** argv, const std::str
                                    deterministic ? std::string() : bpm::tools::utc_timestamp()});
         bpm::write_bpm(output, file);
     } else {
-        bpm::write_tetmesh(output, fine, *out_format);
+        bpm::write_tetmesh(output, fine, *out_format, file.patch_info);
     }
     return r.inverted == 0 ? int(bpm::tools::kOk) : int(bpm::tools::kAlgorithm);
 }
@@ -163,6 +163,7 @@ int main(int argc, char** argv) {
             bpm::BpmFile out;
             out.param = bpm::refined_parametrization(param, refined, context);
             out.units = file.units;
+            out.patch_info = file.patch_info;  // refinement keeps patch ids and orientations
             out.provenance = file.provenance;
             out.provenance.push_back({tool, bpm::tools::version_line(tool), bpm::tools::command_line(argc, argv),
                                       deterministic ? std::string() : bpm::tools::utc_timestamp()});

@@ -114,7 +114,17 @@ int main(int argc, char** argv) {
         context.info("read " + std::to_string(surface.num_vertices()) + " vertices, " +
                      std::to_string(surface.num_triangles()) + " triangles");
 
+        for (size_t i = 0; i < report.patch_info.size() && i < 20; ++i) {
+            const bpm::PatchInfo& p = report.patch_info[i];
+            context.info("patch " + std::to_string(p.patch) + " '" + p.name + "': " +
+                         (p.front.empty() && p.back.empty() ? std::string("no materials")
+                          : p.oriented ? "front " + (p.front.empty() ? "?" : p.front) + ", back " +
+                                             (p.back.empty() ? "?" : p.back)
+                                       : "between " + p.front + " and " + p.back + " (sides not known)"));
+        }
+
         bpm::BpmFile file;
+        file.patch_info = report.patch_info;
         bpm::SimplifyResult result = bpm::simplify(surface, options, context, file.param);
         file.simplification_steps = std::move(result.steps);
         file.units = units;

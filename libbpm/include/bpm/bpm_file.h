@@ -1,5 +1,5 @@
 #pragma once
-// The bpm file format v1.2 (spec/bpm-format.md is normative): one HDF5 file holding a
+// The bpm file format v1.3 (spec/bpm-format.md is normative): one HDF5 file holding a
 // parametrized surface, its provenance, and room for later groups.
 
 #include <optional>
@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "bpm/parametrization.h"
+#include "bpm/patch_info.h"
 #include "bpm/simplification_steps.h"
 #include "bpm/tetmesh.h"
 
@@ -32,6 +33,10 @@ struct BpmFile {
     // spec/bpm-format.md §10.1); bpm-check --replay re-applies them. Files without one
     // are unchanged.
     std::optional<SimplificationSteps> simplification_steps;
+    // What the input said about the patches of /original and /coarse (names, the materials
+    // on their two sides), in the optional /patch_info group (format 1.3, spec/bpm-format.md
+    // §5.2), sorted by patch id; empty in older files and when nothing was known.
+    std::vector<PatchInfo> patch_info;
 };
 
 struct BpmFormatVersion {

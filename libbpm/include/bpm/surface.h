@@ -117,6 +117,9 @@ struct FusedPatch {
     int32_t patch = -1;
     std::vector<int32_t> joins;  // the patches whose triangles became this patch's
     int64_t triangles = 0;       // how many fused triangles it has
+    // The patch whose triangles were kept (the first of each set, with its orientation)
+    // when that is the same patch for every set; -1 when it differs between sets.
+    int32_t kept_from = -1;
 };
 int64_t fuse_duplicate_triangles(Surface& surface, std::vector<FusedPatch>* interfaces = nullptr);
 

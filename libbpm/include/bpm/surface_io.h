@@ -24,8 +24,8 @@
 //                        data; a CellData array named patch / material / region / label /
 //                        physical / gmsh:physical / CellEntityIds / RegionId the patch id
 //   SURF  (.surf)        Amira / Avizo HyperSurface 0.1, ASCII and BINARY (read only): each
-//                        Patches entry is a patch (0, 1, ... in file order; the notes name
-//                        its InnerRegion / OuterRegion); Parameters, BoundaryCurves and
+//                        Patches entry is a patch (0, 1, ... in file order; the notes and
+//                        patch_info name its InnerRegion / OuterRegion); Parameters, BoundaryCurves and
 //                        Surfaces are parsed and not used. Details in read_surf.cpp.
 // Every triangle gets a patch id (0 when the format has none). In detail:
 //   OBJ  each distinct (group names, material) pair is a patch, numbered 0, 1, ... in the
@@ -35,7 +35,8 @@
 //        Vertices are numbered in order of first use by the triangles.
 //   PLY  the first such face property in header order; integer values only.
 //   MSH  2.2: the first element tag (physical); 4.1: the first physical tag of the
-//        element's entity in $Entities; 0 when there is none.
+//        element's entity in $Entities; 0 when there is none. $PhysicalNames of
+//        dimension 2 name the patches (patch_info; "A|B" or "pair_A_B" names give materials).
 //   VTK  the first such integer-valued 1-component cell array (SCALARS or FIELD); the
 //        triangles of a strip or polygon keep their cell's id. Details in read_vtk.cpp.
 // Polygons (faces with more than three corners) are refused in every format, never
@@ -61,6 +62,7 @@
 #include <string>
 #include <vector>
 
+#include "bpm/patch_info.h"
 #include "bpm/surface.h"
 
 namespace bpm {
@@ -96,6 +98,12 @@ struct SurfaceReadReport {
     int64_t fused_triangles = 0;       // removed by the requested repair (merge_duplicate_triangles)
     int64_t skipped_elements = 0;      // non-triangle elements of MSH files, non-surface cells of VTK files, that were ignored
     std::vector<std::string> notes;    // other human-readable remarks
+    // Names and materials of the patches (bpm/patch_info.h), sorted by patch id: from the
+    // format (SURF regions, MSH $PhysicalNames), else, for read_surface of a path, the
+    // file-per-material convention (material = the file name without directory and
+    // extension); fused interfaces get theirs from the patches they join. Empty when
+    // nothing is known (standard input or memory in a format without names).
+    std::vector<PatchInfo> patch_info;
 };
 
 // Reads and validates a surface (see validate_surface in bpm/surface.h): NaN/Inf,

@@ -25,6 +25,7 @@
 #include "bpm/context.h"
 #include "bpm/geometry.h"
 #include "bpm/parametrization.h"
+#include "bpm/patch_info.h"
 #include "bpm/surface.h"
 #include "bpm/surface_point.h"
 #include "bpm/tetmesh_smooth_options.h"
@@ -57,6 +58,12 @@ struct TetMesh {
     // tetrahedron each tetrahedron descends from (empty at level 0).
     int32_t level = 0;
     std::vector<int32_t> tet_ancestor;      // #Tet or empty
+    // Materials (spec/tetmesh.md §3.7; both empty when not assigned, as in files before
+    // format 1.3): region r is material region_material[r-1], an id in 1..#M named
+    // material_names[id-1]. Several regions may share a material. Set by assign_materials
+    // (bpm/tetmesh_materials.h); checked by find_material_inconsistency.
+    std::vector<int32_t> region_material;     // #R (= num_regions()) or empty
+    std::vector<std::string> material_names;  // #M distinct non-empty names
 
     int32_t num_vertices() const { return static_cast<int32_t>(vertices.size()); }
     int32_t num_tetrahedra() const { return static_cast<int32_t>(tetrahedra.size()); }
@@ -128,16 +135,23 @@ std::optional<TetMeshFormat> tetmesh_format_from_name(const std::string& name);
 std::optional<TetMeshFormat> tetmesh_format_from_path(const std::string& path);
 
 // Writes `mesh` atomically ("-" = standard output) as
-//   Msh    Gmsh MSH 4.1 ASCII: one volume entity per region (physical tag = region id,
-//          name "region_<id>"), one surface entity per patch (physical tag = patch id, name
-//          "patch_<id>"); tets (type 4) and boundary triangles (type 2); node tags = index+1
+//   Msh    Gmsh MSH 4.1 ASCII: one volume entity per region, its physical tag the region's
+//          material id named by the material (without materials: tag = region id, name
+//          "region_<id>"); one surface entity per patch (physical tag = patch id, named by
+//          `patch_info`'s name if it has one, else "patch_<id>"); tets (type 4) and
+//          boundary triangles (type 2); node tags = index+1
 //   Vtu    VTK XML UnstructuredGrid, ASCII: tetrahedra (type 10) with cell data "region"
-//          (and "ancestor" if present), point data "coarse_vertex"
+//          and, with materials, "material" (the id) and field data "material_names" (a
+//          string array, entry id-1 names material id); "ancestor" if present; point
+//          data "coarse_vertex"
 //   Medit  INRIA .mesh (MeshVersionFormatted 2): Vertices (ref 1 on S, 0 inside),
-//          Tetrahedra with ref = region, Triangles with ref = patch
+//          Tetrahedra with ref = material id (region id without materials; comment lines
+//          "# material <id> <name>" name them), Triangles with ref = patch
 // The .bpm format needs the whole BpmFile: use write_bpm (bpm/bpm_file.h).
 // \throw OutputError (unwritable path, or format Bpm).
-void write_tetmesh(const std::string& path, const TetMesh& mesh, TetMeshFormat format);
-std::string write_tetmesh_to_string(const TetMesh& mesh, TetMeshFormat format);
+void write_tetmesh(const std::string& path, const TetMesh& mesh, TetMeshFormat format,
+                   const std::vector<PatchInfo>& patch_info = {});
+std::string write_tetmesh_to_string(const TetMesh& mesh, TetMeshFormat format,
+                                    const std::vector<PatchInfo>& patch_info = {});
 
 }  // namespace bpm
