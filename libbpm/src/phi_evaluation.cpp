@@ -35,11 +35,13 @@
 #include <stdexcept>
 #include <thread>
 
+#include "phi_corner_code.h"
+
 namespace bpm {
 
 namespace {
 
-using Mat3 = std::array<double, 9>;  // row-major
+using detail::Mat3;
 
 // Asks for the cache line holding `address` (for writing if `write`); a hint only.
 template <bool write>
@@ -74,16 +76,6 @@ bool triangle_touches_box(const Vec2& a, const Vec2& b, const Vec2& c, double x0
 }
 
 }  // namespace
-
-// How a piece's corners sit in the piece's original triangle: corner k has
-// barycentric coordinates (1 - s[k]) at original corner a[k] plus s[k] at b[k]
-// (s = 0, a = b for an original vertex). Derived once from the node kinds so that a
-// query does not chase the per-node arrays.
-struct CornerCode {
-    double s[3];
-    uint8_t a[3];
-    uint8_t b[3];
-};
 
 // Everything a query needs about one piece, in one place (a query touches one record
 // per candidate piece and nothing else but the grid).
@@ -136,15 +128,10 @@ struct PhiEvaluator::Impl {
             for (int64_t q = q0; q < q1; ++q) {
                 const Tri& piece = p.pieces[static_cast<size_t>(q)];
                 PieceRecord& record = pieces[static_cast<size_t>(q)];
-                const CornerCode code = corner_code(nb, piece, q);
                 // Column k holds corner k's coordinates in the original triangle: a unit
                 // vector for an original vertex (so that beta is exact for phi = identity),
                 // 1 - s and s at the ends of the edge for an edge crossing.
-                record.to_original.fill(0.0);
-                for (int k = 0; k < 3; ++k) {
-                    record.to_original[static_cast<size_t>(3 * code.a[k] + k)] += 1 - code.s[k];
-                    record.to_original[static_cast<size_t>(3 * code.b[k] + k)] += code.s[k];
-                }
+                record.to_original = detail::to_original_matrix(detail::corner_code(p, nb, piece, q));
                 for (int k = 0; k < 3; ++k) record.image[k] = p.node_image[static_cast<size_t>(nb + piece[k])];
                 record.original_triangle = p.piece_original_triangle[static_cast<size_t>(q)];
                 record.normal = normals[static_cast<size_t>(record.original_triangle)];
@@ -251,50 +238,6 @@ struct PhiEvaluator::Impl {
         return best;
     }
 
-    // Where the corners of piece q sit in its original triangle, derived from what the
-    // nodes are rather than from their positions (exact): an original vertex is a unit
-    // vector, an edge crossing (u, w, s) is (1-s) at u plus s at w.
-    CornerCode corner_code(int64_t nb, const Tri& piece, int64_t q) const {
-        CornerCode code{};
-        const Tri& tri = p.original.triangles[static_cast<size_t>(p.piece_original_triangle[static_cast<size_t>(q)])];
-        const auto corner_of = [&](int32_t v) -> int {
-            for (int c = 0; c < 3; ++c)
-                if (tri[c] == v) return c;
-            return -1;
-        };
-        for (int k = 0; k < 3; ++k) {
-            const size_t n = static_cast<size_t>(nb + piece[k]);
-            int a = -1, b = -1;
-            double s = 0;
-            if (p.node_kind[n] == NodeKind::EdgeCrossing) {
-                a = corner_of(p.node_original_edge[n][0]);
-                b = corner_of(p.node_original_edge[n][1]);
-                s = p.node_edge_parameter[n];
-            } else {
-                a = b = corner_of(p.node_original_vertex[n]);
-            }
-            if (a < 0 || b < 0) {
-                // Inconsistent input (the node is not on this triangle): use the nearest
-                // corner of the triangle so that evaluation still returns something sane.
-                a = b = nearest_corner(p.node_image[n], tri);
-                s = 0;
-            }
-            code.a[k] = static_cast<uint8_t>(a);
-            code.b[k] = static_cast<uint8_t>(b);
-            code.s[k] = s;
-        }
-        return code;
-    }
-
-    int nearest_corner(const Vec3& y, const Tri& tri) const {
-        int best = 0;
-        for (int c = 1; c < 3; ++c)
-            if (distance(y, p.original.vertices[static_cast<size_t>(tri[c])]) <
-                distance(y, p.original.vertices[static_cast<size_t>(tri[best])]))
-                best = c;
-        return best;
-    }
-
     // The piece containing b (-1 for a coarse triangle without pieces) and b's
     // barycentrics in it, clamped into the piece.
     int64_t piece_of(int32_t t, const Vec3& b, double& l0, double& l1, double& l2) const {
@@ -347,7 +290,32 @@ PhiSample PhiEvaluator::evaluate(int32_t coarse_triangle, const Vec3& barycentri
     return impl_->evaluate(coarse_triangle, barycentric);
 }
 
+PhiSample PhiEvaluator::evaluate(const SurfacePoint& point) const {
+    return impl_->evaluate(point.triangle, point.barycentric);
+}
+
 namespace {
+
+// Queries given as two parallel lists (the original API).
+struct ParallelQueries {
+    const std::vector<int32_t>& triangles;
+    const std::vector<Vec3>& barycentrics;
+    ParallelQueries(const std::vector<int32_t>& t, const std::vector<Vec3>& b) : triangles(t), barycentrics(b) {
+        if (t.size() != b.size())
+            throw std::invalid_argument("PhiEvaluator::evaluate: triangles and barycentrics differ in length");
+    }
+    size_t size() const { return triangles.size(); }
+    int32_t triangle(size_t i) const { return triangles[i]; }
+    const Vec3& barycentric(size_t i) const { return barycentrics[i]; }
+};
+
+// Queries given as SurfacePoints.
+struct PointQueries {
+    const std::vector<SurfacePoint>& points;
+    size_t size() const { return points.size(); }
+    int32_t triangle(size_t i) const { return points[i].triangle; }
+    const Vec3& barycentric(size_t i) const { return points[i].barycentric; }
+};
 
 // Runs `eval(t, b, i)` for every query i (coarse triangle t, barycentrics b), see
 // PhiEvaluator::evaluate. Queries are processed in chunks; within a chunk they are
@@ -367,17 +335,19 @@ namespace {
 // in the visiting order is prefetched, and `prefetch(i)` is called for it, so that its
 // output line is in the cache when its result is stored (otherwise the stores pile up in
 // the store buffer and stall the loop).
-template <class Eval, class Prefetch>
-void for_each_query_grouped(const std::vector<int32_t>& triangles, const std::vector<Vec3>& barycentrics, size_t nt,
-                            int threads, const Eval& eval, const Prefetch& prefetch) {
-    if (triangles.size() != barycentrics.size())
-        throw std::invalid_argument("PhiEvaluator::evaluate: triangles and barycentrics differ in length");
+//
+// `Queries` is ParallelQueries or PointQueries below (the two ways the API takes queries).
+template <class Queries, class Eval, class Prefetch>
+void for_each_query_grouped(const Queries& queries, size_t nt, int threads, const Eval& eval,
+                            const Prefetch& prefetch) {
     if (threads < 0) throw std::invalid_argument("PhiEvaluator::evaluate: threads must be >= 0");
     if (threads == 0) threads = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
-    const size_t n = triangles.size();
-    for (int32_t t : triangles)
+    const size_t n = queries.size();
+    for (size_t i = 0; i < n; ++i) {
+        const int32_t t = queries.triangle(i);
         if (t < 0 || static_cast<size_t>(t) >= nt)
             throw std::out_of_range("PhiEvaluator::evaluate: coarse triangle index out of range");
+    }
     const size_t chunk = std::min(n, std::max<size_t>(size_t(1) << 20, 48 * nt));
     const size_t chunks = chunk == 0 ? 0 : (n + chunk - 1) / chunk;
     threads = static_cast<int>(std::min<size_t>(static_cast<size_t>(threads), std::max<size_t>(1, chunks)));
@@ -388,20 +358,20 @@ void for_each_query_grouped(const std::vector<int32_t>& triangles, const std::ve
         for (size_t c = first_chunk; c < chunks; c += step) {
             const size_t begin = c * chunk, end = std::min(n, begin + chunk);
             if (!group) {
-                for (size_t i = begin; i < end; ++i) eval(triangles[i], barycentrics[i], i);
+                for (size_t i = begin; i < end; ++i) eval(queries.triangle(i), queries.barycentric(i), i);
                 continue;
             }
             start.assign(nt + 1, 0);
-            for (size_t i = begin; i < end; ++i) ++start[static_cast<size_t>(triangles[i]) + 1];
+            for (size_t i = begin; i < end; ++i) ++start[static_cast<size_t>(queries.triangle(i)) + 1];
             for (size_t t = 0; t < nt; ++t) start[t + 1] += start[t];
             sorted.resize(end - begin);
             for (size_t i = begin; i < end; ++i)
-                sorted[start[static_cast<size_t>(triangles[i])]++] = static_cast<uint32_t>(i - begin);
+                sorted[start[static_cast<size_t>(queries.triangle(i))]++] = static_cast<uint32_t>(i - begin);
             // start[t] is now the end of triangle t's queries.
             constexpr size_t ahead = 16;
             const size_t m = end - begin;
             const auto fetch = [&](size_t i) {
-                const char* a = reinterpret_cast<const char*>(barycentrics.data() + i);
+                const char* a = reinterpret_cast<const char*>(&queries.barycentric(i));
                 prefetch_line<false>(a);
                 prefetch_line<false>(a + sizeof(Vec3) - 1);
                 prefetch(i);
@@ -412,7 +382,7 @@ void for_each_query_grouped(const std::vector<int32_t>& triangles, const std::ve
                 for (; k < start[t]; ++k) {
                     if (k + ahead < m) fetch(begin + sorted[k + ahead]);
                     const size_t i = begin + sorted[k];
-                    eval(static_cast<int32_t>(t), barycentrics[i], i);
+                    eval(static_cast<int32_t>(t), queries.barycentric(i), i);
                 }
         }
     };
@@ -428,11 +398,15 @@ void for_each_query_grouped(const std::vector<int32_t>& triangles, const std::ve
 
 }  // namespace
 
-void PhiEvaluator::evaluate(const std::vector<int32_t>& triangles, const std::vector<Vec3>& barycentrics,
-                            std::vector<PhiSample>& out, int threads) const {
-    out.resize(std::min(triangles.size(), barycentrics.size()));
-    for_each_query_grouped(triangles, barycentrics, static_cast<size_t>(impl_->p.num_coarse_triangles()), threads,
-                           [&](int32_t t, const Vec3& b, size_t i) { out[i] = impl_->evaluate(t, b); },
+namespace {
+
+// (Impl is deduced: PhiEvaluator::Impl is private.)
+template <class Impl, class Queries>
+void evaluate_samples(const Impl& impl, const Queries& queries, std::vector<PhiSample>& out,
+                      int threads) {
+    out.resize(queries.size());
+    for_each_query_grouped(queries, static_cast<size_t>(impl.p.num_coarse_triangles()), threads,
+                           [&](int32_t t, const Vec3& b, size_t i) { out[i] = impl.evaluate(t, b); },
                            [&](size_t i) {
                                // A PhiSample (80 bytes) may straddle two cache lines.
                                const char* a = reinterpret_cast<const char*>(out.data() + i);
@@ -441,16 +415,41 @@ void PhiEvaluator::evaluate(const std::vector<int32_t>& triangles, const std::ve
                            });
 }
 
-void PhiEvaluator::evaluate_positions(const std::vector<int32_t>& triangles, const std::vector<Vec3>& barycentrics,
-                                      std::vector<Vec3>& positions, int threads) const {
-    positions.resize(std::min(triangles.size(), barycentrics.size()));
-    for_each_query_grouped(triangles, barycentrics, static_cast<size_t>(impl_->p.num_coarse_triangles()), threads,
-                           [&](int32_t t, const Vec3& b, size_t i) { positions[i] = impl_->position(t, b); },
+template <class Impl, class Queries>
+void evaluate_positions_of(const Impl& impl, const Queries& queries, std::vector<Vec3>& positions,
+                           int threads) {
+    positions.resize(queries.size());
+    for_each_query_grouped(queries, static_cast<size_t>(impl.p.num_coarse_triangles()), threads,
+                           [&](int32_t t, const Vec3& b, size_t i) { positions[i] = impl.position(t, b); },
                            [&](size_t i) {
                                const char* a = reinterpret_cast<const char*>(positions.data() + i);
                                prefetch_line<true>(a);
                                prefetch_line<true>(a + sizeof(Vec3) - 1);
                            });
+}
+
+}  // namespace
+
+void PhiEvaluator::evaluate(const std::vector<int32_t>& triangles, const std::vector<Vec3>& barycentrics,
+                            std::vector<PhiSample>& out, int threads) const {
+    if (triangles.size() != barycentrics.size()) out.resize(std::min(triangles.size(), barycentrics.size()));
+    evaluate_samples(*impl_, ParallelQueries(triangles, barycentrics), out, threads);
+}
+
+void PhiEvaluator::evaluate(const std::vector<SurfacePoint>& points, std::vector<PhiSample>& out, int threads) const {
+    evaluate_samples(*impl_, PointQueries{points}, out, threads);
+}
+
+void PhiEvaluator::evaluate_positions(const std::vector<int32_t>& triangles, const std::vector<Vec3>& barycentrics,
+                                      std::vector<Vec3>& positions, int threads) const {
+    if (triangles.size() != barycentrics.size())
+        positions.resize(std::min(triangles.size(), barycentrics.size()));
+    evaluate_positions_of(*impl_, ParallelQueries(triangles, barycentrics), positions, threads);
+}
+
+void PhiEvaluator::evaluate_positions(const std::vector<SurfacePoint>& points, std::vector<Vec3>& positions,
+                                      int threads) const {
+    evaluate_positions_of(*impl_, PointQueries{points}, positions, threads);
 }
 
 }  // namespace bpm

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "bpm/parametrization.h"
+#include "bpm/surface_point.h"
 
 namespace bpm {
 
@@ -42,6 +43,8 @@ public:
     // \pre 0 <= coarse_triangle < #S.T, barycentric components >= 0 summing to 1
     //      (small rounding outside is tolerated: the nearest piece is used).
     PhiSample evaluate(int32_t coarse_triangle, const Vec3& barycentric) const;
+    // The same for point.triangle, point.barycentric (\pre likewise).
+    PhiSample evaluate(const SurfacePoint& point) const;
 
     // Batched: `triangles` #Q, `barycentrics` #Q; fills `out` (#Q) in query order. Large
     // batches are visited grouped by coarse triangle and split over `threads` threads
@@ -55,6 +58,15 @@ public:
     // equal to evaluate(...).position. Writes 24 instead of 80 bytes per query.
     void evaluate_positions(const std::vector<int32_t>& triangles, const std::vector<Vec3>& barycentrics,
                             std::vector<Vec3>& positions, int threads = 1) const;
+
+    // Both batched calls for queries given as SurfacePoints (#Q); the results are those of
+    // the calls above for the same triangles and barycentrics, bit for bit.
+    // \throw std::invalid_argument if threads < 0,
+    //        std::out_of_range for a triangle index outside [0, #S.T) (also for an invalid
+    //        SurfacePoint, triangle -1).
+    void evaluate(const std::vector<SurfacePoint>& points, std::vector<PhiSample>& out, int threads = 1) const;
+    void evaluate_positions(const std::vector<SurfacePoint>& points, std::vector<Vec3>& positions,
+                            int threads = 1) const;
 
 private:
     struct Impl;
