@@ -1023,6 +1023,13 @@ def all_suites(args, invocation):
                   "run with its positional interface (TOOL_DIR WORK_DIR) on the binaries built above, and its "
                   "standard output is copied below.")
 
+    # The deal.II experiment (paper §3): builds its own deal.II program in BUILD_DIR-dealii, notes a skip when
+    # deal.II is not installed.
+    dealii = os.path.join(BENCH, "dealii_torsion.py")
+    if os.path.exists(dealii):
+        external("dealii", "Solvers: deal.II torsion", dealii, [PYTHON, rel(dealii)], [("--levels", "2")],
+                 "dealii-torsion.md")
+
     step("corpus", "the whole libcgal-demo corpus", [rel(os.path.join(BENCH, "corpus.sh")), rel(args.build_dir)],
          args.external_timeout, [os.path.join(RESULTS, "corpus.md")])
 

@@ -23,6 +23,9 @@ declare -A NEED=(
   [hdf5-tools]=/usr/bin/h5dump
   [clang]=/usr/bin/clang++
   [libclang-rt-14-dev]=/usr/lib/llvm-14/lib/clang/14.0.6/lib/linux/libclang_rt.fuzzer-x86_64.a
+  # deal.II 9.4 for examples/dealii (-DBPM_WITH_DEALII=ON, scripts/test-dealii.sh); the
+  # proof is its CMake config, which find_package(deal.II) reads.
+  [libdeal.ii-dev]=/usr/share/cmake/deal.II/deal.IIConfig.cmake
 )
 missing=()
 for pkg in "${!NEED[@]}"; do
