@@ -15,6 +15,7 @@
 #include "bpm/errors.h"
 #include "bpm/phi_evaluation.h"
 #include "bpm/predicates.h"
+#include "boundary_repair_internal.h"
 #include "tetmesh_internal.h"
 
 namespace bpm {
@@ -60,17 +61,6 @@ struct State {
     std::vector<Vec3> param_bary;
 };
 
-bool positive(const State& s, size_t t) {
-    const Tet& x = s.tets[t];
-    const int o = orient3d(s.x[x[0]], s.x[x[1]], s.x[x[2]], s.x[x[3]]);
-    return s.negative[t] ? o == -1 : o == 1;
-}
-
-double oriented_volume(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, bool negative) {
-    const double v = dot(b - a, cross(c - a, d - a));
-    return negative ? -v : v;
-}
-
 }  // namespace
 
 TetRefineResult refine_tetmesh(const Parametrization& param, const TetMesh& coarse, const TetRefineOptions& options,
@@ -78,13 +68,7 @@ TetRefineResult refine_tetmesh(const Parametrization& param, const TetMesh& coar
     using clock = std::chrono::steady_clock;
     const auto start = clock::now();
     if (options.levels < 0) throw OptionError("the number of refinement levels must be >= 0");
-    if (options.bisection_steps < 1) throw OptionError("bisection_steps must be >= 1");
-    if (!(options.min_dihedral_degrees >= 0 && options.min_dihedral_degrees < 90))
-        throw OptionError("the remedy's minimum dihedral angle must be in [0, 90) degrees");
-    if (options.boundary_steps < 1) throw OptionError("boundary_steps must be >= 1");
-    if (options.retry_passes < 0) throw OptionError("retry_passes must be >= 0");
-    if (!(options.min_volume_fraction >= 0 && options.min_volume_fraction < 1))
-        throw OptionError("min_volume_fraction must be in [0, 1)");
+    detail::check_repair_options(options.repair);
     const double final_tets = double(coarse.tetrahedra.size()) * std::pow(8.0, options.levels);
     if (final_tets > double(std::numeric_limits<int32_t>::max()))
         throw OptionError("refining " + std::to_string(coarse.tetrahedra.size()) + " tetrahedra " +
@@ -145,29 +129,25 @@ TetRefineResult refine_tetmesh(const Parametrization& param, const TetMesh& coar
     PhiEvaluator phi(param);
     const double diagonal = bounding_box_diagonal(param.original);
     TetRefineResult result;
-    // Every boundary vertex v lies on the segment from base[v] (lambda = 1: the edge
-    // midpoint x it was created at, or its input position) to target[v] = phi(parameter
-    // position) (lambda = 0), at phi_fraction[v] = 1 - lambda. Coarse vertices and input
+    // Every boundary vertex v lies on the segment from seg.base[v] (lambda = 1: the edge
+    // midpoint x it was created at, or its input position) to seg.target[v] = phi(parameter
+    // position) (lambda = 0), at seg.fraction[v] = 1 - lambda. Coarse vertices and input
     // vertices already at phi have fraction 1; an input vertex off S0 (an earlier remedy)
     // starts at 0 and may get closer.
-    std::vector<Vec3> base(s.x.size(), Vec3{0, 0, 0}), target(s.x.size(), Vec3{0, 0, 0});
-    std::vector<double> phi_fraction(s.x.size(), 1.0);
+    detail::RepairSegments seg;
+    seg.base.assign(s.x.size(), Vec3{0, 0, 0});
+    seg.target.assign(s.x.size(), Vec3{0, 0, 0});
+    seg.fraction.assign(s.x.size(), 1.0);
     for (size_t v = 0; v < s.x.size(); ++v) {
         if (s.param_triangle[v] < 0) continue;
-        base[v] = s.x[v];
-        target[v] = s.coarse_vertex[v] >= 0 ? s.x[v] : phi.evaluate(s.param_triangle[v], s.param_bary[v]).position;
-        if (target[v] != base[v]) phi_fraction[v] = 0;
+        seg.base[v] = s.x[v];
+        seg.target[v] = s.coarse_vertex[v] >= 0 ? s.x[v] : phi.evaluate(s.param_triangle[v], s.param_bary[v]).position;
+        if (seg.target[v] != seg.base[v]) seg.fraction[v] = 0;
     }
-    auto place = [&](int32_t v) {
-        const double w = phi_fraction[v];
-        s.x[v] = w == 1.0 ? target[v] : (w == 0.0 ? base[v] : (1 - w) * base[v] + w * target[v]);
-    };
     auto off_surface = [&](size_t v) {
-        return options.move_to_surface && s.param_triangle[v] >= 0 && phi_fraction[v] < 1 && s.x[v] != target[v];
+        return options.move_to_surface && s.param_triangle[v] >= 0 && seg.fraction[v] < 1 && s.x[v] != seg.target[v];
     };
     std::vector<char> movable;  // interior vertices, for smoothing
-    TetSmoothOptions smoothing = options.smoothing;
-    if (options.smooth) detail::check_smooth_options(smoothing);
 
     for (int level = 0; level < options.levels; ++level) {
         const double base_progress = double(level) / options.levels;
@@ -260,9 +240,9 @@ TetRefineResult refine_tetmesh(const Parametrization& param, const TetMesh& coar
         //    would invert or collapse), in steps, smoothing the interior after each.
         TetRefineLevel info;
         const std::vector<Vec3> reference = s.x;  // plain red refinement: new vertices at the midpoints x
-        base.resize(nv);
-        target.resize(nv);
-        phi_fraction.resize(nv, 1.0);
+        seg.base.resize(nv);
+        seg.target.resize(nv);
+        seg.fraction.resize(nv, 1.0);
         std::vector<int32_t> fresh;  // new boundary vertices
         for (size_t v = nv_old; v < nv; ++v)
             if (s.param_triangle[v] >= 0) fresh.push_back(static_cast<int32_t>(v));
@@ -278,154 +258,41 @@ TetRefineResult refine_tetmesh(const Parametrization& param, const TetMesh& coar
             phi.evaluate(triangles, barycentrics, samples, 1);
             for (size_t i = 0; i < fresh.size(); ++i) {
                 const int32_t v = fresh[i];
-                base[v] = s.x[v];
-                target[v] = samples[i].position;
-                phi_fraction[v] = target[v] == base[v] ? 1.0 : 0.0;
+                seg.base[v] = s.x[v];
+                seg.target[v] = samples[i].position;
+                seg.fraction[v] = seg.target[v] == seg.base[v] ? 1.0 : 0.0;
             }
         }
         // Vertices that move: the new boundary vertices and every older one still off S0.
         std::vector<int32_t> movers;
         if (options.move_to_surface)
             for (size_t v = 0; v < nv; ++v)
-                if (s.param_triangle[v] >= 0 && phi_fraction[v] < 1) movers.push_back(static_cast<int32_t>(v));
-        std::vector<int32_t> mover_index(nv, -1);
-        for (size_t i = 0; i < movers.size(); ++i) mover_index[movers[i]] = static_cast<int32_t>(i);
-        // Tetrahedra around each mover (CSR).
-        std::vector<int64_t> offsets(movers.size() + 1, 0);
-        for (const Tet& t : s.tets)
-            for (int32_t v : t)
-                if (mover_index[v] >= 0) ++offsets[mover_index[v] + 1];
-        for (size_t i = 0; i < movers.size(); ++i) offsets[i + 1] += offsets[i];
-        std::vector<int32_t> incident(static_cast<size_t>(offsets.back()));
-        {
-            std::vector<int64_t> fill(offsets.begin(), offsets.end() - 1);
-            for (size_t t = 0; t < s.tets.size(); ++t)
-                for (int32_t v : s.tets[t])
-                    if (mover_index[v] >= 0) incident[fill[mover_index[v]]++] = static_cast<int32_t>(t);
-        }
-        // Admissible: every tetrahedron around the vertex positively oriented (exact), and
-        // with at least min_volume_fraction of its plain-refinement volume, or no smaller
-        // than before the move.
-        const double fraction = options.min_volume_fraction;
-        auto volume = [&](size_t t, const std::vector<Vec3>& x) {
-            const Tet& T = s.tets[t];
-            return oriented_volume(x[T[0]], x[T[1]], x[T[2]], x[T[3]], s.negative[t]);
-        };
-        std::vector<double> before, before_angle;
-        constexpr double kDegree = 3.14159265358979323846 / 180;
-        // The angle bound as a pseudo-angle (detail::min_dihedral_pseudo); -3 = none.
-        const double guard =
-            options.min_dihedral_degrees > 0 ? detail::pseudo_from_radians(options.min_dihedral_degrees * kDegree) : -3;
-        auto angle = [&](size_t t) {
-            Tet T = s.tets[t];
-            if (s.negative[t]) std::swap(T[2], T[3]);
-            return detail::min_dihedral_pseudo(s.x[T[0]], s.x[T[1]], s.x[T[2]], s.x[T[3]]);
-        };
-        auto admissible = [&](size_t i) {
-            for (int64_t k = offsets[i]; k < offsets[i + 1]; ++k) {
-                const size_t t = static_cast<size_t>(incident[k]);
-                if (!positive(s, t)) return false;
-                if (guard > -3) {
-                    const double q = angle(t);
-                    if (q < guard && q < before_angle[k - offsets[i]]) return false;
-                }
-                if (fraction <= 0) continue;
-                const double now = volume(t, s.x);
-                if (now < fraction * volume(t, reference) && now < before[k - offsets[i]]) return false;
-            }
-            return true;
-        };
-        // Moves mover i towards phi, up to fraction `goal`, as far as admissible (bisection);
-        // its tetrahedra are admissible where it is now, so it never goes backwards.
-        auto advance = [&](size_t i, double goal) {
-            const int32_t v = movers[i];
-            const double from = phi_fraction[v];
-            before.clear();
-            before_angle.clear();
-            for (int64_t k = offsets[i]; k < offsets[i + 1]; ++k) {
-                before.push_back(volume(incident[k], s.x));
-                if (guard > -3) before_angle.push_back(angle(incident[k]));
-            }
-            phi_fraction[v] = goal;
-            place(v);
-            if (admissible(i)) return true;
-            double lo = from, hi = goal;
-            for (int step = 0; step < options.bisection_steps; ++step) {
-                const double mid = 0.5 * (lo + hi);
-                phi_fraction[v] = mid;
-                place(v);
-                if (admissible(i)) lo = mid;
-                else hi = mid;
-            }
-            phi_fraction[v] = lo;
-            place(v);
-            return lo > from;
-        };
+                if (s.param_triangle[v] >= 0 && seg.fraction[v] < 1) movers.push_back(static_cast<int32_t>(v));
         movable.assign(nv, 0);
         for (size_t v = 0; v < nv; ++v) movable[v] = s.param_triangle[v] < 0;
         const double span = 1.0 / options.levels;
-        std::vector<char> dirty(nv, 1);  // see detail::smooth_interior
-        auto smooth = [&](double from, double width) {
-            const TetSmoothResult r = detail::smooth_interior(s.x, s.tets, s.negative, movable, &dirty, smoothing,
-                                                              context, base_progress + from * span, width * span);
-            info.smoothing_seconds += r.seconds;
-            context.debug("smoothing: " + std::to_string(r.visits) + " visits, " + std::to_string(r.moves) +
-                          " moves, " + std::to_string(r.moved_vertices) + " vertices, min dihedral " +
-                          std::to_string(r.min_dihedral_before_degrees) + " -> " +
-                          std::to_string(r.min_dihedral_after_degrees) + " degrees, " + std::to_string(r.seconds) +
-                          " s");
-        };
-        const int steps = options.boundary_steps;
-        const int passes = movers.empty() ? 0 : steps + options.retry_passes;
-        bool smoothed = false;
-        for (int pass = 1; pass <= passes; ++pass) {
-            const double goal = pass >= steps ? 1.0 : double(pass) / steps;
-            int64_t advanced = 0;
-            // After the first smoothing, only the surroundings of boundary vertices that move
-            // again are smoothed again (what moves there marks its own neighbours).
-            if (smoothed) std::fill(dirty.begin(), dirty.end(), 0);
-            for (size_t i = 0; i < movers.size(); ++i)
-                if (phi_fraction[movers[i]] < goal && advance(i, goal)) {
-                    ++advanced;
-                    for (int64_t k = offsets[i]; k < offsets[i + 1]; ++k)
-                        for (int32_t u : s.tets[incident[k]]) dirty[u] = 1;
-                }
-            if (pass > steps && advanced == 0) break;  // a retry that got no vertex closer
-            context.report(base_progress + (0.3 + 0.6 * (pass - 1) / passes) * span,
-                           "level " + std::to_string(level + 1) + ": boundary vertices towards phi");
-            if (options.smooth) {
-                smooth(0.3 + 0.6 * (pass - 0.5) / passes, 0.3 / passes);
-                smoothed = true;
-            }
-        }
-        if (options.smooth && !smoothed) smooth(0.3, 0.6);
+        info.smoothing_seconds = detail::repair_boundary_vertices(
+            s.x, s.tets, s.negative, reference, movers, movable, seg, options.repair, context,
+            base_progress + 0.3 * span, 0.6 * span, "level " + std::to_string(level + 1) + ": boundary vertices towards phi");
 
         for (int32_t v : fresh)
             if (off_surface(v)) {
                 ++info.remedied_vertices;
-                if (phi_fraction[v] == 0) ++info.flat_vertices;
+                if (seg.fraction[v] == 0) ++info.flat_vertices;
             }
         for (size_t v = 0; v < nv; ++v) {
             if (off_surface(v)) {
                 ++info.off_surface_vertices;
-                info.max_remedy_distance = std::max(info.max_remedy_distance, distance(s.x[v], target[v]));
+                info.max_remedy_distance = std::max(info.max_remedy_distance, distance(s.x[v], seg.target[v]));
             }
             if (movable[v] && s.x[v] != reference[v]) ++info.smoothed_vertices;
         }
         {
-            const double one = detail::pseudo_from_radians(kDegree), five = detail::pseudo_from_radians(5 * kDegree),
-                         ten = detail::pseudo_from_radians(10 * kDegree);
-            double low = 2;
-            for (size_t t = 0; t < s.tets.size(); ++t) {
-                Tet T = s.tets[t];
-                if (s.negative[t]) std::swap(T[2], T[3]);
-                const double q = detail::min_dihedral_pseudo(s.x[T[0]], s.x[T[1]], s.x[T[2]], s.x[T[3]]);
-                low = std::min(low, q);
-                info.below_1_degree += q < one;
-                info.below_5_degrees += q < five;
-                info.below_10_degrees += q < ten;
-            }
-            info.min_dihedral_degrees = s.tets.empty() ? 0 : detail::radians_from_pseudo(low) / kDegree;
+            const detail::TetQuality q = detail::tet_quality(s.x, s.tets, s.negative);
+            info.min_dihedral_degrees = q.min_dihedral_degrees;
+            info.below_1_degree = q.below_1_degree;
+            info.below_5_degrees = q.below_5_degrees;
+            info.below_10_degrees = q.below_10_degrees;
         }
         info.vertices = static_cast<int64_t>(s.x.size());
         info.tetrahedra = static_cast<int64_t>(s.tets.size());
@@ -440,8 +307,8 @@ TetRefineResult refine_tetmesh(const Parametrization& param, const TetMesh& coar
     for (size_t v = 0; v < s.x.size(); ++v)
         if (off_surface(v)) {
             ++result.remedied_vertices;
-            result.max_remedy_distance = std::max(result.max_remedy_distance, distance(s.x[v], target[v]));
-            result.min_phi_fraction = std::min(result.min_phi_fraction, phi_fraction[v]);
+            result.max_remedy_distance = std::max(result.max_remedy_distance, distance(s.x[v], seg.target[v]));
+            result.min_phi_fraction = std::min(result.min_phi_fraction, seg.fraction[v]);
         }
     if (!options.move_to_surface) result.min_phi_fraction = options.levels > 0 ? 0 : 1;
     result.max_remedy_distance_relative = diagonal > 0 ? result.max_remedy_distance / diagonal : 0;

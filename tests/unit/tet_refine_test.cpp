@@ -126,7 +126,7 @@ TEST_CASE("tet_refine: Bey's rule keeps the shape classes (min dihedral angle st
     const TetMesh coarse = mesh_of(p);
     TetRefineOptions o;
     o.move_to_surface = false;
-    o.smooth = false;
+    o.repair.smooth = false;
     TetMesh one, three;
     o.levels = 1;
     refine_tetmesh(p, coarse, o, {}, one);
@@ -168,7 +168,7 @@ TEST_CASE("tet_refine: the lambda remedy keeps every tetrahedron positive at a c
 
     TetRefineOptions o;
     o.levels = 1;
-    o.min_volume_fraction = 0;  // the paper's rule: positive volume only
+    o.repair.min_volume_fraction = 0;  // the paper's rule: positive volume only
     TetMesh fine;
     const TetRefineResult r = refine_tetmesh(p, coarse, o, {}, fine);
     CHECK(count_inverted(fine) == 0);
@@ -245,13 +245,13 @@ TEST_CASE("tet_refine: multi-material meshes keep their regions and interface fa
     o.levels = -1;
     CHECK_THROWS_AS(refine_tetmesh(p, coarse, o, {}, fine), OptionError);
     o.levels = 1;
-    o.min_dihedral_degrees = -1;
+    o.repair.min_dihedral_degrees = -1;
     CHECK_THROWS_AS(refine_tetmesh(p, coarse, o, {}, fine), OptionError);
-    o.min_dihedral_degrees = 5;
-    o.boundary_steps = 0;
+    o.repair.min_dihedral_degrees = 5;
+    o.repair.boundary_steps = 0;
     CHECK_THROWS_AS(refine_tetmesh(p, coarse, o, {}, fine), OptionError);
-    o.boundary_steps = 1;
-    o.smoothing.sweeps = -1;
+    o.repair.boundary_steps = 1;
+    o.repair.smoothing.sweeps = -1;
     CHECK_THROWS_AS(refine_tetmesh(p, coarse, o, {}, fine), OptionError);
 }
 
@@ -300,9 +300,9 @@ TEST_CASE("tet_smooth: smoothing the interior never inverts, raises the worst an
     // positive (the paper's rule), not smoothed.
     TetRefineOptions o;
     o.levels = 1;
-    o.smooth = false;
-    o.min_volume_fraction = 0;
-    o.min_dihedral_degrees = 0;
+    o.repair.smooth = false;
+    o.repair.min_volume_fraction = 0;
+    o.repair.min_dihedral_degrees = 0;
     TetMesh moved;
     refine_tetmesh(p, coarse, o, {}, moved);
     TetRefineOptions flat = o;
@@ -361,7 +361,7 @@ TEST_CASE("tet_refine: smoothing during refinement beats smoothing off, with the
     TetRefineOptions on;
     on.levels = 2;
     TetRefineOptions off = on;
-    off.smooth = false;
+    off.repair.smooth = false;
     TetMesh a, b;
     const TetRefineResult ra = refine_tetmesh(p, coarse, on, {}, a);
     const TetRefineResult rb = refine_tetmesh(p, coarse, off, {}, b);
@@ -398,25 +398,25 @@ TEST_CASE("tet_refine: the remedy's angle bound keeps slivers from forming at th
     const TetMesh coarse = plain_mesh_of(p);
     TetRefineOptions o;
     o.levels = 1;
-    o.min_volume_fraction = 0;
+    o.repair.min_volume_fraction = 0;
     TetRefineOptions flat = o;
     flat.move_to_surface = false;
-    flat.smooth = false;
+    flat.repair.smooth = false;
     TetMesh plain;
     refine_tetmesh(p, coarse, flat, {}, plain);
     REQUIRE(min_dihedral(plain) > 10);
     for (bool smooth : {false, true}) {
         INFO("smoothing " << smooth);
-        o.smooth = smooth;
+        o.repair.smooth = smooth;
         // Each move of a boundary vertex keeps the tetrahedra around it at min(bound, what
         // they had), starting from plain red refinement; smoothing never lowers the minimum.
-        o.min_dihedral_degrees = 5;
+        o.repair.min_dihedral_degrees = 5;
         TetMesh bounded, unbounded;
         const TetRefineResult r = refine_tetmesh(p, coarse, o, {}, bounded);
         CHECK(min_dihedral(bounded) >= 5 - 1e-6);
         CHECK(count_inverted(bounded) == 0);
         CHECK(count_off_surface(p, bounded) == r.remedied_vertices);
-        o.min_dihedral_degrees = 0;  // positive volume only: slivers where nothing smooths them
+        o.repair.min_dihedral_degrees = 0;  // positive volume only: slivers where nothing smooths them
         refine_tetmesh(p, coarse, o, {}, unbounded);
         CHECK(count_inverted(unbounded) == 0);
         if (!smooth) CHECK(min_dihedral(unbounded) < 1);

@@ -108,9 +108,9 @@ int main(int argc, char** argv) {
             bpm::TetRefineOptions ro;
             ro.levels = refine_levels;
             ro.move_to_surface = !flat;
-            ro.min_volume_fraction = min_volume_fraction;
-            ro.min_dihedral_degrees = remedy_min_dihedral;
-            ro.smooth = !no_smooth;
+            ro.repair.min_volume_fraction = min_volume_fraction;
+            ro.repair.min_dihedral_degrees = remedy_min_dihedral;
+            ro.repair.smooth = !no_smooth;
             bpm::TetMesh fine;
             refine_result = bpm::refine_tetmesh(file.param, *file.tetmesh, ro, context, fine);
             file.tetmesh = std::move(fine);

@@ -42,8 +42,8 @@ int refine_volume(const std::string& tool, int argc, char** argv, const std::str
         throw bpm::InputError(input, "has no tetrahedral mesh (make one with bpm-mesh first)");
     bpm::TetRefineOptions options;
     options.levels = levels;
-    options.smooth = smooth;
-    options.min_dihedral_degrees = remedy_min_dihedral;
+    options.repair.smooth = smooth;
+    options.repair.min_dihedral_degrees = remedy_min_dihedral;
     bpm::TetMesh fine;
     const bpm::TetRefineResult r = bpm::refine_tetmesh(file.param, *file.tetmesh, options, context, fine);
     char line[512];

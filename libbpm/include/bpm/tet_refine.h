@@ -16,8 +16,8 @@
 // lambda = 1 is plain red refinement, which is always valid because the children of a
 // positive tetrahedron are positive. To avoid nearly flat elements at the bisection's
 // limit, "admissible" also asks each tetrahedron to keep a fraction of its red-refinement
-// volume (TetRefineOptions::min_volume_fraction) and a smallest dihedral angle
-// (TetRefineOptions::min_dihedral_degrees), or at least not to lose any; both 0 is the
+// volume (BoundaryRepairOptions::min_volume_fraction) and a smallest dihedral angle
+// (BoundaryRepairOptions::min_dihedral_degrees), or at least not to lose any; both 0 is the
 // paper's rule, positivity only. (The paper writes "lambda = 0 corresponds to standard
 // red-green refinement"; with its formula that is lambda = 1.)
 //
@@ -28,7 +28,10 @@
 // and every boundary vertex still short of phi, of this level or an earlier one, is
 // retried: smoothing often makes room, so fewer vertices stay off S0. The boundary can
 // also approach phi in several steps with smoothing in between (boundary_steps; on the
-// benchmark meshes one step did as well). Each level is finished (placed, smoothed) before
+// benchmark meshes one step did as well). This step 4 of each level is the repair a solver
+// applies to its own refined grid (bpm/boundary_repair.h, the same implementation; here a
+// vertex held back at one level is retried later on the segment from the midpoint it was
+// created at, which is the same line the solver's call uses). Each level is finished (placed, smoothed) before
 // the next one is cut, so new midpoints are those of the smoothed mesh. Vertices on S
 // never move except towards phi along their own segment from x; vertex indices, the
 // connectivity and the parameter positions are those of plain red refinement.
@@ -44,43 +47,21 @@
 #include <string>
 #include <vector>
 
+#include "bpm/boundary_repair.h"
 #include "bpm/context.h"
 #include "bpm/parametrization.h"
 #include "bpm/tetmesh.h"
-#include "bpm/tetmesh_smooth.h"
 
 namespace bpm {
 
 struct TetRefineOptions {
     int levels = 1;                // K >= 0 uniform refinement steps (each multiplies #Tet by 8)
     bool move_to_surface = true;   // false: boundary vertices stay on S (plain red refinement of the boundary)
-    int bisection_steps = 30;      // for the largest admissible 1-lambda
-    // A position is admissible when every tetrahedron around the vertex is positively
-    // oriented (exact orient3d) and keeps at least this fraction of the volume it has in
-    // plain red refinement (its new vertices at the edge midpoints x), or does not shrink
-    // from where it is. 0 is the paper's rule (positive volume only), which lets the
-    // bisection stop at nearly flat slivers; the default keeps a margin. Relative to each
-    // element, so independent of units.
-    double min_volume_fraction = 0.1;
-    // Admissible also asks every tetrahedron around the vertex to keep a smallest dihedral
-    // angle of at least this many degrees, or not to lose any (0 = no such condition).
-    // Trades distance to S0 for element quality where smoothing cannot help (tetrahedra
-    // whose four vertices are all on S, which a curved S0 flattens). On the benchmark
-    // meshes 5 keeps the minimum angle at a few degrees for a slightly larger number of
-    // vertices off S0 and the same volume convergence (bench/results/tetmesh.md).
-    double min_dihedral_degrees = 5;
-    // The boundary vertices of a level approach phi in boundary_steps steps: in step s
-    // each goes to the largest admissible 1-lambda <= s / boundary_steps, and the interior
-    // is smoothed after every step. Then up to retry_passes more passes retry every
-    // boundary vertex still off S0 (this level's and earlier levels'), each followed by
-    // smoothing; they stop early when no vertex gets closer.
-    int boundary_steps = 1;        // >= 1
-    int retry_passes = 4;          // >= 0
-    // Interior smoothing (bpm/tetmesh_smooth.h) after each placement of the boundary
-    // vertices: only vertices not on S move (interfaces between regions are on S), the
-    // smallest dihedral angle around a moved vertex only grows, and no tetrahedron inverts.
-    bool smooth = true;
-    TetSmoothOptions smoothing;
+    // What follows the red refinement of each level (bpm/boundary_repair.h, the call a
+    // solver makes after refining its own grid): the new boundary vertices, and those of
+    // earlier levels still short of phi, move towards phi as far as admissible (not with
+    // move_to_surface = false), and the interior vertices are smoothed (repair.smooth).
+    BoundaryRepairOptions repair;
 };
 
 struct TetRefineLevel {

@@ -1,0 +1,143 @@
+#pragma once
+// Repair after a solver refines: move the boundary vertices of a refined tetrahedral mesh
+// onto the original surface S0 through phi without inverting a tetrahedron (Krause &
+// Sander §3.3), and smooth the interior.
+//
+// A solver that refines its own grid of a bpm tet mesh (DUNE's UGGrid, deal.II) creates
+// each new boundary vertex at the midpoint of a boundary edge, on the flat boundary of the
+// coarser level, and knows its parameter point (bpm/surface_point.h; the midpoint of its
+// edge ends' parameter points). Putting such a vertex at phi(parameter point) can invert
+// or flatten the thin tetrahedra next to the boundary. After each adapt step the solver
+// calls repair_boundary on its (leaf) grid, which does what bpm-refine --volume does
+// after each of its own levels (bpm/tet_refine.h uses the same implementation):
+//
+//   1. every boundary vertex v (parameter_points[v].valid()) whose position x is not
+//      exactly phi(p), p = parameter_points[v], moves along the straight segment from x
+//      towards phi(p), to lambda*x + (1-lambda)*phi(p) with the largest 1-lambda in [0, 1]
+//      (bisection) at which the position is admissible: every tetrahedron around v is
+//      positively oriented (exact orient3d) and keeps at least min_volume_fraction of its
+//      volume on entry, or does not shrink from where it is, and keeps a smallest dihedral
+//      angle of min_dihedral_degrees, or does not lose any. 1-lambda = 1 is phi(p); 0 is
+//      where the vertex was (always admissible for a positive mesh). With
+//      boundary_steps > 1 the vertices approach phi(p) in that many steps.
+//   2. the interior vertices (parameter point invalid) are smoothed (bpm/tetmesh_smooth.h:
+//      never inverting a tetrahedron, never making the worst one around a vertex worse);
+//   3. every boundary vertex still short of phi(p) is retried from where it now is, then
+//      the interior is smoothed again, up to retry_passes times, stopping when no vertex
+//      gets closer (smoothing often makes room).
+//
+// A vertex whose parameter point is a corner of its coarse triangle (a barycentric
+// coordinate exactly 1) is a coarse vertex (level-0 vertex i of a grid built from the .bpm
+// file is coarse vertex i): coarse vertices are original vertices, which phi maps to
+// themselves, so it keeps its position and counts as at phi. (PhiEvaluator's value there
+// may differ from the coarse vertex by rounding.)
+//
+// Vertices held back by an earlier call: the call keeps no state between calls. A vertex
+// that an earlier call left at lambda*x + (1-lambda)*phi(p) lies on the segment from its
+// flat position x to phi(p), so moving it from where it is towards phi(p) continues on the
+// same segment: each call gives it another chance, and the solver only keeps positions and
+// parameter points (which it needs anyway). 1-lambda in the result refers to this call's
+// segments (from the position on entry). Boundary vertices exactly at phi(p) are not
+// touched, so calling twice leaves every vertex already at phi bit for bit where it is.
+//
+// Contract.
+//   The solver guarantees: every tetrahedron is positively oriented,
+//   orient3d(x0, x1, x2, x3) == +1 (det[x1-x0, x2-x0, x3-x0] > 0; the convention of
+//   bpm/tetmesh.h), as plain refinement of a positive mesh gives when new boundary vertices
+//   are at their edge midpoints. A solver whose grid already put new boundary vertices at
+//   phi (a UG BoundarySegment or a deal.II Manifold returning phi) may have inverted
+//   tetrahedra: it should put its new boundary vertices back at the midpoints of their
+//   edges before the call and let the call move them.
+//   It gets: no tetrahedron that was positively oriented on entry is inverted or flat on
+//   exit (result.inverted_after <= result.inverted_before, 0 when 0 before). Tetrahedra
+//   that are inverted on entry are allowed: a boundary vertex next to one moves only to
+//   positions where all its tetrahedra are positive, interior smoothing may untangle them.
+//   Boundary vertices move only along their own segment towards phi(p); interior vertices
+//   move only by smoothing; the connectivity and the parameter points are not changed.
+//
+// Typical use (after each refinement of the solver's grid):
+//     bpm::PhiEvaluator phi(file.param);                  // once
+//     ... adapt; collect the leaf vertices (positions, new boundary vertices at their edge
+//         midpoints), the leaf tetrahedra and each vertex's parameter point ...
+//     bpm::BoundaryRepairResult r = bpm::repair_boundary(phi, positions, tets, points);
+//     ... write positions back into the grid (UGGrid::setPosition, deal.II's vertices) ...
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "bpm/context.h"
+#include "bpm/geometry.h"
+#include "bpm/phi_evaluation.h"
+#include "bpm/surface_point.h"
+#include "bpm/tetmesh_smooth.h"
+
+namespace bpm {
+
+using Tet = std::array<int32_t, 4>;  // four vertex indices (also in bpm/tetmesh.h)
+
+struct BoundaryRepairOptions {
+    int bisection_steps = 30;  // >= 1: bisection steps for the largest admissible 1-lambda
+    // A position is admissible when every tetrahedron around the vertex is positively
+    // oriented (exact orient3d) and keeps at least this fraction of the volume it has on
+    // entry (plain refinement: the new vertices at the edge midpoints), or does not shrink
+    // from where it is. 0 is the paper's rule (positive volume only), which lets the
+    // bisection stop at nearly flat slivers; the default keeps a margin. Relative to each
+    // element, so independent of units. In [0, 1).
+    double min_volume_fraction = 0.1;
+    // Admissible also asks every tetrahedron around the vertex to keep a smallest dihedral
+    // angle of at least this many degrees, or not to lose any (0 = no such condition).
+    // Trades distance to S0 for element quality where smoothing cannot help (tetrahedra
+    // whose four vertices are all on S, which a curved S0 flattens). In [0, 90).
+    double min_dihedral_degrees = 5;
+    // The boundary vertices approach phi in boundary_steps steps: in step s each goes to
+    // the largest admissible 1-lambda <= s / boundary_steps, and the interior is smoothed
+    // after every step. Then up to retry_passes more passes retry every boundary vertex
+    // still short of phi, each followed by smoothing; they stop early when no vertex gets
+    // closer.
+    int boundary_steps = 1;  // >= 1
+    int retry_passes = 4;    // >= 0
+    // Interior smoothing (bpm/tetmesh_smooth.h) after each placement of the boundary
+    // vertices: only vertices without a parameter point move, the smallest dihedral angle
+    // around a moved vertex only grows, and no tetrahedron inverts.
+    bool smooth = true;
+    TetSmoothOptions smoothing;
+};
+
+struct BoundaryRepairResult {
+    int64_t boundary_vertices = 0;   // vertices with a valid parameter point
+    int64_t at_phi_before = 0;       // of those, exactly at phi(parameter point) on entry (not touched)
+    int64_t at_phi = 0;              // of those, exactly at phi(parameter point) on exit
+    int64_t held_back = 0;           // boundary_vertices - at_phi: short of phi on exit (the §3.3 remedy)
+    int64_t not_moved = 0;           // of those, not moved at all (no step towards phi admissible)
+    double max_distance = 0;         // largest |x - phi(p)| of a held-back vertex, model units
+    double max_distance_relative = 0;  // the same over the bounding-box diagonal of the vertices on exit
+    double min_phi_fraction = 1;     // smallest 1-lambda of a vertex on this call's segment (1: all at phi)
+    int64_t smoothed_vertices = 0;   // interior vertices that moved
+    double min_dihedral_degrees = 0; // smallest dihedral angle of the mesh on exit (0 for no tetrahedra)
+    int64_t inverted_before = 0;     // tetrahedra not positively oriented on entry (exact orient3d)
+    int64_t inverted_after = 0;      // the same on exit: <= inverted_before, 0 if it was 0
+    double seconds = 0;              // wall time of the call
+};
+
+// Moves the boundary vertices of the tetrahedral mesh (vertices, tetrahedra) towards phi
+// of their parameter points and smooths its interior vertices (see the top of this file).
+// `vertices`: #V positions, in/out (model units). `tetrahedra`: #T vertex indices, each
+// positively oriented. `parameter_points`: #V, the point of the coarse surface S of each
+// boundary vertex (triangle >= 0, barycentric in that coarse triangle); triangle = -1 for
+// interior vertices, which smoothing may move. `phi` is the evaluator of the .bpm file the
+// mesh was made from. The result does not depend on the Context.
+// \pre the tetrahedra are positively oriented (those that are not are counted in
+//      inverted_before and allowed); barycentrics valid for phi (>= 0, sum 1, rounding
+//      tolerated).
+// \throw OptionError for options out of range (see BoundaryRepairOptions; smoothing as
+//        smooth_tetmesh), std::invalid_argument if parameter_points.size() != #V, a
+//        tetrahedron index is outside [0, #V) or a coordinate is not finite,
+//        std::out_of_range for a parameter point's coarse triangle outside [0, #S.T),
+//        Cancelled through the progress callback.
+BoundaryRepairResult repair_boundary(const PhiEvaluator& phi, std::vector<Vec3>& vertices,
+                                     const std::vector<Tet>& tetrahedra,
+                                     const std::vector<SurfacePoint>& parameter_points,
+                                     const BoundaryRepairOptions& options = {}, const Context& context = {});
+
+}  // namespace bpm

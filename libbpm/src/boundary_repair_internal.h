@@ -1,0 +1,51 @@
+#pragma once
+// The boundary repair shared by repair_boundary (bpm/boundary_repair.h) and
+// refine_tetmesh's step 4 (bpm/tet_refine.h); not public API.
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "bpm/boundary_repair.h"
+#include "bpm/context.h"
+
+namespace bpm::detail {
+
+// Where each boundary vertex v is on its way to phi: on the segment from base[v]
+// (1-lambda = 0) to target[v] (1-lambda = 1), at fraction[v] = 1-lambda. All #V long;
+// fraction is 1 for vertices that do not move (interior ones included). refine_tetmesh
+// keeps them across levels, so that a vertex held back at one level is retried later on
+// its original segment.
+struct RepairSegments {
+    std::vector<Vec3> base, target;
+    std::vector<double> fraction;
+};
+
+// \throw OptionError for options repair_boundary refuses (smoothing included when
+// options.smooth).
+void check_repair_options(const BoundaryRepairOptions& options);
+
+// Steps 1-3 of bpm/boundary_repair.h on raw arrays: moves the vertices `movers` (indices,
+// each with fraction < 1, in the order they are visited) from where they are (x[v], on
+// their segment at fraction[v]) towards their target, and smooths the vertices with
+// movable[v] != 0 (never a mover). tets[t] is positively oriented, or negatively where
+// negative[t] (negative may be empty: all positive). `reference` (#V) gives the volumes
+// min_volume_fraction refers to. x and segments.fraction are updated; x[v] of a mover is
+// always (1-w)*base + w*target of its fraction w (exactly base at 0, target at 1).
+// Progress goes to context in [progress_base, progress_base + progress_span], labelled
+// `stage`. Returns the seconds spent smoothing.
+double repair_boundary_vertices(std::vector<Vec3>& x, const std::vector<Tet>& tets, const std::vector<bool>& negative,
+                                const std::vector<Vec3>& reference, const std::vector<int32_t>& movers,
+                                const std::vector<char>& movable, RepairSegments& segments,
+                                const BoundaryRepairOptions& options, const Context& context, double progress_base,
+                                double progress_span, const std::string& stage);
+
+// The smallest dihedral angle (degrees, 0 for no tetrahedra) and the number of tetrahedra
+// with one below 1, 5 and 10 degrees; tets oriented as for repair_boundary_vertices.
+struct TetQuality {
+    double min_dihedral_degrees = 0;
+    int64_t below_1_degree = 0, below_5_degrees = 0, below_10_degrees = 0;
+};
+TetQuality tet_quality(const std::vector<Vec3>& x, const std::vector<Tet>& tets, const std::vector<bool>& negative);
+
+}  // namespace bpm::detail
