@@ -66,7 +66,12 @@ public:
 
     const Parametrization& parametrization() const { return param_; }
     const PhiEvaluator& phi() const { return phi_; }
-    bool applies_phi() const { return apply_phi_; }
+    bool applies_phi() const { return apply_phi_.load(); }
+    // Switches placement (phi, or the weighted average) for the points made from now on;
+    // the parameter points are recorded either way. The adapter's refinement with repair
+    // lets deal.II place new points at the midpoints and the repair move them to phi
+    // (bpm/dealii/global_refinement.h).
+    void set_applies_phi(bool apply_phi) { apply_phi_.store(apply_phi); }
 
     // Inverse phi for positions the map does not know (e.g. bpm::PhiInverse); returns an
     // invalid SurfacePoint when it finds none.
@@ -113,7 +118,7 @@ public:
             fallbacks_.fetch_add(1);
             return average;
         }
-        const Vec3 x = apply_phi_ ? phi_.evaluate(combined.triangle, combined.barycentric).position : average;
+        const Vec3 x = apply_phi_.load() ? phi_.evaluate(combined.triangle, combined.barycentric).position : average;
         const_cast<PhiBoundary*>(this)->remember(x, combined);
         return x;
     }
@@ -203,7 +208,7 @@ private:
 
     const Parametrization& param_;
     PhiEvaluator phi_;
-    bool apply_phi_;
+    std::atomic<bool> apply_phi_;
     std::vector<std::vector<int32_t>> vertex_triangles_;  // coarse vertex -> coarse triangles around it
     mutable std::mutex mutex_;
     std::unordered_map<Key, SurfacePoint, KeyHash> known_;

@@ -39,6 +39,7 @@
 #include <array>
 #include <memory>
 #include <set>
+#include <stdexcept>
 #include <string>
 #include <unordered_set>
 #include <vector>
@@ -46,6 +47,7 @@
 #include "bpm/bpm_file.h"
 #include "bpm/dealii/phi_manifold.h"
 #include "bpm/errors.h"
+#include "bpm/phi_inverse.h"
 #include "bpm/predicates.h"
 #include "bpm/tetmesh.h"
 
@@ -97,6 +99,10 @@ public:
         for (size_t i = 0; i < m.vertices.size(); ++i)
             if (m.vertex_parameter_triangle[i] >= 0)
                 boundary_->remember(m.vertices[i], SurfacePoint{m.vertex_parameter_triangle[i], m.vertex_parameter_barycentric[i]});
+        // Positions the boundary does not know (a vertex moved by code other than the
+        // adapter's) are taken to the parameter point of their closest point on S0.
+        auto inverse = std::make_shared<const PhiInverse>(file.param);
+        boundary_->inverse = [inverse](const Vec3& x) { return inverse->from_position(x).point; };
         tria_.set_manifold(kPhiManifoldId, PhiManifold(boundary_));
         level0_coarse_vertex_ = m.vertex_coarse_vertex;
     }
@@ -155,6 +161,40 @@ public:
             }
         tria_.set_all_manifold_ids(::dealii::numbers::flat_manifold_id);
         return static_cast<int64_t>(surface_faces_.size());
+    }
+
+    // The parameter point of every vertex (deal.II index): valid for the vertices on S,
+    // invalid for interior ones. From the positions PhiBoundary knows, else its inverse.
+    std::vector<SurfacePoint> vertex_parameter_points() const {
+        const auto& v = tria_.get_vertices();
+        std::vector<SurfacePoint> out(v.size());
+        std::unordered_set<unsigned> on_s;
+        for (const FaceKey& k : surface_faces_) on_s.insert(k.begin(), k.end());
+        for (unsigned i : on_s) out[i] = boundary_->parameter_point(to_vec3(v[i]));
+        return out;
+    }
+
+    // Moves the vertices to `positions` (#V, deal.II indices; cell->vertex(k) = x, which
+    // moves the vertex in every cell and level that has it) and records the parameter
+    // points `points` (#V, invalid for interior vertices) at the new positions, forgetting
+    // the old ones. 	hrow std::invalid_argument if the sizes differ from n_vertices().
+    void move_vertices(const std::vector<Vec3>& positions, const std::vector<SurfacePoint>& points) {
+        const size_t nv = tria_.n_vertices();
+        if (positions.size() != nv || points.size() != nv)
+            throw std::invalid_argument("move_vertices: " + std::to_string(positions.size()) + " positions and " +
+                                        std::to_string(points.size()) + " parameter points for " + std::to_string(nv) +
+                                        " vertices");
+        std::vector<bool> done(nv, false);
+        for (const auto& cell : tria_.active_cell_iterators())
+            for (unsigned k = 0; k < cell->n_vertices(); ++k) {
+                const unsigned i = cell->vertex_index(k);
+                if (done[i]) continue;
+                done[i] = true;
+                cell->vertex(k) = to_dealii_point(positions[i]);
+            }
+        boundary_->forget_all();
+        for (size_t i = 0; i < nv; ++i)
+            if (points[i].valid()) boundary_->remember(positions[i], points[i]);
     }
 
     // The active cells as a bpm::TetMesh: all vertices (by deal.II index), cells in active
