@@ -20,6 +20,7 @@
 
 #include <deal.II/base/array_view.h>
 #include <deal.II/base/point.h>
+#include <deal.II/base/table.h>
 #include <deal.II/grid/manifold.h>
 
 #include <array>

@@ -251,7 +251,7 @@ public:
         if (levels_refined() > 0) {
             out.tet_ancestor.reserve(out.tetrahedra.size());
             for (const auto& cell : tria_.active_cell_iterators()) {
-                auto c = cell;
+                ::dealii::Triangulation<3>::cell_iterator c = cell;  // not an active iterator: it climbs to parents
                 while (c->level() > 0) c = c->parent();
                 out.tet_ancestor.push_back(c->index());
             }
