@@ -27,13 +27,16 @@ expect 0 "torsion flat, K = 2" -- "$tools/bpm-dealii-torsion" "$work/f.tet.bpm" 
 cp "$work/out" "$work/flat.json"
 expect 0 "torsion with phi and no repair, K = 1" -- "$tools/bpm-dealii-torsion" "$work/f.tet.bpm" --levels 1 --no-repair --json
 cp "$work/out" "$work/norepair.json"
-# J of the original femur's domain (femur.off of libcgal-demo): P1 on bpm-mesh meshes of
-# femur at 10 % refined through phi, levels 0..3, extrapolated (bench/RESULTS.md,
-# "Solvers: deal.II torsion"); the trial in the issue got 1.3622e-5 the same way.
+# J of the original femur's domain (femur.off of libcgal-demo), measured by
+# bench/dealii_torsion.py (bench/RESULTS.md, "Solvers: deal.II torsion"): a bpm-mesh mesh of
+# the original surface refined to level 2, Aitken-extrapolated: 1.3543e-5; the phi series on
+# femur 10 % extrapolates to 1.3598e-5 and the trial in the issue got 1.3622e-5. The
+# assertions below hold for any J_ref in that range (at K = 2 the phi error is about 4 %, the
+# flat one about 10 %).
 ok "phi approaches J_ref at every level and beats flat; no inverted cell" -- /usr/bin/python3 -c '
 import json, sys
 phi, flat, norepair = (json.load(open(f)) for f in sys.argv[1:4])
-J_ref = 1.3622e-5
+J_ref = 1.3543e-5
 for series in (phi, flat):
     for l in series["levels"]:
         assert l["inverted"] == 0, ("inverted cells", series["mode"], l)
