@@ -7,7 +7,11 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ./scripts/setup.sh
-cmake -S . -B build-dealii -DCMAKE_BUILD_TYPE=Release -DBPM_WITH_DEALII=ON -DBPM_BUILD_BENCH=OFF >/dev/null
+launcher=()
+if [ -n "${CCACHE_DIR:-}" ] && command -v ccache >/dev/null; then  # a shared compiler cache, when one is set up
+    launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_C_COMPILER_LAUNCHER=ccache)
+fi
+cmake -S . -B build-dealii -DCMAKE_BUILD_TYPE=Release -DBPM_WITH_DEALII=ON -DBPM_BUILD_BENCH=OFF "${launcher[@]}" >/dev/null
 # One job for the deal.II programs (memory), two for the rest.
 cmake --build build-dealii -j 2 --target bpm-simplify bpm-mesh >&2
 cmake --build build-dealii -j 1 --target bpm-dealii-torsion bpm_dealii_adapter_tests >&2
