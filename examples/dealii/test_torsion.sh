@@ -5,7 +5,8 @@
 # Asserts: no inverted cell at any level with phi (the repair) or flat; the phi series of
 # J = ∫u approaches the femur's torsion constant at every level and ends closer to it than
 # the flat series (which converges to the coarse surface's domain, about 5 % below);
-# refinement through phi without the repair does invert cells (what the repair is for).
+# refinement through phi without the repair does invert cells (what the repair is for);
+# --adaptive (local refinement) is refused with the adapter's message.
 # Usage: test_torsion.sh TOOL_DIR SOURCE_DIR WORK_DIR
 set -u
 tools=$1
@@ -27,6 +28,9 @@ expect 0 "torsion flat, K = 2" -- "$tools/bpm-dealii-torsion" "$work/f.tet.bpm" 
 cp "$work/out" "$work/flat.json"
 expect 0 "torsion with phi and no repair, K = 1" -- "$tools/bpm-dealii-torsion" "$work/f.tet.bpm" --levels 1 --no-repair --json
 cp "$work/out" "$work/norepair.json"
+# Local refinement (what --adaptive asks for) is refused by the adapter, with a message.
+expect 2 "adaptive refinement refused" -- "$tools/bpm-dealii-torsion" "$work/f.tet.bpm" --levels 1 --adaptive --json
+contains "$work/err" "refines tetrahedral meshes only globally" "the refusal says why"
 # J of the original femur's domain (femur.off of libcgal-demo), measured by
 # bench/dealii_torsion.py (bench/RESULTS.md, "Solvers: deal.II torsion"): a bpm-mesh mesh of
 # the original surface refined to level 2, Aitken-extrapolated: 1.3543e-5; the phi series on
