@@ -1028,6 +1028,12 @@ def all_suites(args, invocation):
     if os.path.exists(repair):
         # --quick: 2 flat levels (131k tetrahedra on femur) instead of 3 (1 M).
         external("repair", "repair after a solver refines", repair, [rel(repair)], [("--levels", "2")], "repair*.md")
+    # The deal.II experiment (paper §3): builds its own deal.II program in BUILD_DIR-dealii, notes a skip when
+    # deal.II is not installed.
+    dealii = os.path.join(BENCH, "dealii_torsion.py")
+    if os.path.exists(dealii):
+        external("dealii", "Solvers: deal.II torsion", dealii, [PYTHON, rel(dealii)], [("--levels", "2")],
+                 "dealii-torsion.md")
 
     step("corpus", "the whole libcgal-demo corpus", [rel(os.path.join(BENCH, "corpus.sh")), rel(args.build_dir)],
          args.external_timeout, [os.path.join(RESULTS, "corpus.md")])

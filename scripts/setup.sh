@@ -34,6 +34,9 @@ declare -A NEED=(
   [libdune-uggrid-dev]=/usr/lib/x86_64-linux-gnu/cmake/dune-uggrid/dune-uggrid-config.cmake
   [libdune-istl-dev]=/usr/include/dune/istl/paamg/amg.hh
   [mpi-default-dev]=/usr/share/doc/mpi-default-dev/copyright
+  # deal.II 9.4 for examples/dealii (-DBPM_WITH_DEALII=ON, scripts/test-dealii.sh); the
+  # proof is its CMake config, which find_package(deal.II) reads.
+  [libdeal.ii-dev]=/usr/share/cmake/deal.II/deal.IIConfig.cmake
 )
 missing=()
 for pkg in "${!NEED[@]}"; do
