@@ -9,6 +9,7 @@
 
 #include "bpm/check.h"
 #include "check_internal.h"
+#include "phi_layout.h"
 
 namespace bpm {
 
@@ -20,164 +21,86 @@ CheckProblem problem(std::vector<std::pair<std::string, int64_t>> ids, std::stri
     return CheckProblem{std::move(ids), std::move(message)};
 }
 
-bool finite3(const Vec3& v) { return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]); }
-
 std::string vec_text(const Vec3& v) {
     return "(" + detail::format_number(v[0]) + ", " + detail::format_number(v[1]) + ", " + detail::format_number(v[2]) + ")";
 }
 
-// Surface structure: finite coordinates, indices in range, one patch id per triangle.
-// `which` is "original" or "coarse" and prefixes the element kinds.
-bool surface_structure(const Surface& s, const std::string& which, const Sink& sink, bool need_patches = true) {
-    bool ok = true;
-    for (int32_t v = 0; v < s.num_vertices(); ++v)
-        if (!finite3(s.vertices[v])) {
-            ok = false;
-            if (!sink(problem({{which + "_vertex", v}}, "non-finite coordinate " + vec_text(s.vertices[v])))) return false;
+// bpm-check's wording of a layout problem: element ids, and a message naming the
+// in-memory array. `which` prefixes the element kinds of surface problems ("original",
+// "coarse", or "surface" for a surface on its own).
+CheckProblem layout_problem(const Parametrization* p, const Surface& s, const std::string& which,
+                            const detail::LayoutProblem& pr) {
+    using detail::LayoutRule;
+    using detail::PhiArray;
+    const std::string name = detail::phi_array_name(pr.array);
+    const int64_t e = pr.element;
+    switch (pr.rule) {
+        case LayoutRule::NotFinite:
+            if (pr.array == PhiArray::Vertices)
+                return problem({{which + "_vertex", e}}, "non-finite coordinate " + vec_text(s.vertices[e]));
+            if (pr.array == PhiArray::NodeBarycentric)
+                return problem({{"node", e}}, "non-finite barycentric coordinates " + vec_text(p->node_barycentric[e]));
+            if (pr.array == PhiArray::NodeImage)
+                return problem({{"node", e}}, "non-finite image " + vec_text(p->node_image[e]));
+            return problem({{"node", e}}, "edge crossing with non-finite edge parameter");
+        case LayoutRule::CountMismatch:
+            if (pr.array == PhiArray::Patches)
+                return problem({}, which + " surface has " + std::to_string(pr.value) + " patch ids for " +
+                                       std::to_string(pr.limit) + " triangles");
+            if (pr.array == PhiArray::VertexOrigin)
+                return problem({}, "coarse_vertex_origin has " + std::to_string(pr.value) + " entries for " +
+                                       std::to_string(pr.limit) + " coarse vertices");
+            if (pr.array == PhiArray::PieceOriginalTriangle)
+                return problem({}, "piece_original_triangle has " + std::to_string(pr.value) + " entries for " +
+                                       std::to_string(pr.limit) + " pieces");
+            return problem({}, name + " has " + std::to_string(pr.value) + " entries, node_kind has " +
+                                   std::to_string(pr.limit));
+        case LayoutRule::OutOfRange: {
+            const std::string range = ", out of range [0, " + std::to_string(pr.limit) + ")";
+            if (pr.array == PhiArray::Triangles)
+                return problem({{which + "_triangle", e}}, "corner " + std::to_string(pr.component) + " is vertex " +
+                                                               std::to_string(pr.value) + range);
+            if (pr.array == PhiArray::Pieces)
+                return problem({{"coarse_triangle", pr.coarse_triangle}, {"piece", e}},
+                               "corner " + std::to_string(pr.component) + " is local node " +
+                                   std::to_string(pr.value) + range);
+            const std::string plain_range = " is out of range [0, " + std::to_string(pr.limit) + ")";
+            if (pr.array == PhiArray::VertexOrigin)
+                return problem({{"coarse_vertex", e}}, "coarse_vertex_origin " + std::to_string(pr.value) + plain_range);
+            if (pr.array == PhiArray::PieceOriginalTriangle)
+                return problem({{"coarse_triangle", pr.coarse_triangle}, {"piece", e}},
+                               "original triangle " + std::to_string(pr.value) + plain_range);
+            return problem({{"node", e}}, "original vertex " + std::to_string(pr.value) + plain_range);
         }
-    for (int32_t t = 0; t < s.num_triangles(); ++t)
-        for (int k = 0; k < 3; ++k) {
-            const int32_t v = s.triangles[t][k];
-            if (v < 0 || v >= s.num_vertices()) {
-                ok = false;
-                if (!sink(problem({{which + "_triangle", t}}, "corner " + std::to_string(k) + " is vertex " +
-                                                                  std::to_string(v) + ", out of range [0, " +
-                                                                  std::to_string(s.num_vertices()) + ")")))
-                    return false;
-            }
+        case LayoutRule::OffsetsCount:
+            return problem({}, name + " has " + std::to_string(pr.value) + " entries, expected #coarse triangles + 1 = " +
+                                   std::to_string(pr.limit));
+        case LayoutRule::OffsetsStart: return problem({}, name + "[0] is " + std::to_string(pr.value) + ", expected 0");
+        case LayoutRule::OffsetsDecreasing:
+            return problem({{"coarse_triangle", pr.coarse_triangle}},
+                           name + "[" + std::to_string(e) + "] = " + std::to_string(pr.value) + " is less than " + name +
+                               "[" + std::to_string(e - 1) + "] = " + std::to_string(pr.limit));
+        case LayoutRule::OffsetsEnd:
+            return problem({}, name + " ends at " + std::to_string(pr.value) + ", but there are " +
+                                   std::to_string(pr.limit) + " entries");
+        case LayoutRule::InvalidNodeKind:
+            return problem({{"node", e}}, "node_kind " + std::to_string(pr.value) + " is not 0, 1 or 2");
+        case LayoutRule::NotAnEdge: {
+            const auto& oe = p->node_original_edge[e];
+            return problem({{"node", e}}, "edge crossing on original edge (" + std::to_string(oe[0]) + ", " +
+                                              std::to_string(oe[1]) + "): not two vertices u < w in range");
         }
-    if (need_patches && s.patches.size() != s.triangles.size()) {
-        ok = false;
-        if (!sink(problem({}, which + " surface has " + std::to_string(s.patches.size()) + " patch ids for " +
-                                  std::to_string(s.triangles.size()) + " triangles")))
-            return false;
     }
-    return ok;
+    return problem({}, name + ": invalid layout");
 }
 
-bool csr_structure(const std::vector<int64_t>& offsets, int64_t expected_total, int32_t num_triangles,
-                   const std::string& dataset, const Sink& sink) {
-    if (offsets.size() != static_cast<size_t>(num_triangles) + 1) {
-        sink(problem({}, dataset + " has " + std::to_string(offsets.size()) + " entries, expected #coarse triangles + 1 = " +
-                             std::to_string(num_triangles + 1)));
-        return false;
-    }
-    if (offsets[0] != 0) {
-        sink(problem({}, dataset + "[0] is " + std::to_string(offsets[0]) + ", expected 0"));
-        return false;
-    }
-    for (int32_t t = 0; t < num_triangles; ++t)
-        if (offsets[t + 1] < offsets[t]) {
-            sink(problem({{"coarse_triangle", t}}, dataset + "[" + std::to_string(t + 1) + "] = " +
-                                                       std::to_string(offsets[t + 1]) + " is less than " + dataset + "[" +
-                                                       std::to_string(t) + "] = " + std::to_string(offsets[t])));
-            return false;
-        }
-    if (offsets[num_triangles] != expected_total) {
-        sink(problem({}, dataset + " ends at " + std::to_string(offsets[num_triangles]) + ", but there are " +
-                             std::to_string(expected_total) + " entries"));
-        return false;
-    }
-    return true;
-}
-
-// Everything needed to index safely. Reports through `sink`; returns true when safe.
+// Everything needed to index safely (phi_layout.h). Reports through `sink`; returns
+// true when safe.
 bool structure(const Parametrization& p, const Sink& sink) {
-    bool ok = true;
-    bool go = true;
-    auto report = [&](CheckProblem pr) {
-        ok = false;
-        if (go) go = sink(std::move(pr));
-        return go;
-    };
-    if (!surface_structure(p.original, "original", report) && !go) return false;
-    if (!surface_structure(p.coarse, "coarse", report) && !go) return false;
-    if (!ok) return false;
-    const int32_t nt = p.coarse.num_triangles();
-    const int64_t nn = p.num_nodes();
-    const int64_t np = p.num_pieces();
-    if (p.coarse_vertex_origin.size() != p.coarse.vertices.size())
-        if (!report(problem({}, "coarse_vertex_origin has " + std::to_string(p.coarse_vertex_origin.size()) +
-                                    " entries for " + std::to_string(p.coarse.vertices.size()) + " coarse vertices")))
-            return false;
-    auto size_check = [&](size_t size, const char* name) {
-        if (size != static_cast<size_t>(nn))
-            report(problem({}, std::string(name) + " has " + std::to_string(size) + " entries, node_kind has " +
-                                   std::to_string(nn)));
-    };
-    size_check(p.node_barycentric.size(), "node_barycentric");
-    size_check(p.node_image.size(), "node_image");
-    size_check(p.node_original_vertex.size(), "node_original_vertex");
-    size_check(p.node_original_edge.size(), "node_original_edge");
-    size_check(p.node_edge_parameter.size(), "node_edge_parameter");
-    if (p.piece_original_triangle.size() != p.pieces.size())
-        report(problem({}, "piece_original_triangle has " + std::to_string(p.piece_original_triangle.size()) +
-                               " entries for " + std::to_string(np) + " pieces"));
-    if (!go) return false;
-    if (!csr_structure(p.node_offsets, nn, nt, "node_offsets", report)) ok = false;
-    if (!go) return false;
-    if (!csr_structure(p.piece_offsets, np, nt, "piece_offsets", report)) ok = false;
-    if (!ok) return false;
-
-    const int32_t nv0 = p.original.num_vertices();
-    const int32_t nt0 = p.original.num_triangles();
-    for (size_t c = 0; c < p.coarse_vertex_origin.size(); ++c) {
-        const int32_t o = p.coarse_vertex_origin[c];
-        if (o < 0 || o >= nv0)
-            if (!report(problem({{"coarse_vertex", static_cast<int64_t>(c)}},
-                                "coarse_vertex_origin " + std::to_string(o) + " is out of range [0, " +
-                                    std::to_string(nv0) + ")")))
-                return false;
-    }
-    for (int64_t n = 0; n < nn; ++n) {
-        const auto kind = static_cast<uint8_t>(p.node_kind[n]);
-        if (kind > 2) {
-            if (!report(problem({{"node", n}}, "node_kind " + std::to_string(kind) + " is not 0, 1 or 2"))) return false;
-            continue;
-        }
-        if (!finite3(p.node_barycentric[n]))
-            if (!report(problem({{"node", n}}, "non-finite barycentric coordinates " + vec_text(p.node_barycentric[n]))))
-                return false;
-        if (!finite3(p.node_image[n]))
-            if (!report(problem({{"node", n}}, "non-finite image " + vec_text(p.node_image[n])))) return false;
-        if (p.node_kind[n] == NodeKind::EdgeCrossing) {
-            const auto& e = p.node_original_edge[n];
-            if (e[0] < 0 || e[1] >= nv0 || e[0] >= e[1]) {
-                if (!report(problem({{"node", n}}, "edge crossing on original edge (" + std::to_string(e[0]) + ", " +
-                                                       std::to_string(e[1]) + "): not two vertices u < w in range")))
-                    return false;
-            }
-            const double s = p.node_edge_parameter[n];
-            if (!std::isfinite(s))
-                if (!report(problem({{"node", n}}, "edge crossing with non-finite edge parameter"))) return false;
-        } else {
-            const int32_t v = p.node_original_vertex[n];
-            if (v < 0 || v >= nv0)
-                if (!report(problem({{"node", n}}, "original vertex " + std::to_string(v) + " is out of range [0, " +
-                                                       std::to_string(nv0) + ")")))
-                    return false;
-        }
-    }
-    for (int32_t t = 0; t < nt; ++t) {
-        const int64_t count = p.node_offsets[t + 1] - p.node_offsets[t];
-        for (int64_t q = p.piece_offsets[t]; q < p.piece_offsets[t + 1]; ++q) {
-            for (int k = 0; k < 3; ++k) {
-                const int32_t local = p.pieces[q][k];
-                if (local < 0 || local >= count)
-                    if (!report(problem({{"coarse_triangle", t}, {"piece", q}},
-                                        "corner " + std::to_string(k) + " is local node " + std::to_string(local) +
-                                            ", out of range [0, " + std::to_string(count) + ")")))
-                        return false;
-            }
-            const int32_t o = p.piece_original_triangle[q];
-            if (o < 0 || o >= nt0)
-                if (!report(problem({{"coarse_triangle", t}, {"piece", q}},
-                                    "original triangle " + std::to_string(o) + " is out of range [0, " +
-                                        std::to_string(nt0) + ")")))
-                    return false;
-        }
-    }
-    return ok;
+    return detail::visit_phi_layout(p, [&](const detail::LayoutProblem& pr) {
+        const bool original = pr.surface == detail::SurfaceRole::Original;
+        return sink(layout_problem(&p, original ? p.original : p.coarse, original ? "original" : "coarse", pr));
+    });
 }
 
 inline uint64_t edge_key(int32_t a, int32_t b) {
@@ -202,10 +125,10 @@ std::optional<std::string> surface_unsafe(const Surface& surface) {
     std::optional<std::string> first;
     // Patch ids are optional here: intersections and quality do not use them, and
     // compute_topology treats missing ones as patch 0.
-    surface_structure(
-        surface, "surface",
-        [&](CheckProblem p) {
-            first = p.describe();
+    detail::visit_surface_layout(
+        surface, detail::SurfaceRole::Alone,
+        [&](const detail::LayoutProblem& pr) {
+            first = layout_problem(nullptr, surface, "surface", pr).describe();
             return false;
         },
         false);
