@@ -8,6 +8,7 @@
 #include <limits>
 
 #include "bpm/check.h"
+#include "bpm/phi_triangle.h"
 #include "check_internal.h"
 #include "phi_layout.h"
 
@@ -203,10 +204,12 @@ CheckResult check_format(const Parametrization& p, const CheckOptions& options, 
     for (int32_t t = 0; t < nt; ++t) {
         if ((t & 0xfff) == 0) context.report(static_cast<double>(t) / std::max(nt, 1), "checking format");
         int corner_node[3] = {-1, -1, -1};
-        for (int64_t n = p.node_offsets[t]; n < p.node_offsets[t + 1]; ++n) {
+        const PhiTriangle phi(p, t);
+        for (int64_t i = 0; i < phi.num_nodes(); ++i) {
+            const int64_t n = phi.first_node() + i;
             const std::vector<std::pair<std::string, int64_t>> ids{{"coarse_triangle", t}, {"node", n}};
-            const Vec3& b = p.node_barycentric[n];
-            const NodeKind kind = p.node_kind[n];
+            const Vec3& b = phi.barycentric(i);
+            const NodeKind kind = phi.kind(i);
             if (b[0] < 0 || b[1] < 0 || b[2] < 0) add(ids, "negative barycentric coordinate " + vec_text(b));
             const double sum = b[0] + b[1] + b[2];
             if (!(std::abs(sum - 1.0) <= bary_tolerance))
@@ -225,21 +228,21 @@ CheckResult check_format(const Parametrization& p, const CheckOptions& options, 
                         add(ids, "second node at corner " + std::to_string(k) + " (first: node " +
                                      std::to_string(corner_node[k]) + ")");
                     corner_node[k] = static_cast<int>(n);
-                    const int32_t c = p.coarse.triangles[t][k];
-                    if (p.node_original_vertex[n] != p.coarse_vertex_origin[c])
+                    const int32_t c = phi.corners()[k];
+                    if (phi.original_vertex(i) != p.coarse_vertex_origin[c])
                         add(ids, "corner " + std::to_string(k) + " is coarse vertex " + std::to_string(c) +
                                      " = original vertex " + std::to_string(p.coarse_vertex_origin[c]) +
-                                     ", but the node names original vertex " + std::to_string(p.node_original_vertex[n]));
+                                     ", but the node names original vertex " + std::to_string(phi.original_vertex(i)));
                 }
             } else if (zeros >= 2) {
                 add(ids, "node at a corner " + vec_text(b) + " must be of kind CoarseCorner");
             }
             if (kind == NodeKind::EdgeCrossing) {
                 if (zeros != 1) add(ids, "edge crossing at " + vec_text(b) + " is not on a coarse edge (needs exactly one zero)");
-                const auto& e = p.node_original_edge[n];
-                const double s = p.node_edge_parameter[n];
-                if (p.node_original_vertex[n] != -1)
-                    add(ids, "edge crossing names original vertex " + std::to_string(p.node_original_vertex[n]) +
+                const auto& e = phi.original_edge(i);
+                const double s = phi.edge_parameter(i);
+                if (phi.original_vertex(i) != -1)
+                    add(ids, "edge crossing names original vertex " + std::to_string(phi.original_vertex(i)) +
                                  "; expected -1");
                 if (!std::binary_search(original_edges.begin(), original_edges.end(), edge_key(e[0], e[1]))) {
                     add(ids, "original edge (" + std::to_string(e[0]) + ", " + std::to_string(e[1]) +
@@ -250,33 +253,33 @@ CheckResult check_format(const Parametrization& p, const CheckOptions& options, 
                     add(ids, "edge parameter " + detail::format_number(s) + " is not strictly between 0 and 1");
                 }
             } else {
-                if (p.node_original_edge[n] != std::array<int32_t, 2>{-1, -1})
-                    add(ids, "vertex node names original edge (" + std::to_string(p.node_original_edge[n][0]) + ", " +
-                                 std::to_string(p.node_original_edge[n][1]) + "); expected (-1, -1)");
-                if (!std::isnan(p.node_edge_parameter[n]))
-                    add(ids, "vertex node has edge parameter " + detail::format_number(p.node_edge_parameter[n]) +
+                const auto& e = phi.original_edge(i);
+                if (e != std::array<int32_t, 2>{-1, -1})
+                    add(ids, "vertex node names original edge (" + std::to_string(e[0]) + ", " + std::to_string(e[1]) +
+                                 "); expected (-1, -1)");
+                if (!std::isnan(phi.edge_parameter(i)))
+                    add(ids, "vertex node has edge parameter " + detail::format_number(phi.edge_parameter(i)) +
                                  "; expected NaN");
             }
             if (identity_ok) {
                 // Indices were range-checked by structure(); the writer uses the same function.
                 expected = node_image_from_kind(p, n);
-                const double d = distance(expected, p.node_image[n]);
+                const double d = distance(expected, phi.image(i));
                 deviation(d, ids);
                 if (!(d <= tolerance))
-                    add(ids, "image " + vec_text(p.node_image[n]) + " differs from the point the node names " +
+                    add(ids, "image " + vec_text(phi.image(i)) + " differs from the point the node names " +
                                  vec_text(expected) + " by " + detail::format_number(d) + " (tolerance " +
                                  detail::format_number(tolerance) + ")");
             }
         }
         for (int k = 0; k < 3; ++k)
             if (corner_node[k] < 0) add({{"coarse_triangle", t}}, "no CoarseCorner node at corner " + std::to_string(k));
-        const int64_t first = p.node_offsets[t];
-        for (int64_t q = p.piece_offsets[t]; q < p.piece_offsets[t + 1]; ++q) {
-            const Tri& piece = p.pieces[q];
+        for (int64_t j = 0; j < phi.num_pieces(); ++j) {
+            const Tri& piece = phi.piece(j);
             if (piece[0] == piece[1] || piece[1] == piece[2] || piece[0] == piece[2])
-                add({{"coarse_triangle", t}, {"piece", q}},
+                add({{"coarse_triangle", t}, {"piece", phi.first_piece() + j}},
                     "repeated corner: local nodes " + std::to_string(piece[0]) + ", " + std::to_string(piece[1]) + ", " +
-                        std::to_string(piece[2]) + " (nodes " + std::to_string(first + piece[0]) + "...)");
+                        std::to_string(piece[2]) + " (nodes " + std::to_string(phi.piece_node(j, 0)) + "...)");
         }
     }
     r.worst = WorstValue{"image_deviation_relative_to_diagonal", worst, worst_ids};
