@@ -28,6 +28,7 @@
 #include "bpm/tetmesh_materials.h"
 #include "bpm/version.h"
 #include "file_util.h"
+#include "phi_layout.h"
 
 namespace bpm {
 
@@ -212,107 +213,114 @@ std::string num(T v) {
     return s.str();
 }
 
+// The file-format wording of a layout problem: the dataset path first, then the entry.
+std::string layout_message(const Parametrization& p, const detail::LayoutProblem& pr) {
+    using detail::LayoutRule;
+    using detail::PhiArray;
+    const bool on_surface = pr.array == PhiArray::Vertices || pr.array == PhiArray::Triangles ||
+                            pr.array == PhiArray::Patches;
+    const Surface& s = pr.surface == detail::SurfaceRole::Original ? p.original : p.coarse;
+    const std::string group = pr.surface == detail::SurfaceRole::Original ? "/original" : "/coarse";
+    const std::string path = on_surface                          ? group + "/" + detail::phi_array_name(pr.array)
+                             : pr.array == PhiArray::VertexOrigin ? std::string("/coarse/vertex_origin")
+                                                                  : std::string("/phi/") + detail::phi_array_name(pr.array);
+    const size_t e = static_cast<size_t>(pr.element);
+    switch (pr.rule) {
+        case LayoutRule::NotFinite:
+            if (pr.array == PhiArray::Vertices)
+                return path + ": entry [" + num(pr.element) + ", " + num(pr.component) + "] is not finite (" +
+                       num(s.vertices[e][pr.component]) + ")";
+            if (pr.array == PhiArray::NodeEdgeParameter)
+                return path + ": entry " + num(pr.element) + " = " + num(p.node_edge_parameter[e]) +
+                       " is not in [0, 1] for an edge crossing";
+            return path + ": entry [" + num(pr.element) + ", " + num(pr.component) + "] is not finite";
+        case LayoutRule::CountMismatch:
+            if (pr.array == PhiArray::Patches)
+                return path + ": has " + num(pr.value) + " entries but " + group + "/triangles has " + num(pr.limit) +
+                       " rows";
+            if (pr.array == PhiArray::VertexOrigin)
+                return path + ": has " + num(pr.value) + " entries but /coarse/vertices has " + num(pr.limit) + " rows";
+            if (pr.array == PhiArray::PieceOriginalTriangle)
+                return path + ": has " + num(pr.value) + " entries but /phi/pieces has " + num(pr.limit) + " rows";
+            return path + ": has " + num(pr.value) + " rows but /phi/node_kind has " + num(pr.limit);
+        case LayoutRule::OutOfRange: {
+            const std::string range = " is out of range [0, " + num(pr.limit) + ")";
+            if (pr.array == PhiArray::Triangles)
+                return path + ": entry [" + num(pr.element) + ", " + num(pr.component) + "] = " + num(pr.value) + range +
+                       " (number of rows of " + group + "/vertices)";
+            if (pr.array == PhiArray::Pieces)
+                return path + ": entry [" + num(pr.element) + ", " + num(pr.component) + "] = " + num(pr.value) + range +
+                       " (the nodes of coarse triangle " + num(pr.coarse_triangle) + ")";
+            const std::string entry = path + ": entry " + num(pr.element) + " = " + num(pr.value) + range;
+            if (pr.array == PhiArray::VertexOrigin) return entry + " (number of rows of /original/vertices)";
+            if (pr.array == PhiArray::PieceOriginalTriangle) return entry + " (number of rows of /original/triangles)";
+            return entry + " for a node of kind " + num(static_cast<int>(p.node_kind[e]));
+        }
+        case LayoutRule::OffsetsCount:
+            return path + ": has " + num(pr.value) + " entries, expected " + num(pr.limit) +
+                   " (number of rows of /coarse/triangles + 1)";
+        case LayoutRule::OffsetsStart: return path + ": entry 0 is " + num(pr.value) + ", must be 0";
+        case LayoutRule::OffsetsDecreasing:
+            return path + ": entry " + num(pr.element) + " = " + num(pr.value) + " is smaller than entry " +
+                   num(pr.element - 1) + " = " + num(pr.limit) + "; offsets must be non-decreasing";
+        case LayoutRule::OffsetsEnd:
+            return path + ": last entry is " + num(pr.value) + " but " +
+                   (pr.array == PhiArray::NodeOffsets ? "/phi/node_kind" : "/phi/pieces") + " has " + num(pr.limit) +
+                   " rows";
+        case LayoutRule::InvalidNodeKind:
+            return path + ": entry " + num(pr.element) + " = " + num(pr.value) + " is not a valid node kind (0, 1 or 2)";
+        case LayoutRule::NotAnEdge: {
+            const auto& oe = p.node_original_edge[e];
+            return path + ": row " + num(pr.element) + " = (" + num(oe[0]) + ", " + num(oe[1]) +
+                   ") is not an edge (u, w) with 0 <= u < w < " + num(pr.limit);
+        }
+    }
+    return path + ": invalid";
+}
+
 // Returns an empty string if `file` satisfies every rule of the spec that the format
 // itself can check, otherwise the first violation, beginning with the dataset path.
+// The layout (sizes, offsets, index ranges, kinds, finite numbers) is checked by
+// detail::visit_phi_layout, shared with bpm-check; the value rules below it are the
+// reader's own (bpm-check applies stricter ones in check_format.cpp).
 std::string find_inconsistency(const BpmFile& file) {
     const Parametrization& p = file.param;
-    const auto check_surface = [](const Surface& s, const std::string& group) -> std::string {
-        for (size_t v = 0; v < s.vertices.size(); ++v)
-            for (int c = 0; c < 3; ++c)
-                if (!std::isfinite(s.vertices[v][c]))
-                    return group + "/vertices: entry [" + num(v) + ", " + num(c) + "] is not finite (" +
-                           num(s.vertices[v][c]) + ")";
-        if (s.patches.size() != s.triangles.size())
-            return group + "/patches: has " + num(s.patches.size()) + " entries but " + group + "/triangles has " +
-                   num(s.triangles.size()) + " rows";
-        const int64_t nv = static_cast<int64_t>(s.vertices.size());
-        for (size_t t = 0; t < s.triangles.size(); ++t)
-            for (int c = 0; c < 3; ++c) {
-                const int64_t v = s.triangles[t][c];
-                if (v < 0 || v >= nv)
-                    return group + "/triangles: entry [" + num(t) + ", " + num(c) + "] = " + num(v) +
-                           " is out of range [0, " + num(nv) + ") (number of rows of " + group + "/vertices)";
-            }
-        return {};
-    };
-    if (auto e = check_surface(p.original, "/original"); !e.empty()) return e;
+    std::string first;
+    detail::visit_phi_layout(p, [&](const detail::LayoutProblem& pr) {
+        first = layout_message(p, pr);
+        return false;
+    });
+    if (!first.empty()) return first;
     if (const auto bad = vertex_data_problems(p.original); !bad.empty()) return "/original/point_data: " + bad[0];
     for (const VertexArray& a : p.original.vertex_data)
         for (size_t i = 0; i < a.values.size(); ++i)
             if (!std::isfinite(a.values[i]))
                 return "/original/point_data/" + a.name + ": entry [" + num(i / size_t(a.components)) + ", " +
                        num(i % size_t(a.components)) + "] is not finite (" + num(a.values[i]) + ")";
-    if (auto e = check_surface(p.coarse, "/coarse"); !e.empty()) return e;
     if (p.original.vertices.size() > size_t(std::numeric_limits<int32_t>::max()) ||
         p.original.triangles.size() > size_t(std::numeric_limits<int32_t>::max()) ||
         p.coarse.vertices.size() > size_t(std::numeric_limits<int32_t>::max()) ||
         p.coarse.triangles.size() > size_t(std::numeric_limits<int32_t>::max()))
         return "/original or /coarse: more than 2^31-1 vertices or triangles";
 
-    const int64_t nv0 = p.original.num_vertices();
-    const int64_t nt0 = p.original.num_triangles();
+    // Value rules; the layout above makes every index safe.
     const int64_t ntc = p.coarse.num_triangles();
-    if (p.coarse_vertex_origin.size() != p.coarse.vertices.size())
-        return "/coarse/vertex_origin: has " + num(p.coarse_vertex_origin.size()) + " entries but /coarse/vertices has " +
-               num(p.coarse.vertices.size()) + " rows";
-    for (size_t v = 0; v < p.coarse_vertex_origin.size(); ++v)
-        if (p.coarse_vertex_origin[v] < 0 || p.coarse_vertex_origin[v] >= nv0)
-            return "/coarse/vertex_origin: entry " + num(v) + " = " + num(p.coarse_vertex_origin[v]) +
-                   " is out of range [0, " + num(nv0) + ") (number of rows of /original/vertices)";
-
-    const auto check_csr = [ntc](const std::vector<int64_t>& offsets, const std::string& name, int64_t length,
-                                 const std::string& target) -> std::string {
-        if (static_cast<int64_t>(offsets.size()) != ntc + 1)
-            return name + ": has " + num(offsets.size()) + " entries, expected " + num(ntc + 1) +
-                   " (number of rows of /coarse/triangles + 1)";
-        if (offsets[0] != 0) return name + ": entry 0 is " + num(offsets[0]) + ", must be 0";
-        for (size_t i = 1; i < offsets.size(); ++i)
-            if (offsets[i] < offsets[i - 1])
-                return name + ": entry " + num(i) + " = " + num(offsets[i]) + " is smaller than entry " + num(i - 1) +
-                       " = " + num(offsets[i - 1]) + "; offsets must be non-decreasing";
-        if (offsets.back() != length)
-            return name + ": last entry is " + num(offsets.back()) + " but " + target + " has " + num(length) + " rows";
-        return {};
-    };
-    const int64_t nn = p.num_nodes();
-    if (auto e = check_csr(p.node_offsets, "/phi/node_offsets", nn, "/phi/node_kind"); !e.empty()) return e;
-    const auto same_size = [nn](size_t size, const char* name) -> std::string {
-        if (static_cast<int64_t>(size) != nn)
-            return std::string(name) + ": has " + num(size) + " rows but /phi/node_kind has " + num(nn);
-        return {};
-    };
-    for (auto e : {same_size(p.node_barycentric.size(), "/phi/node_barycentric"),
-                   same_size(p.node_image.size(), "/phi/node_image"),
-                   same_size(p.node_original_vertex.size(), "/phi/node_original_vertex"),
-                   same_size(p.node_original_edge.size(), "/phi/node_original_edge"),
-                   same_size(p.node_edge_parameter.size(), "/phi/node_edge_parameter")})
-        if (!e.empty()) return e;
-
     for (int64_t t = 0; t < ntc; ++t) {
         const Tri& tri = p.coarse.triangles[static_cast<size_t>(t)];
         for (int64_t i = p.node_offsets[static_cast<size_t>(t)]; i < p.node_offsets[static_cast<size_t>(t) + 1]; ++i) {
             const size_t n = static_cast<size_t>(i);
             const Vec3& b = p.node_barycentric[n];
-            for (int c = 0; c < 3; ++c) {
-                if (!std::isfinite(b[c]))
-                    return "/phi/node_barycentric: entry [" + num(i) + ", " + num(c) + "] is not finite";
+            for (int c = 0; c < 3; ++c)
                 if (b[c] < 0)
                     return "/phi/node_barycentric: entry [" + num(i) + ", " + num(c) + "] = " + num(b[c]) +
                            " is negative";
-            }
             if (std::fabs(b[0] + b[1] + b[2] - 1) > 1e-9)
                 return "/phi/node_barycentric: row " + num(i) + " sums to " + num(b[0] + b[1] + b[2]) + ", not 1";
-            for (int c = 0; c < 3; ++c)
-                if (!std::isfinite(p.node_image[n][c]))
-                    return "/phi/node_image: entry [" + num(i) + ", " + num(c) + "] is not finite";
             const int kind = static_cast<int>(p.node_kind[n]);
             const int32_t ov = p.node_original_vertex[n];
             const auto& oe = p.node_original_edge[n];
             const double s = p.node_edge_parameter[n];
             if (kind == int(NodeKind::OriginalVertex) || kind == int(NodeKind::CoarseCorner)) {
-                if (ov < 0 || ov >= nv0)
-                    return "/phi/node_original_vertex: entry " + num(i) + " = " + num(ov) + " is out of range [0, " +
-                           num(nv0) + ") for a node of kind " + num(kind);
                 if (oe[0] != -1 || oe[1] != -1)
                     return "/phi/node_original_edge: row " + num(i) + " must be (-1, -1) for a node of kind " + num(kind);
                 if (kind == int(NodeKind::CoarseCorner)) {
@@ -328,41 +336,16 @@ std::string find_inconsistency(const BpmFile& file) {
                                num(corner) + " of coarse triangle " + num(t) + ", whose /coarse/vertex_origin is " +
                                num(expected);
                 }
-            } else if (kind == int(NodeKind::EdgeCrossing)) {
+            } else {  // EdgeCrossing: the layout admits no other kind
                 if (ov != -1)
                     return "/phi/node_original_vertex: entry " + num(i) + " must be -1 for an edge crossing (kind 1)";
-                if (oe[0] < 0 || oe[1] >= nv0 || oe[0] >= oe[1])
-                    return "/phi/node_original_edge: row " + num(i) + " = (" + num(oe[0]) + ", " + num(oe[1]) +
-                           ") is not an edge (u, w) with 0 <= u < w < " + num(nv0);
                 if (!(s >= 0 && s <= 1))
                     return "/phi/node_edge_parameter: entry " + num(i) + " = " + num(s) +
                            " is not in [0, 1] for an edge crossing";
                 if (b[0] != 0 && b[1] != 0 && b[2] != 0)
                     return "/phi/node_barycentric: row " + num(i) +
                            " is an edge crossing (kind 1) but has no coordinate exactly 0 (not on a coarse edge)";
-            } else {
-                return "/phi/node_kind: entry " + num(i) + " = " + num(kind) + " is not a valid node kind (0, 1 or 2)";
             }
-        }
-    }
-
-    if (p.piece_original_triangle.size() != p.pieces.size())
-        return "/phi/piece_original_triangle: has " + num(p.piece_original_triangle.size()) +
-               " entries but /phi/pieces has " + num(p.pieces.size()) + " rows";
-    if (auto e = check_csr(p.piece_offsets, "/phi/piece_offsets", p.num_pieces(), "/phi/pieces"); !e.empty()) return e;
-    for (int64_t t = 0; t < ntc; ++t) {
-        const int64_t count = p.node_offsets[static_cast<size_t>(t) + 1] - p.node_offsets[static_cast<size_t>(t)];
-        for (int64_t q = p.piece_offsets[static_cast<size_t>(t)]; q < p.piece_offsets[static_cast<size_t>(t) + 1]; ++q) {
-            for (int c = 0; c < 3; ++c) {
-                const int64_t local = p.pieces[static_cast<size_t>(q)][c];
-                if (local < 0 || local >= count)
-                    return "/phi/pieces: entry [" + num(q) + ", " + num(c) + "] = " + num(local) +
-                           " is out of range [0, " + num(count) + ") (the nodes of coarse triangle " + num(t) + ")";
-            }
-            const int32_t ot = p.piece_original_triangle[static_cast<size_t>(q)];
-            if (ot < 0 || ot >= nt0)
-                return "/phi/piece_original_triangle: entry " + num(q) + " = " + num(ot) + " is out of range [0, " +
-                       num(nt0) + ") (number of rows of /original/triangles)";
         }
     }
     return {};

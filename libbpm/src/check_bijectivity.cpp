@@ -18,6 +18,7 @@
 #include <unordered_map>
 
 #include "bpm/check.h"
+#include "bpm/phi_triangle.h"
 #include "bpm/predicates.h"
 #include "bpm/surface_topology.h"
 #include "check_internal.h"
@@ -466,9 +467,11 @@ CheckResult check_bijectivity(const Parametrization& p, const CheckOptions& opti
         // below visits pieces by original triangle, i.e. in random order, and would
         // otherwise chase three dependent indices per corner).
         std::vector<std::array<int64_t, 3>> piece_position(np);
-        for (int32_t t = 0; t < nt; ++t)
-            for (int64_t q = p.piece_offsets[t]; q < p.piece_offsets[t + 1]; ++q)
-                for (int k = 0; k < 3; ++k) piece_position[q][k] = node_position[p.node_offsets[t] + p.pieces[q][k]];
+        for (int32_t t = 0; t < nt; ++t) {
+            const PhiTriangle phi(p, t);
+            for (int64_t j = 0; j < phi.num_pieces(); ++j)
+                for (int k = 0; k < 3; ++k) piece_position[phi.first_piece() + j][k] = node_position[phi.piece_node(j, k)];
+        }
         auto corner_position = [&](int64_t q, int k) { return piece_position[q][k]; };
         // Per original edge: the sequence of positions along it (from its smaller vertex)
         // as seen from the first incident triangle, to compare the others with. One

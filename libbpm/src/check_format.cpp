@@ -8,7 +8,9 @@
 #include <limits>
 
 #include "bpm/check.h"
+#include "bpm/phi_triangle.h"
 #include "check_internal.h"
+#include "phi_layout.h"
 
 namespace bpm {
 
@@ -20,164 +22,86 @@ CheckProblem problem(std::vector<std::pair<std::string, int64_t>> ids, std::stri
     return CheckProblem{std::move(ids), std::move(message)};
 }
 
-bool finite3(const Vec3& v) { return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]); }
-
 std::string vec_text(const Vec3& v) {
     return "(" + detail::format_number(v[0]) + ", " + detail::format_number(v[1]) + ", " + detail::format_number(v[2]) + ")";
 }
 
-// Surface structure: finite coordinates, indices in range, one patch id per triangle.
-// `which` is "original" or "coarse" and prefixes the element kinds.
-bool surface_structure(const Surface& s, const std::string& which, const Sink& sink, bool need_patches = true) {
-    bool ok = true;
-    for (int32_t v = 0; v < s.num_vertices(); ++v)
-        if (!finite3(s.vertices[v])) {
-            ok = false;
-            if (!sink(problem({{which + "_vertex", v}}, "non-finite coordinate " + vec_text(s.vertices[v])))) return false;
+// bpm-check's wording of a layout problem: element ids, and a message naming the
+// in-memory array. `which` prefixes the element kinds of surface problems ("original",
+// "coarse", or "surface" for a surface on its own).
+CheckProblem layout_problem(const Parametrization* p, const Surface& s, const std::string& which,
+                            const detail::LayoutProblem& pr) {
+    using detail::LayoutRule;
+    using detail::PhiArray;
+    const std::string name = detail::phi_array_name(pr.array);
+    const int64_t e = pr.element;
+    switch (pr.rule) {
+        case LayoutRule::NotFinite:
+            if (pr.array == PhiArray::Vertices)
+                return problem({{which + "_vertex", e}}, "non-finite coordinate " + vec_text(s.vertices[e]));
+            if (pr.array == PhiArray::NodeBarycentric)
+                return problem({{"node", e}}, "non-finite barycentric coordinates " + vec_text(p->node_barycentric[e]));
+            if (pr.array == PhiArray::NodeImage)
+                return problem({{"node", e}}, "non-finite image " + vec_text(p->node_image[e]));
+            return problem({{"node", e}}, "edge crossing with non-finite edge parameter");
+        case LayoutRule::CountMismatch:
+            if (pr.array == PhiArray::Patches)
+                return problem({}, which + " surface has " + std::to_string(pr.value) + " patch ids for " +
+                                       std::to_string(pr.limit) + " triangles");
+            if (pr.array == PhiArray::VertexOrigin)
+                return problem({}, "coarse_vertex_origin has " + std::to_string(pr.value) + " entries for " +
+                                       std::to_string(pr.limit) + " coarse vertices");
+            if (pr.array == PhiArray::PieceOriginalTriangle)
+                return problem({}, "piece_original_triangle has " + std::to_string(pr.value) + " entries for " +
+                                       std::to_string(pr.limit) + " pieces");
+            return problem({}, name + " has " + std::to_string(pr.value) + " entries, node_kind has " +
+                                   std::to_string(pr.limit));
+        case LayoutRule::OutOfRange: {
+            const std::string range = ", out of range [0, " + std::to_string(pr.limit) + ")";
+            if (pr.array == PhiArray::Triangles)
+                return problem({{which + "_triangle", e}}, "corner " + std::to_string(pr.component) + " is vertex " +
+                                                               std::to_string(pr.value) + range);
+            if (pr.array == PhiArray::Pieces)
+                return problem({{"coarse_triangle", pr.coarse_triangle}, {"piece", e}},
+                               "corner " + std::to_string(pr.component) + " is local node " +
+                                   std::to_string(pr.value) + range);
+            const std::string plain_range = " is out of range [0, " + std::to_string(pr.limit) + ")";
+            if (pr.array == PhiArray::VertexOrigin)
+                return problem({{"coarse_vertex", e}}, "coarse_vertex_origin " + std::to_string(pr.value) + plain_range);
+            if (pr.array == PhiArray::PieceOriginalTriangle)
+                return problem({{"coarse_triangle", pr.coarse_triangle}, {"piece", e}},
+                               "original triangle " + std::to_string(pr.value) + plain_range);
+            return problem({{"node", e}}, "original vertex " + std::to_string(pr.value) + plain_range);
         }
-    for (int32_t t = 0; t < s.num_triangles(); ++t)
-        for (int k = 0; k < 3; ++k) {
-            const int32_t v = s.triangles[t][k];
-            if (v < 0 || v >= s.num_vertices()) {
-                ok = false;
-                if (!sink(problem({{which + "_triangle", t}}, "corner " + std::to_string(k) + " is vertex " +
-                                                                  std::to_string(v) + ", out of range [0, " +
-                                                                  std::to_string(s.num_vertices()) + ")")))
-                    return false;
-            }
+        case LayoutRule::OffsetsCount:
+            return problem({}, name + " has " + std::to_string(pr.value) + " entries, expected #coarse triangles + 1 = " +
+                                   std::to_string(pr.limit));
+        case LayoutRule::OffsetsStart: return problem({}, name + "[0] is " + std::to_string(pr.value) + ", expected 0");
+        case LayoutRule::OffsetsDecreasing:
+            return problem({{"coarse_triangle", pr.coarse_triangle}},
+                           name + "[" + std::to_string(e) + "] = " + std::to_string(pr.value) + " is less than " + name +
+                               "[" + std::to_string(e - 1) + "] = " + std::to_string(pr.limit));
+        case LayoutRule::OffsetsEnd:
+            return problem({}, name + " ends at " + std::to_string(pr.value) + ", but there are " +
+                                   std::to_string(pr.limit) + " entries");
+        case LayoutRule::InvalidNodeKind:
+            return problem({{"node", e}}, "node_kind " + std::to_string(pr.value) + " is not 0, 1 or 2");
+        case LayoutRule::NotAnEdge: {
+            const auto& oe = p->node_original_edge[e];
+            return problem({{"node", e}}, "edge crossing on original edge (" + std::to_string(oe[0]) + ", " +
+                                              std::to_string(oe[1]) + "): not two vertices u < w in range");
         }
-    if (need_patches && s.patches.size() != s.triangles.size()) {
-        ok = false;
-        if (!sink(problem({}, which + " surface has " + std::to_string(s.patches.size()) + " patch ids for " +
-                                  std::to_string(s.triangles.size()) + " triangles")))
-            return false;
     }
-    return ok;
+    return problem({}, name + ": invalid layout");
 }
 
-bool csr_structure(const std::vector<int64_t>& offsets, int64_t expected_total, int32_t num_triangles,
-                   const std::string& dataset, const Sink& sink) {
-    if (offsets.size() != static_cast<size_t>(num_triangles) + 1) {
-        sink(problem({}, dataset + " has " + std::to_string(offsets.size()) + " entries, expected #coarse triangles + 1 = " +
-                             std::to_string(num_triangles + 1)));
-        return false;
-    }
-    if (offsets[0] != 0) {
-        sink(problem({}, dataset + "[0] is " + std::to_string(offsets[0]) + ", expected 0"));
-        return false;
-    }
-    for (int32_t t = 0; t < num_triangles; ++t)
-        if (offsets[t + 1] < offsets[t]) {
-            sink(problem({{"coarse_triangle", t}}, dataset + "[" + std::to_string(t + 1) + "] = " +
-                                                       std::to_string(offsets[t + 1]) + " is less than " + dataset + "[" +
-                                                       std::to_string(t) + "] = " + std::to_string(offsets[t])));
-            return false;
-        }
-    if (offsets[num_triangles] != expected_total) {
-        sink(problem({}, dataset + " ends at " + std::to_string(offsets[num_triangles]) + ", but there are " +
-                             std::to_string(expected_total) + " entries"));
-        return false;
-    }
-    return true;
-}
-
-// Everything needed to index safely. Reports through `sink`; returns true when safe.
+// Everything needed to index safely (phi_layout.h). Reports through `sink`; returns
+// true when safe.
 bool structure(const Parametrization& p, const Sink& sink) {
-    bool ok = true;
-    bool go = true;
-    auto report = [&](CheckProblem pr) {
-        ok = false;
-        if (go) go = sink(std::move(pr));
-        return go;
-    };
-    if (!surface_structure(p.original, "original", report) && !go) return false;
-    if (!surface_structure(p.coarse, "coarse", report) && !go) return false;
-    if (!ok) return false;
-    const int32_t nt = p.coarse.num_triangles();
-    const int64_t nn = p.num_nodes();
-    const int64_t np = p.num_pieces();
-    if (p.coarse_vertex_origin.size() != p.coarse.vertices.size())
-        if (!report(problem({}, "coarse_vertex_origin has " + std::to_string(p.coarse_vertex_origin.size()) +
-                                    " entries for " + std::to_string(p.coarse.vertices.size()) + " coarse vertices")))
-            return false;
-    auto size_check = [&](size_t size, const char* name) {
-        if (size != static_cast<size_t>(nn))
-            report(problem({}, std::string(name) + " has " + std::to_string(size) + " entries, node_kind has " +
-                                   std::to_string(nn)));
-    };
-    size_check(p.node_barycentric.size(), "node_barycentric");
-    size_check(p.node_image.size(), "node_image");
-    size_check(p.node_original_vertex.size(), "node_original_vertex");
-    size_check(p.node_original_edge.size(), "node_original_edge");
-    size_check(p.node_edge_parameter.size(), "node_edge_parameter");
-    if (p.piece_original_triangle.size() != p.pieces.size())
-        report(problem({}, "piece_original_triangle has " + std::to_string(p.piece_original_triangle.size()) +
-                               " entries for " + std::to_string(np) + " pieces"));
-    if (!go) return false;
-    if (!csr_structure(p.node_offsets, nn, nt, "node_offsets", report)) ok = false;
-    if (!go) return false;
-    if (!csr_structure(p.piece_offsets, np, nt, "piece_offsets", report)) ok = false;
-    if (!ok) return false;
-
-    const int32_t nv0 = p.original.num_vertices();
-    const int32_t nt0 = p.original.num_triangles();
-    for (size_t c = 0; c < p.coarse_vertex_origin.size(); ++c) {
-        const int32_t o = p.coarse_vertex_origin[c];
-        if (o < 0 || o >= nv0)
-            if (!report(problem({{"coarse_vertex", static_cast<int64_t>(c)}},
-                                "coarse_vertex_origin " + std::to_string(o) + " is out of range [0, " +
-                                    std::to_string(nv0) + ")")))
-                return false;
-    }
-    for (int64_t n = 0; n < nn; ++n) {
-        const auto kind = static_cast<uint8_t>(p.node_kind[n]);
-        if (kind > 2) {
-            if (!report(problem({{"node", n}}, "node_kind " + std::to_string(kind) + " is not 0, 1 or 2"))) return false;
-            continue;
-        }
-        if (!finite3(p.node_barycentric[n]))
-            if (!report(problem({{"node", n}}, "non-finite barycentric coordinates " + vec_text(p.node_barycentric[n]))))
-                return false;
-        if (!finite3(p.node_image[n]))
-            if (!report(problem({{"node", n}}, "non-finite image " + vec_text(p.node_image[n])))) return false;
-        if (p.node_kind[n] == NodeKind::EdgeCrossing) {
-            const auto& e = p.node_original_edge[n];
-            if (e[0] < 0 || e[1] >= nv0 || e[0] >= e[1]) {
-                if (!report(problem({{"node", n}}, "edge crossing on original edge (" + std::to_string(e[0]) + ", " +
-                                                       std::to_string(e[1]) + "): not two vertices u < w in range")))
-                    return false;
-            }
-            const double s = p.node_edge_parameter[n];
-            if (!std::isfinite(s))
-                if (!report(problem({{"node", n}}, "edge crossing with non-finite edge parameter"))) return false;
-        } else {
-            const int32_t v = p.node_original_vertex[n];
-            if (v < 0 || v >= nv0)
-                if (!report(problem({{"node", n}}, "original vertex " + std::to_string(v) + " is out of range [0, " +
-                                                       std::to_string(nv0) + ")")))
-                    return false;
-        }
-    }
-    for (int32_t t = 0; t < nt; ++t) {
-        const int64_t count = p.node_offsets[t + 1] - p.node_offsets[t];
-        for (int64_t q = p.piece_offsets[t]; q < p.piece_offsets[t + 1]; ++q) {
-            for (int k = 0; k < 3; ++k) {
-                const int32_t local = p.pieces[q][k];
-                if (local < 0 || local >= count)
-                    if (!report(problem({{"coarse_triangle", t}, {"piece", q}},
-                                        "corner " + std::to_string(k) + " is local node " + std::to_string(local) +
-                                            ", out of range [0, " + std::to_string(count) + ")")))
-                        return false;
-            }
-            const int32_t o = p.piece_original_triangle[q];
-            if (o < 0 || o >= nt0)
-                if (!report(problem({{"coarse_triangle", t}, {"piece", q}},
-                                    "original triangle " + std::to_string(o) + " is out of range [0, " +
-                                        std::to_string(nt0) + ")")))
-                    return false;
-        }
-    }
-    return ok;
+    return detail::visit_phi_layout(p, [&](const detail::LayoutProblem& pr) {
+        const bool original = pr.surface == detail::SurfaceRole::Original;
+        return sink(layout_problem(&p, original ? p.original : p.coarse, original ? "original" : "coarse", pr));
+    });
 }
 
 inline uint64_t edge_key(int32_t a, int32_t b) {
@@ -202,10 +126,10 @@ std::optional<std::string> surface_unsafe(const Surface& surface) {
     std::optional<std::string> first;
     // Patch ids are optional here: intersections and quality do not use them, and
     // compute_topology treats missing ones as patch 0.
-    surface_structure(
-        surface, "surface",
-        [&](CheckProblem p) {
-            first = p.describe();
+    detail::visit_surface_layout(
+        surface, detail::SurfaceRole::Alone,
+        [&](const detail::LayoutProblem& pr) {
+            first = layout_problem(nullptr, surface, "surface", pr).describe();
             return false;
         },
         false);
@@ -280,10 +204,12 @@ CheckResult check_format(const Parametrization& p, const CheckOptions& options, 
     for (int32_t t = 0; t < nt; ++t) {
         if ((t & 0xfff) == 0) context.report(static_cast<double>(t) / std::max(nt, 1), "checking format");
         int corner_node[3] = {-1, -1, -1};
-        for (int64_t n = p.node_offsets[t]; n < p.node_offsets[t + 1]; ++n) {
+        const PhiTriangle phi(p, t);
+        for (int64_t i = 0; i < phi.num_nodes(); ++i) {
+            const int64_t n = phi.first_node() + i;
             const std::vector<std::pair<std::string, int64_t>> ids{{"coarse_triangle", t}, {"node", n}};
-            const Vec3& b = p.node_barycentric[n];
-            const NodeKind kind = p.node_kind[n];
+            const Vec3& b = phi.barycentric(i);
+            const NodeKind kind = phi.kind(i);
             if (b[0] < 0 || b[1] < 0 || b[2] < 0) add(ids, "negative barycentric coordinate " + vec_text(b));
             const double sum = b[0] + b[1] + b[2];
             if (!(std::abs(sum - 1.0) <= bary_tolerance))
@@ -302,21 +228,21 @@ CheckResult check_format(const Parametrization& p, const CheckOptions& options, 
                         add(ids, "second node at corner " + std::to_string(k) + " (first: node " +
                                      std::to_string(corner_node[k]) + ")");
                     corner_node[k] = static_cast<int>(n);
-                    const int32_t c = p.coarse.triangles[t][k];
-                    if (p.node_original_vertex[n] != p.coarse_vertex_origin[c])
+                    const int32_t c = phi.corners()[k];
+                    if (phi.original_vertex(i) != p.coarse_vertex_origin[c])
                         add(ids, "corner " + std::to_string(k) + " is coarse vertex " + std::to_string(c) +
                                      " = original vertex " + std::to_string(p.coarse_vertex_origin[c]) +
-                                     ", but the node names original vertex " + std::to_string(p.node_original_vertex[n]));
+                                     ", but the node names original vertex " + std::to_string(phi.original_vertex(i)));
                 }
             } else if (zeros >= 2) {
                 add(ids, "node at a corner " + vec_text(b) + " must be of kind CoarseCorner");
             }
             if (kind == NodeKind::EdgeCrossing) {
                 if (zeros != 1) add(ids, "edge crossing at " + vec_text(b) + " is not on a coarse edge (needs exactly one zero)");
-                const auto& e = p.node_original_edge[n];
-                const double s = p.node_edge_parameter[n];
-                if (p.node_original_vertex[n] != -1)
-                    add(ids, "edge crossing names original vertex " + std::to_string(p.node_original_vertex[n]) +
+                const auto& e = phi.original_edge(i);
+                const double s = phi.edge_parameter(i);
+                if (phi.original_vertex(i) != -1)
+                    add(ids, "edge crossing names original vertex " + std::to_string(phi.original_vertex(i)) +
                                  "; expected -1");
                 if (!std::binary_search(original_edges.begin(), original_edges.end(), edge_key(e[0], e[1]))) {
                     add(ids, "original edge (" + std::to_string(e[0]) + ", " + std::to_string(e[1]) +
@@ -327,33 +253,33 @@ CheckResult check_format(const Parametrization& p, const CheckOptions& options, 
                     add(ids, "edge parameter " + detail::format_number(s) + " is not strictly between 0 and 1");
                 }
             } else {
-                if (p.node_original_edge[n] != std::array<int32_t, 2>{-1, -1})
-                    add(ids, "vertex node names original edge (" + std::to_string(p.node_original_edge[n][0]) + ", " +
-                                 std::to_string(p.node_original_edge[n][1]) + "); expected (-1, -1)");
-                if (!std::isnan(p.node_edge_parameter[n]))
-                    add(ids, "vertex node has edge parameter " + detail::format_number(p.node_edge_parameter[n]) +
+                const auto& e = phi.original_edge(i);
+                if (e != std::array<int32_t, 2>{-1, -1})
+                    add(ids, "vertex node names original edge (" + std::to_string(e[0]) + ", " + std::to_string(e[1]) +
+                                 "); expected (-1, -1)");
+                if (!std::isnan(phi.edge_parameter(i)))
+                    add(ids, "vertex node has edge parameter " + detail::format_number(phi.edge_parameter(i)) +
                                  "; expected NaN");
             }
             if (identity_ok) {
                 // Indices were range-checked by structure(); the writer uses the same function.
                 expected = node_image_from_kind(p, n);
-                const double d = distance(expected, p.node_image[n]);
+                const double d = distance(expected, phi.image(i));
                 deviation(d, ids);
                 if (!(d <= tolerance))
-                    add(ids, "image " + vec_text(p.node_image[n]) + " differs from the point the node names " +
+                    add(ids, "image " + vec_text(phi.image(i)) + " differs from the point the node names " +
                                  vec_text(expected) + " by " + detail::format_number(d) + " (tolerance " +
                                  detail::format_number(tolerance) + ")");
             }
         }
         for (int k = 0; k < 3; ++k)
             if (corner_node[k] < 0) add({{"coarse_triangle", t}}, "no CoarseCorner node at corner " + std::to_string(k));
-        const int64_t first = p.node_offsets[t];
-        for (int64_t q = p.piece_offsets[t]; q < p.piece_offsets[t + 1]; ++q) {
-            const Tri& piece = p.pieces[q];
+        for (int64_t j = 0; j < phi.num_pieces(); ++j) {
+            const Tri& piece = phi.piece(j);
             if (piece[0] == piece[1] || piece[1] == piece[2] || piece[0] == piece[2])
-                add({{"coarse_triangle", t}, {"piece", q}},
+                add({{"coarse_triangle", t}, {"piece", phi.first_piece() + j}},
                     "repeated corner: local nodes " + std::to_string(piece[0]) + ", " + std::to_string(piece[1]) + ", " +
-                        std::to_string(piece[2]) + " (nodes " + std::to_string(first + piece[0]) + "...)");
+                        std::to_string(piece[2]) + " (nodes " + std::to_string(phi.piece_node(j, 0)) + "...)");
         }
     }
     r.worst = WorstValue{"image_deviation_relative_to_diagonal", worst, worst_ids};

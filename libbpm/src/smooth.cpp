@@ -37,6 +37,7 @@
 #include <unordered_map>
 
 #include "bpm/errors.h"
+#include "bpm/phi_triangle.h"
 #include "bpm/predicates.h"
 #include "bpm/refine.h"
 
@@ -53,7 +54,9 @@ double tri_area_b(const Vec3& a, const Vec3& b, const Vec3& c) {  // signed, (b1
     return 0.5 * ((b[1] - a[1]) * (c[2] - a[2]) - (b[2] - a[2]) * (c[1] - a[1]));
 }
 
-// phi of one coarse triangle, editable.
+// phi of one coarse triangle, editable: relax() builds new node and piece lists for
+// the two triangles of a pair and swaps them in, which the read view PhiTriangle
+// (phi_triangle.h) cannot do. Loaded through that view, stored by write_back().
 struct TriPhi {
     std::vector<Vec3> b, image;
     std::vector<NodeKind> kind;
@@ -197,17 +200,18 @@ public:
         tris_.resize(size_t(nt));
         for (int32_t t = 0; t < nt; ++t) {
             TriPhi& x = tris_[size_t(t)];
-            for (int64_t n = p.node_offsets[size_t(t)]; n < p.node_offsets[size_t(t) + 1]; ++n) {
-                x.b.push_back(p.node_barycentric[size_t(n)]);
-                x.image.push_back(p.node_image[size_t(n)]);
-                x.kind.push_back(p.node_kind[size_t(n)]);
-                x.ov.push_back(p.node_original_vertex[size_t(n)]);
-                x.edge.push_back(p.node_original_edge[size_t(n)]);
-                x.s.push_back(p.node_edge_parameter[size_t(n)]);
+            const PhiTriangle phi(p, t);
+            for (int64_t i = 0; i < phi.num_nodes(); ++i) {
+                x.b.push_back(phi.barycentric(i));
+                x.image.push_back(phi.image(i));
+                x.kind.push_back(phi.kind(i));
+                x.ov.push_back(phi.original_vertex(i));
+                x.edge.push_back(phi.original_edge(i));
+                x.s.push_back(phi.edge_parameter(i));
             }
-            for (int64_t q = p.piece_offsets[size_t(t)]; q < p.piece_offsets[size_t(t) + 1]; ++q) {
-                x.pieces.push_back(p.pieces[size_t(q)]);
-                x.piece_tri.push_back(p.piece_original_triangle[size_t(q)]);
+            for (int64_t j = 0; j < phi.num_pieces(); ++j) {
+                x.pieces.push_back(phi.piece(j));
+                x.piece_tri.push_back(phi.original_triangle(j));
             }
         }
         // Original edges -> triangles, vertex -> triangles.
