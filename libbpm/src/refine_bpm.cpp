@@ -341,10 +341,16 @@ private:
                     const int c1 = corner_side(k, j);
                     const int c2 = corner_side(k, j1);
                     if (c1 * c2 >= 0) continue;
-                    // Parameter along the piece edge in a canonical direction (lower vertex id first).
+                    // Parameter along the piece edge in a canonical direction (lower vertex id
+                    // first), against the refined edge in a canonical direction too (lower
+                    // refined vertex first): the two refined triangles of an edge compute the
+                    // crossing bit for bit the same. (With the edge's own order, a piece edge
+                    // almost parallel to it got positions 7e-11 apart on the two sides: two
+                    // cubes at 5 %, bijectivity check failed.)
                     const int ka = id[k] < id[k1] ? k : k1, kb = ka == k ? k1 : k;
-                    const double d1 = area2(R[size_t(j)], R[size_t(j1)], N[ka]);
-                    const double d2 = area2(R[size_t(j)], R[size_t(j1)], N[kb]);
+                    const int ja = rt[size_t(j)] < rt[size_t(j1)] ? j : j1, jb = ja == j ? j1 : j;
+                    const double d1 = area2(R[size_t(ja)], R[size_t(jb)], N[ka]);
+                    const double d2 = area2(R[size_t(ja)], R[size_t(jb)], N[kb]);
                     double s = d1 / (d1 - d2);
                     s = std::min(1.0, std::max(0.0, s));
                     const Vec3 b = N[ka] + s * (N[kb] - N[ka]);

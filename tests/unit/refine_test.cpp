@@ -254,3 +254,27 @@ TEST_CASE("normals of the original surface are carried onto refined vertices", "
     const std::vector<Vec3> n = vertex_normals(p.original);
     for (const Vec3& x : n) CHECK(norm(x) == Approx(1.0));
 }
+
+TEST_CASE("refined .bpm of two cubes sharing a face passes every check", "[refine][multimaterial]") {
+    // Two materials (three sheets along the shared square's border), simplified to 5 %.
+    // A piece edge almost parallel to a refined midline crossed it at positions 7e-11
+    // apart in the two refined triangles of the midline (each computed the crossing from
+    // its own corner order): the bijectivity check failed (exit 5 from bpm-refine).
+    const Surface s = fixtures::two_cubes(16);
+    SimplifyOptions so;
+    so.target_ratio = 0.05;
+    Parametrization coarse;
+    simplify(s, so, Context{}, coarse);
+    for (int levels : {1, 2}) {
+        INFO("levels " << levels);
+        RefinedSurface r;
+        RefineOptions o;
+        o.levels = levels;
+        refine(coarse, o, Context{}, r);
+        const Parametrization p = refined_parametrization(coarse, r);
+        test_support::require_valid_parametrization(p);
+        const CheckResult intersections = check_intersections(p.coarse);
+        INFO(check_text(intersections));
+        CHECK(intersections.passed);
+    }
+}
