@@ -18,9 +18,11 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <unordered_map>
 
+#include "bpm/check.h"
 #include "bpm/errors.h"
 #include "bpm/phi_evaluation.h"
 
@@ -283,7 +285,60 @@ public:
         }
         result.vertices = int64_t(nv);
         result.triangles = int64_t(s.triangles.size());
+        out_.vertex_phi_fraction.assign(nv, 1.0);
+        if (options.prevent_intersections) hold_back(result, context);
         return result;
+    }
+
+    // RefineOptions::prevent_intersections.
+    void hold_back(RefineResult& result, const Context& context) {
+        Surface& s = out_.surface;
+        const size_t nv = s.vertices.size(), coarse_vertices = p_.coarse.vertices.size();
+        std::vector<Vec3> at_phi = s.vertices, flat(nv);
+        for (size_t v = coarse_vertices; v < nv; ++v) {
+            const Tri& c = p_.coarse.triangles[size_t(out_.vertex_coarse_triangle[v])];
+            const auto& x = p_.coarse.vertices;
+            flat[v] = barycentric_point(x[size_t(c[0])], x[size_t(c[1])], x[size_t(c[2])], out_.vertex_barycentric[v]);
+        }
+        std::vector<int32_t> halvings(nv, 0);
+        std::vector<double>& f = out_.vertex_phi_fraction;
+        CheckOptions all;
+        all.max_problems = std::numeric_limits<size_t>::max();
+        for (int32_t round = 0;; ++round) {
+            const CheckResult r = check_intersections(s, all, Context{}, "refined intersections");
+            if (r.passed) break;
+            // Every round moves at least one vertex closer to the coarse surface and after
+            // 11 moves a vertex is on it, so this ends after at most 11 rounds per vertex.
+            if (round > 11 * int32_t(nv)) throw std::logic_error("refine: the intersection remedy does not end");
+            result.remedy_rounds = round + 1;
+            std::vector<int32_t> involved;
+            for (const CheckProblem& problem : r.problems)
+                for (const char* kind : {"triangle", "other_triangle"}) {
+                    const int64_t t = problem.id(kind);
+                    if (t < 0) continue;
+                    for (int32_t v : s.triangles[size_t(t)])
+                        if (size_t(v) >= coarse_vertices && f[size_t(v)] > 0) involved.push_back(v);
+                }
+            std::sort(involved.begin(), involved.end());
+            involved.erase(std::unique(involved.begin(), involved.end()), involved.end());
+            // Triangles with all their new vertices on the coarse surface lie in their coarse
+            // triangles, which do not intersect: a pair of them is a bug, not the input.
+            if (involved.empty())
+                throw std::logic_error("refine: refined triangles on the coarse surface intersect (" +
+                                       (r.problems.empty() ? std::string("?") : r.problems[0].describe()) + ")");
+            for (int32_t v : involved) {
+                f[size_t(v)] = ++halvings[size_t(v)] > 10 ? 0.0 : 0.5 * f[size_t(v)];
+                s.vertices[size_t(v)] = flat[size_t(v)] + f[size_t(v)] * (at_phi[size_t(v)] - flat[size_t(v)]);
+            }
+            context.debug("refine: intersection remedy round " + std::to_string(round + 1) + ": " +
+                          std::to_string(r.problem_count) + " intersecting pairs, " + std::to_string(involved.size()) +
+                          " vertices moved towards the coarse surface");
+        }
+        for (size_t v = coarse_vertices; v < nv; ++v) {
+            if (f[v] >= 1.0) continue;
+            ++result.held_back_vertices;
+            result.max_held_back = std::max(result.max_held_back, distance(s.vertices[v], at_phi[v]) / diagonal_);
+        }
     }
 
 private:

@@ -258,6 +258,15 @@ private:
         int32_t id = -1;
         for (int64_t g = n0; g < n1 && id < 0; ++g)
             if (nb_[size_t(g)] == b) id = nv[size_t(g - n0)];
+        // A vertex held back from phi (RefineOptions::prevent_intersections) is off S0: it
+        // becomes a vertex of the new original surface at its own position, and the overlay
+        // cells around it follow it (spec/refinement.md §3). It cannot be an original vertex
+        // of S0 at the same time.
+        const bool held_back = size_t(rv) < r_.vertex_phi_fraction.size() && r_.vertex_phi_fraction[size_t(rv)] < 1.0;
+        if (id >= 0 && held_back)
+            throw AlgorithmError("refine: refined vertex " + std::to_string(rv) +
+                                 " is held back from phi to avoid a self-intersection but is an original vertex "
+                                 "of S0 as well; it cannot be written as a .bpm file (write a surface format)");
         if (id < 0) id = vertex_for({2, rv, 0, 0, 0}, r_.surface.vertices[size_t(rv)]);
         refined_vertex_[size_t(rv)] = id;
         return id;

@@ -278,3 +278,50 @@ TEST_CASE("refined .bpm of two cubes sharing a face passes every check", "[refin
         CHECK(intersections.passed);
     }
 }
+
+TEST_CASE("refined femur does not intersect itself: new vertices held back from phi", "[refine][remedy][real]") {
+    // Femur at 10 %, refined once through phi: 18 new vertices at phi made intersecting
+    // triangle pairs (bpm-check of the refined .bpm failed); held back towards the coarse
+    // surface they do not, and the refined .bpm passes all four checks.
+    const Parametrization* femur = test_support::simplified_femur();
+    if (!femur) {
+        WARN("missing femur.off");
+        return;
+    }
+    const double diagonal = bounding_box_diagonal(femur->original);
+    for (int levels : {1, 2}) {
+        INFO("levels " << levels);
+        RefineOptions o;
+        o.levels = levels;
+        RefinedSurface at_phi;
+        refine(*femur, o, Context{}, at_phi);
+        CHECK_FALSE(check_intersections(at_phi.surface).passed);  // what the remedy is for
+        for (double f : at_phi.vertex_phi_fraction) CHECK(f == 1.0);
+
+        o.prevent_intersections = true;
+        RefinedSurface r;
+        const RefineResult result = refine(*femur, o, Context{}, r);
+        CHECK(result.held_back_vertices > 0);
+        CHECK(result.max_held_back > 0);
+        CHECK(result.max_held_back < 0.01);
+        const CheckResult intersections = check_intersections(r.surface);
+        INFO(check_text(intersections));
+        CHECK(intersections.passed);
+        // Held-back vertices are on the segment from their coarse point to phi; the others at phi.
+        int64_t held = 0;
+        double farthest = 0;
+        for (size_t v = 0; v < r.surface.vertices.size(); ++v) {
+            if (r.vertex_phi_fraction[v] == 1.0) {
+                CHECK(r.surface.vertices[v] == at_phi.surface.vertices[v]);
+                continue;
+            }
+            ++held;
+            farthest = std::max(farthest, distance(r.surface.vertices[v], at_phi.surface.vertices[v]) / diagonal);
+        }
+        CHECK(held == result.held_back_vertices);
+        CHECK(farthest == Approx(result.max_held_back));
+        const Parametrization p = refined_parametrization(*femur, r);
+        test_support::require_valid_parametrization(p);
+        CHECK(check_intersections(p.coarse).passed);
+    }
+}

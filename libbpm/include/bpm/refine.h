@@ -33,6 +33,15 @@ struct RefineOptions {
     double tolerance = 0.0;
     // Adaptive: never refine a coarse triangle more than this many times.
     int max_level = 8;
+    // Hold new vertices back from phi where the refined surface would intersect itself
+    // (the lambda remedy of Krause & Sander §3.3, on the surface): a vertex of an
+    // intersecting pair of triangles (exact test, bpm::check_intersections) moves to
+    // flat + f (phi - flat), flat being its point on the coarse surface, with f halved
+    // per round (bisection towards the coarse surface) and 0 after 10 halvings, until no
+    // pair intersects. The coarse surface does not intersect itself, so this ends.
+    // Off by default in the library so that a measure of phi (bpm::refined_quality) sees
+    // the vertices at phi; bpm-refine turns it on.
+    bool prevent_intersections = false;
 };
 
 // A refined surface and where each of its vertices / triangles comes from.
@@ -51,6 +60,10 @@ struct RefinedSurface {
     std::vector<int32_t> triangle_coarse;
     std::vector<std::array<Vec3, 3>> triangle_barycentric;
     std::vector<int32_t> triangle_level;
+    // Per vertex (#V): where it is between its point on the coarse surface (0) and phi of
+    // its parameter position (1); below 1 only where RefineOptions::prevent_intersections
+    // held it back. Coarse vertices 1.
+    std::vector<double> vertex_phi_fraction;
 };
 
 struct RefineResult {
@@ -59,6 +72,11 @@ struct RefineResult {
     int32_t max_level = 0;            // deepest level reached
     double max_estimated_error = 0.0; // max over refined triangles of the sampled deviation / diagonal
     int64_t triangles_at_max_level_above_tolerance = 0;  // adaptive: could not meet the tolerance
+    // RefineOptions::prevent_intersections: vertices held back from phi, the largest
+    // distance from phi of one (relative to the diagonal of S0), rounds of the remedy.
+    int64_t held_back_vertices = 0;
+    double max_held_back = 0.0;
+    int32_t remedy_rounds = 0;
     double seconds = 0.0;
 };
 
