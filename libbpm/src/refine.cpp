@@ -3,7 +3,8 @@
 //
 // Uniform refinement is red refinement (1 -> 4 at edge midpoints) of every triangle,
 // `levels` times. Adaptive refinement follows the classic red-green scheme (Bank,
-// Sherman & Weiser 1983): red-refine triangles whose sampled deviation exceeds the
+// Sherman & Weiser 1983): red-refine triangles whose deviation from phi (exact, over the
+// overlay with the pieces of phi: Refiner::error) exceeds the
 // tolerance, red-refine further triangles until the mesh is 1-irregular (no triangle
 // with two split edges, no split edge whose halves are split again), then close it
 // with green bisections of the triangles that have exactly one split edge.
@@ -180,17 +181,73 @@ public:
         b.b = {bm, r.b[k1], r.b[k2]};
     }
 
-    // Sampled deviation of phi from the flat triangle, relative to the diagonal.
+    // Largest distance between the flat triangle r and phi over r, relative to the
+    // diagonal: an upper bound of the two-sided Hausdorff distance between r and its image
+    // on S0 (x -> phi(x) pairs every point of r with one of phi(r)). Both maps are affine
+    // on every cell of the overlay of r with the pieces of phi, so the largest distance is
+    // at a corner of a cell: a corner of r, a node of phi in r, or a point where a piece
+    // edge crosses an edge of r. All of them are visited (nodes and crossings within
+    // rounding of r too, which can only raise the value). Not sampled: no feature of S0
+    // between sample points is missed.
     double error(const RTri& r) const {
-        static const Vec3 samples[] = {{0.5, 0.5, 0},       {0, 0.5, 0.5},       {0.5, 0, 0.5},
-                                       {0.5, 0.25, 0.25},   {0.25, 0.5, 0.25},   {0.25, 0.25, 0.5},
-                                       {1. / 3, 1. / 3, 1. / 3}};
         const auto& x = out_.surface.vertices;
+        const Vec3 X[3] = {x[size_t(r.v[0])], x[size_t(r.v[1])], x[size_t(r.v[2])]};
+        // Barycentric coordinates in r of a point given in the coarse triangle, in the (b1, b2) plane.
+        const double u1 = r.b[1][1] - r.b[0][1], u2 = r.b[1][2] - r.b[0][2];
+        const double v1 = r.b[2][1] - r.b[0][1], v2 = r.b[2][2] - r.b[0][2];
+        const double det = u1 * v2 - u2 * v1;
+        auto in_r = [&](const Vec3& b) {
+            const double w1 = b[1] - r.b[0][1], w2 = b[2] - r.b[0][2];
+            const double l1 = (w1 * v2 - w2 * v1) / det, l2 = (u1 * w2 - u2 * w1) / det;
+            return Vec3{1.0 - l1 - l2, l1, l2};
+        };
         double worst = 0;
-        for (const Vec3& s : samples) {
-            const Vec3 b = barycentric_point(r.b[0], r.b[1], r.b[2], s);
-            const Vec3 flat = barycentric_point(x[size_t(r.v[0])], x[size_t(r.v[1])], x[size_t(r.v[2])], s);
-            worst = std::max(worst, distance(phi_.evaluate(r.coarse, b).position, flat));
+        auto visit = [&](const Vec3& b, const Vec3& image) {
+            const Vec3 l = in_r(b);
+            worst = std::max(worst, distance(l[0] * X[0] + l[1] * X[1] + l[2] * X[2], image));
+        };
+        for (int k = 0; k < 3; ++k) visit(r.b[size_t(k)], phi_.evaluate(r.coarse, r.b[size_t(k)]).position);
+        constexpr double kSlack = 1e-12;  // barycentric units: rounding of stored node positions
+        const double lo1 = std::min({r.b[0][1], r.b[1][1], r.b[2][1]}) - kSlack;
+        const double hi1 = std::max({r.b[0][1], r.b[1][1], r.b[2][1]}) + kSlack;
+        const double lo2 = std::min({r.b[0][2], r.b[1][2], r.b[2][2]}) - kSlack;
+        const double hi2 = std::max({r.b[0][2], r.b[1][2], r.b[2][2]}) + kSlack;
+        const size_t t = size_t(r.coarse);
+        const int64_t n0 = p_.node_offsets[t], n1 = p_.node_offsets[t + 1];
+        for (int64_t g = n0; g < n1; ++g) {
+            const Vec3& b = p_.node_barycentric[size_t(g)];
+            if (b[1] < lo1 || b[1] > hi1 || b[2] < lo2 || b[2] > hi2) continue;
+            const Vec3 l = in_r(b);
+            if (l[0] >= -kSlack && l[1] >= -kSlack && l[2] >= -kSlack) visit(b, p_.node_image[size_t(g)]);
+        }
+        for (int64_t q = p_.piece_offsets[t]; q < p_.piece_offsets[t + 1]; ++q) {
+            const Tri& pc = p_.pieces[size_t(q)];
+            const Vec3* N[3];
+            for (int k = 0; k < 3; ++k) N[k] = &p_.node_barycentric[size_t(n0 + pc[size_t(k)])];
+            if (std::max({(*N[0])[1], (*N[1])[1], (*N[2])[1]}) < lo1 || std::min({(*N[0])[1], (*N[1])[1], (*N[2])[1]}) > hi1 ||
+                std::max({(*N[0])[2], (*N[1])[2], (*N[2])[2]}) < lo2 || std::min({(*N[0])[2], (*N[1])[2], (*N[2])[2]}) > hi2)
+                continue;
+            for (int k = 0; k < 3; ++k) {
+                const Vec3& A = *N[k];
+                const Vec3& B = *N[(k + 1) % 3];
+                const double d1 = B[1] - A[1], d2 = B[2] - A[2];
+                for (int j = 0; j < 3; ++j) {
+                    const Vec3& C = r.b[size_t(j)];
+                    const Vec3& D = r.b[size_t((j + 1) % 3)];
+                    const double e1 = D[1] - C[1], e2 = D[2] - C[2];
+                    const double den = d1 * e2 - d2 * e1;
+                    if (den == 0) continue;  // parallel: its ends are nodes or corners, visited
+                    const double c1 = C[1] - A[1], c2 = C[2] - A[2];
+                    const double s = (c1 * e2 - c2 * e1) / den;  // along the piece edge
+                    const double w = (c1 * d2 - c2 * d1) / den;  // along the edge of r
+                    if (s < -kSlack || s > 1 + kSlack || w < -kSlack || w > 1 + kSlack) continue;
+                    const double sc = std::min(1.0, std::max(0.0, s));
+                    const Vec3 b = A + sc * (B - A);
+                    const Vec3& IA = p_.node_image[size_t(n0 + pc[size_t(k)])];
+                    const Vec3& IB = p_.node_image[size_t(n0 + pc[size_t((k + 1) % 3)])];
+                    visit(b, IA + sc * (IB - IA));
+                }
+            }
         }
         return worst / diagonal_;
     }
@@ -269,11 +326,9 @@ public:
             out_.triangle_barycentric.push_back(r.b);
             out_.triangle_level.push_back(r.level);
             result.max_level = std::max(result.max_level, r.level);
-            if (max_level > 0 || !uniform) {
-                const double e = error(r);
-                result.max_estimated_error = std::max(result.max_estimated_error, e);
-                if (!uniform && e > options.tolerance) ++result.triangles_at_max_level_above_tolerance;
-            }
+            const double e = error(r);
+            result.max_estimated_error = std::max(result.max_estimated_error, e);
+            if (!uniform && e > options.tolerance) ++result.triangles_at_max_level_above_tolerance;
         }
         const size_t nv = s.vertices.size();
         out_.vertex_original_triangle.resize(nv);
@@ -287,6 +342,9 @@ public:
         result.triangles = int64_t(s.triangles.size());
         out_.vertex_phi_fraction.assign(nv, 1.0);
         if (options.prevent_intersections) hold_back(result, context);
+        // A held-back vertex moves the flat triangles around it by at most its distance
+        // from phi, everywhere (barycentric weights sum to 1).
+        result.hausdorff_bound = result.max_estimated_error + result.max_held_back;
         return result;
     }
 

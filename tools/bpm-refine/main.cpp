@@ -158,8 +158,8 @@ int main(int argc, char** argv) {
         const bpm::RefineResult result = bpm::refine(param, options, context, refined);
         char line[512];
         std::snprintf(line, sizeof line,
-                      "%lld coarse triangles -> %lld vertices, %lld triangles (level %d), estimated max deviation "
-                      "%.3g of diagonal, %.2f s",
+                      "%lld coarse triangles -> %lld vertices, %lld triangles (level %d), max |flat - phi| %.3g of "
+                      "diagonal (exact, over the overlay with phi), %.2f s",
                       (long long)result.coarse_triangles, (long long)result.vertices, (long long)result.triangles,
                       result.max_level, result.max_estimated_error, result.seconds);
         context.info(line);
@@ -170,6 +170,11 @@ int main(int argc, char** argv) {
                           (long long)result.held_back_vertices, result.max_held_back, result.remedy_rounds);
             context.info(line);
         }
+        std::snprintf(line, sizeof line,
+                      "proven two-sided Hausdorff distance to the original surface: at most %.3g of diagonal%s",
+                      result.hausdorff_bound,
+                      result.held_back_vertices > 0 ? " (max |flat - phi| + the held-back distance)" : "");
+        context.info(line);
         if (result.triangles_at_max_level_above_tolerance > 0)
             context.warn(std::to_string(result.triangles_at_max_level_above_tolerance) +
                          " triangles still deviate more than the tolerance at --max-level " +
