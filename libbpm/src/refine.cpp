@@ -348,6 +348,66 @@ public:
         return result;
     }
 
+    // After hold_back's halvings every held-back vertex has a fraction f that is free of
+    // intersections and one (2 f, or its last value before 0) that was not: bisect between
+    // them, all vertices at once, five times. A trial that makes a pair intersect is undone
+    // for the vertices of that pair (the others keep theirs), until the surface is free of
+    // intersections again, so every step ends in a valid state.
+    void grow_back(const std::vector<int32_t>& halvings, const std::vector<Vec3>& at_phi, const std::vector<Vec3>& flat,
+                   const Context& context) {
+        Surface& s = out_.surface;
+        std::vector<double>& f = out_.vertex_phi_fraction;
+        const size_t nv = s.vertices.size();
+        std::vector<double> lo(nv, 1.0), hi(nv, 1.0);
+        std::vector<int32_t> held;
+        for (size_t v = 0; v < nv; ++v) {
+            if (f[v] >= 1.0) continue;
+            held.push_back(int32_t(v));
+            lo[v] = f[v];
+            hi[v] = halvings[v] > 10 ? std::ldexp(1.0, -10) : 2.0 * f[v];
+        }
+        if (held.empty()) return;
+        auto place = [&](int32_t v, double fraction) {
+            f[size_t(v)] = fraction;
+            s.vertices[size_t(v)] = flat[size_t(v)] + fraction * (at_phi[size_t(v)] - flat[size_t(v)]);
+        };
+        CheckOptions all;
+        all.max_problems = std::numeric_limits<size_t>::max();
+        for (int step = 0; step < 5; ++step) {
+            std::vector<uint8_t> trying(nv, 0);
+            for (int32_t v : held) {
+                place(v, 0.5 * (lo[size_t(v)] + hi[size_t(v)]));
+                trying[size_t(v)] = 1;
+            }
+            int64_t undone = 0;
+            while (true) {
+                const CheckResult r = check_intersections(s, all, Context{}, "refined intersections");
+                if (r.passed) break;
+                int64_t undone_now = 0;
+                for (const CheckProblem& problem : r.problems)
+                    for (const char* kind : {"triangle", "other_triangle"}) {
+                        const int64_t t = problem.id(kind);
+                        if (t < 0) continue;
+                        for (int32_t v : s.triangles[size_t(t)]) {
+                            if (!trying[size_t(v)]) continue;
+                            trying[size_t(v)] = 0;
+                            hi[size_t(v)] = f[size_t(v)];
+                            place(v, lo[size_t(v)]);
+                            ++undone_now;
+                        }
+                    }
+                // Only trials moved since the last valid state: undoing them all is that state.
+                if (undone_now == 0) throw std::logic_error("refine: intersections after undoing every trial");
+                undone += undone_now;
+            }
+            for (int32_t v : held)
+                if (trying[size_t(v)]) lo[size_t(v)] = f[size_t(v)];
+            context.debug("refine: intersection remedy, bisection step " + std::to_string(step + 1) + ": " +
+                          std::to_string(int64_t(held.size()) - undone) + " of " + std::to_string(held.size()) +
+                          " vertices moved closer to phi");
+        }
+    }
+
     // RefineOptions::prevent_intersections.
     void hold_back(RefineResult& result, const Context& context) {
         Surface& s = out_.surface;
@@ -392,6 +452,7 @@ public:
                           std::to_string(r.problem_count) + " intersecting pairs, " + std::to_string(involved.size()) +
                           " vertices moved towards the coarse surface");
         }
+        grow_back(halvings, at_phi, flat, context);
         for (size_t v = coarse_vertices; v < nv; ++v) {
             if (f[v] >= 1.0) continue;
             ++result.held_back_vertices;

@@ -41,7 +41,9 @@ struct RefineOptions {
     // intersecting pair of triangles (exact test, bpm::check_intersections) moves to
     // flat + f (phi - flat), flat being its point on the coarse surface, with f halved
     // per round (bisection towards the coarse surface) and 0 after 10 halvings, until no
-    // pair intersects. The coarse surface does not intersect itself, so this ends.
+    // pair intersects. The coarse surface does not intersect itself, so this ends. Then
+    // five bisection steps between each vertex's free and last intersecting fraction bring
+    // the held-back vertices back towards phi as far as they stay free of intersections.
     // Off by default in the library so that a measure of phi (bpm::refined_quality) sees
     // the vertices at phi; bpm-refine turns it on.
     bool prevent_intersections = false;
