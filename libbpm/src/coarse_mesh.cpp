@@ -164,6 +164,85 @@ void CoarseMesh::mark_feature_edges(double feature_angle_degrees) {
     }
 }
 
+void CoarseMesh::mark_corners(double feature_angle_degrees, double min_crease_length, bool keep) {
+    const auto& p = *positions_;
+    const size_t nv = vertex_triangles_.size();
+    std::vector<int32_t> hard(nv, 0);
+    // Crease edges per vertex (CSR), for walking along crease lines.
+    std::vector<int32_t> offsets(nv + 1, 0), ends;
+    for (const auto& [key, kind] : feature_edges_) {
+        const int32_t a = int32_t(key >> 32), b = int32_t(key & 0xffffffffu);
+        if (kind == Feature::Hard) {
+            ++hard[a];
+            ++hard[b];
+        } else {
+            ++offsets[a + 1];
+            ++offsets[b + 1];
+        }
+    }
+    for (size_t v = 0; v < nv; ++v) offsets[v + 1] += offsets[v];
+    ends.resize(size_t(offsets[nv]));
+    {
+        std::vector<int32_t> fill(offsets.begin(), offsets.end() - 1);
+        for (const auto& [key, kind] : feature_edges_) {
+            if (kind != Feature::Crease) continue;
+            const int32_t a = int32_t(key >> 32), b = int32_t(key & 0xffffffffu);
+            ends[size_t(fill[a]++)] = b;
+            ends[size_t(fill[b]++)] = a;
+        }
+    }
+    auto crease_degree = [&](int32_t v) { return offsets[v + 1] - offsets[v]; };
+    // Does the crease line leaving v towards w run at least min_crease_length (through
+    // vertices on exactly two creases and no hard edge)? Noise on scanned surfaces makes
+    // short creases that meet and end everywhere; a crease shorter than that is not a
+    // line whose corners must stay.
+    auto long_line = [&](int32_t v, int32_t w) {
+        double length = 0.0;
+        int32_t from = v;
+        while (true) {
+            length += distance(p[from], p[w]);
+            if (length >= min_crease_length) return true;
+            if (w == v || crease_degree(w) != 2 || hard[w] != 0) return false;
+            const int32_t a = ends[size_t(offsets[w])], b = ends[size_t(offsets[w] + 1)];
+            const int32_t next = a == from ? b : a;
+            from = w;
+            w = next;
+        }
+    };
+    // Defect of a circular cone whose generators' normals on opposite sides are the
+    // feature angle apart: half-angle alpha = 90 - theta / 2, defect 2 pi (1 - sin alpha).
+    const double theta = feature_angle_degrees * M_PI / 180.0;
+    const double cone_defect = 2.0 * M_PI * (1.0 - std::cos(0.5 * theta));
+    corners_.assign(nv, uint8_t(Corner::None));
+    for (size_t v = 0; v < nv; ++v) {
+        if (hard[v] == 1 || hard[v] >= 3) {  // kept by the classification of its star
+            ++hard_feature_vertices_;
+            continue;
+        }
+        if (crease_degree(int32_t(v)) == 0) continue;
+        int32_t lines = 0;  // creases at v that are long lines
+        for (int32_t i = offsets[v]; i < offsets[v + 1]; ++i) lines += long_line(int32_t(v), ends[size_t(i)]);
+        if (lines == 0) continue;
+        if (hard[v] + lines >= 3) {
+            corners_[v] = uint8_t(Corner::Junction);
+            continue;
+        }
+        if (hard[v] != 0 || crease_degree(int32_t(v)) != 1) continue;
+        // A crease ends here, inside one sheet (no hard edge: the star is a disk).
+        double angles = 0.0;
+        for (int32_t t : vertex_triangles_[v]) {
+            const Tri& c = triangles_[t];
+            int k = 0;
+            while (c[k] != int32_t(v)) ++k;
+            const Vec3 e1 = p[c[(k + 1) % 3]] - p[v], e2 = p[c[(k + 2) % 3]] - p[v];
+            angles += std::atan2(norm(cross(e1, e2)), dot(e1, e2));
+        }
+        if (std::abs(2.0 * M_PI - angles) >= cone_defect) corners_[v] = uint8_t(Corner::ConeEnd);
+    }
+    for (uint8_t c : corners_) ++corner_counts_[c];
+    if (!keep) corners_.clear();
+}
+
 Surface CoarseMesh::to_surface(std::vector<int32_t>& vertex_origin) const {
     Surface s;
     std::unordered_map<int32_t, int32_t> index;

@@ -3,7 +3,8 @@
 //
 // Uniform refinement is red refinement (1 -> 4 at edge midpoints) of every triangle,
 // `levels` times. Adaptive refinement follows the classic red-green scheme (Bank,
-// Sherman & Weiser 1983): red-refine triangles whose sampled deviation exceeds the
+// Sherman & Weiser 1983): red-refine triangles whose deviation from phi (exact, over the
+// overlay with the pieces of phi: Refiner::error) exceeds the
 // tolerance, red-refine further triangles until the mesh is 1-irregular (no triangle
 // with two split edges, no split edge whose halves are split again), then close it
 // with green bisections of the triangles that have exactly one split edge.
@@ -18,9 +19,11 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <unordered_map>
 
+#include "bpm/check.h"
 #include "bpm/errors.h"
 #include "bpm/phi_evaluation.h"
 
@@ -178,17 +181,73 @@ public:
         b.b = {bm, r.b[k1], r.b[k2]};
     }
 
-    // Sampled deviation of phi from the flat triangle, relative to the diagonal.
+    // Largest distance between the flat triangle r and phi over r, relative to the
+    // diagonal: an upper bound of the two-sided Hausdorff distance between r and its image
+    // on S0 (x -> phi(x) pairs every point of r with one of phi(r)). Both maps are affine
+    // on every cell of the overlay of r with the pieces of phi, so the largest distance is
+    // at a corner of a cell: a corner of r, a node of phi in r, or a point where a piece
+    // edge crosses an edge of r. All of them are visited (nodes and crossings within
+    // rounding of r too, which can only raise the value). Not sampled: no feature of S0
+    // between sample points is missed.
     double error(const RTri& r) const {
-        static const Vec3 samples[] = {{0.5, 0.5, 0},       {0, 0.5, 0.5},       {0.5, 0, 0.5},
-                                       {0.5, 0.25, 0.25},   {0.25, 0.5, 0.25},   {0.25, 0.25, 0.5},
-                                       {1. / 3, 1. / 3, 1. / 3}};
         const auto& x = out_.surface.vertices;
+        const Vec3 X[3] = {x[size_t(r.v[0])], x[size_t(r.v[1])], x[size_t(r.v[2])]};
+        // Barycentric coordinates in r of a point given in the coarse triangle, in the (b1, b2) plane.
+        const double u1 = r.b[1][1] - r.b[0][1], u2 = r.b[1][2] - r.b[0][2];
+        const double v1 = r.b[2][1] - r.b[0][1], v2 = r.b[2][2] - r.b[0][2];
+        const double det = u1 * v2 - u2 * v1;
+        auto in_r = [&](const Vec3& b) {
+            const double w1 = b[1] - r.b[0][1], w2 = b[2] - r.b[0][2];
+            const double l1 = (w1 * v2 - w2 * v1) / det, l2 = (u1 * w2 - u2 * w1) / det;
+            return Vec3{1.0 - l1 - l2, l1, l2};
+        };
         double worst = 0;
-        for (const Vec3& s : samples) {
-            const Vec3 b = barycentric_point(r.b[0], r.b[1], r.b[2], s);
-            const Vec3 flat = barycentric_point(x[size_t(r.v[0])], x[size_t(r.v[1])], x[size_t(r.v[2])], s);
-            worst = std::max(worst, distance(phi_.evaluate(r.coarse, b).position, flat));
+        auto visit = [&](const Vec3& b, const Vec3& image) {
+            const Vec3 l = in_r(b);
+            worst = std::max(worst, distance(l[0] * X[0] + l[1] * X[1] + l[2] * X[2], image));
+        };
+        for (int k = 0; k < 3; ++k) visit(r.b[size_t(k)], phi_.evaluate(r.coarse, r.b[size_t(k)]).position);
+        constexpr double kSlack = 1e-12;  // barycentric units: rounding of stored node positions
+        const double lo1 = std::min({r.b[0][1], r.b[1][1], r.b[2][1]}) - kSlack;
+        const double hi1 = std::max({r.b[0][1], r.b[1][1], r.b[2][1]}) + kSlack;
+        const double lo2 = std::min({r.b[0][2], r.b[1][2], r.b[2][2]}) - kSlack;
+        const double hi2 = std::max({r.b[0][2], r.b[1][2], r.b[2][2]}) + kSlack;
+        const size_t t = size_t(r.coarse);
+        const int64_t n0 = p_.node_offsets[t], n1 = p_.node_offsets[t + 1];
+        for (int64_t g = n0; g < n1; ++g) {
+            const Vec3& b = p_.node_barycentric[size_t(g)];
+            if (b[1] < lo1 || b[1] > hi1 || b[2] < lo2 || b[2] > hi2) continue;
+            const Vec3 l = in_r(b);
+            if (l[0] >= -kSlack && l[1] >= -kSlack && l[2] >= -kSlack) visit(b, p_.node_image[size_t(g)]);
+        }
+        for (int64_t q = p_.piece_offsets[t]; q < p_.piece_offsets[t + 1]; ++q) {
+            const Tri& pc = p_.pieces[size_t(q)];
+            const Vec3* N[3];
+            for (int k = 0; k < 3; ++k) N[k] = &p_.node_barycentric[size_t(n0 + pc[size_t(k)])];
+            if (std::max({(*N[0])[1], (*N[1])[1], (*N[2])[1]}) < lo1 || std::min({(*N[0])[1], (*N[1])[1], (*N[2])[1]}) > hi1 ||
+                std::max({(*N[0])[2], (*N[1])[2], (*N[2])[2]}) < lo2 || std::min({(*N[0])[2], (*N[1])[2], (*N[2])[2]}) > hi2)
+                continue;
+            for (int k = 0; k < 3; ++k) {
+                const Vec3& A = *N[k];
+                const Vec3& B = *N[(k + 1) % 3];
+                const double d1 = B[1] - A[1], d2 = B[2] - A[2];
+                for (int j = 0; j < 3; ++j) {
+                    const Vec3& C = r.b[size_t(j)];
+                    const Vec3& D = r.b[size_t((j + 1) % 3)];
+                    const double e1 = D[1] - C[1], e2 = D[2] - C[2];
+                    const double den = d1 * e2 - d2 * e1;
+                    if (den == 0) continue;  // parallel: its ends are nodes or corners, visited
+                    const double c1 = C[1] - A[1], c2 = C[2] - A[2];
+                    const double s = (c1 * e2 - c2 * e1) / den;  // along the piece edge
+                    const double w = (c1 * d2 - c2 * d1) / den;  // along the edge of r
+                    if (s < -kSlack || s > 1 + kSlack || w < -kSlack || w > 1 + kSlack) continue;
+                    const double sc = std::min(1.0, std::max(0.0, s));
+                    const Vec3 b = A + sc * (B - A);
+                    const Vec3& IA = p_.node_image[size_t(n0 + pc[size_t(k)])];
+                    const Vec3& IB = p_.node_image[size_t(n0 + pc[size_t((k + 1) % 3)])];
+                    visit(b, IA + sc * (IB - IA));
+                }
+            }
         }
         return worst / diagonal_;
     }
@@ -267,11 +326,9 @@ public:
             out_.triangle_barycentric.push_back(r.b);
             out_.triangle_level.push_back(r.level);
             result.max_level = std::max(result.max_level, r.level);
-            if (max_level > 0 || !uniform) {
-                const double e = error(r);
-                result.max_estimated_error = std::max(result.max_estimated_error, e);
-                if (!uniform && e > options.tolerance) ++result.triangles_at_max_level_above_tolerance;
-            }
+            const double e = error(r);
+            result.max_estimated_error = std::max(result.max_estimated_error, e);
+            if (!uniform && e > options.tolerance) ++result.triangles_at_max_level_above_tolerance;
         }
         const size_t nv = s.vertices.size();
         out_.vertex_original_triangle.resize(nv);
@@ -283,7 +340,124 @@ public:
         }
         result.vertices = int64_t(nv);
         result.triangles = int64_t(s.triangles.size());
+        out_.vertex_phi_fraction.assign(nv, 1.0);
+        if (options.prevent_intersections) hold_back(result, context);
+        // A held-back vertex moves the flat triangles around it by at most its distance
+        // from phi, everywhere (barycentric weights sum to 1).
+        result.hausdorff_bound = result.max_estimated_error + result.max_held_back;
         return result;
+    }
+
+    // After hold_back's halvings every held-back vertex has a fraction f that is free of
+    // intersections and one (2 f, or its last value before 0) that was not: bisect between
+    // them, all vertices at once, five times. A trial that makes a pair intersect is undone
+    // for the vertices of that pair (the others keep theirs), until the surface is free of
+    // intersections again, so every step ends in a valid state.
+    void grow_back(const std::vector<int32_t>& halvings, const std::vector<Vec3>& at_phi, const std::vector<Vec3>& flat,
+                   const Context& context) {
+        Surface& s = out_.surface;
+        std::vector<double>& f = out_.vertex_phi_fraction;
+        const size_t nv = s.vertices.size();
+        std::vector<double> lo(nv, 1.0), hi(nv, 1.0);
+        std::vector<int32_t> held;
+        for (size_t v = 0; v < nv; ++v) {
+            if (f[v] >= 1.0) continue;
+            held.push_back(int32_t(v));
+            lo[v] = f[v];
+            hi[v] = halvings[v] > 10 ? std::ldexp(1.0, -10) : 2.0 * f[v];
+        }
+        if (held.empty()) return;
+        auto place = [&](int32_t v, double fraction) {
+            f[size_t(v)] = fraction;
+            s.vertices[size_t(v)] = flat[size_t(v)] + fraction * (at_phi[size_t(v)] - flat[size_t(v)]);
+        };
+        CheckOptions all;
+        all.max_problems = std::numeric_limits<size_t>::max();
+        for (int step = 0; step < 5; ++step) {
+            std::vector<uint8_t> trying(nv, 0);
+            for (int32_t v : held) {
+                place(v, 0.5 * (lo[size_t(v)] + hi[size_t(v)]));
+                trying[size_t(v)] = 1;
+            }
+            int64_t undone = 0;
+            while (true) {
+                const CheckResult r = check_intersections(s, all, Context{}, "refined intersections");
+                if (r.passed) break;
+                int64_t undone_now = 0;
+                for (const CheckProblem& problem : r.problems)
+                    for (const char* kind : {"triangle", "other_triangle"}) {
+                        const int64_t t = problem.id(kind);
+                        if (t < 0) continue;
+                        for (int32_t v : s.triangles[size_t(t)]) {
+                            if (!trying[size_t(v)]) continue;
+                            trying[size_t(v)] = 0;
+                            hi[size_t(v)] = f[size_t(v)];
+                            place(v, lo[size_t(v)]);
+                            ++undone_now;
+                        }
+                    }
+                // Only trials moved since the last valid state: undoing them all is that state.
+                if (undone_now == 0) throw std::logic_error("refine: intersections after undoing every trial");
+                undone += undone_now;
+            }
+            for (int32_t v : held)
+                if (trying[size_t(v)]) lo[size_t(v)] = f[size_t(v)];
+            context.debug("refine: intersection remedy, bisection step " + std::to_string(step + 1) + ": " +
+                          std::to_string(int64_t(held.size()) - undone) + " of " + std::to_string(held.size()) +
+                          " vertices moved closer to phi");
+        }
+    }
+
+    // RefineOptions::prevent_intersections.
+    void hold_back(RefineResult& result, const Context& context) {
+        Surface& s = out_.surface;
+        const size_t nv = s.vertices.size(), coarse_vertices = p_.coarse.vertices.size();
+        std::vector<Vec3> at_phi = s.vertices, flat(nv);
+        for (size_t v = coarse_vertices; v < nv; ++v) {
+            const Tri& c = p_.coarse.triangles[size_t(out_.vertex_coarse_triangle[v])];
+            const auto& x = p_.coarse.vertices;
+            flat[v] = barycentric_point(x[size_t(c[0])], x[size_t(c[1])], x[size_t(c[2])], out_.vertex_barycentric[v]);
+        }
+        std::vector<int32_t> halvings(nv, 0);
+        std::vector<double>& f = out_.vertex_phi_fraction;
+        CheckOptions all;
+        all.max_problems = std::numeric_limits<size_t>::max();
+        for (int32_t round = 0;; ++round) {
+            const CheckResult r = check_intersections(s, all, Context{}, "refined intersections");
+            if (r.passed) break;
+            // Every round moves at least one vertex closer to the coarse surface and after
+            // 11 moves a vertex is on it, so this ends after at most 11 rounds per vertex.
+            if (round > 11 * int32_t(nv)) throw std::logic_error("refine: the intersection remedy does not end");
+            result.remedy_rounds = round + 1;
+            std::vector<int32_t> involved;
+            for (const CheckProblem& problem : r.problems)
+                for (const char* kind : {"triangle", "other_triangle"}) {
+                    const int64_t t = problem.id(kind);
+                    if (t < 0) continue;
+                    for (int32_t v : s.triangles[size_t(t)])
+                        if (size_t(v) >= coarse_vertices && f[size_t(v)] > 0) involved.push_back(v);
+                }
+            std::sort(involved.begin(), involved.end());
+            involved.erase(std::unique(involved.begin(), involved.end()), involved.end());
+            // Triangles with all their new vertices on the coarse surface lie in their coarse
+            // triangles, which do not intersect: a pair of them is a bug, not the input.
+            if (involved.empty())
+                throw std::logic_error("refine: refined triangles on the coarse surface intersect (" +
+                                       (r.problems.empty() ? std::string("?") : r.problems[0].describe()) + ")");
+            for (int32_t v : involved) {
+                f[size_t(v)] = ++halvings[size_t(v)] > 10 ? 0.0 : 0.5 * f[size_t(v)];
+                s.vertices[size_t(v)] = flat[size_t(v)] + f[size_t(v)] * (at_phi[size_t(v)] - flat[size_t(v)]);
+            }
+            context.debug("refine: intersection remedy round " + std::to_string(round + 1) + ": " +
+                          std::to_string(r.problem_count) + " intersecting pairs, " + std::to_string(involved.size()) +
+                          " vertices moved towards the coarse surface");
+        }
+        grow_back(halvings, at_phi, flat, context);
+        for (size_t v = coarse_vertices; v < nv; ++v) {
+            if (f[v] >= 1.0) continue;
+            ++result.held_back_vertices;
+            result.max_held_back = std::max(result.max_held_back, distance(s.vertices[v], at_phi[v]) / diagonal_);
+        }
     }
 
 private:

@@ -186,6 +186,8 @@ public:
           diagonal_(bounding_box_diagonal(original)),
           grid_(1.0) {
         mesh_.mark_feature_edges(options.feature_angle_degrees);
+        mesh_.mark_corners(options.feature_angle_degrees, options.corner_crease_length * diagonal_,
+                           options.keep_corners);
         sign_.resize(original.triangles.size());
         for (int32_t t = 0; t < original.num_triangles(); ++t) sign_[t] = mesh_.flipped_initially(t) ? -1 : 1;
         // Only with a limit: the angle costs about 5% of the planning time.
@@ -454,6 +456,10 @@ SimplifyResult Simplifier::run(Parametrization& out) {
         target = std::max(target, by_ratio);
     }
     last_reason_.assign(original_.vertices.size(), std::string());
+    result.crease_junctions = mesh_.corner_count(CoarseMesh::Corner::Junction);
+    result.crease_cone_ends = mesh_.corner_count(CoarseMesh::Corner::ConeEnd);
+    result.line_feature_vertices = mesh_.hard_feature_vertices();
+    result.corners_kept = options_.keep_corners;
     if (options_.record_steps) result.steps.emplace();  // record of the removals (bpm-check --replay)
 
     const int32_t nv = original_.num_vertices();
@@ -752,6 +758,23 @@ SimplifyResult Simplifier::run(Parametrization& out) {
         result.target_reached = true;
         stop = "every further removal would exceed the error limit or another limit";
     }
+    if (!result.target_reached && target > 0 && target < result.kept_feature_vertices()) {
+        // Say what the target runs into, not only that nothing could be removed.
+        stop = "the target of " + std::to_string(target) + " vertices is below the " +
+               std::to_string(result.kept_feature_vertices()) + " feature vertices, which are never removed (";
+        std::string parts;
+        auto part = [&](int64_t n, const char* what) {
+            if (n > 0) parts += (parts.empty() ? "" : ", ") + std::to_string(n) + " " + what;
+        };
+        if (result.corners_kept) {
+            part(result.crease_junctions, "corners where three or more feature edges meet");
+            part(result.crease_cone_ends, "ends of creases at sharp cones");
+        }
+        part(result.line_feature_vertices, "ends or junctions of boundaries, patch borders or non-manifold lines");
+        stop += parts + ")";
+        const int64_t others = mesh_.num_vertices_alive() - result.kept_feature_vertices();
+        if (others > 0) stop += "; " + std::to_string(others) + " other vertices could not be removed either";
+    }
     result.stop_reason = stop;
     if (!result.target_reached) {
         for (int32_t v = 0; v < nv; ++v) {
@@ -763,6 +786,7 @@ SimplifyResult Simplifier::run(Parametrization& out) {
                 why = plan_.valid ? "not reached" : plan_.reason;
             }
             ++result.blocked[why];
+            if (options_.trace_removals) context_.debug("vertex " + std::to_string(v) + " kept: " + why);
         }
     }
 
@@ -890,6 +914,8 @@ SimplifyResult simplify(const Surface& original, const SimplifyOptions& options,
         throw OptionError("--max-normal-deviation must be between 0 and 180 degrees");
     if (!(options.queue_tolerance >= 0 && options.queue_tolerance <= 10))
         throw OptionError("--queue-tolerance must be between 0 and 10");
+    if (!(options.corner_crease_length >= 0 && options.corner_crease_length <= 1))
+        throw OptionError("the corner crease length must be between 0 and 1 (of the diagonal)");
     if (!(options.feature_angle_degrees >= 0 && options.feature_angle_degrees <= 180))
         throw OptionError("--feature-angle must be between 0 and 180 degrees");
     const int threads = planning_threads(options);

@@ -148,6 +148,15 @@ VertexClass build_fans(const CoarseMesh& mesh, int32_t v, bool force_disk, std::
         why = "vertex already removed";
         return VertexClass::Feature;
     }
+    switch (mesh.corner(v)) {
+        case CoarseMesh::Corner::Junction:
+            why = std::string(kCornerJunctionReason);
+            return VertexClass::Feature;
+        case CoarseMesh::Corner::ConeEnd:
+            why = std::string(kCornerConeEndReason);
+            return VertexClass::Feature;
+        case CoarseMesh::Corner::None: break;
+    }
     static thread_local std::vector<int32_t> hard, crease, features, starts;
     // The corners of the star's triangles, read once: the walks below look up the
     // triangles on an edge (v, x) many times.
@@ -326,7 +335,16 @@ public:
         used_floater = false;
         path_edits.clear();
         locations.clear();
+        along_diagonal_ = {-1, -1};
     }
+    // Diagonals (link indices) the next triangulations must not use, until cleared: a
+    // retriangulation after a transfer failed because an original edge runs exactly
+    // along a diagonal (on a regular grid both diagonals of a square star pass through
+    // original vertices, one of them along original edges; aspect ratios tie).
+    void clear_forbidden() { forbidden_.clear(); }
+    void forbid(const std::array<int32_t, 2>& d) { forbidden_.push_back(d); }
+    // The diagonal of the last failed transfer that had an original edge along it, or {-1, -1}.
+    std::array<int32_t, 2> along_diagonal() const { return along_diagonal_; }
 
     // Full plans run in two steps: estimate() stops once the straightened transfer has
     // its cost (the part that ranks the removal), finish() validates the overlays of the
@@ -390,6 +408,14 @@ private:
     std::vector<Vec2> q_;          // polygon corners in 2D
     std::vector<double> theta_, phi_, radius_;  // of flatten(): angles at v, polar angles, radii
     bool cocircular_ = false;      // q_ on a circle (the convex fallback flattening)
+    std::vector<Vec2> q_polar_;    // with cocircular_: the corners as the polar map put them (not convex)
+    std::vector<std::array<int32_t, 2>> forbidden_;
+    std::array<int32_t, 2> along_diagonal_{-1, -1};
+    bool forbidden(int32_t a, int32_t d) const {
+        for (const auto& f : forbidden_)
+            if ((f[0] == a && f[1] == d) || (f[0] == d && f[1] == a)) return true;
+        return false;
+    }
     std::vector<StarNode> nodes_;
     VertexSlots vertex_node_;
     std::vector<std::pair<int64_t, int32_t>> crossing_node_;  // ((edge << 20) | index, node)
@@ -536,6 +562,7 @@ bool FanPlanner::flatten(std::string& why) {
         // (paper §2.2.4); move the corners outwards onto a circle (closed) or a
         // half-circle through the fixed ends (open), which is convex.
         cocircular_ = true;  // every ear is Delaunay-admissible on a circle
+        q_polar_ = q_;
         if (fan_->closed) {
             for (int32_t i = 0; i < n_; ++i) q_[i] = {std::cos(phi[i]), std::sin(phi[i])};
         } else {
@@ -572,10 +599,25 @@ bool FanPlanner::triangulate(std::string& why) {
     ear_aspect.assign(n_, std::nan(""));
     ear_blocked.assign(n_, -1);
     ear_delaunay.assign(n_, cocircular_ ? 1 : -1);
+    // On a circle (a star the polar map made non-convex) every ear is valid in 2D, but an
+    // ear at a reflex corner of the polar map's polygon folds over the rest of the star
+    // in space (on a flat face it overlaps it: a self-intersection). Ears of the polar
+    // map's polygon, convex and holding no other corner, come first.
+    auto polar_ear = [&](int32_t a, int32_t b, int32_t d) {
+        if (!cocircular_) return true;
+        const Vec2 &pa = q_polar_[a], &pb = q_polar_[b], &pd = q_polar_[d];
+        if (orient2d(pa, pb, pd) <= 0) return false;
+        for (int32_t p : poly) {
+            if (p == a || p == b || p == d) continue;
+            const Vec2& pp = q_polar_[p];
+            if (orient2d(pa, pb, pp) >= 0 && orient2d(pb, pd, pp) >= 0 && orient2d(pd, pa, pp) >= 0) return false;
+        }
+        return true;
+    };
     while (poly.size() > 3) {
         const int32_t m = static_cast<int32_t>(poly.size());
         int32_t best = -1;
-        bool best_delaunay = false;
+        bool best_delaunay = false, best_polar = false;
         double best_aspect = std::numeric_limits<double>::infinity();
         for (int32_t c = 0; c < m; ++c) {
             const int32_t a = poly[mod(c - 1, m)], b = poly[c], d = poly[mod(c + 1, m)];
@@ -583,6 +625,8 @@ bool FanPlanner::triangulate(std::string& why) {
                 ear_aspect[b] = aspect_ratio(x[fan_->link[a]], x[fan_->link[b]], x[fan_->link[d]]);
             const double aspect = ear_aspect[b];
             if (!std::isfinite(aspect)) continue;  // degenerate
+            const bool polar = polar_ear(a, b, d);
+            if (best_polar && !polar) continue;
             if (ear_delaunay[b] < 0) {
                 bool admissible = true;
                 for (int32_t o = 0; o < m && admissible; ++o) {
@@ -599,13 +643,16 @@ bool FanPlanner::triangulate(std::string& why) {
             // Prefer Delaunay-admissible ears; among them the best 3D aspect ratio.
             // Near-ties count as ties (first ear wins), so that rounding differences, e.g.
             // between a model and its scaled copy, do not change the triangulation.
-            if ((delaunay && !best_delaunay) || (delaunay == best_delaunay && aspect < best_aspect * (1.0 - 1e-9))) {
+            if ((polar && !best_polar) || (delaunay && !best_delaunay) ||
+                (delaunay == best_delaunay && aspect < best_aspect * (1.0 - 1e-9))) {
                 // Topology condition (Conjecture 2.1): the new edge must not exist yet.
                 // Asked only of ears that would become the best: an ear that would not
                 // leaves the choice the same whether it is blocked or not.
-                if (ear_blocked[b] < 0) ear_blocked[b] = mesh_.has_edge(fan_->link[a], fan_->link[d]);
+                if (ear_blocked[b] < 0)
+                    ear_blocked[b] = mesh_.has_edge(fan_->link[a], fan_->link[d]) || forbidden(a, d);
                 if (ear_blocked[b]) continue;
                 best = c;
+                best_polar = polar;
                 best_delaunay = delaunay;
                 best_aspect = aspect;
             }
@@ -1292,6 +1339,23 @@ bool FanPlanner::prepare_checks(std::string& why) {
                     }
             if (count != 1) {
                 why = count == 0 ? "re-cut lost track of an original edge" : "original edge along a new edge";
+                if (count > 1) {
+                    // The two triangles the run lies in share the diagonal it runs along.
+                    int32_t t1 = -1, t2 = -1;
+                    for (int p = 0; p < na; ++p)
+                        for (int q = 0; q < nb; ++q) {
+                            if (ca[p] != cb[q]) continue;
+                            if (t1 < 0) t1 = ca[p];
+                            else if (ca[p] != t1 && t2 < 0) t2 = ca[p];
+                        }
+                    if (t1 >= 0 && t2 >= 0) {
+                        int32_t shared[2], k = 0;
+                        for (int32_t u : new_tris[t1])
+                            for (int32_t w : new_tris[t2])
+                                if (u == w && k < 2) shared[k++] = u;
+                        if (k == 2) along_diagonal_ = {shared[0], shared[1]};
+                    }
+                }
                 return false;
             }
             pieces_.push_back({common, previous, item, seg.edge});
@@ -1513,6 +1577,8 @@ struct RemovalScratch {
         return a;
     }
     RemovalPlan disk;  // the second plan of plan(), kept for its buffers
+    // A diagonal the next plan_once() must not use (a deferred validation failed on it).
+    std::array<int32_t, 2> retry_forbid{-1, -1};
     std::vector<Fan> fans;
     std::vector<SurfacePoint> points;
     std::vector<double> sigmas;
@@ -1622,6 +1688,12 @@ void VertexRemover::finish_parts_done(RemovalPlan& plan, int parts) {
     std::string why;
     if (!planner.end_finish(passed, *reason, min_cosine, why)) {
         plan.reason = why;
+        if (planner.along_diagonal()[0] >= 0) {
+            // An original edge along a diagonal: plan again at once without that diagonal.
+            scratch_->retry_forbid = planner.along_diagonal();
+            bool crease_line = false;
+            plan_once(plan.vertex, false, true, false, plan, crease_line);
+        }
         return;
     }
     plan.max_deviation = 0.0;  // Floater's map may have changed it: add_fan sets it again
@@ -1729,9 +1801,21 @@ void VertexRemover::plan_once(int32_t v, bool force_disk, bool validate, bool de
             plan.worst_old_aspect = std::max(plan.worst_old_aspect, scratch_->aspect_of(mesh_, t));
         }
         FanPlanner& planner = scratch_->planner;
-        planner.reset(v, fan, radius, &new_edge_params, validate);
         std::string why;
-        const FanPlanner::Stage stage = planner.estimate(why);
+        FanPlanner::Stage stage;
+        planner.clear_forbidden();
+        if (scratch_->retry_forbid[0] >= 0) planner.forbid(scratch_->retry_forbid);
+        scratch_->retry_forbid = {-1, -1};
+        for (int attempt = 0;; ++attempt) {
+            planner.reset(v, fan, radius, &new_edge_params, validate);
+            why.clear();
+            stage = planner.estimate(why);
+            if (stage == FanPlanner::Stage::Estimated && !defer)
+                stage = planner.finish(why) ? FanPlanner::Stage::Done : FanPlanner::Stage::Failed;
+            // An original edge along the chosen diagonal: try again without it (a few times).
+            if (stage != FanPlanner::Stage::Failed || attempt == 3 || planner.along_diagonal()[0] < 0) break;
+            planner.forbid(planner.along_diagonal());
+        }
         if (stage == FanPlanner::Stage::Failed) {
             plan.reason = why;
             return;

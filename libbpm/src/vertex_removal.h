@@ -25,6 +25,10 @@ enum class VertexClass : uint8_t {
     Feature,      // kept
 };
 
+// Why a corner (CoarseMesh::Corner) is kept: the reasons SimplifyResult::blocked counts.
+inline constexpr const char* kCornerJunctionReason = "feature vertex: three or more feature edges meet (a corner)";
+inline constexpr const char* kCornerConeEndReason = "feature vertex: a crease ends at a sharp cone";
+
 struct RemovalPlan {
     int32_t vertex = -1;
     bool valid = false;

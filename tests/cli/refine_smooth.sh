@@ -72,8 +72,10 @@ with open(sys.argv[2], "w") as f:
 PY
     expect 0 "simplify femur with vertex data" -- "$tools/bpm-simplify" "$work/femur_data.ply" -o "$work/femur_data.bpm" --ratio 0.1
     expect 0 "smooth keeps it" -- "$smooth" "$work/femur_data.bpm" -o "$work/femur_data_s.bpm" --iterations 2
-    expect 0 "refine to .bpm keeps it" -- "$refine" "$work/femur_data_s.bpm" -o "$work/femur_data_k1.bpm" --levels 1
-    expect 0 "refine again with --data" -- "$refine" "$work/femur_data_k1.bpm" -o "$work/femur_data.vtu" --levels 2 --data
+    # (Data is defined at phi of a vertex's parameter; a vertex held back from phi to avoid
+    # a self-intersection is off it, so the identity below needs every vertex at phi.)
+    expect 0 "refine to .bpm keeps it" -- "$refine" "$work/femur_data_s.bpm" -o "$work/femur_data_k1.bpm" --levels 1 --allow-intersections
+    expect 0 "refine again with --data" -- "$refine" "$work/femur_data_k1.bpm" -o "$work/femur_data.vtu" --levels 2 --data --allow-intersections
     contains "$work/femur_data.vtu" "Name=\"temperature\"" "temperature in VTU"
     expect 0 "temperature equals x + 2y + 3z at the refined vertices" -- /usr/bin/python3 - "$work/femur_data.vtu" <<'PY'
 import sys, vtk

@@ -190,8 +190,11 @@ TEST_CASE("adaptive refinement meets its tolerance and is conforming", "[refine]
             o.max_level = 8;
             const RefineResult res = refine(c.param, o, Context{}, r);
             INFO(res.triangles << " triangles, level " << res.max_level << ", error " << res.max_estimated_error);
-            CHECK(res.triangles_at_max_level_above_tolerance == 0);
-            CHECK(res.max_estimated_error <= tolerance);
+            // Within the tolerance, or the triangles that could not get there at max_level are
+            // counted (femur at 10 %: 3 at 0.002, where phi squeezes a fold; the sampled
+            // estimate used to miss them).
+            if (res.triangles_at_max_level_above_tolerance == 0) CHECK(res.max_estimated_error <= tolerance);
+            else CHECK(res.max_level == o.max_level);
             CHECK(max_off_surface(c.param, r) < 1e-12);
             CHECK(single_edges(r.surface) >= single_edges(c.param.coarse));
             CHECK(validate_surface(r.surface).empty());
@@ -253,4 +256,104 @@ TEST_CASE("normals of the original surface are carried onto refined vertices", "
     CHECK_THROWS_AS(transfer_vertex_data(r, p.original, std::vector<double>(3, 0.0), 1), std::invalid_argument);
     const std::vector<Vec3> n = vertex_normals(p.original);
     for (const Vec3& x : n) CHECK(norm(x) == Approx(1.0));
+}
+
+TEST_CASE("refined .bpm of two cubes sharing a face passes every check", "[refine][multimaterial]") {
+    // Two materials (three sheets along the shared square's border), simplified to 5 %.
+    // A piece edge almost parallel to a refined midline crossed it at positions 7e-11
+    // apart in the two refined triangles of the midline (each computed the crossing from
+    // its own corner order): the bijectivity check failed (exit 5 from bpm-refine).
+    const Surface s = fixtures::two_cubes(16);
+    SimplifyOptions so;
+    so.target_ratio = 0.05;
+    Parametrization coarse;
+    simplify(s, so, Context{}, coarse);
+    for (int levels : {1, 2}) {
+        INFO("levels " << levels);
+        RefinedSurface r;
+        RefineOptions o;
+        o.levels = levels;
+        refine(coarse, o, Context{}, r);
+        const Parametrization p = refined_parametrization(coarse, r);
+        test_support::require_valid_parametrization(p);
+        const CheckResult intersections = check_intersections(p.coarse);
+        INFO(check_text(intersections));
+        CHECK(intersections.passed);
+    }
+}
+
+TEST_CASE("refined femur does not intersect itself: new vertices held back from phi", "[refine][remedy][real]") {
+    // Femur at 10 %, refined once through phi: 18 new vertices at phi made intersecting
+    // triangle pairs (bpm-check of the refined .bpm failed); held back towards the coarse
+    // surface they do not, and the refined .bpm passes all four checks.
+    const Parametrization* femur = test_support::simplified_femur();
+    if (!femur) {
+        WARN("missing femur.off");
+        return;
+    }
+    const double diagonal = bounding_box_diagonal(femur->original);
+    for (int levels : {1, 2}) {
+        INFO("levels " << levels);
+        RefineOptions o;
+        o.levels = levels;
+        RefinedSurface at_phi;
+        refine(*femur, o, Context{}, at_phi);
+        CHECK_FALSE(check_intersections(at_phi.surface).passed);  // what the remedy is for
+        for (double f : at_phi.vertex_phi_fraction) CHECK(f == 1.0);
+
+        o.prevent_intersections = true;
+        RefinedSurface r;
+        const RefineResult result = refine(*femur, o, Context{}, r);
+        CHECK(result.held_back_vertices > 0);
+        CHECK(result.max_held_back > 0);
+        CHECK(result.max_held_back < 0.01);
+        const CheckResult intersections = check_intersections(r.surface);
+        INFO(check_text(intersections));
+        CHECK(intersections.passed);
+        // Held-back vertices are on the segment from their coarse point to phi; the others at phi.
+        int64_t held = 0;
+        double farthest = 0;
+        for (size_t v = 0; v < r.surface.vertices.size(); ++v) {
+            if (r.vertex_phi_fraction[v] == 1.0) {
+                CHECK(r.surface.vertices[v] == at_phi.surface.vertices[v]);
+                continue;
+            }
+            ++held;
+            farthest = std::max(farthest, distance(r.surface.vertices[v], at_phi.surface.vertices[v]) / diagonal);
+        }
+        CHECK(held == result.held_back_vertices);
+        CHECK(farthest == Approx(result.max_held_back));
+        const Parametrization p = refined_parametrization(*femur, r);
+        test_support::require_valid_parametrization(p);
+        CHECK(check_intersections(p.coarse).passed);
+    }
+}
+
+TEST_CASE("the adaptive bound holds: the sampled Hausdorff distance of the refined surface is never above it",
+          "[refine][bound]") {
+    // The tolerance used to be judged at 7 sample points per triangle: on a CAD part at
+    // 10 % --tolerance 0.003 gave a measured Hausdorff distance of 0.0045. The deviation
+    // is now the maximum over the overlay with phi's pieces; the checker's sampled
+    // distance (a lower estimate of the true one) must stay at or below the bound.
+    for (const Case& c : cases()) {
+        for (double tolerance : {1e-2, 3e-3, 1e-3}) {
+            INFO(c.name << " tolerance " << tolerance);
+            RefinedSurface r;
+            RefineOptions o;
+            o.tolerance = tolerance;
+            const RefineResult res = refine(c.param, o, Context{}, r);
+            CHECK(res.hausdorff_bound == res.max_estimated_error);  // nothing held back (off)
+            if (res.triangles_at_max_level_above_tolerance == 0) CHECK(res.hausdorff_bound <= tolerance);
+            const Parametrization p = refined_parametrization(c.param, r);
+            CheckOptions co;
+            co.error_sample_spacing = tolerance / 4;
+            const CheckResult d = check_distance(p, co);
+            double measured = -1;
+            for (const auto& m : d.measures)
+                if (m.name == "coarse_hausdorff") measured = m.value;
+            INFO("bound " << res.hausdorff_bound << ", sampled Hausdorff " << measured);
+            CHECK(measured >= 0);
+            CHECK(measured <= res.hausdorff_bound * (1 + 1e-9) + 1e-12);
+        }
+    }
 }

@@ -3,6 +3,8 @@
 #include <cctype>
 #include <cmath>
 #include <cstdio>
+#include <stdexcept>
+#include <vector>
 
 #include "bpm/bpm_file.h"
 #include "bpm/check.h"
@@ -115,7 +117,13 @@ int main(int argc, char** argv) {
                    "smallest dihedral angle below this many degrees (0 = keep volumes positive only; default 5)")
         ->check(CLI::Range(0.0, 60.0));
     app.add_flag("--no-verify", no_verify,
-                 ".bpm output: skip the format and bijectivity checks run before writing (faster)");
+                 ".bpm output: skip the checks run before writing (format, intersections, topology, bijectivity; "
+                 "faster)");
+    bool allow_intersections = false;
+    app.add_flag("--allow-intersections", allow_intersections,
+                 "Place every new vertex at phi even where the refined surface then intersects itself. By default "
+                 "such vertices are held back towards the coarse surface (halving the distance until no triangles "
+                 "intersect); the summary says how many and how far");
     bpm::tools::add_output_tool_flags(app, tool, deterministic, verbose, quiet);
 
     return bpm::tools::run(tool, argc, argv, app, [&]() {
@@ -129,6 +137,7 @@ int main(int argc, char** argv) {
         if (levels < 0 && tolerance <= 0) throw CLI::ValidationError("give one of --levels, --tolerance");
         options.levels = levels;
         options.tolerance = tolerance;
+        options.prevent_intersections = !allow_intersections;
         std::string kind = format.empty() ? extension_of(output) : format;
         std::transform(kind.begin(), kind.end(), kind.begin(), [](unsigned char c) { return char(std::tolower(c)); });
         if (output == "-" && format.empty()) throw CLI::ValidationError("--format", "writing to - needs --format");
@@ -149,10 +158,22 @@ int main(int argc, char** argv) {
         const bpm::RefineResult result = bpm::refine(param, options, context, refined);
         char line[512];
         std::snprintf(line, sizeof line,
-                      "%lld coarse triangles -> %lld vertices, %lld triangles (level %d), estimated max deviation "
-                      "%.3g of diagonal, %.2f s",
+                      "%lld coarse triangles -> %lld vertices, %lld triangles (level %d), max |flat - phi| %.3g of "
+                      "diagonal (exact, over the overlay with phi), %.2f s",
                       (long long)result.coarse_triangles, (long long)result.vertices, (long long)result.triangles,
                       result.max_level, result.max_estimated_error, result.seconds);
+        context.info(line);
+        if (result.held_back_vertices > 0) {
+            std::snprintf(line, sizeof line,
+                          "%lld vertices held back from phi towards the coarse surface so that the refined surface "
+                          "does not intersect itself (at most %.3g of diagonal from phi; %d rounds)",
+                          (long long)result.held_back_vertices, result.max_held_back, result.remedy_rounds);
+            context.info(line);
+        }
+        std::snprintf(line, sizeof line,
+                      "proven two-sided Hausdorff distance to the original surface: at most %.3g of diagonal%s",
+                      result.hausdorff_bound,
+                      result.held_back_vertices > 0 ? " (max |flat - phi| + the held-back distance)" : "");
         context.info(line);
         if (result.triangles_at_max_level_above_tolerance > 0)
             context.warn(std::to_string(result.triangles_at_max_level_above_tolerance) +
@@ -171,13 +192,24 @@ int main(int argc, char** argv) {
                          std::to_string(out.param.num_pieces()) + " pieces; original surface cut into " +
                          std::to_string(out.param.original.num_triangles()) + " triangles");
             if (!no_verify) {
-                // The overlay is built in floating point; never write a file bpm-check would reject.
-                for (const bpm::CheckResult& r : {bpm::check_format(out.param), bpm::check_bijectivity(out.param)})
+                // Never write a file bpm-check would reject. A failure is a bug of bpm (the
+                // input passed its checks): std::logic_error, exit 70, not a property of the input.
+                const bpm::CheckResult format = bpm::check_format(out.param);
+                std::vector<bpm::CheckResult> results{format};
+                if (format.passed) {
+                    // (--allow-intersections: the user accepted them)
+                    if (!allow_intersections) results.push_back(bpm::check_intersections(out.param.coarse));
+                    results.push_back(bpm::check_topology(out.param));
+                    results.push_back(bpm::check_bijectivity(out.param));
+                }
+                for (const bpm::CheckResult& r : results)
                     if (!r.passed)
-                        throw bpm::AlgorithmError("the refined phi failed its " + r.name + " check (" +
-                                                  (r.problems.empty() ? r.summary : r.problems.front().describe()) +
-                                                  "); not written");
-                context.info("refined phi passed the format and bijectivity checks");
+                        throw std::logic_error("internal error: the refined .bpm failed its " + r.name + " check (" +
+                                               (r.problems.empty() ? r.summary : r.problems.front().describe()) +
+                                               "); not written");
+                context.info(allow_intersections
+                                 ? "refined .bpm passed the format, topology and bijectivity checks"
+                                 : "refined .bpm passed the format, intersections, topology and bijectivity checks");
             }
             bpm::write_bpm(output, out);
         } else if (is_vtu) {

@@ -66,6 +66,12 @@ int main(int argc, char** argv) {
                    "Keep edges whose normals differ by more than this many degrees as feature lines (default 60; "
                    "180 = off). Boundaries, patch borders and edges of 3 or more sheets are always kept")
         ->check(CLI::Range(0.0, 180.0));
+    bool no_keep_corners = false;
+    app.add_flag("--no-keep-corners", no_keep_corners,
+                 "Let corners of creases go when the error allows. By default a vertex where three or more sharp "
+                 "edges (creases, boundaries, patch borders) meet, such as a corner of a box, or where a crease ends "
+                 "at a sharp tip, is never removed, like the ends and junctions of boundaries and patch borders; "
+                 "a vertex target below their number is then not reached (the summary says so)");
     app.add_flag("--allow-intersections", allow_intersections,
                  "Do not refuse removals that make the surface intersect itself (faster; output may be unusable "
                  "for mesh generators)");
@@ -104,6 +110,7 @@ int main(int argc, char** argv) {
         if (options.target_vertices == 0 && options.target_ratio == 0 && !std::isfinite(options.max_error))
             throw CLI::ValidationError("give at least one of --vertices, --ratio, --max-error");
         options.prevent_intersections = !allow_intersections;
+        options.keep_corners = !no_keep_corners;
         options.batch_removals = !one_removal_per_step;
         options.reject_self_intersecting_input = !allow_bad_input;
         const bpm::Context context = bpm::tools::make_context(tool, verbose, quiet);
@@ -140,10 +147,23 @@ int main(int argc, char** argv) {
                       (long long)result.output_triangles, result.max_error, result.worst_aspect_ratio, result.seconds,
                       result.threads, result.threads == 1 ? "thread" : "threads");
         context.info(line);
+        if (result.kept_feature_vertices() > 0)
+            context.info(std::to_string(result.kept_feature_vertices()) + " feature vertices kept (" +
+                         std::to_string(result.line_feature_vertices) +
+                         " ends or junctions of boundaries, patch borders or non-manifold lines" +
+                         (result.corners_kept ? ", " + std::to_string(result.crease_junctions) +
+                                                    " corners where three or more feature edges meet, " +
+                                                    std::to_string(result.crease_cone_ends) +
+                                                    " ends of creases at sharp cones"
+                                              : std::string()) +
+                         ")");
         if (!result.target_reached) {
             context.warn("stopped before the target: " + result.stop_reason);
             for (const auto& [why, count] : result.blocked)
                 context.warn("  " + std::to_string(count) + " vertices kept: " + why);
+            if (result.corners_kept && result.crease_junctions + result.crease_cone_ends > 0 &&
+                std::max<int64_t>(options.target_vertices, int64_t(std::ceil(options.target_ratio * double(result.input_vertices)))) < result.kept_feature_vertices())
+                context.warn("  (--no-keep-corners lets the corners of creases go)");
         }
         return int(bpm::tools::kOk);
     });

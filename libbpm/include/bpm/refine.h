@@ -9,9 +9,10 @@
 // Uniform refinement splits each coarse triangle into 4^levels congruent triangles in
 // parameter space (red refinement at edge midpoints; a midpoint of an edge shared by
 // two triangles is one vertex). Adaptive refinement red-refines only triangles whose
-// phi-image deviates from the flat triangle by more than a tolerance (estimated by
-// evaluating phi at sample points), keeps the mesh 1-irregular, and closes it with green
-// bisections at the end, so the result is conforming (no hanging nodes).
+// phi-image deviates from the flat triangle by more than a tolerance (computed exactly
+// over the overlay of the triangle with the pieces of phi), keeps the mesh 1-irregular,
+// and closes it with green bisections at the end, so the result is conforming (no
+// hanging nodes).
 
 #include <array>
 #include <cstdint>
@@ -29,10 +30,23 @@ struct RefineOptions {
     // Uniform: each coarse triangle into 4^levels triangles. -1 = adaptive (tolerance).
     int levels = -1;
     // Adaptive: split triangles whose phi-image deviates from the flat triangle by more
-    // than this fraction of the bounding-box diagonal of S0 (> 0).
+    // than this fraction of the bounding-box diagonal of S0 (> 0), measured exactly (max
+    // over the overlay of the triangle with phi's pieces): every triangle that is not at
+    // max_level ends within it, a proven two-sided Hausdorff bound (RefineResult).
     double tolerance = 0.0;
     // Adaptive: never refine a coarse triangle more than this many times.
     int max_level = 8;
+    // Hold new vertices back from phi where the refined surface would intersect itself
+    // (the lambda remedy of Krause & Sander §3.3, on the surface): a vertex of an
+    // intersecting pair of triangles (exact test, bpm::check_intersections) moves to
+    // flat + f (phi - flat), flat being its point on the coarse surface, with f halved
+    // per round (bisection towards the coarse surface) and 0 after 10 halvings, until no
+    // pair intersects. The coarse surface does not intersect itself, so this ends. Then
+    // five bisection steps between each vertex's free and last intersecting fraction bring
+    // the held-back vertices back towards phi as far as they stay free of intersections.
+    // Off by default in the library so that a measure of phi (bpm::refined_quality) sees
+    // the vertices at phi; bpm-refine turns it on.
+    bool prevent_intersections = false;
 };
 
 // A refined surface and where each of its vertices / triangles comes from.
@@ -51,14 +65,32 @@ struct RefinedSurface {
     std::vector<int32_t> triangle_coarse;
     std::vector<std::array<Vec3, 3>> triangle_barycentric;
     std::vector<int32_t> triangle_level;
+    // Per vertex (#V): where it is between its point on the coarse surface (0) and phi of
+    // its parameter position (1); below 1 only where RefineOptions::prevent_intersections
+    // held it back. Coarse vertices 1.
+    std::vector<double> vertex_phi_fraction;
 };
 
 struct RefineResult {
     int64_t coarse_triangles = 0;
     int64_t vertices = 0, triangles = 0;
     int32_t max_level = 0;            // deepest level reached
-    double max_estimated_error = 0.0; // max over refined triangles of the sampled deviation / diagonal
+    // Max over the refined triangles of max |flat - phi| / diagonal, computed exactly at the
+    // corners of the overlay of each triangle with phi's pieces (phi and the flat triangle
+    // are affine on each overlay cell), with every vertex at phi. (It was sampled at 7 points per
+    // triangle, an estimate that the true distance exceeded.)
+    double max_estimated_error = 0.0;
+    // Proven upper bound of the two-sided Hausdorff distance between the refined surface
+    // (as returned, held-back vertices included) and S0, relative to the diagonal of S0:
+    // max_estimated_error + max_held_back. phi pairs every point of the refined surface
+    // with a point of S0 no farther than that, and maps onto all of S0.
+    double hausdorff_bound = 0.0;
     int64_t triangles_at_max_level_above_tolerance = 0;  // adaptive: could not meet the tolerance
+    // RefineOptions::prevent_intersections: vertices held back from phi, the largest
+    // distance from phi of one (relative to the diagonal of S0), rounds of the remedy.
+    int64_t held_back_vertices = 0;
+    double max_held_back = 0.0;
+    int32_t remedy_rounds = 0;
     double seconds = 0.0;
 };
 
