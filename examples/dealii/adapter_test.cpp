@@ -100,7 +100,7 @@ TEST_CASE("dealii_triangulation_keeps_the_tet_mesh_numbering_and_regions") {
     CHECK(m.vertices == f.tetmesh->vertices);
     CHECK(m.tetrahedra == f.tetmesh->tetrahedra);
     CHECK(m.regions == f.tetmesh->regions);
-    CHECK(m.vertex_parameter_triangle == f.tetmesh->vertex_parameter_triangle);
+    CHECK(m.vertex_parameter_points == f.tetmesh->vertex_parameter_points);
     CHECK(m.faces.size() == f.tetmesh->faces.size());
     CHECK(find_tetmesh_inconsistency(m, f.param.coarse).empty());
     // MappingFE asserts that every entity of a cell has the cell's manifold id: between

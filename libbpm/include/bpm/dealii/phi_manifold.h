@@ -7,7 +7,7 @@
 // weights)); phi needs parameter points (a coarse triangle and barycentric coordinates,
 // bpm::SurfacePoint). So PhiBoundary keeps, for every vertex it knows, the parameter point
 // of its exact position: the level-0 vertices on S from the tet mesh
-// (vertex_parameter_triangle / vertex_parameter_barycentric), and every point it creates
+// (TetMesh::vertex_parameter_points), and every point it creates
 // itself. A new point's parameter point is the weighted combination of the surrounding
 // points' parameter points, expressed in one coarse triangle that contains all of them
 // (every edge and face of a red-refined boundary triangle lies in one coarse triangle), and

@@ -97,8 +97,7 @@ public:
 
         boundary_ = std::make_shared<PhiBoundary>(file.param, mode == BoundaryMode::Phi);
         for (size_t i = 0; i < m.vertices.size(); ++i)
-            if (m.vertex_parameter_triangle[i] >= 0)
-                boundary_->remember(m.vertices[i], SurfacePoint{m.vertex_parameter_triangle[i], m.vertex_parameter_barycentric[i]});
+            if (m.vertex_parameter_points[i].valid()) boundary_->remember(m.vertices[i], m.vertex_parameter_points[i]);
         // Positions the boundary does not know (a vertex moved by code other than the
         // adapter's) are taken to the parameter point of their closest point on S0.
         auto inverse = std::make_shared<const PhiInverse>(file.param);
@@ -210,8 +209,7 @@ public:
         const size_t nv = out.vertices.size();
         out.vertex_coarse_vertex.assign(nv, -1);
         for (size_t i = 0; i < level0_coarse_vertex_.size() && i < nv; ++i) out.vertex_coarse_vertex[i] = level0_coarse_vertex_[i];
-        out.vertex_parameter_triangle.assign(nv, -1);
-        out.vertex_parameter_barycentric.assign(nv, Vec3{0, 0, 0});
+        out.vertex_parameter_points.assign(nv, SurfacePoint{});
         std::set<unsigned> seen;
         for (const auto& cell : tria_.active_cell_iterators())
             for (const unsigned f : cell->face_indices()) {
@@ -224,8 +222,7 @@ public:
                     p[k] = boundary_->parameter_point(out.vertices[static_cast<size_t>(tri[k])]);
                     if (!p[k].valid())
                         throw AlgorithmError("vertex " + std::to_string(tri[k]) + " on S has no parameter point");
-                    out.vertex_parameter_triangle[static_cast<size_t>(tri[k])] = p[k].triangle;
-                    out.vertex_parameter_barycentric[static_cast<size_t>(tri[k])] = p[k].barycentric;
+                    out.vertex_parameter_points[static_cast<size_t>(tri[k])] = p[k];
                 }
                 int32_t t = -1;
                 Vec3 b[3];
