@@ -398,6 +398,7 @@ int main(int argc, char** argv) {
             std::ostringstream out;
             out << "{\"input\": \"" << input << "\", \"boundary\": \"" << (flat ? "flat" : "phi")
                 << "\", \"refinement\": \"" << (adaptive ? "adaptive" : "global") << "\", \"repair\": " << (flat || no_repair ? "false" : "true")
+                << ", \"smooth\": " << (flat || no_repair || no_smooth ? "false" : "true")
                 << ", \"original_region_volumes\": [";
             for (size_t r = 0; r < original_volumes.size(); ++r) out << (r ? ", " : "") << json_number(original_volumes[r]);
             out << "]";
