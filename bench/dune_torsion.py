@@ -6,7 +6,7 @@ bpm-simplify --ratio R -> bpm-mesh -> examples/dune/bpm-torsion on levels 0..K, 
 boundary refined through phi and flat (plain midpoints), uniformly and adaptively; the
 reference J is the same problem on a mesh of the original surface itself (--ratio 1),
 refined flat (its boundary is the original) and Richardson-extrapolated (P1: J_h = J + C h^2).
-Writes RESULTS_DIR/dune_torsion.md and .json.
+Writes RESULTS_DIR/dune_torsion-MESH.md and .json.
 
 Usage: bench/dune_torsion.py [--build-dir build] [--work-dir DIR] [--results-dir bench/results]
                              [--mesh femur] [--ratio 0.1] [--levels 3] [--reference-levels 2]
@@ -49,7 +49,7 @@ def main():
     ap.add_argument("--ratio", default="0.1")
     ap.add_argument("--levels", type=int, default=3)
     ap.add_argument("--reference-levels", type=int, default=2)
-    ap.add_argument("--adaptive-levels", type=int, default=6)
+    ap.add_argument("--adaptive-levels", type=int, default=6, help="0: no adaptive runs")
     ap.add_argument("--reference-json", default=None,
                     help="reuse the JSON of an earlier reference run (bpm-torsion --flat --json on the --ratio 1 mesh)")
     args = ap.parse_args()
@@ -87,9 +87,10 @@ def main():
     runs = {
         "flat": torsion(tets, args.levels, "--flat"),
         "phi": torsion(tets, args.levels),
-        "adaptive flat": torsion(tets, args.adaptive_levels, "--flat", "--adaptive"),
-        "adaptive phi": torsion(tets, args.adaptive_levels, "--adaptive"),
     }
+    if args.adaptive_levels > 0:
+        runs["adaptive flat"] = torsion(tets, args.adaptive_levels, "--flat", "--adaptive")
+        runs["adaptive phi"] = torsion(tets, args.adaptive_levels, "--adaptive")
     v_orig = sum(runs["phi"]["original_region_volumes"])
 
     lines = []
@@ -106,8 +107,9 @@ def main():
                  f"J_ref = {j_ref:.6g}.\n")
     lines.append("phi runs apply bpm::repair_boundary after every refinement (bpm/dune/uggrid_repair.h: UG's new "
                  "boundary vertices back to their edge midpoints, then towards phi as far as no element inverts or "
-                 "flattens; no interior smoothing, which UG's refinement does not survive); *without repair* counts "
-                 "the inverted elements with UG's vertices at phi, before the repair.\n")
+                 "flattens, interior smoothed; UG keeps the rules of refined elements, "
+                 "bpm/dune/uggrid_refinement_rules.h); *without repair* counts the inverted elements with UG's "
+                 "vertices at phi, before the repair.\n")
     lines.append("| level | tets (flat / phi) | J flat | error flat | J phi | error phi | volume error flat | volume error phi "
                  "| inverted phi (without repair) | held back | min dihedral flat / phi (deg) | CG iterations phi |")
     lines.append("|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
@@ -122,6 +124,11 @@ def main():
     lines.append("")
     lines.append(f"Extrapolated from the last two levels: flat {xf:.6g} ({abs(xf - j_ref) / j_ref:.2%} from J_ref), "
                  f"phi {xp:.6g} ({abs(xp - j_ref) / j_ref:.2%}).\n")
+    ef = abs(runs["flat"]["levels"][-1]["J"] - j_ref) / j_ref
+    ep = abs(runs["phi"]["levels"][-1]["J"] - j_ref) / j_ref
+    lines.append(f"At level {args.levels}: error flat / error phi = {ef / ep:.1f}.\n")
+    if "adaptive phi" not in runs:
+        return finish(args, lines, reference, j_ref, runs)
     lines.append("Adaptive (residual estimator, Dörfler marking of half the estimate, UG red-green refinement):\n")
     lines.append("| run | step | tets | unknowns | J | error | inverted (without repair) | min dihedral (deg) |")
     lines.append("|---|---:|---:|---:|---:|---:|---:|---:|")
@@ -133,10 +140,14 @@ def main():
     for name in ("adaptive flat", "adaptive phi"):
         if "adaptive_stopped" in runs[name]:
             lines.append(f"\n{name}: stopped at {runs[name]['adaptive_stopped']}.")
+    finish(args, lines, reference, j_ref, runs)
+
+
+def finish(args, lines, reference, j_ref, runs):
     text = "\n".join(lines) + "\n"
-    with open(os.path.join(args.results_dir, "dune_torsion.md"), "w") as f:
+    with open(os.path.join(args.results_dir, f"dune_torsion-{args.mesh}.md"), "w") as f:
         f.write(text)
-    with open(os.path.join(args.results_dir, "dune_torsion.json"), "w") as f:
+    with open(os.path.join(args.results_dir, f"dune_torsion-{args.mesh}.json"), "w") as f:
         json.dump({"reference": reference, "j_ref": j_ref, "runs": runs}, f, indent=1)
     print(text)
 

@@ -38,6 +38,7 @@
 
 #include "bpm/bpm_file.h"
 #include "bpm/dune/uggrid_from_bpm.h"
+#include "bpm/dune/uggrid_refinement_rules.h"
 #include "bpm/dune/uggrid_repair.h"
 #include "bpm/errors.h"
 #include "bpm/phi_evaluation.h"
@@ -66,6 +67,8 @@ struct LevelReport {
     double max_boundary_offset = 0;  // max |x - phi(parameter point)| over boundary vertices
     long inverted_before_repair = 0;  // with UG's new boundary vertices at phi
     long held_back = 0;               // boundary vertices the repair kept short of phi
+    long smoothed = 0;                // interior vertices the repair's smoothing moved
+    long rules_kept = 0;              // bpm::dune::uggrid_refinement_rules_kept() during this refinement
     int cg_iterations = 0;
     bool cg_converged = false;
     double seconds = 0;
@@ -319,13 +322,14 @@ int main(int argc, char** argv) {
                  "boundary refines through phi; reports J = ∫u, volume and element quality per level."};
     std::string input;
     int levels = 2;
-    bool flat = false, adaptive = false, json = false, no_repair = false;
+    bool flat = false, adaptive = false, json = false, no_repair = false, no_smooth = false;
     app.add_option("INPUT", input, ".bpm file with a tet mesh (bpm-mesh)")->required();
     app.add_option("--levels", levels, "Refinement steps K: levels 0..K are solved")->check(CLI::Range(0, 8));
     app.add_flag("--flat", flat, "Refine without phi: new boundary vertices at plain edge midpoints");
     app.add_flag("--adaptive", adaptive, "Refine locally by a residual estimator (red-green) instead of uniformly");
     app.add_flag("--no-repair", no_repair,
                  "Leave UG's new boundary vertices at phi (no bpm::repair_boundary; elements may invert)");
+    app.add_flag("--no-smooth", no_smooth, "Repair without interior smoothing (only boundary vertices move)");
     app.add_flag("--json", json, "Print the report as JSON on standard output");
     CLI11_PARSE(app, argc, argv);
 
@@ -342,6 +346,9 @@ int main(int argc, char** argv) {
         std::vector<LevelReport> reports;
         std::vector<Dune::FieldVector<double, 3>> gradients;
         std::string adaptive_stopped;
+        int64_t rules_kept_before = bpm::dune::uggrid_refinement_rules_kept();
+        bpm::BoundaryRepairOptions repair_options;
+        repair_options.smooth = !no_smooth;
         for (int level = 0; level <= levels; ++level) {
             const auto start = std::chrono::steady_clock::now();
             if (level > 0) {
@@ -363,13 +370,16 @@ int main(int argc, char** argv) {
             }
             LevelReport report;
             report.level = level;
+            report.rules_kept = bpm::dune::uggrid_refinement_rules_kept() - rules_kept_before;
+            rules_kept_before += report.rules_kept;
             if (level > 0) {
                 const auto added = params.update(grid);
                 if (!flat) {
                     report.inverted_before_repair = count_inverted(grid);
                     if (!no_repair) {
-                        const bpm::BoundaryRepairResult r = bpm::dune::repair_uggrid(grid, params, added, *phi);
+                        const bpm::BoundaryRepairResult r = bpm::dune::repair_uggrid(grid, params, added, *phi, repair_options);
                         report.held_back = r.held_back;
+                        report.smoothed = r.smoothed_vertices;
                     }
                 }
             }
@@ -388,6 +398,7 @@ int main(int argc, char** argv) {
             std::ostringstream out;
             out << "{\"input\": \"" << input << "\", \"boundary\": \"" << (flat ? "flat" : "phi")
                 << "\", \"refinement\": \"" << (adaptive ? "adaptive" : "global") << "\", \"repair\": " << (flat || no_repair ? "false" : "true")
+                << ", \"smooth\": " << (flat || no_repair || no_smooth ? "false" : "true")
                 << ", \"original_region_volumes\": [";
             for (size_t r = 0; r < original_volumes.size(); ++r) out << (r ? ", " : "") << json_number(original_volumes[r]);
             out << "]";
@@ -405,7 +416,8 @@ int main(int argc, char** argv) {
                     << ", \"min_dihedral_degrees\": " << json_number(r.min_dihedral_degrees)
                     << ", \"max_boundary_offset\": " << json_number(r.max_boundary_offset)
                     << ", \"inverted_before_repair\": " << r.inverted_before_repair
-                    << ", \"held_back\": " << r.held_back
+                    << ", \"held_back\": " << r.held_back << ", \"smoothed\": " << r.smoothed
+                    << ", \"rules_kept\": " << r.rules_kept
                     << ", \"cg_iterations\": " << r.cg_iterations
                     << ", \"cg_converged\": " << (r.cg_converged ? "true" : "false")
                     << ", \"seconds\": " << json_number(r.seconds) << "}";

@@ -21,7 +21,9 @@
 //   The per-region volumes that bpm-torsion reports show the size of that error.
 //
 // After each refinement: BoundaryParameterPoints::update, then repair_uggrid
-// (bpm/dune/uggrid_repair.h), so that no element is inverted.
+// (bpm/dune/uggrid_repair.h), so that no element is inverted. make_uggrid installs
+// bpm/dune/uggrid_refinement_rules.h's hook, without which UG's next refinement rebuilds
+// elements whose corners the repair moved.
 
 #include <algorithm>
 #include <array>
@@ -38,6 +40,7 @@
 
 #include "bpm/bpm_file.h"
 #include "bpm/dune/boundary_segment.h"
+#include "bpm/dune/uggrid_refinement_rules.h"
 #include "bpm/errors.h"
 #include "bpm/phi_evaluation.h"
 #include "bpm/surface_point.h"
@@ -137,6 +140,9 @@ inline UGGridFromBpm make_uggrid(const BpmFile& file, std::shared_ptr<const PhiE
                          " boundary faces of the tet mesh are not in /tetmesh/faces");
 
     out.grid = factory.createGrid();
+    // Vertices will move (repair, smoothing): UG must not re-choose the rules of elements
+    // it has refined (bpm/dune/uggrid_refinement_rules.h).
+    keep_uggrid_refinement_rules();
     // UG numbers the segments in insertion order; every boundary face has one, so
     // boundarySegmentIndex() is an index into segment_coarse_triangle.
     const auto level0 = out.grid->levelGridView(0);

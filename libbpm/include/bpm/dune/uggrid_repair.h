@@ -12,21 +12,16 @@
 // (which moves it on all levels). Vertices held back stay on the segment between their
 // midpoint and phi; the next call (after the next refinement) gives them another chance.
 //
-// Without interior smoothing: UG keeps, for every vertex it created, its father element
-// and local coordinates there, and setPosition does not update them. Moving interior
-// vertices (repair_boundary's smoothing) makes UG's next refinement leave elements out:
-// femur at 10 %, level 2 after a smoothed level-1 repair had 130545 instead of 131072
-// tetrahedra, 13 of them inverted before the repair. Boundary vertices moving along their
-// segment disturb it much less (131072 tetrahedra, 0 inverted at level 2), so repair_uggrid
-// refuses options with smooth = true; uggrid_repair_options() gives the defaults without it.
-// Known limit (open): they still disturb it a little. Femur at 10 %, level 3 after
-// repaired levels 1 and 2: 1048422 instead of 1048576 tetrahedra, and 3 inverted after the
-// repair (8652 with UG's vertices at phi): although globalRefine marks every element red,
-// UG refines 104 of the 131072 level-2 elements with irregular rules (678 children instead
-// of 832), and 3 of those children are inverted with every new vertex at its edge
-// midpoint, which the repair cannot undo (it never moves a vertex onto an inverting
-// position, and does not untangle without smoothing). Without any setPosition all 131072
-// are refined red.
+// Interior vertices are smoothed too (repair_boundary's default; options.smooth = false
+// keeps them where UG put them). Moving vertices through setPosition is safe for UG's next
+// refinement only with the hook of bpm/dune/uggrid_refinement_rules.h, which make_uggrid
+// installs: without it UG re-chooses the octahedron diagonal of every refined element from
+// the moved corners and rebuilds the elements where the choice changes, dropping the marks
+// of their leaves (femur at 10 %: 1048422 instead of 1048576 tetrahedra at level 3 with
+// boundary moves only, 3 of them inverted; 130545 instead of 131072 at level 2 with
+// smoothing). UG's other per-vertex data that setPosition leaves alone (a vertex's local
+// coordinates in its father element, LCVECT) only place nodes UG creates inside faces or
+// elements (gm/ugm.cc), which its refinement of tetrahedra does not create.
 //
 // Call it after each adapt()/globalRefine(n = 1) and BoundaryParameterPoints::update, with
 // what update returned.
@@ -42,25 +37,15 @@
 
 namespace bpm::dune {
 
-// BoundaryRepairOptions' defaults with interior smoothing off (see the top of this file).
-inline BoundaryRepairOptions uggrid_repair_options() {
-    BoundaryRepairOptions options;
-    options.smooth = false;
-    return options;
-}
-
 // \pre `added` is what params.update(grid) returned after the last refinement, and no
 //      vertex has been moved since.
-// \throw OptionError if options.smooth (see the top of this file); AlgorithmError if a
-//        vertex of `added` or one of its edge ends is not a leaf vertex; what
-//        repair_boundary throws.
+// \pre the grid was made by make_uggrid (or keep_uggrid_refinement_rules() was called)
+// \throw AlgorithmError if a vertex of `added` or one of its edge ends is not a leaf
+//        vertex; what repair_boundary throws.
 inline BoundaryRepairResult repair_uggrid(UGGrid3& grid, const BoundaryParameterPoints& params,
                                           const std::vector<BoundaryParameterPoints::NewVertex>& added,
                                           const PhiEvaluator& phi,
-                                          const BoundaryRepairOptions& options = uggrid_repair_options()) {
-    if (options.smooth)
-        throw OptionError("bpm::dune::repair_uggrid: interior smoothing moves vertices UG keeps local coordinates "
-                          "of, and UG's next refinement then leaves elements out; use uggrid_repair_options()");
+                                          const BoundaryRepairOptions& options = {}) {
     const auto view = grid.leafGridView();
     const auto& index = view.indexSet();
     const auto& ids = grid.globalIdSet();
