@@ -45,8 +45,14 @@ int main(int argc, char** argv) {
     app.add_option("--quality", options.quality, "TetGen -q: maximum radius-edge ratio, > 1.0 (default 1.414)")
         ->check(CLI::PositiveNumber);
     double min_dihedral = -1;
-    app.add_option("--min-dihedral", min_dihedral, "TetGen -q<quality>/<angle>: minimum dihedral angle in degrees to aim for")
-        ->check(CLI::Range(0.0, 70.0));
+    app.add_option("--min-dihedral", min_dihedral,
+                   "TetGen -q<quality>/<angle>: minimum dihedral angle in degrees to aim for, at most " +
+                       std::to_string(int(bpm::kMaxTetgenMinDihedralDegrees)) +
+                       " (TetGen does not terminate above; default: none)")
+        ->check(CLI::NonNegativeNumber);
+    app.add_option("--time-limit", options.time_limit_seconds,
+                   "Stop TetGen after this many seconds with an error (default 0 = no limit)")
+        ->check(CLI::NonNegativeNumber);
     app.add_option("--max-volume", max_volume, "TetGen -a: maximum tetrahedron volume, in the file's units^3")
         ->check(CLI::PositiveNumber);
     app.add_option("--refine", refine_levels, "Red-refine the mesh K times, moving new boundary vertices to phi")

@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <cctype>
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <ctime>
@@ -36,7 +37,58 @@ std::string readable_parse_error(const std::string& message) {
     };
     return m.prefix().str() + "not in range " + shorter(m[1].str()) + " to " + shorter(m[2].str()) + m.suffix().str();
 }
+
+// The signal that asked the tool to stop (SIGINT, SIGTERM, SIGHUP), 0 if none. The
+// handler only records it: the running library call sees it at its next progress poll
+// (make_context's callback returns false), unwinds through bpm::Cancelled - which stops
+// TetGen and removes its temporary directory - and run() then dies of the same signal.
+volatile std::sig_atomic_t g_signal = 0;
+
+extern "C" void die_of_recorded_signal(int) {
+    const int sig = g_signal;
+    if (sig == 0) return;
+    std::signal(sig, SIG_DFL);
+    std::raise(sig);  // delivered when this handler returns
+}
+
+extern "C" void record_signal(int sig) {
+    if (g_signal != 0) {  // a second signal: stop now
+        std::signal(sig, SIG_DFL);
+        std::raise(sig);
+        return;
+    }
+    g_signal = sig;
+    // Watchdog: a call that does not poll its progress callback within 5 s is not waited for.
+    alarm(5);
+}
+
+void install_signal_handlers() {
+    for (const int sig : {SIGINT, SIGTERM, SIGHUP}) {
+        struct sigaction old{};
+        sigaction(sig, nullptr, &old);
+        if (old.sa_handler == SIG_IGN) continue;  // e.g. nohup, or a background job
+        struct sigaction action{};
+        action.sa_handler = record_signal;
+        sigemptyset(&action.sa_mask);
+        sigaction(sig, &action, nullptr);
+    }
+    struct sigaction alarm_action{};
+    alarm_action.sa_handler = die_of_recorded_signal;
+    sigemptyset(&alarm_action.sa_mask);
+    sigaction(SIGALRM, &alarm_action, nullptr);
+}
+
+std::string signal_name(int sig) {
+    switch (sig) {
+        case SIGINT: return "SIGINT";
+        case SIGTERM: return "SIGTERM";
+        case SIGHUP: return "SIGHUP";
+        default: return "signal " + std::to_string(sig);
+    }
+}
 }  // namespace
+
+bool interrupted() { return g_signal != 0; }
 
 int run(const std::string& tool, int argc, char** argv, CLI::App& app, const std::function<int()>& body) {
     try {
@@ -58,6 +110,7 @@ int run(const std::string& tool, int argc, char** argv, CLI::App& app, const std
     // .bpm input is parsed in a child process first, so that a corrupt file that crashes
     // HDF5 ends as exit 3 with a message instead of a segfault (bpm/bpm_file.h).
     set_hdf5_isolation(true);
+    install_signal_handlers();
     try {
         return body();
     } catch (const InputError& e) {
@@ -79,8 +132,16 @@ int run(const std::string& tool, int argc, char** argv, CLI::App& app, const std
         print_error(tool, "", e.what());
         return kExternalTool;
     } catch (const Cancelled&) {
-        print_error(tool, "", "cancelled");
-        return kAlgorithm;
+        const int sig = g_signal;
+        if (sig == 0) {
+            print_error(tool, "", "cancelled");
+            return kAlgorithm;
+        }
+        print_error(tool, "", "interrupted by " + signal_name(sig) + ": stopped");
+        alarm(0);
+        std::signal(sig, SIG_DFL);
+        std::raise(sig);
+        return 128 + sig;
     } catch (const std::bad_alloc&) {
         print_error(tool, "", "out of memory");
         return kAlgorithm;
@@ -101,19 +162,23 @@ Context make_context(const std::string& tool, bool verbose, bool quiet) {
             std::cerr << tool << ": " << message << std::endl;
         }
     };
-    if (!quiet && isatty(STDERR_FILENO)) {
-        auto last = std::make_shared<int>(-1);
-        context.progress = [last](double fraction, const std::string& stage) {
-            int percent = static_cast<int>(fraction * 100.0);
-            if (percent != *last) {
-                *last = percent;
-                std::fprintf(stderr, "\r%-60.60s %3d%%", stage.c_str(), percent);
-                if (percent >= 100) std::fprintf(stderr, "\n");
-                std::fflush(stderr);
-            }
-            return true;
-        };
-    }
+    // Always set: it is how a signal (install_signal_handlers) stops a running call.
+    const bool show = !quiet && isatty(STDERR_FILENO);
+    auto last_percent = std::make_shared<int>(-1);
+    auto last_stage = std::make_shared<std::string>();
+    context.progress = [show, last_percent, last_stage](double fraction, const std::string& stage) {
+        if (g_signal != 0) return false;
+        if (!show) return true;
+        const int percent = static_cast<int>(fraction * 100.0);
+        if (percent != *last_percent || stage != *last_stage) {
+            *last_percent = percent;
+            *last_stage = stage;
+            std::fprintf(stderr, "\r%-60.60s %3d%%", stage.c_str(), percent);
+            if (percent >= 100) std::fprintf(stderr, "\n");
+            std::fflush(stderr);
+        }
+        return true;
+    };
     return context;
 }
 

@@ -28,6 +28,13 @@ enum ExitCode : int {
 // crash isolation of .bpm reading (bpm::set_hdf5_isolation) first.
 int run(const std::string& tool, int argc, char** argv, CLI::App& app, const std::function<int()>& body);
 
+// True once SIGINT, SIGTERM or SIGHUP arrived: run() installs handlers that record the
+// signal; the progress callback of make_context then stops the running library call
+// (bpm::Cancelled, which stops TetGen and removes temporary files on the way), and run()
+// ends by dying of that signal (exit status 128 + N in a shell). A second signal, or a
+// call that does not poll within 5 s, ends the tool at once.
+bool interrupted();
+
 // A Context whose log goes to stderr ("tool: warning: ...", info only when verbose)
 // and whose progress is shown on stderr only when stderr is a terminal.
 Context make_context(const std::string& tool, bool verbose, bool quiet);
