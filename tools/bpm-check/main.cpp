@@ -92,6 +92,11 @@ int main(int argc, char** argv) {
     app.add_option("--format", surface_format, "Surface format for --surface when reading '-' (off, obj, stl, ply, msh, vtk, vtp, vtu, surf)");
     bpm::tools::add_version_flag(app, tool);
 
+    // With --json every error is a report too (spec/check-report.md, "Errors").
+    bpm::tools::set_json_error_report(json, [&](const bpm::tools::ErrorReport& error) {
+        return "{\"bpm_check_report\": 1, \"input\": " + bpm::tools::json_string(input) +
+               ", \"passed\": false, \"checks\": [], \"error\": " + bpm::tools::error_json(error) + "}";
+    });
     return bpm::tools::run(tool, argc, argv, app, [&]() {
         bpm::CheckSelection sel;
         sel.format = sel.intersections = sel.topology = sel.bijectivity = false;

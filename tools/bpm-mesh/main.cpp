@@ -79,6 +79,11 @@ int main(int argc, char** argv) {
     app.add_flag("--json", json, "Print a JSON report (counts, timings, region volumes, quality) on standard output");
     bpm::tools::add_output_tool_flags(app, tool, deterministic, verbose, quiet);
 
+    // With --json every error is a report too: {"input", "ok": false, "error"}.
+    bpm::tools::set_json_error_report(json, [&](const bpm::tools::ErrorReport& error) {
+        return "{\"input\": " + bpm::tools::json_string(input) + ", \"ok\": false, \"error\": " +
+               bpm::tools::error_json(error) + "}";
+    });
     return bpm::tools::run(tool, argc, argv, app, [&]() {
         bpm::tools::require_output_directory(output);
         std::optional<bpm::TetMeshFormat> out_format =
@@ -145,7 +150,7 @@ int main(int argc, char** argv) {
         if (json) {
             const auto original = bpm::region_volumes_on_original(file.param, *file.tetmesh);
             const bpm::TetMesh& m = *file.tetmesh;
-            std::string j = "{\"input\": \"" + input + "\", \"level\": " + std::to_string(m.level) +
+            std::string j = "{\"input\": " + bpm::tools::json_string(input) + ", \"ok\": true, \"level\": " + std::to_string(m.level) +
                             ", \"vertices\": " + std::to_string(m.num_vertices()) +
                             ", \"tetrahedra\": " + std::to_string(m.num_tetrahedra()) +
                             ", \"faces\": " + std::to_string(m.faces.size()) +

@@ -90,7 +90,55 @@ std::string signal_name(int sig) {
 
 bool interrupted() { return g_signal != 0; }
 
+namespace {
+const bool* g_json = nullptr;
+std::function<std::string(const ErrorReport&)> g_render_error;
+}  // namespace
+
+void set_json_error_report(const bool& json, std::function<std::string(const ErrorReport&)> render) {
+    g_json = &json;
+    g_render_error = std::move(render);
+}
+
+std::string json_string(const std::string& text) {
+    std::string out = "\"";
+    for (const char c : text) {
+        switch (c) {
+            case '"': out += "\\\""; break;
+            case '\\': out += "\\\\"; break;
+            case '\n': out += "\\n"; break;
+            case '\t': out += "\\t"; break;
+            case '\r': out += "\\r"; break;
+            default:
+                if (static_cast<unsigned char>(c) < 0x20) {
+                    char buffer[8];
+                    std::snprintf(buffer, sizeof buffer, "\\u%04x", static_cast<unsigned>(c));
+                    out += buffer;
+                } else {
+                    out += c;
+                }
+        }
+    }
+    return out + "\"";
+}
+
+std::string error_json(const ErrorReport& error) {
+    return "{\"file\": " + (error.file.empty() ? std::string("null") : json_string(error.file)) +
+           ", \"message\": " + json_string(error.message) + ", \"exit_code\": " + std::to_string(error.exit_code) +
+           "}";
+}
+
 int run(const std::string& tool, int argc, char** argv, CLI::App& app, const std::function<int()>& body) {
+    // Every error: `tool: error: WHERE: message` on stderr, and with --json also the
+    // tool's JSON report of it on stdout (a CI job parsing stdout always gets a report).
+    // --json counts when it is on the command line even if parsing failed.
+    const auto fail = [&](const std::string& where, const std::string& message, int code) {
+        print_error(tool, where, message);
+        bool json = g_json && *g_json;
+        for (int i = 1; i < argc && !json && g_render_error; ++i) json = std::string(argv[i]) == "--json";
+        if (json && g_render_error) std::cout << g_render_error(ErrorReport{where, message, code}) << std::endl;
+        return code;
+    };
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp&) {
@@ -103,9 +151,9 @@ int run(const std::string& tool, int argc, char** argv, CLI::App& app, const std
         std::cout << version_line(tool) << std::endl;
         return kOk;
     } catch (const CLI::ParseError& e) {
-        print_error(tool, "", readable_parse_error(e.what()));
+        const int code = fail("", readable_parse_error(e.what()), kUsage);
         std::cerr << "Run '" << tool << " --help' for the options." << std::endl;
-        return kUsage;
+        return code;
     }
     // .bpm input is parsed in a child process first, so that a corrupt file that crashes
     // HDF5 ends as exit 3 with a message instead of a segfault (bpm/bpm_file.h).
@@ -114,40 +162,30 @@ int run(const std::string& tool, int argc, char** argv, CLI::App& app, const std
     try {
         return body();
     } catch (const InputError& e) {
-        print_error(tool, e.where(), e.what());
-        return kBadInput;
+        return fail(e.where(), e.what(), kBadInput);
     } catch (const OutputError& e) {
-        print_error(tool, e.where(), e.what());
-        return kOutputError;
+        return fail(e.where(), e.what(), kOutputError);
     } catch (const OptionError& e) {
-        print_error(tool, "", e.what());
-        return kUsage;
+        return fail("", e.what(), kUsage);
     } catch (const CLI::ParseError& e) {
-        print_error(tool, "", readable_parse_error(e.what()));
-        return kUsage;
+        return fail("", readable_parse_error(e.what()), kUsage);
     } catch (const AlgorithmError& e) {
-        print_error(tool, "", e.what());
-        return kAlgorithm;
+        return fail("", e.what(), kAlgorithm);
     } catch (const ExternalToolError& e) {
-        print_error(tool, "", e.what());
-        return kExternalTool;
+        return fail("", e.what(), kExternalTool);
     } catch (const Cancelled&) {
         const int sig = g_signal;
-        if (sig == 0) {
-            print_error(tool, "", "cancelled");
-            return kAlgorithm;
-        }
-        print_error(tool, "", "interrupted by " + signal_name(sig) + ": stopped");
+        if (sig == 0) return fail("", "cancelled", kAlgorithm);
+        fail("", "interrupted by " + signal_name(sig) + ": stopped", 128 + sig);
+        std::cout.flush();
         alarm(0);
         std::signal(sig, SIG_DFL);
         std::raise(sig);
         return 128 + sig;
     } catch (const std::bad_alloc&) {
-        print_error(tool, "", "out of memory");
-        return kAlgorithm;
+        return fail("", "out of memory", kAlgorithm);
     } catch (const std::exception& e) {
-        print_error(tool, "", std::string("internal error (please report): ") + e.what());
-        return kInternal;
+        return fail("", std::string("internal error (please report): ") + e.what(), kInternal);
     }
 }
 

@@ -35,6 +35,26 @@ int run(const std::string& tool, int argc, char** argv, CLI::App& app, const std
 // call that does not poll within 5 s, ends the tool at once.
 bool interrupted();
 
+// An error that ended a tool: the file it concerns ("" if none, "-" for standard input),
+// the message, and the exit code the tool returns.
+struct ErrorReport {
+    std::string file;
+    std::string message;
+    int exit_code = 0;
+};
+
+// For tools with --json: when `json` is true (or "--json" is on the command line and
+// parsing failed), run() prints render(error) on stdout for every error, besides the
+// usual line on stderr. `json` must outlive run().
+void set_json_error_report(const bool& json, std::function<std::string(const ErrorReport&)> render);
+
+// `text` as a JSON string literal, quotes included (control characters escaped; UTF-8
+// passed through).
+std::string json_string(const std::string& text);
+
+// {"file": "..." or null, "message": "...", "exit_code": N}
+std::string error_json(const ErrorReport& error);
+
 // A Context whose log goes to stderr ("tool: warning: ...", info only when verbose)
 // and whose progress is shown on stderr only when stderr is a terminal.
 Context make_context(const std::string& tool, bool verbose, bool quiet);
