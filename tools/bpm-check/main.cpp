@@ -9,6 +9,17 @@
 #include "bpm/surface_io.h"
 #include "common/tool_main.h"
 
+namespace {
+// Adds a check to the report in the documented order (spec/check-report.md): before
+// "replay", the only check that may follow quality and distance.
+void add_in_order(bpm::CheckReport& report, bpm::CheckResult result) {
+    auto at = report.checks.end();
+    if (!report.checks.empty() && report.checks.back().name == "replay") --at;
+    if (result.name == "quality" && at != report.checks.begin() && std::prev(at)->name == "distance") --at;
+    report.checks.insert(at, std::move(result));
+}
+}  // namespace
+
 int main(int argc, char** argv) {
     const std::string tool = "bpm-check";
     CLI::App app{
@@ -89,7 +100,12 @@ int main(int argc, char** argv) {
     app.add_flag("--triangulate-polygons", triangulate_polygons,
                  "With --surface: split faces with more than 3 corners into triangles first (as bpm-simplify's "
                  "repair of that name)");
-    app.add_option("--format", surface_format, "Surface format for --surface when reading '-' (off, obj, stl, ply, msh, vtk, vtp, vtu, surf)");
+    bpm::tools::add_format_option(app, surface_format, "input",
+                                  "Surface format for --surface when reading '-' (off, obj, stl, ply, msh, vtk, vtp, "
+                                  "vtu, surf)");
+    bool verbose = false, quiet = false;
+    app.add_flag("-v,--verbose", verbose, "More detail on standard error");
+    app.add_flag("-q,--quiet", quiet, "Only errors on standard error (the report still goes to standard output)");
     bpm::tools::add_version_flag(app, tool);
 
     // With --json every error is a report too (spec/check-report.md, "Errors").
@@ -100,6 +116,9 @@ int main(int argc, char** argv) {
     return bpm::tools::run(tool, argc, argv, app, [&]() {
         bpm::CheckSelection sel;
         sel.format = sel.intersections = sel.topology = sel.bijectivity = false;
+        // distance and quality are run by their limits (--max-error, --max-aspect,
+        // --min-angle); named in --checks without one they measure and pass.
+        bool want_distance = false, want_quality = false;
         std::stringstream list(checks);
         std::string item;
         while (std::getline(list, item, ',')) {
@@ -108,8 +127,13 @@ int main(int argc, char** argv) {
             else if (item == "topology") sel.topology = true;
             else if (item == "bijectivity") sel.bijectivity = true;
             else if (item == "replay") sel.replay = true;
+            else if (item == "distance") want_distance = true;
+            else if (item == "quality") want_quality = true;
             else if (item == "all") sel.format = sel.intersections = sel.topology = sel.bijectivity = true;
-            else throw CLI::ValidationError("--checks", "unknown check '" + item + "'");
+            else
+                throw CLI::ValidationError("--checks", "unknown check '" + item +
+                                                           "' (known: format, intersections, topology, bijectivity, "
+                                                           "quality, distance, replay, all)");
         }
         sel.original_intersections = original;
         if (replay) sel.replay = true;
@@ -121,7 +145,7 @@ int main(int argc, char** argv) {
         options.error_sample_spacing = error_spacing;
         options.replay_check_interval = replay_interval;
         options.threads = threads;
-        const bpm::Context context = bpm::tools::make_context(tool, false, json);
+        const bpm::Context context = bpm::tools::make_context(tool, verbose, quiet || json);
 
         bpm::CheckReport report;
         if (surface_mode) {
@@ -136,11 +160,23 @@ int main(int argc, char** argv) {
             read_options.triangulate_polygons = triangulate_polygons;
             if (!surface_format.empty()) {
                 read_options.format = bpm::surface_format_from_name(surface_format);
-                if (!read_options.format) throw CLI::ValidationError("--format", "unknown surface format " + surface_format);
+                if (!read_options.format)
+                    throw CLI::ValidationError("--input-format", "unknown surface format '" + surface_format + "'");
             }
-            report = bpm::run_surface_checks(bpm::read_surface(input, read_options), sel, options, context);
+            if (want_distance) throw CLI::ValidationError("--checks", "distance needs a .bpm file, not --surface");
+            const bpm::Surface surface = bpm::read_surface(input, read_options);
+            report = bpm::run_surface_checks(surface, sel, options, context);
+            if (want_quality && !report.find("quality")) add_in_order(report, bpm::check_quality(surface, options, context));
         } else {
-            report = bpm::run_checks(bpm::read_bpm(input), sel, options, context);
+            const bpm::BpmFile file = bpm::read_bpm(input);
+            // distance reads phi, so it needs a structurally sound file.
+            if (want_distance && !*error_opt) sel.format = true;
+            report = bpm::run_checks(file, sel, options, context);
+            if (want_quality && !report.find("quality"))
+                add_in_order(report, bpm::check_quality(file.param.coarse, options, context));
+            const bpm::CheckResult* format_check = report.find("format");
+            if (want_distance && !report.find("distance") && format_check && format_check->passed)
+                add_in_order(report, bpm::check_distance(file.param, options, context));
         }
         report.input = input;
         std::cout << (json ? bpm::check_report_to_json(report) : bpm::check_report_to_text(report)) << std::flush;

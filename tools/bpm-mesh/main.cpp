@@ -41,7 +41,8 @@ int main(int argc, char** argv) {
     app.add_option("INPUT", input, "Input .bpm file, or - for standard input")->required();
     app.add_option("-o,--output", output, "Output .bpm .msh .vtu .mesh, or - for standard output (see --format)")
         ->required();
-    app.add_option("--format", format, "Output format when it cannot be told from the name: bpm, msh, vtu, mesh");
+    bpm::tools::add_format_option(app, format, "output",
+                                  "Output format when it cannot be told from the name: bpm, msh, vtu, mesh");
     app.add_option("--quality", options.quality, "TetGen -q: maximum radius-edge ratio, > 1.0 (default 1.414)")
         ->check(CLI::PositiveNumber);
     double min_dihedral = -1;
@@ -91,9 +92,10 @@ int main(int argc, char** argv) {
                            : bpm::tetmesh_format_from_name(format);
         if (!out_format)
             throw CLI::ValidationError("--output", format.empty() ? "cannot tell the format from '" + output +
-                                                                        "': use .bpm .msh .vtu .mesh or --format"
+                                                                        "': use .bpm .msh .vtu .mesh or --output-format"
                                                                   : "unknown format '" + format + "'");
         if (json && output == "-") throw CLI::ValidationError("--json", "needs an output file (stdout carries the JSON)");
+        if (*out_format == bpm::TetMeshFormat::Bpm) bpm::tools::refuse_binary_to_terminal(output, "binary .bpm (HDF5) data");
         if (max_volume > 0) options.max_volume = max_volume;
         if (min_dihedral >= 0) options.min_dihedral_degrees = min_dihedral;
         options.smooth = !no_smooth;

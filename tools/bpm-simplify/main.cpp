@@ -27,12 +27,14 @@ int main(int argc, char** argv) {
                    "different inputs are kept apart")
         ->required();
     app.add_option("-o,--output", output, "Output .bpm file, or - for standard output")->required();
-    app.add_option("--format", format, "Input format when it cannot be told from the name: off, obj, stl, ply, msh, vtk (legacy VTK), vtp, vtu (VTK XML), surf (Amira HyperSurface)");
+    bpm::tools::add_format_option(app, format, "input",
+                                  "Input format when it cannot be told from the name (needed for standard input): off, "
+                                  "obj, stl, ply, msh, vtk (legacy VTK), vtp, vtu (VTK XML), surf (Amira HyperSurface)");
     app.add_option("--vertices", options.target_vertices, "Stop when the coarse surface has this many vertices")
         ->check(CLI::NonNegativeNumber);
     app.add_option("--ratio", options.target_ratio,
                    "Stop at this fraction of the input vertices (0..1; e.g. 0.1 keeps 10%)")
-        ->check(CLI::Range(0.0, 1.0));
+        ->check(bpm::tools::decimal_range(0.0, 1.0, true, false, "0.1"));
     app.add_option("--max-error", options.max_error,
                    "Never let max |phi(x) - x| exceed this fraction of the bounding-box diagonal (e.g. 0.005)")
         ->check(CLI::NonNegativeNumber);
@@ -97,9 +99,10 @@ int main(int argc, char** argv) {
     return bpm::tools::run(tool, argc, argv, app, [&]() {
         bpm::tools::require_output_directory(output);
         bpm::tools::require_bpm_output(output, tool);
+        bpm::tools::refuse_binary_to_terminal(output, "binary .bpm (HDF5) data");
         if (!format.empty()) {
             read_options.format = bpm::surface_format_from_name(format);
-            if (!read_options.format) throw CLI::ValidationError("--format", "unknown format '" + format + "'");
+            if (!read_options.format) throw CLI::ValidationError("--input-format", "unknown format '" + format + "'");
         }
         if (options.target_vertices == 0 && options.target_ratio == 0 && !std::isfinite(options.max_error))
             throw CLI::ValidationError("give at least one of --vertices, --ratio, --max-error");

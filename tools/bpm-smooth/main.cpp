@@ -38,6 +38,7 @@ int main(int argc, char** argv) {
     return bpm::tools::run(tool, argc, argv, app, [&]() {
         bpm::tools::require_output_directory(output);
         bpm::tools::require_bpm_output(output, tool);
+        bpm::tools::refuse_binary_to_terminal(output, "binary .bpm (HDF5) data");
         options.measure_quality = !no_quality;
         options.weights = weights == "shape-preserving" ? bpm::SmoothWeights::ShapePreserving : bpm::SmoothWeights::MeanValue;
         const bpm::Context context = bpm::tools::make_context(tool, verbose, quiet);

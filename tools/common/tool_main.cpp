@@ -10,6 +10,8 @@
 #include <filesystem>
 #include <iostream>
 #include <regex>
+#include <utility>
+#include <vector>
 
 #include "bpm/bpm_file.h"
 #include "bpm/errors.h"
@@ -91,6 +93,53 @@ std::string signal_name(int sig) {
 bool interrupted() { return g_signal != 0; }
 
 namespace {
+// Deprecated spellings registered by add_format_option: {old, replacement}.
+std::vector<std::pair<std::string, std::string>> g_deprecated;
+
+void warn_deprecated(const std::string& tool, const CLI::App& app) {
+    const CLI::Option* quiet = app.get_option_no_throw("--quiet");
+    if (quiet && quiet->count() > 0) return;
+    for (const auto& [old_name, new_name] : g_deprecated) {
+        const CLI::Option* o = app.get_option_no_throw(old_name);
+        if (o && o->count() > 0)
+            std::cerr << tool << ": warning: " << old_name << " is deprecated and will be removed in the next minor "
+                      << "version: use " << new_name << " (same meaning)" << std::endl;
+    }
+}
+}  // namespace
+
+CLI::Option* add_format_option(CLI::App& app, std::string& value, const std::string& direction,
+                               const std::string& description) {
+    const std::string name = "--" + direction + "-format";
+    CLI::Option* option = app.add_option(name, value, description);
+    app.add_option("--format", value, "Deprecated: the old name of " + name)->group("Deprecated");
+    g_deprecated.emplace_back("--format", name);
+    return option;
+}
+
+CLI::Validator decimal_range(double low, double high, bool low_open, bool high_open, const std::string& example) {
+    const auto bound = [](double v) {
+        char buffer[32];
+        std::snprintf(buffer, sizeof buffer, "%g", v);
+        return std::string(buffer);
+    };
+    const std::string range = std::string(low_open ? "(" : "[") + bound(low) + ", " + bound(high) + (high_open ? ")" : "]");
+    CLI::Validator v(
+        [=](std::string& text) -> std::string {
+            char* end = nullptr;
+            const double x = std::strtod(text.c_str(), &end);
+            const bool number = !text.empty() && end && *end == '\0';
+            const bool inside = number && (low_open ? x > low : x >= low) && (high_open ? x < high : x <= high);
+            if (inside) return std::string();
+            std::string message = "expects a number in " + range + " (e.g. " + example + "), got '" + text + "'";
+            if (text.find(',') != std::string::npos) message += ": write the decimal point as a dot";
+            return message;
+        },
+        "NUMBER in " + range);
+    return v;
+}
+
+namespace {
 const bool* g_json = nullptr;
 std::function<std::string(const ErrorReport&)> g_render_error;
 }  // namespace
@@ -155,6 +204,7 @@ int run(const std::string& tool, int argc, char** argv, CLI::App& app, const std
         std::cerr << "Run '" << tool << " --help' for the options." << std::endl;
         return code;
     }
+    warn_deprecated(tool, app);
     // .bpm input is parsed in a child process first, so that a corrupt file that crashes
     // HDF5 ends as exit 3 with a message instead of a segfault (bpm/bpm_file.h).
     set_hdf5_isolation(true);
@@ -257,6 +307,13 @@ void require_bpm_output(const std::string& path, const std::string& tool) {
         throw CLI::ValidationError("--output", tool + " writes .bpm files only, and '" + name +
                                                    "' does not end in .bpm (bpm-refine writes surfaces, bpm-mesh "
                                                    "volume meshes)");
+}
+
+void refuse_binary_to_terminal(const std::string& path, const std::string& kind) {
+    if (path != "-" || !isatty(STDOUT_FILENO)) return;
+    throw CLI::ValidationError("--output", "'-' would write " + kind +
+                                               " to the terminal: give a file name (-o out.bpm) or send standard "
+                                               "output into a pipe or file (-o - | ... , -o - > out.bpm)");
 }
 
 std::string utc_timestamp() {

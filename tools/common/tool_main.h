@@ -69,6 +69,16 @@ void add_version_flag(CLI::App& app, const std::string& tool);
 // -q/--quiet and --version.
 void add_output_tool_flags(CLI::App& app, const std::string& tool, bool& deterministic, bool& verbose, bool& quiet);
 
+// The one name for a file format option in every tool: --input-format (direction
+// "input") or --output-format ("output"), as meshio names them. The old --format is kept
+// as a deprecated alias with this tool's meaning (a warning names the new option).
+CLI::Option* add_format_option(CLI::App& app, std::string& value, const std::string& direction,
+                               const std::string& description);
+
+// Validator for a number in a range, open or closed at each end, whose message says the
+// expected range with an example and, for "0,1", that the decimal point is a dot.
+CLI::Validator decimal_range(double low, double high, bool low_open, bool high_open, const std::string& example);
+
 // Throws CLI::ValidationError if the directory of `path` does not exist (checked before
 // any expensive work); "-" is always accepted.
 void require_output_directory(const std::string& path);
@@ -77,6 +87,11 @@ void require_output_directory(const std::string& path);
 // tools that write nothing but .bpm files, so that "-o coarse.off" is a usage error
 // (exit 2, before any work) instead of an HDF5 file named .off.
 void require_bpm_output(const std::string& path, const std::string& tool);
+
+// Throws CLI::ValidationError (exit 2) when `path` is "-" and standard output is a
+// terminal: binary data (`kind`, e.g. "binary .bpm (HDF5) data") would only garble it,
+// as gzip refuses to. Checked before any work.
+void refuse_binary_to_terminal(const std::string& path, const std::string& kind);
 
 // Current time as ISO 8601 UTC, for provenance.
 std::string utc_timestamp();
