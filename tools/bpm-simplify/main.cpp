@@ -116,6 +116,15 @@ int main(int argc, char** argv) {
         for (const auto& note : report.notes) context.info(note);
         context.info("read " + std::to_string(surface.num_vertices()) + " vertices, " +
                      std::to_string(surface.num_triangles()) + " triangles");
+        // A target the input already meets is a no-op: say so rather than "3897 -> 3897".
+        // The first target reached stops the run, so one the input meets stops it at once.
+        if (options.target_ratio >= 1.0)
+            context.warn("--ratio 1 keeps all " + std::to_string(surface.num_vertices()) +
+                         " vertices: nothing will be removed");
+        else if (options.target_vertices > 0 && options.target_vertices >= surface.num_vertices())
+            context.warn("--vertices " + std::to_string(options.target_vertices) + " is not below the input's " +
+                         std::to_string(surface.num_vertices()) +
+                         " vertices: nothing will be removed (use a smaller --vertices or --ratio)");
 
         bpm::BpmFile file;
         bpm::SimplifyResult result = bpm::simplify(surface, options, context, file.param);

@@ -242,7 +242,7 @@ int run(const std::string& tool, int argc, char** argv, CLI::App& app, const std
 Context make_context(const std::string& tool, bool verbose, bool quiet) {
     Context context;
     context.log = [tool, verbose, quiet](LogLevel level, const std::string& message) {
-        if (level == LogLevel::Warning) {
+        if (level == LogLevel::Warning && !quiet) {
             std::cerr << tool << ": warning: " << message << std::endl;
         } else if (level == LogLevel::Info && !quiet) {
             std::cerr << tool << ": " << message << std::endl;

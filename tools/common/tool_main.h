@@ -55,7 +55,8 @@ std::string json_string(const std::string& text);
 // {"file": "..." or null, "message": "...", "exit_code": N}
 std::string error_json(const ErrorReport& error);
 
-// A Context whose log goes to stderr ("tool: warning: ...", info only when verbose)
+// A Context whose log goes to stderr: "tool: warning: ..." and info lines unless quiet
+// (-q prints errors only), debug lines when verbose;
 // and whose progress is shown on stderr only when stderr is a terminal.
 Context make_context(const std::string& tool, bool verbose, bool quiet);
 
