@@ -81,7 +81,7 @@ def cube(x0, res, path):
 cube(0, 4, sys.argv[1]); cube(1, 4, sys.argv[2])
 PY
 expect 3 "two touching materials without the repairs" -- "$simplify" "$work/cube_a.off" "$work/cube_b.off" -o "$work/ab.bpm" --ratio 0.3 --merge-duplicate-vertices
-contains "$work/err" "merge-duplicate-triangles repair" "the refusal names the repair"
+contains "$work/err" "Rerun with: --merge-duplicate-triangles" "the refusal names the flag of the repair"
 expect 0 "two touching materials with --merge-duplicate-triangles" -- "$simplify" "$work/cube_a.off" "$work/cube_b.off" -o "$work/ab.bpm" --ratio 0.3 --merge-duplicate-vertices --merge-duplicate-triangles
 contains "$work/err" "removed 32 duplicate triangles" "the fused triangles are reported"
 contains "$work/err" "patch 2 = the 32 triangles that patches 0 and 1 had in common" "the interface patch is named"

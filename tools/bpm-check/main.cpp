@@ -20,6 +20,17 @@ void add_in_order(bpm::CheckReport& report, bpm::CheckResult result) {
 }
 }  // namespace
 
+// read_bpm, with a hint when the file is a plain surface (bpm-check femur.off).
+bpm::BpmFile read_bpm_or_hint(const std::string& input) {
+    try {
+        return bpm::read_bpm(input);
+    } catch (const bpm::InputError& e) {
+        if (input == "-" || !bpm::surface_format_from_path(input)) throw;
+        throw bpm::InputError(e.where(), std::string(e.what()) + ". It looks like a surface file: check it with " +
+                                             "bpm-check --surface " + input);
+    }
+}
+
 int main(int argc, char** argv) {
     const std::string tool = "bpm-check";
     CLI::App app{
@@ -97,9 +108,17 @@ int main(int argc, char** argv) {
     app.add_flag("--surface", surface_mode,
                  "FILE is a plain surface (OFF, OBJ, STL, PLY, MSH, VTK, VTP, VTU, SURF): run intersections and topology on it alone");
     bool triangulate_polygons = false;
+    bpm::SurfaceReadOptions read_options;
     app.add_flag("--triangulate-polygons", triangulate_polygons,
                  "With --surface: split faces with more than 3 corners into triangles first (as bpm-simplify's "
                  "repair of that name)");
+    // The other repairs of bpm-simplify, so that the flags an error names work here too.
+    app.add_flag("--merge-duplicate-vertices", read_options.merge_duplicate_vertices,
+                 "With --surface: merge vertices with identical coordinates first");
+    app.add_flag("--merge-duplicate-triangles", read_options.merge_duplicate_triangles,
+                 "With --surface: fuse triangles with the same three vertices into one first");
+    app.add_flag("--drop-unreferenced-vertices", read_options.drop_unreferenced_vertices,
+                 "With --surface: drop vertices that no triangle uses first");
     bpm::tools::add_format_option(app, surface_format, "input",
                                   "Surface format for --surface when reading '-' (off, obj, stl, ply, msh, vtk, vtp, "
                                   "vtu, surf)");
@@ -156,7 +175,6 @@ int main(int argc, char** argv) {
                     throw CLI::ValidationError("--checks", "format and bijectivity need a .bpm file, not --surface");
                 sel.format = sel.bijectivity = false;
             }
-            bpm::SurfaceReadOptions read_options;
             read_options.triangulate_polygons = triangulate_polygons;
             if (!surface_format.empty()) {
                 read_options.format = bpm::surface_format_from_name(surface_format);
@@ -164,11 +182,12 @@ int main(int argc, char** argv) {
                     throw CLI::ValidationError("--input-format", "unknown surface format '" + surface_format + "'");
             }
             if (want_distance) throw CLI::ValidationError("--checks", "distance needs a .bpm file, not --surface");
+            bpm::tools::require_input_format_for_stdin({input}, surface_format);
             const bpm::Surface surface = bpm::read_surface(input, read_options);
             report = bpm::run_surface_checks(surface, sel, options, context);
             if (want_quality && !report.find("quality")) add_in_order(report, bpm::check_quality(surface, options, context));
         } else {
-            const bpm::BpmFile file = bpm::read_bpm(input);
+            const bpm::BpmFile file = read_bpm_or_hint(input);
             // distance reads phi, so it needs a structurally sound file.
             if (want_distance && !*error_opt) sel.format = true;
             report = bpm::run_checks(file, sel, options, context);

@@ -100,6 +100,7 @@ int main(int argc, char** argv) {
         bpm::tools::require_output_directory(output);
         bpm::tools::require_bpm_output(output, tool);
         bpm::tools::refuse_binary_to_terminal(output, "binary .bpm (HDF5) data");
+        bpm::tools::require_input_format_for_stdin(inputs, format);
         if (!format.empty()) {
             read_options.format = bpm::surface_format_from_name(format);
             if (!read_options.format) throw CLI::ValidationError("--input-format", "unknown format '" + format + "'");

@@ -15,6 +15,7 @@
 
 #include "bpm/bpm_file.h"
 #include "bpm/errors.h"
+#include "bpm/surface_io.h"
 #include "bpm/version.h"
 
 namespace bpm::tools {
@@ -211,6 +212,11 @@ int run(const std::string& tool, int argc, char** argv, CLI::App& app, const std
     install_signal_handlers();
     try {
         return body();
+    } catch (const InputNeedsRepair& e) {
+        // The library names the repairs; the command line to copy is the tool's to give.
+        std::string flags;
+        for (const SurfaceRepair r : e.repairs()) flags += " " + repair_flag(r);
+        return fail(e.where(), std::string(e.what()) + ". Rerun with:" + flags, kBadInput);
     } catch (const InputError& e) {
         return fail(e.where(), e.what(), kBadInput);
     } catch (const OutputError& e) {
@@ -307,6 +313,24 @@ void require_bpm_output(const std::string& path, const std::string& tool) {
         throw CLI::ValidationError("--output", tool + " writes .bpm files only, and '" + name +
                                                    "' does not end in .bpm (bpm-refine writes surfaces, bpm-mesh "
                                                    "volume meshes)");
+}
+
+std::string repair_flag(SurfaceRepair repair) {
+    switch (repair) {
+        case SurfaceRepair::MergeDuplicateVertices: return "--merge-duplicate-vertices";
+        case SurfaceRepair::DropUnreferencedVertices: return "--drop-unreferenced-vertices";
+        case SurfaceRepair::MergeDuplicateTriangles: return "--merge-duplicate-triangles";
+    }
+    return "?";
+}
+
+void require_input_format_for_stdin(const std::vector<std::string>& inputs, const std::string& format) {
+    if (!format.empty()) return;
+    for (const std::string& input : inputs)
+        if (input == "-")
+            throw CLI::ValidationError("--input-format", "standard input ('-') has no file name to tell the format "
+                                                         "from: add --input-format FORMAT (off, obj, stl, ply, msh, "
+                                                         "vtk, vtp, vtu, surf)");
 }
 
 void refuse_binary_to_terminal(const std::string& path, const std::string& kind) {

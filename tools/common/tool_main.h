@@ -4,10 +4,12 @@
 
 #include <functional>
 #include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
 #include "bpm/context.h"
+#include "bpm/surface_io.h"
 
 namespace bpm::tools {
 
@@ -93,6 +95,15 @@ void require_bpm_output(const std::string& path, const std::string& tool);
 // terminal: binary data (`kind`, e.g. "binary .bpm (HDF5) data") would only garble it,
 // as gzip refuses to. Checked before any work.
 void refuse_binary_to_terminal(const std::string& path, const std::string& kind);
+
+// The command-line flag of a surface repair (bpm-simplify's; bpm-check --surface has the
+// same names), e.g. "--merge-duplicate-vertices". run() appends them to an
+// InputNeedsRepair error as "Rerun with: --flag --flag".
+std::string repair_flag(SurfaceRepair repair);
+
+// Throws CLI::ValidationError (exit 2) naming --input-format when one of `inputs` is "-"
+// and `format` is empty: standard input has no extension to tell the format from.
+void require_input_format_for_stdin(const std::vector<std::string>& inputs, const std::string& format);
 
 // Current time as ISO 8601 UTC, for provenance.
 std::string utc_timestamp();
