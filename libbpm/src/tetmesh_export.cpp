@@ -45,8 +45,9 @@ void bounding_box(const TetMesh& m, const std::vector<int32_t>& vertices, std::s
 }
 
 // Gmsh MSH 4.1: volume entity r = region r (physical tag r), surface entity i+1 = i-th
-// patch in increasing order (physical tag = patch id). All nodes in one block of volume
-// entity 1 (the format allows nodes to be classified on any entity).
+// patch in increasing order (physical tag = patch id + 1, named "patch_<id>": Gmsh and
+// its readers (meshio, DUNE's GmshReader) take tag 0 as "no physical group"). All nodes in
+// one block of volume entity 1 (the format allows nodes to be classified on any entity).
 std::string write_msh(const TetMesh& m) {
     const int32_t nr = m.num_regions();
     std::map<int32_t, int> entity_of_patch;
@@ -56,7 +57,7 @@ std::string write_msh(const TetMesh& m) {
 
     std::string out = "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$PhysicalNames\n";
     out += num(nr + static_cast<int64_t>(entity_of_patch.size())) + "\n";
-    for (const auto& [patch, entity] : entity_of_patch) out += "2 " + num(patch) + " \"patch_" + num(patch) + "\"\n";
+    for (const auto& [patch, entity] : entity_of_patch) out += "2 " + num(patch + 1) + " \"patch_" + num(patch) + "\"\n";
     for (int32_t r = 1; r <= nr; ++r) out += "3 " + num(r) + " \"region_" + num(r) + "\"\n";
     out += "$EndPhysicalNames\n$Entities\n";
     out += "0 0 " + num(static_cast<int64_t>(entity_of_patch.size())) + " " + num(nr) + "\n";
@@ -66,7 +67,7 @@ std::string write_msh(const TetMesh& m) {
             if (m.face_patches[f] == patch) used.insert(used.end(), m.faces[f].begin(), m.faces[f].end());
         out += num(entity) + " ";
         bounding_box(m, used, out);
-        out += " 1 " + num(patch) + " 0\n";
+        out += " 1 " + num(patch + 1) + " 0\n";
     }
     for (int32_t r = 1; r <= nr; ++r) {
         std::vector<int32_t> used;
