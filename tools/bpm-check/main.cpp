@@ -47,8 +47,7 @@ int main(int argc, char** argv) {
         "                 removals (link = boundary of the new triangles, local condition of Conjecture 2.1,\n"
         "                 topology unchanged) and lead exactly to the coarse surface\n"
         "  quality        (with --max-aspect / --min-angle) triangle shapes of the coarse surface\n"
-        "  distance       (with --max-error) Hausdorff distances of phi's image and of the coarse surface to S0\n"
-        "Exit codes: 0 all checks passed, 1 a check failed, 2 usage, 3 unreadable input.",
+        "  distance       (with --max-error) Hausdorff distances of phi's image and of the coarse surface to S0",
         tool};
     std::string input;
     std::string checks = "format,intersections,topology,bijectivity";
@@ -126,6 +125,8 @@ int main(int argc, char** argv) {
     app.add_flag("-v,--verbose", verbose, "More detail on standard error");
     app.add_flag("-q,--quiet", quiet, "Only errors on standard error (the report still goes to standard output)");
     bpm::tools::add_version_flag(app, tool);
+    bpm::tools::add_examples(app, {"bpm-check femur.bpm", "bpm-check femur.bpm --max-error 0.005 --json",
+                                   "bpm-check --surface femur.off"});
 
     // With --json every error is a report too (spec/check-report.md, "Errors").
     bpm::tools::set_json_error_report(json, [&](const bpm::tools::ErrorReport& error) {

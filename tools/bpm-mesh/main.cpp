@@ -79,6 +79,8 @@ int main(int argc, char** argv) {
     app.add_flag("--keep-temporary", options.keep_temporary, "Keep TetGen's input and output files (path on stderr)");
     app.add_flag("--json", json, "Print a JSON report (counts, timings, region volumes, quality) on standard output");
     bpm::tools::add_output_tool_flags(app, tool, deterministic, verbose, quiet);
+    bpm::tools::add_examples(app, {"bpm-mesh femur.bpm -o femur.tet.bpm",
+                                   "bpm-mesh femur.bpm -o femur.msh --refine 1 --time-limit 600 --json"});
 
     // With --json every error is a report too: {"input", "ok": false, "error"}.
     bpm::tools::set_json_error_report(json, [&](const bpm::tools::ErrorReport& error) {

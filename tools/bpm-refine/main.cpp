@@ -120,6 +120,9 @@ int main(int argc, char** argv) {
     app.add_flag("--no-verify", no_verify,
                  ".bpm output: skip the format and bijectivity checks run before writing (faster)");
     bpm::tools::add_output_tool_flags(app, tool, deterministic, verbose, quiet);
+    bpm::tools::add_examples(app, {"bpm-refine femur.bpm --levels 2 -o fine.vtu --data",
+                                   "bpm-refine femur.bpm --tolerance 0.001 -o adaptive.off",
+                                   "bpm-refine femur.tet.bpm --volume --levels 1 -o fine.msh"});
 
     return bpm::tools::run(tool, argc, argv, app, [&]() {
         bpm::tools::require_output_directory(output);

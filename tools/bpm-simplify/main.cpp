@@ -95,6 +95,10 @@ int main(int argc, char** argv) {
                  "Store the sequence of removals in the file (/simplification_steps, spec/bpm-format.md), so that "
                  "bpm-check --replay can re-apply and verify them");
     bpm::tools::add_output_tool_flags(app, tool, deterministic, verbose, quiet);
+    bpm::tools::add_examples(app, {"bpm-simplify femur.off -o femur.bpm --ratio 0.1",
+                                   "bpm-simplify bone.stl marrow.stl -o bone.bpm --vertices 2000 "
+                                   "--merge-duplicate-vertices --merge-duplicate-triangles",
+                                   "cat femur.off | bpm-simplify - --input-format off -o femur.bpm --max-error 0.005"});
 
     return bpm::tools::run(tool, argc, argv, app, [&]() {
         bpm::tools::require_output_directory(output);

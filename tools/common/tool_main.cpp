@@ -178,7 +178,29 @@ std::string error_json(const ErrorReport& error) {
            "}";
 }
 
+void add_examples(CLI::App& app, const std::vector<std::string>& examples) {
+    std::string text = "\nExamples:\n";
+    for (const std::string& e : examples) text += "  " + e + "\n";
+    app.footer(text);
+}
+
+namespace {
+// The table README.md has; every tool's --help ends with it.
+const char* const kExitCodeTable =
+    "\nExit codes:\n"
+    "  0   success (bpm-check: every requested check passed)\n"
+    "  1   bpm-check: a check failed\n"
+    "  2   bad command line (unknown option, value out of range, refused setting)\n"
+    "  3   unreadable or malformed input file\n"
+    "  4   output could not be written\n"
+    "  5   the algorithm could not proceed on this input\n"
+    "  6   an external program (tetgen) is missing, failed or ran out of time\n"
+    "  70  internal error (a bug: please report it)\n"
+    "  128+N  stopped by signal N (SIGINT 130, SIGTERM 143)\n";
+}  // namespace
+
 int run(const std::string& tool, int argc, char** argv, CLI::App& app, const std::function<int()>& body) {
+    app.footer(app.get_footer() + kExitCodeTable);
     // Every error: `tool: error: WHERE: message` on stderr, and with --json also the
     // tool's JSON report of it on stdout (a CI job parsing stdout always gets a report).
     // --json counts when it is on the command line even if parsing failed.

@@ -105,6 +105,10 @@ std::string repair_flag(SurfaceRepair repair);
 // and `format` is empty: standard input has no extension to tell the format from.
 void require_input_format_for_stdin(const std::vector<std::string>& inputs, const std::string& format);
 
+// Sets the --help footer to these example command lines (run() appends the exit-code
+// table to every tool's help).
+void add_examples(CLI::App& app, const std::vector<std::string>& examples);
+
 // Current time as ISO 8601 UTC, for provenance.
 std::string utc_timestamp();
 
