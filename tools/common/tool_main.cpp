@@ -61,8 +61,9 @@ extern "C" void record_signal(int sig) {
         return;
     }
     g_signal = sig;
-    // Watchdog: a call that does not poll its progress callback within 5 s is not waited for.
-    alarm(5);
+    // Watchdog: a call that does not poll its progress callback and clean up within 15 s
+    // is not waited for (a TetGen holding gigabytes can take seconds to exit under load).
+    alarm(15);
 }
 
 void install_signal_handlers() {

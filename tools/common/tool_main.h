@@ -34,7 +34,7 @@ int run(const std::string& tool, int argc, char** argv, CLI::App& app, const std
 // signal; the progress callback of make_context then stops the running library call
 // (bpm::Cancelled, which stops TetGen and removes temporary files on the way), and run()
 // ends by dying of that signal (exit status 128 + N in a shell). A second signal, or a
-// call that does not poll within 5 s, ends the tool at once.
+// call that has not stopped within 15 s, ends the tool at once.
 bool interrupted();
 
 // An error that ended a tool: the file it concerns ("" if none, "-" for standard input),
