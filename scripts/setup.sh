@@ -20,6 +20,7 @@ declare -A NEED=(
   [python3-h5py]=/usr/lib/python3/dist-packages/h5py/__init__.py
   [python3-numpy]=/usr/lib/python3/dist-packages/numpy/__init__.py
   [python3-vtk9]=/usr/lib/python3/dist-packages/vtkmodules/__init__.py
+  [python3-meshio]=/usr/lib/python3/dist-packages/meshio/__init__.py
   [hdf5-tools]=/usr/bin/h5dump
   [pybind11-dev]=/usr/lib/cmake/pybind11/pybind11Config.cmake
   [python3-pybind11]=/usr/lib/python3/dist-packages/pybind11/__init__.py

@@ -279,7 +279,7 @@ public:
             result.skipped = skipped;
             result.sweeps = sweep + 1;
             result.last_change = change;
-            context.info("sweep " + std::to_string(sweep + 1) + ": largest move " + std::to_string(change) +
+            context.debug("sweep " + std::to_string(sweep + 1) + ": largest move " + std::to_string(change) +
                          " of the edge length, " + std::to_string(result.rejected) + " updates rejected so far");
             if (change < o_.tolerance) break;
         }

@@ -113,12 +113,12 @@ std::string problems_message(const std::vector<SurfaceProblem>& problems, const 
         for (size_t j = 0; j < i; ++j) hinted = hinted || problems[j].kind == problems[i].kind;
         if (hinted) continue;
         if (problems[i].kind == Kind::UnreferencedVertex) {
-            message += " (the drop-unreferenced-vertices repair removes such vertices)";
+            message += " (repair: drop unreferenced vertices)";
         } else if (problems[i].kind == Kind::DuplicateVertex) {
-            message += " (the merge-duplicate-vertices repair merges them)";
+            message += " (repair: merge duplicate vertices)";
         } else if (problems[i].kind == Kind::DuplicateTriangle) {
-            message += " (the merge-duplicate-triangles repair fuses them; an interface between two "
-                       "materials becomes a patch of its own)";
+            message += " (repair: merge duplicate triangles; an interface between two materials becomes a patch of "
+                       "its own)";
         }
     }
     if (problems.size() > shown) {
@@ -126,6 +126,57 @@ std::string problems_message(const std::vector<SurfaceProblem>& problems, const 
                                             : "; and " + std::to_string(problems.size() - shown) + " more problems";
     }
     return message;
+}
+
+// Every repair `surface` needs that `options` does not ask for: those its problems call
+// for, then those the problems left after applying them call for (merging duplicate
+// vertices is what reveals the duplicate triangles of one closed surface per material),
+// so that one error lists them all. In the order the repairs are applied.
+std::vector<SurfaceRepair> repairs_needed(Surface surface, const std::vector<SurfaceProblem>& first,
+                                          const SurfaceReadOptions& options, const ValidateOptions& validate) {
+    using Kind = SurfaceProblem::Kind;
+    bool merge = false, drop = false, fuse = false;
+    std::vector<SurfaceProblem> problems = first;
+    for (int round = 0; round < 3; ++round) {
+        bool added = false;
+        for (const SurfaceProblem& p : problems) {
+            if (p.kind == Kind::DuplicateVertex && !merge && !options.merge_duplicate_vertices) merge = added = true;
+            if (p.kind == Kind::UnreferencedVertex && !drop && !options.drop_unreferenced_vertices) drop = added = true;
+            if (p.kind == Kind::DuplicateTriangle && !fuse && !options.merge_duplicate_triangles) fuse = added = true;
+        }
+        if (!added) break;
+        // Apply what is known so far, in the reader's order, and look again.
+        if (merge) merge_duplicate_vertices(surface);
+        if (drop) drop_unreferenced_vertices(surface);
+        if (fuse) fuse_duplicate_triangles(surface);
+        problems = validate_surface(surface, validate);
+    }
+    std::vector<SurfaceRepair> out;
+    if (merge) out.push_back(SurfaceRepair::MergeDuplicateVertices);
+    if (drop) out.push_back(SurfaceRepair::DropUnreferencedVertices);
+    if (fuse) out.push_back(SurfaceRepair::MergeDuplicateTriangles);
+    return out;
+}
+
+std::string repair_words(SurfaceRepair r) {
+    switch (r) {
+        case SurfaceRepair::MergeDuplicateVertices: return "merge duplicate vertices";
+        case SurfaceRepair::DropUnreferencedVertices: return "drop unreferenced vertices";
+        case SurfaceRepair::MergeDuplicateTriangles: return "merge duplicate triangles";
+    }
+    return "?";
+}
+
+// The error for a validated surface with problems: InputNeedsRepair when repairs help.
+[[noreturn]] void throw_surface_problems(const std::string& where, const std::string& prefix,
+                                         const std::vector<SurfaceProblem>& problems, const Surface& surface,
+                                         const SurfaceReadOptions& options, const ValidateOptions& validate) {
+    std::string message = prefix + problems_message(problems, surface, validate.max_problems);
+    const std::vector<SurfaceRepair> repairs = repairs_needed(surface, problems, options, validate);
+    if (repairs.empty()) throw InputError(where, message);
+    message += repairs.size() == 1 ? "; the repair it needs: " : "; the repairs it needs, all together: ";
+    for (size_t i = 0; i < repairs.size(); ++i) message += (i ? ", " : "") + repair_words(repairs[i]);
+    throw InputNeedsRepair(where, message, repairs);
 }
 
 }  // namespace
@@ -292,7 +343,7 @@ static Surface finish_reading(detail::ReaderOutput parsed, SurfaceFormat format,
     ValidateOptions validate;
     validate.max_problems = 100;
     const std::vector<SurfaceProblem> problems = validate_surface(surface, validate);
-    if (!problems.empty()) throw InputError(name, problems_message(problems, surface, validate.max_problems));
+    if (!problems.empty()) throw_surface_problems(name, "", problems, surface, options, validate);
     return surface;
 }
 
@@ -365,8 +416,8 @@ Surface read_surfaces(const std::vector<std::string>& paths, const SurfaceReadOp
     validate.allow_unreferenced_vertices = options.drop_unreferenced_vertices;
     const std::vector<SurfaceProblem> problems = validate_surface(surface, validate);
     if (!problems.empty())
-        throw InputError(names, "the inputs together (vertices and triangles numbered across the files in order): " +
-                                    problems_message(problems, surface, validate.max_problems));
+        throw_surface_problems(names, "the inputs together (vertices and triangles numbered across the files in order): ",
+                               problems, surface, options, validate);
     return surface;
 }
 

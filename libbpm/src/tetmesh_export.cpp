@@ -54,7 +54,8 @@ std::string msh_name(std::string name) {
 
 // Gmsh MSH 4.1: volume entity r = region r (physical tag = its material id, or r without
 // materials), surface entity i+1 = i-th patch in increasing order (physical tag = patch
-// id, named as the input named it). All nodes in one block of volume entity 1 (the format
+// id + 1, named as the input named it, else "patch_<id>": Gmsh and its readers (meshio,
+// DUNE's GmshReader) take tag 0 as "no physical group"). All nodes in one block of volume entity 1 (the format
 // allows nodes to be classified on any entity).
 std::string write_msh(const TetMesh& m, const std::vector<PatchInfo>& patch_info) {
     const int32_t nr = m.num_regions();
@@ -72,7 +73,7 @@ std::string write_msh(const TetMesh& m, const std::vector<PatchInfo>& patch_info
 
     std::string out = "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$PhysicalNames\n";
     out += num(volume_names + static_cast<int64_t>(entity_of_patch.size())) + "\n";
-    for (const auto& [patch, entity] : entity_of_patch) out += "2 " + num(patch) + " \"" + patch_name(patch) + "\"\n";
+    for (const auto& [patch, entity] : entity_of_patch) out += "2 " + num(patch + 1) + " \"" + patch_name(patch) + "\"\n";
     if (materials) {
         for (size_t i = 0; i < m.material_names.size(); ++i)
             out += "3 " + num(int64_t(i) + 1) + " \"" + msh_name(m.material_names[i]) + "\"\n";
@@ -87,7 +88,7 @@ std::string write_msh(const TetMesh& m, const std::vector<PatchInfo>& patch_info
             if (m.face_patches[f] == patch) used.insert(used.end(), m.faces[f].begin(), m.faces[f].end());
         out += num(entity) + " ";
         bounding_box(m, used, out);
-        out += " 1 " + num(patch) + " 0\n";
+        out += " 1 " + num(patch + 1) + " 0\n";
     }
     for (int32_t r = 1; r <= nr; ++r) {
         std::vector<int32_t> used;

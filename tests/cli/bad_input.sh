@@ -179,6 +179,6 @@ usage "mesh: unknown output extension" "cannot tell the format" bpm-mesh "$garba
 usage "mesh: missing output directory" "directory does not exist" bpm-mesh "$garbage" -o "$work/no/such/dir/x.msh"
 usage "check: negative --max-problems" "--max-problems" bpm-check "$garbage" --max-problems -1
 usage "check: unknown check" "unknown check" bpm-check "$garbage" --checks format,nonsense
-usage "check --surface: unknown format" "--format" bpm-check --surface "$nan_off" --format xyz
+usage "check --surface: unknown format" "--input-format" bpm-check --surface "$nan_off" --input-format xyz
 
 finish

@@ -22,7 +22,7 @@ expect 0 "smooth help" -- "$smooth" --help
 expect 2 "refine needs levels or tolerance" -- "$refine" "$example" -o "$work/x.off"
 expect 2 "levels and tolerance exclude each other" -- "$refine" "$example" -o "$work/x.off" --levels 1 --tolerance 0.01
 expect 2 "unknown output format" -- "$refine" "$example" -o "$work/x.xyz" --levels 1
-expect 2 "stdout needs --format" -- "$refine" "$example" -o - --levels 1
+expect 2 "stdout needs --output-format" -- "$refine" "$example" -o - --levels 1
 expect 2 "missing output directory" -- "$refine" "$example" -o "$work/no/such/dir/x.off" --levels 1
 expect 3 "missing input" -- "$refine" "$work/does-not-exist.bpm" -o "$work/x.off" --levels 1
 expect 3 "smooth missing input" -- "$smooth" "$work/does-not-exist.bpm" -o "$work/x.bpm"
@@ -34,7 +34,7 @@ for ext in off obj ply stl vtu bpm; do
     expect 0 "example to .$ext" -- "$refine" "$example" -o "$work/ex.$ext" --levels 2
 done
 expect 0 "example refined .bpm passes bpm-check" -- "$check" "$work/ex.bpm"
-expect 0 "stdout" -- bash -c "'$refine' '$example' -o - --format off --levels 1 > '$work/stdout.off'"
+expect 0 "stdout" -- bash -c "'$refine' '$example' -o - --output-format off --levels 1 > '$work/stdout.off'"
 contains "$work/stdout.off" "OFF" "OFF on stdout"
 expect 0 "stdin" -- bash -c "cat '$example' | '$refine' - -o '$work/stdin.off' --levels 1"
 

@@ -20,10 +20,10 @@ if [ ! -f "$femur" ]; then
 fi
 
 # A pipe: surface on stdin, .bpm on stdout, checked from stdin.
-"$simplify" - --format off -o - --ratio 0.2 -q <"$femur" >"$work/pipe.bpm" 2>"$work/err"
+"$simplify" - --input-format off -o - --ratio 0.2 -q <"$femur" >"$work/pipe.bpm" 2>"$work/err"
 ok "simplify from stdin to stdout exits 0" -- test $? -eq 0
 expect 0 "pipe output passes bpm-check" -- "$check" - <"$work/pipe.bpm"
-"$simplify" - --format off -o - --ratio 0.2 -q <"$femur" | "$check" - >"$work/out" 2>&1
+"$simplify" - --input-format off -o - --ratio 0.2 -q <"$femur" | "$check" - >"$work/out" 2>&1
 ok "simplify | check in one pipe" -- test $? -eq 0
 
 # Files, and determinism.
@@ -81,7 +81,7 @@ def cube(x0, res, path):
 cube(0, 4, sys.argv[1]); cube(1, 4, sys.argv[2])
 PY
 expect 3 "two touching materials without the repairs" -- "$simplify" "$work/cube_a.off" "$work/cube_b.off" -o "$work/ab.bpm" --ratio 0.3 --merge-duplicate-vertices
-contains "$work/err" "merge-duplicate-triangles repair" "the refusal names the repair"
+contains "$work/err" "Rerun with: --merge-duplicate-triangles" "the refusal names the flag of the repair"
 expect 0 "two touching materials with --merge-duplicate-triangles" -- "$simplify" "$work/cube_a.off" "$work/cube_b.off" -o "$work/ab.bpm" --ratio 0.3 --merge-duplicate-vertices --merge-duplicate-triangles
 contains "$work/err" "removed 32 duplicate triangles" "the fused triangles are reported"
 contains "$work/err" "patch 2 = the 32 triangles that patches 0 and 1 had in common" "the interface patch is named"
@@ -128,12 +128,12 @@ expect 2 "no stopping rule" -- "$simplify" "$femur" -o "$work/x.bpm"
 expect 2 "ratio out of range" -- "$simplify" "$femur" -o "$work/x.bpm" --ratio 1.5
 expect 2 "negative vertex count" -- "$simplify" "$femur" -o "$work/x.bpm" --vertices -5
 expect 2 "output directory missing" -- "$simplify" "$femur" -o "$work/missing/x.bpm" --ratio 0.5
-expect 2 "unknown format" -- "$simplify" - --format xyz -o "$work/x.bpm" --ratio 0.5
+expect 2 "unknown format" -- "$simplify" - --input-format xyz -o "$work/x.bpm" --ratio 0.5
 expect 3 "missing input" -- "$simplify" "$work/nope.off" -o "$work/x.bpm" --ratio 0.5
 printf 'OFF\n3 1 0\n0 0 0\n1 0 0\nnan 1 0\n3 0 1 2\n' >"$work/nan.off"
 expect 3 "NaN coordinate" -- "$simplify" "$work/nan.off" -o "$work/x.bpm" --ratio 0.5
 ok "the NaN message names the vertex" -- grep -q "vertex 2" "$work/err"
-expect 3 "directory as input" -- "$simplify" "$work" --format off -o "$work/x.bpm" --ratio 0.5
+expect 3 "directory as input" -- "$simplify" "$work" --input-format off -o "$work/x.bpm" --ratio 0.5
 ok "no output file after failures" -- test ! -e "$work/x.bpm"
 ok "no temporary files left" -- test -z "$(ls -A "$work" | grep '\.tmp')"
 crossed=$src/.data/meshes/tetra_intersected_by_triangle.off

@@ -473,7 +473,7 @@ for (etype, p), c in sorted(result.items()): print(etype, p, c)
     REQUIRE(run_capture("/usr/bin/python3 " + reader + " " + msh, out) == 0);
     std::ostringstream expected;
     expected << nv << "\n";
-    for (const auto& [patch, count] : per_patch) expected << "2 " << patch << " " << count << "\n";
+    for (const auto& [patch, count] : per_patch) expected << "2 " << patch + 1 << " " << count << "\n";  // physical tag = patch + 1
     for (const auto& [region, count] : per_region) expected << "4 " << region << " " << count << "\n";
     CHECK(out == expected.str());
 

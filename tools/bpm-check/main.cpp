@@ -9,6 +9,28 @@
 #include "bpm/surface_io.h"
 #include "common/tool_main.h"
 
+namespace {
+// Adds a check to the report in the documented order (spec/check-report.md): before
+// "replay", the only check that may follow quality and distance.
+void add_in_order(bpm::CheckReport& report, bpm::CheckResult result) {
+    auto at = report.checks.end();
+    if (!report.checks.empty() && report.checks.back().name == "replay") --at;
+    if (result.name == "quality" && at != report.checks.begin() && std::prev(at)->name == "distance") --at;
+    report.checks.insert(at, std::move(result));
+}
+}  // namespace
+
+// read_bpm, with a hint when the file is a plain surface (bpm-check femur.off).
+bpm::BpmFile read_bpm_or_hint(const std::string& input) {
+    try {
+        return bpm::read_bpm(input);
+    } catch (const bpm::InputError& e) {
+        if (input == "-" || !bpm::surface_format_from_path(input)) throw;
+        throw bpm::InputError(e.where(), std::string(e.what()) + ". It looks like a surface file: check it with " +
+                                             "bpm-check --surface " + input);
+    }
+}
+
 int main(int argc, char** argv) {
     const std::string tool = "bpm-check";
     CLI::App app{
@@ -25,8 +47,7 @@ int main(int argc, char** argv) {
         "                 removals (link = boundary of the new triangles, local condition of Conjecture 2.1,\n"
         "                 topology unchanged) and lead exactly to the coarse surface\n"
         "  quality        (with --max-aspect / --min-angle) triangle shapes of the coarse surface\n"
-        "  distance       (with --max-error) Hausdorff distances of phi's image and of the coarse surface to S0\n"
-        "Exit codes: 0 all checks passed, 1 a check failed, 2 usage, 3 unreadable input.",
+        "  distance       (with --max-error) Hausdorff distances of phi's image and of the coarse surface to S0",
         tool};
     std::string input;
     std::string checks = "format,intersections,topology,bijectivity";
@@ -86,15 +107,38 @@ int main(int argc, char** argv) {
     app.add_flag("--surface", surface_mode,
                  "FILE is a plain surface (OFF, OBJ, STL, PLY, MSH, VTK, VTP, VTU, SURF): run intersections and topology on it alone");
     bool triangulate_polygons = false;
+    bpm::SurfaceReadOptions read_options;
     app.add_flag("--triangulate-polygons", triangulate_polygons,
                  "With --surface: split faces with more than 3 corners into triangles first (as bpm-simplify's "
                  "repair of that name)");
-    app.add_option("--format", surface_format, "Surface format for --surface when reading '-' (off, obj, stl, ply, msh, vtk, vtp, vtu, surf)");
+    // The other repairs of bpm-simplify, so that the flags an error names work here too.
+    app.add_flag("--merge-duplicate-vertices", read_options.merge_duplicate_vertices,
+                 "With --surface: merge vertices with identical coordinates first");
+    app.add_flag("--merge-duplicate-triangles", read_options.merge_duplicate_triangles,
+                 "With --surface: fuse triangles with the same three vertices into one first");
+    app.add_flag("--drop-unreferenced-vertices", read_options.drop_unreferenced_vertices,
+                 "With --surface: drop vertices that no triangle uses first");
+    bpm::tools::add_format_option(app, surface_format, "input",
+                                  "Surface format for --surface when reading '-' (off, obj, stl, ply, msh, vtk, vtp, "
+                                  "vtu, surf)");
+    bool verbose = false, quiet = false;
+    app.add_flag("-v,--verbose", verbose, "More detail on standard error");
+    app.add_flag("-q,--quiet", quiet, "Only errors on standard error (the report still goes to standard output)");
     bpm::tools::add_version_flag(app, tool);
+    bpm::tools::add_examples(app, {"bpm-check femur.bpm", "bpm-check femur.bpm --max-error 0.005 --json",
+                                   "bpm-check --surface femur.off"});
 
+    // With --json every error is a report too (spec/check-report.md, "Errors").
+    bpm::tools::set_json_error_report(json, [&](const bpm::tools::ErrorReport& error) {
+        return "{\"bpm_check_report\": 1, \"input\": " + bpm::tools::json_string(input) +
+               ", \"passed\": false, \"checks\": [], \"error\": " + bpm::tools::error_json(error) + "}";
+    });
     return bpm::tools::run(tool, argc, argv, app, [&]() {
         bpm::CheckSelection sel;
         sel.format = sel.intersections = sel.topology = sel.bijectivity = false;
+        // distance and quality are run by their limits (--max-error, --max-aspect,
+        // --min-angle); named in --checks without one they measure and pass.
+        bool want_distance = false, want_quality = false;
         std::stringstream list(checks);
         std::string item;
         while (std::getline(list, item, ',')) {
@@ -103,8 +147,13 @@ int main(int argc, char** argv) {
             else if (item == "topology") sel.topology = true;
             else if (item == "bijectivity") sel.bijectivity = true;
             else if (item == "replay") sel.replay = true;
+            else if (item == "distance") want_distance = true;
+            else if (item == "quality") want_quality = true;
             else if (item == "all") sel.format = sel.intersections = sel.topology = sel.bijectivity = true;
-            else throw CLI::ValidationError("--checks", "unknown check '" + item + "'");
+            else
+                throw CLI::ValidationError("--checks", "unknown check '" + item +
+                                                           "' (known: format, intersections, topology, bijectivity, "
+                                                           "quality, distance, replay, all)");
         }
         sel.original_intersections = original;
         if (replay) sel.replay = true;
@@ -116,7 +165,7 @@ int main(int argc, char** argv) {
         options.error_sample_spacing = error_spacing;
         options.replay_check_interval = replay_interval;
         options.threads = threads;
-        const bpm::Context context = bpm::tools::make_context(tool, false, json);
+        const bpm::Context context = bpm::tools::make_context(tool, verbose, quiet || json);
 
         bpm::CheckReport report;
         if (surface_mode) {
@@ -127,15 +176,27 @@ int main(int argc, char** argv) {
                     throw CLI::ValidationError("--checks", "format and bijectivity need a .bpm file, not --surface");
                 sel.format = sel.bijectivity = false;
             }
-            bpm::SurfaceReadOptions read_options;
             read_options.triangulate_polygons = triangulate_polygons;
             if (!surface_format.empty()) {
                 read_options.format = bpm::surface_format_from_name(surface_format);
-                if (!read_options.format) throw CLI::ValidationError("--format", "unknown surface format " + surface_format);
+                if (!read_options.format)
+                    throw CLI::ValidationError("--input-format", "unknown surface format '" + surface_format + "'");
             }
-            report = bpm::run_surface_checks(bpm::read_surface(input, read_options), sel, options, context);
+            if (want_distance) throw CLI::ValidationError("--checks", "distance needs a .bpm file, not --surface");
+            bpm::tools::require_input_format_for_stdin({input}, surface_format);
+            const bpm::Surface surface = bpm::read_surface(input, read_options);
+            report = bpm::run_surface_checks(surface, sel, options, context);
+            if (want_quality && !report.find("quality")) add_in_order(report, bpm::check_quality(surface, options, context));
         } else {
-            report = bpm::run_checks(bpm::read_bpm(input), sel, options, context);
+            const bpm::BpmFile file = read_bpm_or_hint(input);
+            // distance reads phi, so it needs a structurally sound file.
+            if (want_distance && !*error_opt) sel.format = true;
+            report = bpm::run_checks(file, sel, options, context);
+            if (want_quality && !report.find("quality"))
+                add_in_order(report, bpm::check_quality(file.param.coarse, options, context));
+            const bpm::CheckResult* format_check = report.find("format");
+            if (want_distance && !report.find("distance") && format_check && format_check->passed)
+                add_in_order(report, bpm::check_distance(file.param, options, context));
         }
         report.input = input;
         std::cout << (json ? bpm::check_report_to_json(report) : bpm::check_report_to_text(report)) << std::flush;

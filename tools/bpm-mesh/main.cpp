@@ -62,12 +62,19 @@ int main(int argc, char** argv) {
     app.add_option("INPUT", input, "Input .bpm file, or - for standard input")->required();
     app.add_option("-o,--output", output, "Output .bpm .msh .vtu .mesh, or - for standard output (see --format)")
         ->required();
-    app.add_option("--format", format, "Output format when it cannot be told from the name: bpm, msh, vtu, mesh");
+    bpm::tools::add_format_option(app, format, "output",
+                                  "Output format when it cannot be told from the name: bpm, msh, vtu, mesh");
     app.add_option("--quality", options.quality, "TetGen -q: maximum radius-edge ratio, > 1.0 (default 1.414)")
         ->check(CLI::PositiveNumber);
     double min_dihedral = -1;
-    app.add_option("--min-dihedral", min_dihedral, "TetGen -q<quality>/<angle>: minimum dihedral angle in degrees to aim for")
-        ->check(CLI::Range(0.0, 70.0));
+    app.add_option("--min-dihedral", min_dihedral,
+                   "TetGen -q<quality>/<angle>: minimum dihedral angle in degrees to aim for, at most " +
+                       std::to_string(int(bpm::kMaxTetgenMinDihedralDegrees)) +
+                       " (TetGen does not terminate above; default: none)")
+        ->check(CLI::NonNegativeNumber);
+    app.add_option("--time-limit", options.time_limit_seconds,
+                   "Stop TetGen after this many seconds with an error (default 0 = no limit)")
+        ->check(CLI::NonNegativeNumber);
     app.add_option("--max-volume", max_volume, "TetGen -a: maximum tetrahedron volume, in the file's units^3")
         ->check(CLI::PositiveNumber);
     app.add_option("--refine", refine_levels, "Red-refine the mesh K times, moving new boundary vertices to phi")
@@ -98,7 +105,14 @@ int main(int argc, char** argv) {
         ->type_name("REGION=NAME");
     app.add_flag("--json", json, "Print a JSON report (counts, timings, region volumes, quality) on standard output");
     bpm::tools::add_output_tool_flags(app, tool, deterministic, verbose, quiet);
+    bpm::tools::add_examples(app, {"bpm-mesh femur.bpm -o femur.tet.bpm",
+                                   "bpm-mesh femur.bpm -o femur.msh --refine 1 --time-limit 600 --json"});
 
+    // With --json every error is a report too: {"input", "ok": false, "error"}.
+    bpm::tools::set_json_error_report(json, [&](const bpm::tools::ErrorReport& error) {
+        return "{\"input\": " + bpm::tools::json_string(input) + ", \"ok\": false, \"error\": " +
+               bpm::tools::error_json(error) + "}";
+    });
     return bpm::tools::run(tool, argc, argv, app, [&]() {
         bpm::tools::require_output_directory(output);
         std::optional<bpm::TetMeshFormat> out_format =
@@ -106,9 +120,10 @@ int main(int argc, char** argv) {
                            : bpm::tetmesh_format_from_name(format);
         if (!out_format)
             throw CLI::ValidationError("--output", format.empty() ? "cannot tell the format from '" + output +
-                                                                        "': use .bpm .msh .vtu .mesh or --format"
+                                                                        "': use .bpm .msh .vtu .mesh or --output-format"
                                                                   : "unknown format '" + format + "'");
         if (json && output == "-") throw CLI::ValidationError("--json", "needs an output file (stdout carries the JSON)");
+        if (*out_format == bpm::TetMeshFormat::Bpm) bpm::tools::refuse_binary_to_terminal(output, "binary .bpm (HDF5) data");
         if (max_volume > 0) options.max_volume = max_volume;
         if (min_dihedral >= 0) options.min_dihedral_degrees = min_dihedral;
         options.smooth = !no_smooth;
@@ -196,7 +211,7 @@ int main(int argc, char** argv) {
         if (json) {
             const auto original = bpm::region_volumes_on_original(file.param, *file.tetmesh);
             const bpm::TetMesh& m = *file.tetmesh;
-            std::string j = "{\"input\": \"" + input + "\", \"level\": " + std::to_string(m.level) +
+            std::string j = "{\"input\": " + bpm::tools::json_string(input) + ", \"ok\": true, \"level\": " + std::to_string(m.level) +
                             ", \"vertices\": " + std::to_string(m.num_vertices()) +
                             ", \"tetrahedra\": " + std::to_string(m.num_tetrahedra()) +
                             ", \"faces\": " + std::to_string(m.faces.size()) +

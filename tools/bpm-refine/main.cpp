@@ -37,7 +37,8 @@ int refine_volume(const std::string& tool, int argc, char** argv, const std::str
     if (levels < 0) throw CLI::ValidationError("--volume needs --levels");
     const auto out_format = format.empty() ? bpm::tetmesh_format_from_path(output) : bpm::tetmesh_format_from_name(format);
     if (!out_format)
-        throw CLI::ValidationError("--output", "--volume writes .bpm .msh .vtu or .mesh (or give --format)");
+        throw CLI::ValidationError("--output", "--volume writes .bpm .msh .vtu or .mesh (or give --output-format)");
+    if (*out_format == bpm::TetMeshFormat::Bpm) bpm::tools::refuse_binary_to_terminal(output, "binary .bpm (HDF5) data");
     const bpm::Context context = bpm::tools::make_context(tool, verbose, quiet);
     bpm::BpmFile file = bpm::read_bpm(input);
     if (!file.tetmesh)
@@ -87,7 +88,9 @@ int main(int argc, char** argv) {
     app.add_option("INPUT", input, "Input .bpm file, or - for standard input")->required();
     app.add_option("-o,--output", output, "Output file (.off .obj .ply .stl .vtu .bpm), or - for standard output")
         ->required();
-    app.add_option("--format", format, "Output format when it cannot be told from the name: off, obj, ply, stl, vtu, bpm");
+    bpm::tools::add_format_option(app, format, "output",
+                                  "Output format when it cannot be told from the name (needed for '-o -'): off, obj, "
+                                  "ply, stl, vtu, bpm; with --volume bpm, msh, vtu, mesh");
     auto* lv = app.add_option("--levels", levels, "Uniform refinement: each coarse triangle into 4^K triangles (0..10)")
                    ->check(CLI::Range(0, 10));
     auto* tol = app.add_option("--tolerance", tolerance,
@@ -125,6 +128,9 @@ int main(int argc, char** argv) {
                  "such vertices are held back towards the coarse surface (halving the distance until no triangles "
                  "intersect); the summary says how many and how far");
     bpm::tools::add_output_tool_flags(app, tool, deterministic, verbose, quiet);
+    bpm::tools::add_examples(app, {"bpm-refine femur.bpm --levels 2 -o fine.vtu --data",
+                                   "bpm-refine femur.bpm --tolerance 0.001 -o adaptive.off",
+                                   "bpm-refine femur.tet.bpm --volume --levels 1 -o fine.msh"});
 
     return bpm::tools::run(tool, argc, argv, app, [&]() {
         bpm::tools::require_output_directory(output);
@@ -140,7 +146,7 @@ int main(int argc, char** argv) {
         options.prevent_intersections = !allow_intersections;
         std::string kind = format.empty() ? extension_of(output) : format;
         std::transform(kind.begin(), kind.end(), kind.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-        if (output == "-" && format.empty()) throw CLI::ValidationError("--format", "writing to - needs --format");
+        if (output == "-" && format.empty()) throw CLI::ValidationError("--output-format", "writing to '-' needs --output-format (e.g. --output-format off)");
         const bool is_bpm = kind == "bpm", is_vtu = kind == "vtu";
         const auto surface_format = bpm::surface_format_from_name(kind);
         if (!is_bpm && !is_vtu && (!surface_format || *surface_format == bpm::SurfaceFormat::Msh ||
@@ -148,7 +154,10 @@ int main(int argc, char** argv) {
                                         *surface_format == bpm::SurfaceFormat::Vtp ||
                                         *surface_format == bpm::SurfaceFormat::Surf))
             throw CLI::ValidationError("--output", "unknown output format '" + kind +
-                                                       "' (use .off .obj .ply .stl .vtu .bpm or --format)");
+                                                       "' (use .off .obj .ply .stl .vtu .bpm or --output-format)");
+        if (is_bpm) bpm::tools::refuse_binary_to_terminal(output, "binary .bpm (HDF5) data");
+        if (surface_format && (*surface_format == bpm::SurfaceFormat::Stl || *surface_format == bpm::SurfaceFormat::Ply))
+            bpm::tools::refuse_binary_to_terminal(output, "binary " + kind + " data");
         if (data && !is_vtu) throw CLI::ValidationError("--data", "--data needs .vtu output (the other formats hold no point data)");
         const bpm::Context context = bpm::tools::make_context(tool, verbose, quiet);
 

@@ -27,12 +27,14 @@ int main(int argc, char** argv) {
                    "different inputs are kept apart")
         ->required();
     app.add_option("-o,--output", output, "Output .bpm file, or - for standard output")->required();
-    app.add_option("--format", format, "Input format when it cannot be told from the name: off, obj, stl, ply, msh, vtk (legacy VTK), vtp, vtu (VTK XML), surf (Amira HyperSurface)");
+    bpm::tools::add_format_option(app, format, "input",
+                                  "Input format when it cannot be told from the name (needed for standard input): off, "
+                                  "obj, stl, ply, msh, vtk (legacy VTK), vtp, vtu (VTK XML), surf (Amira HyperSurface)");
     app.add_option("--vertices", options.target_vertices, "Stop when the coarse surface has this many vertices")
         ->check(CLI::NonNegativeNumber);
     app.add_option("--ratio", options.target_ratio,
                    "Stop at this fraction of the input vertices (0..1; e.g. 0.1 keeps 10%)")
-        ->check(CLI::Range(0.0, 1.0));
+        ->check(bpm::tools::decimal_range(0.0, 1.0, true, false, "0.1"));
     app.add_option("--max-error", options.max_error,
                    "Never let max |phi(x) - x| exceed this fraction of the bounding-box diagonal (e.g. 0.005)")
         ->check(CLI::NonNegativeNumber);
@@ -99,13 +101,19 @@ int main(int argc, char** argv) {
                  "Store the sequence of removals in the file (/simplification_steps, spec/bpm-format.md), so that "
                  "bpm-check --replay can re-apply and verify them");
     bpm::tools::add_output_tool_flags(app, tool, deterministic, verbose, quiet);
+    bpm::tools::add_examples(app, {"bpm-simplify femur.off -o femur.bpm --ratio 0.1",
+                                   "bpm-simplify bone.stl marrow.stl -o bone.bpm --vertices 2000 "
+                                   "--merge-duplicate-vertices --merge-duplicate-triangles",
+                                   "cat femur.off | bpm-simplify - --input-format off -o femur.bpm --max-error 0.005"});
 
     return bpm::tools::run(tool, argc, argv, app, [&]() {
         bpm::tools::require_output_directory(output);
         bpm::tools::require_bpm_output(output, tool);
+        bpm::tools::refuse_binary_to_terminal(output, "binary .bpm (HDF5) data");
+        bpm::tools::require_input_format_for_stdin(inputs, format);
         if (!format.empty()) {
             read_options.format = bpm::surface_format_from_name(format);
-            if (!read_options.format) throw CLI::ValidationError("--format", "unknown format '" + format + "'");
+            if (!read_options.format) throw CLI::ValidationError("--input-format", "unknown format '" + format + "'");
         }
         if (options.target_vertices == 0 && options.target_ratio == 0 && !std::isfinite(options.max_error))
             throw CLI::ValidationError("give at least one of --vertices, --ratio, --max-error");
@@ -120,6 +128,15 @@ int main(int argc, char** argv) {
         for (const auto& note : report.notes) context.info(note);
         context.info("read " + std::to_string(surface.num_vertices()) + " vertices, " +
                      std::to_string(surface.num_triangles()) + " triangles");
+        // A target the input already meets is a no-op: say so rather than "3897 -> 3897".
+        // The first target reached stops the run, so one the input meets stops it at once.
+        if (options.target_ratio >= 1.0)
+            context.warn("--ratio 1 keeps all " + std::to_string(surface.num_vertices()) +
+                         " vertices: nothing will be removed");
+        else if (options.target_vertices > 0 && options.target_vertices >= surface.num_vertices())
+            context.warn("--vertices " + std::to_string(options.target_vertices) + " is not below the input's " +
+                         std::to_string(surface.num_vertices()) +
+                         " vertices: nothing will be removed (use a smaller --vertices or --ratio)");
 
         for (size_t i = 0; i < report.patch_info.size() && i < 20; ++i) {
             const bpm::PatchInfo& p = report.patch_info[i];

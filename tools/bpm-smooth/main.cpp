@@ -34,10 +34,13 @@ int main(int argc, char** argv) {
         ->check(CLI::IsMember({"shape-preserving", "mean-value"}));
     app.add_flag("--no-quality", no_quality, "Do not measure the refined-triangle quality before and after");
     bpm::tools::add_output_tool_flags(app, tool, deterministic, verbose, quiet);
+    bpm::tools::add_examples(app, {"bpm-smooth coarse.bpm -o smooth.bpm",
+                                   "bpm-smooth coarse.bpm -o smooth.bpm --iterations 20 -v   (with the breakdown)"});
 
     return bpm::tools::run(tool, argc, argv, app, [&]() {
         bpm::tools::require_output_directory(output);
         bpm::tools::require_bpm_output(output, tool);
+        bpm::tools::refuse_binary_to_terminal(output, "binary .bpm (HDF5) data");
         options.measure_quality = !no_quality;
         options.weights = weights == "shape-preserving" ? bpm::SmoothWeights::ShapePreserving : bpm::SmoothWeights::MeanValue;
         const bpm::Context context = bpm::tools::make_context(tool, verbose, quiet);
@@ -53,8 +56,9 @@ int main(int argc, char** argv) {
                       r.sweeps, (long long)r.pairs, (long long)r.skipped, (long long)r.updates, (long long)r.slides,
                       (long long)r.rejected, r.last_change, r.seconds);
         context.info(line);
-        for (const auto& [why, count] : r.skipped_reasons) context.info("  " + std::to_string(count) + " pairs left alone: " + why);
-        for (const auto& [why, count] : r.rejected_reasons) context.info("  " + std::to_string(count) + " updates rejected: " + why);
+        // The breakdown is for -v: by default every tool prints one or two lines.
+        for (const auto& [why, count] : r.skipped_reasons) context.debug("  " + std::to_string(count) + " pairs left alone: " + why);
+        for (const auto& [why, count] : r.rejected_reasons) context.debug("  " + std::to_string(count) + " updates rejected: " + why);
         if (options.measure_quality) {
             std::snprintf(line, sizeof line,
                           "aspect ratio of the %d-times refined surface: max %.3g -> %.3g, 99%% %.3g -> %.3g, "

@@ -3,15 +3,19 @@
 #include <unistd.h>
 
 #include <cctype>
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <ctime>
 #include <filesystem>
 #include <iostream>
 #include <regex>
+#include <utility>
+#include <vector>
 
 #include "bpm/bpm_file.h"
 #include "bpm/errors.h"
+#include "bpm/surface_io.h"
 #include "bpm/version.h"
 
 namespace bpm::tools {
@@ -36,9 +40,178 @@ std::string readable_parse_error(const std::string& message) {
     };
     return m.prefix().str() + "not in range " + shorter(m[1].str()) + " to " + shorter(m[2].str()) + m.suffix().str();
 }
+
+// The signal that asked the tool to stop (SIGINT, SIGTERM, SIGHUP), 0 if none. The
+// handler only records it: the running library call sees it at its next progress poll
+// (make_context's callback returns false), unwinds through bpm::Cancelled - which stops
+// TetGen and removes its temporary directory - and run() then dies of the same signal.
+volatile std::sig_atomic_t g_signal = 0;
+
+extern "C" void die_of_recorded_signal(int) {
+    const int sig = g_signal;
+    if (sig == 0) return;
+    std::signal(sig, SIG_DFL);
+    std::raise(sig);  // delivered when this handler returns
+}
+
+extern "C" void record_signal(int sig) {
+    if (g_signal != 0) {  // a second signal: stop now
+        std::signal(sig, SIG_DFL);
+        std::raise(sig);
+        return;
+    }
+    g_signal = sig;
+    // Watchdog: a call that does not poll its progress callback and clean up within 15 s
+    // is not waited for (a TetGen holding gigabytes can take seconds to exit under load).
+    alarm(15);
+}
+
+void install_signal_handlers() {
+    for (const int sig : {SIGINT, SIGTERM, SIGHUP}) {
+        struct sigaction old{};
+        sigaction(sig, nullptr, &old);
+        if (old.sa_handler == SIG_IGN) continue;  // e.g. nohup, or a background job
+        struct sigaction action{};
+        action.sa_handler = record_signal;
+        sigemptyset(&action.sa_mask);
+        sigaction(sig, &action, nullptr);
+    }
+    struct sigaction alarm_action{};
+    alarm_action.sa_handler = die_of_recorded_signal;
+    sigemptyset(&alarm_action.sa_mask);
+    sigaction(SIGALRM, &alarm_action, nullptr);
+}
+
+std::string signal_name(int sig) {
+    switch (sig) {
+        case SIGINT: return "SIGINT";
+        case SIGTERM: return "SIGTERM";
+        case SIGHUP: return "SIGHUP";
+        default: return "signal " + std::to_string(sig);
+    }
+}
+}  // namespace
+
+bool interrupted() { return g_signal != 0; }
+
+namespace {
+// Deprecated spellings registered by add_format_option: {old, replacement}.
+std::vector<std::pair<std::string, std::string>> g_deprecated;
+
+void warn_deprecated(const std::string& tool, const CLI::App& app) {
+    const CLI::Option* quiet = app.get_option_no_throw("--quiet");
+    if (quiet && quiet->count() > 0) return;
+    for (const auto& [old_name, new_name] : g_deprecated) {
+        const CLI::Option* o = app.get_option_no_throw(old_name);
+        if (o && o->count() > 0)
+            std::cerr << tool << ": warning: " << old_name << " is deprecated and will be removed in the next minor "
+                      << "version: use " << new_name << " (same meaning)" << std::endl;
+    }
+}
+}  // namespace
+
+CLI::Option* add_format_option(CLI::App& app, std::string& value, const std::string& direction,
+                               const std::string& description) {
+    const std::string name = "--" + direction + "-format";
+    CLI::Option* option = app.add_option(name, value, description);
+    app.add_option("--format", value, "Deprecated: the old name of " + name)->group("Deprecated");
+    g_deprecated.emplace_back("--format", name);
+    return option;
+}
+
+CLI::Validator decimal_range(double low, double high, bool low_open, bool high_open, const std::string& example) {
+    const auto bound = [](double v) {
+        char buffer[32];
+        std::snprintf(buffer, sizeof buffer, "%g", v);
+        return std::string(buffer);
+    };
+    const std::string range = std::string(low_open ? "(" : "[") + bound(low) + ", " + bound(high) + (high_open ? ")" : "]");
+    CLI::Validator v(
+        [=](std::string& text) -> std::string {
+            char* end = nullptr;
+            const double x = std::strtod(text.c_str(), &end);
+            const bool number = !text.empty() && end && *end == '\0';
+            const bool inside = number && (low_open ? x > low : x >= low) && (high_open ? x < high : x <= high);
+            if (inside) return std::string();
+            std::string message = "expects a number in " + range + " (e.g. " + example + "), got '" + text + "'";
+            if (text.find(',') != std::string::npos) message += ": write the decimal point as a dot";
+            return message;
+        },
+        "NUMBER in " + range);
+    return v;
+}
+
+namespace {
+const bool* g_json = nullptr;
+std::function<std::string(const ErrorReport&)> g_render_error;
+}  // namespace
+
+void set_json_error_report(const bool& json, std::function<std::string(const ErrorReport&)> render) {
+    g_json = &json;
+    g_render_error = std::move(render);
+}
+
+std::string json_string(const std::string& text) {
+    std::string out = "\"";
+    for (const char c : text) {
+        switch (c) {
+            case '"': out += "\\\""; break;
+            case '\\': out += "\\\\"; break;
+            case '\n': out += "\\n"; break;
+            case '\t': out += "\\t"; break;
+            case '\r': out += "\\r"; break;
+            default:
+                if (static_cast<unsigned char>(c) < 0x20) {
+                    char buffer[8];
+                    std::snprintf(buffer, sizeof buffer, "\\u%04x", static_cast<unsigned>(c));
+                    out += buffer;
+                } else {
+                    out += c;
+                }
+        }
+    }
+    return out + "\"";
+}
+
+std::string error_json(const ErrorReport& error) {
+    return "{\"file\": " + (error.file.empty() ? std::string("null") : json_string(error.file)) +
+           ", \"message\": " + json_string(error.message) + ", \"exit_code\": " + std::to_string(error.exit_code) +
+           "}";
+}
+
+void add_examples(CLI::App& app, const std::vector<std::string>& examples) {
+    std::string text = "\nExamples:\n";
+    for (const std::string& e : examples) text += "  " + e + "\n";
+    app.footer(text);
+}
+
+namespace {
+// The table README.md has; every tool's --help ends with it.
+const char* const kExitCodeTable =
+    "\nExit codes:\n"
+    "  0   success (bpm-check: every requested check passed)\n"
+    "  1   bpm-check: a check failed\n"
+    "  2   bad command line (unknown option, value out of range, refused setting)\n"
+    "  3   unreadable or malformed input file\n"
+    "  4   output could not be written\n"
+    "  5   the algorithm could not proceed on this input\n"
+    "  6   an external program (tetgen) is missing, failed or ran out of time\n"
+    "  70  internal error (a bug: please report it)\n"
+    "  128+N  stopped by signal N (SIGINT 130, SIGTERM 143)\n";
 }  // namespace
 
 int run(const std::string& tool, int argc, char** argv, CLI::App& app, const std::function<int()>& body) {
+    app.footer(app.get_footer() + kExitCodeTable);
+    // Every error: `tool: error: WHERE: message` on stderr, and with --json also the
+    // tool's JSON report of it on stdout (a CI job parsing stdout always gets a report).
+    // --json counts when it is on the command line even if parsing failed.
+    const auto fail = [&](const std::string& where, const std::string& message, int code) {
+        print_error(tool, where, message);
+        bool json = g_json && *g_json;
+        for (int i = 1; i < argc && !json && g_render_error; ++i) json = std::string(argv[i]) == "--json";
+        if (json && g_render_error) std::cout << g_render_error(ErrorReport{where, message, code}) << std::endl;
+        return code;
+    };
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp&) {
@@ -51,49 +224,54 @@ int run(const std::string& tool, int argc, char** argv, CLI::App& app, const std
         std::cout << version_line(tool) << std::endl;
         return kOk;
     } catch (const CLI::ParseError& e) {
-        print_error(tool, "", readable_parse_error(e.what()));
+        const int code = fail("", readable_parse_error(e.what()), kUsage);
         std::cerr << "Run '" << tool << " --help' for the options." << std::endl;
-        return kUsage;
+        return code;
     }
+    warn_deprecated(tool, app);
     // .bpm input is parsed in a child process first, so that a corrupt file that crashes
     // HDF5 ends as exit 3 with a message instead of a segfault (bpm/bpm_file.h).
     set_hdf5_isolation(true);
+    install_signal_handlers();
     try {
         return body();
+    } catch (const InputNeedsRepair& e) {
+        // The library names the repairs; the command line to copy is the tool's to give.
+        std::string flags;
+        for (const SurfaceRepair r : e.repairs()) flags += " " + repair_flag(r);
+        return fail(e.where(), std::string(e.what()) + ". Rerun with:" + flags, kBadInput);
     } catch (const InputError& e) {
-        print_error(tool, e.where(), e.what());
-        return kBadInput;
+        return fail(e.where(), e.what(), kBadInput);
     } catch (const OutputError& e) {
-        print_error(tool, e.where(), e.what());
-        return kOutputError;
+        return fail(e.where(), e.what(), kOutputError);
     } catch (const OptionError& e) {
-        print_error(tool, "", e.what());
-        return kUsage;
+        return fail("", e.what(), kUsage);
     } catch (const CLI::ParseError& e) {
-        print_error(tool, "", readable_parse_error(e.what()));
-        return kUsage;
+        return fail("", readable_parse_error(e.what()), kUsage);
     } catch (const AlgorithmError& e) {
-        print_error(tool, "", e.what());
-        return kAlgorithm;
+        return fail("", e.what(), kAlgorithm);
     } catch (const ExternalToolError& e) {
-        print_error(tool, "", e.what());
-        return kExternalTool;
+        return fail("", e.what(), kExternalTool);
     } catch (const Cancelled&) {
-        print_error(tool, "", "cancelled");
-        return kAlgorithm;
+        const int sig = g_signal;
+        if (sig == 0) return fail("", "cancelled", kAlgorithm);
+        fail("", "interrupted by " + signal_name(sig) + ": stopped", 128 + sig);
+        std::cout.flush();
+        alarm(0);
+        std::signal(sig, SIG_DFL);
+        std::raise(sig);
+        return 128 + sig;
     } catch (const std::bad_alloc&) {
-        print_error(tool, "", "out of memory");
-        return kAlgorithm;
+        return fail("", "out of memory", kAlgorithm);
     } catch (const std::exception& e) {
-        print_error(tool, "", std::string("internal error (please report): ") + e.what());
-        return kInternal;
+        return fail("", std::string("internal error (please report): ") + e.what(), kInternal);
     }
 }
 
 Context make_context(const std::string& tool, bool verbose, bool quiet) {
     Context context;
     context.log = [tool, verbose, quiet](LogLevel level, const std::string& message) {
-        if (level == LogLevel::Warning) {
+        if (level == LogLevel::Warning && !quiet) {
             std::cerr << tool << ": warning: " << message << std::endl;
         } else if (level == LogLevel::Info && !quiet) {
             std::cerr << tool << ": " << message << std::endl;
@@ -101,19 +279,23 @@ Context make_context(const std::string& tool, bool verbose, bool quiet) {
             std::cerr << tool << ": " << message << std::endl;
         }
     };
-    if (!quiet && isatty(STDERR_FILENO)) {
-        auto last = std::make_shared<int>(-1);
-        context.progress = [last](double fraction, const std::string& stage) {
-            int percent = static_cast<int>(fraction * 100.0);
-            if (percent != *last) {
-                *last = percent;
-                std::fprintf(stderr, "\r%-60.60s %3d%%", stage.c_str(), percent);
-                if (percent >= 100) std::fprintf(stderr, "\n");
-                std::fflush(stderr);
-            }
-            return true;
-        };
-    }
+    // Always set: it is how a signal (install_signal_handlers) stops a running call.
+    const bool show = !quiet && isatty(STDERR_FILENO);
+    auto last_percent = std::make_shared<int>(-1);
+    auto last_stage = std::make_shared<std::string>();
+    context.progress = [show, last_percent, last_stage](double fraction, const std::string& stage) {
+        if (g_signal != 0) return false;
+        if (!show) return true;
+        const int percent = static_cast<int>(fraction * 100.0);
+        if (percent != *last_percent || stage != *last_stage) {
+            *last_percent = percent;
+            *last_stage = stage;
+            std::fprintf(stderr, "\r%-60.60s %3d%%", stage.c_str(), percent);
+            if (percent >= 100) std::fprintf(stderr, "\n");
+            std::fflush(stderr);
+        }
+        return true;
+    };
     return context;
 }
 
@@ -154,6 +336,31 @@ void require_bpm_output(const std::string& path, const std::string& tool) {
         throw CLI::ValidationError("--output", tool + " writes .bpm files only, and '" + name +
                                                    "' does not end in .bpm (bpm-refine writes surfaces, bpm-mesh "
                                                    "volume meshes)");
+}
+
+std::string repair_flag(SurfaceRepair repair) {
+    switch (repair) {
+        case SurfaceRepair::MergeDuplicateVertices: return "--merge-duplicate-vertices";
+        case SurfaceRepair::DropUnreferencedVertices: return "--drop-unreferenced-vertices";
+        case SurfaceRepair::MergeDuplicateTriangles: return "--merge-duplicate-triangles";
+    }
+    return "?";
+}
+
+void require_input_format_for_stdin(const std::vector<std::string>& inputs, const std::string& format) {
+    if (!format.empty()) return;
+    for (const std::string& input : inputs)
+        if (input == "-")
+            throw CLI::ValidationError("--input-format", "standard input ('-') has no file name to tell the format "
+                                                         "from: add --input-format FORMAT (off, obj, stl, ply, msh, "
+                                                         "vtk, vtp, vtu, surf)");
+}
+
+void refuse_binary_to_terminal(const std::string& path, const std::string& kind) {
+    if (path != "-" || !isatty(STDOUT_FILENO)) return;
+    throw CLI::ValidationError("--output", "'-' would write " + kind +
+                                               " to the terminal: give a file name (-o out.bpm) or send standard "
+                                               "output into a pipe or file (-o - | ... , -o - > out.bpm)");
 }
 
 std::string utc_timestamp() {

@@ -4,10 +4,12 @@
 
 #include <functional>
 #include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
 #include "bpm/context.h"
+#include "bpm/surface_io.h"
 
 namespace bpm::tools {
 
@@ -28,7 +30,35 @@ enum ExitCode : int {
 // crash isolation of .bpm reading (bpm::set_hdf5_isolation) first.
 int run(const std::string& tool, int argc, char** argv, CLI::App& app, const std::function<int()>& body);
 
-// A Context whose log goes to stderr ("tool: warning: ...", info only when verbose)
+// True once SIGINT, SIGTERM or SIGHUP arrived: run() installs handlers that record the
+// signal; the progress callback of make_context then stops the running library call
+// (bpm::Cancelled, which stops TetGen and removes temporary files on the way), and run()
+// ends by dying of that signal (exit status 128 + N in a shell). A second signal, or a
+// call that has not stopped within 15 s, ends the tool at once.
+bool interrupted();
+
+// An error that ended a tool: the file it concerns ("" if none, "-" for standard input),
+// the message, and the exit code the tool returns.
+struct ErrorReport {
+    std::string file;
+    std::string message;
+    int exit_code = 0;
+};
+
+// For tools with --json: when `json` is true (or "--json" is on the command line and
+// parsing failed), run() prints render(error) on stdout for every error, besides the
+// usual line on stderr. `json` must outlive run().
+void set_json_error_report(const bool& json, std::function<std::string(const ErrorReport&)> render);
+
+// `text` as a JSON string literal, quotes included (control characters escaped; UTF-8
+// passed through).
+std::string json_string(const std::string& text);
+
+// {"file": "..." or null, "message": "...", "exit_code": N}
+std::string error_json(const ErrorReport& error);
+
+// A Context whose log goes to stderr: "tool: warning: ..." and info lines unless quiet
+// (-q prints errors only), debug lines when verbose;
 // and whose progress is shown on stderr only when stderr is a terminal.
 Context make_context(const std::string& tool, bool verbose, bool quiet);
 
@@ -42,6 +72,16 @@ void add_version_flag(CLI::App& app, const std::string& tool);
 // -q/--quiet and --version.
 void add_output_tool_flags(CLI::App& app, const std::string& tool, bool& deterministic, bool& verbose, bool& quiet);
 
+// The one name for a file format option in every tool: --input-format (direction
+// "input") or --output-format ("output"), as meshio names them. The old --format is kept
+// as a deprecated alias with this tool's meaning (a warning names the new option).
+CLI::Option* add_format_option(CLI::App& app, std::string& value, const std::string& direction,
+                               const std::string& description);
+
+// Validator for a number in a range, open or closed at each end, whose message says the
+// expected range with an example and, for "0,1", that the decimal point is a dot.
+CLI::Validator decimal_range(double low, double high, bool low_open, bool high_open, const std::string& example);
+
 // Throws CLI::ValidationError if the directory of `path` does not exist (checked before
 // any expensive work); "-" is always accepted.
 void require_output_directory(const std::string& path);
@@ -50,6 +90,24 @@ void require_output_directory(const std::string& path);
 // tools that write nothing but .bpm files, so that "-o coarse.off" is a usage error
 // (exit 2, before any work) instead of an HDF5 file named .off.
 void require_bpm_output(const std::string& path, const std::string& tool);
+
+// Throws CLI::ValidationError (exit 2) when `path` is "-" and standard output is a
+// terminal: binary data (`kind`, e.g. "binary .bpm (HDF5) data") would only garble it,
+// as gzip refuses to. Checked before any work.
+void refuse_binary_to_terminal(const std::string& path, const std::string& kind);
+
+// The command-line flag of a surface repair (bpm-simplify's; bpm-check --surface has the
+// same names), e.g. "--merge-duplicate-vertices". run() appends them to an
+// InputNeedsRepair error as "Rerun with: --flag --flag".
+std::string repair_flag(SurfaceRepair repair);
+
+// Throws CLI::ValidationError (exit 2) naming --input-format when one of `inputs` is "-"
+// and `format` is empty: standard input has no extension to tell the format from.
+void require_input_format_for_stdin(const std::vector<std::string>& inputs, const std::string& format);
+
+// Sets the --help footer to these example command lines (run() appends the exit-code
+// table to every tool's help).
+void add_examples(CLI::App& app, const std::vector<std::string>& examples);
 
 // Current time as ISO 8601 UTC, for provenance.
 std::string utc_timestamp();

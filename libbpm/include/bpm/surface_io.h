@@ -63,6 +63,7 @@
 #include <vector>
 
 #include "bpm/patch_info.h"
+#include "bpm/errors.h"
 #include "bpm/surface.h"
 
 namespace bpm {
@@ -106,9 +107,29 @@ struct SurfaceReadReport {
     std::vector<PatchInfo> patch_info;
 };
 
+// The repairs of SurfaceReadOptions, named for InputNeedsRepair.
+enum class SurfaceRepair { MergeDuplicateVertices, DropUnreferencedVertices, MergeDuplicateTriangles };
+
+// An input that parsed but is unusable as it is, and that the listed repairs would make
+// usable (problems other than these may remain). All repairs are listed at once: the
+// ones the problems found ask for, and those that problems revealed by applying them ask
+// for (duplicate triangles appear only once duplicate vertices are merged, as in one
+// closed surface per material). The message describes the first problems.
+class InputNeedsRepair : public InputError {
+public:
+    InputNeedsRepair(std::string where, const std::string& message, std::vector<SurfaceRepair> repairs)
+        : InputError(std::move(where), message), repairs_(std::move(repairs)) {}
+    const std::vector<SurfaceRepair>& repairs() const { return repairs_; }
+
+private:
+    std::vector<SurfaceRepair> repairs_;
+};
+
 // Reads and validates a surface (see validate_surface in bpm/surface.h): NaN/Inf,
 // out-of-range indices, zero-area and duplicate triangles, unreferenced and duplicate
 // vertices are errors unless the matching repair option is set. "-" reads standard input.
+// \throw InputNeedsRepair when repairs would help (listing every one needed), InputError
+//        for other problems.
 Surface read_surface(const std::string& path, const SurfaceReadOptions& options = {},
                      SurfaceReadReport* report = nullptr);
 

@@ -70,11 +70,21 @@ struct TetMesh {
     int32_t num_regions() const;  // largest region id (ids are 1..R)
 };
 
+// The largest minimum-dihedral-angle bound (degrees) generate_tetmesh accepts. TetGen 1.5's
+// -q<ratio>/<angle> refinement ran forever from 21 degrees on (armadillo; 22 femur, 25
+// fandisk, 30 elephant) and finished quickly up to 20 on all of them (see generate_tetmesh).
+inline constexpr double kMaxTetgenMinDihedralDegrees = 18.0;
+
 struct TetMeshOptions {
     double quality = 1.414;          // TetGen -q: maximum radius-edge ratio, > 1.0 (about 1.1 is the practical limit)
-    std::optional<double> min_dihedral_degrees;  // TetGen -q<quality>/<angle>: minimum dihedral angle to aim for
+    // TetGen -q<quality>/<angle>: minimum dihedral angle to aim for, in degrees, at most
+    // kMaxTetgenMinDihedralDegrees (TetGen 1.5 does not terminate above it on real surfaces).
+    std::optional<double> min_dihedral_degrees;
     std::optional<double> max_volume;  // TetGen -a: maximum tetrahedron volume, in units^3
     std::string tetgen = "tetgen";   // executable: a name looked up on PATH, or a path
+    // Stop TetGen and throw ExternalToolError when its runs together take longer than
+    // this many seconds (0 = no limit).
+    double time_limit_seconds = 0;
     // Keep TetGen's temporary directory (its path is logged) instead of deleting it.
     bool keep_temporary = false;
     // Smooth TetGen's Steiner points (bpm/tetmesh_smooth.h); vertices on S do not move.
@@ -98,9 +108,17 @@ struct TetMeshResult {
 void check_meshable(const Surface& surface, const Context& context = {});
 
 // Meshes the volume bounded by param.coarse (see the top of this file).
-// \throw AlgorithmError if check_meshable fails or TetGen's mesh does not contain S
-//        exactly; ExternalToolError if tetgen is missing (naming the Debian package) or
-//        fails (with TetGen's own error output); Cancelled through the progress callback.
+// TetGen runs in a process group of its own and never outlives the call: it is stopped on
+// every exit path (time limit, cancellation, exceptions), killed by the kernel if the
+// calling thread dies (PR_SET_PDEATHSIG), and its temporary directory is removed.
+// The progress callback is polled every 50 ms while TetGen runs (a way to cancel it), and
+// an info line is logged every 30 s of a TetGen run.
+// \throw OptionError for a quality bound <= 1 or a dihedral bound above
+//        kMaxTetgenMinDihedralDegrees (settings for which TetGen does not terminate);
+//        AlgorithmError if check_meshable fails or TetGen's mesh does not contain S
+//        exactly; ExternalToolError if tetgen is missing (naming the Debian package),
+//        fails (with TetGen's own error output) or exceeds time_limit_seconds;
+//        Cancelled through the progress callback.
 TetMeshResult generate_tetmesh(const Parametrization& param, const TetMeshOptions& options, const Context& context,
                                TetMesh& out);
 

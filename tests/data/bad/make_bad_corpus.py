@@ -425,7 +425,7 @@ add("surf_patch_not_closed.surf", surf()[:-2], "the '{' of patch 0 is never clos
 add("surf_too_few_patches.surf", surf().replace(b"Patches 1", b"Patches 2"), "expected '{' opening patch 1")
 add("surf_no_patches.surf", surf().split(b"Patches")[0], "no Patches section")
 add("surf_interface_twice.surf", surf(patches=(("A", "Exterior", TET_F), ("A", "B", TET_F[:1]))),
-    "the merge-duplicate-triangles repair")
+    "the repair it needs: merge duplicate triangles")
 add("surf_binary_truncated.surf", surf(binary=True)[:-30], "cannot hold that many")
 add("surf_binary_nan.surf", surf([(0, 0, 0), (1, 0, 0), (0, float("nan"), 0), (0, 0, 1)], binary=True), "coordinate y is NaN")
 add("surf_binary_index_out_of_range.surf", surf(patches=(("A", "Exterior", TET_F[:3] + [(1, 2, 98)]),), binary=True),
