@@ -239,8 +239,7 @@ TEST_CASE("materials: MSH export names physical volumes by material and keeps th
           "[materials][export]") {
     TetMesh m = two_tets();
     // Completed so that the writers accept it.
-    m.vertex_parameter_triangle = {0, 0, 0, 0, 3};
-    m.vertex_parameter_barycentric = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {0, 0, 1}, {0, 1, 0}};
+    m.vertex_parameter_points = {{0, {1, 0, 0}}, {0, {0, 1, 0}}, {0, {0, 0, 1}}, {0, {0, 0, 1}}, {3, {0, 1, 0}}};
     const std::vector<PatchInfo> infos = {{0, "A|Exterior", "Exterior", "A", true},
                                           {1, "B|Exterior", "Exterior", "B", true},
                                           {2, "pair_A_B", "A", "B", false}};
