@@ -500,19 +500,25 @@ std::string write_stl(const Surface& s) {
 }
 
 std::string write_ply(const Surface& s) {
+    // The per-face `patch` property only when there is more than patch 0: readers take a
+    // missing one as patch 0 (bpm's does), and meshio 5's binary PLY reader fails on any
+    // face property besides the vertex list ("numpy.int32 has no len()"), so the common
+    // one-material surface stays readable there.
+    bool patches = false;
+    for (int32_t p : s.patches) patches = patches || p != 0;
     std::string out;
     appendf(out,
             "ply\nformat binary_little_endian 1.0\ncomment written by bpm\nelement vertex %d\n"
             "property double x\nproperty double y\nproperty double z\nelement face %d\n"
-            "property list uchar int vertex_indices\nproperty int patch\nend_header\n",
-            s.num_vertices(), s.num_triangles());
+            "property list uchar int vertex_indices\n%send_header\n",
+            s.num_vertices(), s.num_triangles(), patches ? "property int patch\n" : "");
     for (const Vec3& p : s.vertices) {
         for (double x : p) put_le<double>(out, x);
     }
     for (size_t t = 0; t < s.triangles.size(); ++t) {
         put_le<uint8_t>(out, 3);
         for (int32_t v : s.triangles[t]) put_le<int32_t>(out, v);
-        put_le<int32_t>(out, s.patches[t]);
+        if (patches) put_le<int32_t>(out, s.patches[t]);
     }
     return out;
 }

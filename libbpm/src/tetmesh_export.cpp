@@ -148,17 +148,9 @@ std::string write_vtu(const TetMesh& m) {
         "<?xml version=\"1.0\"?>\n"
         "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n"
         "  <UnstructuredGrid>\n";
-    if (!m.material_names.empty()) {
-        // VTK's ASCII string arrays: each string as its byte values, ended by a 0.
-        out += "    <FieldData>\n      <Array type=\"String\" Name=\"material_names\" NumberOfTuples=\"" +
-               num(int64_t(m.material_names.size())) + "\" format=\"ascii\">\n";
-        for (const std::string& n : m.material_names) {
-            out += "       ";
-            for (unsigned char c : n) out += " " + num(c);
-            out += " 0\n";
-        }
-        out += "      </Array>\n    </FieldData>\n";
-    }
+    // Material names are not written as a VTK string array (FieldData): meshio 5 refuses
+    // the whole file on one ("Illegal data type 'String'"); the names are in the .bpm, MSH
+    // and MEDIT outputs, the VTU has the material ids.
     out += "    <Piece NumberOfPoints=\"" + num(nv) + "\" NumberOfCells=\"" + num(nt) + "\">\n";
     out += "      <PointData Scalars=\"coarse_vertex\">\n"
            "        <DataArray type=\"Int32\" Name=\"coarse_vertex\" format=\"ascii\">\n";

@@ -27,8 +27,9 @@ for line in lines[i + 2 : i + 2 + n]:
     dim, tag, name = line.split(maxsplit=2)
     names[(int(dim), int(tag))] = name.strip('"')
 assert all(tag >= 1 for _, tag in names), names
-assert names.get((2, 1)) == "patch_0", names
-assert names.get((3, 1)) == "region_1", names
+# patch 0 is tag 1; names from the one-file-per-material convention (tet.off encloses "tet")
+assert names.get((2, 1)) == "tet|exterior", names
+assert names.get((3, 1)) == "tet", names
 e = lines.index("$Entities")
 npts, ncurves, nsurf, nvol = map(int, lines[e + 1].split())
 for line in lines[e + 2 : e + 2 + nsurf + nvol]:

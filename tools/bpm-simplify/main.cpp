@@ -138,9 +138,10 @@ int main(int argc, char** argv) {
                          std::to_string(surface.num_vertices()) +
                          " vertices: nothing will be removed (use a smaller --vertices or --ratio)");
 
+        // What the input says about its patches: with -v (the default output stays at two lines).
         for (size_t i = 0; i < report.patch_info.size() && i < 20; ++i) {
             const bpm::PatchInfo& p = report.patch_info[i];
-            context.info("patch " + std::to_string(p.patch) + " '" + p.name + "': " +
+            context.debug("patch " + std::to_string(p.patch) + " '" + p.name + "': " +
                          (p.front.empty() && p.back.empty() ? std::string("no materials")
                           : p.oriented ? "front " + (p.front.empty() ? "?" : p.front) + ", back " +
                                              (p.back.empty() ? "?" : p.back)
@@ -164,8 +165,10 @@ int main(int argc, char** argv) {
                       (long long)result.output_triangles, result.max_error, result.worst_aspect_ratio, result.seconds,
                       result.threads, result.threads == 1 ? "thread" : "threads");
         context.info(line);
-        if (result.kept_feature_vertices() > 0)
-            context.info(std::to_string(result.kept_feature_vertices()) + " feature vertices kept (" +
+        // The kept feature vertices matter when they stopped the simplifier (said next to
+        // the warning below); otherwise they are a detail for -v.
+        if (result.kept_feature_vertices() > 0) {
+            const std::string kept = std::to_string(result.kept_feature_vertices()) + " feature vertices kept (" +
                          std::to_string(result.line_feature_vertices) +
                          " ends or junctions of boundaries, patch borders or non-manifold lines" +
                          (result.corners_kept ? ", " + std::to_string(result.crease_junctions) +
@@ -173,7 +176,10 @@ int main(int argc, char** argv) {
                                                     std::to_string(result.crease_cone_ends) +
                                                     " ends of creases at sharp cones"
                                               : std::string()) +
-                         ")");
+                         ")";
+            if (result.target_reached) context.debug(kept);
+            else context.info(kept);
+        }
         if (!result.target_reached) {
             context.warn("stopped before the target: " + result.stop_reason);
             for (const auto& [why, count] : result.blocked)

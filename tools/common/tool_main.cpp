@@ -54,12 +54,25 @@ extern "C" void die_of_recorded_signal(int) {
     std::raise(sig);  // delivered when this handler returns
 }
 
+// When the first stop request came (CLOCK_MONOTONIC; clock_gettime is async-signal-safe).
+struct timespec g_first_signal_time {};
+
 extern "C" void record_signal(int sig) {
-    if (g_signal != 0) {  // a second signal: stop now
+    struct timespec now {};
+    clock_gettime(CLOCK_MONOTONIC, &now);
+    if (g_signal != 0) {
+        // One request can arrive twice at once: timeout(1) signals the process and then its
+        // process group, and a terminal's Ctrl-C reaches the whole foreground group. Only a
+        // second request a moment later (a user insisting) stops the tool at once, without
+        // the clean-up of the first.
+        const double since = double(now.tv_sec - g_first_signal_time.tv_sec) +
+                             1e-9 * double(now.tv_nsec - g_first_signal_time.tv_nsec);
+        if (since < 1.0) return;
         std::signal(sig, SIG_DFL);
         std::raise(sig);
         return;
     }
+    g_first_signal_time = now;
     g_signal = sig;
     // Watchdog: a call that does not poll its progress callback and clean up within 15 s
     // is not waited for (a TetGen holding gigabytes can take seconds to exit under load).

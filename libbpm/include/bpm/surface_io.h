@@ -147,7 +147,7 @@ Surface read_surface_from_memory(const std::string& bytes, SurfaceFormat format,
                                  const SurfaceReadOptions& options = {}, SurfaceReadReport* report = nullptr);
 
 // Writes OFF, OBJ (patches as `g patch_N`), STL (binary), PLY (binary little endian with
-// an int `patch` face property) or MSH 4.1 ASCII (patches as physical tags), atomically
+// an int `patch` face property when a triangle is not in patch 0) or MSH 4.1 ASCII (patches as physical tags), atomically
 // (not VTK, VTP, VTU or SURF: an OutputError):
 // to a temporary name in the same directory, renamed when complete. "-" writes stdout.
 // Output is deterministic; text formats write doubles with 17 significant digits, so
