@@ -5,7 +5,7 @@
 #       (caught by watching the bytes it has written) and late. Afterwards the output is byte for
 #       byte either the previous file or the complete new one. Nothing else may appear
 #       but, in the instant between naming and renaming it, the temporary file
-#       .NAME.tmpXXXXXXXX (hidden, never *.bpm; libbpm/src/file_util.h), removed here.
+#       .NAME.tmpXXXXXXXX (hidden, never *.bpm; libbpm/src/core/file_util.h), removed here.
 #   (b) Unwritable output, for every tool that writes (bpm-simplify, bpm-smooth, bpm-refine
 #       to .bpm/.off/.vtu, bpm-mesh to .bpm/.msh): a read-only directory (a read-only tmpfs
 #       when root, else a chmod 555 directory), a full disk (an LD_PRELOAD shim that fails

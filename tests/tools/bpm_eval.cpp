@@ -25,7 +25,7 @@
 #include "bpm/bpm_file.h"
 #include "bpm/errors.h"
 #include "bpm/phi_evaluation.h"
-#include "../../libbpm/src/file_util.h"
+#include "../../libbpm/src/core/file_util.h"
 
 namespace {
 

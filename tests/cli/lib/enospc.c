@@ -3,7 +3,7 @@
  * $BPM_TEST_ENOSPC_DIR, after the first $BPM_TEST_ENOSPC_AFTER bytes (default 4096) of
  * each file descriptor - a short write first, then ENOSPC, as a filling disk does.
  * Everything else (stderr, pipes, files elsewhere, TetGen's temporary files) is untouched.
- * bpm writes every output with plain write() (libbpm/src/file_util.cpp; HDF5 only builds
+ * bpm writes every output with plain write() (libbpm/src/core/file_util.cpp; HDF5 only builds
  * the image in memory), so this is the path a real full disk takes.
  *
  *   cc -shared -fPIC -o enospc.so enospc.c -ldl

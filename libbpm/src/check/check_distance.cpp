@@ -1,0 +1,572 @@
+// check_distance: the --max-error gate of bpm-check. How far phi's image and the coarse
+// surface S are from the original surface S0, as two-sided Hausdorff distances relative
+// to the bounding-box diagonal of S0, plus the exact bound max |phi(x) - x| over the
+// nodes of phi. The only file of the checker that includes CGAL's AABB tree.
+//
+// Four one-sided distances are estimated, each as the maximum over a sample set of the
+// distance from a sample to the other surface:
+//   image -> S0   samples on every piece's image triangle
+//   S0 -> image   samples on every original triangle, to the pieces' image triangles
+//   S -> S0       samples on every coarse triangle
+//   S0 -> S       samples on every original triangle
+// Samples of a triangle: a barycentric grid with an even number n of divisions per side
+// (so corners and edge midpoints are grid points) such that longest side / n is at most
+// the requested spacing (n capped at kMaxDivisions), plus the centroid. No randomness:
+// the same file gives the same numbers.
+//
+// Closest points come from CGAL AABB trees (CGAL::Epick, double precision). To be fast on
+// a million triangles the search is a branch and bound on the maximum: every sample gets
+// a cheap upper bound of its distance (the distance to a few candidate triangles that
+// phi names: the original triangle a piece maps into, the coarse triangles whose pieces
+// cover an original triangle, ...); a sample whose bound is below the maximum found so
+// far cannot raise it and needs no query, and a sample whose bound is at rounding level
+// (kFloor) is taken with its bound. Elements are visited in decreasing order of their
+// bound, so that the search stops as soon as the largest remaining bound is below the
+// maximum. Trees are built only when a query is needed (for a correct phi the image
+// directions never need one).
+//
+// Element bounds: image -> S0 uses the exact bound max over the piece's corners of
+// their distance to its original triangle (distance to a convex set is convex);
+// S -> S0 uses max over the coarse triangle's nodes of |phi(x) - x| plus that image
+// bound, exact wherever the pieces tile their coarse triangle (check_bijectivity);
+// S0 -> image and S0 -> S use the largest per-sample bound of the original triangle.
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
+#include <CGAL/AABB_triangle_primitive.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <memory>
+#include <utility>
+#include <vector>
+
+#include "bpm/check.h"
+#include "check/check_internal.h"
+
+namespace bpm {
+
+namespace {
+
+using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Point = K::Point_3;
+using Triangle3 = K::Triangle_3;
+using TriangleIterator = std::vector<Triangle3>::const_iterator;
+using Primitive = CGAL::AABB_triangle_primitive<K, TriangleIterator>;
+using Tree = CGAL::AABB_tree<CGAL::AABB_traits<K, Primitive>>;
+using Ids = std::vector<std::pair<std::string, int64_t>>;
+
+constexpr int kMaxDivisions = 256;   // per triangle side: at most 33 153 grid samples per triangle
+constexpr double kFloor = 1e-12;     // rounding level, relative to diagonal + largest |coordinate|
+constexpr double kLargestCoordinate = 1e150;  // beyond this, squared distances may overflow
+constexpr double kSmallestDiagonal = 1e-30;    // below this, squared areas of ordinary triangles underflow
+// CGAL's closest point on a triangle whose squared normal (|ab x ac|^2) underflows, which
+// happens for sides below about 1e-80 whatever the rest of the surface, is NaN, and NaN
+// handed to its exact fallback raises SIGFPE (GMP; found by fuzz_read_bpm with pieces of
+// side 1e-155). Triangles below this squared normal are measured by hand instead.
+constexpr double kSmallestTreeNormal2 = 1e-200;
+constexpr size_t kMaxCandidates = 48;  // local-bound candidates per sample, beyond which only the tree is asked
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+Point to_point(const Vec3& v) { return Point(v[0], v[1], v[2]); }
+
+double squared(const Vec3& v) { return dot(v, v); }
+
+double segment_squared_distance(const Vec3& p, const Vec3& a, const Vec3& b) {
+    const Vec3 ab = b - a;
+    const double len = dot(ab, ab);
+    const double t = len > 0 ? std::clamp(dot(p - a, ab) / len, 0.0, 1.0) : 0.0;
+    return squared(p - (a + t * ab));
+}
+
+// Squared distance from p to triangle (a, b, c) (Ericson, Real-Time Collision Detection,
+// §5.1.5). Where the closest point is inside, the barycentric projection is inaccurate
+// for slivers (pieces of phi often are), so the distance to the three sides, which is
+// well conditioned and never smaller than the true one, is taken when smaller; this also
+// covers degenerate triangles.
+double triangle_squared_distance(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+    const Vec3 ab = b - a, ac = c - a, ap = p - a;
+    const double d1 = dot(ab, ap), d2 = dot(ac, ap);
+    double result;
+    if (d1 <= 0 && d2 <= 0) return squared(ap);
+    const Vec3 bp = p - b;
+    const double d3 = dot(ab, bp), d4 = dot(ac, bp);
+    if (d3 >= 0 && d4 <= d3) return squared(bp);
+    const double vc = d1 * d4 - d3 * d2;
+    const Vec3 cp = p - c;
+    const double d5 = dot(ab, cp), d6 = dot(ac, cp);
+    const double vb = d5 * d2 - d1 * d6;
+    const double va = d3 * d6 - d5 * d4;
+    if (vc <= 0 && d1 >= 0 && d3 <= 0) {
+        result = squared(p - (a + (d1 / (d1 - d3)) * ab));
+    } else if (d6 >= 0 && d5 <= d6) {
+        return squared(cp);
+    } else if (vb <= 0 && d2 >= 0 && d6 <= 0) {
+        result = squared(p - (a + (d2 / (d2 - d6)) * ac));
+    } else if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
+        result = squared(p - (b + ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (c - b)));
+    } else {
+        const double denom = 1.0 / (va + vb + vc);
+        result = squared(p - (a + (vb * denom) * ab + (vc * denom) * ac));
+        const double sides = std::min({segment_squared_distance(p, a, b), segment_squared_distance(p, b, c),
+                                       segment_squared_distance(p, c, a)});
+        return std::isfinite(result) ? std::min(result, sides) : sides;
+    }
+    if (std::isfinite(result)) return result;
+    return std::min({segment_squared_distance(p, a, b), segment_squared_distance(p, b, c),
+                     segment_squared_distance(p, c, a)});
+}
+
+double triangle_distance(const Vec3& p, const std::array<Vec3, 3>& t) {
+    return std::sqrt(triangle_squared_distance(p, t[0], t[1], t[2]));
+}
+
+// Calls visit(point) for every sample of triangle t (see the file comment) and returns
+// the spacing reached: longest side / number of divisions.
+template <class Visit>
+double for_each_sample(const std::array<Vec3, 3>& t, double spacing, Visit&& visit) {
+    const double longest = std::max({distance(t[0], t[1]), distance(t[1], t[2]), distance(t[2], t[0])});
+    int n = 2;
+    if (spacing > 0 && std::isfinite(longest)) {
+        const double halves = std::ceil(longest / (2.0 * spacing));
+        n = halves >= kMaxDivisions / 2 ? kMaxDivisions : std::max(2, 2 * static_cast<int>(halves));
+    }
+    for (int i = 0; i <= n; ++i)
+        for (int j = 0; i + j <= n; ++j) {
+            const Vec3 b{double(n - i - j) / n, double(i) / n, double(j) / n};
+            visit(barycentric_point(t[0], t[1], t[2], b));
+        }
+    visit(barycentric_point(t[0], t[1], t[2], {1.0 / 3, 1.0 / 3, 1.0 / 3}));
+    return longest / n;
+}
+
+// Closest-point queries on a fixed set of triangles. The tree is built on first use.
+// A query with a hint (a triangle known to be near, e.g. the local candidate) starts
+// from that triangle's nearest corner, so the tree's internal KD-tree of hints, costly
+// on a million triangles, is only built if a query without one comes.
+class ClosestPoints {
+public:
+    ClosestPoints(int64_t count, std::function<std::array<Vec3, 3>(int64_t)> corners)
+        : count_(count), corners_(std::move(corners)) {}
+    // Distance from p to the nearest triangle, and that triangle's index (-1 if there are none).
+    std::pair<double, int64_t> query(const Vec3& p, int64_t hint = -1) {
+        ++queries;
+        if (count_ == 0) return {kInf, -1};
+        if (!built_) build();
+        std::pair<double, int64_t> best{kInf, -1};
+        if (tree_) {
+            const Point q = to_point(p);
+            Tree::Point_and_primitive_id hit;
+            const int64_t at = hint >= 0 && hint < count_ ? tree_position_[static_cast<size_t>(hint)] : -1;
+            if (at >= 0) {
+                const Triangle3& t = triangles_[static_cast<size_t>(at)];
+                int nearest_corner = 0;
+                for (int k = 1; k < 3; ++k)
+                    if (CGAL::squared_distance(q, t.vertex(k)) < CGAL::squared_distance(q, t.vertex(nearest_corner)))
+                        nearest_corner = k;
+                hit = tree_->closest_point_and_primitive(q, {t.vertex(nearest_corner), triangles_.cbegin() + at});
+            } else {
+                hit = tree_->closest_point_and_primitive(q);
+            }
+            const Vec3 nearest{hit.first.x(), hit.first.y(), hit.first.z()};
+            best = {distance(p, nearest), tree_ids_[static_cast<size_t>(hit.second - triangles_.cbegin())]};
+        }
+        for (int64_t i : tiny_) {
+            const auto c = corners_(i);
+            const double d = std::sqrt(triangle_squared_distance(p, c[0], c[1], c[2]));
+            if (d < best.first || best.second < 0) best = {d, i};
+        }
+        return best;
+    }
+    int64_t queries = 0;
+
+private:
+    int64_t count_;
+    std::function<std::array<Vec3, 3>(int64_t)> corners_;
+    std::vector<Triangle3> triangles_;     // those in the tree
+    std::vector<int64_t> tree_ids_;        // index of each of triangles_
+    std::vector<int64_t> tree_position_;   // per index: position in triangles_, or -1 (tiny)
+    std::vector<int64_t> tiny_;            // indices of the triangles measured by hand
+    std::unique_ptr<Tree> tree_;
+    bool built_ = false;
+
+    void build() {
+        built_ = true;
+        tree_position_.assign(static_cast<size_t>(count_), -1);
+        for (int64_t i = 0; i < count_; ++i) {
+            const auto c = corners_(i);
+            if (!(squared(cross(c[1] - c[0], c[2] - c[0])) >= kSmallestTreeNormal2)) {
+                tiny_.push_back(i);
+                continue;
+            }
+            tree_position_[static_cast<size_t>(i)] = static_cast<int64_t>(triangles_.size());
+            tree_ids_.push_back(i);
+            triangles_.emplace_back(to_point(c[0]), to_point(c[1]), to_point(c[2]));
+        }
+        if (!triangles_.empty()) tree_ = std::make_unique<Tree>(triangles_.begin(), triangles_.end());
+    }
+};
+
+// The largest distance found so far and where.
+struct Extreme {
+    double value = 0.0;
+    bool found = false;
+    Ids ids;
+    // Can a sample whose distance is at most `bound` change the result? (Ties are kept by
+    // the first one found, so they cannot.)
+    bool could_raise(double bound) const { return !found || bound > value; }
+    void offer(double d, Ids where) {
+        if (could_raise(d)) {
+            value = d;
+            found = true;
+            ids = std::move(where);
+        }
+    }
+};
+
+// Elements with key <= floor are settled by their key (an upper bound of all their
+// samples' distances at rounding level); the others are evaluated by `exact`, in
+// decreasing key order, until the key is below the maximum found. Keys must be upper
+// bounds of the distances `exact` can find.
+void branch_and_bound(std::vector<std::pair<double, int64_t>>& keyed, double floor, Extreme& best,
+                      const std::function<void(double, int64_t)>& settle, const std::function<void(int64_t)>& exact) {
+    std::vector<std::pair<double, int64_t>> open;
+    for (const auto& [key, id] : keyed) {
+        if (key <= floor)
+            settle(key, id);
+        else
+            open.emplace_back(key, id);
+    }
+    std::sort(open.begin(), open.end(), [](const auto& a, const auto& b) {
+        return a.first > b.first || (a.first == b.first && a.second < b.second);
+    });
+    for (const auto& [key, id] : open) {
+        if (!best.could_raise(key)) break;
+        exact(id);
+    }
+}
+
+}  // namespace
+
+CheckResult check_distance(const Parametrization& p, const CheckOptions& options, const Context& context) {
+    CheckResult r;
+    r.name = "distance";
+    if (auto why = detail::parametrization_unsafe(p)) {
+        detail::refuse(r, *why);
+        return r;
+    }
+    const double diagonal = bounding_box_diagonal(p.original);
+    if (!(diagonal > 0) || p.original.num_triangles() == 0 || p.coarse.num_triangles() == 0) {
+        detail::refuse(r, "the surfaces are empty or S0 has no extent");
+        return r;
+    }
+    if (!(options.error_sample_spacing > 0) || !std::isfinite(options.error_sample_spacing)) {
+        detail::refuse(r, "the sample spacing must be a positive number");
+        return r;
+    }
+    double magnitude = 0.0;
+    for (const Vec3& x : p.original.vertices)
+        magnitude = std::max({magnitude, std::abs(x[0]), std::abs(x[1]), std::abs(x[2])});
+    // Squared distances of coordinates beyond ~1e150 overflow to inf, and inf or NaN handed
+    // to CGAL's exact number types raises SIGFPE (GMP): refuse such a file instead.
+    double largest = magnitude;
+    for (const auto* points : {&p.coarse.vertices, &p.node_image})
+        for (const Vec3& x : *points) largest = std::max({largest, std::abs(x[0]), std::abs(x[1]), std::abs(x[2])});
+    if (!(diagonal >= kSmallestDiagonal)) {
+        detail::refuse(r, "the original surface is too small to measure distances in double precision (diagonal " +
+                              detail::format_number(diagonal) + ", limit " + detail::format_number(kSmallestDiagonal) +
+                              "): scale it");
+        return r;
+    }
+    if (!(largest <= kLargestCoordinate)) {
+        detail::refuse(r, "coordinates up to " + detail::format_number(largest) +
+                              " are too large to measure distances in double precision (limit " +
+                              detail::format_number(kLargestCoordinate) + ")");
+        return r;
+    }
+    const double floor = kFloor * (diagonal + magnitude);
+    const double spacing = options.error_sample_spacing * diagonal;
+    double reached = 0.0;  // largest spacing of a sampled triangle
+    int64_t samples = 0;
+
+    const Surface& S0 = p.original;
+    const Surface& S = p.coarse;
+    const int64_t np = p.num_pieces();
+    const int32_t nt0 = S0.num_triangles(), ntc = S.num_triangles();
+    auto original_corners = [&](int64_t t) -> std::array<Vec3, 3> {
+        const Tri& c = S0.triangles[static_cast<size_t>(t)];
+        return {S0.vertices[c[0]], S0.vertices[c[1]], S0.vertices[c[2]]};
+    };
+    auto coarse_corners = [&](int64_t t) -> std::array<Vec3, 3> {
+        const Tri& c = S.triangles[static_cast<size_t>(t)];
+        return {S.vertices[c[0]], S.vertices[c[1]], S.vertices[c[2]]};
+    };
+    std::vector<int32_t> piece_coarse(static_cast<size_t>(np));
+    for (int32_t t = 0; t < ntc; ++t)
+        for (int64_t q = p.piece_offsets[t]; q < p.piece_offsets[t + 1]; ++q) piece_coarse[q] = t;
+    auto image_corners = [&](int64_t q) -> std::array<Vec3, 3> {
+        const int64_t base = p.node_offsets[piece_coarse[q]];
+        const Tri& c = p.pieces[static_cast<size_t>(q)];
+        return {p.node_image[base + c[0]], p.node_image[base + c[1]], p.node_image[base + c[2]]};
+    };
+    ClosestPoints to_original(nt0, original_corners), to_coarse(ntc, coarse_corners), to_image(np, image_corners);
+
+    // Pieces by the original triangle they map into (CSR).
+    std::vector<int64_t> by_original_offsets(static_cast<size_t>(nt0) + 1, 0);
+    for (int32_t o : p.piece_original_triangle) ++by_original_offsets[static_cast<size_t>(o) + 1];
+    for (int32_t o = 0; o < nt0; ++o) by_original_offsets[o + 1] += by_original_offsets[o];
+    std::vector<int64_t> by_original(static_cast<size_t>(np));
+    {
+        std::vector<int64_t> fill(by_original_offsets.begin(), by_original_offsets.end() - 1);
+        for (int64_t q = 0; q < np; ++q) by_original[fill[p.piece_original_triangle[q]]++] = q;
+    }
+
+    // --- image -> S0 -------------------------------------------------------------------
+    context.report(0.0, "distance: phi's image to S0");
+    std::vector<double> piece_bound(static_cast<size_t>(np));  // max over corners of distance to its original triangle
+    Extreme image_to_original;
+    {
+        std::vector<std::pair<double, int64_t>> keyed(static_cast<size_t>(np));
+        for (int64_t q = 0; q < np; ++q) {
+            const auto img = image_corners(q);
+            const auto target = original_corners(p.piece_original_triangle[q]);
+            double e = 0.0;
+            for (const Vec3& x : img) e = std::max(e, triangle_distance(x, target));
+            piece_bound[q] = e;
+            keyed[q] = {e, q};
+        }
+        auto where = [&](int64_t q) { return Ids{{"coarse_triangle", piece_coarse[q]}, {"piece", q}}; };
+        branch_and_bound(
+            keyed, floor, image_to_original,
+            [&](double key, int64_t q) {
+                if (image_to_original.could_raise(key)) image_to_original.offer(key, where(q));
+            },
+            [&](int64_t q) {
+                const auto target = original_corners(p.piece_original_triangle[q]);
+                reached = std::max(reached, for_each_sample(image_corners(q), spacing, [&](const Vec3& x) {
+                    ++samples;
+                    const double u = triangle_distance(x, target);
+                    if (!image_to_original.could_raise(u)) return;
+                    const double d =
+                        u <= floor ? u : std::min(u, to_original.query(x, p.piece_original_triangle[q]).first);
+                    image_to_original.offer(d, where(q));
+                }));
+            });
+    }
+
+    // --- S0 -> image and S0 -> S: one pass for the per-sample bounds --------------------
+    context.report(0.25, "distance: S0 to phi's image and to S");
+    // Per-sample bounds: distance to the images of the pieces that map into the original
+    // triangle, and to the coarse triangles those pieces belong to; with the nearest one.
+    std::vector<int32_t> candidates;
+    auto coarse_candidates = [&](int32_t o) {
+        candidates.clear();
+        for (int64_t i = by_original_offsets[o]; i < by_original_offsets[o + 1]; ++i)
+            candidates.push_back(piece_coarse[by_original[i]]);
+        std::sort(candidates.begin(), candidates.end());
+        candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
+    };
+    auto image_bound = [&](int32_t o, const Vec3& x, int64_t& nearest) {
+        double best = kInf;
+        nearest = -1;
+        for (int64_t i = by_original_offsets[o]; i < by_original_offsets[o + 1]; ++i) {
+            const double d = triangle_distance(x, image_corners(by_original[i]));
+            if (d < best) {
+                best = d;
+                nearest = by_original[i];
+            }
+        }
+        return best;
+    };
+    auto coarse_bound = [&](const Vec3& x, int64_t& nearest) {
+        double best = kInf;
+        nearest = -1;
+        for (int32_t c : candidates) {
+            const double d = triangle_distance(x, coarse_corners(c));
+            if (d < best) {
+                best = d;
+                nearest = c;
+            }
+        }
+        return best;
+    };
+    Extreme original_to_image, original_to_coarse;
+    {
+        std::vector<std::pair<double, int64_t>> keyed_image(static_cast<size_t>(nt0));
+        std::vector<std::pair<double, int64_t>> keyed_coarse(static_cast<size_t>(nt0));
+        for (int32_t o = 0; o < nt0; ++o) {
+            if ((o & 0xffff) == 0) context.report(0.25 + 0.25 * o / nt0, "distance: S0 to phi's image and to S");
+            coarse_candidates(o);
+            double ki = 0.0, kc = 0.0;
+            reached = std::max(reached, for_each_sample(original_corners(o), spacing, [&](const Vec3& x) {
+                ++samples;
+                int64_t nearest;
+                ki = std::max(ki, image_bound(o, x, nearest));
+                kc = std::max(kc, coarse_bound(x, nearest));
+            }));
+            keyed_image[o] = {ki, o};
+            keyed_coarse[o] = {kc, o};
+        }
+        branch_and_bound(
+            keyed_image, floor, original_to_image,
+            [&](double key, int64_t o) {
+                if (original_to_image.could_raise(key)) original_to_image.offer(key, Ids{{"original_triangle", o}});
+            },
+            [&](int64_t o) {
+                for_each_sample(original_corners(o), spacing, [&](const Vec3& x) {
+                    int64_t nearest;
+                    double d = image_bound(static_cast<int32_t>(o), x, nearest);
+                    if (!original_to_image.could_raise(d)) return;
+                    if (d > floor) {
+                        const auto hit = to_image.query(x, nearest);
+                        if (hit.first < d) {
+                            d = hit.first;
+                            nearest = hit.second;
+                        }
+                    }
+                    Ids where{{"original_triangle", o}};
+                    if (nearest >= 0) {
+                        where.emplace_back("coarse_triangle", piece_coarse[nearest]);
+                        where.emplace_back("piece", nearest);
+                    }
+                    original_to_image.offer(d, std::move(where));
+                });
+            });
+        branch_and_bound(
+            keyed_coarse, floor, original_to_coarse,
+            [&](double key, int64_t o) {
+                if (original_to_coarse.could_raise(key)) original_to_coarse.offer(key, Ids{{"original_triangle", o}});
+            },
+            [&](int64_t o) {
+                coarse_candidates(static_cast<int32_t>(o));
+                for_each_sample(original_corners(o), spacing, [&](const Vec3& x) {
+                    int64_t nearest;
+                    double d = coarse_bound(x, nearest);
+                    if (!original_to_coarse.could_raise(d)) return;
+                    if (d > floor) {
+                        const auto hit = to_coarse.query(x, nearest);
+                        if (hit.first < d) {
+                            d = hit.first;
+                            nearest = hit.second;
+                        }
+                    }
+                    Ids where{{"original_triangle", o}};
+                    if (nearest >= 0) where.emplace_back("coarse_triangle", nearest);
+                    original_to_coarse.offer(d, std::move(where));
+                });
+            });
+    }
+
+    // --- S -> S0, and the exact bound max |phi(x) - x| ------------------------------------
+    context.report(0.75, "distance: S to S0");
+    Extreme node_bound, coarse_to_original;
+    {
+        std::vector<std::pair<double, int64_t>> keyed(static_cast<size_t>(ntc));
+        for (int32_t t = 0; t < ntc; ++t) {
+            const auto c = coarse_corners(t);
+            double deviation = 0.0, image = 0.0;
+            for (int64_t n = p.node_offsets[t]; n < p.node_offsets[t + 1]; ++n) {
+                const double d = distance(barycentric_point(c[0], c[1], c[2], p.node_barycentric[n]), p.node_image[n]);
+                deviation = std::max(deviation, d);
+                if (node_bound.could_raise(d)) node_bound.offer(d, Ids{{"coarse_triangle", t}, {"node", n}});
+            }
+            for (int64_t q = p.piece_offsets[t]; q < p.piece_offsets[t + 1]; ++q)
+                image = std::max(image, piece_bound[q]);
+            keyed[t] = {deviation + image, t};
+        }
+        std::vector<int32_t> originals;
+        branch_and_bound(
+            keyed, floor, coarse_to_original,
+            [&](double key, int64_t t) {
+                if (coarse_to_original.could_raise(key)) coarse_to_original.offer(key, Ids{{"coarse_triangle", t}});
+            },
+            [&](int64_t t) {
+                originals.clear();
+                for (int64_t q = p.piece_offsets[t]; q < p.piece_offsets[t + 1]; ++q)
+                    originals.push_back(p.piece_original_triangle[q]);
+                std::sort(originals.begin(), originals.end());
+                originals.erase(std::unique(originals.begin(), originals.end()), originals.end());
+                // A large coarse triangle covers hundreds of original ones: then the tree
+                // is cheaper than the local bound.
+                if (originals.size() > kMaxCandidates) originals.clear();
+                reached = std::max(reached, for_each_sample(coarse_corners(t), spacing, [&](const Vec3& x) {
+                    ++samples;
+                    double d = kInf;
+                    int64_t nearest = -1;
+                    for (int32_t o : originals) {
+                        const double e = triangle_distance(x, original_corners(o));
+                        if (e < d) {
+                            d = e;
+                            nearest = o;
+                        }
+                    }
+                    if (!coarse_to_original.could_raise(d)) return;
+                    if (d > floor) {
+                        int64_t hint = nearest;
+                        if (hint < 0 && p.piece_offsets[t] < p.piece_offsets[t + 1])
+                            hint = p.piece_original_triangle[p.piece_offsets[t]];
+                        const auto hit = to_original.query(x, hint);
+                        if (hit.first < d) {
+                            d = hit.first;
+                            nearest = hit.second;
+                        }
+                    }
+                    Ids where{{"coarse_triangle", t}};
+                    if (nearest >= 0) where.emplace_back("original_triangle", nearest);
+                    coarse_to_original.offer(d, std::move(where));
+                }));
+            });
+    }
+
+    // --- report --------------------------------------------------------------------------
+    auto relative = [&](const Extreme& e, const std::string& name) {
+        return WorstValue{name, e.value / diagonal, e.ids};
+    };
+    const WorstValue img_to = relative(image_to_original, "image_to_original");
+    const WorstValue img_from = relative(original_to_image, "original_to_image");
+    const WorstValue s_to = relative(coarse_to_original, "coarse_to_original");
+    const WorstValue s_from = relative(original_to_coarse, "original_to_coarse");
+    WorstValue image = img_to.value >= img_from.value ? img_to : img_from;
+    image.name = "image_hausdorff";
+    WorstValue coarse = s_to.value >= s_from.value ? s_to : s_from;
+    coarse.name = "coarse_hausdorff";
+    WorstValue bound = relative(node_bound, "coarse_to_original_bound");
+    r.measures = {coarse, s_to, s_from, bound, image, img_to, img_from,
+                  WorstValue{"sample_spacing", reached / diagonal, {}}};
+    r.worst = coarse;
+    r.add_count("coarse_triangles", ntc);
+    r.add_count("original_triangles", nt0);
+    r.add_count("pieces", np);
+    r.add_count("samples", samples);
+    r.add_count("closest_point_queries", to_original.queries + to_coarse.queries + to_image.queries);
+
+    using detail::format_number;
+    if (options.max_error) {
+        const double limit = *options.max_error;
+        if (!(image.value <= limit))
+            r.add_problem({image.ids, "phi's image is " + format_number(image.value) +
+                                          " of the diagonal away from S0 (" +
+                                          (img_to.value >= img_from.value ? "image -> S0" : "S0 -> image") +
+                                          "), more than --max-error " + format_number(limit)},
+                          options.max_problems);
+        if (!(coarse.value <= limit))
+            r.add_problem({coarse.ids, "the coarse surface is " + format_number(coarse.value) +
+                                           " of the diagonal away from S0 (" +
+                                           (s_to.value >= s_from.value ? "S -> S0" : "S0 -> S") +
+                                           "), more than --max-error " + format_number(limit) +
+                                           " (exact bound of S -> S0: max |phi(x) - x| = " +
+                                           format_number(bound.value) + ")"},
+                          options.max_problems);
+    }
+    r.summary = "coarse surface within " + format_number(coarse.value) + " of the diagonal of S0 (S->S0 " +
+                format_number(s_to.value) + ", S0->S " + format_number(s_from.value) + "; bound max|phi(x)-x| " +
+                format_number(bound.value) + "), phi's image within " + format_number(image.value) +
+                (options.max_error ? "; limit " + format_number(*options.max_error) : std::string()) + "; " +
+                std::to_string(samples) + " samples, spacing " + format_number(reached / diagonal);
+    context.report(1.0, "distance");
+    return r;
+}
+
+}  // namespace bpm

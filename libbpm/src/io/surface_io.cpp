@@ -1,0 +1,658 @@
+// Reading and writing surfaces: format choice, the read pipeline (parse, requested
+// repairs, validation) and the writers. The parsers live in read_<format>.cpp.
+#include "bpm/surface_io.h"
+
+#include <algorithm>
+#include <cctype>
+#include <charconv>
+#include <cmath>
+#include <cstdarg>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <limits>
+#include <map>
+
+#include "bpm/errors.h"
+#include "core/file_util.h"
+#include "io/surface_readers.h"
+
+namespace bpm {
+
+namespace {
+
+std::string lower(std::string s) {
+    for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return s;
+}
+
+const char* format_name(SurfaceFormat f) {
+    switch (f) {
+        case SurfaceFormat::Off: return "OFF";
+        case SurfaceFormat::Obj: return "OBJ";
+        case SurfaceFormat::Stl: return "STL";
+        case SurfaceFormat::Ply: return "PLY";
+        case SurfaceFormat::Msh: return "MSH";
+        case SurfaceFormat::Vtk: return "VTK";
+        case SurfaceFormat::Vtp: return "VTP";
+        case SurfaceFormat::Vtu: return "VTU";
+        case SurfaceFormat::Surf: return "HyperSurface";
+    }
+    return "?";
+}
+
+// The start tag of a VTK XML file's <VTKFile> element (its first 200 bytes), or empty.
+std::string_view vtk_file_tag(std::string_view bytes) {
+    const size_t at = bytes.substr(0, 512).find("<VTKFile");
+    return at == std::string_view::npos ? std::string_view() : bytes.substr(at, 200);
+}
+
+// Whether the head says parallel VTK XML (.pvtp / .pvtu): a list of piece files.
+bool is_parallel_vtk_xml(std::string_view bytes) {
+    const std::string_view tag = vtk_file_tag(bytes);
+    return tag.find("\"PPolyData\"") != std::string_view::npos ||
+           tag.find("\"PUnstructuredGrid\"") != std::string_view::npos;
+}
+
+// The format a file's head plainly shows, if any.
+std::optional<SurfaceFormat> format_from_head(std::string_view bytes) {
+    std::optional<SurfaceFormat> seen;
+    const std::string_view head = bytes.substr(0, 64);
+    if (head.substr(0, 3) == "ply") seen = SurfaceFormat::Ply;
+    else if (head.substr(0, 11) == "$MeshFormat") seen = SurfaceFormat::Msh;
+    else if (head.substr(0, 3) == "OFF" || head.substr(0, 4) == "COFF" || head.substr(0, 4) == "NOFF") seen = SurfaceFormat::Off;
+    else if (head.substr(0, 5) == "solid") seen = SurfaceFormat::Stl;
+    else if (head.substr(0, 14) == "# vtk DataFile") seen = SurfaceFormat::Vtk;
+    else if (head.substr(0, 14) == "# HyperSurface" || head.substr(0, 13) == "#HyperSurface") seen = SurfaceFormat::Surf;
+    else if (const std::string_view tag = vtk_file_tag(bytes); !tag.empty()) {
+        if (tag.find("\"PolyData\"") != std::string_view::npos) seen = SurfaceFormat::Vtp;
+        else if (tag.find("\"UnstructuredGrid\"") != std::string_view::npos) seen = SurfaceFormat::Vtu;
+    }
+    return seen;
+}
+
+// A hint for an error on a file that is plainly of another format than the one chosen.
+std::string sniffed_format_hint(std::string_view bytes, SurfaceFormat chosen) {
+    const std::optional<SurfaceFormat> seen = format_from_head(bytes);
+    // One reader reads both VTK XML types: no hint between them.
+    if (seen && (*seen == SurfaceFormat::Vtp || *seen == SurfaceFormat::Vtu) &&
+        (chosen == SurfaceFormat::Vtp || chosen == SurfaceFormat::Vtu))
+        return "";
+    if (!seen || *seen == chosen) return "";
+    return std::string(" (the file looks like ") + format_name(*seen) + ", not " + format_name(chosen) + ")";
+}
+
+// The merge-duplicate-triangles repair, with a note per new interface patch.
+void fuse_triangles(Surface& surface, SurfaceReadReport& r, const std::string& prefix) {
+    std::vector<FusedPatch> fused;
+    const int64_t removed = fuse_duplicate_triangles(surface, &fused);
+    r.fused_triangles += removed;
+    if (removed == 0) return;
+    add_fused_patch_info(r.patch_info, fused);
+    r.notes.push_back(prefix + "removed " + std::to_string(removed) + " duplicate triangles (" +
+                      std::to_string(surface.triangles.size()) + " triangles left)");
+    for (const FusedPatch& f : fused) {
+        std::string joins;
+        for (size_t i = 0; i < f.joins.size(); ++i)
+            joins += (i == 0 ? "" : i + 1 == f.joins.size() ? " and " : ", ") + std::to_string(f.joins[i]);
+        r.notes.push_back(prefix + "patch " + std::to_string(f.patch) + " = the " + std::to_string(f.triangles) +
+                          " triangles that patches " + joins + " had in common (fused)");
+    }
+}
+
+// Why a surface that parsed is still unusable, with the repair that would help.
+std::string problems_message(const std::vector<SurfaceProblem>& problems, const Surface& surface, size_t limit) {
+    using Kind = SurfaceProblem::Kind;
+    std::string message;
+    const size_t shown = std::min<size_t>(problems.size(), 3);
+    for (size_t i = 0; i < shown; ++i) {
+        if (i > 0) message += "; ";
+        message += describe_problem(problems[i], surface);
+        // The repair that helps, once per kind of problem.
+        bool hinted = false;
+        for (size_t j = 0; j < i; ++j) hinted = hinted || problems[j].kind == problems[i].kind;
+        if (hinted) continue;
+        if (problems[i].kind == Kind::UnreferencedVertex) {
+            message += " (repair: drop unreferenced vertices)";
+        } else if (problems[i].kind == Kind::DuplicateVertex) {
+            message += " (repair: merge duplicate vertices)";
+        } else if (problems[i].kind == Kind::DuplicateTriangle) {
+            message += " (repair: merge duplicate triangles; an interface between two materials becomes a patch of "
+                       "its own)";
+        }
+    }
+    if (problems.size() > shown) {
+        message += problems.size() >= limit ? "; and more problems"
+                                            : "; and " + std::to_string(problems.size() - shown) + " more problems";
+    }
+    return message;
+}
+
+// Every repair `surface` needs that `options` does not ask for: those its problems call
+// for, then those the problems left after applying them call for (merging duplicate
+// vertices is what reveals the duplicate triangles of one closed surface per material),
+// so that one error lists them all. In the order the repairs are applied.
+std::vector<SurfaceRepair> repairs_needed(Surface surface, const std::vector<SurfaceProblem>& first,
+                                          const SurfaceReadOptions& options, const ValidateOptions& validate) {
+    using Kind = SurfaceProblem::Kind;
+    bool merge = false, drop = false, fuse = false;
+    std::vector<SurfaceProblem> problems = first;
+    for (int round = 0; round < 3; ++round) {
+        bool added = false;
+        for (const SurfaceProblem& p : problems) {
+            if (p.kind == Kind::DuplicateVertex && !merge && !options.merge_duplicate_vertices) merge = added = true;
+            if (p.kind == Kind::UnreferencedVertex && !drop && !options.drop_unreferenced_vertices) drop = added = true;
+            if (p.kind == Kind::DuplicateTriangle && !fuse && !options.merge_duplicate_triangles) fuse = added = true;
+        }
+        if (!added) break;
+        // Apply what is known so far, in the reader's order, and look again.
+        if (merge) merge_duplicate_vertices(surface);
+        if (drop) drop_unreferenced_vertices(surface);
+        if (fuse) fuse_duplicate_triangles(surface);
+        problems = validate_surface(surface, validate);
+    }
+    std::vector<SurfaceRepair> out;
+    if (merge) out.push_back(SurfaceRepair::MergeDuplicateVertices);
+    if (drop) out.push_back(SurfaceRepair::DropUnreferencedVertices);
+    if (fuse) out.push_back(SurfaceRepair::MergeDuplicateTriangles);
+    return out;
+}
+
+std::string repair_words(SurfaceRepair r) {
+    switch (r) {
+        case SurfaceRepair::MergeDuplicateVertices: return "merge duplicate vertices";
+        case SurfaceRepair::DropUnreferencedVertices: return "drop unreferenced vertices";
+        case SurfaceRepair::MergeDuplicateTriangles: return "merge duplicate triangles";
+    }
+    return "?";
+}
+
+// The error for a validated surface with problems: InputNeedsRepair when repairs help.
+[[noreturn]] void throw_surface_problems(const std::string& where, const std::string& prefix,
+                                         const std::vector<SurfaceProblem>& problems, const Surface& surface,
+                                         const SurfaceReadOptions& options, const ValidateOptions& validate) {
+    std::string message = prefix + problems_message(problems, surface, validate.max_problems);
+    const std::vector<SurfaceRepair> repairs = repairs_needed(surface, problems, options, validate);
+    if (repairs.empty()) throw InputError(where, message);
+    message += repairs.size() == 1 ? "; the repair it needs: " : "; the repairs it needs, all together: ";
+    for (size_t i = 0; i < repairs.size(); ++i) message += (i ? ", " : "") + repair_words(repairs[i]);
+    throw InputNeedsRepair(where, message, repairs);
+}
+
+}  // namespace
+
+std::optional<SurfaceFormat> surface_format_from_name(const std::string& name) {
+    const std::string n = lower(name);
+    if (n == "off") return SurfaceFormat::Off;
+    if (n == "obj") return SurfaceFormat::Obj;
+    if (n == "stl") return SurfaceFormat::Stl;
+    if (n == "ply") return SurfaceFormat::Ply;
+    if (n == "msh") return SurfaceFormat::Msh;
+    if (n == "vtk") return SurfaceFormat::Vtk;
+    if (n == "vtp") return SurfaceFormat::Vtp;
+    if (n == "vtu") return SurfaceFormat::Vtu;
+    if (n == "pvtp") return SurfaceFormat::Vtp;  // parallel: its pieces are read (read_surface)
+    if (n == "pvtu") return SurfaceFormat::Vtu;
+    if (n == "surf") return SurfaceFormat::Surf;
+    return std::nullopt;
+}
+
+std::optional<SurfaceFormat> surface_format_from_path(const std::string& path) {
+    const size_t slash = path.find_last_of('/');
+    const size_t dot = path.find_last_of('.');
+    if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return std::nullopt;
+    return surface_format_from_name(path.substr(dot + 1));
+}
+
+static Surface finish_reading(detail::ReaderOutput parsed, SurfaceFormat format, const std::string& name,
+                              const SurfaceReadOptions& options, SurfaceReadReport* report,
+                              const std::string& material = {});
+
+static Surface read_from_memory(const std::string& bytes, SurfaceFormat format, const std::string& name,
+                                const SurfaceReadOptions& options, SurfaceReadReport* report,
+                                const std::string& material) {
+    detail::ReaderOutput parsed;
+    try {
+        switch (format) {
+            case SurfaceFormat::Off: parsed = detail::read_off(bytes, name, options.triangulate_polygons); break;
+            case SurfaceFormat::Obj: parsed = detail::read_obj(bytes, name, options.triangulate_polygons); break;
+            case SurfaceFormat::Stl: parsed = detail::read_stl(bytes, name); break;
+            case SurfaceFormat::Ply: parsed = detail::read_ply(bytes, name, options.triangulate_polygons); break;
+            case SurfaceFormat::Msh: parsed = detail::read_msh(bytes, name); break;
+            case SurfaceFormat::Vtk: parsed = detail::read_vtk(bytes, name, options.triangulate_polygons); break;
+            case SurfaceFormat::Vtp:
+            case SurfaceFormat::Vtu: parsed = detail::read_vtk_xml(bytes, name, options.triangulate_polygons); break;
+            case SurfaceFormat::Surf: parsed = detail::read_surf(bytes, name); break;
+        }
+    } catch (const InputError& e) {
+        const std::string hint = sniffed_format_hint(bytes, format);
+        if (hint.empty()) throw;
+        throw InputError(e.where(), e.what() + hint);
+    }
+    return finish_reading(std::move(parsed), format, name, options, report, material);
+}
+
+Surface read_surface_from_memory(const std::string& bytes, SurfaceFormat format, const std::string& name,
+                                 const SurfaceReadOptions& options, SurfaceReadReport* report) {
+    return read_from_memory(bytes, format, name, options, report, {});
+}
+
+// The pieces of a parallel VTK XML file (.pvtp / .pvtu), read from the files its <Piece
+// Source=...> elements name (relative to its directory) and joined into one surface:
+// triangles and patches in piece order, the point data arrays every piece has, and the
+// points that several pieces share (their borders) merged.
+static detail::ReaderOutput read_parallel_vtk_xml(const std::string& path, const std::string& name, const std::string& bytes,
+                                                  const SurfaceReadOptions& options) {
+    const std::vector<std::string> sources = detail::parallel_vtk_xml_sources(bytes, name);
+    const std::filesystem::path dir = std::filesystem::path(path).parent_path();
+    detail::ReaderOutput all;
+    Surface& s = all.surface;
+    std::vector<std::string> dropped;  // point data arrays not in every piece
+    for (size_t k = 0; k < sources.size(); ++k) {
+        const std::string piece_path = (dir / sources[k]).string();
+        std::string piece_bytes;
+        try {
+            piece_bytes = detail::read_whole_input(piece_path);
+        } catch (const InputError& e) {
+            throw InputError(name, "piece " + std::to_string(k) + " (Source " + detail::quote_token(sources[k]) + "): " +
+                                       e.where() + ": " + e.what());
+        }
+        if (is_parallel_vtk_xml(piece_bytes)) {
+            throw InputError(name, "piece " + std::to_string(k) + " (Source " + detail::quote_token(sources[k]) +
+                                       ") is a parallel file itself; the pieces must be .vtp or .vtu files");
+        }
+        detail::ReaderOutput part =
+            detail::read_vtk_xml(piece_bytes, detail::display_name(piece_path), options.triangulate_polygons);
+        const int32_t offset = s.num_vertices();
+        if (int64_t(offset) + part.surface.num_vertices() > std::numeric_limits<int32_t>::max())
+            throw InputError(name, "the pieces have more than 2147483647 points together");
+        s.vertices.insert(s.vertices.end(), part.surface.vertices.begin(), part.surface.vertices.end());
+        for (Tri t : part.surface.triangles) {
+            for (int32_t& v : t) v += offset;
+            s.triangles.push_back(t);
+        }
+        s.patches.insert(s.patches.end(), part.surface.patches.begin(), part.surface.patches.end());
+        if (k == 0) {
+            s.vertex_data = std::move(part.surface.vertex_data);
+        } else {
+            std::vector<VertexArray> kept;
+            for (VertexArray& a : s.vertex_data) {
+                auto match = std::find_if(part.surface.vertex_data.begin(), part.surface.vertex_data.end(),
+                                          [&](const VertexArray& b) { return b.name == a.name && b.components == a.components; });
+                if (match == part.surface.vertex_data.end()) {
+                    dropped.push_back(a.name);
+                    continue;
+                }
+                a.values.insert(a.values.end(), match->values.begin(), match->values.end());
+                kept.push_back(std::move(a));
+            }
+            for (const VertexArray& b : part.surface.vertex_data)
+                if (std::none_of(kept.begin(), kept.end(), [&](const VertexArray& a) { return a.name == b.name; }))
+                    dropped.push_back(b.name);
+            s.vertex_data = std::move(kept);
+        }
+        all.skipped_elements += part.skipped_elements;
+        for (std::string& note : part.notes) all.notes.push_back(sources[k] + ": " + note);
+    }
+    std::sort(dropped.begin(), dropped.end());
+    dropped.erase(std::unique(dropped.begin(), dropped.end()), dropped.end());
+    for (const std::string& d : dropped)
+        all.notes.push_back("point data " + detail::quote_token(d) + " left out: not in every piece (or not with the same components)");
+    const int64_t merged = merge_duplicate_vertices(s);
+    all.notes.push_back(std::to_string(sources.size()) + (sources.size() == 1 ? " piece" : " pieces") + " joined; " +
+                        std::to_string(merged) + " points that pieces share merged");
+    return all;
+}
+
+// After a reader: the repairs asked for, then the validation. `material`: the material
+// the file encloses if its format says nothing about its patches (apply_file_material).
+static Surface finish_reading(detail::ReaderOutput parsed, SurfaceFormat format, const std::string& name,
+                              const SurfaceReadOptions& options, SurfaceReadReport* report,
+                              const std::string& material) {
+    Surface surface = std::move(parsed.surface);
+    if (const std::vector<std::string> bad = vertex_data_problems(surface); !bad.empty()) {
+        std::string message = bad[0];
+        for (size_t i = 1; i < bad.size() && i < 10; ++i) message += "; " + bad[i];
+        throw InputError(name, message);
+    }
+
+    SurfaceReadReport local;
+    SurfaceReadReport& r = report ? *report : local;
+    r = SurfaceReadReport{};
+    r.format = format;
+    r.skipped_elements = parsed.skipped_elements;
+    r.notes = std::move(parsed.notes);
+    r.patch_info = std::move(parsed.patch_info);
+    apply_file_material(r.patch_info, surface, material);
+    if (options.merge_duplicate_vertices) r.merged_vertices = merge_duplicate_vertices(surface);
+    if (options.drop_unreferenced_vertices) r.dropped_vertices = drop_unreferenced_vertices(surface);
+    if (options.merge_duplicate_triangles) fuse_triangles(surface, r, "");
+
+    if (surface.triangles.empty()) {
+        std::string message = "the surface has no triangles";
+        if (!surface.vertices.empty() || r.dropped_vertices > 0) {
+            message += " (" + std::to_string(surface.vertices.size() + static_cast<size_t>(r.dropped_vertices)) +
+                       " vertices and no faces: a point cloud?)";
+        }
+        if (r.skipped_elements > 0) message += "; " + std::to_string(r.skipped_elements) + " non-triangle elements were skipped";
+        // VTK: what was skipped ("12 line cells skipped") says what the file holds instead.
+        if (format == SurfaceFormat::Vtk || format == SurfaceFormat::Vtp || format == SurfaceFormat::Vtu)
+            for (const std::string& note : r.notes) message += "; " + note;
+        throw InputError(name, message);
+    }
+    ValidateOptions validate;
+    validate.max_problems = 100;
+    const std::vector<SurfaceProblem> problems = validate_surface(surface, validate);
+    if (!problems.empty()) throw_surface_problems(name, "", problems, surface, options, validate);
+    return surface;
+}
+
+Surface read_surface(const std::string& path, const SurfaceReadOptions& options, SurfaceReadReport* report) {
+    const std::string name = detail::display_name(path);
+    std::optional<SurfaceFormat> format = options.format;
+    if (!format) format = surface_format_from_path(path);
+    if (!format && path == "-") throw InputError(name, "the format of standard input must be given explicitly");
+    const std::string bytes = detail::read_whole_input(path);
+    // One file per material: the material is the file's name without directory and extension.
+    const std::string material = path == "-" ? std::string() : std::filesystem::path(path).stem().string();
+    if ((!format || format == SurfaceFormat::Vtp || format == SurfaceFormat::Vtu) && is_parallel_vtk_xml(bytes))
+        return finish_reading(read_parallel_vtk_xml(path, name, bytes, options), format.value_or(SurfaceFormat::Vtp),
+                              name, options, report, material);
+    // No (known) extension: only a HyperSurface head is taken as the format (a first line
+    // "# HyperSurface" cannot be mistaken for anything else); every other format needs its
+    // extension or an explicit choice.
+    if (!format && format_from_head(bytes) == SurfaceFormat::Surf) format = SurfaceFormat::Surf;
+    if (!format) {
+        throw InputError(name, "cannot tell the surface format from the file name; expected the extension .off, "
+                               ".obj, .stl, .ply, .msh, .vtk, .vtp, .vtu, .pvtp, .pvtu or .surf, or an explicit format");
+    }
+    return read_from_memory(bytes, *format, name, options, report, material);
+}
+
+Surface read_surfaces(const std::vector<std::string>& paths, const SurfaceReadOptions& options,
+                      SurfaceReadReport* report) {
+    if (paths.size() == 1) return read_surface(paths[0], options, report);
+    if (paths.empty()) throw OptionError("no input surface given");
+    for (const std::string& path : paths)
+        if (path == "-") throw OptionError("'-' (standard input) can only be the one input, not one of several");
+    SurfaceReadReport local;
+    SurfaceReadReport& r = report ? *report : local;
+    r = SurfaceReadReport{};
+    std::vector<Surface> parts;
+    std::vector<std::vector<PatchInfo>> part_infos;
+    std::string names;
+    for (size_t i = 0; i < paths.size(); ++i) {
+        const std::string name = detail::display_name(paths[i]);
+        names += (i ? " + " : "") + name;
+        SurfaceReadReport one;
+        parts.push_back(read_surface(paths[i], options, &one));
+        if (i == 0) r.format = one.format;
+        r.merged_vertices += one.merged_vertices;
+        r.dropped_vertices += one.dropped_vertices;
+        r.fused_triangles += one.fused_triangles;
+        r.skipped_elements += one.skipped_elements;
+        for (const std::string& note : one.notes) r.notes.push_back(name + ": " + note);
+        part_infos.push_back(std::move(one.patch_info));
+    }
+    std::vector<std::pair<int, int32_t>> origin;
+    std::vector<std::string> dropped;
+    Surface surface = combine_surfaces(parts, &origin, &dropped);
+    for (size_t p = 0; p < origin.size(); ++p) {
+        r.notes.push_back("patch " + std::to_string(p) + " = " + detail::display_name(paths[size_t(origin[p].first)]) +
+                          " patch " + std::to_string(origin[p].second));
+        if (const PatchInfo* info = find_patch_info(part_infos[size_t(origin[p].first)], origin[p].second)) {
+            r.patch_info.push_back(*info);
+            r.patch_info.back().patch = static_cast<int32_t>(p);
+        }
+    }
+    for (const std::string& name : dropped)
+        r.notes.push_back("vertex data '" + name + "' left out: not every input has it (with the same components)");
+    // Inputs that touch share positions, not vertices, until the repair merges them.
+    if (options.merge_duplicate_vertices) r.merged_vertices += merge_duplicate_vertices(surface);
+    // Then the interfaces that two files both have are the same triangles.
+    if (options.merge_duplicate_triangles) fuse_triangles(surface, r, "the inputs together: ");
+    ValidateOptions validate;
+    validate.max_problems = 100;
+    validate.allow_unreferenced_vertices = options.drop_unreferenced_vertices;
+    const std::vector<SurfaceProblem> problems = validate_surface(surface, validate);
+    if (!problems.empty())
+        throw_surface_problems(names, "the inputs together (vertices and triangles numbered across the files in order): ",
+                               problems, surface, options, validate);
+    return surface;
+}
+
+// ---- writing ----------------------------------------------------------------------
+
+namespace {
+
+void appendf(std::string& out, const char* format, ...) __attribute__((format(printf, 2, 3)));
+void appendf(std::string& out, const char* format, ...) {
+    char buffer[256];
+    va_list args;
+    va_start(args, format);
+    const int n = std::vsnprintf(buffer, sizeof buffer, format, args);
+    va_end(args);
+    if (n > 0) out.append(buffer, std::min(static_cast<size_t>(n), sizeof buffer - 1));
+}
+
+// A double with 17 significant digits (like "%.17g", so it reads back to the same
+// bits) and, unlike printf, independent of the C locale's decimal separator.
+void append_double(std::string& out, double x) {
+    char buffer[40];
+    const auto result = std::to_chars(buffer, buffer + sizeof buffer, x, std::chars_format::general, 17);
+    out.append(buffer, result.ptr);
+}
+
+// "x y z\n" after `prefix`.
+void append_point(std::string& out, const char* prefix, const Vec3& p) {
+    out += prefix;
+    for (int k = 0; k < 3; ++k) {
+        if (k > 0) out += ' ';
+        append_double(out, p[k]);
+    }
+    out += '\n';
+}
+
+template <class T>
+void put_le(std::string& out, T value) {
+    unsigned char raw[sizeof(T)];
+    std::memcpy(raw, &value, sizeof(T));
+    if (detail::InputCursor::host_is_big_endian()) std::reverse(raw, raw + sizeof(T));
+    out.append(reinterpret_cast<const char*>(raw), sizeof(T));
+}
+
+std::string write_off(const Surface& s) {
+    std::string out;
+    appendf(out, "OFF\n%d %d 0\n", s.num_vertices(), s.num_triangles());
+    for (const Vec3& p : s.vertices) append_point(out, "", p);
+    for (const Tri& t : s.triangles) appendf(out, "3 %d %d %d\n", t[0], t[1], t[2]);
+    return out;
+}
+
+std::string write_obj(const Surface& s) {
+    std::string out;
+    appendf(out, "# bpm surface: %d vertices, %d triangles; groups patch_N are patch ids\n", s.num_vertices(),
+            s.num_triangles());
+    for (const Vec3& p : s.vertices) append_point(out, "v ", p);
+    for (size_t t = 0; t < s.triangles.size(); ++t) {
+        if (t == 0 || s.patches[t] != s.patches[t - 1]) appendf(out, "g patch_%d\n", s.patches[t]);
+        const Tri& tri = s.triangles[t];
+        appendf(out, "f %d %d %d\n", tri[0] + 1, tri[1] + 1, tri[2] + 1);
+    }
+    return out;
+}
+
+std::string write_stl(const Surface& s) {
+    std::string out;
+    std::string header = "binary STL written by bpm";
+    header.resize(80, ' ');
+    out += header;
+    put_le<uint32_t>(out, static_cast<uint32_t>(s.triangles.size()));
+    for (const Tri& t : s.triangles) {
+        const Vec3 n = triangle_normal(s.vertices[t[0]], s.vertices[t[1]], s.vertices[t[2]]);
+        for (double x : n) put_le<float>(out, static_cast<float>(x));
+        for (int32_t v : t) {
+            for (double x : s.vertices[v]) put_le<float>(out, static_cast<float>(x));
+        }
+        put_le<uint16_t>(out, 0);
+    }
+    return out;
+}
+
+std::string write_ply(const Surface& s) {
+    // The per-face `patch` property only when there is more than patch 0: readers take a
+    // missing one as patch 0 (bpm's does), and meshio 5's binary PLY reader fails on any
+    // face property besides the vertex list ("numpy.int32 has no len()"), so the common
+    // one-material surface stays readable there.
+    bool patches = false;
+    for (int32_t p : s.patches) patches = patches || p != 0;
+    std::string out;
+    appendf(out,
+            "ply\nformat binary_little_endian 1.0\ncomment written by bpm\nelement vertex %d\n"
+            "property double x\nproperty double y\nproperty double z\nelement face %d\n"
+            "property list uchar int vertex_indices\n%send_header\n",
+            s.num_vertices(), s.num_triangles(), patches ? "property int patch\n" : "");
+    for (const Vec3& p : s.vertices) {
+        for (double x : p) put_le<double>(out, x);
+    }
+    for (size_t t = 0; t < s.triangles.size(); ++t) {
+        put_le<uint8_t>(out, 3);
+        for (int32_t v : s.triangles[t]) put_le<int32_t>(out, v);
+        if (patches) put_le<int32_t>(out, s.patches[t]);
+    }
+    return out;
+}
+
+// One surface entity per patch (tags 1, 2, ... in increasing patch order) whose physical
+// tag is the patch id; one element block per run of consecutive triangles of one patch,
+// so that the triangle order is kept exactly.
+std::string write_msh(const Surface& s) {
+    std::map<int32_t, int> entity_of_patch;
+    for (int32_t p : s.patches) entity_of_patch.emplace(p, 0);
+    int next_entity = 1;
+    for (auto& [patch, entity] : entity_of_patch) entity = next_entity++;
+
+    std::string out = "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Entities\n";
+    appendf(out, "0 0 %zu 0\n", entity_of_patch.size());
+    for (const auto& [patch, entity] : entity_of_patch) {
+        Vec3 lo{0, 0, 0}, hi{0, 0, 0};
+        bool first = true;
+        for (size_t t = 0; t < s.triangles.size(); ++t) {
+            if (s.patches[t] != patch) continue;
+            for (int32_t v : s.triangles[t]) {
+                const Vec3& p = s.vertices[v];
+                for (int k = 0; k < 3; ++k) {
+                    lo[k] = first ? p[k] : std::min(lo[k], p[k]);
+                    hi[k] = first ? p[k] : std::max(hi[k], p[k]);
+                }
+                first = false;
+            }
+        }
+        appendf(out, "%d ", entity);
+        for (double x : {lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]}) {
+            append_double(out, x);
+            out += ' ';
+        }
+        appendf(out, "1 %d 0\n", patch);
+    }
+    out += "$EndEntities\n$Nodes\n";
+    const int nv = s.num_vertices();
+    if (nv == 0) {
+        out += "0 0 0 0\n";
+    } else {
+        appendf(out, "1 %d 1 %d\n2 1 0 %d\n", nv, nv, nv);
+        for (int i = 1; i <= nv; ++i) appendf(out, "%d\n", i);
+        for (const Vec3& p : s.vertices) append_point(out, "", p);
+    }
+    out += "$EndNodes\n$Elements\n";
+    const size_t nt = s.triangles.size();
+    size_t runs = 0;
+    for (size_t t = 0; t < nt; ++t) runs += (t == 0 || s.patches[t] != s.patches[t - 1]) ? 1 : 0;
+    if (nt == 0) {
+        out += "0 0 0 0\n";
+    } else {
+        appendf(out, "%zu %zu 1 %zu\n", runs, nt, nt);
+    }
+    for (size_t t = 0; t < nt;) {
+        size_t end = t;
+        while (end < nt && s.patches[end] == s.patches[t]) ++end;
+        appendf(out, "2 %d 2 %zu\n", entity_of_patch[s.patches[t]], end - t);
+        for (; t < end; ++t) {
+            const Tri& tri = s.triangles[t];
+            appendf(out, "%zu %d %d %d\n", t + 1, tri[0] + 1, tri[1] + 1, tri[2] + 1);
+        }
+    }
+    out += "$EndElements\n";
+    return out;
+}
+
+}  // namespace
+
+void write_surface(const std::string& path, const Surface& surface, std::optional<SurfaceFormat> format) {
+    const std::string where = path == "-" ? "<stdout>" : path;
+    if (!format) format = surface_format_from_path(path);
+    if (!format) {
+        throw OutputError(where, path == "-" ? "the format for standard output must be given explicitly"
+                                             : "cannot tell the surface format from the file name; expected the "
+                                               "extension .off, .obj, .stl, .ply or .msh, or an explicit format");
+    }
+    if (*format == SurfaceFormat::Vtp || *format == SurfaceFormat::Vtu) {
+        throw OutputError(where, std::string("cannot write ") + format_name(*format) +
+                                     ": VTK XML is an input format here (write .off, .obj, .stl, .ply or .msh)");
+    }
+    if (*format == SurfaceFormat::Surf) {
+        // Region names would have to be made up: a bpm patch is not a pair of materials.
+        throw OutputError(where, "cannot write Amira HyperSurface (.surf): bpm reads it but writes only .off .obj .stl "
+                                 ".ply .msh");
+    }
+    // Refuse what would make a file no reader (bpm's included) can read back.
+    if (surface.patches.size() != surface.triangles.size()) {
+        throw OutputError(where, "cannot write: the surface has " + std::to_string(surface.patches.size()) +
+                                     " patch ids for " + std::to_string(surface.triangles.size()) + " triangles");
+    }
+    for (size_t t = 0; t < surface.triangles.size(); ++t) {
+        for (int32_t v : surface.triangles[t]) {
+            if (v < 0 || v >= surface.num_vertices()) {
+                throw OutputError(where, "cannot write: triangle " + std::to_string(t) + " has vertex index " +
+                                             std::to_string(v) + " out of range");
+            }
+        }
+    }
+    for (size_t v = 0; v < surface.vertices.size(); ++v) {
+        for (double x : surface.vertices[v]) {
+            if (!std::isfinite(x)) {
+                throw OutputError(where, "cannot write: vertex " + std::to_string(v) + " has a NaN or infinite coordinate");
+            }
+        }
+    }
+    if (*format == SurfaceFormat::Stl) {
+        for (size_t v = 0; v < surface.vertices.size(); ++v) {
+            for (double x : surface.vertices[v]) {
+                if (std::fabs(x) > static_cast<double>(std::numeric_limits<float>::max())) {
+                    throw OutputError(where, "cannot write STL: vertex " + std::to_string(v) +
+                                                 " has a coordinate beyond the range of float");
+                }
+            }
+        }
+    }
+    if (*format == SurfaceFormat::Vtk) {
+        // Legacy VTK is read (inputs from VTK, ParaView, Slicer) but not written: bpm writes
+        // VTK's XML .vtu where point data matters (bpm-refine --data).
+        throw OutputError(where, "cannot write legacy VTK (.vtk): bpm reads it but writes only .off .obj .stl .ply .msh");
+    }
+    std::string bytes;
+    switch (*format) {
+        case SurfaceFormat::Off: bytes = write_off(surface); break;
+        case SurfaceFormat::Obj: bytes = write_obj(surface); break;
+        case SurfaceFormat::Stl: bytes = write_stl(surface); break;
+        case SurfaceFormat::Ply: bytes = write_ply(surface); break;
+        case SurfaceFormat::Msh: bytes = write_msh(surface); break;
+        case SurfaceFormat::Vtk: break;  // refused above
+        case SurfaceFormat::Vtp:
+        case SurfaceFormat::Vtu: break;  // refused above
+        case SurfaceFormat::Surf: break;  // refused above
+    }
+    detail::write_file_atomically(path, bytes);
+}
+
+}  // namespace bpm

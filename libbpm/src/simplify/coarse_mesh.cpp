@@ -1,0 +1,265 @@
+#include "simplify/coarse_mesh.h"
+
+#include <algorithm>
+#include <cmath>
+#include <unordered_map>
+
+namespace bpm::detail {
+
+namespace {
+// Does triangle t traverse the directed edge a->b?
+bool has_directed_edge(const Tri& t, int32_t a, int32_t b) {
+    for (int k = 0; k < 3; ++k)
+        if (t[k] == a && t[(k + 1) % 3] == b) return true;
+    return false;
+}
+}  // namespace
+
+CoarseMesh::CoarseMesh(const Surface& original)
+    : positions_(&original.vertices),
+      triangles_(original.triangles),
+      patches_(original.patches),
+      alive_(original.triangles.size(), 1),
+      initially_flipped_(original.triangles.size(), 0),
+      vertex_triangles_(original.vertices.size()),
+      feature_degree_(original.vertices.size(), 0) {
+    if (patches_.size() != triangles_.size()) patches_.assign(triangles_.size(), 0);
+    for (int32_t t = 0; t < int32_t(triangles_.size()); ++t)
+        for (int32_t v : triangles_[t]) vertex_triangles_[v].push_back(t);
+    num_alive_ = static_cast<int32_t>(triangles_.size());
+    for (const auto& list : vertex_triangles_) num_vertices_alive_ += list.empty() ? 0 : 1;
+
+    // Orient each sheet consistently by a breadth-first walk over edges with exactly two
+    // triangles. On a non-orientable sheet the walk leaves some edges inconsistent;
+    // that only restricts which vertices can be removed later.
+    std::vector<uint8_t> visited(triangles_.size(), 0);
+    std::vector<int32_t> queue, around;
+    for (int32_t seed = 0; seed < int32_t(triangles_.size()); ++seed) {
+        if (visited[seed]) continue;
+        visited[seed] = 1;
+        queue.assign(1, seed);
+        for (size_t head = 0; head < queue.size(); ++head) {
+            const int32_t t = queue[head];
+            for (int k = 0; k < 3; ++k) {
+                const int32_t a = triangles_[t][k], b = triangles_[t][(k + 1) % 3];
+                edge_triangles(a, b, around);
+                if (around.size() != 2) continue;
+                const int32_t n = around[0] == t ? around[1] : around[0];
+                if (visited[n]) continue;
+                visited[n] = 1;
+                // A consistent neighbour traverses the shared edge as b->a.
+                if (has_directed_edge(triangles_[n], a, b)) {
+                    std::swap(triangles_[n][1], triangles_[n][2]);
+                    initially_flipped_[n] = 1;
+                }
+                queue.push_back(n);
+            }
+        }
+    }
+}
+
+void CoarseMesh::edge_triangles(int32_t a, int32_t b, std::vector<int32_t>& out) const {
+    out.clear();
+    for (int32_t t : vertex_triangles_[a]) {
+        const Tri& c = triangles_[t];
+        if (c[0] == b || c[1] == b || c[2] == b) out.push_back(t);
+    }
+}
+
+bool CoarseMesh::has_edge(int32_t a, int32_t b) const {
+    const auto& la = vertex_triangles_[a];
+    const auto& lb = vertex_triangles_[b];
+    const auto& shorter = la.size() < lb.size() ? la : lb;
+    const int32_t other = la.size() < lb.size() ? b : a;
+    for (int32_t t : shorter) {
+        const Tri& c = triangles_[t];
+        if (c[0] == other || c[1] == other || c[2] == other) return true;
+    }
+    return false;
+}
+
+int32_t CoarseMesh::find_triangle(int32_t a, int32_t b, int32_t c) const {
+    for (int32_t t : vertex_triangles_[a]) {
+        const Tri& x = triangles_[t];
+        const bool hb = x[0] == b || x[1] == b || x[2] == b;
+        const bool hc = x[0] == c || x[1] == c || x[2] == c;
+        if (hb && hc) return t;
+    }
+    return -1;
+}
+
+void CoarseMesh::set_feature_edge(int32_t a, int32_t b, Feature kind) { mark(a, b, kind); }
+
+void CoarseMesh::mark(int32_t a, int32_t b, Feature kind) {
+    auto it = feature_edges_.find(edge_key(a, b));
+    if (it != feature_edges_.end()) {
+        if (kind != Feature::None) {
+            it->second = kind;
+            return;
+        }
+        feature_edges_.erase(it);
+        --feature_degree_[a];
+        --feature_degree_[b];
+    } else if (kind != Feature::None) {
+        feature_edges_[edge_key(a, b)] = kind;
+        ++feature_degree_[a];
+        ++feature_degree_[b];
+    }
+}
+
+int32_t CoarseMesh::add_triangle(const Tri& corners, int32_t patch) {
+    const int32_t t = static_cast<int32_t>(triangles_.size());
+    triangles_.push_back(corners);
+    patches_.push_back(patch);
+    alive_.push_back(1);
+    for (int32_t v : corners) {
+        if (vertex_triangles_[v].empty()) ++num_vertices_alive_;
+        vertex_triangles_[v].push_back(t);
+    }
+    ++num_alive_;
+    return t;
+}
+
+void CoarseMesh::remove_triangle(int32_t t) {
+    if (!alive_[t]) return;
+    alive_[t] = 0;
+    --num_alive_;
+    for (int32_t v : triangles_[t]) {
+        auto& list = vertex_triangles_[v];
+        list.erase(std::find(list.begin(), list.end(), t));
+        if (list.empty()) --num_vertices_alive_;
+    }
+}
+
+void CoarseMesh::mark_feature_edges(double feature_angle_degrees) {
+    const double cos_limit = std::cos(feature_angle_degrees * M_PI / 180.0);
+    const auto& p = *positions_;
+    std::vector<int32_t> around;
+    for (int32_t t = 0; t < int32_t(triangles_.size()); ++t) {
+        if (!alive_[t]) continue;
+        for (int k = 0; k < 3; ++k) {
+            const int32_t a = triangles_[t][k], b = triangles_[t][(k + 1) % 3];
+            // Each edge once, from the first triangle that has it: the triangle lists
+            // are in increasing id (nothing was removed yet), so that is around[0].
+            // (A triangle with a repeated corner may meet an edge twice; marking is
+            // idempotent.)
+            edge_triangles(a, b, around);
+            if (around.empty() || around[0] != t) continue;
+            bool feature = around.size() != 2;
+            if (!feature && patches_[around[0]] != patches_[around[1]]) feature = true;
+            if (feature) {
+                mark(a, b, Feature::Hard);
+                continue;
+            }
+            if (feature_angle_degrees < 180.0) {
+                const Tri& t0 = triangles_[around[0]];
+                const Tri& t1 = triangles_[around[1]];
+                const Vec3 n0 = triangle_normal(p[t0[0]], p[t0[1]], p[t0[2]]);
+                const Vec3 n1 = triangle_normal(p[t1[0]], p[t1[1]], p[t1[2]]);
+                // Within a sheet the triangles are consistently oriented (constructor),
+                // so the normals are directly comparable.
+                if (dot(n0, n1) < cos_limit) mark(a, b, Feature::Crease);
+            }
+        }
+    }
+}
+
+void CoarseMesh::mark_corners(double feature_angle_degrees, double min_crease_length, bool keep) {
+    const auto& p = *positions_;
+    const size_t nv = vertex_triangles_.size();
+    std::vector<int32_t> hard(nv, 0);
+    // Crease edges per vertex (CSR), for walking along crease lines.
+    std::vector<int32_t> offsets(nv + 1, 0), ends;
+    for (const auto& [key, kind] : feature_edges_) {
+        const int32_t a = int32_t(key >> 32), b = int32_t(key & 0xffffffffu);
+        if (kind == Feature::Hard) {
+            ++hard[a];
+            ++hard[b];
+        } else {
+            ++offsets[a + 1];
+            ++offsets[b + 1];
+        }
+    }
+    for (size_t v = 0; v < nv; ++v) offsets[v + 1] += offsets[v];
+    ends.resize(size_t(offsets[nv]));
+    {
+        std::vector<int32_t> fill(offsets.begin(), offsets.end() - 1);
+        for (const auto& [key, kind] : feature_edges_) {
+            if (kind != Feature::Crease) continue;
+            const int32_t a = int32_t(key >> 32), b = int32_t(key & 0xffffffffu);
+            ends[size_t(fill[a]++)] = b;
+            ends[size_t(fill[b]++)] = a;
+        }
+    }
+    auto crease_degree = [&](int32_t v) { return offsets[v + 1] - offsets[v]; };
+    // Does the crease line leaving v towards w run at least min_crease_length (through
+    // vertices on exactly two creases and no hard edge)? Noise on scanned surfaces makes
+    // short creases that meet and end everywhere; a crease shorter than that is not a
+    // line whose corners must stay.
+    auto long_line = [&](int32_t v, int32_t w) {
+        double length = 0.0;
+        int32_t from = v;
+        while (true) {
+            length += distance(p[from], p[w]);
+            if (length >= min_crease_length) return true;
+            if (w == v || crease_degree(w) != 2 || hard[w] != 0) return false;
+            const int32_t a = ends[size_t(offsets[w])], b = ends[size_t(offsets[w] + 1)];
+            const int32_t next = a == from ? b : a;
+            from = w;
+            w = next;
+        }
+    };
+    // Defect of a circular cone whose generators' normals on opposite sides are the
+    // feature angle apart: half-angle alpha = 90 - theta / 2, defect 2 pi (1 - sin alpha).
+    const double theta = feature_angle_degrees * M_PI / 180.0;
+    const double cone_defect = 2.0 * M_PI * (1.0 - std::cos(0.5 * theta));
+    corners_.assign(nv, uint8_t(Corner::None));
+    for (size_t v = 0; v < nv; ++v) {
+        if (hard[v] == 1 || hard[v] >= 3) {  // kept by the classification of its star
+            ++hard_feature_vertices_;
+            continue;
+        }
+        if (crease_degree(int32_t(v)) == 0) continue;
+        int32_t lines = 0;  // creases at v that are long lines
+        for (int32_t i = offsets[v]; i < offsets[v + 1]; ++i) lines += long_line(int32_t(v), ends[size_t(i)]);
+        if (lines == 0) continue;
+        if (hard[v] + lines >= 3) {
+            corners_[v] = uint8_t(Corner::Junction);
+            continue;
+        }
+        if (hard[v] != 0 || crease_degree(int32_t(v)) != 1) continue;
+        // A crease ends here, inside one sheet (no hard edge: the star is a disk).
+        double angles = 0.0;
+        for (int32_t t : vertex_triangles_[v]) {
+            const Tri& c = triangles_[t];
+            int k = 0;
+            while (c[k] != int32_t(v)) ++k;
+            const Vec3 e1 = p[c[(k + 1) % 3]] - p[v], e2 = p[c[(k + 2) % 3]] - p[v];
+            angles += std::atan2(norm(cross(e1, e2)), dot(e1, e2));
+        }
+        if (std::abs(2.0 * M_PI - angles) >= cone_defect) corners_[v] = uint8_t(Corner::ConeEnd);
+    }
+    for (uint8_t c : corners_) ++corner_counts_[c];
+    if (!keep) corners_.clear();
+}
+
+Surface CoarseMesh::to_surface(std::vector<int32_t>& vertex_origin) const {
+    Surface s;
+    std::unordered_map<int32_t, int32_t> index;
+    vertex_origin.clear();
+    // Vertices in increasing original id, so that the output is deterministic.
+    for (int32_t v = 0; v < int32_t(vertex_triangles_.size()); ++v) {
+        if (vertex_triangles_[v].empty()) continue;
+        index[v] = static_cast<int32_t>(vertex_origin.size());
+        vertex_origin.push_back(v);
+        s.vertices.push_back((*positions_)[v]);
+    }
+    for (int32_t t = 0; t < int32_t(triangles_.size()); ++t) {
+        if (!alive_[t]) continue;
+        s.triangles.push_back({index[triangles_[t][0]], index[triangles_[t][1]], index[triangles_[t][2]]});
+        s.patches.push_back(patches_[t]);
+    }
+    return s;
+}
+
+}  // namespace bpm::detail

@@ -1,0 +1,177 @@
+#include "simplify/embedding.h"
+
+#include <algorithm>
+
+namespace bpm::detail {
+
+namespace {
+void erase_one(std::vector<int32_t>& list, int32_t value) {
+    auto it = std::find(list.begin(), list.end(), value);
+    if (it != list.end()) {
+        *it = list.back();
+        list.pop_back();
+    }
+}
+}  // namespace
+
+void EdgeContentMap::rehash(size_t capacity) {
+    std::vector<value_type> old;
+    old.swap(slots_);
+    slots_.resize(capacity);
+    for (auto& slot : slots_) slot.first = kEmpty;
+    shift_ = 64;
+    for (size_t c = capacity; c > 1; c >>= 1) --shift_;
+    const size_t mask = capacity - 1;
+    for (auto& entry : old) {
+        if (entry.first == kEmpty) continue;
+        size_t i = home(entry.first);
+        while (slots_[i].first != kEmpty) i = (i + 1) & mask;
+        slots_[i] = std::move(entry);
+    }
+}
+
+EdgeContent& EdgeContentMap::operator[](uint64_t key) {
+    if (value_type* entry = find(key)) return entry->second;
+    if (2 * (size_ + 1) > slots_.size()) rehash(std::max<size_t>(64, 2 * slots_.size()));
+    const size_t mask = slots_.size() - 1;
+    size_t i = home(key);
+    while (slots_[i].first != kEmpty) i = (i + 1) & mask;
+    slots_[i].first = key;
+    ++size_;
+    return slots_[i].second;
+}
+
+void EdgeContentMap::erase(const value_type* entry) {
+    // Backward-shift deletion: move later entries of the probe run into the hole when
+    // their home slot does not lie after it, so that lookups need no tombstones.
+    const size_t mask = slots_.size() - 1;
+    size_t hole = static_cast<size_t>(entry - slots_.data());
+    for (size_t j = (hole + 1) & mask; slots_[j].first != kEmpty; j = (j + 1) & mask) {
+        const size_t h = home(slots_[j].first);
+        if (((j - h) & mask) >= ((j - hole) & mask)) {
+            slots_[hole] = std::move(slots_[j]);
+            hole = j;
+        }
+    }
+    slots_[hole].first = kEmpty;
+    slots_[hole].second.vertices.clear();
+    slots_[hole].second.crossing_edges.clear();
+    --size_;
+}
+
+void Embedding::init_identity(const Surface& s, int32_t triangle_capacity) {
+    original = &s;
+    const int32_t nv = s.num_vertices();
+    edges.clear();
+    edges.reserve(s.triangles.size() * 3);
+    for (const Tri& t : s.triangles)
+        for (int k = 0; k < 3; ++k) {
+            int32_t u = t[k], w = t[(k + 1) % 3];
+            if (u > w) std::swap(u, w);
+            edges.push_back({u, w});
+        }
+    std::sort(edges.begin(), edges.end());
+    edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+
+    vertex_edge_offsets.assign(nv + 1, 0);
+    for (const auto& e : edges) {
+        ++vertex_edge_offsets[e[0] + 1];
+        ++vertex_edge_offsets[e[1] + 1];
+    }
+    for (int32_t v = 0; v < nv; ++v) vertex_edge_offsets[v + 1] += vertex_edge_offsets[v];
+    vertex_edges.assign(vertex_edge_offsets[nv], 0);
+    std::vector<int32_t> fill(vertex_edge_offsets.begin(), vertex_edge_offsets.end() - 1);
+    for (int32_t e = 0; e < int32_t(edges.size()); ++e) {
+        vertex_edges[fill[edges[e][0]]++] = e;
+        vertex_edges[fill[edges[e][1]]++] = e;
+    }
+
+    edge_triangle_offsets.assign(edges.size() + 1, 0);
+    for (const Tri& t : s.triangles)
+        for (int k = 0; k < 3; ++k) ++edge_triangle_offsets[find_edge(t[k], t[(k + 1) % 3]) + 1];
+    for (size_t e = 0; e < edges.size(); ++e) edge_triangle_offsets[e + 1] += edge_triangle_offsets[e];
+    edge_triangles.assign(edge_triangle_offsets.back(), 0);
+    fill.assign(edge_triangle_offsets.begin(), edge_triangle_offsets.end() - 1);
+    for (int32_t t = 0; t < s.num_triangles(); ++t)
+        for (int k = 0; k < 3; ++k) {
+            const int32_t e = find_edge(s.triangles[t][k], s.triangles[t][(k + 1) % 3]);
+            edge_triangles[fill[e]++] = t;
+        }
+
+    location.assign(nv, SurfacePoint());
+    for (int32_t v = 0; v < nv; ++v) location[v] = SurfacePoint::corner(v);
+    path.assign(edges.size(), {});
+    path_version.assign(edges.size(), 0);
+    inside.assign(triangle_capacity, {});
+    edge_content.clear();
+}
+
+int32_t Embedding::find_edge(int32_t u, int32_t w) const {
+    if (u > w) std::swap(u, w);
+    for (int32_t i = vertex_edge_offsets[u]; i < vertex_edge_offsets[u + 1]; ++i) {
+        const int32_t e = vertex_edges[i];
+        if (edges[e][0] == u && edges[e][1] == w) return e;
+    }
+    return -1;
+}
+
+int32_t Embedding::triangle_of_edges(int32_t e, int32_t f) const {
+    if (e == f) return -1;
+    for (int32_t i = edge_triangle_offsets[e]; i < edge_triangle_offsets[e + 1]; ++i) {
+        const int32_t t = edge_triangles[i];
+        for (int32_t j = edge_triangle_offsets[f]; j < edge_triangle_offsets[f + 1]; ++j)
+            if (edge_triangles[j] == t) return t;
+    }
+    return -1;
+}
+
+void Embedding::path_points(int32_t e, std::vector<SurfacePoint>& points, std::vector<double>& sigmas) const {
+    points.clear();
+    sigmas.clear();
+    points.push_back(location[edges[e][0]]);
+    sigmas.push_back(0.0);
+    for (const Crossing& c : path[e]) {
+        points.push_back(SurfacePoint{SurfacePoint::OnEdge, c.a, c.b, c.s, {}});
+        sigmas.push_back(c.sigma);
+    }
+    points.push_back(location[edges[e][1]]);
+    sigmas.push_back(1.0);
+}
+
+void Embedding::clear_location(int32_t vertex) {
+    const SurfacePoint& p = location[vertex];
+    if (p.kind == SurfacePoint::Inside) {
+        erase_one(inside[p.a], vertex);
+    } else if (p.kind == SurfacePoint::OnEdge) {
+        auto it = edge_content.find(edge_key(p.a, p.b));
+        if (it != edge_content.end()) {
+            erase_one(it->second.vertices, vertex);
+            if (it->second.vertices.empty() && it->second.crossing_edges.empty()) edge_content.erase(it);
+        }
+    }
+}
+
+void Embedding::set_location(int32_t vertex, const SurfacePoint& p) {
+    clear_location(vertex);
+    location[vertex] = p;
+    if (p.kind == SurfacePoint::Inside) {
+        ensure_triangle_capacity(p.a + 1);
+        inside[p.a].push_back(vertex);
+    } else if (p.kind == SurfacePoint::OnEdge) {
+        edge_content[edge_key(p.a, p.b)].vertices.push_back(vertex);
+    }
+}
+
+void Embedding::set_path(int32_t e, std::vector<Crossing> crossings) {
+    for (const Crossing& c : path[e]) {
+        auto it = edge_content.find(edge_key(c.a, c.b));
+        if (it == edge_content.end()) continue;
+        erase_one(it->second.crossing_edges, e);
+        if (it->second.vertices.empty() && it->second.crossing_edges.empty()) edge_content.erase(it);
+    }
+    path[e] = std::move(crossings);
+    ++path_version[e];
+    for (const Crossing& c : path[e]) edge_content[edge_key(c.a, c.b)].crossing_edges.push_back(e);
+}
+
+}  // namespace bpm::detail

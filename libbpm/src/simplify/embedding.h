@@ -1,0 +1,122 @@
+#pragma once
+// The original surface S0 embedded in the coarse surface S while simplifying: the
+// internal form of phi. It is the graph G of the paper (§2.2.3): every original
+// vertex has a location on S, and every original edge is a path on S that is a
+// straight segment inside each coarse triangle it passes, described by the points
+// where it crosses coarse edges. The per-triangle pieces of the file format are
+// derived from it (overlay.h).
+//
+// Locations never refer to triangle ids for points on edges or corners, so that a
+// vertex removal only touches what lies strictly inside the removed star.
+
+#include <cstdint>
+#include <utility>
+#include <vector>
+
+#include "bpm/geometry.h"
+#include "bpm/surface.h"
+#include "simplify/coarse_mesh.h"
+
+namespace bpm::detail {
+
+// A point of the coarse surface.
+struct SurfacePoint {
+    enum Kind : uint8_t { Corner, OnEdge, Inside };
+    Kind kind = Corner;
+    int32_t a = -1;  // Corner: the coarse vertex; OnEdge: smaller endpoint; Inside: coarse triangle
+    int32_t b = -1;  // OnEdge: larger endpoint
+    double s = 0.0;  // OnEdge: parameter from a to b, strictly inside (0,1)
+    Vec3 bary{};     // Inside: barycentric coordinates in triangle a (corner order of the triangle)
+
+    static SurfacePoint corner(int32_t v) { return {Corner, v, -1, 0.0, {}}; }
+    static SurfacePoint on_edge(int32_t x, int32_t y, double s_from_x) {
+        return x < y ? SurfacePoint{OnEdge, x, y, s_from_x, {}} : SurfacePoint{OnEdge, y, x, 1.0 - s_from_x, {}};
+    }
+    static SurfacePoint inside(int32_t t, const Vec3& b) { return {Inside, t, -1, 0.0, b}; }
+};
+
+// Where an original edge crosses a coarse edge.
+struct Crossing {
+    int32_t a, b;  // the coarse edge, a < b
+    double s;      // position on the coarse edge, from a to b, in (0,1)
+    double sigma;  // position on the original edge, from its smaller vertex to its larger, in (0,1)
+};
+
+// What lies on a coarse edge: original vertices on it and original edges crossing it.
+struct EdgeContent {
+    std::vector<int32_t> vertices;        // original vertices located OnEdge here
+    std::vector<int32_t> crossing_edges;  // original edge ids with a Crossing here (once per edge)
+};
+
+// Edge key -> EdgeContent, open addressing with linear probing and backward-shift
+// deletion. The planner looks coarse edges up several times per plan, millions of
+// times per run; std::unordered_map's prime-modulo buckets and separate nodes made
+// those lookups cost a few percent of the run time. Interface as far as it is used:
+// find() gives a pointer to the (key, content) pair, or end() (nullptr); pointers are
+// valid until the next operator[] or erase().
+class EdgeContentMap {
+public:
+    using value_type = std::pair<uint64_t, EdgeContent>;
+    value_type* find(uint64_t key) { return const_cast<value_type*>(std::as_const(*this).find(key)); }
+    const value_type* find(uint64_t key) const {
+        if (slots_.empty()) return nullptr;
+        const size_t mask = slots_.size() - 1;
+        for (size_t i = home(key);; i = (i + 1) & mask) {
+            if (slots_[i].first == key) return &slots_[i];
+            if (slots_[i].first == kEmpty) return nullptr;
+        }
+    }
+    const value_type* end() const { return nullptr; }
+    EdgeContent& operator[](uint64_t key);  // inserts an empty content if absent
+    void erase(const value_type* entry);
+    void clear() {
+        slots_.clear();
+        size_ = 0;
+        shift_ = 64;
+    }
+
+private:
+    static constexpr uint64_t kEmpty = ~uint64_t(0);  // no edge_key(): both halves are < 2^31
+    std::vector<value_type> slots_;  // power-of-two size, at most half full
+    size_t size_ = 0;
+    int shift_ = 64;  // 64 - log2(slots_.size())
+    size_t home(uint64_t key) const { return size_t((key * 0x9E3779B97F4A7C15ull) >> shift_); }
+    void rehash(size_t capacity);
+};
+
+struct Embedding {
+    const Surface* original = nullptr;
+    std::vector<std::array<int32_t, 2>> edges;  // original edges (u < w), sorted
+    std::vector<int32_t> vertex_edge_offsets;   // CSR: edges incident to each original vertex
+    std::vector<int32_t> vertex_edges;
+    std::vector<int32_t> edge_triangle_offsets; // CSR: original triangles incident to each edge
+    std::vector<int32_t> edge_triangles;
+
+    std::vector<SurfacePoint> location;          // per original vertex
+    std::vector<std::vector<Crossing>> path;     // per original edge, ordered from u to w
+    std::vector<uint32_t> path_version;          // per original edge, bumped by set_path
+    std::vector<std::vector<int32_t>> inside;    // per coarse triangle id: vertices located Inside
+    EdgeContentMap edge_content;
+
+    // Identity embedding: every original vertex at its own corner, no crossings.
+    void init_identity(const Surface& original_surface, int32_t triangle_capacity);
+
+    // Id of original edge (u,w), or -1.
+    int32_t find_edge(int32_t u, int32_t w) const;
+    // Original triangle containing edges e and f (which share a vertex), or -1.
+    int32_t triangle_of_edges(int32_t e, int32_t f) const;
+
+    // Full point sequence of edge e from its smaller vertex to its larger: the two
+    // locations with the crossings in between. sigma of the endpoints is 0 and 1.
+    void path_points(int32_t e, std::vector<SurfacePoint>& points, std::vector<double>& sigmas) const;
+
+    // Bookkeeping helpers used when a star is replaced.
+    void set_location(int32_t vertex, const SurfacePoint& p);   // maintains inside / edge_content lists
+    void clear_location(int32_t vertex);                          // removes from lists (location kept)
+    void set_path(int32_t e, std::vector<Crossing> crossings);   // maintains edge_content lists
+    void ensure_triangle_capacity(int32_t n) {
+        if (int32_t(inside.size()) < n) inside.resize(n);
+    }
+};
+
+}  // namespace bpm::detail

@@ -1,0 +1,127 @@
+#include "simplify/triangle_grid.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace bpm::detail {
+
+namespace {
+inline uint64_t cell_key(int64_t x, int64_t y, int64_t z) {
+    // 21 bits per axis, wrapped: collisions only cost extra candidates.
+    const uint64_t m = (1u << 21) - 1;
+    return (uint64_t(x) & m) | ((uint64_t(y) & m) << 21) | ((uint64_t(z) & m) << 42);
+}
+}  // namespace
+
+template <class F>
+void TriangleGrid::for_cells(const Vec3& lo, const Vec3& hi, F&& f) const {
+    int64_t a[3], b[3];
+    for (int k = 0; k < 3; ++k) {
+        a[k] = static_cast<int64_t>(std::floor(lo[k] / cell_));
+        b[k] = static_cast<int64_t>(std::floor(hi[k] / cell_));
+    }
+    for (int64_t x = a[0]; x <= b[0]; ++x)
+        for (int64_t y = a[1]; y <= b[1]; ++y)
+            for (int64_t z = a[2]; z <= b[2]; ++z) f(cell_key(x, y, z));
+}
+
+namespace {
+void box_of(const Vec3& a, const Vec3& b, const Vec3& c, Vec3& lo, Vec3& hi) {
+    for (int k = 0; k < 3; ++k) {
+        lo[k] = std::min({a[k], b[k], c[k]});
+        hi[k] = std::max({a[k], b[k], c[k]});
+    }
+}
+
+// Floats at most / at least x (doubles beyond the float range included: converting
+// those directly would be undefined behaviour).
+float float_below(double x) {
+    constexpr float kMax = std::numeric_limits<float>::max();
+    if (x >= double(kMax)) return kMax;
+    if (x < -double(kMax)) return -std::numeric_limits<float>::infinity();
+    float f = static_cast<float>(x);
+    if (double(f) > x) f = std::nextafter(f, -std::numeric_limits<float>::infinity());
+    return f;
+}
+float float_above(double x) { return -float_below(-x); }
+
+// The float box that contains the double box [lo, hi].
+TriangleGrid::Entry entry(int32_t id, const Vec3& lo, const Vec3& hi) {
+    TriangleGrid::Entry e{id, {}, {}};
+    for (int k = 0; k < 3; ++k) {
+        e.lo[k] = float_below(lo[k]);
+        e.hi[k] = float_above(hi[k]);
+    }
+    return e;
+}
+}  // namespace
+
+bool TriangleGrid::oversized(const Vec3& lo, const Vec3& hi) const {
+    double cells = 1.0;
+    for (int k = 0; k < 3; ++k) cells *= std::floor(hi[k] / cell_) - std::floor(lo[k] / cell_) + 1.0;
+    return cells > 512.0;
+}
+
+void TriangleGrid::insert(int32_t id, const Vec3& a, const Vec3& b, const Vec3& c) {
+    Vec3 lo, hi;
+    box_of(a, b, c, lo, hi);
+    // Triangles much larger than a cell are kept in one list that every query sees.
+    if (oversized(lo, hi)) {
+        big_.push_back(entry(id, lo, hi));
+        return;
+    }
+    const Entry e = entry(id, lo, hi);
+    for_cells(lo, hi, [&](uint64_t key) { cells_[key].push_back(e); });
+}
+
+void TriangleGrid::remove(int32_t id, const Vec3& a, const Vec3& b, const Vec3& c) {
+    Vec3 lo, hi;
+    box_of(a, b, c, lo, hi);
+    auto same_id = [id](const Entry& e) { return e.id == id; };
+    if (oversized(lo, hi)) {
+        auto pos = std::find_if(big_.begin(), big_.end(), same_id);
+        if (pos != big_.end()) big_.erase(pos);
+        return;
+    }
+    for_cells(lo, hi, [&](uint64_t key) {
+        auto it = cells_.find(key);
+        if (it == cells_.end()) return;
+        auto& list = it->second;
+        auto pos = std::find_if(list.begin(), list.end(), same_id);
+        if (pos != list.end()) {
+            *pos = list.back();
+            list.pop_back();
+        }
+        if (list.empty()) cells_.erase(it);
+    });
+}
+
+template <class F>
+void TriangleGrid::for_entries(const Vec3& lo, const Vec3& hi, F&& f) const {
+    for (const Entry& e : big_) f(e);
+    if (oversized(lo, hi)) {
+        // A huge query box: every registered triangle is a candidate.
+        for (const auto& cell : cells_)
+            for (const Entry& e : cell.second) f(e);
+    } else
+    for_cells(lo, hi, [&](uint64_t key) {
+        auto it = cells_.find(key);
+        if (it != cells_.end())
+            for (const Entry& e : it->second) f(e);
+    });
+}
+
+void TriangleGrid::query_boxes(const Vec3& lo, const Vec3& hi, std::vector<Entry>& out) const {
+    out.clear();
+    for_entries(lo, hi, [&](const Entry& e) {
+        for (int k = 0; k < 3; ++k)
+            if (e.hi[k] < lo[k] || e.lo[k] > hi[k]) return;
+        out.push_back(e);
+    });
+    std::sort(out.begin(), out.end(), [](const Entry& a, const Entry& b) { return a.id < b.id; });
+    out.erase(std::unique(out.begin(), out.end(), [](const Entry& a, const Entry& b) { return a.id == b.id; }),
+              out.end());
+}
+
+}  // namespace bpm::detail

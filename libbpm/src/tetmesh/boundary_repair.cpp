@@ -1,0 +1,284 @@
+// Boundary vertices towards phi with the §3.3 remedy, interior smoothing in between
+// (bpm/boundary_repair.h); also step 4 of refine_tetmesh (bpm/tet_refine.h).
+//
+// Reference: Krause & Sander §3.3 (the lambda remedy).
+
+#include "bpm/boundary_repair.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include "bpm/errors.h"
+#include "bpm/predicates.h"
+#include "tetmesh/boundary_repair_internal.h"
+#include "tetmesh/tetmesh_internal.h"
+
+namespace bpm {
+
+namespace {
+
+constexpr double kDegree = 3.14159265358979323846 / 180;
+
+bool is_negative(const std::vector<bool>& negative, size_t t) { return !negative.empty() && negative[t]; }
+
+double oriented_volume(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, bool negative) {
+    const double v = dot(b - a, cross(c - a, d - a));
+    return negative ? -v : v;
+}
+
+}  // namespace
+
+namespace detail {
+
+void check_repair_options(const BoundaryRepairOptions& options) {
+    if (options.bisection_steps < 1) throw OptionError("bisection_steps must be >= 1");
+    if (!(options.min_dihedral_degrees >= 0 && options.min_dihedral_degrees < 90))
+        throw OptionError("the remedy's minimum dihedral angle must be in [0, 90) degrees");
+    if (options.boundary_steps < 1) throw OptionError("boundary_steps must be >= 1");
+    if (options.retry_passes < 0) throw OptionError("retry_passes must be >= 0");
+    if (!(options.min_volume_fraction >= 0 && options.min_volume_fraction < 1))
+        throw OptionError("min_volume_fraction must be in [0, 1)");
+    if (options.smooth) check_smooth_options(options.smoothing);
+}
+
+double repair_boundary_vertices(std::vector<Vec3>& x, const std::vector<Tet>& tets, const std::vector<bool>& negative,
+                                const std::vector<Vec3>& reference, const std::vector<int32_t>& movers,
+                                const std::vector<char>& movable, RepairSegments& seg,
+                                const BoundaryRepairOptions& options, const Context& context, double progress_base,
+                                double progress_span, const std::string& stage) {
+    const size_t nv = x.size();
+    auto place = [&](int32_t v) {
+        const double w = seg.fraction[v];
+        x[v] = w == 1.0 ? seg.target[v] : (w == 0.0 ? seg.base[v] : (1 - w) * seg.base[v] + w * seg.target[v]);
+    };
+    auto positive = [&](size_t t) {
+        const Tet& T = tets[t];
+        const int o = orient3d(x[T[0]], x[T[1]], x[T[2]], x[T[3]]);
+        return is_negative(negative, t) ? o == -1 : o == 1;
+    };
+    std::vector<int32_t> mover_index(nv, -1);
+    for (size_t i = 0; i < movers.size(); ++i) mover_index[movers[i]] = static_cast<int32_t>(i);
+    // Tetrahedra around each mover (CSR).
+    std::vector<int64_t> offsets(movers.size() + 1, 0);
+    for (const Tet& t : tets)
+        for (int32_t v : t)
+            if (mover_index[v] >= 0) ++offsets[mover_index[v] + 1];
+    for (size_t i = 0; i < movers.size(); ++i) offsets[i + 1] += offsets[i];
+    std::vector<int32_t> incident(static_cast<size_t>(offsets.back()));
+    {
+        std::vector<int64_t> fill(offsets.begin(), offsets.end() - 1);
+        for (size_t t = 0; t < tets.size(); ++t)
+            for (int32_t v : tets[t])
+                if (mover_index[v] >= 0) incident[fill[mover_index[v]]++] = static_cast<int32_t>(t);
+    }
+    // Admissible: every tetrahedron around the vertex positively oriented (exact), and
+    // with at least min_volume_fraction of its reference volume, or no smaller than before
+    // the move; and with the smallest dihedral angle guard, or no worse than before.
+    const double fraction = options.min_volume_fraction;
+    auto volume = [&](size_t t, const std::vector<Vec3>& at) {
+        const Tet& T = tets[t];
+        return oriented_volume(at[T[0]], at[T[1]], at[T[2]], at[T[3]], is_negative(negative, t));
+    };
+    std::vector<double> before, before_angle;
+    // The angle bound as a pseudo-angle (min_dihedral_pseudo); -3 = none.
+    const double guard = options.min_dihedral_degrees > 0 ? pseudo_from_radians(options.min_dihedral_degrees * kDegree) : -3;
+    auto angle = [&](size_t t) {
+        Tet T = tets[t];
+        if (is_negative(negative, t)) std::swap(T[2], T[3]);
+        return min_dihedral_pseudo(x[T[0]], x[T[1]], x[T[2]], x[T[3]]);
+    };
+    auto admissible = [&](size_t i) {
+        for (int64_t k = offsets[i]; k < offsets[i + 1]; ++k) {
+            const size_t t = static_cast<size_t>(incident[k]);
+            if (!positive(t)) return false;
+            if (guard > -3) {
+                const double q = angle(t);
+                if (q < guard && q < before_angle[k - offsets[i]]) return false;
+            }
+            if (fraction <= 0) continue;
+            const double now = volume(t, x);
+            if (now < fraction * volume(t, reference) && now < before[k - offsets[i]]) return false;
+        }
+        return true;
+    };
+    // Moves mover i towards its target, up to fraction `goal`, as far as admissible
+    // (bisection); its tetrahedra are admissible where it is now, so it never goes back.
+    auto advance = [&](size_t i, double goal) {
+        const int32_t v = movers[i];
+        const double from = seg.fraction[v];
+        before.clear();
+        before_angle.clear();
+        for (int64_t k = offsets[i]; k < offsets[i + 1]; ++k) {
+            before.push_back(volume(incident[k], x));
+            if (guard > -3) before_angle.push_back(angle(incident[k]));
+        }
+        seg.fraction[v] = goal;
+        place(v);
+        if (admissible(i)) return true;
+        double lo = from, hi = goal;
+        for (int step = 0; step < options.bisection_steps; ++step) {
+            const double mid = 0.5 * (lo + hi);
+            seg.fraction[v] = mid;
+            place(v);
+            if (admissible(i)) lo = mid;
+            else hi = mid;
+        }
+        seg.fraction[v] = lo;
+        place(v);
+        return lo > from;
+    };
+
+    double smoothing_seconds = 0;
+    std::vector<char> dirty(nv, 1);  // see smooth_interior
+    auto smooth = [&](double from, double width) {
+        const TetSmoothResult r = smooth_interior(x, tets, negative, movable, &dirty, options.smoothing, context,
+                                                  progress_base + from * progress_span, width * progress_span);
+        smoothing_seconds += r.seconds;
+        context.debug("smoothing: " + std::to_string(r.visits) + " visits, " + std::to_string(r.moves) + " moves, " +
+                      std::to_string(r.moved_vertices) + " vertices, min dihedral " +
+                      std::to_string(r.min_dihedral_before_degrees) + " -> " +
+                      std::to_string(r.min_dihedral_after_degrees) + " degrees, " + std::to_string(r.seconds) + " s");
+    };
+    const int steps = options.boundary_steps;
+    const int passes = movers.empty() ? 0 : steps + options.retry_passes;
+    bool smoothed = false;
+    for (int pass = 1; pass <= passes; ++pass) {
+        const double goal = pass >= steps ? 1.0 : double(pass) / steps;
+        int64_t advanced = 0;
+        // After the first smoothing, only the surroundings of boundary vertices that move
+        // again are smoothed again (what moves there marks its own neighbours).
+        if (smoothed) std::fill(dirty.begin(), dirty.end(), 0);
+        for (size_t i = 0; i < movers.size(); ++i)
+            if (seg.fraction[movers[i]] < goal && advance(i, goal)) {
+                ++advanced;
+                for (int64_t k = offsets[i]; k < offsets[i + 1]; ++k)
+                    for (int32_t u : tets[incident[k]]) dirty[u] = 1;
+            }
+        if (pass > steps && advanced == 0) break;  // a retry that got no vertex closer
+        context.report(progress_base + progress_span * (pass - 1) / passes, stage);
+        if (options.smooth) {
+            smooth((pass - 0.5) / passes, 0.5 / passes);
+            smoothed = true;
+        }
+    }
+    if (options.smooth && !smoothed) smooth(0, 1);
+    return smoothing_seconds;
+}
+
+TetQuality tet_quality(const std::vector<Vec3>& x, const std::vector<Tet>& tets, const std::vector<bool>& negative) {
+    TetQuality q;
+    const double one = pseudo_from_radians(kDegree), five = pseudo_from_radians(5 * kDegree),
+                 ten = pseudo_from_radians(10 * kDegree);
+    double low = 2;
+    for (size_t t = 0; t < tets.size(); ++t) {
+        Tet T = tets[t];
+        if (is_negative(negative, t)) std::swap(T[2], T[3]);
+        const double a = min_dihedral_pseudo(x[T[0]], x[T[1]], x[T[2]], x[T[3]]);
+        low = std::min(low, a);
+        q.below_1_degree += a < one;
+        q.below_5_degrees += a < five;
+        q.below_10_degrees += a < ten;
+    }
+    q.min_dihedral_degrees = tets.empty() ? 0 : radians_from_pseudo(low) / kDegree;
+    return q;
+}
+
+}  // namespace detail
+
+BoundaryRepairResult repair_boundary(const PhiEvaluator& phi, std::vector<Vec3>& vertices,
+                                     const std::vector<Tet>& tetrahedra,
+                                     const std::vector<SurfacePoint>& parameter_points,
+                                     const BoundaryRepairOptions& options, const Context& context) {
+    using clock = std::chrono::steady_clock;
+    const auto start = clock::now();
+    detail::check_repair_options(options);
+    const size_t nv = vertices.size();
+    if (parameter_points.size() != nv)
+        throw std::invalid_argument("repair_boundary: " + std::to_string(parameter_points.size()) +
+                                    " parameter points for " + std::to_string(nv) + " vertices");
+    for (size_t v = 0; v < nv; ++v)
+        for (double c : vertices[v])
+            if (!std::isfinite(c)) throw std::invalid_argument("repair_boundary: vertex " + std::to_string(v) + " is not finite");
+    for (size_t t = 0; t < tetrahedra.size(); ++t)
+        for (int32_t v : tetrahedra[t])
+            if (v < 0 || size_t(v) >= nv)
+                throw std::invalid_argument("repair_boundary: tetrahedron " + std::to_string(t) + " has vertex " +
+                                            std::to_string(v) + ", outside [0, " + std::to_string(nv) + ")");
+    auto count_inverted = [&]() {
+        int64_t n = 0;
+        for (const Tet& t : tetrahedra) n += orient3d(vertices[t[0]], vertices[t[1]], vertices[t[2]], vertices[t[3]]) != 1;
+        return n;
+    };
+    BoundaryRepairResult result;
+    result.inverted_before = count_inverted();
+    context.report(0.0, "repair: phi of the boundary vertices");
+
+    // Targets: phi of the parameter points, in one batch.
+    std::vector<int32_t> boundary;
+    std::vector<int32_t> triangles;
+    std::vector<Vec3> barycentrics, targets;
+    for (size_t v = 0; v < nv; ++v)
+        if (parameter_points[v].valid()) {
+            boundary.push_back(static_cast<int32_t>(v));
+            triangles.push_back(parameter_points[v].triangle);
+            barycentrics.push_back(parameter_points[v].barycentric);
+        }
+    phi.evaluate_positions(triangles, barycentrics, targets, 1);
+    result.boundary_vertices = static_cast<int64_t>(boundary.size());
+
+    // Each boundary vertex not at phi starts at fraction 0 of the segment from where it is.
+    detail::RepairSegments seg;
+    seg.base.assign(nv, Vec3{0, 0, 0});
+    seg.target.assign(nv, Vec3{0, 0, 0});
+    seg.fraction.assign(nv, 1.0);
+    std::vector<int32_t> movers;
+    for (size_t i = 0; i < boundary.size(); ++i) {
+        const int32_t v = boundary[i];
+        seg.base[v] = vertices[v];
+        // A corner of the coarse triangle is a coarse vertex, an original vertex that phi
+        // maps to itself; the evaluator's value there can differ from it by rounding (it
+        // interpolates inside a piece), so the vertex keeps its position, as in refine_tetmesh.
+        const Vec3& b = parameter_points[v].barycentric;
+        seg.target[v] = b[0] == 1 || b[1] == 1 || b[2] == 1 ? vertices[v] : targets[i];
+        if (vertices[v] == seg.target[v]) {
+            ++result.at_phi_before;
+        } else {
+            seg.fraction[v] = 0;
+            movers.push_back(v);
+        }
+    }
+    std::vector<char> movable(nv, 0);
+    for (size_t v = 0; v < nv; ++v) movable[v] = !parameter_points[v].valid();
+    const std::vector<Vec3> reference = vertices;
+    const std::vector<bool> all_positive;  // the mesh's own orientation: positive
+    result.smoothing_seconds =
+        detail::repair_boundary_vertices(vertices, tetrahedra, all_positive, reference, movers, movable, seg, options,
+                                         context, 0.05, 0.9, "repair: boundary vertices towards phi");
+
+    for (int32_t v : movers) {
+        if (vertices[v] == seg.target[v]) continue;
+        ++result.held_back;
+        result.not_moved += seg.fraction[v] == 0;
+        result.max_distance = std::max(result.max_distance, distance(vertices[v], seg.target[v]));
+        result.min_phi_fraction = std::min(result.min_phi_fraction, seg.fraction[v]);
+    }
+    result.at_phi = result.boundary_vertices - result.held_back;
+    for (size_t v = 0; v < nv; ++v) result.smoothed_vertices += movable[v] && vertices[v] != reference[v];
+    if (nv > 0) {
+        Vec3 lo = vertices[0], hi = vertices[0];
+        for (const Vec3& p : vertices)
+            for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], p[k]), hi[k] = std::max(hi[k], p[k]);
+        const double diagonal = distance(lo, hi);
+        result.max_distance_relative = diagonal > 0 ? result.max_distance / diagonal : 0;
+    }
+    result.min_dihedral_degrees = detail::tet_quality(vertices, tetrahedra, all_positive).min_dihedral_degrees;
+    result.inverted_after = count_inverted();
+    result.seconds = std::chrono::duration<double>(clock::now() - start).count();
+    context.report(1.0, "repair done");
+    return result;
+}
+
+}  // namespace bpm
