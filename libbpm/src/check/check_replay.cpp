@@ -560,7 +560,9 @@ CheckResult check_replay(const BpmFile& file, const CheckOptions& options, const
     r.name = "replay";
     const Parametrization& p = file.param;
     if (!file.simplification_steps) {
-        detail::refuse(r, "the file has no recorded simplification steps (write it with bpm-simplify --record-steps)");
+        // (What records them is the caller's to name: SimplifyOptions::record_steps, a
+        // tool's flag.)
+        detail::refuse(r, "the file has no recorded simplification steps");
         return r;
     }
     if (auto why = detail::parametrization_unsafe(p)) {
