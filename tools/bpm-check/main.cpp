@@ -31,6 +31,24 @@ bpm::BpmFile read_bpm_or_hint(const std::string& input) {
     }
 }
 
+// The library reports in its own terms (CheckOptions fields, what a file lacks); the
+// flags that set or fix them are ours to name, as they were before the library dropped them.
+void name_flags(bpm::CheckReport& report, bool replay_without_steps) {
+    for (bpm::CheckResult& r : report.checks) {
+        if (r.name == "distance")
+            for (bpm::CheckProblem& pr : r.problems) {
+                const std::string field = "the limit max_error = ";
+                const size_t at = pr.message.find(field);
+                if (at != std::string::npos) pr.message.replace(at, field.size(), "--max-error ");
+            }
+        if (r.name == "replay" && replay_without_steps) {
+            const std::string hint = " (write it with bpm-simplify --record-steps)";
+            r.summary += hint;
+            for (bpm::CheckProblem& pr : r.problems) pr.message += hint;
+        }
+    }
+}
+
 int main(int argc, char** argv) {
     const std::string tool = "bpm-check";
     CLI::App app{
@@ -197,6 +215,7 @@ int main(int argc, char** argv) {
             const bpm::CheckResult* format_check = report.find("format");
             if (want_distance && !report.find("distance") && format_check && format_check->passed)
                 add_in_order(report, bpm::check_distance(file.param, options, context));
+            name_flags(report, sel.replay && !file.simplification_steps);
         }
         report.input = input;
         std::cout << (json ? bpm::check_report_to_json(report) : bpm::check_report_to_text(report)) << std::flush;

@@ -5,7 +5,8 @@
 // triangles (CSR), components are found through shared edges, and the non-manifold
 // structure (feature edges, feature vertices, feature lines with their number of
 // sheets) is derived combinatorially, following Definition 2.4 and §2.4 of
-// Krause & Sander (paper/boundary-parametrization.md).
+// Krause & Sander, "Automatic construction of boundary parametrizations for geometric
+// multigrid solvers" (the method of this library, see README.md).
 //
 // Used by the checker to compare a coarse surface with the original one: point
 // removal keeps vertices, so feature vertices of the coarse surface are original

@@ -549,13 +549,13 @@ CheckResult check_distance(const Parametrization& p, const CheckOptions& options
             r.add_problem({image.ids, "phi's image is " + format_number(image.value) +
                                           " of the diagonal away from S0 (" +
                                           (img_to.value >= img_from.value ? "image -> S0" : "S0 -> image") +
-                                          "), more than --max-error " + format_number(limit)},
+                                          "), more than the limit max_error = " + format_number(limit)},
                           options.max_problems);
         if (!(coarse.value <= limit))
             r.add_problem({coarse.ids, "the coarse surface is " + format_number(coarse.value) +
                                            " of the diagonal away from S0 (" +
                                            (s_to.value >= s_from.value ? "S -> S0" : "S0 -> S") +
-                                           "), more than --max-error " + format_number(limit) +
+                                           "), more than the limit max_error = " + format_number(limit) +
                                            " (exact bound of S -> S0: max |phi(x) - x| = " +
                                            format_number(bound.value) + ")"},
                           options.max_problems);

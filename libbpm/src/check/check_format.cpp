@@ -10,6 +10,7 @@
 #include "bpm/check.h"
 #include "bpm/phi_triangle.h"
 #include "check/check_internal.h"
+#include "core/edge_key.h"
 #include "phi/phi_layout.h"
 
 namespace bpm {
@@ -104,10 +105,7 @@ bool structure(const Parametrization& p, const Sink& sink) {
     });
 }
 
-inline uint64_t edge_key(int32_t a, int32_t b) {
-    if (a > b) std::swap(a, b);
-    return (static_cast<uint64_t>(static_cast<uint32_t>(a)) << 32) | static_cast<uint32_t>(b);
-}
+using detail::edge_key;
 
 }  // namespace
 

@@ -58,6 +58,7 @@
 #include "bpm/check.h"
 #include "bpm/surface_topology.h"
 #include "check/check_internal.h"
+#include "core/edge_key.h"
 
 namespace bpm {
 
@@ -65,19 +66,16 @@ namespace {
 
 using Ids = std::vector<std::pair<std::string, int64_t>>;
 
-inline uint64_t edge_key(int32_t a, int32_t b) {
-    if (a > b) std::swap(a, b);
-    return (uint64_t(uint32_t(a)) << 32) | uint32_t(b);
-}
-inline int32_t key_lo(uint64_t k) { return static_cast<int32_t>(k >> 32); }
-inline int32_t key_hi(uint64_t k) { return static_cast<int32_t>(k & 0xffffffffu); }
+using detail::edge_key;
+using detail::edge_key_first;
+using detail::edge_key_second;
 
 inline bool contains(const Tri& t, int32_t v) { return t[0] == v || t[1] == v || t[2] == v; }
 
 std::string tri_text(const Tri& t) {
     return "(" + std::to_string(t[0]) + ", " + std::to_string(t[1]) + ", " + std::to_string(t[2]) + ")";
 }
-std::string edge_text(uint64_t k) { return "(" + std::to_string(key_lo(k)) + ", " + std::to_string(key_hi(k)) + ")"; }
+std::string edge_text(uint64_t k) { return "(" + std::to_string(edge_key_first(k)) + ", " + std::to_string(edge_key_second(k)) + ")"; }
 
 // The connectivity being replayed: triangles over original vertex ids with their patch
 // and the original component they descend from, and the alive triangles of every vertex.
@@ -398,8 +396,8 @@ void Replayer::check(int64_t s, StepCheck& c) {
     {
         std::vector<int32_t> link_vertices;
         for (uint64_t k : link_edges) {
-            link_vertices.push_back(key_lo(k));
-            link_vertices.push_back(key_hi(k));
+            link_vertices.push_back(edge_key_first(k));
+            link_vertices.push_back(edge_key_second(k));
         }
         std::sort(link_vertices.begin(), link_vertices.end());
         for (int64_t j = first; j < last && corners_ok; ++j)
@@ -420,7 +418,7 @@ void Replayer::check(int64_t s, StepCheck& c) {
         const int64_t count = static_cast<int64_t>(j - i);
         const bool link_edge = std::binary_search(link_edges.begin(), link_edges.end(), k);
         if (!link_edge) {
-            if (mesh_.has_edge(key_lo(k), key_hi(k)))
+            if (mesh_.has_edge(edge_key_first(k), edge_key_second(k)))
                 c.local.push_back("new edge " + edge_text(k) + " is already an edge of the surface (local condition "
                                   "of Conjecture 2.1)");
             else
@@ -562,7 +560,9 @@ CheckResult check_replay(const BpmFile& file, const CheckOptions& options, const
     r.name = "replay";
     const Parametrization& p = file.param;
     if (!file.simplification_steps) {
-        detail::refuse(r, "the file has no recorded simplification steps (write it with bpm-simplify --record-steps)");
+        // (What records them is the caller's to name: SimplifyOptions::record_steps, a
+        // tool's flag.)
+        detail::refuse(r, "the file has no recorded simplification steps");
         return r;
     }
     if (auto why = detail::parametrization_unsafe(p)) {

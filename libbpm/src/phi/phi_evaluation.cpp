@@ -33,8 +33,8 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
-#include <thread>
 
+#include "phi/grouped_queries.h"
 #include "phi/phi_corner_code.h"
 
 namespace bpm {
@@ -42,16 +42,6 @@ namespace bpm {
 namespace {
 
 using detail::Mat3;
-
-// Asks for the cache line holding `address` (for writing if `write`); a hint only.
-template <bool write>
-inline void prefetch_line(const void* address) {
-#if defined(__GNUC__) || defined(__clang__)
-    __builtin_prefetch(address, write ? 1 : 0, 3);
-#else
-    (void)address;
-#endif
-}
 
 // Does the closed triangle (a, b, c) in the (b1, b2) plane come within `tol` of the box
 // [x0, x1] x [y0, y1]? Separating axis test with the triangle's edge normals; the box
@@ -318,82 +308,34 @@ struct PointQueries {
 };
 
 // Runs `eval(t, b, i)` for every query i (coarse triangle t, barycentrics b), see
-// PhiEvaluator::evaluate. Queries are processed in chunks; within a chunk they are
-// visited grouped by coarse triangle (a counting sort of the query indices), so that
-// each triangle's grid and piece data are loaded into the cache once per chunk instead
-// of once per query: in random order, evaluation is bound by memory latency. A chunk
+// PhiEvaluator::evaluate, grouped by coarse triangle (phi/grouped_queries.h). A chunk
 // holds 2^20 queries (at least 48 per coarse triangle): on armadillo at 10% (5196
 // coarse triangles) 2^20 was faster than 2^18 (too little reuse) and than 2^22 (its
-// scattered output no longer stays in the cache); rechecked after the changes below
-// (2^16 to 2^22 on armadillo, 2^16 to 2^20 on femur at 10%, shared machine, noisy):
-// 2^20 still as fast as any. Chunks are
-// independent, so threads take whole chunks. Each query is evaluated independently of
-// the others, so neither the order nor the thread count changes any result.
-//
-// In grouped order the queries are read from and their results written to scattered
-// places; every such access misses the cache. The input of the query a few places ahead
-// in the visiting order is prefetched, and `prefetch(i)` is called for it, so that its
+// scattered output no longer stays in the cache); rechecked after the changes in the
+// file comment (2^16 to 2^22 on armadillo, 2^16 to 2^20 on femur at 10%, shared
+// machine, noisy): 2^20 still as fast as any. `prefetch(i)` is called for the query a few
+// places ahead in the visiting order, after its input has been prefetched, so that its
 // output line is in the cache when its result is stored (otherwise the stores pile up in
 // the store buffer and stall the loop).
 //
-// `Queries` is ParallelQueries or PointQueries below (the two ways the API takes queries).
+// `Queries` is ParallelQueries or PointQueries above (the two ways the API takes queries).
 template <class Queries, class Eval, class Prefetch>
 void for_each_query_grouped(const Queries& queries, size_t nt, int threads, const Eval& eval,
                             const Prefetch& prefetch) {
     if (threads < 0) throw std::invalid_argument("PhiEvaluator::evaluate: threads must be >= 0");
-    if (threads == 0) threads = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
     const size_t n = queries.size();
     for (size_t i = 0; i < n; ++i) {
         const int32_t t = queries.triangle(i);
         if (t < 0 || static_cast<size_t>(t) >= nt)
             throw std::out_of_range("PhiEvaluator::evaluate: coarse triangle index out of range");
     }
-    const size_t chunk = std::min(n, std::max<size_t>(size_t(1) << 20, 48 * nt));
-    const size_t chunks = chunk == 0 ? 0 : (n + chunk - 1) / chunk;
-    threads = static_cast<int>(std::min<size_t>(static_cast<size_t>(threads), std::max<size_t>(1, chunks)));
-    const bool group = n >= 1024 && chunk >= 4 * nt;
-    const auto work = [&](size_t first_chunk, size_t step) {
-        std::vector<uint32_t> start;
-        std::vector<uint32_t> sorted;  // query indices within the chunk, grouped by triangle
-        for (size_t c = first_chunk; c < chunks; c += step) {
-            const size_t begin = c * chunk, end = std::min(n, begin + chunk);
-            if (!group) {
-                for (size_t i = begin; i < end; ++i) eval(queries.triangle(i), queries.barycentric(i), i);
-                continue;
-            }
-            start.assign(nt + 1, 0);
-            for (size_t i = begin; i < end; ++i) ++start[static_cast<size_t>(queries.triangle(i)) + 1];
-            for (size_t t = 0; t < nt; ++t) start[t + 1] += start[t];
-            sorted.resize(end - begin);
-            for (size_t i = begin; i < end; ++i)
-                sorted[start[static_cast<size_t>(queries.triangle(i))]++] = static_cast<uint32_t>(i - begin);
-            // start[t] is now the end of triangle t's queries.
-            constexpr size_t ahead = 16;
-            const size_t m = end - begin;
-            const auto fetch = [&](size_t i) {
-                const char* a = reinterpret_cast<const char*>(&queries.barycentric(i));
-                prefetch_line<false>(a);
-                prefetch_line<false>(a + sizeof(Vec3) - 1);
-                prefetch(i);
-            };
-            for (size_t k = 0; k < std::min(ahead, m); ++k) fetch(begin + sorted[k]);
-            size_t k = 0;
-            for (size_t t = 0; t < nt; ++t)
-                for (; k < start[t]; ++k) {
-                    if (k + ahead < m) fetch(begin + sorted[k + ahead]);
-                    const size_t i = begin + sorted[k];
-                    eval(static_cast<int32_t>(t), queries.barycentric(i), i);
-                }
-        }
-    };
-    if (threads == 1) {
-        work(0, 1);
-        return;
-    }
-    std::vector<std::thread> pool;
-    for (int k = 1; k < threads; ++k) pool.emplace_back(work, size_t(k), size_t(threads));
-    work(0, size_t(threads));
-    for (std::thread& th : pool) th.join();
+    detail::for_each_grouped(
+        n, nt, 48, threads, [&](size_t i) { return static_cast<size_t>(queries.triangle(i)); },
+        [&](size_t t, size_t i) { eval(static_cast<int32_t>(t), queries.barycentric(i), i); },
+        [&](size_t i) {
+            detail::prefetch_object<false>(&queries.barycentric(i));
+            prefetch(i);
+        });
 }
 
 }  // namespace
@@ -407,12 +349,8 @@ void evaluate_samples(const Impl& impl, const Queries& queries, std::vector<PhiS
     out.resize(queries.size());
     for_each_query_grouped(queries, static_cast<size_t>(impl.p.num_coarse_triangles()), threads,
                            [&](int32_t t, const Vec3& b, size_t i) { out[i] = impl.evaluate(t, b); },
-                           [&](size_t i) {
-                               // A PhiSample (80 bytes) may straddle two cache lines.
-                               const char* a = reinterpret_cast<const char*>(out.data() + i);
-                               prefetch_line<true>(a);
-                               prefetch_line<true>(a + sizeof(PhiSample) - 1);
-                           });
+                           // A PhiSample (80 bytes) may straddle two cache lines.
+                           [&](size_t i) { detail::prefetch_object<true>(out.data() + i); });
 }
 
 template <class Impl, class Queries>
@@ -421,11 +359,7 @@ void evaluate_positions_of(const Impl& impl, const Queries& queries, std::vector
     positions.resize(queries.size());
     for_each_query_grouped(queries, static_cast<size_t>(impl.p.num_coarse_triangles()), threads,
                            [&](int32_t t, const Vec3& b, size_t i) { positions[i] = impl.position(t, b); },
-                           [&](size_t i) {
-                               const char* a = reinterpret_cast<const char*>(positions.data() + i);
-                               prefetch_line<true>(a);
-                               prefetch_line<true>(a + sizeof(Vec3) - 1);
-                           });
+                           [&](size_t i) { detail::prefetch_object<true>(positions.data() + i); });
 }
 
 }  // namespace

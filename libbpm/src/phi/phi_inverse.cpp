@@ -44,8 +44,8 @@
 #include <limits>
 #include <stdexcept>
 #include <string>
-#include <thread>
 
+#include "phi/grouped_queries.h"
 #include "phi/phi_corner_code.h"
 
 namespace bpm {
@@ -108,70 +108,6 @@ struct InversePiece {
 };
 
 namespace {
-
-// Asks for the cache line holding `address` (for writing if `write`); a hint only.
-template <bool write>
-inline void prefetch_line(const void* address) {
-#if defined(__GNUC__) || defined(__clang__)
-    __builtin_prefetch(address, write ? 1 : 0, 3);
-#else
-    (void)address;
-#endif
-}
-
-// The query's input, which in grouped order is read from a scattered place (perf: the
-// load of the query position was the hot instruction before this).
-template <class T>
-inline void prefetch_input(const T* query) {
-    prefetch_line<false>(query);
-    prefetch_line<false>(reinterpret_cast<const char*>(query) + sizeof(T) - 1);
-}
-
-// Runs eval(i) for every query i in [0, n), on `threads` threads; see the file comment.
-// key(i) < nkeys groups the queries of a chunk; prefetch(i) is called a few queries
-// ahead of eval(i) in the visiting order.
-template <class Key, class Eval, class Prefetch>
-void for_each_grouped(size_t n, size_t nkeys, int threads, const Key& key, const Eval& eval,
-                      const Prefetch& prefetch) {
-    if (threads == 0) threads = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
-    const size_t chunk = std::min(n, std::max<size_t>(size_t(1) << 20, 16 * nkeys));
-    const size_t chunks = chunk == 0 ? 0 : (n + chunk - 1) / chunk;
-    threads = static_cast<int>(std::min<size_t>(static_cast<size_t>(threads), std::max<size_t>(1, chunks)));
-    const bool group = n >= 1024 && chunk >= 4 * nkeys;
-    const auto work = [&](size_t first_chunk, size_t step) {
-        std::vector<uint32_t> start, sorted, keys;
-        for (size_t c = first_chunk; c < chunks; c += step) {
-            const size_t begin = c * chunk, end = std::min(n, begin + chunk), m = end - begin;
-            if (!group) {
-                for (size_t i = begin; i < end; ++i) eval(i);
-                continue;
-            }
-            keys.resize(m);
-            start.assign(nkeys + 1, 0);
-            for (size_t i = 0; i < m; ++i) {
-                keys[i] = static_cast<uint32_t>(key(begin + i));
-                ++start[keys[i] + 1];
-            }
-            for (size_t k = 0; k < nkeys; ++k) start[k + 1] += start[k];
-            sorted.resize(m);
-            for (size_t i = 0; i < m; ++i) sorted[start[keys[i]]++] = static_cast<uint32_t>(i);
-            constexpr size_t ahead = 16;
-            for (size_t k = 0; k < std::min(ahead, m); ++k) prefetch(begin + sorted[k]);
-            for (size_t k = 0; k < m; ++k) {
-                if (k + ahead < m) prefetch(begin + sorted[k + ahead]);
-                eval(begin + sorted[k]);
-            }
-        }
-    };
-    if (threads == 1) {
-        work(0, 1);
-        return;
-    }
-    std::vector<std::thread> pool;
-    for (int k = 1; k < threads; ++k) pool.emplace_back(work, size_t(k), size_t(threads));
-    work(0, size_t(threads));
-    for (std::thread& th : pool) th.join();
-}
 
 constexpr int kBlock = 4;  // cells per block side
 constexpr int kBlockCells = kBlock * kBlock * kBlock;
@@ -620,41 +556,52 @@ PhiInverseSample PhiInverse::from_position(const Vec3& position) const {
     return s;
 }
 
+namespace {
+
+// The batched calls (see the file comment): the argument checks of `call`, then
+// eval(i) for every query in grouped order (key(i) < nkeys), with the query's input and
+// output prefetched ahead. Returns whether some eval(i) returned false.
+template <class Query, class Result, class Check, class Key, class Eval>
+bool run_batch(const char* call, const std::vector<Query>& queries, std::vector<Result>& out, int threads,
+               const Check& check, size_t nkeys, const Key& key, const Eval& eval) {
+    if (threads < 0) throw std::invalid_argument(std::string("PhiInverse::") + call + ": threads must be >= 0");
+    for (const Query& q : queries) check(q);
+    out.resize(queries.size());
+    std::atomic<bool> failed{false};
+    detail::for_each_grouped(
+        queries.size(), nkeys, 16, threads, key,
+        [&](size_t, size_t i) {
+            if (!eval(i)) failed.store(true, std::memory_order_relaxed);
+        },
+        [&](size_t i) {
+            detail::prefetch_object<false>(&queries[i]);
+            detail::prefetch_object<true>(&out[i]);
+        });
+    return failed;
+}
+
+}  // namespace
+
 void PhiInverse::from_original(const std::vector<OriginalPoint>& points, std::vector<SurfacePoint>& out,
                                int threads) const {
-    if (threads < 0) throw std::invalid_argument("PhiInverse::from_original: threads must be >= 0");
-    for (const OriginalPoint& x : points) impl_->check_original(x);
-    out.resize(points.size());
     const Impl& impl = *impl_;
-    for_each_grouped(
-        points.size(), static_cast<size_t>(impl.p.original.num_triangles() / kTriangleGroup + 1), threads,
+    run_batch(
+        "from_original", points, out, threads, [&](const OriginalPoint& x) { impl.check_original(x); },
+        static_cast<size_t>(impl.p.original.num_triangles() / kTriangleGroup + 1),
         [&](size_t i) { return static_cast<size_t>(impl.rank[static_cast<size_t>(points[i].triangle)] / kTriangleGroup); },
-        [&](size_t i) { out[i] = impl.from_original(points[i]); },
         [&](size_t i) {
-            prefetch_input(&points[i]);
-            prefetch_line<true>(&out[i]);
-            prefetch_line<true>(reinterpret_cast<const char*>(&out[i]) + sizeof(SurfacePoint) - 1);
+            out[i] = impl.from_original(points[i]);
+            return true;
         });
 }
 
 void PhiInverse::from_position(const std::vector<Vec3>& positions, std::vector<PhiInverseSample>& out,
                                int threads) const {
-    if (threads < 0) throw std::invalid_argument("PhiInverse::from_position: threads must be >= 0");
-    for (const Vec3& y : positions) impl_->check_position(y);
-    out.resize(positions.size());
     const Impl& impl = *impl_;
-    std::atomic<bool> failed{false};
-    for_each_grouped(
-        positions.size(), impl.block_id.size(), threads, [&](size_t i) { return impl.block_of_position(positions[i]); },
-        [&](size_t i) {
-            if (!impl.sample(positions[i], out[i])) failed.store(true, std::memory_order_relaxed);
-        },
-        [&](size_t i) {
-            prefetch_input(&positions[i]);
-            const char* a = reinterpret_cast<const char*>(&out[i]);
-            prefetch_line<true>(a);
-            prefetch_line<true>(a + sizeof(PhiInverseSample) - 1);
-        });
+    const bool failed = run_batch(
+        "from_position", positions, out, threads, [&](const Vec3& y) { impl.check_position(y); },
+        impl.block_id.size(), [&](size_t i) { return impl.block_of_position(positions[i]); },
+        [&](size_t i) { return impl.sample(positions[i], out[i]); });
     if (failed)
         for (const PhiInverseSample& s : out)  // the first failure in query order
             if (!s.point.valid()) Impl::no_pieces("from_position", s.original.triangle);
@@ -662,21 +609,13 @@ void PhiInverse::from_position(const std::vector<Vec3>& positions, std::vector<P
 
 void PhiInverse::from_position(const std::vector<Vec3>& positions, std::vector<SurfacePoint>& out,
                                int threads) const {
-    if (threads < 0) throw std::invalid_argument("PhiInverse::from_position: threads must be >= 0");
-    for (const Vec3& y : positions) impl_->check_position(y);
-    out.resize(positions.size());
     const Impl& impl = *impl_;
-    std::atomic<bool> failed{false};
-    for_each_grouped(
-        positions.size(), impl.block_id.size(), threads, [&](size_t i) { return impl.block_of_position(positions[i]); },
+    const bool failed = run_batch(
+        "from_position", positions, out, threads, [&](const Vec3& y) { impl.check_position(y); },
+        impl.block_id.size(), [&](size_t i) { return impl.block_of_position(positions[i]); },
         [&](size_t i) {
             out[i] = impl.point(positions[i]);
-            if (!out[i].valid()) failed.store(true, std::memory_order_relaxed);
-        },
-        [&](size_t i) {
-            prefetch_input(&positions[i]);
-            prefetch_line<true>(&out[i]);
-            prefetch_line<true>(reinterpret_cast<const char*>(&out[i]) + sizeof(SurfacePoint) - 1);
+            return out[i].valid();
         });
     if (failed)
         for (size_t i = 0; i < out.size(); ++i)  // the first failure in query order

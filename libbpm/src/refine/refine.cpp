@@ -26,10 +26,13 @@
 #include "bpm/check.h"
 #include "bpm/errors.h"
 #include "bpm/phi_evaluation.h"
+#include "core/edge_key.h"
 
 namespace bpm {
 
 namespace {
+
+using detail::edge_key;
 
 struct RTri {
     int32_t coarse;
@@ -38,11 +41,6 @@ struct RTri {
     int32_t level;
     double error = -1;  // sampled deviation, -1 = not yet computed
 };
-
-inline uint64_t edge_key(int32_t a, int32_t b) {
-    if (a > b) std::swap(a, b);
-    return (uint64_t(uint32_t(a)) << 32) | uint64_t(uint32_t(b));
-}
 
 inline Vec3 mid(const Vec3& a, const Vec3& b) { return {0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1]), 0.5 * (a[2] + b[2])}; }
 

@@ -37,35 +37,23 @@
 #include <unordered_map>
 
 #include "bpm/errors.h"
-#include "bpm/phi_triangle.h"
 #include "bpm/predicates.h"
 #include "bpm/refine.h"
+#include "core/barycentric_orientation.h"
+#include "core/convex_ear_clipping.h"
+#include "core/edge_key.h"
+#include "phi/phi_triangle_data.h"
 
 namespace bpm {
 
 namespace {
 
-int orient_bary(const Vec3& p, const Vec3& q, const Vec3& x) {
-    static const int sign = orient3d({0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1});
-    return sign * orient3d({0, 0, 0}, p, q, x);
-}
+using detail::PhiTriangleData;
+using detail::orient_barycentric;
 
 double tri_area_b(const Vec3& a, const Vec3& b, const Vec3& c) {  // signed, (b1, b2) plane
     return 0.5 * ((b[1] - a[1]) * (c[2] - a[2]) - (b[2] - a[2]) * (c[1] - a[1]));
 }
-
-// phi of one coarse triangle, editable: relax() builds new node and piece lists for
-// the two triangles of a pair and swaps them in, which the read view PhiTriangle
-// (phi_triangle.h) cannot do. Loaded through that view, stored by write_back().
-struct TriPhi {
-    std::vector<Vec3> b, image;
-    std::vector<NodeKind> kind;
-    std::vector<int32_t> ov;
-    std::vector<std::array<int32_t, 2>> edge;
-    std::vector<double> s;
-    std::vector<Tri> pieces;
-    std::vector<int32_t> piece_tri;
-};
 
 // Smallest barycentric distance of a moved node from a coarse edge or another node on E.
 constexpr double kMinGap = 1e-10;
@@ -79,11 +67,11 @@ constexpr double kCornerGap = 1e-2;
 
 using NodeId = std::array<int64_t, 3>;  // {-1, v, 0} for a vertex, {u, w, bits(s)} for a crossing
 
-NodeId node_id(const TriPhi& t, size_t i) {
-    if (t.kind[i] != NodeKind::EdgeCrossing) return {-1, t.ov[i], 0};
+NodeId node_id(const PhiTriangleData& t, size_t i) {
+    if (t.kind[i] != NodeKind::EdgeCrossing) return {-1, t.original_vertex[i], 0};
     int64_t bits;
-    std::memcpy(&bits, &t.s[i], sizeof bits);
-    return {t.edge[i][0], t.edge[i][1], bits};
+    std::memcpy(&bits, &t.edge_parameter[i], sizeof bits);
+    return {t.original_edge[i][0], t.original_edge[i][1], bits};
 }
 
 struct QNode {
@@ -193,41 +181,28 @@ bool star_weights(const std::vector<StarWedge>& wedges, SmoothWeights mode, std:
     return true;
 }
 
-class Smoother {
+// Smoothing of phi by relaxing every pair of coarse triangles across their shared edge
+// (see the file comment); the tet-mesh smoother is tetmesh/tetmesh_smooth.cpp.
+class ParametrizationSmoother {
 public:
-    Smoother(Parametrization& p, const SmoothOptions& o) : p_(p), o_(o) {
+    ParametrizationSmoother(Parametrization& p, const SmoothOptions& o) : p_(p), o_(o) {
         const int32_t nt = p.coarse.num_triangles();
         tris_.resize(size_t(nt));
-        for (int32_t t = 0; t < nt; ++t) {
-            TriPhi& x = tris_[size_t(t)];
-            const PhiTriangle phi(p, t);
-            for (int64_t i = 0; i < phi.num_nodes(); ++i) {
-                x.b.push_back(phi.barycentric(i));
-                x.image.push_back(phi.image(i));
-                x.kind.push_back(phi.kind(i));
-                x.ov.push_back(phi.original_vertex(i));
-                x.edge.push_back(phi.original_edge(i));
-                x.s.push_back(phi.edge_parameter(i));
-            }
-            for (int64_t j = 0; j < phi.num_pieces(); ++j) {
-                x.pieces.push_back(phi.piece(j));
-                x.piece_tri.push_back(phi.original_triangle(j));
-            }
-        }
+        for (int32_t t = 0; t < nt; ++t) tris_[size_t(t)] = detail::load_phi_triangle(p, t);
         // Original edges -> triangles, vertex -> triangles.
         vertex_tris_.resize(p.original.vertices.size());
         for (int32_t t = 0; t < p.original.num_triangles(); ++t) {
             const Tri& tri = p.original.triangles[size_t(t)];
             for (int k = 0; k < 3; ++k) {
                 vertex_tris_[size_t(tri[size_t(k)])].push_back(t);
-                original_edges_[key(tri[size_t(k)], tri[size_t((k + 1) % 3)])].push_back(t);
+                original_edges_[detail::edge_key(tri[size_t(k)], tri[size_t((k + 1) % 3)])].push_back(t);
             }
         }
         // Coarse edges with exactly two triangles.
         std::map<uint64_t, std::vector<std::pair<int32_t, int>>> ce;
         for (int32_t t = 0; t < nt; ++t) {
             const Tri& tri = p.coarse.triangles[size_t(t)];
-            for (int k = 0; k < 3; ++k) ce[key(tri[size_t(k)], tri[size_t((k + 1) % 3)])].push_back({t, k});
+            for (int k = 0; k < 3; ++k) ce[detail::edge_key(tri[size_t(k)], tri[size_t((k + 1) % 3)])].push_back({t, k});
         }
         for (auto& [k, list] : ce) {
             if (list.size() != 2) {
@@ -245,11 +220,6 @@ public:
             // A patch border is a feature line of S0: its pair may only slide along it.
             pairs_.push_back({ta, ka, tb, kb, p.coarse.patches[size_t(ta)] != p.coarse.patches[size_t(tb)]});
         }
-    }
-
-    static uint64_t key(int32_t a, int32_t b) {
-        if (a > b) std::swap(a, b);
-        return (uint64_t(uint32_t(a)) << 32) | uint64_t(uint32_t(b));
     }
 
     struct Pair {
@@ -300,7 +270,7 @@ private:
 
     // 1 = updated, 0 = left alone (not applicable), -1 = rejected (would break phi).
     int relax(const Pair& pr, double& change) {
-        TriPhi* X[2] = {&tris_[size_t(pr.a)], &tris_[size_t(pr.b)]};
+        PhiTriangleData* X[2] = {&tris_[size_t(pr.a)], &tris_[size_t(pr.b)]};
         const int kx[2] = {pr.ka, pr.kb};
         const Tri& A = p_.coarse.triangles[size_t(pr.a)];
         const Tri& B = p_.coarse.triangles[size_t(pr.b)];
@@ -337,13 +307,13 @@ private:
         bool e_has_crossing = false;
         std::vector<int> e_chain;  // QNodes on E (for the feature test)
         for (int s = 0; s < 2; ++s) {
-            const TriPhi& t = *X[s];
+            const PhiTriangleData& t = *X[s];
             auto& loc = local[s];
-            loc.assign(t.b.size(), -1);
+            loc.assign(t.barycentric.size(), -1);
             const size_t ke = size_t((kx[s] + 2) % 3), k0 = size_t(kx[s]), k1 = size_t((kx[s] + 1) % 3);
-            for (size_t i = 0; i < t.b.size(); ++i) {
-                const bool on_e = t.b[i][ke] == 0;
-                const bool outer = t.b[i][k0] == 0 || t.b[i][k1] == 0;
+            for (size_t i = 0; i < t.barycentric.size(); ++i) {
+                const bool on_e = t.barycentric[i][ke] == 0;
+                const bool outer = t.barycentric[i][k0] == 0 || t.barycentric[i][k1] == 0;
                 if (on_e && !outer && t.kind[i] == NodeKind::EdgeCrossing) {
                     e_has_crossing = true;
                     continue;
@@ -357,19 +327,19 @@ private:
                     QNode n;
                     n.id = id;
                     n.kind = t.kind[i];
-                    n.ov = t.ov[i];
-                    n.edge = t.edge[i];
-                    n.s = t.s[i];
+                    n.ov = t.original_vertex[i];
+                    n.edge = t.original_edge[i];
+                    n.s = t.edge_parameter[i];
                     n.image = t.image[i];
                     n.fixed = outer;
-                    n.pos = n.old_pos = to_domain(s, t.b[i]);
+                    n.pos = n.old_pos = to_domain(s, t.barycentric[i]);
                     nodes.push_back(n);
                     if (on_e) e_chain.push_back(qi);
                 } else {
                     qi = it->second;
                 }
                 nodes[size_t(qi)].has_old[s] = true;
-                nodes[size_t(qi)].old_b[s] = t.b[i];
+                nodes[size_t(qi)].old_b[s] = t.barycentric[i];
                 loc[i] = qi;
             }
         }
@@ -386,7 +356,7 @@ private:
             for (size_t i = 0; i + 1 < e_chain.size() && !sliding; ++i) {
                 const int32_t u = nodes[size_t(e_chain[i])].ov, w = nodes[size_t(e_chain[i + 1])].ov;
                 if (u < 0 || w < 0) return skip("feature line");
-                auto it = original_edges_.find(key(u, w));
+                auto it = original_edges_.find(detail::edge_key(u, w));
                 if (it == original_edges_.end()) continue;
                 if (it->second.size() != 2) return skip("feature line with 3 or more sheets");
                 const auto& x = p_.original.vertices;
@@ -406,7 +376,7 @@ private:
             for (size_t i = 0; i + 1 < e_chain.size(); ++i) {
                 const QNode& u = nodes[size_t(e_chain[i])];
                 const QNode& w = nodes[size_t(e_chain[i + 1])];
-                if (u.ov < 0 || w.ov < 0 || !original_edges_.count(key(u.ov, w.ov)))
+                if (u.ov < 0 || w.ov < 0 || !original_edges_.count(detail::edge_key(u.ov, w.ov)))
                     return skip("feature line not along original edges");
                 arc[i + 1] = arc[i] + distance(u.image, w.image);
             }
@@ -458,9 +428,9 @@ private:
             return true;
         };
         for (int s = 0; s < 2; ++s) {
-            const TriPhi& t = *X[s];
+            const PhiTriangleData& t = *X[s];
             for (size_t q = 0; q < t.pieces.size(); ++q) {
-                const int32_t T = t.piece_tri[q];
+                const int32_t T = t.piece_original_triangle[q];
                 Region& r = regions[T];
                 r.T = T;
                 Vec3 bc[3];
@@ -493,7 +463,7 @@ private:
             double area = 0;
             const size_t n = ring.size();
             for (size_t i = 0; i < n; ++i) {
-                if (orient_bary(beta[(i + n - 1) % n], beta[i], beta[(i + 1) % n]) <= 0) return skip("region not convex or not connected");  // not strictly convex
+                if (orient_barycentric(beta[(i + n - 1) % n], beta[i], beta[(i + 1) % n]) <= 0) return skip("region not convex or not connected");  // not strictly convex
                 area += tri_area_b(beta[0], beta[i], beta[(i + 1) % n]);
             }
             if (std::abs(area - r.piece_area) > 1e-9 * 0.5) return skip("region not convex or not connected");  // region not convex / connected
@@ -625,7 +595,7 @@ private:
                 int32_t u = tri[size_t((kz + 1) % 3)], w = tri[size_t((kz + 2) % 3)];
                 int ku = (kz + 1) % 3, kw = (kz + 2) % 3;
                 if (u > w) std::swap(u, w), std::swap(ku, kw);
-                const uint64_t ek = key(u, w);
+                const uint64_t ek = detail::edge_key(u, w);
                 auto it = crossings.find(ek);
                 int ci;
                 if (it != crossings.end()) {
@@ -677,7 +647,7 @@ private:
         }
 
         // New phi of A and B.
-        TriPhi out[2];
+        PhiTriangleData out[2];
         std::vector<int> loc[2];
         loc[0].assign(nodes.size(), -1);
         loc[1].assign(nodes.size(), -1);
@@ -710,36 +680,31 @@ private:
             const QNode& v = nodes[size_t(qi)];
             Vec3 b;
             if (!bary_in(s, v, b)) return reject("node too close to a coarse edge");
-            TriPhi& t = out[s];
-            loc[s][size_t(qi)] = int(t.b.size());
-            t.b.push_back(b);
-            t.image.push_back(v.image);
-            t.kind.push_back(v.kind);
-            t.ov.push_back(v.ov);
-            t.edge.push_back(v.edge);
-            t.s.push_back(v.s);
+            loc[s][size_t(qi)] = out[s].add_node(b, v.image, v.kind, v.ov, v.edge, v.s);
             return loc[s][size_t(qi)];
         };
         // Corners first, in corner order.
         for (int s = 0; s < 2; ++s) {
-            const TriPhi& t = *X[s];
+            const PhiTriangleData& t = *X[s];
             for (int k = 0; k < 3; ++k)
-                for (size_t i = 0; i < t.b.size(); ++i)
-                    if (t.kind[i] == NodeKind::CoarseCorner && t.b[i][size_t(k)] == 1)
+                for (size_t i = 0; i < t.barycentric.size(); ++i)
+                    if (t.kind[i] == NodeKind::CoarseCorner && t.barycentric[i][size_t(k)] == 1)
                         if (add(s, local[s][i]) < 0) return reject("node too close to a coarse edge");
         }
         for (Poly& poly : polys) {
             const int s = poly.side;
-            std::vector<int> ring = poly.ring;
-            std::vector<Vec3> beta = poly.beta;
-            auto emit = [&](size_t a, size_t b, size_t c) -> bool {
-                int l[3] = {add(s, ring[a]), add(s, ring[b]), add(s, ring[c])};
+            const std::vector<int>& ring = poly.ring;
+            const std::vector<Vec3>& beta = poly.beta;
+            auto emit = [&](int a, int b, int c) -> bool {
+                int l[3] = {add(s, ring[size_t(a)]), add(s, ring[size_t(b)]), add(s, ring[size_t(c)])};
                 if (l[0] < 0 || l[1] < 0 || l[2] < 0) return false;
-                TriPhi& t = out[s];
-                if (orient_bary(t.b[size_t(l[0])], t.b[size_t(l[1])], t.b[size_t(l[2])]) <= 0) return false;
-                t.pieces.push_back(Tri{l[0], l[1], l[2]});
-                t.piece_tri.push_back(poly.T);
+                const std::vector<Vec3>& nb = out[s].barycentric;
+                if (orient_barycentric(nb[size_t(l[0])], nb[size_t(l[1])], nb[size_t(l[2])]) <= 0) return false;
+                out[s].add_piece(Tri{l[0], l[1], l[2]}, poly.T);
                 return true;
+            };
+            auto orient = [&](int a, int b, int c) {
+                return orient_barycentric(beta[size_t(a)], beta[size_t(b)], beta[size_t(c)]);
             };
             // Drop consecutive points that coincide in T (cannot happen; be safe) and check area.
             double area = 0;
@@ -747,32 +712,17 @@ private:
             if (!(area > 0)) {
                 bool flat = true;
                 for (size_t i = 2; i < beta.size(); ++i)
-                    if (orient_bary(beta[0], beta[1], beta[i]) != 0) flat = false;
+                    if (orient_barycentric(beta[0], beta[1], beta[i]) != 0) flat = false;
                 if (flat) continue;  // a region touching E only along an edge or a point
                 return reject("piece flipped");
             }
-            while (ring.size() > 3) {
-                const size_t n = ring.size();
-                bool cut = false;
-                for (size_t i = 0; i < n && !cut; ++i) {
-                    const size_t a = (i + n - 1) % n, c = (i + 1) % n;
-                    if (orient_bary(beta[a], beta[i], beta[c]) <= 0) continue;
-                    bool flat = true;
-                    for (size_t k = 0; k < n && flat; ++k)
-                        if (k != i && k != a && k != c && orient_bary(beta[a], beta[c], beta[k]) != 0) flat = false;
-                    if (flat) continue;
-                    if (!emit(a, i, c)) return reject("piece flipped");
-                    ring.erase(ring.begin() + long(i));
-                    beta.erase(beta.begin() + long(i));
-                    cut = true;
-                }
-                if (!cut) return reject("piece flipped");
-            }
-            if (orient_bary(beta[0], beta[1], beta[2]) <= 0) {
-                if (orient_bary(beta[0], beta[1], beta[2]) == 0) continue;
-                return reject("piece flipped");
-            }
-            if (!emit(0, 1, 2)) return reject("piece flipped");
+            std::vector<int> corners(ring.size());
+            for (size_t i = 0; i < corners.size(); ++i) corners[i] = int(i);
+            if (!detail::clip_convex_ears(corners, orient, emit)) return reject("piece flipped");
+            const int o = orient(corners[0], corners[1], corners[2]);
+            if (o == 0) continue;
+            if (o < 0) return reject("piece flipped");
+            if (!emit(corners[0], corners[1], corners[2])) return reject("piece flipped");
         }
         // Nodes on E well apart (no nearly coincident crossings).
         {
@@ -792,10 +742,10 @@ private:
         // refinement can resolve it. So an update may not bring a node nearer to a
         // corner of A or B than kCornerGap (in barycentric units) unless one already was.
         {
-            auto gap = [](const TriPhi& t) {
+            auto gap = [](const PhiTriangleData& t) {
                 double g = 1;
-                for (size_t i = 0; i < t.b.size(); ++i)
-                    if (t.kind[i] != NodeKind::CoarseCorner) g = std::min(g, 1 - std::max({t.b[i][0], t.b[i][1], t.b[i][2]}));
+                for (size_t i = 0; i < t.barycentric.size(); ++i)
+                    if (t.kind[i] != NodeKind::CoarseCorner) g = std::min(g, 1 - std::max({t.barycentric[i][0], t.barycentric[i][1], t.barycentric[i][2]}));
                 return g;
             };
             for (int s = 0; s < 2; ++s)
@@ -804,14 +754,14 @@ private:
         // Every node must be used by a piece; the pieces must cover both triangles; no two
         // nodes at the same parameter point.
         for (int s = 0; s < 2; ++s) {
-            std::vector<Vec3> sorted = out[s].b;
+            std::vector<Vec3> sorted = out[s].barycentric;
             std::sort(sorted.begin(), sorted.end());
             if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end()) return reject("two nodes at one point");
-            std::vector<char> used(out[s].b.size(), 0);
+            std::vector<char> used(out[s].barycentric.size(), 0);
             double area = 0;
             for (const Tri& t : out[s].pieces) {
                 for (int32_t i : t) used[size_t(i)] = 1;
-                area += tri_area_b(out[s].b[size_t(t[0])], out[s].b[size_t(t[1])], out[s].b[size_t(t[2])]);
+                area += tri_area_b(out[s].barycentric[size_t(t[0])], out[s].barycentric[size_t(t[1])], out[s].barycentric[size_t(t[2])]);
             }
             if (std::find(used.begin(), used.end(), 0) != used.end()) return reject("pieces do not tile");
             if (std::abs(area - 0.5) > 1e-9) return reject("pieces do not tile");
@@ -824,34 +774,13 @@ private:
     }
 
     void write_back() {
-        Parametrization& p = p_;
-        p.node_offsets.assign(1, 0);
-        p.piece_offsets.assign(1, 0);
-        p.node_barycentric.clear();
-        p.node_image.clear();
-        p.node_kind.clear();
-        p.node_original_vertex.clear();
-        p.node_original_edge.clear();
-        p.node_edge_parameter.clear();
-        p.pieces.clear();
-        p.piece_original_triangle.clear();
-        for (const TriPhi& t : tris_) {
-            p.node_barycentric.insert(p.node_barycentric.end(), t.b.begin(), t.b.end());
-            p.node_image.insert(p.node_image.end(), t.image.begin(), t.image.end());
-            p.node_kind.insert(p.node_kind.end(), t.kind.begin(), t.kind.end());
-            p.node_original_vertex.insert(p.node_original_vertex.end(), t.ov.begin(), t.ov.end());
-            p.node_original_edge.insert(p.node_original_edge.end(), t.edge.begin(), t.edge.end());
-            p.node_edge_parameter.insert(p.node_edge_parameter.end(), t.s.begin(), t.s.end());
-            p.pieces.insert(p.pieces.end(), t.pieces.begin(), t.pieces.end());
-            p.piece_original_triangle.insert(p.piece_original_triangle.end(), t.piece_tri.begin(), t.piece_tri.end());
-            p.node_offsets.push_back(int64_t(p.node_kind.size()));
-            p.piece_offsets.push_back(int64_t(p.pieces.size()));
-        }
+        detail::clear_phi(p_);
+        for (const PhiTriangleData& t : tris_) detail::append_phi_triangle(p_, t);
     }
 
     Parametrization& p_;
     const SmoothOptions& o_;
-    std::vector<TriPhi> tris_;
+    std::vector<PhiTriangleData> tris_;
     std::vector<std::vector<int32_t>> vertex_tris_;
     std::unordered_map<uint64_t, std::vector<int32_t>> original_edges_;
     std::vector<Pair> pairs_;
@@ -899,7 +828,7 @@ SmoothResult smooth(Parametrization& param, const SmoothOptions& options, const 
     SmoothResult result;
     if (options.measure_quality) result.before = refined_quality(param, options.quality_levels);
     {
-        Smoother smoother(param, options);
+        ParametrizationSmoother smoother(param, options);
         const SmoothResult r = smoother.run(context);
         result.sweeps = r.sweeps;
         result.pairs = r.pairs;

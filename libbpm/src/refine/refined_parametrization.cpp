@@ -35,20 +35,23 @@
 #include "bpm/errors.h"
 #include "bpm/predicates.h"
 #include "bpm/refine.h"
+#include "core/barycentric_orientation.h"
+#include "core/convex_ear_clipping.h"
+#include "phi/phi_triangle_data.h"
 
 namespace bpm {
 
 namespace {
 
-int orient_bary(const Vec3& p, const Vec3& q, const Vec3& x) {
-    static const int sign = orient3d({0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1});
-    return sign * orient3d({0, 0, 0}, p, q, x);
-}
+using detail::orient_barycentric;
 
 inline double area2(const Vec3& p, const Vec3& q, const Vec3& x) {  // in the (b1, b2) plane
     return (q[1] - p[1]) * (x[2] - p[2]) - (q[2] - p[2]) * (x[1] - p[1]);
 }
 
+// A vertex of the new original surface, by what it is: {0, v} an original vertex,
+// {1, u, w, bits of s} an edge crossing of phi, {2, v} a refined vertex off S0,
+// {3, a, b, ra, rb} where the piece edge (a, b) crosses the refined edge (ra, rb).
 using Key = std::array<int64_t, 5>;
 
 // Largest distance, in barycentric units of the coarse triangle, over which a node is
@@ -86,9 +89,11 @@ struct OverlayPoint {
     int strict[3] = {0, 0, 0};   // strictly inside with respect to local edge k (exact decision)
 };
 
-class Overlay {
+// Builds phi' (see the file comment): the overlay of phi's pieces with the refined
+// triangles, per coarse triangle, assembled into a new Parametrization.
+class RefinedParametrizationBuilder {
 public:
-    Overlay(const Parametrization& p, const RefinedSurface& r) : p_(p), r_(r) {
+    RefinedParametrizationBuilder(const Parametrization& p, const RefinedSurface& r) : p_(p), r_(r) {
         out_.original.vertices = p.original.vertices;
         refined_vertex_.assign(r.surface.vertices.size(), -1);
         by_coarse_.resize(size_t(p.coarse.num_triangles()));
@@ -104,14 +109,6 @@ public:
         std::vector<Vec3> target(nb_.size());
         std::map<Key, std::vector<int64_t>> copies;  // key of a node on a coarse edge -> its copies
         std::map<Key, int> proposals;                // how many copies found a target
-        auto edge_key = [&](int64_t g) -> Key {
-            const size_t i = size_t(g);
-            if (p_.node_kind[i] != NodeKind::EdgeCrossing) return {0, p_.node_original_vertex[i], 0, 0, 0};
-            int64_t bits;
-            const double s = p_.node_edge_parameter[i];
-            std::memcpy(&bits, &s, sizeof bits);
-            return {1, p_.node_original_edge[i][0], p_.node_original_edge[i][1], bits, 0};
-        };
         for (int32_t t = 0; t < nct; ++t) {
             const int64_t n0 = p_.node_offsets[size_t(t)], n1 = p_.node_offsets[size_t(t) + 1];
             for (int32_t ri : by_coarse_[size_t(t)]) {
@@ -146,7 +143,7 @@ public:
                     for (int k = 0; k < 3 && !has_target[size_t(g)]; ++k) {
                         const Vec3& a = R[size_t(k)];
                         const Vec3& c = R[size_t((k + 1) % 3)];
-                        if (orient_bary(a, c, b) == 0) continue;
+                        if (orient_barycentric(a, c, b) == 0) continue;
                         double tt;
                         if (segment_distance(a, c, b, tt) > kSnapDistance) continue;
                         const Vec3 x = point_on_segment(a, c, tt);
@@ -159,7 +156,7 @@ public:
             for (int64_t g = n0; g < n1; ++g) {
                 const Vec3& b = p_.node_barycentric[size_t(g)];
                 if (p_.node_kind[size_t(g)] == NodeKind::CoarseCorner || (b[0] > 0 && b[1] > 0 && b[2] > 0)) continue;
-                const Key key = edge_key(g);
+                const Key key = node_key(g);
                 copies[key].push_back(g);
                 if (has_target[size_t(g)]) ++proposals[key];
             }
@@ -184,7 +181,7 @@ public:
                     const Tri& pc = p_.pieces[size_t(q)];
                     const size_t a = size_t(n0 + pc[0]), b = size_t(n0 + pc[1]), c = size_t(n0 + pc[2]);
                     if (!has_target[a] && !has_target[b] && !has_target[c]) continue;
-                    if (orient_bary(snapped[a], snapped[b], snapped[c]) > 0) continue;
+                    if (orient_barycentric(snapped[a], snapped[b], snapped[c]) > 0) continue;
                     for (size_t g : {a, b, c}) {
                         if (!has_target[g]) continue;
                         const Vec3& x = p_.node_barycentric[g];
@@ -192,7 +189,7 @@ public:
                             has_target[g] = 0;
                             snapped[g] = nb_[g];
                         } else {
-                            for (int64_t h : copies[edge_key(int64_t(g))]) {
+                            for (int64_t h : copies[node_key(int64_t(g))]) {
                                 has_target[size_t(h)] = 0;
                                 snapped[size_t(h)] = nb_[size_t(h)];
                             }
@@ -217,14 +214,21 @@ public:
         return id;
     }
 
-    int32_t node_vertex(int64_t g) {
+    // What node g of phi is, the same for all its copies in the coarse triangles that
+    // share it: {0, v} for an original vertex, {1, u, w, bits of s} for an edge crossing.
+    Key node_key(int64_t g) const {
         const size_t i = size_t(g);
-        if (p_.node_kind[i] != NodeKind::EdgeCrossing) return p_.node_original_vertex[i];
-        const auto& e = p_.node_original_edge[i];
+        if (p_.node_kind[i] != NodeKind::EdgeCrossing) return {0, p_.node_original_vertex[i], 0, 0, 0};
         int64_t bits;
         const double s = p_.node_edge_parameter[i];
         std::memcpy(&bits, &s, sizeof bits);
-        return vertex_for({1, e[0], e[1], bits, 0}, p_.node_image[i]);
+        return {1, p_.node_original_edge[i][0], p_.node_original_edge[i][1], bits, 0};
+    }
+
+    int32_t node_vertex(int64_t g) {
+        const size_t i = size_t(g);
+        if (p_.node_kind[i] != NodeKind::EdgeCrossing) return p_.node_original_vertex[i];
+        return vertex_for(node_key(g), p_.node_image[i]);
     }
 
     void run(const Context& context) {
@@ -311,7 +315,7 @@ private:
                     continue;
                 }
                 int o[3];
-                for (int j = 0; j < 3; ++j) o[j] = orient_bary(R[size_t(j)], R[size_t((j + 1) % 3)], N[k]);
+                for (int j = 0; j < 3; ++j) o[j] = orient_barycentric(R[size_t(j)], R[size_t((j + 1) % 3)], N[k]);
                 if (o[0] < 0 || o[1] < 0 || o[2] < 0) continue;
                 OverlayPoint x{N[k], I[k], id[k]};
                 for (int j = 0; j < 3; ++j) x.on_edge[j] = o[j] == 0, x.strict[j] = o[j] > 0;
@@ -322,7 +326,7 @@ private:
             // regular mesh) is on it. Decided the same way from both pieces of the edge.
             const auto corner_side = [&](int k, int j) {
                 const int k1 = (k + 1) % 3;
-                const int o = orient_bary(N[k], N[k1], R[size_t(j)]);
+                const int o = orient_barycentric(N[k], N[k1], R[size_t(j)]);
                 if (o == 0) return 0;
                 const int ka = id[k] < id[k1] ? k : k1, kb = ka == k ? k1 : k;
                 double t;
@@ -344,8 +348,8 @@ private:
                 const int k1 = (k + 1) % 3;
                 for (int j = 0; j < 3; ++j) {
                     const int j1 = (j + 1) % 3;
-                    const int a1 = orient_bary(R[size_t(j)], R[size_t(j1)], N[k]);
-                    const int a2 = orient_bary(R[size_t(j)], R[size_t(j1)], N[k1]);
+                    const int a1 = orient_barycentric(R[size_t(j)], R[size_t(j1)], N[k]);
+                    const int a2 = orient_barycentric(R[size_t(j)], R[size_t(j1)], N[k1]);
                     if (a1 * a2 >= 0) continue;
                     const int c1 = corner_side(k, j);
                     const int c2 = corner_side(k, j1);
@@ -505,24 +509,19 @@ private:
         Parametrization& o = out_;
         o.coarse = r_.surface;
         o.coarse_vertex_origin.assign(r_.surface.vertices.size(), -1);
-        o.node_offsets.assign(1, 0);
-        o.piece_offsets.assign(1, 0);
+        detail::clear_phi(o);
         const double nan = std::numeric_limits<double>::quiet_NaN();
         for (size_t ri = 0; ri < nrt; ++ri) {
             const Tri& rt = r_.surface.triangles[ri];
             const auto& R = r_.triangle_barycentric[ri];
+            detail::PhiTriangleData phi;  // of refined triangle ri
             std::map<int32_t, int32_t> local;
             auto add_node = [&](const OverlayPoint& x, NodeKind kind) {
                 auto it = local.find(x.vertex);
                 if (it != local.end()) return it->second;
-                const int32_t l = int32_t(local.size());
+                const int32_t l = phi.add_node(to_refined(R, x), o.original.vertices[size_t(x.vertex)], kind, x.vertex,
+                                               {-1, -1}, nan);
                 local.emplace(x.vertex, l);
-                o.node_barycentric.push_back(to_refined(R, x));
-                o.node_image.push_back(o.original.vertices[size_t(x.vertex)]);
-                o.node_kind.push_back(kind);
-                o.node_original_vertex.push_back(x.vertex);
-                o.node_original_edge.push_back({-1, -1});
-                o.node_edge_parameter.push_back(nan);
                 return l;
             };
             // The corners first, in corner order.
@@ -542,12 +541,11 @@ private:
                 std::vector<Vec3> rb;
                 for (const auto& x : poly.points) {
                     ring.push_back(add_node(x, NodeKind::OriginalVertex));
-                    rb.push_back(o.node_barycentric[size_t(o.node_offsets.back()) + size_t(ring.back())]);
+                    rb.push_back(phi.barycentric[size_t(ring.back())]);
                 }
-                triangulate(ring, rb, poly, ri);
+                triangulate(ring, rb, poly, ri, phi);
             }
-            o.node_offsets.push_back(int64_t(o.node_kind.size()));
-            o.piece_offsets.push_back(int64_t(o.pieces.size()));
+            detail::append_phi_triangle(o, phi);
         }
         for (size_t v = 0; v < o.coarse.vertices.size(); ++v)
             if (o.coarse_vertex_origin[v] < 0) throw AlgorithmError("refine: refined vertex " + std::to_string(v) + " unused");
@@ -608,44 +606,30 @@ private:
                "input phi has a node within rounding distance of a refined edge); write a surface format instead";
     }
 
-    // Ear clipping of a convex polygon whose boundary may hold collinear points: cut
-    // only strictly convex ears whose removal leaves a polygon of positive area.
-    void triangulate(std::vector<int32_t> ring, std::vector<Vec3> rb, const Polygon& poly, size_t ri) {
+    // Ear clipping of the convex overlay polygon (core/convex_ear_clipping.h); its
+    // boundary may hold collinear points.
+    // The pieces go to `phi`, the new original triangles (one per piece) to the output.
+    void triangulate(const std::vector<int32_t>& ring, const std::vector<Vec3>& rb, const Polygon& poly, size_t ri,
+                     detail::PhiTriangleData& phi) {
         Parametrization& o = out_;
         std::vector<int32_t> verts;
         for (const auto& x : poly.points) verts.push_back(x.vertex);
-        auto o2 = [&](size_t a, size_t b, size_t c) {
-            return orient2d(Vec2{rb[a][1], rb[a][2]}, Vec2{rb[b][1], rb[b][2]}, Vec2{rb[c][1], rb[c][2]});
+        auto o2 = [&](int a, int b, int c) {
+            return orient2d(Vec2{rb[size_t(a)][1], rb[size_t(a)][2]}, Vec2{rb[size_t(b)][1], rb[size_t(b)][2]},
+                            Vec2{rb[size_t(c)][1], rb[size_t(c)][2]});
         };
-        auto emit = [&](size_t a, size_t b, size_t c) {
-            o.pieces.push_back(Tri{ring[a], ring[b], ring[c]});
-            o.piece_original_triangle.push_back(o.original.num_triangles());
-            o.original.triangles.push_back(Tri{verts[a], verts[b], verts[c]});
+        auto emit = [&](int a, int b, int c) {
+            phi.add_piece(Tri{ring[size_t(a)], ring[size_t(b)], ring[size_t(c)]}, o.original.num_triangles());
+            o.original.triangles.push_back(Tri{verts[size_t(a)], verts[size_t(b)], verts[size_t(c)]});
             o.original.patches.push_back(p_.original.patches[size_t(poly.original_triangle)]);
             parent_triangle_.push_back(poly.original_triangle);
+            return true;
         };
-        while (ring.size() > 3) {
-            const size_t n = ring.size();
-            bool cut = false;
-            for (size_t i = 0; i < n && !cut; ++i) {
-                const size_t a = (i + n - 1) % n, c = (i + 1) % n;
-                if (o2(a, i, c) <= 0) continue;
-                // Is something left with positive area?
-                bool flat = true;
-                for (size_t k = 0; k < n && flat; ++k)
-                    if (k != i && k != a && k != c && o2(a, c, k) != 0) flat = false;
-                if (flat) continue;
-                emit(a, i, c);
-                ring.erase(ring.begin() + long(i));
-                rb.erase(rb.begin() + long(i));
-                verts.erase(verts.begin() + long(i));
-                cut = true;
-            }
-            if (!cut) throw AlgorithmError(degenerate_message(ri));
-        }
-        if (o2(0, 1, 2) <= 0)
+        std::vector<int> corners(ring.size());
+        for (size_t i = 0; i < corners.size(); ++i) corners[i] = int(i);
+        if (!detail::clip_convex_ears(corners, o2, emit) || o2(corners[0], corners[1], corners[2]) <= 0)
             throw AlgorithmError(degenerate_message(ri));
-        emit(0, 1, 2);
+        emit(corners[0], corners[1], corners[2]);
     }
 
     const Parametrization& p_;
@@ -664,10 +648,10 @@ private:
 
 Parametrization refined_parametrization(const Parametrization& param, const RefinedSurface& refined,
                                         const Context& context) {
-    Overlay overlay(param, refined);
-    overlay.run(context);
+    RefinedParametrizationBuilder builder(param, refined);
+    builder.run(context);
     context.report(1.0, "overlay with phi");
-    return overlay.take();
+    return builder.take();
 }
 
 }  // namespace bpm
