@@ -8,17 +8,14 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
-#include <condition_variable>
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
 #include <future>
 #include <functional>
 #include <memory>
-#include <mutex>
 #include <queue>
 #include <stdexcept>
-#include <thread>
 #include <unordered_map>
 
 #include "bpm/check.h"
@@ -27,6 +24,7 @@
 #include "simplify/coarse_mesh.h"
 #include "simplify/embedding.h"
 #include "simplify/overlay.h"
+#include "simplify/planning_pool.h"
 #include "simplify/triangle_grid.h"
 #include "simplify/vertex_removal.h"
 
@@ -36,134 +34,12 @@ using namespace detail;
 
 namespace {
 
-// Threads of a simplification: --threads, or for 0 two unless every core is busy. (The
-// second thread spins between rounds, so bpm's own earlier runs count in the load too.)
-int planning_threads(const SimplifyOptions& options) {
-    if (options.threads > 0) return std::min(options.threads, 64);
-    const unsigned cores = std::thread::hardware_concurrency();
-    if (cores < 2) return 1;
-    double load = 0.0;
-    if (getloadavg(&load, 1) == 1 && load >= double(cores)) return 1;
-    return 2;
-}
-
 struct QueueEntry {
     double cost;
     int32_t vertex;
     uint32_t stamp;
     bool operator>(const QueueEntry& o) const {
         return cost > o.cost || (cost == o.cost && vertex > o.vertex);
-    }
-};
-
-// Threads that share the planning work of one round. The caller runs tasks too; a
-// round returns when all its tasks are done. Which tasks a round has never depends on
-// timing, so results do not depend on the number of threads.
-//
-// Rounds are short (a few plans, tens of microseconds) and follow each other quickly,
-// so idle workers spin for a while before they sleep: waking a sleeping thread costs
-// about as much as a plan.
-class PlanningPool {
-public:
-    // `work(thread, task)` runs task `task` on thread `thread` (0 = the caller).
-    PlanningPool(int threads, std::function<void(int, size_t)> work) : work_(std::move(work)) {
-        for (int i = 1; i < threads; ++i) workers_.emplace_back([this, i] { serve(i); });
-    }
-    ~PlanningPool() {
-        {
-            std::lock_guard<std::mutex> lock(mutex_);
-            stop_ = true;
-        }
-        wake_.notify_all();
-        for (auto& w : workers_) w.join();
-    }
-    int threads() const { return static_cast<int>(workers_.size()) + 1; }
-
-    void run_round(size_t tasks) {
-        if (workers_.empty() || tasks < 2) {
-            for (size_t i = 0; i < tasks; ++i) work_(0, i);
-            return;
-        }
-        if (tasks > kIndexMask) throw std::length_error("planning round with too many tasks");
-        failure_ = nullptr;
-        done_.store(0);
-        round_id_ = (round_id_ + 1) & kRoundMask;
-        slot_.store((round_id_ << 40) | (uint64_t(tasks) << 20));
-        round_.fetch_add(1);
-        if (sleeping_.load() > 0) {
-            std::lock_guard<std::mutex> lock(mutex_);
-            wake_.notify_all();
-        }
-        take_tasks(0);
-        while (done_.load() < tasks) pause();
-        if (failure_) std::rethrow_exception(failure_);
-    }
-
-private:
-    std::function<void(int, size_t)> work_;
-    std::vector<std::thread> workers_;
-    std::atomic<uint64_t> round_{0};  // wakes the workers
-    // The round's tasks: (round id << 40) | (number of tasks << 20) | next task. A task is
-    // taken by a compare-and-swap of the whole word, so a thread that comes late from an
-    // earlier round can never take (or count) a task of a later one. (A shared counter
-    // reset per round let a late fetch_add run a task of the next round twice, once
-    // with the previous round's task count.)
-    static constexpr uint64_t kIndexMask = (uint64_t(1) << 20) - 1, kRoundMask = (uint64_t(1) << 24) - 1;
-    std::atomic<uint64_t> slot_{0};
-    uint64_t round_id_ = 0;
-    std::atomic<size_t> done_{0};
-    std::atomic<int> sleeping_{0};
-    std::mutex mutex_;  // guards stop_ and the sleeping side of round_
-    std::condition_variable wake_;
-    bool stop_ = false;
-    std::mutex failure_mutex_;
-    std::exception_ptr failure_;
-
-    static void pause() {
-#if defined(__x86_64__) || defined(__i386__)
-        __builtin_ia32_pause();
-#else
-        std::this_thread::yield();
-#endif
-    }
-    void take_tasks(int thread) {
-        uint64_t v = slot_.load();
-        while (true) {
-            const size_t i = v & kIndexMask, tasks = (v >> 20) & kIndexMask;
-            if (i >= tasks) return;
-            if (!slot_.compare_exchange_weak(v, v + 1)) continue;  // v is reloaded
-            try {
-                work_(thread, i);
-            } catch (...) {
-                std::lock_guard<std::mutex> lock(failure_mutex_);
-                if (!failure_) failure_ = std::current_exception();
-            }
-            done_.fetch_add(1);
-            v = slot_.load();
-        }
-    }
-    void serve(int thread) {
-        uint64_t seen = 0;
-        while (true) {
-            const auto spin_until = std::chrono::steady_clock::now() + std::chrono::microseconds(200);
-            bool spinning = true;
-            for (int k = 0; round_.load() == seen; ++k) {
-                if ((k & 255) == 255 && std::chrono::steady_clock::now() > spin_until) {
-                    spinning = false;
-                    break;
-                }
-                pause();
-            }
-            if (!spinning) {
-                std::unique_lock<std::mutex> lock(mutex_);
-                sleeping_.fetch_add(1);
-                wake_.wait(lock, [&] { return stop_ || round_.load() != seen; });
-                sleeping_.fetch_sub(1);
-                if (stop_) return;
-            }
-            seen = round_.load();
-            take_tasks(thread);
-        }
     }
 };
 
@@ -495,7 +371,8 @@ SimplifyResult Simplifier::run(Parametrization& out) {
     std::function<void(size_t)> export_task;  // chunk `vertex` of the export (set there)
     const int finish_parts = std::min<int>(VertexRemover::kMaxFinishParts, int(removers_.size()) + 1);
     std::vector<std::pair<int32_t, Tri>> grid_removed;  // of the last commit, for Job::Grid
-    PlanningPool pool(static_cast<int>(removers_.size()) + 1, [&](int thread, size_t i) {
+    PlanningPool pool(static_cast<int>(removers_.size()) + 1);
+    auto work = [&](int thread, size_t i) {
         Task& task = tasks[i];
         switch (task.job) {
             case Job::Rank: task.cost = rank(task.vertex, cheap_plans[thread], thread); break;
@@ -517,7 +394,7 @@ SimplifyResult Simplifier::run(Parametrization& out) {
                 break;
             }
         }
-    });
+    };
 
     // First ranking of all vertices, in chunks.
     {
@@ -528,7 +405,7 @@ SimplifyResult Simplifier::run(Parametrization& out) {
         for (int64_t v = 0; v < nv; v += kChunk) tasks.push_back(Task{int32_t(v)});
         std::vector<double> costs(nv, std::numeric_limits<double>::infinity());
         std::atomic<int32_t> ranked{0};
-        PlanningPool ranking(pool.threads(), [&](int thread, size_t i) {
+        pool.run_round(tasks.size(), [&](int thread, size_t i) {
             const int32_t first = tasks[i].vertex, last = int32_t(std::min<int64_t>(nv, int64_t(first) + kChunk));
             for (int32_t v = first; v < last; ++v) {
                 remover(thread).plan(v, false, cheap_plans[thread]);
@@ -537,7 +414,6 @@ SimplifyResult Simplifier::run(Parametrization& out) {
             const int32_t done = ranked.fetch_add(last - first) + (last - first);
             if (thread == 0) context_.report(0.2 * done / std::max(nv, 1), "evaluating vertices");
         });
-        ranking.run_round(tasks.size());
         plans_[0] += nv;
         for (int32_t v = 0; v < nv; ++v) {
             ++stamp_[v];
@@ -611,7 +487,7 @@ SimplifyResult Simplifier::run(Parametrization& out) {
                 tasks.push_back(Task{v, Job::PlanTop, 0.0, int8_t(k)});
             }
         }
-        pool.run_round(tasks.size());
+        pool.run_round(tasks.size(), work);
         plans_[1].fetch_add(int64_t(tasks.size()), std::memory_order_relaxed);
         // A full plan is ranked by its estimate first (the cost before validation): if
         // that is above the next entry by more than the queue tolerance, the removal
@@ -647,7 +523,7 @@ SimplifyResult Simplifier::run(Parametrization& out) {
         for (int part = 1; part < finish_parts; ++part)
             for (int k = 0; k < count; ++k)
                 if (candidates[k].live && candidates[k].plan->pending) tasks.push_back(Task{part, Job::Finish, 0.0, int8_t(k)});
-        pool.run_round(tasks.size());
+        pool.run_round(tasks.size(), work);
         for (const Task& task : tasks) {
             Candidate& c = candidates[task.slot];
             if (task.job == Job::Intersect) c.known_intersection = c.intersects;
@@ -735,7 +611,7 @@ SimplifyResult Simplifier::run(Parametrization& out) {
             full_plans_.erase(u);
             tasks.push_back(Task{u});
         }
-        pool.run_round(tasks.size());
+        pool.run_round(tasks.size(), work);
         if (mesh_.num_alive_triangles() * 4 < grid_built_at_) rebuild_grid();
         for (const Task& task : tasks)
             if (task.job == Job::Rank && std::isfinite(task.cost)) queue_.push({task.cost, task.vertex, stamp_[task.vertex]});
@@ -858,7 +734,7 @@ SimplifyResult Simplifier::run(Parametrization& out) {
     tasks.clear();
     for (size_t c = 0; c < chunks.size(); ++c) tasks.push_back(Task{int32_t(c), Job::Export});
     export_task = [&](size_t c) { export_chunk(chunks[c]); };
-    pool.run_round(tasks.size());
+    pool.run_round(tasks.size(), work);
     double max_deviation = 0.0;
     out.node_offsets.push_back(0);
     out.piece_offsets.push_back(0);
@@ -918,7 +794,7 @@ SimplifyResult simplify(const Surface& original, const SimplifyOptions& options,
         throw OptionError("the corner crease length must be between 0 and 1 (of the diagonal)");
     if (!(options.feature_angle_degrees >= 0 && options.feature_angle_degrees <= 180))
         throw OptionError("--feature-angle must be between 0 and 180 degrees");
-    const int threads = planning_threads(options);
+    const int threads = planning_threads(options.threads);
     context.debug(std::to_string(threads) + (threads == 1 ? " thread" : " threads") +
                   (options.threads == 0 ? " (automatic: --threads 0)" : ""));
     std::unique_ptr<Simplifier> simplifier;
