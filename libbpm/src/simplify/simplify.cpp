@@ -23,9 +23,9 @@
 #include "bpm/predicates.h"
 #include "simplify/coarse_mesh.h"
 #include "simplify/embedding.h"
+#include "simplify/intersection_test.h"
 #include "simplify/overlay.h"
 #include "simplify/planning_pool.h"
-#include "simplify/triangle_grid.h"
 #include "simplify/vertex_removal.h"
 
 namespace bpm {
@@ -60,7 +60,7 @@ public:
           context_(context),
           mesh_(original),
           diagonal_(bounding_box_diagonal(original)),
-          grid_(1.0) {
+          intersections_(mesh_) {
         mesh_.mark_feature_edges(options.feature_angle_degrees);
         mesh_.mark_corners(options.feature_angle_degrees, options.corner_crease_length * diagonal_,
                            options.keep_corners);
@@ -79,7 +79,6 @@ public:
         for (int i = 1; i < threads; ++i) removers_.push_back(std::make_unique<VertexRemover>(mesh_, embedding_, sign_, oriented_normals_));
         candidates_.resize(threads);
         stamp_.assign(original.vertices.size(), 0);
-        rebuild_grid();
     }
 
     SimplifyResult run(Parametrization& out);
@@ -96,8 +95,7 @@ private:
     std::unique_ptr<VertexRemover> second_remover_;  // of the second removal of an iteration
     RemovalPlan second_plan_;
     double diagonal_;
-    TriangleGrid grid_;
-    int32_t grid_built_at_ = 0;  // alive triangles when the grid was last rebuilt
+    IntersectionTest intersections_;  // of new triangles with the rest of the surface
     std::vector<uint32_t> stamp_;
     std::priority_queue<QueueEntry, std::vector<QueueEntry>, std::greater<QueueEntry>> queue_;
     std::vector<std::string> last_reason_;
@@ -110,11 +108,6 @@ private:
     int64_t reused_plans_ = 0;
 
     VertexRemover& remover(int thread) { return thread == 0 ? *remover_ : *removers_[thread - 1]; }
-    void rebuild_grid();
-    bool intersects_rest(const RemovalPlan& plan, std::vector<TriangleGrid::Entry>& candidates) const;
-    bool meet_improperly(const Tri& a, const Tri& b) const;
-    // Whether a new triangle of `plan` meets one of `others` other than in what they share.
-    bool meets_new_triangles(const RemovalPlan& plan, const std::vector<Tri>& others) const;
     // Queue key of v from a cheap plan (a lower bound of the full plan's cost), +infinity
     // if it cannot be removed now (reason recorded). On the remover of `thread`.
     double rank(int32_t v, RemovalPlan& plan, int thread);
@@ -157,113 +150,6 @@ void Simplifier::self_check(int32_t removed_vertex, const std::vector<int32_t>& 
     }
 }
 
-void Simplifier::rebuild_grid() {
-    // Cell size: twice the mean bounding-box extent of the current triangles.
-    const auto& x = original_.vertices;
-    double extent = 0.0;
-    int64_t count = 0;
-    for (int32_t t = 0; t < mesh_.triangle_capacity(); ++t) {
-        if (!mesh_.alive(t)) continue;
-        const Tri& c = mesh_.triangle(t);
-        for (int k = 0; k < 3; ++k) extent += distance(x[c[k]], x[c[(k + 1) % 3]]);
-        count += 3;
-    }
-    const double cell = count ? 2.0 * extent / double(count) : 1.0;
-    grid_ = TriangleGrid(cell > 0 ? cell : 1.0);
-    for (int32_t t = 0; t < mesh_.triangle_capacity(); ++t) {
-        if (!mesh_.alive(t)) continue;
-        const Tri& c = mesh_.triangle(t);
-        grid_.insert(t, x[c[0]], x[c[1]], x[c[2]]);
-    }
-    grid_built_at_ = mesh_.num_alive_triangles();
-}
-
-// Whether coarse triangles a and b (given by vertices) meet other than in what they share.
-bool Simplifier::meet_improperly(const Tri& a, const Tri& b) const {
-    const auto& x = original_.vertices;
-    const Vec3 pa[3] = {x[a[0]], x[a[1]], x[a[2]]};
-    int shared[3];
-    int count = 0;
-    for (int k = 0; k < 3; ++k) {
-        shared[k] = -1;
-        for (int j = 0; j < 3; ++j)
-            if (a[k] == b[j]) {
-                shared[k] = j;
-                ++count;
-            }
-    }
-    const Vec3 pb[3] = {x[b[0]], x[b[1]], x[b[2]]};
-    // Fast exact rejection: the unshared corners of one triangle strictly on one
-    // side of the other's plane means they meet at most in what they share.
-    if (count < 2) {
-        auto one_side = [&](const Vec3 p[3], const Vec3 q[3], const Tri& tq, const Tri& tp) {
-            int side = 0;
-            for (int j = 0; j < 3; ++j) {
-                if (tq[j] == tp[0] || tq[j] == tp[1] || tq[j] == tp[2]) continue;
-                const int o = orient3d(p[0], p[1], p[2], q[j]);
-                if (o == 0 || (side != 0 && o != side)) return false;
-                side = o;
-            }
-            return side != 0;
-        };
-        if (one_side(pa, pb, b, a) || one_side(pb, pa, a, b)) return false;
-    }
-    return triangles_intersect_improperly(pa, pb, shared);
-}
-
-bool Simplifier::meets_new_triangles(const RemovalPlan& plan, const std::vector<Tri>& others) const {
-    for (const Tri& a : plan.new_triangles)
-        for (const Tri& b : others)
-            if (meet_improperly(a, b)) return true;
-    return false;
-}
-
-bool Simplifier::intersects_rest(const RemovalPlan& plan, std::vector<TriangleGrid::Entry>& candidates) const {
-    const auto& x = original_.vertices;
-    const auto& new_triangles = plan.new_triangles;
-    const auto& removed = plan.removed_triangles;
-    const size_t count_new = new_triangles.size();
-    // Boxes of the new triangles, and the box around all of them: one grid query for
-    // the whole star (the new triangles overlap the same few cells) instead of one per
-    // new triangle. Every triangle whose box meets a new triangle's box is in a cell
-    // that box meets, so the pairs tested below are exactly those of a query per
-    // triangle; the answer does not depend on the order of the tests.
-    static thread_local std::vector<std::array<Vec3, 2>> boxes;
-    boxes.resize(count_new);
-    Vec3 all_lo{}, all_hi{};
-    for (size_t i = 0; i < count_new; ++i) {
-        const Tri& a = new_triangles[i];
-        Vec3& lo = boxes[i][0];
-        Vec3& hi = boxes[i][1];
-        for (int k = 0; k < 3; ++k) {
-            lo[k] = std::min({x[a[0]][k], x[a[1]][k], x[a[2]][k]});
-            hi[k] = std::max({x[a[0]][k], x[a[1]][k], x[a[2]][k]});
-            all_lo[k] = i == 0 ? lo[k] : std::min(all_lo[k], lo[k]);
-            all_hi[k] = i == 0 ? hi[k] : std::max(all_hi[k], hi[k]);
-        }
-    }
-    if (count_new == 0) return false;
-    // Only triangles whose box meets the box of all new triangles (the grid tests the
-    // boxes it stores), then the cheap box rejection per new triangle before the exact test.
-    grid_.query_boxes(all_lo, all_hi, candidates);
-    for (const TriangleGrid::Entry& candidate : candidates) {
-        const int32_t t = candidate.id;
-        if (!mesh_.alive(t)) continue;
-        if (std::find(removed.begin(), removed.end(), t) != removed.end()) continue;
-        const auto& blo = candidate.lo;  // float, rounded outwards: only a filter
-        const auto& bhi = candidate.hi;
-        for (size_t i = 0; i < count_new; ++i) {
-            bool apart = false;
-            for (int k = 0; k < 3 && !apart; ++k) apart = bhi[k] < boxes[i][0][k] || blo[k] > boxes[i][1][k];
-            if (!apart && meet_improperly(new_triangles[i], mesh_.triangle(t))) return true;
-        }
-    }
-    for (size_t i = 0; i < count_new; ++i)
-        for (size_t j = 0; j < i; ++j)
-            if (meet_improperly(new_triangles[i], new_triangles[j])) return true;
-    return false;
-}
-
 double Simplifier::rank(int32_t v, RemovalPlan& plan, int thread) {
     remover(thread).plan(v, false, plan);
     plans_[0].fetch_add(1, std::memory_order_relaxed);
@@ -281,7 +167,8 @@ bool Simplifier::still_current(const RemovalPlan& plan) const {
 }
 
 bool Simplifier::admissible_globally(int32_t v, const RemovalPlan& plan) {
-    if (options_.prevent_intersections && intersects_rest(plan, candidates_[0])) {
+    if (options_.prevent_intersections &&
+        intersections_.intersects_rest(plan.new_triangles, plan.removed_triangles, candidates_[0])) {
         last_reason_[v] = "would create a self-intersection";
         return false;
     }
@@ -380,19 +267,12 @@ SimplifyResult Simplifier::run(Parametrization& out) {
             case Job::Finish: candidates[task.slot].remover->finish_part(task.vertex, finish_parts); break;
             case Job::Intersect: {
                 Candidate& c = candidates[task.slot];
-                c.intersects = intersects_rest(*c.plan, candidates_[thread]);
+                c.intersects = intersections_.intersects_rest(c.plan->new_triangles, c.plan->removed_triangles,
+                                                              candidates_[thread]);
                 break;
             }
             case Job::Export: export_task(size_t(task.vertex)); break;
-            case Job::Grid: {
-                const auto& x = original_.vertices;
-                for (const auto& [t, c] : grid_removed) grid_.remove(t, x[c[0]], x[c[1]], x[c[2]]);
-                for (int32_t t = task.vertex; t < mesh_.triangle_capacity(); ++t) {
-                    const Tri& c = mesh_.triangle(t);
-                    grid_.insert(t, x[c[0]], x[c[1]], x[c[2]]);
-                }
-                break;
-            }
+            case Job::Grid: intersections_.update(grid_removed, task.vertex); break;
         }
     };
 
@@ -562,7 +442,7 @@ SimplifyResult Simplifier::run(Parametrization& out) {
                 continue;
             }
             if (after_first) {
-                if (options_.prevent_intersections && meets_new_triangles(plan, candidates[0].plan->new_triangles)) {
+                if (options_.prevent_intersections && meet_improperly(original_.vertices, plan.new_triangles, candidates[0].plan->new_triangles)) {
                     last_reason_[v] = "would create a self-intersection";
                     continue;
                 }
@@ -612,7 +492,7 @@ SimplifyResult Simplifier::run(Parametrization& out) {
             tasks.push_back(Task{u});
         }
         pool.run_round(tasks.size(), work);
-        if (mesh_.num_alive_triangles() * 4 < grid_built_at_) rebuild_grid();
+        intersections_.rebuild_if_sparse();
         for (const Task& task : tasks)
             if (task.job == Job::Rank && std::isfinite(task.cost)) queue_.push({task.cost, task.vertex, stamp_[task.vertex]});
         if (result.removed >= next_report) {
