@@ -26,6 +26,7 @@
 #include "simplify/intersection_test.h"
 #include "simplify/overlay.h"
 #include "simplify/planning_pool.h"
+#include "simplify/removal_cost.h"
 #include "simplify/vertex_removal.h"
 
 namespace bpm {
@@ -111,10 +112,12 @@ private:
     // Queue key of v from a cheap plan (a lower bound of the full plan's cost), +infinity
     // if it cannot be removed now (reason recorded). On the remover of `thread`.
     double rank(int32_t v, RemovalPlan& plan, int thread);
-    // `estimate`: the cost a full plan is ranked by first, from its estimated_deviation and
-    // without the normal limit (known only after validation); the same for a plan whose
-    // validation is pending and for a complete one.
-    double judge(int32_t v, const RemovalPlan& plan, bool estimate = false);
+    // removal_cost() of the plan to remove v, the reason for +infinity recorded.
+    // CostBasis::Estimate: the cost a full plan is ranked by first (the same for a plan
+    // whose validation is pending and for a complete one).
+    double judge(int32_t v, const RemovalPlan& plan, CostBasis basis = CostBasis::Plan) {
+        return removal_cost(plan, options_, diagonal_, basis, last_reason_[v]);
+    }
     bool admissible_globally(int32_t v, const RemovalPlan& plan);
     // A full plan made earlier is still exact if its star is unchanged (stamp), no
     // edited path changed elsewhere, and its new edges still do not exist.
@@ -174,38 +177,6 @@ bool Simplifier::admissible_globally(int32_t v, const RemovalPlan& plan) {
     }
     return true;
 }
-
-double Simplifier::judge(int32_t v, const RemovalPlan& plan, bool estimate) {
-    if (!plan.valid && !(estimate && plan.estimated)) {
-        last_reason_[v] = plan.reason;
-        return std::numeric_limits<double>::infinity();
-    }
-    const double error = (estimate ? plan.estimated_deviation : plan.max_deviation) / diagonal_;
-    if (error > options_.max_error) {
-        last_reason_[v] = "geometric error limit (--max-error)";
-        return std::numeric_limits<double>::infinity();
-    }
-    if (plan.worst_new_aspect > std::max(options_.max_aspect_ratio, plan.worst_old_aspect)) {
-        last_reason_[v] = "triangle shape limit (--max-aspect)";
-        return std::numeric_limits<double>::infinity();
-    }
-    if (plan.longest_new_edge > options_.max_edge_length * diagonal_) {
-        last_reason_[v] = "edge length limit (--max-edge-length)";
-        return std::numeric_limits<double>::infinity();
-    }
-    if (!estimate && plan.max_normal_deviation > options_.max_normal_deviation_degrees) {
-        last_reason_[v] = "normal deviation limit (--max-normal-deviation)";
-        return std::numeric_limits<double>::infinity();
-    }
-    last_reason_[v].clear();
-    const double aspect_term = std::log2(std::max(plan.worst_new_aspect, 2.0) / 2.0) -
-                               0.5 * std::log2(std::max(plan.worst_old_aspect, 2.0) / 2.0);
-    // Costs are compared after rounding to 1e-10 (relative to the diagonal), so that
-    // rounding noise, e.g. between a model and its scaled copy, does not reorder
-    // removals; exact ties go to the smaller vertex id.
-    return std::round((error + options_.aspect_weight * 1e-3 * aspect_term) * 1e10) * 1e-10;
-}
-
 
 SimplifyResult Simplifier::run(Parametrization& out) {
     const auto start = std::chrono::steady_clock::now();
@@ -383,7 +354,7 @@ SimplifyResult Simplifier::run(Parametrization& out) {
         for (int k = 0; k < count; ++k) {
             Candidate& c = candidates[k];
             const int32_t v = c.entry.vertex;
-            const double estimate = judge(v, *c.plan, true);
+            const double estimate = judge(v, *c.plan, CostBasis::Estimate);
             if (!std::isfinite(estimate)) {
                 c.live = false;
             } else if (waits(k, estimate)) {
