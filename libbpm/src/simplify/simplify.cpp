@@ -23,6 +23,7 @@
 #include "bpm/predicates.h"
 #include "simplify/coarse_mesh.h"
 #include "simplify/embedding.h"
+#include "simplify/export_phi.h"
 #include "simplify/intersection_test.h"
 #include "simplify/overlay.h"
 #include "simplify/planning_pool.h"
@@ -205,7 +206,6 @@ SimplifyResult Simplifier::run(Parametrization& out) {
         PlanTop,    // full plan of candidate `slot` (VertexRemover::plan_deferred)
         Finish,     // part `vertex` of the validation of candidate `slot`'s plan (VertexRemover::finish_part)
         Intersect,  // intersects_rest for candidate `slot` (whose triangles the Finish parts do not touch)
-        Export,     // export_task(vertex), at the end
         Grid,       // grid_removed out of the grid, the triangles from `vertex` on into it
     };
     struct Task {
@@ -226,7 +226,6 @@ SimplifyResult Simplifier::run(Parametrization& out) {
     Candidate candidates[2] = {{{}, &plan_, remover_.get()}, {{}, &second_plan_, second_remover_.get()}};
     std::vector<Task> tasks;
     std::vector<RemovalPlan> cheap_plans(removers_.size() + 1);
-    std::function<void(size_t)> export_task;  // chunk `vertex` of the export (set there)
     const int finish_parts = std::min<int>(VertexRemover::kMaxFinishParts, int(removers_.size()) + 1);
     std::vector<std::pair<int32_t, Tri>> grid_removed;  // of the last commit, for Job::Grid
     PlanningPool pool(static_cast<int>(removers_.size()) + 1);
@@ -242,7 +241,6 @@ SimplifyResult Simplifier::run(Parametrization& out) {
                                                               candidates_[thread]);
                 break;
             }
-            case Job::Export: export_task(size_t(task.vertex)); break;
             case Job::Grid: intersections_.update(grid_removed, task.vertex); break;
         }
     };
@@ -519,98 +517,7 @@ SimplifyResult Simplifier::run(Parametrization& out) {
 
     // Export.
     context_.report(0.95, "writing the parametrization");
-    out = Parametrization();
-    out.original = original_;
-    out.coarse = mesh_.to_surface(out.coarse_vertex_origin);
-    // The parametrization of every coarse triangle, in chunks of consecutive triangles
-    // that the threads share; the chunks are concatenated in order.
-    std::vector<int32_t> alive;
-    for (int32_t t = 0; t < mesh_.triangle_capacity(); ++t)
-        if (mesh_.alive(t)) alive.push_back(t);
-    struct ExportChunk {
-        size_t begin = 0, end = 0;  // into `alive`
-        Parametrization part;       // its node_* and piece* arrays, offsets from 0
-        double max_deviation = 0.0;
-        size_t failed = SIZE_MAX;   // index into `alive` of the first invalid triangle
-        std::string why;
-    };
-    // Likewise at most 2^19 chunks (the output is concatenated in order either way).
-    const size_t kExportChunk = std::max<size_t>(512, (alive.size() + (size_t(1) << 19) - 1) >> 19);
-    std::vector<ExportChunk> chunks((alive.size() + kExportChunk - 1) / kExportChunk);
-    for (size_t c = 0; c < chunks.size(); ++c) {
-        chunks[c].begin = c * kExportChunk;
-        chunks[c].end = std::min(alive.size(), (c + 1) * kExportChunk);
-    }
-    auto export_chunk = [&](ExportChunk& chunk) {
-        TriangleGraph graph;
-        std::vector<OverlayFace> faces;
-        std::vector<Tri> pieces;
-        std::vector<int32_t> piece_triangle;
-        const auto& x = original_.vertices;
-        Parametrization& part = chunk.part;
-        part.node_offsets.push_back(0);
-        part.piece_offsets.push_back(0);
-        for (size_t i = chunk.begin; i < chunk.end; ++i) {
-            const int32_t t = alive[i];
-            build_triangle_graph(mesh_, embedding_, t, graph);
-            if (!compute_faces(graph, embedding_, sign_, faces, &chunk.why) ||
-                !triangulate_faces(graph, embedding_, sign_, faces, pieces, piece_triangle, &chunk.why)) {
-                chunk.failed = i;
-                return;
-            }
-            const Tri& c = mesh_.triangle(t);
-            for (const GraphNode& g : graph.nodes) {
-                part.node_barycentric.push_back(g.bary);
-                const Vec3 image = node_image(g, embedding_);
-                part.node_image.push_back(image);
-                chunk.max_deviation =
-                    std::max(chunk.max_deviation, distance(image, barycentric_point(x[c[0]], x[c[1]], x[c[2]], g.bary)));
-                part.node_kind.push_back(g.kind);
-                part.node_original_vertex.push_back(g.kind == NodeKind::EdgeCrossing ? -1 : g.vertex);
-                if (g.kind == NodeKind::EdgeCrossing) {
-                    part.node_original_edge.push_back(embedding_.edges[g.edge]);
-                    part.node_edge_parameter.push_back(g.sigma);
-                } else {
-                    part.node_original_edge.push_back({-1, -1});
-                    part.node_edge_parameter.push_back(std::nan(""));
-                }
-            }
-            part.pieces.insert(part.pieces.end(), pieces.begin(), pieces.end());
-            part.piece_original_triangle.insert(part.piece_original_triangle.end(), piece_triangle.begin(),
-                                                piece_triangle.end());
-            part.node_offsets.push_back(static_cast<int64_t>(part.node_kind.size()));
-            part.piece_offsets.push_back(static_cast<int64_t>(part.pieces.size()));
-        }
-    };
-    tasks.clear();
-    for (size_t c = 0; c < chunks.size(); ++c) tasks.push_back(Task{int32_t(c), Job::Export});
-    export_task = [&](size_t c) { export_chunk(chunks[c]); };
-    pool.run_round(tasks.size(), work);
-    double max_deviation = 0.0;
-    out.node_offsets.push_back(0);
-    out.piece_offsets.push_back(0);
-    for (ExportChunk& chunk : chunks) {
-        if (chunk.failed != SIZE_MAX)
-            throw AlgorithmError("internal error: coarse triangle " + std::to_string(chunk.failed) +
-                                 " has an invalid parametrization (" + chunk.why + ")");
-        const Parametrization& part = chunk.part;
-        const int64_t node_base = out.node_offsets.back(), piece_base = out.piece_offsets.back();
-        auto append = [](auto& to, const auto& from) { to.insert(to.end(), from.begin(), from.end()); };
-        append(out.node_barycentric, part.node_barycentric);
-        append(out.node_image, part.node_image);
-        append(out.node_kind, part.node_kind);
-        append(out.node_original_vertex, part.node_original_vertex);
-        append(out.node_original_edge, part.node_original_edge);
-        append(out.node_edge_parameter, part.node_edge_parameter);
-        append(out.pieces, part.pieces);
-        append(out.piece_original_triangle, part.piece_original_triangle);
-        for (size_t k = 1; k < part.node_offsets.size(); ++k) {
-            out.node_offsets.push_back(node_base + part.node_offsets[k]);
-            out.piece_offsets.push_back(piece_base + part.piece_offsets[k]);
-        }
-        max_deviation = std::max(max_deviation, chunk.max_deviation);
-        chunk.part = Parametrization();
-    }
+    const double max_deviation = export_parametrization(original_, mesh_, embedding_, sign_, pool, out);
     result.output_vertices = out.coarse.num_vertices();
     result.output_triangles = out.coarse.num_triangles();
     result.max_error = diagonal_ > 0 ? max_deviation / diagonal_ : 0.0;
