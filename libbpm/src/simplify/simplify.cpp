@@ -1,26 +1,29 @@
-// Driver of the simplification: priority queue over vertices, global admissibility
-// (intersections with the rest of the surface, error and edge-length limits), and
-// export of the final parametrization. The local work is in vertex_removal.cpp.
+// Driver of the simplification: a priority queue over the vertices, and the loop of
+// steps in Simplifier::run (pick, plan, validate, commit, re-rank). Its parts, each with
+// its contract in its header:
+//   vertex_removal.h     the local work: plan and commit the removal of one vertex
+//   removal_cost.h       the queue key of a removal and the limits that refuse one
+//   intersection_test.h  new triangles against the rest of the coarse surface
+//   planning_pool.h      the threads that share a round's tasks
+//   export_phi.h         the final phi written out as a Parametrization
 #include "bpm/simplify.h"
 
 #include <algorithm>
-#include <array>
 #include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
-#include <exception>
 #include <future>
-#include <functional>
+#include <limits>
 #include <memory>
 #include <queue>
-#include <stdexcept>
+#include <string>
 #include <unordered_map>
+#include <utility>
+#include <vector>
 
 #include "bpm/check.h"
 #include "bpm/errors.h"
-#include "bpm/predicates.h"
 #include "simplify/coarse_mesh.h"
 #include "simplify/embedding.h"
 #include "simplify/export_phi.h"
@@ -39,7 +42,7 @@ namespace {
 struct QueueEntry {
     double cost;
     int32_t vertex;
-    uint32_t stamp;
+    uint32_t stamp;  // of the vertex when ranked: the entry is stale once the stamp moved on
     bool operator>(const QueueEntry& o) const {
         return cost > o.cost || (cost == o.cost && vertex > o.vertex);
     }
@@ -54,6 +57,46 @@ struct WaitingPlan {
     RemovalPlan plan;
 };
 
+// One of the (at most two) removals tried in a step.
+struct Candidate {
+    QueueEntry entry{};
+    RemovalPlan* plan = nullptr;
+    VertexRemover* remover = nullptr;  // of the plan (a pending plan's validation is in it)
+    int known_intersection = -1;       // -1 unknown, else whether it intersects the rest
+    bool intersects = false;           // result of the validation round's intersection test
+    bool live = false;                 // still to be committed in this step
+};
+
+// The removals of one step of the loop, and what their commits changed.
+struct Step {
+    Candidate candidates[2];
+    int count = 0;
+    int64_t commits_before = 0;     // commits when the step began to commit
+    int32_t first_new = 0;          // first triangle id the step's commits created
+    std::vector<int32_t> affected;  // the vertices around the committed removals
+    std::vector<std::pair<int32_t, Tri>> grid_removed;  // the triangles the commits removed
+    std::vector<int32_t> star;         // pick(): the first candidate and its link
+    std::vector<QueueEntry> skipped;   // pick(): entries passed over for the second
+};
+
+// The vertex count to stop at (0: none): the larger of the two targets asked for.
+int64_t target_vertex_count(const SimplifyOptions& options, int64_t input_vertices) {
+    int64_t target = 0;
+    if (options.target_vertices > 0) target = options.target_vertices;
+    if (options.target_ratio > 0) {
+        const int64_t by_ratio = static_cast<int64_t>(std::ceil(options.target_ratio * double(input_vertices)));
+        target = std::max(target, by_ratio);
+    }
+    return target;
+}
+
+// The simplification as a loop of steps over a priority queue of vertices (cheapest
+// removal first). A step picks up to two removals, plans them in full, validates them,
+// commits those still admissible and re-ranks the vertices around them; run() reads as
+// that loop. The work of a step is shared by threads in rounds (PlanningPool): every task
+// of a round reads the state and writes only its own outputs, and the state changes only
+// between rounds. Which tasks a round has never depends on the thread count, so neither
+// does the output.
 class Simplifier {
 public:
     Simplifier(const Surface& original, const SimplifyOptions& options, const Context& context, int threads)
@@ -62,6 +105,7 @@ public:
           context_(context),
           mesh_(original),
           diagonal_(bounding_box_diagonal(original)),
+          target_(target_vertex_count(options, original.num_vertices())),
           intersections_(mesh_) {
         mesh_.mark_feature_edges(options.feature_angle_degrees);
         mesh_.mark_corners(options.feature_angle_degrees, options.corner_crease_length * diagonal_,
@@ -79,7 +123,13 @@ public:
         remover_ = std::make_unique<VertexRemover>(mesh_, embedding_, sign_, oriented_normals_);
         second_remover_ = std::make_unique<VertexRemover>(mesh_, embedding_, sign_, oriented_normals_);
         for (int i = 1; i < threads; ++i) removers_.push_back(std::make_unique<VertexRemover>(mesh_, embedding_, sign_, oriented_normals_));
-        candidates_.resize(threads);
+        step_.candidates[0].plan = &plan_;
+        step_.candidates[0].remover = remover_.get();
+        step_.candidates[1].plan = &second_plan_;
+        step_.candidates[1].remover = second_remover_.get();
+        finish_parts_ = std::min<int>(VertexRemover::kMaxFinishParts, threads);
+        cheap_plans_.resize(threads);
+        grid_scratch_.resize(threads);
         stamp_.assign(original.vertices.size(), 0);
     }
 
@@ -93,23 +143,51 @@ private:
     Embedding embedding_;
     std::vector<int8_t> sign_;
     std::vector<Vec3> oriented_normals_;  // unit normals of the original triangles, coarse orientation
-    std::unique_ptr<VertexRemover> remover_;
-    std::unique_ptr<VertexRemover> second_remover_;  // of the second removal of an iteration
-    RemovalPlan second_plan_;
+    std::unique_ptr<VertexRemover> remover_;         // of thread 0 and of the first removal of a step
+    std::unique_ptr<VertexRemover> second_remover_;  // of the second removal of a step
+    std::vector<std::unique_ptr<VertexRemover>> removers_;  // of threads 1..
+    RemovalPlan plan_, second_plan_;                 // of the step's removals
+    std::vector<RemovalPlan> cheap_plans_;           // per thread, for ranking
+    int finish_parts_ = 1;                           // of a deferred validation (VertexRemover::finish_part)
     double diagonal_;
+    int64_t target_;                  // vertices to stop at, 0: none
     IntersectionTest intersections_;  // of new triangles with the rest of the surface
-    std::vector<uint32_t> stamp_;
+    std::vector<std::vector<TriangleGrid::Entry>> grid_scratch_;  // per thread, for intersects_rest
+    std::vector<uint32_t> stamp_;     // per vertex, moved on when its star changes
     std::priority_queue<QueueEntry, std::vector<QueueEntry>, std::greater<QueueEntry>> queue_;
-    std::vector<std::string> last_reason_;
-    RemovalPlan plan_;
-    std::vector<std::unique_ptr<VertexRemover>> removers_;  // of threads 1.. (thread 0 uses remover_)
-    std::vector<std::vector<TriangleGrid::Entry>> candidates_;  // per thread, for intersects_rest
-    int32_t first_new_ = 0;
-    std::atomic<int64_t> plans_[2] = {{0}, {0}};
+    // Full plans of entries pushed back because their real cost was higher than the
+    // estimate; reused when the entry comes back with the same stamp.
+    std::unordered_map<int32_t, WaitingPlan> full_plans_;
+    std::vector<std::string> last_reason_;  // per vertex: why it could not be removed when last tried
+    Step step_;
+    std::vector<double> rerank_costs_;
+    int32_t first_new_ = 0;  // first triangle id of the last commit (self_check)
+    std::atomic<int64_t> plans_[2] = {{0}, {0}};  // cheap, full
     int64_t commits_ = 0;
     int64_t reused_plans_ = 0;
+    // For progress reports.
+    int64_t start_vertices_ = 0;
+    int64_t next_report_ = 256;  // removals
+    double error_so_far_ = 0.0;  // largest error of a committed removal (of the diagonal)
 
+    // The phases of run().
+    SimplifyResult describe_input() const;
+    void rank_all(PlanningPool& pool);
+    bool pick();
+    void plan_round(PlanningPool& pool);
+    void hold_back_by_estimate();
+    void validate_round(PlanningPool& pool);
+    int commit_step(SimplifyResult& result);
+    void rerank_round(PlanningPool& pool);
+    void report_progress(const SimplifyResult& result);
+    void state_stop_reason(SimplifyResult& result) const;
+    void count_blocked(SimplifyResult& result);
+    void summarize(const Parametrization& out, double max_deviation, std::chrono::steady_clock::time_point start,
+                   SimplifyResult& result) const;
+
+    // Their pieces.
     VertexRemover& remover(int thread) { return thread == 0 ? *remover_ : *removers_[thread - 1]; }
+    bool current(const QueueEntry& e) const { return e.stamp == stamp_[e.vertex] && mesh_.vertex_alive(e.vertex); }
     // Queue key of v from a cheap plan (a lower bound of the full plan's cost), +infinity
     // if it cannot be removed now (reason recorded). On the remover of `thread`.
     double rank(int32_t v, RemovalPlan& plan, int thread);
@@ -119,15 +197,418 @@ private:
     double judge(int32_t v, const RemovalPlan& plan, CostBasis basis = CostBasis::Plan) {
         return removal_cost(plan, options_, diagonal_, basis, last_reason_[v]);
     }
+    // Whether candidate k, at cost `cost`, waits: its cost is above the next entry's (the
+    // queue's top, or a later candidate of the step) by more than the queue tolerance.
+    bool waits(int k, double cost) const;
+    // Whether candidate k is removed now (its cost in `cost`); else it went back into
+    // the queue (with its plan, if complete) or was refused (reason recorded).
+    bool ready_to_commit(int k, double& cost);
+    void commit(int k, double cost, SimplifyResult& result);
     bool admissible_globally(int32_t v, const RemovalPlan& plan);
     // A full plan made earlier is still exact if its star is unchanged (stamp), no
     // edited path changed elsewhere, and its new edges still do not exist.
     bool still_current(const RemovalPlan& plan) const;
-    // Full plans of entries pushed back because their real cost was higher than the
-    // estimate; reused when the entry comes back with the same stamp.
-    std::unordered_map<int32_t, WaitingPlan> full_plans_;
     void self_check(int32_t removed_vertex, const std::vector<int32_t>& link, int64_t step);
 };
+
+SimplifyResult Simplifier::run(Parametrization& out) {
+    const auto start = std::chrono::steady_clock::now();
+    SimplifyResult result = describe_input();
+    PlanningPool pool(static_cast<int>(removers_.size()) + 1);
+    rank_all(pool);
+    start_vertices_ = mesh_.num_vertices_alive();
+    while (mesh_.num_vertices_alive() > target_ && pick()) {
+        plan_round(pool);
+        hold_back_by_estimate();
+        validate_round(pool);
+        const int committed = commit_step(result);
+        if (committed == 0) continue;
+        if (committed == 2) ++result.paired_steps;
+        rerank_round(pool);
+        report_progress(result);
+    }
+    state_stop_reason(result);
+    count_blocked(result);
+    context_.report(0.95, "writing the parametrization");
+    const double max_deviation = export_parametrization(original_, mesh_, embedding_, sign_, pool, out);
+    summarize(out, max_deviation, start, result);
+    context_.report(1.0, "done");
+    return result;
+}
+
+SimplifyResult Simplifier::describe_input() const {
+    SimplifyResult result;
+    result.input_vertices = original_.num_vertices();
+    result.input_triangles = original_.num_triangles();
+    result.crease_junctions = mesh_.corner_count(CoarseMesh::Corner::Junction);
+    result.crease_cone_ends = mesh_.corner_count(CoarseMesh::Corner::ConeEnd);
+    result.line_feature_vertices = mesh_.hard_feature_vertices();
+    result.corners_kept = options_.keep_corners;
+    if (options_.record_steps) result.steps.emplace();  // record of the removals (bpm-check --replay)
+    return result;
+}
+
+// First ranking of all vertices by cheap plans, in chunks.
+void Simplifier::rank_all(PlanningPool& pool) {
+    const int32_t nv = original_.num_vertices();
+    last_reason_.assign(original_.vertices.size(), std::string());
+    // 256 vertices per task; above 2^27 vertices more, so that a round has at most
+    // 2^19 tasks (the pool takes fewer than 2^20). The costs do not depend on it.
+    const int32_t chunk = std::max<int32_t>(256, int32_t((int64_t(nv) + (1 << 19) - 1) >> 19));
+    const size_t chunks = size_t((int64_t(nv) + chunk - 1) / chunk);
+    std::vector<double> costs(nv, std::numeric_limits<double>::infinity());
+    std::atomic<int32_t> ranked{0};
+    pool.run_round(chunks, [&](int thread, size_t i) {
+        const int32_t first = int32_t(int64_t(i) * chunk), last = int32_t(std::min<int64_t>(nv, int64_t(first) + chunk));
+        for (int32_t v = first; v < last; ++v) {
+            remover(thread).plan(v, false, cheap_plans_[thread]);
+            costs[v] = judge(v, cheap_plans_[thread]);
+        }
+        const int32_t done = ranked.fetch_add(last - first) + (last - first);
+        if (thread == 0) context_.report(0.2 * done / std::max(nv, 1), "evaluating vertices");
+    });
+    plans_[0] += nv;
+    for (int32_t v = 0; v < nv; ++v) {
+        ++stamp_[v];
+        if (std::isfinite(costs[v])) queue_.push({costs[v], v, stamp_[v]});
+    }
+}
+
+// Up to two removals per step: the queue's top, and the best entry among the next few
+// that is not in the top's star, so that its star shares no triangle with the top's.
+// Their plans, validations and re-rankings share the rounds (the second thread otherwise
+// idles while the top is planned). The second is committed after the first only if its
+// plan is still valid then (ready_to_commit), else it goes back into the queue as it was.
+// (The plan is valid, not necessarily the one a planner would choose after the first
+// removal: an ear the first removal blocked could have changed a near-tie, or let a
+// crease be followed where the plan ends it.) False: the queue is empty.
+bool Simplifier::pick() {
+    while (!queue_.empty() && !current(queue_.top())) queue_.pop();
+    if (queue_.empty()) return false;
+    Step& s = step_;
+    s.count = 0;
+    s.candidates[s.count++].entry = queue_.top();
+    queue_.pop();
+    if (!options_.batch_removals) return true;
+    s.star.assign(1, s.candidates[0].entry.vertex);
+    for (int32_t t : mesh_.triangles_of(s.candidates[0].entry.vertex))
+        for (int32_t u : mesh_.triangle(t)) s.star.push_back(u);
+    s.skipped.clear();
+    while (!queue_.empty() && s.skipped.size() < 3) {
+        const QueueEntry e = queue_.top();
+        queue_.pop();
+        if (!current(e)) continue;
+        if (std::find(s.star.begin(), s.star.end(), e.vertex) == s.star.end()) {
+            s.candidates[s.count++].entry = e;
+            break;
+        }
+        s.skipped.push_back(e);
+    }
+    for (const QueueEntry& e : s.skipped) queue_.push(e);
+    return true;
+}
+
+// The full plans of the candidates. The neighbourhood of a candidate is unchanged since
+// its ranking (stamp), but other removals may have changed things near it: plan again
+// (one task per candidate, the validation deferred), or reuse a waiting full plan that
+// is provably still the same.
+void Simplifier::plan_round(PlanningPool& pool) {
+    int to_plan[2];
+    size_t count = 0;
+    for (int k = 0; k < step_.count; ++k) {
+        Candidate& c = step_.candidates[k];
+        c.known_intersection = -1;
+        c.live = true;
+        auto cached = full_plans_.find(c.entry.vertex);
+        if (cached != full_plans_.end() && cached->second.stamp == c.entry.stamp && still_current(cached->second.plan)) {
+            WaitingPlan& wp = cached->second;
+            if (wp.made_at == commits_) c.known_intersection = wp.intersects;
+            *c.plan = std::move(wp.plan);
+            full_plans_.erase(cached);
+            ++reused_plans_;
+        } else {
+            to_plan[count++] = k;
+        }
+    }
+    pool.run_round(count, [&](int, size_t i) {
+        Candidate& c = step_.candidates[to_plan[i]];
+        c.remover->plan_deferred(c.entry.vertex, *c.plan);
+    });
+    plans_[1].fetch_add(int64_t(count), std::memory_order_relaxed);
+}
+
+// A full plan is ranked by its estimate first (the cost before validation): if that is
+// above the next entry by more than the queue tolerance, the removal waits, unvalidated
+// (most such plans never come back unchanged).
+void Simplifier::hold_back_by_estimate() {
+    for (int k = 0; k < step_.count; ++k) {
+        Candidate& c = step_.candidates[k];
+        const int32_t v = c.entry.vertex;
+        const double estimate = judge(v, *c.plan, CostBasis::Estimate);
+        if (!std::isfinite(estimate)) {
+            c.live = false;
+        } else if (waits(k, estimate)) {
+            queue_.push({estimate, v, stamp_[v]});
+            c.live = false;
+        }
+    }
+}
+
+bool Simplifier::waits(int k, double cost) const {
+    double next = std::numeric_limits<double>::infinity();
+    if (!queue_.empty()) next = queue_.top().cost;
+    for (int j = k + 1; j < step_.count; ++j)
+        if (step_.candidates[j].live) next = std::min(next, step_.candidates[j].entry.cost);
+    if (!(cost > step_.candidates[k].entry.cost + 1e-15) || !std::isfinite(next)) return false;
+    return cost > next + options_.queue_tolerance * std::abs(next);
+}
+
+// The validations of the live candidates' pending plans, and in the same round the
+// intersection tests of their new triangles against the rest of the surface (which the
+// validations do not touch). Parts 0 first: the other parts of a validation wait for
+// their preparation (VertexRemover::finish_part).
+void Simplifier::validate_round(PlanningPool& pool) {
+    struct Check {
+        int8_t slot;  // candidate
+        int8_t part;  // of its validation; -1: its intersection test
+    };
+    Check checks[2 * (VertexRemover::kMaxFinishParts + 1)];
+    size_t count = 0;
+    auto validating = [&](int k) { return step_.candidates[k].live && step_.candidates[k].plan->pending; };
+    for (int k = 0; k < step_.count; ++k)
+        if (validating(k)) checks[count++] = {int8_t(k), 0};
+    for (int k = 0; k < step_.count; ++k)
+        if (step_.candidates[k].live && options_.prevent_intersections && step_.candidates[k].known_intersection < 0)
+            checks[count++] = {int8_t(k), -1};
+    for (int part = 1; part < finish_parts_; ++part)
+        for (int k = 0; k < step_.count; ++k)
+            if (validating(k)) checks[count++] = {int8_t(k), int8_t(part)};
+    pool.run_round(count, [&](int thread, size_t i) {
+        Candidate& c = step_.candidates[checks[i].slot];
+        if (checks[i].part < 0)
+            c.intersects = intersections_.intersects_rest(c.plan->new_triangles, c.plan->removed_triangles,
+                                                          grid_scratch_[thread]);
+        else
+            c.remover->finish_part(checks[i].part, finish_parts_);
+    });
+    for (size_t i = 0; i < count; ++i) {
+        Candidate& c = step_.candidates[checks[i].slot];
+        if (checks[i].part < 0) c.known_intersection = c.intersects;
+        if (checks[i].part == 0) c.remover->finish_parts_done(*c.plan, finish_parts_);
+    }
+}
+
+// Commits the live candidates that are still ready, in order; returns how many.
+int Simplifier::commit_step(SimplifyResult& result) {
+    step_.commits_before = commits_;
+    step_.first_new = mesh_.triangle_capacity();
+    step_.affected.clear();
+    step_.grid_removed.clear();
+    int committed = 0;
+    for (int k = 0; k < step_.count; ++k) {
+        double cost = 0.0;
+        if (!step_.candidates[k].live || !ready_to_commit(k, cost)) continue;
+        commit(k, cost, result);
+        ++committed;
+    }
+    return committed;
+}
+
+bool Simplifier::ready_to_commit(int k, double& cost) {
+    Candidate& c = step_.candidates[k];
+    const int32_t v = c.entry.vertex;
+    RemovalPlan& plan = *c.plan;
+    const bool after_first = k > 0 && commits_ > step_.commits_before;
+    // After the first removal of this step: is this plan still valid? (Its intersection
+    // test saw the first one's old triangles, which may be all it met: then it is tested
+    // again later.)
+    if (after_first && (mesh_.num_vertices_alive() <= target_ || !still_current(plan) || c.known_intersection == 1)) {
+        queue_.push(c.entry);
+        return false;
+    }
+    // Floater's map or the normal limit may still raise the cost; then it waits with its
+    // complete plan.
+    cost = judge(v, plan);
+    if (!std::isfinite(cost)) return false;
+    if (waits(k, cost)) {
+        WaitingPlan& wp = full_plans_[v];
+        wp.stamp = stamp_[v];
+        wp.made_at = c.known_intersection < 0 ? -1 : step_.commits_before;
+        wp.intersects = c.known_intersection == 1;
+        wp.plan = std::move(plan);
+        queue_.push({cost, v, stamp_[v]});
+        return false;
+    }
+    if (after_first) {
+        // Its new triangles must not meet the first removal's.
+        if (options_.prevent_intersections &&
+            meet_improperly(original_.vertices, plan.new_triangles, step_.candidates[0].plan->new_triangles)) {
+            last_reason_[v] = "would create a self-intersection";
+            return false;
+        }
+    } else if (c.known_intersection >= 0 ? c.known_intersection == 1 : !admissible_globally(v, plan)) {
+        if (c.known_intersection == 1) last_reason_[v] = "would create a self-intersection";
+        return false;
+    }
+    return true;
+}
+
+void Simplifier::commit(int k, double cost, SimplifyResult& result) {
+    const Candidate& c = step_.candidates[k];
+    const int32_t v = c.entry.vertex;
+    const RemovalPlan& plan = *c.plan;
+    if (options_.trace_removals) {
+        char line[200];
+        std::snprintf(line, sizeof line,
+                      "remove vertex %d: cost %.10g, error %.6g, worst aspect %.4g (was %.4g), normal deviation %.3g deg",
+                      v, cost, plan.max_deviation / diagonal_, plan.worst_new_aspect, plan.worst_old_aspect,
+                      plan.max_normal_deviation);
+        context_.debug(line);
+    }
+    std::vector<int32_t>& affected = step_.affected;
+    const size_t affected_begin = affected.size();
+    for (int32_t t : plan.removed_triangles)
+        for (int32_t u : mesh_.triangle(t))
+            if (u != v) affected.push_back(u);
+    // The grid follows in the re-ranking round (its planning does not read the grid).
+    for (int32_t t : plan.removed_triangles) step_.grid_removed.push_back({t, mesh_.triangle(t)});
+    first_new_ = mesh_.triangle_capacity();
+    commit_removal(mesh_, embedding_, plan);
+    if (result.steps) result.steps->append(v, plan.new_triangles, plan.new_patches);
+    ++commits_;
+    error_so_far_ = std::max(error_so_far_, plan.max_deviation / diagonal_);
+    ++stamp_[v];
+    full_plans_.erase(v);
+    ++result.removed;
+    if (plan.used_floater) ++result.shape_preserving_repairs;
+    if (options_.self_check)
+        self_check(v, std::vector<int32_t>(affected.begin() + affected_begin, affected.end()), result.removed);
+}
+
+// New costs of the vertices around the step's removals (their stars changed), and in
+// the same round the grid update (cheap plans do not read the grid).
+void Simplifier::rerank_round(PlanningPool& pool) {
+    std::vector<int32_t>& affected = step_.affected;
+    // Neither removed vertex was in the other's star: `affected` holds live vertices only.
+    std::sort(affected.begin(), affected.end());
+    affected.erase(std::unique(affected.begin(), affected.end()), affected.end());
+    for (int32_t u : affected) {
+        ++stamp_[u];
+        full_plans_.erase(u);
+    }
+    rerank_costs_.assign(affected.size(), 0.0);
+    pool.run_round(affected.size() + 1, [&](int thread, size_t i) {
+        if (i == 0)
+            intersections_.update(step_.grid_removed, step_.first_new);
+        else
+            rerank_costs_[i - 1] = rank(affected[i - 1], cheap_plans_[thread], thread);
+    });
+    intersections_.rebuild_if_sparse();
+    for (size_t i = 0; i < affected.size(); ++i)
+        if (std::isfinite(rerank_costs_[i])) queue_.push({rerank_costs_[i], affected[i], stamp_[affected[i]]});
+}
+
+void Simplifier::report_progress(const SimplifyResult& result) {
+    if (result.removed < next_report_) return;
+    next_report_ = result.removed + 256;
+    const double done = start_vertices_ > target_ ? double(start_vertices_ - mesh_.num_vertices_alive()) /
+                                                        double(start_vertices_ - target_)
+                                                  : 1.0;
+    char line[128];
+    std::snprintf(line, sizeof line, "simplifying: %d vertices left, error %.2g of diagonal",
+                  mesh_.num_vertices_alive(), error_so_far_);
+    context_.report(0.2 + 0.75 * std::min(done, 1.0), line);
+}
+
+// Whether the target was reached, and why the loop ended.
+void Simplifier::state_stop_reason(SimplifyResult& result) const {
+    std::string stop = "no vertex can be removed any more";
+    if (mesh_.num_vertices_alive() <= target_) {
+        result.target_reached = true;
+        stop = "target reached";
+    } else if (target_ == 0 && std::isfinite(options_.max_error)) {
+        // Only an error limit was asked for: stopping at it is the goal.
+        result.target_reached = true;
+        stop = "every further removal would exceed the error limit or another limit";
+    }
+    if (!result.target_reached && target_ > 0 && target_ < result.kept_feature_vertices()) {
+        // Say what the target runs into, not only that nothing could be removed.
+        stop = "the target of " + std::to_string(target_) + " vertices is below the " +
+               std::to_string(result.kept_feature_vertices()) + " feature vertices, which are never removed (";
+        std::string parts;
+        auto part = [&](int64_t n, const char* what) {
+            if (n > 0) parts += (parts.empty() ? "" : ", ") + std::to_string(n) + " " + what;
+        };
+        if (result.corners_kept) {
+            part(result.crease_junctions, "corners where three or more feature edges meet");
+            part(result.crease_cone_ends, "ends of creases at sharp cones");
+        }
+        part(result.line_feature_vertices, "ends or junctions of boundaries, patch borders or non-manifold lines");
+        stop += parts + ")";
+        const int64_t others = mesh_.num_vertices_alive() - result.kept_feature_vertices();
+        if (others > 0) stop += "; " + std::to_string(others) + " other vertices could not be removed either";
+    }
+    result.stop_reason = stop;
+}
+
+// Why the vertices that remain could not be removed, counted by reason, when the target
+// was not reached.
+void Simplifier::count_blocked(SimplifyResult& result) {
+    if (result.target_reached) return;
+    for (int32_t v = 0; v < original_.num_vertices(); ++v) {
+        if (!mesh_.vertex_alive(v)) continue;
+        std::string why = last_reason_[v];
+        if (why.empty()) {
+            remover_->plan(v, true, plan_);
+            why = plan_.valid ? "not reached" : plan_.reason;
+        }
+        ++result.blocked[why];
+        if (options_.trace_removals) context_.debug("vertex " + std::to_string(v) + " kept: " + why);
+    }
+}
+
+// What was achieved: sizes, error and shape of the coarse surface, time, and the
+// planner's statistics in the debug log.
+void Simplifier::summarize(const Parametrization& out, double max_deviation,
+                           std::chrono::steady_clock::time_point start, SimplifyResult& result) const {
+    result.output_vertices = out.coarse.num_vertices();
+    result.output_triangles = out.coarse.num_triangles();
+    result.max_error = diagonal_ > 0 ? max_deviation / diagonal_ : 0.0;
+    for (const Tri& t : out.coarse.triangles)
+        result.worst_aspect_ratio = std::max(
+            result.worst_aspect_ratio,
+            aspect_ratio(out.coarse.vertices[t[0]], out.coarse.vertices[t[1]], out.coarse.vertices[t[2]]));
+    result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    context_.debug("plans: " + std::to_string(plans_[0].load()) + " cheap, " + std::to_string(plans_[1].load()) +
+                   " full (" + std::to_string(reused_plans_) + " reused); " + std::to_string(result.paired_steps) +
+                   " steps removed two vertices; " +
+                   std::to_string(result.shape_preserving_repairs) + " removals re-embedded with Floater's map");
+}
+
+double Simplifier::rank(int32_t v, RemovalPlan& plan, int thread) {
+    remover(thread).plan(v, false, plan);
+    plans_[0].fetch_add(1, std::memory_order_relaxed);
+    return judge(v, plan);
+}
+
+bool Simplifier::still_current(const RemovalPlan& plan) const {
+    for (size_t i = 0; i < plan.new_paths.size(); ++i)
+        if (embedding_.path_version[plan.new_paths[i].first] != plan.path_versions[i]) return false;
+    for (const auto& e : plan.new_edges)
+        if (mesh_.has_edge(e[0], e[1])) return false;
+    for (const Tri& t : plan.new_triangles)
+        if (mesh_.find_triangle(t[0], t[1], t[2]) >= 0) return false;
+    return true;
+}
+
+bool Simplifier::admissible_globally(int32_t v, const RemovalPlan& plan) {
+    if (options_.prevent_intersections &&
+        intersections_.intersects_rest(plan.new_triangles, plan.removed_triangles, grid_scratch_[0])) {
+        last_reason_[v] = "would create a self-intersection";
+        return false;
+    }
+    return true;
+}
 
 void Simplifier::self_check(int32_t removed_vertex, const std::vector<int32_t>& link, int64_t step) {
     TriangleGraph graph;
@@ -152,386 +633,6 @@ void Simplifier::self_check(int32_t removed_vertex, const std::vector<int32_t>& 
                                  (t >= first_new_ ? ", new" : ", old") + "): " + why);
         }
     }
-}
-
-double Simplifier::rank(int32_t v, RemovalPlan& plan, int thread) {
-    remover(thread).plan(v, false, plan);
-    plans_[0].fetch_add(1, std::memory_order_relaxed);
-    return judge(v, plan);
-}
-
-bool Simplifier::still_current(const RemovalPlan& plan) const {
-    for (size_t i = 0; i < plan.new_paths.size(); ++i)
-        if (embedding_.path_version[plan.new_paths[i].first] != plan.path_versions[i]) return false;
-    for (const auto& e : plan.new_edges)
-        if (mesh_.has_edge(e[0], e[1])) return false;
-    for (const Tri& t : plan.new_triangles)
-        if (mesh_.find_triangle(t[0], t[1], t[2]) >= 0) return false;
-    return true;
-}
-
-bool Simplifier::admissible_globally(int32_t v, const RemovalPlan& plan) {
-    if (options_.prevent_intersections &&
-        intersections_.intersects_rest(plan.new_triangles, plan.removed_triangles, candidates_[0])) {
-        last_reason_[v] = "would create a self-intersection";
-        return false;
-    }
-    return true;
-}
-
-SimplifyResult Simplifier::run(Parametrization& out) {
-    const auto start = std::chrono::steady_clock::now();
-    SimplifyResult result;
-    result.input_vertices = original_.num_vertices();
-    result.input_triangles = original_.num_triangles();
-    int64_t target = 0;
-    if (options_.target_vertices > 0) target = options_.target_vertices;
-    if (options_.target_ratio > 0) {
-        const int64_t by_ratio = static_cast<int64_t>(std::ceil(options_.target_ratio * double(result.input_vertices)));
-        target = std::max(target, by_ratio);
-    }
-    last_reason_.assign(original_.vertices.size(), std::string());
-    result.crease_junctions = mesh_.corner_count(CoarseMesh::Corner::Junction);
-    result.crease_cone_ends = mesh_.corner_count(CoarseMesh::Corner::ConeEnd);
-    result.line_feature_vertices = mesh_.hard_feature_vertices();
-    result.corners_kept = options_.keep_corners;
-    if (options_.record_steps) result.steps.emplace();  // record of the removals (bpm-check --replay)
-
-    const int32_t nv = original_.num_vertices();
-    // Every task below reads the state and writes only its own outputs, so the tasks of
-    // a round are shared by threads; the state changes only between rounds. Which tasks
-    // a round has never depends on the thread count, so neither does the output.
-    enum class Job : uint8_t {
-        Rank,       // cheap plan of `vertex`, cost into `cost`
-        PlanTop,    // full plan of candidate `slot` (VertexRemover::plan_deferred)
-        Finish,     // part `vertex` of the validation of candidate `slot`'s plan (VertexRemover::finish_part)
-        Intersect,  // intersects_rest for candidate `slot` (whose triangles the Finish parts do not touch)
-        Grid,       // grid_removed out of the grid, the triangles from `vertex` on into it
-    };
-    struct Task {
-        int32_t vertex = -1;
-        Job job = Job::Rank;
-        double cost = 0.0;
-        int8_t slot = 0;  // candidate of PlanTop, Finish and Intersect
-    };
-    // The (at most two) removals tried in one iteration.
-    struct Candidate {
-        QueueEntry entry{};
-        RemovalPlan* plan;
-        VertexRemover* remover;     // of the plan (a pending plan's validation is in it)
-        int known_intersection = -1;  // -1 unknown, else whether it intersects the rest
-        bool intersects = false;    // result of Job::Intersect
-        bool live = false;          // still to be committed in this iteration
-    };
-    Candidate candidates[2] = {{{}, &plan_, remover_.get()}, {{}, &second_plan_, second_remover_.get()}};
-    std::vector<Task> tasks;
-    std::vector<RemovalPlan> cheap_plans(removers_.size() + 1);
-    const int finish_parts = std::min<int>(VertexRemover::kMaxFinishParts, int(removers_.size()) + 1);
-    std::vector<std::pair<int32_t, Tri>> grid_removed;  // of the last commit, for Job::Grid
-    PlanningPool pool(static_cast<int>(removers_.size()) + 1);
-    auto work = [&](int thread, size_t i) {
-        Task& task = tasks[i];
-        switch (task.job) {
-            case Job::Rank: task.cost = rank(task.vertex, cheap_plans[thread], thread); break;
-            case Job::PlanTop: candidates[task.slot].remover->plan_deferred(task.vertex, *candidates[task.slot].plan); break;
-            case Job::Finish: candidates[task.slot].remover->finish_part(task.vertex, finish_parts); break;
-            case Job::Intersect: {
-                Candidate& c = candidates[task.slot];
-                c.intersects = intersections_.intersects_rest(c.plan->new_triangles, c.plan->removed_triangles,
-                                                              candidates_[thread]);
-                break;
-            }
-            case Job::Grid: intersections_.update(grid_removed, task.vertex); break;
-        }
-    };
-
-    // First ranking of all vertices, in chunks.
-    {
-        // 256 vertices per task; above 2^27 vertices more, so that a round has at most
-        // 2^19 tasks (the pool takes fewer than 2^20). The costs do not depend on it.
-        const int32_t kChunk = std::max<int32_t>(256, int32_t((int64_t(nv) + (1 << 19) - 1) >> 19));
-        tasks.clear();
-        for (int64_t v = 0; v < nv; v += kChunk) tasks.push_back(Task{int32_t(v)});
-        std::vector<double> costs(nv, std::numeric_limits<double>::infinity());
-        std::atomic<int32_t> ranked{0};
-        pool.run_round(tasks.size(), [&](int thread, size_t i) {
-            const int32_t first = tasks[i].vertex, last = int32_t(std::min<int64_t>(nv, int64_t(first) + kChunk));
-            for (int32_t v = first; v < last; ++v) {
-                remover(thread).plan(v, false, cheap_plans[thread]);
-                costs[v] = judge(v, cheap_plans[thread]);
-            }
-            const int32_t done = ranked.fetch_add(last - first) + (last - first);
-            if (thread == 0) context_.report(0.2 * done / std::max(nv, 1), "evaluating vertices");
-        });
-        plans_[0] += nv;
-        for (int32_t v = 0; v < nv; ++v) {
-            ++stamp_[v];
-            if (std::isfinite(costs[v])) queue_.push({costs[v], v, stamp_[v]});
-        }
-    }
-    const int64_t start_vertices = mesh_.num_vertices_alive();
-    std::vector<int32_t> affected;
-    std::string stop = "no vertex can be removed any more";
-    double error_so_far = 0.0;  // largest error of a committed removal (of the diagonal), for progress
-    int64_t next_report = 256;  // removals
-    auto current = [&](const QueueEntry& e) { return e.stamp == stamp_[e.vertex] && mesh_.vertex_alive(e.vertex); };
-    std::vector<int32_t> star_a;       // the link of the first candidate, and itself
-    std::vector<QueueEntry> skipped;   // entries passed over when looking for a second candidate
-    while (true) {
-        if (mesh_.num_vertices_alive() <= target) {
-            stop = "target reached";
-            result.target_reached = true;
-            break;
-        }
-        while (!queue_.empty() && !current(queue_.top())) queue_.pop();
-        if (queue_.empty()) break;
-        // Up to two removals per iteration: the queue's top, and the best entry among the
-        // next few that is not in the top's star, so that its star shares no triangle
-        // with the top's. Their plans, validations and re-rankings share the rounds (the
-        // second thread otherwise idles while the top is planned). The second is
-        // committed after the first only if its plan is still valid then (its star's
-        // triangles are still there, no path it edits changed, its new edges and
-        // triangles are still new: what a reused waiting plan is checked for), else it
-        // goes back into the queue as it was; and it is refused if its new triangles
-        // meet the first's. (The plan is valid, not necessarily the one a planner would
-        // choose after the first removal: an ear the first removal blocked could have
-        // changed a near-tie, or let a crease be followed where the plan ends it.)
-        int count = 0;
-        candidates[count++].entry = queue_.top();
-        queue_.pop();
-        if (options_.batch_removals) {
-            star_a.assign(1, candidates[0].entry.vertex);
-            for (int32_t t : mesh_.triangles_of(candidates[0].entry.vertex))
-                for (int32_t u : mesh_.triangle(t)) star_a.push_back(u);
-            skipped.clear();
-            while (!queue_.empty() && skipped.size() < 3) {
-                const QueueEntry e = queue_.top();
-                queue_.pop();
-                if (!current(e)) continue;
-                if (std::find(star_a.begin(), star_a.end(), e.vertex) == star_a.end()) {
-                    candidates[count++].entry = e;
-                    break;
-                }
-                skipped.push_back(e);
-            }
-            for (const QueueEntry& e : skipped) queue_.push(e);
-        }
-        // The neighbourhood of a candidate is unchanged since its ranking (stamp), but
-        // other removals may have changed things near it: plan again, or reuse a full plan
-        // that is provably still the same.
-        tasks.clear();
-        for (int k = 0; k < count; ++k) {
-            Candidate& c = candidates[k];
-            c.known_intersection = -1;
-            c.live = true;
-            const int32_t v = c.entry.vertex;
-            auto cached = full_plans_.find(v);
-            if (cached != full_plans_.end() && cached->second.stamp == c.entry.stamp && still_current(cached->second.plan)) {
-                WaitingPlan& wp = cached->second;
-                if (wp.made_at == commits_) c.known_intersection = wp.intersects;
-                *c.plan = std::move(wp.plan);
-                full_plans_.erase(cached);
-                ++reused_plans_;
-            } else {
-                tasks.push_back(Task{v, Job::PlanTop, 0.0, int8_t(k)});
-            }
-        }
-        pool.run_round(tasks.size(), work);
-        plans_[1].fetch_add(int64_t(tasks.size()), std::memory_order_relaxed);
-        // A full plan is ranked by its estimate first (the cost before validation): if
-        // that is above the next entry by more than the queue tolerance, the removal
-        // waits, unvalidated (most such plans never come back unchanged).
-        auto waits = [&](int k, double c) {
-            double next = std::numeric_limits<double>::infinity();
-            if (!queue_.empty()) next = queue_.top().cost;
-            for (int j = k + 1; j < count; ++j)
-                if (candidates[j].live) next = std::min(next, candidates[j].entry.cost);
-            if (!(c > candidates[k].entry.cost + 1e-15) || !std::isfinite(next)) return false;
-            return c > next + options_.queue_tolerance * std::abs(next);
-        };
-        for (int k = 0; k < count; ++k) {
-            Candidate& c = candidates[k];
-            const int32_t v = c.entry.vertex;
-            const double estimate = judge(v, *c.plan, CostBasis::Estimate);
-            if (!std::isfinite(estimate)) {
-                c.live = false;
-            } else if (waits(k, estimate)) {
-                queue_.push({estimate, v, stamp_[v]});
-                c.live = false;
-            }
-        }
-        // The validations, and in the same round the intersection tests of the new
-        // triangles against the rest of the surface; parts 0 first (the other parts wait
-        // for their preparation).
-        tasks.clear();
-        for (int k = 0; k < count; ++k)
-            if (candidates[k].live && candidates[k].plan->pending) tasks.push_back(Task{0, Job::Finish, 0.0, int8_t(k)});
-        for (int k = 0; k < count; ++k)
-            if (candidates[k].live && options_.prevent_intersections && candidates[k].known_intersection < 0)
-                tasks.push_back(Task{candidates[k].entry.vertex, Job::Intersect, 0.0, int8_t(k)});
-        for (int part = 1; part < finish_parts; ++part)
-            for (int k = 0; k < count; ++k)
-                if (candidates[k].live && candidates[k].plan->pending) tasks.push_back(Task{part, Job::Finish, 0.0, int8_t(k)});
-        pool.run_round(tasks.size(), work);
-        for (const Task& task : tasks) {
-            Candidate& c = candidates[task.slot];
-            if (task.job == Job::Intersect) c.known_intersection = c.intersects;
-            if (task.job == Job::Finish && task.vertex == 0) c.remover->finish_parts_done(*c.plan, finish_parts);
-        }
-        const int64_t commits_before = commits_;
-        const int32_t first_new = mesh_.triangle_capacity();
-        affected.clear();
-        grid_removed.clear();
-        int committed = 0;  // removals in this step
-        for (int k = 0; k < count; ++k) {
-            Candidate& c = candidates[k];
-            if (!c.live) continue;
-            const int32_t v = c.entry.vertex;
-            RemovalPlan& plan = *c.plan;
-            const bool after_first = k > 0 && commits_ > commits_before;
-            // After the first removal of this step: is this plan still valid? (Its
-            // intersection test saw the first one's old triangles, which may be all it
-            // met: then it is tested again later.)
-            if (after_first &&
-                (mesh_.num_vertices_alive() <= target || !still_current(plan) || c.known_intersection == 1)) {
-                queue_.push(c.entry);
-                continue;
-            }
-            // Floater's map or the normal limit may still raise the cost; then it waits
-            // with its complete plan.
-            const double cost = judge(v, plan);
-            if (!std::isfinite(cost)) continue;
-            if (waits(k, cost)) {
-                WaitingPlan& wp = full_plans_[v];
-                wp.stamp = stamp_[v];
-                wp.made_at = c.known_intersection < 0 ? -1 : commits_before;
-                wp.intersects = c.known_intersection == 1;
-                wp.plan = std::move(plan);
-                queue_.push({cost, v, stamp_[v]});
-                continue;
-            }
-            if (after_first) {
-                if (options_.prevent_intersections && meet_improperly(original_.vertices, plan.new_triangles, candidates[0].plan->new_triangles)) {
-                    last_reason_[v] = "would create a self-intersection";
-                    continue;
-                }
-            } else if (c.known_intersection >= 0 ? c.known_intersection == 1 : !admissible_globally(v, plan)) {
-                if (c.known_intersection == 1) last_reason_[v] = "would create a self-intersection";
-                continue;
-            }
-            if (options_.trace_removals) {
-                char line[200];
-                std::snprintf(line, sizeof line,
-                              "remove vertex %d: cost %.10g, error %.6g, worst aspect %.4g (was %.4g), normal deviation %.3g deg",
-                              v, cost, plan.max_deviation / diagonal_, plan.worst_new_aspect, plan.worst_old_aspect,
-                              plan.max_normal_deviation);
-                context_.debug(line);
-            }
-            const size_t affected_begin = affected.size();
-            for (int32_t t : plan.removed_triangles)
-                for (int32_t u : mesh_.triangle(t))
-                    if (u != v) affected.push_back(u);
-            // The grid follows in the round below (its planning does not read the grid).
-            for (int32_t t : plan.removed_triangles) grid_removed.push_back({t, mesh_.triangle(t)});
-            first_new_ = mesh_.triangle_capacity();
-            commit_removal(mesh_, embedding_, plan);
-            if (result.steps) result.steps->append(v, plan.new_triangles, plan.new_patches);
-            ++commits_;
-            ++committed;
-            error_so_far = std::max(error_so_far, plan.max_deviation / diagonal_);
-            ++stamp_[v];
-            full_plans_.erase(v);
-            ++result.removed;
-            if (plan.used_floater) ++result.shape_preserving_repairs;
-            if (options_.self_check)
-                self_check(v, std::vector<int32_t>(affected.begin() + affected_begin, affected.end()), result.removed);
-        }
-        if (committed == 0) continue;
-        if (committed == 2) ++result.paired_steps;
-        // Neither removed vertex was in the other's star: `affected` holds live vertices only.
-        std::sort(affected.begin(), affected.end());
-        affected.erase(std::unique(affected.begin(), affected.end()), affected.end());
-
-        // The round: new costs of the vertices around the removals (their stars changed),
-        // and the grid update.
-        tasks.assign(1, Task{first_new, Job::Grid});
-        for (int32_t u : affected) {
-            ++stamp_[u];
-            full_plans_.erase(u);
-            tasks.push_back(Task{u});
-        }
-        pool.run_round(tasks.size(), work);
-        intersections_.rebuild_if_sparse();
-        for (const Task& task : tasks)
-            if (task.job == Job::Rank && std::isfinite(task.cost)) queue_.push({task.cost, task.vertex, stamp_[task.vertex]});
-        if (result.removed >= next_report) {
-            next_report = result.removed + 256;
-            const double done = start_vertices > target
-                                    ? double(start_vertices - mesh_.num_vertices_alive()) / double(start_vertices - target)
-                                    : 1.0;
-            char line[128];
-            std::snprintf(line, sizeof line, "simplifying: %d vertices left, error %.2g of diagonal",
-                          mesh_.num_vertices_alive(), error_so_far);
-            context_.report(0.2 + 0.75 * std::min(done, 1.0), line);
-        }
-    }
-    if (mesh_.num_vertices_alive() <= target) {
-        result.target_reached = true;
-        stop = "target reached";
-    } else if (target == 0 && std::isfinite(options_.max_error)) {
-        // Only an error limit was asked for: stopping at it is the goal.
-        result.target_reached = true;
-        stop = "every further removal would exceed the error limit or another limit";
-    }
-    if (!result.target_reached && target > 0 && target < result.kept_feature_vertices()) {
-        // Say what the target runs into, not only that nothing could be removed.
-        stop = "the target of " + std::to_string(target) + " vertices is below the " +
-               std::to_string(result.kept_feature_vertices()) + " feature vertices, which are never removed (";
-        std::string parts;
-        auto part = [&](int64_t n, const char* what) {
-            if (n > 0) parts += (parts.empty() ? "" : ", ") + std::to_string(n) + " " + what;
-        };
-        if (result.corners_kept) {
-            part(result.crease_junctions, "corners where three or more feature edges meet");
-            part(result.crease_cone_ends, "ends of creases at sharp cones");
-        }
-        part(result.line_feature_vertices, "ends or junctions of boundaries, patch borders or non-manifold lines");
-        stop += parts + ")";
-        const int64_t others = mesh_.num_vertices_alive() - result.kept_feature_vertices();
-        if (others > 0) stop += "; " + std::to_string(others) + " other vertices could not be removed either";
-    }
-    result.stop_reason = stop;
-    if (!result.target_reached) {
-        for (int32_t v = 0; v < nv; ++v) {
-            if (!mesh_.vertex_alive(v)) continue;
-            std::string why = last_reason_[v];
-            if (why.empty()) {
-                std::string reason;
-                remover_->plan(v, true, plan_);
-                why = plan_.valid ? "not reached" : plan_.reason;
-            }
-            ++result.blocked[why];
-            if (options_.trace_removals) context_.debug("vertex " + std::to_string(v) + " kept: " + why);
-        }
-    }
-
-    // Export.
-    context_.report(0.95, "writing the parametrization");
-    const double max_deviation = export_parametrization(original_, mesh_, embedding_, sign_, pool, out);
-    result.output_vertices = out.coarse.num_vertices();
-    result.output_triangles = out.coarse.num_triangles();
-    result.max_error = diagonal_ > 0 ? max_deviation / diagonal_ : 0.0;
-    for (const Tri& t : out.coarse.triangles)
-        result.worst_aspect_ratio = std::max(
-            result.worst_aspect_ratio,
-            aspect_ratio(out.coarse.vertices[t[0]], out.coarse.vertices[t[1]], out.coarse.vertices[t[2]]));
-    result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    context_.debug("plans: " + std::to_string(plans_[0].load()) + " cheap, " + std::to_string(plans_[1].load()) +
-                   " full (" + std::to_string(reused_plans_) + " reused); " + std::to_string(result.paired_steps) +
-                   " steps removed two vertices; " +
-                   std::to_string(result.shape_preserving_repairs) + " removals re-embedded with Floater's map");
-    context_.report(1.0, "done");
-    return result;
 }
 
 }  // namespace
