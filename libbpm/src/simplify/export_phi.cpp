@@ -1,0 +1,121 @@
+#include "simplify/export_phi.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <string>
+
+#include "bpm/errors.h"
+#include "simplify/overlay.h"
+
+namespace bpm::detail {
+
+namespace {
+
+// Consecutive coarse triangles exported by one task, into a Parametrization of their own
+// (node_* and piece* arrays, offsets from 0); the chunks are concatenated in order.
+struct ExportChunk {
+    size_t begin = 0, end = 0;  // into the alive triangles
+    Parametrization part;
+    double max_deviation = 0.0;
+    size_t failed = SIZE_MAX;   // index into the alive triangles of the first invalid one
+    std::string why;
+};
+
+void export_chunk(const Surface& original, const CoarseMesh& mesh, const Embedding& embedding,
+                  const std::vector<int8_t>& sign, const std::vector<int32_t>& alive, ExportChunk& chunk) {
+    TriangleGraph graph;
+    std::vector<OverlayFace> faces;
+    std::vector<Tri> pieces;
+    std::vector<int32_t> piece_triangle;
+    const auto& x = original.vertices;
+    Parametrization& part = chunk.part;
+    part.node_offsets.push_back(0);
+    part.piece_offsets.push_back(0);
+    for (size_t i = chunk.begin; i < chunk.end; ++i) {
+        const int32_t t = alive[i];
+        build_triangle_graph(mesh, embedding, t, graph);
+        if (!compute_faces(graph, embedding, sign, faces, &chunk.why) ||
+            !triangulate_faces(graph, embedding, sign, faces, pieces, piece_triangle, &chunk.why)) {
+            chunk.failed = i;
+            return;
+        }
+        const Tri& c = mesh.triangle(t);
+        for (const GraphNode& g : graph.nodes) {
+            part.node_barycentric.push_back(g.bary);
+            const Vec3 image = node_image(g, embedding);
+            part.node_image.push_back(image);
+            chunk.max_deviation =
+                std::max(chunk.max_deviation, distance(image, barycentric_point(x[c[0]], x[c[1]], x[c[2]], g.bary)));
+            part.node_kind.push_back(g.kind);
+            part.node_original_vertex.push_back(g.kind == NodeKind::EdgeCrossing ? -1 : g.vertex);
+            if (g.kind == NodeKind::EdgeCrossing) {
+                part.node_original_edge.push_back(embedding.edges[g.edge]);
+                part.node_edge_parameter.push_back(g.sigma);
+            } else {
+                part.node_original_edge.push_back({-1, -1});
+                part.node_edge_parameter.push_back(std::nan(""));
+            }
+        }
+        part.pieces.insert(part.pieces.end(), pieces.begin(), pieces.end());
+        part.piece_original_triangle.insert(part.piece_original_triangle.end(), piece_triangle.begin(),
+                                            piece_triangle.end());
+        part.node_offsets.push_back(static_cast<int64_t>(part.node_kind.size()));
+        part.piece_offsets.push_back(static_cast<int64_t>(part.pieces.size()));
+    }
+}
+
+// Appends a chunk's arrays to `out`, its offsets shifted past what `out` holds.
+void append_chunk(const Parametrization& part, Parametrization& out) {
+    const int64_t node_base = out.node_offsets.back(), piece_base = out.piece_offsets.back();
+    auto append = [](auto& to, const auto& from) { to.insert(to.end(), from.begin(), from.end()); };
+    append(out.node_barycentric, part.node_barycentric);
+    append(out.node_image, part.node_image);
+    append(out.node_kind, part.node_kind);
+    append(out.node_original_vertex, part.node_original_vertex);
+    append(out.node_original_edge, part.node_original_edge);
+    append(out.node_edge_parameter, part.node_edge_parameter);
+    append(out.pieces, part.pieces);
+    append(out.piece_original_triangle, part.piece_original_triangle);
+    for (size_t k = 1; k < part.node_offsets.size(); ++k) {
+        out.node_offsets.push_back(node_base + part.node_offsets[k]);
+        out.piece_offsets.push_back(piece_base + part.piece_offsets[k]);
+    }
+}
+
+}  // namespace
+
+double export_parametrization(const Surface& original, const CoarseMesh& mesh, const Embedding& embedding,
+                              const std::vector<int8_t>& orientation_sign, PlanningPool& pool, Parametrization& out) {
+    out = Parametrization();
+    out.original = original;
+    out.coarse = mesh.to_surface(out.coarse_vertex_origin);
+    std::vector<int32_t> alive;
+    for (int32_t t = 0; t < mesh.triangle_capacity(); ++t)
+        if (mesh.alive(t)) alive.push_back(t);
+    // At least 512 triangles per chunk, and at most 2^19 chunks (a round of the pool takes
+    // fewer than 2^20 tasks); the output is concatenated in order either way.
+    const size_t chunk_size = std::max<size_t>(512, (alive.size() + (size_t(1) << 19) - 1) >> 19);
+    std::vector<ExportChunk> chunks((alive.size() + chunk_size - 1) / chunk_size);
+    for (size_t c = 0; c < chunks.size(); ++c) {
+        chunks[c].begin = c * chunk_size;
+        chunks[c].end = std::min(alive.size(), (c + 1) * chunk_size);
+    }
+    pool.run_round(chunks.size(), [&](int, size_t c) {
+        export_chunk(original, mesh, embedding, orientation_sign, alive, chunks[c]);
+    });
+    double max_deviation = 0.0;
+    out.node_offsets.push_back(0);
+    out.piece_offsets.push_back(0);
+    for (ExportChunk& chunk : chunks) {
+        if (chunk.failed != SIZE_MAX)
+            throw AlgorithmError("internal error: coarse triangle " + std::to_string(chunk.failed) +
+                                 " has an invalid parametrization (" + chunk.why + ")");
+        append_chunk(chunk.part, out);
+        max_deviation = std::max(max_deviation, chunk.max_deviation);
+        chunk.part = Parametrization();  // its memory back before the next chunk's is appended
+    }
+    return max_deviation;
+}
+
+}  // namespace bpm::detail

@@ -1,0 +1,94 @@
+#pragma once
+// Threads that share the work of the simplifier's rounds (planning, validation,
+// re-ranking, export). Internal to libbpm.
+//
+// Contract:
+// - run_round(n, work) runs work(thread, i) exactly once for every task i in [0, n) and
+//   returns when all n have returned. `thread` is in [0, threads()); 0 is the caller,
+//   which takes tasks too. Each thread starts its tasks in increasing order of i, and
+//   tasks are handed out in increasing order (a task may wait for an earlier one of the
+//   same round: VertexRemover::finish_part relies on that).
+// - Which thread runs which task depends on timing; so a task must write only its own
+//   outputs (or per-thread buffers indexed by `thread`), and then the results do not
+//   depend on the number of threads.
+// - If a task throws, run_round rethrows that exception (the first caught) on the caller
+//   once no task of the round is running any more; tasks not started by then may be
+//   skipped. The pool stays usable.
+// - One round at a time, from one caller thread; rounds of at most 2^20 - 1 tasks
+//   (std::length_error otherwise).
+//
+// Rounds are short (a few plans, tens of microseconds) and follow each other quickly,
+// so idle workers spin for a while (200 us) before they sleep: waking a sleeping thread
+// costs about as much as a plan.
+
+#include <atomic>
+#include <condition_variable>
+#include <cstddef>
+#include <cstdint>
+#include <exception>
+#include <mutex>
+#include <thread>
+#include <type_traits>
+#include <vector>
+
+namespace bpm::detail {
+
+// Threads for a simplification asked for `requested` (SimplifyOptions::threads): that,
+// at most 64, or for 0 two unless the machine has one core or every core is busy (the
+// 1-minute load average; the second thread spins between rounds, so bpm's own earlier
+// runs count in the load too).
+int planning_threads(int requested);
+
+class PlanningPool {
+public:
+    // `threads` >= 1: the caller and threads - 1 workers.
+    explicit PlanningPool(int threads);
+    ~PlanningPool();
+    PlanningPool(const PlanningPool&) = delete;
+    PlanningPool& operator=(const PlanningPool&) = delete;
+
+    int threads() const { return static_cast<int>(workers_.size()) + 1; }
+
+    // `work(int thread, size_t task)`; see the contract above. `work` is used only
+    // during the call.
+    template <class Work>
+    void run_round(size_t tasks, Work&& work) {
+        using W = std::remove_reference_t<Work>;
+        run(tasks, WorkRef{const_cast<void*>(static_cast<const void*>(&work)),
+                           [](void* w, int thread, size_t i) { (*static_cast<W*>(w))(thread, i); }});
+    }
+
+private:
+    // The round's work, without copying or allocating (rounds are many and short).
+    struct WorkRef {
+        void* object = nullptr;
+        void (*call)(void*, int, size_t) = nullptr;
+        void operator()(int thread, size_t i) const { call(object, thread, i); }
+    };
+    void run(size_t tasks, WorkRef work);
+    void take_tasks(int thread);
+    void serve(int thread);
+
+    std::vector<std::thread> workers_;
+    // Written by the caller before it publishes a round in slot_; read by a worker only
+    // after it took a task of that round (the compare-and-swap on slot_ orders them).
+    WorkRef work_;
+    std::atomic<uint64_t> round_{0};  // wakes the workers
+    // The round's tasks: (round id << 40) | (number of tasks << 20) | next task. A task is
+    // taken by a compare-and-swap of the whole word, so a thread that comes late from an
+    // earlier round can never take (or count) a task of a later one. (A shared counter
+    // reset per round let a late fetch_add run a task of the next round twice, once
+    // with the previous round's task count.)
+    static constexpr uint64_t kIndexMask = (uint64_t(1) << 20) - 1, kRoundMask = (uint64_t(1) << 24) - 1;
+    std::atomic<uint64_t> slot_{0};
+    uint64_t round_id_ = 0;
+    std::atomic<size_t> done_{0};
+    std::atomic<int> sleeping_{0};
+    std::mutex mutex_;  // guards stop_ and the sleeping side of round_
+    std::condition_variable wake_;
+    bool stop_ = false;
+    std::mutex failure_mutex_;
+    std::exception_ptr failure_;
+};
+
+}  // namespace bpm::detail

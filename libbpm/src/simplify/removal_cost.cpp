@@ -1,0 +1,43 @@
+#include "simplify/removal_cost.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace bpm::detail {
+
+double removal_cost(const RemovalPlan& plan, const SimplifyOptions& options, double diagonal, CostBasis basis,
+                    std::string& why) {
+    const bool estimate = basis == CostBasis::Estimate;
+    constexpr double kRefused = std::numeric_limits<double>::infinity();
+    if (!plan.valid && !(estimate && plan.estimated)) {
+        why = plan.reason;
+        return kRefused;
+    }
+    const double error = (estimate ? plan.estimated_deviation : plan.max_deviation) / diagonal;
+    if (error > options.max_error) {
+        why = "geometric error limit (--max-error)";
+        return kRefused;
+    }
+    if (plan.worst_new_aspect > std::max(options.max_aspect_ratio, plan.worst_old_aspect)) {
+        why = "triangle shape limit (--max-aspect)";
+        return kRefused;
+    }
+    if (plan.longest_new_edge > options.max_edge_length * diagonal) {
+        why = "edge length limit (--max-edge-length)";
+        return kRefused;
+    }
+    if (!estimate && plan.max_normal_deviation > options.max_normal_deviation_degrees) {
+        why = "normal deviation limit (--max-normal-deviation)";
+        return kRefused;
+    }
+    why.clear();
+    const double aspect_term = std::log2(std::max(plan.worst_new_aspect, 2.0) / 2.0) -
+                               0.5 * std::log2(std::max(plan.worst_old_aspect, 2.0) / 2.0);
+    // Costs are compared after rounding to 1e-10 (relative to the diagonal), so that
+    // rounding noise, e.g. between a model and its scaled copy, does not reorder
+    // removals (the queue breaks exact ties by the smaller vertex id).
+    return std::round((error + options.aspect_weight * 1e-3 * aspect_term) * 1e10) * 1e-10;
+}
+
+}  // namespace bpm::detail

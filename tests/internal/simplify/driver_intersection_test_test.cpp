@@ -1,0 +1,102 @@
+// The simplifier's intersection test (simplify/intersection_test.h), tested directly on
+// small triangle sets: what it must refuse (a piercing triangle, a coplanar fold, two new
+// triangles crossing each other) and what it must allow (sharing an edge or a vertex,
+// overlapping only a triangle the removal takes away), also after update().
+#include <vector>
+
+#include <catch2/catch.hpp>
+
+#include "bpm/surface.h"
+#include "simplify/coarse_mesh.h"
+#include "simplify/intersection_test.h"
+
+using namespace bpm;
+using namespace bpm::detail;
+
+namespace {
+
+// The unit square in z = 0 as triangles 0 = (0,1,2) and 1 = (0,2,3) (triangle 0 is the
+// half y <= x), and unreferenced vertices for the triangles under test.
+Surface square_and_points() {
+    Surface s;
+    s.vertices = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0},
+                  // 4-6: a triangle through the interior of triangle 0
+                  {0.4, 0.3, -1}, {0.4, 0.3, 1}, {0.8, 0.3, 1},
+                  // 7-9: a triangle above the square
+                  {0, 0, 1}, {1, 0, 1}, {0, 1, 1},
+                  // 10: above the edge 0-1; 11: inside triangle 0, in the square's plane
+                  {0.5, 0, 1}, {0.6, 0.3, 0},
+                  // 12, 13: with 11, a triangle crossing (0, 1, 11)'s plane through it
+                  {0.4, -0.5, 0.5}, {0.4, 0.5, -0.5}};
+    s.triangles = {{0, 1, 2}, {0, 2, 3}};
+    s.patches = {0, 0};
+    return s;
+}
+
+}  // namespace
+
+TEST_CASE("intersection test: meet_improperly on pairs of triangles", "[internal][simplify]") {
+    const Surface s = square_and_points();
+    const auto& x = s.vertices;
+    CHECK(meet_improperly(x, Tri{4, 5, 6}, Tri{0, 1, 2}));    // pierces triangle 0
+    CHECK(!meet_improperly(x, Tri{7, 8, 9}, Tri{0, 1, 2}));   // above it
+    CHECK(!meet_improperly(x, Tri{0, 1, 10}, Tri{0, 1, 2}));  // shares the edge 0-1, stands up
+    CHECK(meet_improperly(x, Tri{0, 1, 11}, Tri{0, 1, 2}));   // shares the edge, folds onto it
+    CHECK(!meet_improperly(x, Tri{0, 1, 11}, Tri{0, 2, 3}));  // meets triangle 1 only at vertex 0
+    CHECK(!meet_improperly(x, Tri{0, 1, 2}, Tri{0, 2, 3}));   // the square's own two halves
+    // Symmetric in its arguments.
+    CHECK(meet_improperly(x, Tri{0, 1, 2}, Tri{4, 5, 6}));
+    CHECK(meet_improperly(x, Tri{0, 1, 2}, Tri{0, 1, 11}));
+}
+
+TEST_CASE("intersection test: two sets of triangles", "[internal][simplify]") {
+    const Surface s = square_and_points();
+    const auto& x = s.vertices;
+    const std::vector<Tri> square{{0, 1, 2}, {0, 2, 3}};
+    CHECK(meet_improperly(x, std::vector<Tri>{{7, 8, 9}, {4, 5, 6}}, square));
+    CHECK(!meet_improperly(x, std::vector<Tri>{{7, 8, 9}, {0, 1, 10}}, square));
+    CHECK(!meet_improperly(x, std::vector<Tri>{}, square));
+}
+
+TEST_CASE("intersection test: new triangles against the rest of a coarse mesh", "[internal][simplify]") {
+    const Surface s = square_and_points();
+    CoarseMesh mesh(s);
+    IntersectionTest test(mesh);
+    std::vector<TriangleGrid::Entry> scratch;
+    const std::vector<int32_t> none;
+    CHECK(test.intersects_rest({{4, 5, 6}}, none, scratch));
+    CHECK(!test.intersects_rest({{7, 8, 9}}, none, scratch));
+    CHECK(!test.intersects_rest({{0, 1, 10}}, none, scratch));
+    CHECK(test.intersects_rest({{0, 1, 11}}, none, scratch));
+    // The fold is over triangle 0 only: allowed if the removal takes triangle 0 away.
+    const int32_t t0 = mesh.find_triangle(0, 1, 2);
+    REQUIRE(t0 >= 0);
+    CHECK(!test.intersects_rest({{0, 1, 11}}, {t0}, scratch));
+    // Two new triangles that cross each other, each clear of the square.
+    CHECK(!test.intersects_rest({{7, 8, 9}}, {t0}, scratch));
+    CHECK(test.intersects_rest({{0, 1, 11}, {11, 12, 13}}, {t0}, scratch));
+    CHECK(!test.intersects_rest({}, none, scratch));
+}
+
+TEST_CASE("intersection test: update() follows the mesh", "[internal][simplify]") {
+    const Surface s = square_and_points();
+    CoarseMesh mesh(s);
+    IntersectionTest test(mesh);
+    std::vector<TriangleGrid::Entry> scratch;
+    // Replace triangle 0 by the standing triangle (0, 1, 10): the piercing triangle then
+    // meets only triangle 1, which it misses (it pierces the half y <= x).
+    const int32_t t0 = mesh.find_triangle(0, 1, 2);
+    const Tri corners = mesh.triangle(t0);
+    const int32_t first_new = mesh.triangle_capacity();
+    mesh.remove_triangle(t0);
+    mesh.add_triangle({0, 1, 10}, 0);
+    test.update({{t0, corners}}, first_new);
+    CHECK(!test.intersects_rest({{4, 5, 6}}, {}, scratch));
+    // The new triangle is in the grid: a triangle crossing it (and clear of triangle 1)
+    // is found, and so is one that its apex 10 touches.
+    CHECK(test.intersects_rest({{11, 12, 13}}, {}, scratch));
+    CHECK(test.intersects_rest({{7, 8, 9}}, {}, scratch));
+    CHECK(!test.intersects_rest({{0, 1, 11}}, {}, scratch));  // folds onto nothing now
+    test.rebuild_if_sparse();  // 2 of 2 alive: no rebuild, the same answers
+    CHECK(!test.intersects_rest({{4, 5, 6}}, {}, scratch));
+}
