@@ -11,6 +11,7 @@
 #include <Eigen/SparseLU>
 
 #include "bpm/predicates.h"
+#include "simplify/polar_map.h"
 #include "simplify/star_fans.h"
 
 namespace bpm::detail {
@@ -96,11 +97,6 @@ bool clearly_in_circle(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& 
                              (std::abs(cdx * ady) + std::abs(adx * cdy)) * blift +
                              (std::abs(adx * bdy) + std::abs(bdx * ady)) * clift;
     return det > 1e-9 * permanent;
-}
-
-double angle_between(const Vec3& a, const Vec3& b) {
-    const double c = dot(a, b), s = norm(cross(a, b));
-    return std::atan2(s, c);
 }
 
 }  // namespace
@@ -202,11 +198,8 @@ private:
     const std::unordered_map<int32_t, double>* new_edge_params_;
     bool validate_ = false;  // full validation of the new triangles' overlays (else: costs only)
 
-    int32_t n_ = 0;                // polygon corners
-    std::vector<Vec2> q_;          // polygon corners in 2D
-    std::vector<double> theta_, phi_, radius_;  // of flatten(): angles at v, polar angles, radii
-    bool cocircular_ = false;      // q_ on a circle (the convex fallback flattening)
-    std::vector<Vec2> q_polar_;    // with cocircular_: the corners as the polar map put them (not convex)
+    int32_t n_ = 0;   // polygon corners
+    PolarMap map_;    // the polygon in the plane
     std::vector<std::array<int32_t, 2>> forbidden_;
     std::array<int32_t, 2> along_diagonal_{-1, -1};
     bool forbidden(int32_t a, int32_t d) const {
@@ -249,7 +242,7 @@ private:
     Vec2 corner_pos(int32_t vertex) const {
         if (vertex == v_) return {0.0, 0.0};
         for (int32_t i = 0; i < n_; ++i)
-            if (fan_->link[i] == vertex) return q_[i];
+            if (fan_->link[i] == vertex) return map_.q[i];
         return {std::nan(""), std::nan("")};
     }
     int32_t corner_index(int32_t vertex) const {
@@ -257,7 +250,6 @@ private:
             if (fan_->link[i] == vertex) return i;
         return -1;
     }
-    bool flatten(std::string& why);
     bool triangulate(std::string& why);
     // Nodes: polygon corners, fixed nodes on the sides, free nodes inside. Then the
     // straightened runs of the original edges through the fan.
@@ -310,71 +302,6 @@ private:
     PointRole role(const SurfacePoint& p, bool endpoint, int32_t edge, int32_t index, int32_t& node) const;
 };
 
-bool FanPlanner::flatten(std::string& why) {
-    const auto& x = mesh_.positions();
-    n_ = static_cast<int32_t>(fan_->link.size());
-    const int32_t ntri = static_cast<int32_t>(fan_->triangles.size());
-    auto& theta = theta_;
-    theta.resize(ntri);
-    double total = 0.0;
-    for (int32_t i = 0; i < ntri; ++i) {
-        const Vec3 a = x[fan_->link[i]] - x[v_], b = x[fan_->link[mod(i + 1, n_)]] - x[v_];
-        theta[i] = angle_between(a, b);
-        if (!(theta[i] > 0.0)) {
-            why = "degenerate triangle in the star";
-            return false;
-        }
-        total += theta[i];
-    }
-    const double alpha = (fan_->closed ? 2.0 * M_PI : M_PI) / total;
-    cocircular_ = false;
-    q_.assign(n_, {0.0, 0.0});
-    auto& phi = phi_;
-    phi.assign(n_, 0.0);
-    for (int32_t i = 1; i < n_; ++i) phi[i] = phi[i - 1] + alpha * theta[i - 1];
-    for (int32_t i = 0; i < ntri; ++i)
-        if (!(alpha * theta[i] < M_PI)) {
-            why = "flattened star angle too wide";
-            return false;
-        }
-    auto& r = radius_;
-    r.resize(n_);
-    for (int32_t i = 0; i < n_; ++i) r[i] = distance(x[fan_->link[i]], x[v_]) / scale_;
-    // Closed: the polar map z -> z^alpha (conformal). Open: angles scaled, radii kept,
-    // so that the position of v on the new edge is the same in every half-disk.
-    for (int32_t i = 0; i < n_; ++i) {
-        const double radius = fan_->closed ? std::pow(r[i], alpha) : r[i];
-        q_[i] = {radius * std::cos(phi[i]), radius * std::sin(phi[i])};
-    }
-    if (!fan_->closed) {
-        q_[0] = {r[0], 0.0};
-        q_[n_ - 1] = {-r[n_ - 1], 0.0};
-    }
-    auto convex = [&]() {
-        for (int32_t i = 0; i < n_; ++i)
-            if (orient2d(q_[mod(i - 1, n_)], q_[i], q_[mod(i + 1, n_)]) <= 0) return false;
-        return true;
-    };
-    if (!convex()) {
-        // A star-shaped but non-convex polygon cannot always carry the re-cut graph
-        // (paper §2.2.4); move the corners outwards onto a circle (closed) or a
-        // half-circle through the fixed ends (open), which is convex.
-        cocircular_ = true;  // every ear is Delaunay-admissible on a circle
-        q_polar_ = q_;
-        if (fan_->closed) {
-            for (int32_t i = 0; i < n_; ++i) q_[i] = {std::cos(phi[i]), std::sin(phi[i])};
-        } else {
-            const double c = 0.5 * (r[0] - r[n_ - 1]), R = 0.5 * (r[0] + r[n_ - 1]);
-            for (int32_t i = 1; i < n_ - 1; ++i) q_[i] = {c + R * std::cos(phi[i]), R * std::sin(phi[i])};
-        }
-        if (!convex()) {
-            why = "cannot flatten the star to a convex polygon";
-            return false;
-        }
-    }
-    return true;
-}
-
 bool FanPlanner::triangulate(std::string& why) {
     const auto& x = mesh_.positions();
     static thread_local std::vector<int32_t> poly;
@@ -396,18 +323,18 @@ bool FanPlanner::triangulate(std::string& why) {
     ear_witness.assign(n_, -1);
     ear_aspect.assign(n_, std::nan(""));
     ear_blocked.assign(n_, -1);
-    ear_delaunay.assign(n_, cocircular_ ? 1 : -1);
+    ear_delaunay.assign(n_, map_.cocircular ? 1 : -1);
     // On a circle (a star the polar map made non-convex) every ear is valid in 2D, but an
     // ear at a reflex corner of the polar map's polygon folds over the rest of the star
     // in space (on a flat face it overlaps it: a self-intersection). Ears of the polar
     // map's polygon, convex and holding no other corner, come first.
     auto polar_ear = [&](int32_t a, int32_t b, int32_t d) {
-        if (!cocircular_) return true;
-        const Vec2 &pa = q_polar_[a], &pb = q_polar_[b], &pd = q_polar_[d];
+        if (!map_.cocircular) return true;
+        const Vec2 &pa = map_.q_polar[a], &pb = map_.q_polar[b], &pd = map_.q_polar[d];
         if (orient2d(pa, pb, pd) <= 0) return false;
         for (int32_t p : poly) {
             if (p == a || p == b || p == d) continue;
-            const Vec2& pp = q_polar_[p];
+            const Vec2& pp = map_.q_polar[p];
             if (orient2d(pa, pb, pp) >= 0 && orient2d(pb, pd, pp) >= 0 && orient2d(pd, pa, pp) >= 0) return false;
         }
         return true;
@@ -430,7 +357,7 @@ bool FanPlanner::triangulate(std::string& why) {
                 for (int32_t o = 0; o < m && admissible; ++o) {
                     const int32_t p = poly[o];
                     if (p == a || p == b || p == d) continue;
-                    if (clearly_in_circle(q_[a], q_[b], q_[d], q_[p])) {
+                    if (clearly_in_circle(map_.q[a], map_.q[b], map_.q[d], map_.q[p])) {
                         admissible = false;
                         ear_witness[b] = p;
                     }
@@ -466,7 +393,7 @@ bool FanPlanner::triangulate(std::string& why) {
         poly.erase(poly.begin() + best);
         ear_blocked[a] = ear_blocked[d] = -1;
         ear_aspect[a] = ear_aspect[d] = std::nan("");
-        ear_delaunay[a] = ear_delaunay[d] = cocircular_ ? 1 : -1;
+        ear_delaunay[a] = ear_delaunay[d] = map_.cocircular ? 1 : -1;
         for (int32_t p : poly)
             if (ear_delaunay[p] == 0 && ear_witness[p] == b) ear_delaunay[p] = -1;
     }
@@ -543,7 +470,7 @@ bool FanPlanner::gather_nodes(std::string& why) {
     // Polygon corners.
     for (int32_t i = 0; i < n_; ++i) {
         StarNode c;
-        c.pos = q_[i];
+        c.pos = map_.q[i];
         c.vertex = fan_->link[i];
         c.poly_corner = i;
         vertex_node_.set(c.vertex, add_node(c));
@@ -566,7 +493,7 @@ bool FanPlanner::gather_nodes(std::string& why) {
             s.edge_lo = std::min(a, b);
             s.edge_hi = std::max(a, b);
             s.edge_s = emb_.location[u].s;
-            s.pos = (1.0 - s.poly_t) * q_[i] + s.poly_t * q_[mod(i + 1, n_)];
+            s.pos = (1.0 - s.poly_t) * map_.q[i] + s.poly_t * map_.q[mod(i + 1, n_)];
             const int32_t id = add_node(s);
             vertex_node_.set(u, id);
             side_nodes_[i].push_back(id);
@@ -588,7 +515,7 @@ bool FanPlanner::gather_nodes(std::string& why) {
                 s.edge_lo = std::min(a, b);
                 s.edge_hi = std::max(a, b);
                 s.edge_s = path[j].s;
-                s.pos = (1.0 - s.poly_t) * q_[i] + s.poly_t * q_[mod(i + 1, n_)];
+                s.pos = (1.0 - s.poly_t) * map_.q[i] + s.poly_t * map_.q[mod(i + 1, n_)];
                 const int32_t id = add_node(s);
                 crossing_node_.push_back({(int64_t(e) << 20) | j, id});
                 side_nodes_[i].push_back(id);
@@ -597,8 +524,8 @@ bool FanPlanner::gather_nodes(std::string& why) {
     }
     // v and the vertices on the two feature edges lie on the new edge of an open fan.
     if (!fan_->closed) {
-        const int32_t side = n_ - 1;  // from q_{n-1} (x < 0) to q_0 (x > 0)
-        const double x0 = q_[n_ - 1][0], x1 = q_[0][0];
+        const int32_t side = n_ - 1;  // from corner n-1 (x < 0) to corner 0 (x > 0)
+        const double x0 = map_.q[n_ - 1][0], x1 = map_.q[0][0];
         auto add_on_new_edge = [&](int32_t u, double x) {
             StarNode s;
             s.vertex = u;
@@ -632,7 +559,7 @@ bool FanPlanner::gather_nodes(std::string& why) {
             std::sort(vs.begin(), vs.end());
             for (int32_t u : vs) {
                 const double from_v = v_ < w ? emb_.location[u].s : 1.0 - emb_.location[u].s;
-                if (!add_on_new_edge(u, from_v * q_[end][0])) {
+                if (!add_on_new_edge(u, from_v * map_.q[end][0])) {
                     why = "internal: vertex on the new feature edge without parameter";
                     return false;
                 }
@@ -861,7 +788,7 @@ bool FanPlanner::locate_free_nodes(std::string& why) {
     auto& boxes = triangle_boxes_;
     boxes.resize(ntris);
     for (int32_t t = 0; t < ntris; ++t) {
-        const Vec2 &p0 = q_[new_tris[t][0]], &p1 = q_[new_tris[t][1]], &p2 = q_[new_tris[t][2]];
+        const Vec2 &p0 = map_.q[new_tris[t][0]], &p1 = map_.q[new_tris[t][1]], &p2 = map_.q[new_tris[t][2]];
         boxes[t] = {std::min({p0[0], p1[0], p2[0]}), std::min({p0[1], p1[1], p2[1]}),
                     std::max({p0[0], p1[0], p2[0]}), std::max({p0[1], p1[1], p2[1]})};
     }
@@ -870,7 +797,7 @@ bool FanPlanner::locate_free_nodes(std::string& why) {
     for (StarNode& s : nodes_) {
         if (!s.free) continue;
         for (int32_t i = 0; validate_ && i < n_; ++i)
-            if (orient2d(q_[i], q_[mod(i + 1, n_)], s.pos) <= 0) {
+            if (orient2d(map_.q[i], map_.q[mod(i + 1, n_)], s.pos) <= 0) {
                 why = "an original vertex would leave the star";
                 return false;
             }
@@ -882,7 +809,7 @@ bool FanPlanner::locate_free_nodes(std::string& why) {
             if (s.pos[0] < box[0] || s.pos[1] < box[1] || s.pos[0] > box[2] || s.pos[1] > box[3]) continue;
             int zero = -1, negative = 0;
             for (int k = 0; k < 3 && !negative; ++k) {
-                const int o = orient2d(q_[c[k]], q_[c[(k + 1) % 3]], s.pos);
+                const int o = orient2d(map_.q[c[k]], map_.q[c[(k + 1) % 3]], s.pos);
                 if (o < 0) ++negative;
                 if (o == 0) zero = zero < 0 ? k : 3;
             }
@@ -895,7 +822,7 @@ bool FanPlanner::locate_free_nodes(std::string& why) {
                     const auto& dg = diagonals[d];
                     if ((dg[0] == a && dg[1] == b) || (dg[0] == b && dg[1] == a)) {
                         s.diagonal = d;
-                        const Vec2 p0 = q_[dg[0]], dir = q_[dg[1]] - q_[dg[0]];
+                        const Vec2 p0 = map_.q[dg[0]], dir = map_.q[dg[1]] - map_.q[dg[0]];
                         double t_along = dot(s.pos - p0, dir) / dot(dir, dir);
                         t_along = std::min(std::max(t_along, 1e-300), std::nextafter(1.0, 0.0));
                         const SurfacePoint on = SurfacePoint::on_edge(fan_->link[dg[0]], fan_->link[dg[1]], t_along);
@@ -912,7 +839,7 @@ bool FanPlanner::locate_free_nodes(std::string& why) {
         }
         if (s.new_triangle >= 0) {
             const auto& c = new_tris[s.new_triangle];
-            const Vec2 p0 = q_[c[0]], p1 = q_[c[1]], p2 = q_[c[2]];
+            const Vec2 p0 = map_.q[c[0]], p1 = map_.q[c[1]], p2 = map_.q[c[2]];
             const double area = cross(p1 - p0, p2 - p0);
             const double b1 = cross(s.pos - p0, p2 - p0) / area;
             const double b2 = cross(p1 - p0, s.pos - p0) / area;
@@ -955,7 +882,7 @@ bool FanPlanner::locate_free_nodes(std::string& why) {
                 s.edge_hi = p.b;
                 s.edge_s = p.s;
                 // The straight-line position on the diagonal, for the cuts.
-                s.pos = (1.0 - t_along) * q_[diagonals[on][0]] + t_along * q_[diagonals[on][1]];
+                s.pos = (1.0 - t_along) * map_.q[diagonals[on][0]] + t_along * map_.q[diagonals[on][1]];
             }
         }
     }
@@ -988,8 +915,8 @@ bool FanPlanner::transfer_cost(std::string& why) {
         };
         for (int32_t i = 0; i < n_; ++i) {
             if (i == nodes_[seg.a].poly_corner || i == nodes_[seg.b].poly_corner) continue;
-            if (outside_box(q_[i])) continue;
-            if (orient2d(A, B, q_[i]) == 0 && dot(q_[i] - A, q_[i] - B) < 0) {
+            if (outside_box(map_.q[i])) continue;
+            if (orient2d(A, B, map_.q[i]) == 0 && dot(map_.q[i] - A, map_.q[i] - B) < 0) {
                 why = "an original edge would pass through a coarse vertex";
                 return false;
             }
@@ -999,7 +926,7 @@ bool FanPlanner::transfer_cost(std::string& why) {
             // A segment that starts on a diagonal does not cut it (it leaves it).
             if ((nodes_[seg.a].free && nodes_[seg.a].diagonal == d) || (nodes_[seg.b].free && nodes_[seg.b].diagonal == d))
                 continue;
-            const Vec2 P = q_[diagonals[d][0]], Q = q_[diagonals[d][1]];
+            const Vec2 P = map_.q[diagonals[d][0]], Q = map_.q[diagonals[d][1]];
             // Segments whose bounding boxes are apart cannot cross properly (the exact
             // tests below would say so too).
             if (std::max(P[0], Q[0]) < box_lo[0] || std::min(P[0], Q[0]) > box_hi[0] ||
@@ -1279,7 +1206,8 @@ void FanPlanner::set_locations() {
 }
 
 FanPlanner::Stage FanPlanner::estimate(std::string& why) {
-    if (!flatten(why)) return Stage::Failed;
+    n_ = fan_->corners();
+    if (!polar_map(mesh_.positions(), v_, *fan_, scale_, map_, why)) return Stage::Failed;
     if (!triangulate(why)) return Stage::Failed;
     compute_new_normals();
     if (!gather_nodes(why)) return Stage::Failed;
