@@ -11,6 +11,7 @@
 #include <Eigen/SparseLU>
 
 #include "bpm/predicates.h"
+#include "simplify/fan_retriangulation.h"
 #include "simplify/polar_map.h"
 #include "simplify/star_fans.h"
 
@@ -84,21 +85,6 @@ private:
     uint32_t current_ = 1;
 };
 
-// Delaunay admissibility is a quality heuristic, not a validity decision: points within
-// rounding distance of the circle count as on it, so that the choice does not depend on
-// the model's units.
-bool clearly_in_circle(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d) {
-    const double adx = a[0] - d[0], ady = a[1] - d[1];
-    const double bdx = b[0] - d[0], bdy = b[1] - d[1];
-    const double cdx = c[0] - d[0], cdy = c[1] - d[1];
-    const double alift = adx * adx + ady * ady, blift = bdx * bdx + bdy * bdy, clift = cdx * cdx + cdy * cdy;
-    const double det = alift * (bdx * cdy - cdx * bdy) + blift * (cdx * ady - adx * cdy) + clift * (adx * bdy - bdx * ady);
-    const double permanent = (std::abs(bdx * cdy) + std::abs(cdx * bdy)) * alift +
-                             (std::abs(cdx * ady) + std::abs(adx * cdy)) * blift +
-                             (std::abs(adx * bdy) + std::abs(bdx * ady)) * clift;
-    return det > 1e-9 * permanent;
-}
-
 }  // namespace
 
 
@@ -161,16 +147,14 @@ public:
     bool prepare_checks(std::string& why);
     bool check_triangles(int32_t begin, int32_t end, TriangleCheck& check, double& min_cosine, std::string& why) const;
     bool end_finish(bool checks_passed, const std::string& reason, double min_cosine, std::string& why);
-    int32_t num_new_triangles() const { return static_cast<int32_t>(new_tris.size()); }
+    int32_t num_new_triangles() const { return static_cast<int32_t>(tri.triangles.size()); }
     bool run(std::string& why) {
         const Stage stage = estimate(why);
         return stage == Stage::Done || (stage == Stage::Estimated && finish(why));
     }
 
     // Outputs.
-    std::vector<std::array<int32_t, 3>> new_tris;   // polygon corner indices, ccw
-    std::vector<double> new_aspects;                // aspect_ratio of each new triangle, corners in that order
-    std::vector<std::array<int32_t, 2>> diagonals;  // polygon corner index pairs
+    FanTriangulation tri;  // the new triangles
     struct PathEdit {
         int32_t edge, first, last;
         std::vector<Crossing> middle;  // new crossings between first and last
@@ -200,13 +184,9 @@ private:
 
     int32_t n_ = 0;   // polygon corners
     PolarMap map_;    // the polygon in the plane
+    EarScratch ears_;  // of retriangulate_fan
     std::vector<std::array<int32_t, 2>> forbidden_;
     std::array<int32_t, 2> along_diagonal_{-1, -1};
-    bool forbidden(int32_t a, int32_t d) const {
-        for (const auto& f : forbidden_)
-            if ((f[0] == a && f[1] == d) || (f[0] == d && f[1] == a)) return true;
-        return false;
-    }
     std::vector<StarNode> nodes_;
     VertexSlots vertex_node_;
     std::vector<std::pair<int64_t, int32_t>> crossing_node_;  // ((edge << 20) | index, node)
@@ -232,9 +212,9 @@ private:
     void compute_new_normals() {
         if (normals_.empty()) return;
         const auto& x = mesh_.positions();
-        new_normals_.resize(new_tris.size());
-        for (size_t t = 0; t < new_tris.size(); ++t) {
-            const auto& c = new_tris[t];
+        new_normals_.resize(tri.triangles.size());
+        for (size_t t = 0; t < tri.triangles.size(); ++t) {
+            const auto& c = tri.triangles[t];
             new_normals_[t] = triangle_normal(x[fan_->link[c[0]]], x[fan_->link[c[1]]], x[fan_->link[c[2]]]);
         }
     }
@@ -250,7 +230,6 @@ private:
             if (fan_->link[i] == vertex) return i;
         return -1;
     }
-    bool triangulate(std::string& why);
     // Nodes: polygon corners, fixed nodes on the sides, free nodes inside. Then the
     // straightened runs of the original edges through the fan.
     bool gather_nodes(std::string& why);
@@ -301,118 +280,6 @@ private:
     }
     PointRole role(const SurfacePoint& p, bool endpoint, int32_t edge, int32_t index, int32_t& node) const;
 };
-
-bool FanPlanner::triangulate(std::string& why) {
-    const auto& x = mesh_.positions();
-    static thread_local std::vector<int32_t> poly;
-    poly.resize(n_);
-    for (int32_t i = 0; i < n_; ++i) poly[i] = i;
-    new_tris.clear();
-    new_aspects.clear();
-    diagonals.clear();
-    // The ear at a corner only changes when a neighbouring ear is cut, so its aspect
-    // ratio and whether its diagonal already exists are cached per corner.
-    static thread_local std::vector<double> ear_aspect;   // NaN: unknown
-    static thread_local std::vector<int8_t> ear_blocked;  // -1 unknown, 0 free, 1 edge exists
-    // Whether an ear is Delaunay-admissible: a cut only removes a test point, so an
-    // admissible ear stays admissible unless it is one of the two ears next to the cut.
-    static thread_local std::vector<int8_t> ear_delaunay;  // -1 unknown, 0 no, 1 yes
-    // A corner found clearly inside the circle of a non-admissible ear: the ear stays
-    // non-admissible until that corner is cut off (or the ear itself changes).
-    static thread_local std::vector<int32_t> ear_witness;
-    ear_witness.assign(n_, -1);
-    ear_aspect.assign(n_, std::nan(""));
-    ear_blocked.assign(n_, -1);
-    ear_delaunay.assign(n_, map_.cocircular ? 1 : -1);
-    // On a circle (a star the polar map made non-convex) every ear is valid in 2D, but an
-    // ear at a reflex corner of the polar map's polygon folds over the rest of the star
-    // in space (on a flat face it overlaps it: a self-intersection). Ears of the polar
-    // map's polygon, convex and holding no other corner, come first.
-    auto polar_ear = [&](int32_t a, int32_t b, int32_t d) {
-        if (!map_.cocircular) return true;
-        const Vec2 &pa = map_.q_polar[a], &pb = map_.q_polar[b], &pd = map_.q_polar[d];
-        if (orient2d(pa, pb, pd) <= 0) return false;
-        for (int32_t p : poly) {
-            if (p == a || p == b || p == d) continue;
-            const Vec2& pp = map_.q_polar[p];
-            if (orient2d(pa, pb, pp) >= 0 && orient2d(pb, pd, pp) >= 0 && orient2d(pd, pa, pp) >= 0) return false;
-        }
-        return true;
-    };
-    while (poly.size() > 3) {
-        const int32_t m = static_cast<int32_t>(poly.size());
-        int32_t best = -1;
-        bool best_delaunay = false, best_polar = false;
-        double best_aspect = std::numeric_limits<double>::infinity();
-        for (int32_t c = 0; c < m; ++c) {
-            const int32_t a = poly[mod(c - 1, m)], b = poly[c], d = poly[mod(c + 1, m)];
-            if (std::isnan(ear_aspect[b]))
-                ear_aspect[b] = aspect_ratio(x[fan_->link[a]], x[fan_->link[b]], x[fan_->link[d]]);
-            const double aspect = ear_aspect[b];
-            if (!std::isfinite(aspect)) continue;  // degenerate
-            const bool polar = polar_ear(a, b, d);
-            if (best_polar && !polar) continue;
-            if (ear_delaunay[b] < 0) {
-                bool admissible = true;
-                for (int32_t o = 0; o < m && admissible; ++o) {
-                    const int32_t p = poly[o];
-                    if (p == a || p == b || p == d) continue;
-                    if (clearly_in_circle(map_.q[a], map_.q[b], map_.q[d], map_.q[p])) {
-                        admissible = false;
-                        ear_witness[b] = p;
-                    }
-                }
-                ear_delaunay[b] = admissible;
-            }
-            const bool delaunay = ear_delaunay[b] != 0;
-            // Prefer Delaunay-admissible ears; among them the best 3D aspect ratio.
-            // Near-ties count as ties (first ear wins), so that rounding differences, e.g.
-            // between a model and its scaled copy, do not change the triangulation.
-            if ((polar && !best_polar) || (delaunay && !best_delaunay) ||
-                (delaunay == best_delaunay && aspect < best_aspect * (1.0 - 1e-9))) {
-                // Topology condition (Conjecture 2.1): the new edge must not exist yet.
-                // Asked only of ears that would become the best: an ear that would not
-                // leaves the choice the same whether it is blocked or not.
-                if (ear_blocked[b] < 0)
-                    ear_blocked[b] = mesh_.has_edge(fan_->link[a], fan_->link[d]) || forbidden(a, d);
-                if (ear_blocked[b]) continue;
-                best = c;
-                best_polar = polar;
-                best_delaunay = delaunay;
-                best_aspect = aspect;
-            }
-        }
-        if (best < 0) {
-            why = "no admissible retriangulation (topology condition)";
-            return false;
-        }
-        const int32_t a = poly[mod(best - 1, m)], b = poly[best], d = poly[mod(best + 1, m)];
-        new_tris.push_back({a, b, d});
-        new_aspects.push_back(ear_aspect[b]);  // ear_aspect[b] is that of (a, b, d) now
-        diagonals.push_back({a, d});
-        poly.erase(poly.begin() + best);
-        ear_blocked[a] = ear_blocked[d] = -1;
-        ear_aspect[a] = ear_aspect[d] = std::nan("");
-        ear_delaunay[a] = ear_delaunay[d] = map_.cocircular ? 1 : -1;
-        for (int32_t p : poly)
-            if (ear_delaunay[p] == 0 && ear_witness[p] == b) ear_delaunay[p] = -1;
-    }
-    const Vec3& p0 = x[fan_->link[poly[0]]];
-    const Vec3& p1 = x[fan_->link[poly[1]]];
-    const Vec3& p2 = x[fan_->link[poly[2]]];
-    const double last_aspect = aspect_ratio(p0, p1, p2);
-    if (!std::isfinite(last_aspect)) {
-        why = "retriangulation would create a degenerate triangle";
-        return false;
-    }
-    if (mesh_.find_triangle(fan_->link[poly[0]], fan_->link[poly[1]], fan_->link[poly[2]]) >= 0) {
-        why = "new triangle already exists (topology condition)";
-        return false;
-    }
-    new_tris.push_back({poly[0], poly[1], poly[2]});
-    new_aspects.push_back(last_aspect);
-    return true;
-}
 
 PointRole FanPlanner::role(const SurfacePoint& p, bool endpoint, int32_t edge, int32_t index, int32_t& node) const {
     node = -1;
@@ -781,14 +648,14 @@ bool FanPlanner::floater(std::string& why) {
 }
 
 bool FanPlanner::locate_free_nodes(std::string& why) {
-    const int32_t ntris = static_cast<int32_t>(new_tris.size());
+    const int32_t ntris = static_cast<int32_t>(tri.triangles.size());
     // Bounding boxes of the new triangles (counter-clockwise, non-degenerate: ears of
     // a strictly convex polygon). A point strictly outside a box is strictly outside
     // that triangle, so the exact tests below would find a negative orientation.
     auto& boxes = triangle_boxes_;
     boxes.resize(ntris);
     for (int32_t t = 0; t < ntris; ++t) {
-        const Vec2 &p0 = map_.q[new_tris[t][0]], &p1 = map_.q[new_tris[t][1]], &p2 = map_.q[new_tris[t][2]];
+        const Vec2 &p0 = map_.q[tri.triangles[t][0]], &p1 = map_.q[tri.triangles[t][1]], &p2 = map_.q[tri.triangles[t][2]];
         boxes[t] = {std::min({p0[0], p1[0], p2[0]}), std::min({p0[1], p1[1], p2[1]}),
                     std::max({p0[0], p1[0], p2[0]}), std::max({p0[1], p1[1], p2[1]})};
     }
@@ -804,7 +671,7 @@ bool FanPlanner::locate_free_nodes(std::string& why) {
         s.new_triangle = -1;
         s.diagonal = -1;
         for (int32_t t = 0; t < ntris && s.new_triangle < 0 && s.diagonal < 0; ++t) {
-            const auto& c = new_tris[t];
+            const auto& c = tri.triangles[t];
             const auto& box = boxes[t];
             if (s.pos[0] < box[0] || s.pos[1] < box[1] || s.pos[0] > box[2] || s.pos[1] > box[3]) continue;
             int zero = -1, negative = 0;
@@ -818,8 +685,8 @@ bool FanPlanner::locate_free_nodes(std::string& why) {
                 s.new_triangle = t;
             } else if (zero < 3) {
                 const int32_t a = c[zero], b = c[(zero + 1) % 3];
-                for (int32_t d = 0; d < int32_t(diagonals.size()); ++d) {
-                    const auto& dg = diagonals[d];
+                for (int32_t d = 0; d < int32_t(tri.diagonals.size()); ++d) {
+                    const auto& dg = tri.diagonals[d];
                     if ((dg[0] == a && dg[1] == b) || (dg[0] == b && dg[1] == a)) {
                         s.diagonal = d;
                         const Vec2 p0 = map_.q[dg[0]], dir = map_.q[dg[1]] - map_.q[dg[0]];
@@ -838,7 +705,7 @@ bool FanPlanner::locate_free_nodes(std::string& why) {
             return false;
         }
         if (s.new_triangle >= 0) {
-            const auto& c = new_tris[s.new_triangle];
+            const auto& c = tri.triangles[s.new_triangle];
             const Vec2 p0 = map_.q[c[0]], p1 = map_.q[c[1]], p2 = map_.q[c[2]];
             const double area = cross(p1 - p0, p2 - p0);
             const double b1 = cross(s.pos - p0, p2 - p0) / area;
@@ -862,27 +729,27 @@ bool FanPlanner::locate_free_nodes(std::string& why) {
             if (count == 1) {
                 const int32_t a = c[(near + 1) % 3], b = c[(near + 2) % 3];
                 int32_t on = -1;
-                for (int32_t d = 0; d < int32_t(diagonals.size()); ++d)
-                    if ((diagonals[d][0] == a && diagonals[d][1] == b) || (diagonals[d][0] == b && diagonals[d][1] == a))
+                for (int32_t d = 0; d < int32_t(tri.diagonals.size()); ++d)
+                    if ((tri.diagonals[d][0] == a && tri.diagonals[d][1] == b) || (tri.diagonals[d][0] == b && tri.diagonals[d][1] == a))
                         on = d;
                 if (on < 0) {
                     why = "an original vertex would sit (almost) on a link edge";
                     return false;
                 }
                 const double ba = s.bary[(near + 1) % 3], bb = s.bary[(near + 2) % 3];
-                double t_along = diagonals[on][0] == a ? bb / (ba + bb) : ba / (ba + bb);
+                double t_along = tri.diagonals[on][0] == a ? bb / (ba + bb) : ba / (ba + bb);
                 if (!(t_along > kMargin && t_along < 1.0 - kMargin)) {
                     why = "an original vertex would sit (almost) on a coarse vertex";
                     return false;
                 }
                 s.new_triangle = -1;
                 s.diagonal = on;
-                const SurfacePoint p = SurfacePoint::on_edge(fan_->link[diagonals[on][0]], fan_->link[diagonals[on][1]], t_along);
+                const SurfacePoint p = SurfacePoint::on_edge(fan_->link[tri.diagonals[on][0]], fan_->link[tri.diagonals[on][1]], t_along);
                 s.edge_lo = p.a;
                 s.edge_hi = p.b;
                 s.edge_s = p.s;
                 // The straight-line position on the diagonal, for the cuts.
-                s.pos = (1.0 - t_along) * map_.q[diagonals[on][0]] + t_along * map_.q[diagonals[on][1]];
+                s.pos = (1.0 - t_along) * map_.q[tri.diagonals[on][0]] + t_along * map_.q[tri.diagonals[on][1]];
             }
         }
     }
@@ -922,11 +789,11 @@ bool FanPlanner::transfer_cost(std::string& why) {
             }
         }
         const size_t first = crossings_.size();
-        for (int32_t d = 0; d < int32_t(diagonals.size()); ++d) {
+        for (int32_t d = 0; d < int32_t(tri.diagonals.size()); ++d) {
             // A segment that starts on a diagonal does not cut it (it leaves it).
             if ((nodes_[seg.a].free && nodes_[seg.a].diagonal == d) || (nodes_[seg.b].free && nodes_[seg.b].diagonal == d))
                 continue;
-            const Vec2 P = map_.q[diagonals[d][0]], Q = map_.q[diagonals[d][1]];
+            const Vec2 P = map_.q[tri.diagonals[d][0]], Q = map_.q[tri.diagonals[d][1]];
             // Segments whose bounding boxes are apart cannot cross properly (the exact
             // tests below would say so too).
             if (std::max(P[0], Q[0]) < box_lo[0] || std::min(P[0], Q[0]) > box_hi[0] ||
@@ -950,7 +817,7 @@ bool FanPlanner::transfer_cost(std::string& why) {
                 return false;
             }
             mu = std::min(std::max(mu, std::numeric_limits<double>::min()), std::nextafter(1.0, 0.0));
-            const SurfacePoint on = SurfacePoint::on_edge(fan_->link[diagonals[d][0]], fan_->link[diagonals[d][1]], mu);
+            const SurfacePoint on = SurfacePoint::on_edge(fan_->link[tri.diagonals[d][0]], fan_->link[tri.diagonals[d][1]], mu);
             crossings_.push_back({d, on.a, on.b, on.s, seg.sigma_a + lambda * (seg.sigma_b - seg.sigma_a), seg.edge,
                                   lambda});
         }
@@ -975,7 +842,7 @@ bool FanPlanner::transfer_cost(std::string& why) {
     };
     for (const StarNode& s : nodes_) {
         if (s.free && s.new_triangle >= 0) {
-            const auto& c = new_tris[s.new_triangle];
+            const auto& c = tri.triangles[s.new_triangle];
             max_deviation = std::max(max_deviation, distance(image_of(s), barycentric_point(x[fan_->link[c[0]]], x[fan_->link[c[1]]],
                                                                                                 x[fan_->link[c[2]]], s.bary)));
         } else if ((s.free && s.diagonal >= 0) || (!fan_->closed && s.poly_edge == n_ - 1)) {
@@ -994,27 +861,27 @@ bool FanPlanner::transfer_cost(std::string& why) {
 bool FanPlanner::transfer_validate(std::string& why) {
     if (!prepare_checks(why)) return false;
     double min_cosine = 1.0;
-    if (!check_triangles(0, int32_t(new_tris.size()), own_check_, min_cosine, why)) return false;
+    if (!check_triangles(0, int32_t(tri.triangles.size()), own_check_, min_cosine, why)) return false;
     min_normal_cosine = min_cosine;
     set_locations();
     return true;
 }
 
 bool FanPlanner::prepare_checks(std::string& why) {
-    const int32_t ntris = static_cast<int32_t>(new_tris.size());
+    const int32_t ntris = static_cast<int32_t>(tri.triangles.size());
     const int32_t nnodes = static_cast<int32_t>(nodes_.size());
     // 3. Full: which new triangle every piece of a cut segment lies in, the graph of
     // every new triangle, validated exactly.
     min_normal_cosine = 1.0;  // a second transfer (after Floater's map) starts afresh
-    diagonal_triangles_.assign(diagonals.size(), {-1, -1});
+    diagonal_triangles_.assign(tri.diagonals.size(), {-1, -1});
     side_triangle_.assign(n_, -1);
     for (int32_t t = 0; t < ntris; ++t) {
-        const auto& c = new_tris[t];
+        const auto& c = tri.triangles[t];
         for (int k = 0; k < 3; ++k) {
             const int32_t a = c[k], b = c[(k + 1) % 3];
             if (b == mod(a + 1, n_)) side_triangle_[a] = t;
-            for (int32_t d = 0; d < int32_t(diagonals.size()); ++d)
-                if ((diagonals[d][0] == a && diagonals[d][1] == b) || (diagonals[d][0] == b && diagonals[d][1] == a))
+            for (int32_t d = 0; d < int32_t(tri.diagonals.size()); ++d)
+                if ((tri.diagonals[d][0] == a && tri.diagonals[d][1] == b) || (tri.diagonals[d][0] == b && tri.diagonals[d][1] == a))
                     (diagonal_triangles_[d][0] < 0 ? diagonal_triangles_[d][0] : diagonal_triangles_[d][1]) = t;
         }
     }
@@ -1040,7 +907,7 @@ bool FanPlanner::prepare_checks(std::string& why) {
         } else {
             for (int32_t t = 0; t < ntris && count < 64; ++t)
                 for (int k = 0; k < 3; ++k)
-                    if (new_tris[t][k] == s.poly_corner) out[count++] = t;
+                    if (tri.triangles[t][k] == s.poly_corner) out[count++] = t;
         }
     };
     pieces_.clear();
@@ -1075,8 +942,8 @@ bool FanPlanner::prepare_checks(std::string& why) {
                         }
                     if (t1 >= 0 && t2 >= 0) {
                         int32_t shared[2], k = 0;
-                        for (int32_t u : new_tris[t1])
-                            for (int32_t w : new_tris[t2])
+                        for (int32_t u : tri.triangles[t1])
+                            for (int32_t w : tri.triangles[t2])
                                 if (u == w && k < 2) shared[k++] = u;
                         if (k == 2) along_diagonal_ = {shared[0], shared[1]};
                     }
@@ -1108,7 +975,7 @@ bool FanPlanner::check_triangles(int32_t begin, int32_t end, TriangleCheck& chec
     auto& touched_ = check.touched;
     local_.assign(nnodes + crossings_.size(), -1);
     for (int32_t t = begin; t < end; ++t) {
-        const auto& c = new_tris[t];
+        const auto& c = tri.triangles[t];
         graph.nodes.clear();
         graph.segments.clear();
         const Tri cv{fan_->link[c[0]], fan_->link[c[1]], fan_->link[c[2]]};
@@ -1208,7 +1075,7 @@ void FanPlanner::set_locations() {
 FanPlanner::Stage FanPlanner::estimate(std::string& why) {
     n_ = fan_->corners();
     if (!polar_map(mesh_.positions(), v_, *fan_, scale_, map_, why)) return Stage::Failed;
-    if (!triangulate(why)) return Stage::Failed;
+    if (!retriangulate_fan(mesh_, *fan_, map_, forbidden_, tri, ears_, why)) return Stage::Failed;
     compute_new_normals();
     if (!gather_nodes(why)) return Stage::Failed;
     if (!validate_) {
@@ -1219,7 +1086,7 @@ FanPlanner::Stage FanPlanner::estimate(std::string& why) {
         max_deviation = 0.0;
         for (const StarNode& s : nodes_) {
             if (s.free && s.new_triangle >= 0) {
-                const auto& c = new_tris[s.new_triangle];
+                const auto& c = tri.triangles[s.new_triangle];
                 const Vec3 flat = barycentric_point(x[fan_->link[c[0]]], x[fan_->link[c[1]]], x[fan_->link[c[2]]], s.bary);
                 max_deviation = std::max(max_deviation, distance(x[s.vertex], flat));
                 // A vertex strictly inside a new triangle has a piece of every triangle
@@ -1261,7 +1128,7 @@ bool FanPlanner::finish(std::string& why) {
     std::string reason;
     const bool prepared = prepare_checks(reason);
     double min_cosine = 1.0;
-    const bool ok = prepared && check_triangles(0, int32_t(new_tris.size()), own_check_, min_cosine, reason);
+    const bool ok = prepared && check_triangles(0, int32_t(tri.triangles.size()), own_check_, min_cosine, reason);
     return end_finish(ok, reason, min_cosine, why);
 }
 
@@ -1550,8 +1417,8 @@ void VertexRemover::plan_once(int32_t v, bool force_disk, bool validate, bool de
         // What judging the estimate needs: the deviation, shapes and edges of the new triangles.
         plan.estimated = true;
         plan.estimated_deviation = std::max(plan.estimated_deviation, planner.estimated_deviation);
-        for (double a : planner.new_aspects) plan.worst_new_aspect = std::max(plan.worst_new_aspect, a);
-        for (const auto& d : planner.diagonals)
+        for (double a : planner.tri.aspects) plan.worst_new_aspect = std::max(plan.worst_new_aspect, a);
+        for (const auto& d : planner.tri.diagonals)
             plan.longest_new_edge = std::max(plan.longest_new_edge, distance(x[fan.link[d[0]]], x[fan.link[d[1]]]));
         if (stage == FanPlanner::Stage::Estimated) {
             if (defer) {
@@ -1559,7 +1426,7 @@ void VertexRemover::plan_once(int32_t v, bool force_disk, bool validate, bool de
                 plan.max_deviation = planner.estimated_deviation;
                 // The new triangles too, for the intersection test that may run while
                 // finish_part() validates (finish_parts_done() sets them again).
-                for (const auto& t : planner.new_tris)
+                for (const auto& t : planner.tri.triangles)
                     plan.new_triangles.push_back({fan.link[t[0]], fan.link[t[1]], fan.link[t[2]]});
                 return;
             }
@@ -1582,14 +1449,14 @@ void add_fan(const CoarseMesh& mesh_, RemovalScratch& scratch, const Fan& fan, F
         plan.max_normal_deviation, std::acos(std::max(-1.0, std::min(1.0, planner.min_normal_cosine))) * (180.0 / M_PI));
     const int32_t base = static_cast<int32_t>(plan.new_triangles.size());
     const int32_t patch = mesh_.patch(fan.triangles[0]);
-    for (size_t i = 0; i < planner.new_tris.size(); ++i) {
-        const auto& t = planner.new_tris[i];
+    for (size_t i = 0; i < planner.tri.triangles.size(); ++i) {
+        const auto& t = planner.tri.triangles[i];
         plan.new_triangles.push_back({fan.link[t[0]], fan.link[t[1]], fan.link[t[2]]});
         plan.new_patches.push_back(patch);
         // The triangulation computed it already, for the same corners in the same order.
-        plan.worst_new_aspect = std::max(plan.worst_new_aspect, planner.new_aspects[i]);
+        plan.worst_new_aspect = std::max(plan.worst_new_aspect, planner.tri.aspects[i]);
     }
-    for (const auto& d : planner.diagonals) {
+    for (const auto& d : planner.tri.diagonals) {
         const int32_t a = fan.link[d[0]], b = fan.link[d[1]];
         plan.new_edges.push_back({std::min(a, b), std::max(a, b)});
     }
