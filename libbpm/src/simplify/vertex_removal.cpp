@@ -14,39 +14,11 @@
 #include "simplify/fan_retriangulation.h"
 #include "simplify/polar_map.h"
 #include "simplify/star_fans.h"
+#include "simplify/star_graph.h"
 
 namespace bpm::detail {
 
 namespace {
-
-// What a point of an original edge's path is, relative to one fan.
-enum class PointRole : uint8_t { Outside, Boundary, Free, Dropped };
-
-struct StarNode {
-    Vec2 pos{};
-    bool free = false;
-    int32_t vertex = -1;     // original vertex, or -1 for a crossing
-    int32_t edge = -1;       // crossing: original edge
-    double sigma = 0.0;      // crossing: position on the original edge
-    int32_t poly_edge = -1;  // fixed node on polygon side i (q_i -> q_i+1): the side
-    double poly_t = 0.0;     // ... and its parameter along that side
-    int32_t poly_corner = -1;
-    // On a coarse edge (fixed nodes on sides, free nodes on diagonals): the stored,
-    // canonical form, edge (lo, hi) at parameter s from lo.
-    int32_t edge_lo = -1, edge_hi = -1;
-    double edge_s = 0.0;
-    // Location in the new triangulation (free nodes).
-    int32_t new_triangle = -1;  // inside this new triangle, at `bary`
-    Vec3 bary{};
-    int32_t diagonal = -1;      // or on this diagonal
-};
-
-struct StraightSegment {
-    int32_t a, b;         // star nodes
-    int32_t edge;         // original edge
-    int32_t first, last;  // indices into the edge's point sequence replaced by this run
-    double sigma_a, sigma_b;
-};
 
 struct NewCrossing {
     int32_t diagonal;
@@ -61,28 +33,6 @@ struct Piece {
     int32_t triangle;  // new triangle (polygon-local index)
     int32_t item0, item1;  // star node id, or #nodes + new crossing index
     int32_t edge;
-};
-
-// A map from original vertex to star node that is cleared in O(1).
-class VertexSlots {
-public:
-    void resize(size_t n) {
-        if (value_.size() < n) {
-            value_.resize(n, -1);
-            stamp_.resize(n, 0);
-        }
-    }
-    void clear() { ++current_; }
-    int32_t get(int32_t v) const { return stamp_[v] == current_ ? value_[v] : -1; }
-    void set(int32_t v, int32_t id) {
-        value_[v] = id;
-        stamp_[v] = current_;
-    }
-
-private:
-    std::vector<int32_t> value_;
-    std::vector<uint32_t> stamp_;
-    uint32_t current_ = 1;
 };
 
 }  // namespace
@@ -104,11 +54,7 @@ public:
         scale_ = radius_scale;
         new_edge_params_ = new_edge_params;
         validate_ = validate;
-        nodes_.clear();
-        segments_.clear();
-        crossing_node_.clear();
-        vertex_node_.resize(emb_.location.size());
-        vertex_node_.clear();
+        graph_.clear(emb_.location.size());
         max_deviation = 0.0;
         estimated_deviation = 0.0;
         min_normal_cosine = 1.0;
@@ -187,14 +133,8 @@ private:
     EarScratch ears_;  // of retriangulate_fan
     std::vector<std::array<int32_t, 2>> forbidden_;
     std::array<int32_t, 2> along_diagonal_{-1, -1};
-    std::vector<StarNode> nodes_;
-    VertexSlots vertex_node_;
-    std::vector<std::pair<int64_t, int32_t>> crossing_node_;  // ((edge << 20) | index, node)
-    int32_t find_crossing_node(int64_t key) const {
-        for (const auto& p : crossing_node_)
-            if (p.first == key) return p.second;
-        return -1;
-    }
+    StarGraph graph_;  // the original surface in the fan
+    StarGraphScratch graph_scratch_;  // of gather_star_nodes, gather_straight_segments
     // Buffers of transfer().
     std::vector<NewCrossing> crossings_;
     std::vector<int32_t> cut_begin_;
@@ -203,10 +143,6 @@ private:
     std::vector<Piece> pieces_;
     std::vector<std::array<double, 4>> triangle_boxes_;  // of locate_free_nodes: x/y min, x/y max
     TriangleCheck own_check_;  // of finish() and transfer_validate()
-    std::vector<int32_t> free_vertices_;
-    std::vector<int32_t> sorted_;  // scratch for sorted copies of edge contents
-    std::vector<StraightSegment> segments_;
-    std::vector<std::vector<int32_t>> side_nodes_;  // per polygon side: fixed nodes on it
     std::vector<Vec3> new_normals_;                 // unit normal of every new triangle
 
     void compute_new_normals() {
@@ -219,21 +155,6 @@ private:
         }
     }
 
-    Vec2 corner_pos(int32_t vertex) const {
-        if (vertex == v_) return {0.0, 0.0};
-        for (int32_t i = 0; i < n_; ++i)
-            if (fan_->link[i] == vertex) return map_.q[i];
-        return {std::nan(""), std::nan("")};
-    }
-    int32_t corner_index(int32_t vertex) const {
-        for (int32_t i = 0; i < n_; ++i)
-            if (fan_->link[i] == vertex) return i;
-        return -1;
-    }
-    // Nodes: polygon corners, fixed nodes on the sides, free nodes inside. Then the
-    // straightened runs of the original edges through the fan.
-    bool gather_nodes(std::string& why);
-    bool gather_segments(std::string& why);
     bool locate_free_nodes(std::string& why);
     // transfer = transfer_cost (re-cut, deviation) + transfer_validate (overlays).
     bool transfer(std::string& why) { return transfer_cost(why) && (!validate_ || transfer_validate(why)); }
@@ -242,307 +163,7 @@ private:
     void set_locations();
     bool floater(std::string& why);
     std::string first_reason_;  // why the first transfer failed (before Floater's map)
-    // Interior edge (v, link[i]) of this fan? (in an open fan the first and last are the
-    // feature edges, which are boundary)
-    bool is_interior_spoke(int32_t i) const { return fan_->closed || (i > 0 && i < n_ - 1); }
-    int32_t fan_triangle_index(int32_t t) const {
-        for (size_t i = 0; i < fan_->triangles.size(); ++i)
-            if (fan_->triangles[i] == t) return static_cast<int32_t>(i);
-        return -1;
-    }
-    // Polygon side of link edge (x,y) of this fan, or -1.
-    int32_t link_side(int32_t x, int32_t y) const {
-        const int32_t sides = fan_->closed ? n_ : n_ - 1;
-        for (int32_t i = 0; i < sides; ++i) {
-            const int32_t a = fan_->link[i], b = fan_->link[mod(i + 1, n_)];
-            if ((a == x && b == y) || (a == y && b == x)) return i;
-        }
-        return -1;
-    }
-    int32_t spoke_index(int32_t x, int32_t y) const {
-        const int32_t other = x == v_ ? y : (y == v_ ? x : -1);
-        return other < 0 ? -1 : corner_index(other);
-    }
-    // Does fixed node s lie on (the closure of) fan triangle i = (v, l_i, l_i+1)?
-    bool in_fan_triangle(const StarNode& s, int32_t i) const {
-        const int32_t next = mod(i + 1, n_);
-        if (s.poly_corner >= 0) return s.poly_corner == i || s.poly_corner == next;
-        if (!fan_->closed && s.poly_edge == n_ - 1) {
-            // On the new edge: v (x = 0) is in every triangle, the rest on spoke 0 or n-1.
-            if (s.pos[0] == 0.0) return true;
-            return s.pos[0] > 0.0 ? i == 0 : i == n_ - 2;
-        }
-        return s.poly_edge == i;
-    }
-    int32_t add_node(const StarNode& node) {
-        nodes_.push_back(node);
-        return static_cast<int32_t>(nodes_.size()) - 1;
-    }
-    PointRole role(const SurfacePoint& p, bool endpoint, int32_t edge, int32_t index, int32_t& node) const;
 };
-
-PointRole FanPlanner::role(const SurfacePoint& p, bool endpoint, int32_t edge, int32_t index, int32_t& node) const {
-    node = -1;
-    auto lookup_vertex = [&](int32_t vertex) {
-        return vertex_node_.get(vertex);
-    };
-    switch (p.kind) {
-        case SurfacePoint::Corner: {
-            if (p.a == v_) {
-                node = lookup_vertex(v_);
-                return fan_->closed ? PointRole::Free : PointRole::Boundary;
-            }
-            if (corner_index(p.a) >= 0) {
-                node = lookup_vertex(p.a);
-                return PointRole::Boundary;
-            }
-            return PointRole::Outside;
-        }
-        case SurfacePoint::OnEdge: {
-            const int32_t spoke = spoke_index(p.a, p.b);
-            if (spoke >= 0) {
-                if (is_interior_spoke(spoke)) {
-                    if (!endpoint) return PointRole::Dropped;
-                    node = lookup_vertex(emb_.edges[edge][index == 0 ? 0 : 1]);
-                    return PointRole::Free;
-                }
-                if (!endpoint) return PointRole::Dropped;  // a crossing on a feature edge: invalid, caught later
-                node = lookup_vertex(emb_.edges[edge][index == 0 ? 0 : 1]);
-                return PointRole::Boundary;
-            }
-            if (link_side(p.a, p.b) >= 0) {
-                if (endpoint) {
-                    node = lookup_vertex(emb_.edges[edge][index == 0 ? 0 : 1]);
-                } else {
-                    node = find_crossing_node((int64_t(edge) << 20) | (index - 1));
-                }
-                return PointRole::Boundary;
-            }
-            return PointRole::Outside;
-        }
-        case SurfacePoint::Inside:
-            if (fan_triangle_index(p.a) >= 0) {
-                node = lookup_vertex(emb_.edges[edge][index == 0 ? 0 : 1]);
-                return PointRole::Free;
-            }
-            return PointRole::Outside;
-    }
-    return PointRole::Outside;
-}
-
-bool FanPlanner::gather_nodes(std::string& why) {
-    const int32_t sides = n_;  // open fans: side n-1 is the new edge (end -> start)
-    if (side_nodes_.size() < size_t(sides)) side_nodes_.resize(sides);
-    for (auto& list : side_nodes_) list.clear();
-    // Polygon corners.
-    for (int32_t i = 0; i < n_; ++i) {
-        StarNode c;
-        c.pos = map_.q[i];
-        c.vertex = fan_->link[i];
-        c.poly_corner = i;
-        vertex_node_.set(c.vertex, add_node(c));
-    }
-    // Fixed nodes on the link edges (only the full plan needs them: their place and
-    // deviation do not change).
-    for (int32_t i = 0; validate_ && i < (fan_->closed ? n_ : n_ - 1); ++i) {
-        const int32_t a = fan_->link[i], b = fan_->link[mod(i + 1, n_)];
-        auto it = emb_.edge_content.find(edge_key(a, b));
-        if (it == emb_.edge_content.end()) continue;
-        auto t_of = [&](double s) { return a < b ? s : 1.0 - s; };  // from q_i to q_i+1
-        auto& vs = sorted_;
-        vs.assign(it->second.vertices.begin(), it->second.vertices.end());
-        std::sort(vs.begin(), vs.end());
-        for (int32_t u : vs) {
-            StarNode s;
-            s.vertex = u;
-            s.poly_edge = i;
-            s.poly_t = t_of(emb_.location[u].s);
-            s.edge_lo = std::min(a, b);
-            s.edge_hi = std::max(a, b);
-            s.edge_s = emb_.location[u].s;
-            s.pos = (1.0 - s.poly_t) * map_.q[i] + s.poly_t * map_.q[mod(i + 1, n_)];
-            const int32_t id = add_node(s);
-            vertex_node_.set(u, id);
-            side_nodes_[i].push_back(id);
-        }
-        auto& es = sorted_;
-        es.assign(it->second.crossing_edges.begin(), it->second.crossing_edges.end());
-        std::sort(es.begin(), es.end());
-        es.erase(std::unique(es.begin(), es.end()), es.end());
-        const int64_t key = edge_key(a, b);
-        for (int32_t e : es) {
-            const auto& path = emb_.path[e];
-            for (int32_t j = 0; j < int32_t(path.size()); ++j) {
-                if (edge_key(path[j].a, path[j].b) != uint64_t(key)) continue;
-                StarNode s;
-                s.edge = e;
-                s.sigma = path[j].sigma;
-                s.poly_edge = i;
-                s.poly_t = t_of(path[j].s);
-                s.edge_lo = std::min(a, b);
-                s.edge_hi = std::max(a, b);
-                s.edge_s = path[j].s;
-                s.pos = (1.0 - s.poly_t) * map_.q[i] + s.poly_t * map_.q[mod(i + 1, n_)];
-                const int32_t id = add_node(s);
-                crossing_node_.push_back({(int64_t(e) << 20) | j, id});
-                side_nodes_[i].push_back(id);
-            }
-        }
-    }
-    // v and the vertices on the two feature edges lie on the new edge of an open fan.
-    if (!fan_->closed) {
-        const int32_t side = n_ - 1;  // from corner n-1 (x < 0) to corner 0 (x > 0)
-        const double x0 = map_.q[n_ - 1][0], x1 = map_.q[0][0];
-        auto add_on_new_edge = [&](int32_t u, double x) {
-            StarNode s;
-            s.vertex = u;
-            s.poly_edge = side;
-            s.poly_t = (x - x0) / (x1 - x0);
-            s.pos = {x, 0.0};
-            auto it = new_edge_params_->find(u);
-            if (it == new_edge_params_->end()) return false;
-            s.edge_lo = std::min(fan_->link.front(), fan_->link.back());
-            s.edge_hi = std::max(fan_->link.front(), fan_->link.back());
-            s.edge_s = it->second;
-            const int32_t id = add_node(s);
-            vertex_node_.set(u, id);
-            side_nodes_[side].push_back(id);
-            return true;
-        };
-        if (!add_on_new_edge(v_, 0.0)) {
-            why = "internal: vertex on the new feature edge without parameter";
-            return false;
-        }
-        for (int32_t end : {0, n_ - 1}) {
-            const int32_t w = fan_->link[end];
-            auto it = emb_.edge_content.find(edge_key(v_, w));
-            if (it == emb_.edge_content.end()) continue;
-            if (!it->second.crossing_edges.empty()) {
-                why = "an original edge crosses a feature line";
-                return false;
-            }
-            auto& vs = sorted_;
-            vs.assign(it->second.vertices.begin(), it->second.vertices.end());
-            std::sort(vs.begin(), vs.end());
-            for (int32_t u : vs) {
-                const double from_v = v_ < w ? emb_.location[u].s : 1.0 - emb_.location[u].s;
-                if (!add_on_new_edge(u, from_v * map_.q[end][0])) {
-                    why = "internal: vertex on the new feature edge without parameter";
-                    return false;
-                }
-            }
-        }
-    }
-    // Free nodes: vertices inside the fan's triangles, on its interior spokes, and v of a disk.
-    auto& free_vertices = free_vertices_;
-    free_vertices.clear();
-    for (int32_t t : fan_->triangles)
-        if (t < int32_t(emb_.inside.size()))
-            free_vertices.insert(free_vertices.end(), emb_.inside[t].begin(), emb_.inside[t].end());
-    for (int32_t i = 0; i < n_; ++i) {
-        if (!is_interior_spoke(i)) continue;
-        auto it = emb_.edge_content.find(edge_key(v_, fan_->link[i]));
-        if (it == emb_.edge_content.end()) continue;
-        free_vertices.insert(free_vertices.end(), it->second.vertices.begin(), it->second.vertices.end());
-    }
-    if (fan_->closed) free_vertices.push_back(v_);
-    std::sort(free_vertices.begin(), free_vertices.end());
-    for (int32_t u : free_vertices) {
-        StarNode s;
-        s.free = true;
-        s.vertex = u;
-        const SurfacePoint& p = emb_.location[u];
-        if (p.kind == SurfacePoint::Inside) {
-            const Tri& c = mesh_.triangle(p.a);
-            s.pos = p.bary[0] * corner_pos(c[0]) + p.bary[1] * corner_pos(c[1]) + p.bary[2] * corner_pos(c[2]);
-        } else if (p.kind == SurfacePoint::OnEdge) {
-            s.pos = (1.0 - p.s) * corner_pos(p.a) + p.s * corner_pos(p.b);
-        } else {
-            s.pos = corner_pos(p.a);
-        }
-        vertex_node_.set(u, add_node(s));
-    }
-
-    return true;
-}
-
-bool FanPlanner::gather_segments(std::string& why) {
-    // Original edges that may pass through the fan, and their straightened runs.
-    static thread_local std::vector<int32_t> candidates;
-    candidates.clear();
-    auto add_incident = [&](int32_t u) {
-        for (int32_t i = emb_.vertex_edge_offsets[u]; i < emb_.vertex_edge_offsets[u + 1]; ++i)
-            candidates.push_back(emb_.vertex_edges[i]);
-    };
-    for (int32_t u : free_vertices_) add_incident(u);
-    add_incident(v_);
-    if (!fan_->closed)
-        for (int32_t id : side_nodes_[n_ - 1])
-            if (nodes_[id].vertex >= 0) add_incident(nodes_[id].vertex);
-    for (int32_t i = 0; i < n_; ++i) {
-        if (!is_interior_spoke(i)) continue;
-        auto it = emb_.edge_content.find(edge_key(v_, fan_->link[i]));
-        if (it != emb_.edge_content.end())
-            candidates.insert(candidates.end(), it->second.crossing_edges.begin(), it->second.crossing_edges.end());
-    }
-    std::sort(candidates.begin(), candidates.end());
-    candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
-
-    static thread_local std::vector<PointRole> roles;
-    static thread_local std::vector<int32_t> node_of;
-    for (int32_t e : candidates) {
-        // The point sequence of Embedding::path_points, read in place: the two
-        // locations with the crossings in between.
-        const auto& path = emb_.path[e];
-        const int32_t last = static_cast<int32_t>(path.size()) + 1;
-        auto sigma_at = [&](int32_t j) { return j == 0 ? 0.0 : (j == last ? 1.0 : path[j - 1].sigma); };
-        roles.resize(last + 1);
-        node_of.resize(last + 1);
-        roles[0] = role(emb_.location[emb_.edges[e][0]], true, e, 0, node_of[0]);
-        for (int32_t j = 1; j < last; ++j) {
-            const Crossing& c = path[j - 1];
-            roles[j] = role(SurfacePoint{SurfacePoint::OnEdge, c.a, c.b, c.s, {}}, false, e, j, node_of[j]);
-        }
-        roles[last] = role(emb_.location[emb_.edges[e][1]], true, e, last, node_of[last]);
-        // Is segment (j, j+1) inside the fan?
-        auto inside_fan = [&](int32_t j) {
-            const PointRole r0 = roles[j], r1 = roles[j + 1];
-            if (r0 == PointRole::Outside || r1 == PointRole::Outside) return false;
-            if (r0 != PointRole::Boundary || r1 != PointRole::Boundary) return true;
-            // Both on the polygon boundary: inside only if they are in one fan triangle
-            // without sharing a side of the polygon.
-            if (node_of[j] < 0 || node_of[j + 1] < 0) return true;  // reported below
-            const StarNode& a = nodes_[node_of[j]];
-            const StarNode& b = nodes_[node_of[j + 1]];
-            auto on_side = [&](const StarNode& s, int32_t side) {
-                return s.poly_edge == side ||
-                       (s.poly_corner >= 0 && (s.poly_corner == side || mod(s.poly_corner - 1, n_) == side));
-            };
-            for (int32_t side = 0; side < n_; ++side)
-                if (on_side(a, side) && on_side(b, side)) return false;
-            const int32_t ntri = static_cast<int32_t>(fan_->triangles.size());
-            for (int32_t i = 0; i < ntri; ++i)
-                if (in_fan_triangle(a, i) && in_fan_triangle(b, i)) return true;
-            return false;
-        };
-        int32_t j = 0;
-        while (j < last) {
-            if (!inside_fan(j)) {
-                ++j;
-                continue;
-            }
-            int32_t k = j + 1;
-            while (k < last && roles[k] == PointRole::Dropped) ++k;
-            if (roles[j] == PointRole::Dropped || roles[k] == PointRole::Dropped || node_of[j] < 0 || node_of[k] < 0) {
-                why = "an original edge runs along a removed edge in an unexpected way";
-                return false;
-            }
-            segments_.push_back({node_of[j], node_of[k], e, j, k, sigma_at(j), sigma_at(k)});
-            j = k;
-        }
-    }
-    return true;
-}
 
 bool FanPlanner::floater(std::string& why) {
     // Floater's shape-preserving idea with mean value weights from the original surface:
@@ -550,28 +171,28 @@ bool FanPlanner::floater(std::string& why) {
     // graph, with the polygon boundary fixed. On a convex polygon this embeds the graph
     // without flips (Floater 1997/2003).
     const auto& x = emb_.original->vertices;
-    std::vector<int32_t> index(nodes_.size(), -1);
+    std::vector<int32_t> index(graph_.nodes.size(), -1);
     int32_t count = 0;
-    for (size_t i = 0; i < nodes_.size(); ++i)
-        if (nodes_[i].free) index[i] = count++;
+    for (size_t i = 0; i < graph_.nodes.size(); ++i)
+        if (graph_.nodes[i].free) index[i] = count++;
     if (count == 0) return true;
     // Neighbours with 3D positions of their images.
-    std::vector<std::vector<std::pair<int32_t, Vec3>>> neighbours(nodes_.size());
+    std::vector<std::vector<std::pair<int32_t, Vec3>>> neighbours(graph_.nodes.size());
     auto image = [&](int32_t node, int32_t edge, double sigma) {
-        const StarNode& s = nodes_[node];
+        const StarNode& s = graph_.nodes[node];
         if (s.vertex >= 0) return x[s.vertex];
         const auto& e = emb_.edges[edge];
         return (1.0 - sigma) * x[e[0]] + sigma * x[e[1]];
     };
-    for (const StraightSegment& s : segments_) {
+    for (const StraightSegment& s : graph_.segments) {
         neighbours[s.a].push_back({s.b, image(s.b, s.edge, s.sigma_b)});
         neighbours[s.b].push_back({s.a, image(s.a, s.edge, s.sigma_a)});
     }
     std::vector<Eigen::Triplet<double>> triplets;
     Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(count, 2);
-    for (size_t i = 0; i < nodes_.size(); ++i) {
+    for (size_t i = 0; i < graph_.nodes.size(); ++i) {
         if (index[i] < 0) continue;
-        const Vec3 center = x[nodes_[i].vertex];
+        const Vec3 center = x[graph_.nodes[i].vertex];
         auto& nb = neighbours[i];
         if (nb.size() < 2) {
             why = "free node with fewer than two neighbours";
@@ -624,8 +245,8 @@ bool FanPlanner::floater(std::string& why) {
             if (index[other] >= 0)
                 triplets.push_back({row, index[other], -weight});
             else {
-                rhs(row, 0) += weight * nodes_[other].pos[0];
-                rhs(row, 1) += weight * nodes_[other].pos[1];
+                rhs(row, 0) += weight * graph_.nodes[other].pos[0];
+                rhs(row, 1) += weight * graph_.nodes[other].pos[1];
             }
         }
     }
@@ -642,8 +263,8 @@ bool FanPlanner::floater(std::string& why) {
         why = "shape-preserving map: solve failed";
         return false;
     }
-    for (size_t i = 0; i < nodes_.size(); ++i)
-        if (index[i] >= 0) nodes_[i].pos = {sol(index[i], 0), sol(index[i], 1)};
+    for (size_t i = 0; i < graph_.nodes.size(); ++i)
+        if (index[i] >= 0) graph_.nodes[i].pos = {sol(index[i], 0), sol(index[i], 1)};
     return true;
 }
 
@@ -661,7 +282,7 @@ bool FanPlanner::locate_free_nodes(std::string& why) {
     }
     // Free nodes strictly inside the polygon (by construction before straightening, so
     // only the full plan checks), then located in the new triangulation.
-    for (StarNode& s : nodes_) {
+    for (StarNode& s : graph_.nodes) {
         if (!s.free) continue;
         for (int32_t i = 0; validate_ && i < n_; ++i)
             if (orient2d(map_.q[i], map_.q[mod(i + 1, n_)], s.pos) <= 0) {
@@ -764,9 +385,9 @@ bool FanPlanner::transfer_cost(std::string& why) {
     // 2. Cut the straightened segments along the diagonals.
     crossings_.clear();
     cut_begin_.clear();
-    for (const StraightSegment& seg : segments_) {
+    for (const StraightSegment& seg : graph_.segments) {
         cut_begin_.push_back(static_cast<int32_t>(crossings_.size()));
-        const Vec2 A = nodes_[seg.a].pos, B = nodes_[seg.b].pos;
+        const Vec2 A = graph_.nodes[seg.a].pos, B = graph_.nodes[seg.b].pos;
         if (!(A[0] != B[0] || A[1] != B[1])) {
             why = "degenerate straightened edge";
             return false;
@@ -781,7 +402,7 @@ bool FanPlanner::transfer_cost(std::string& why) {
             return p[0] < box_lo[0] || p[0] > box_hi[0] || p[1] < box_lo[1] || p[1] > box_hi[1];
         };
         for (int32_t i = 0; i < n_; ++i) {
-            if (i == nodes_[seg.a].poly_corner || i == nodes_[seg.b].poly_corner) continue;
+            if (i == graph_.nodes[seg.a].poly_corner || i == graph_.nodes[seg.b].poly_corner) continue;
             if (outside_box(map_.q[i])) continue;
             if (orient2d(A, B, map_.q[i]) == 0 && dot(map_.q[i] - A, map_.q[i] - B) < 0) {
                 why = "an original edge would pass through a coarse vertex";
@@ -791,7 +412,7 @@ bool FanPlanner::transfer_cost(std::string& why) {
         const size_t first = crossings_.size();
         for (int32_t d = 0; d < int32_t(tri.diagonals.size()); ++d) {
             // A segment that starts on a diagonal does not cut it (it leaves it).
-            if ((nodes_[seg.a].free && nodes_[seg.a].diagonal == d) || (nodes_[seg.b].free && nodes_[seg.b].diagonal == d))
+            if ((graph_.nodes[seg.a].free && graph_.nodes[seg.a].diagonal == d) || (graph_.nodes[seg.b].free && graph_.nodes[seg.b].diagonal == d))
                 continue;
             const Vec2 P = map_.q[tri.diagonals[d][0]], Q = map_.q[tri.diagonals[d][1]];
             // Segments whose bounding boxes are apart cannot cross properly (the exact
@@ -840,7 +461,7 @@ bool FanPlanner::transfer_cost(std::string& why) {
     auto image_of = [&](const StarNode& s) {
         return x[s.vertex];  // free nodes and new-edge nodes are original vertices
     };
-    for (const StarNode& s : nodes_) {
+    for (const StarNode& s : graph_.nodes) {
         if (s.free && s.new_triangle >= 0) {
             const auto& c = tri.triangles[s.new_triangle];
             max_deviation = std::max(max_deviation, distance(image_of(s), barycentric_point(x[fan_->link[c[0]]], x[fan_->link[c[1]]],
@@ -869,7 +490,7 @@ bool FanPlanner::transfer_validate(std::string& why) {
 
 bool FanPlanner::prepare_checks(std::string& why) {
     const int32_t ntris = static_cast<int32_t>(tri.triangles.size());
-    const int32_t nnodes = static_cast<int32_t>(nodes_.size());
+    const int32_t nnodes = static_cast<int32_t>(graph_.nodes.size());
     // 3. Full: which new triangle every piece of a cut segment lies in, the graph of
     // every new triangle, validated exactly.
     min_normal_cosine = 1.0;  // a second transfer (after Floater's map) starts afresh
@@ -894,7 +515,7 @@ bool FanPlanner::prepare_checks(std::string& why) {
             out[count++] = dt[1];
             return;
         }
-        const StarNode& s = nodes_[item];
+        const StarNode& s = graph_.nodes[item];
         if (s.free) {
             if (s.new_triangle >= 0) {
                 out[count++] = s.new_triangle;
@@ -913,8 +534,8 @@ bool FanPlanner::prepare_checks(std::string& why) {
     pieces_.clear();
     path_edits.clear();
     int32_t ca[64], cb[64];
-    for (size_t si = 0; si < segments_.size(); ++si) {
-        const StraightSegment& seg = segments_[si];
+    for (size_t si = 0; si < graph_.segments.size(); ++si) {
+        const StraightSegment& seg = graph_.segments[si];
         const int32_t c0 = cut_begin_[si], c1 = cut_begin_[si + 1];
         int32_t previous = seg.a;
         for (int32_t i = c0; i <= c1; ++i) {
@@ -969,7 +590,7 @@ bool FanPlanner::prepare_checks(std::string& why) {
 
 bool FanPlanner::check_triangles(int32_t begin, int32_t end, TriangleCheck& check, double& min_cosine,
                                  std::string& why) const {
-    const int32_t nnodes = static_cast<int32_t>(nodes_.size());
+    const int32_t nnodes = static_cast<int32_t>(graph_.nodes.size());
     TriangleGraph& graph = check.graph;
     auto& local_ = check.local;
     auto& touched_ = check.touched;
@@ -993,12 +614,12 @@ bool FanPlanner::check_triangles(int32_t begin, int32_t end, TriangleCheck& chec
             touched_.push_back(item);
             graph.nodes.push_back(g);
         };
-        for (int k = 0; k < 3; ++k) add(vertex_node_.get(cv[k]), corner_node(k, cv[k]));
+        for (int k = 0; k < 3; ++k) add(graph_.vertex_node.get(cv[k]), corner_node(k, cv[k]));
         for (int k = 0; k < 3; ++k) {
             const int32_t a = c[k], b = c[(k + 1) % 3];
             if (b != mod(a + 1, n_)) continue;
-            for (int32_t id : side_nodes_[a]) {
-                const StarNode& s = nodes_[id];
+            for (int32_t id : graph_.side_nodes[a]) {
+                const StarNode& s = graph_.nodes[id];
                 GraphNode g;
                 if (!on_side(s.edge_lo, s.edge_hi, s.edge_s, g)) {
                     why = "fixed node without its edge";
@@ -1016,7 +637,7 @@ bool FanPlanner::check_triangles(int32_t begin, int32_t end, TriangleCheck& chec
             }
         }
         for (int32_t id = 0; id < nnodes; ++id) {
-            const StarNode& s = nodes_[id];
+            const StarNode& s = graph_.nodes[id];
             if (!s.free) continue;
             GraphNode g;
             g.kind = NodeKind::OriginalVertex;
@@ -1063,7 +684,7 @@ bool FanPlanner::check_triangles(int32_t begin, int32_t end, TriangleCheck& chec
 void FanPlanner::set_locations() {
     // 4. New locations of the free vertices.
     locations.clear();
-    for (const StarNode& s : nodes_) {
+    for (const StarNode& s : graph_.nodes) {
         if (!s.free) continue;
         if (s.new_triangle >= 0)
             locations.push_back({s.vertex, SurfacePoint::inside(-1 - s.new_triangle, s.bary)});
@@ -1077,14 +698,15 @@ FanPlanner::Stage FanPlanner::estimate(std::string& why) {
     if (!polar_map(mesh_.positions(), v_, *fan_, scale_, map_, why)) return Stage::Failed;
     if (!retriangulate_fan(mesh_, *fan_, map_, forbidden_, tri, ears_, why)) return Stage::Failed;
     compute_new_normals();
-    if (!gather_nodes(why)) return Stage::Failed;
+    if (!gather_star_nodes(mesh_, emb_, v_, *fan_, map_.q, validate_, new_edge_params_, graph_, graph_scratch_, why))
+        return Stage::Failed;
     if (!validate_) {
         // For ranking only: the deviation at the original vertices that move, placed by
         // the flattening. The full plan adds the new edge crossings and validates.
         if (!locate_free_nodes(why)) return Stage::Failed;
         const auto& x = mesh_.positions();
         max_deviation = 0.0;
-        for (const StarNode& s : nodes_) {
+        for (const StarNode& s : graph_.nodes) {
             if (s.free && s.new_triangle >= 0) {
                 const auto& c = tri.triangles[s.new_triangle];
                 const Vec3 flat = barycentric_point(x[fan_->link[c[0]]], x[fan_->link[c[1]]], x[fan_->link[c[2]]], s.bary);
@@ -1107,7 +729,7 @@ FanPlanner::Stage FanPlanner::estimate(std::string& why) {
         estimated_deviation = max_deviation;
         return Stage::Done;
     }
-    if (!gather_segments(why)) return Stage::Failed;
+    if (!gather_straight_segments(emb_, v_, *fan_, graph_, graph_scratch_, why)) return Stage::Failed;
     first_reason_.clear();
     if (transfer_cost(first_reason_)) {
         estimated_deviation = max_deviation;
