@@ -10,6 +10,7 @@
 #include "bpm/predicates.h"
 #include "simplify/fan_retriangulation.h"
 #include "simplify/floater_repair.h"
+#include "simplify/phi_transfer.h"
 #include "simplify/polar_map.h"
 #include "simplify/star_fans.h"
 #include "simplify/star_graph.h"
@@ -17,15 +18,6 @@
 namespace bpm::detail {
 
 namespace {
-
-struct NewCrossing {
-    int32_t diagonal;
-    int32_t lo, hi;  // the diagonal as a coarse edge, lo < hi
-    double s;        // along it from lo
-    double sigma;    // along the original edge
-    int32_t edge;
-    double lambda;   // along the straightened segment
-};
 
 struct Piece {
     int32_t triangle;  // new triangle (polygon-local index)
@@ -134,8 +126,7 @@ private:
     StarGraph graph_;  // the original surface in the fan
     StarGraphScratch graph_scratch_;  // of gather_star_nodes, gather_straight_segments
     // Buffers of transfer().
-    std::vector<NewCrossing> crossings_;
-    std::vector<int32_t> cut_begin_;
+    RecutEdges cuts_;  // the straightened segments cut along the diagonals
     std::vector<std::array<int32_t, 2>> diagonal_triangles_;
     std::vector<int32_t> side_triangle_;
     std::vector<Piece> pieces_;
@@ -153,7 +144,6 @@ private:
         }
     }
 
-    bool locate_free_nodes(std::string& why);
     // transfer = transfer_cost (re-cut, deviation) + transfer_validate (overlays).
     bool transfer(std::string& why) { return transfer_cost(why) && (!validate_ || transfer_validate(why)); }
     bool transfer_cost(std::string& why);
@@ -162,214 +152,10 @@ private:
     std::string first_reason_;  // why the first transfer failed (before Floater's map)
 };
 
-bool FanPlanner::locate_free_nodes(std::string& why) {
-    const int32_t ntris = static_cast<int32_t>(tri.triangles.size());
-    // Bounding boxes of the new triangles (counter-clockwise, non-degenerate: ears of
-    // a strictly convex polygon). A point strictly outside a box is strictly outside
-    // that triangle, so the exact tests below would find a negative orientation.
-    auto& boxes = triangle_boxes_;
-    boxes.resize(ntris);
-    for (int32_t t = 0; t < ntris; ++t) {
-        const Vec2 &p0 = map_.q[tri.triangles[t][0]], &p1 = map_.q[tri.triangles[t][1]], &p2 = map_.q[tri.triangles[t][2]];
-        boxes[t] = {std::min({p0[0], p1[0], p2[0]}), std::min({p0[1], p1[1], p2[1]}),
-                    std::max({p0[0], p1[0], p2[0]}), std::max({p0[1], p1[1], p2[1]})};
-    }
-    // Free nodes strictly inside the polygon (by construction before straightening, so
-    // only the full plan checks), then located in the new triangulation.
-    for (StarNode& s : graph_.nodes) {
-        if (!s.free) continue;
-        for (int32_t i = 0; validate_ && i < n_; ++i)
-            if (orient2d(map_.q[i], map_.q[mod(i + 1, n_)], s.pos) <= 0) {
-                why = "an original vertex would leave the star";
-                return false;
-            }
-        s.new_triangle = -1;
-        s.diagonal = -1;
-        for (int32_t t = 0; t < ntris && s.new_triangle < 0 && s.diagonal < 0; ++t) {
-            const auto& c = tri.triangles[t];
-            const auto& box = boxes[t];
-            if (s.pos[0] < box[0] || s.pos[1] < box[1] || s.pos[0] > box[2] || s.pos[1] > box[3]) continue;
-            int zero = -1, negative = 0;
-            for (int k = 0; k < 3 && !negative; ++k) {
-                const int o = orient2d(map_.q[c[k]], map_.q[c[(k + 1) % 3]], s.pos);
-                if (o < 0) ++negative;
-                if (o == 0) zero = zero < 0 ? k : 3;
-            }
-            if (negative) continue;
-            if (zero < 0) {
-                s.new_triangle = t;
-            } else if (zero < 3) {
-                const int32_t a = c[zero], b = c[(zero + 1) % 3];
-                for (int32_t d = 0; d < int32_t(tri.diagonals.size()); ++d) {
-                    const auto& dg = tri.diagonals[d];
-                    if ((dg[0] == a && dg[1] == b) || (dg[0] == b && dg[1] == a)) {
-                        s.diagonal = d;
-                        const Vec2 p0 = map_.q[dg[0]], dir = map_.q[dg[1]] - map_.q[dg[0]];
-                        double t_along = dot(s.pos - p0, dir) / dot(dir, dir);
-                        t_along = std::min(std::max(t_along, 1e-300), std::nextafter(1.0, 0.0));
-                        const SurfacePoint on = SurfacePoint::on_edge(fan_->link[dg[0]], fan_->link[dg[1]], t_along);
-                        s.edge_lo = on.a;
-                        s.edge_hi = on.b;
-                        s.edge_s = on.s;
-                    }
-                }
-            }
-        }
-        if (s.new_triangle < 0 && s.diagonal < 0) {
-            why = "cannot locate an original vertex in the new triangles";
-            return false;
-        }
-        if (s.new_triangle >= 0) {
-            const auto& c = tri.triangles[s.new_triangle];
-            const Vec2 p0 = map_.q[c[0]], p1 = map_.q[c[1]], p2 = map_.q[c[2]];
-            const double area = cross(p1 - p0, p2 - p0);
-            const double b1 = cross(s.pos - p0, p2 - p0) / area;
-            const double b2 = cross(p1 - p0, s.pos - p0) / area;
-            s.bary = {1.0 - b1 - b2, b1, b2};
-            // Within rounding distance of a side, a node would make slivers too thin for
-            // double precision downstream. Near a new edge (diagonal) it is put on it
-            // (symmetric stars put v exactly there); near a link edge, or a corner, the
-            // transfer is refused.
-            constexpr double kMargin = 1e-9;
-            int near = -1, count = 0;
-            for (int k = 0; k < 3; ++k)
-                if (!(s.bary[k] > kMargin)) {
-                    near = k;
-                    ++count;
-                }
-            if (count > 1) {
-                why = "an original vertex would sit (almost) on a coarse vertex";
-                return false;
-            }
-            if (count == 1) {
-                const int32_t a = c[(near + 1) % 3], b = c[(near + 2) % 3];
-                int32_t on = -1;
-                for (int32_t d = 0; d < int32_t(tri.diagonals.size()); ++d)
-                    if ((tri.diagonals[d][0] == a && tri.diagonals[d][1] == b) || (tri.diagonals[d][0] == b && tri.diagonals[d][1] == a))
-                        on = d;
-                if (on < 0) {
-                    why = "an original vertex would sit (almost) on a link edge";
-                    return false;
-                }
-                const double ba = s.bary[(near + 1) % 3], bb = s.bary[(near + 2) % 3];
-                double t_along = tri.diagonals[on][0] == a ? bb / (ba + bb) : ba / (ba + bb);
-                if (!(t_along > kMargin && t_along < 1.0 - kMargin)) {
-                    why = "an original vertex would sit (almost) on a coarse vertex";
-                    return false;
-                }
-                s.new_triangle = -1;
-                s.diagonal = on;
-                const SurfacePoint p = SurfacePoint::on_edge(fan_->link[tri.diagonals[on][0]], fan_->link[tri.diagonals[on][1]], t_along);
-                s.edge_lo = p.a;
-                s.edge_hi = p.b;
-                s.edge_s = p.s;
-                // The straight-line position on the diagonal, for the cuts.
-                s.pos = (1.0 - t_along) * map_.q[tri.diagonals[on][0]] + t_along * map_.q[tri.diagonals[on][1]];
-            }
-        }
-    }
-
-    return true;
-}
-
 bool FanPlanner::transfer_cost(std::string& why) {
-    const auto& x = mesh_.positions();
-    if (!locate_free_nodes(why)) return false;
-
-    // 2. Cut the straightened segments along the diagonals.
-    crossings_.clear();
-    cut_begin_.clear();
-    for (const StraightSegment& seg : graph_.segments) {
-        cut_begin_.push_back(static_cast<int32_t>(crossings_.size()));
-        const Vec2 A = graph_.nodes[seg.a].pos, B = graph_.nodes[seg.b].pos;
-        if (!(A[0] != B[0] || A[1] != B[1])) {
-            why = "degenerate straightened edge";
-            return false;
-        }
-        // Polygon corners on the segment would put a coarse vertex on an original edge.
-        // A corner strictly outside the segment's bounding box cannot be: exactly on the
-        // line AB but beyond an end, both factors of every term of the dot product
-        // below have one sign (rounding keeps signs of differences), so it is >= 0.
-        const double box_lo[2] = {std::min(A[0], B[0]), std::min(A[1], B[1])};
-        const double box_hi[2] = {std::max(A[0], B[0]), std::max(A[1], B[1])};
-        auto outside_box = [&](const Vec2& p) {
-            return p[0] < box_lo[0] || p[0] > box_hi[0] || p[1] < box_lo[1] || p[1] > box_hi[1];
-        };
-        for (int32_t i = 0; i < n_; ++i) {
-            if (i == graph_.nodes[seg.a].poly_corner || i == graph_.nodes[seg.b].poly_corner) continue;
-            if (outside_box(map_.q[i])) continue;
-            if (orient2d(A, B, map_.q[i]) == 0 && dot(map_.q[i] - A, map_.q[i] - B) < 0) {
-                why = "an original edge would pass through a coarse vertex";
-                return false;
-            }
-        }
-        const size_t first = crossings_.size();
-        for (int32_t d = 0; d < int32_t(tri.diagonals.size()); ++d) {
-            // A segment that starts on a diagonal does not cut it (it leaves it).
-            if ((graph_.nodes[seg.a].free && graph_.nodes[seg.a].diagonal == d) || (graph_.nodes[seg.b].free && graph_.nodes[seg.b].diagonal == d))
-                continue;
-            const Vec2 P = map_.q[tri.diagonals[d][0]], Q = map_.q[tri.diagonals[d][1]];
-            // Segments whose bounding boxes are apart cannot cross properly (the exact
-            // tests below would say so too).
-            if (std::max(P[0], Q[0]) < box_lo[0] || std::min(P[0], Q[0]) > box_hi[0] ||
-                std::max(P[1], Q[1]) < box_lo[1] || std::min(P[1], Q[1]) > box_hi[1])
-                continue;
-            const int oa = orient2d(P, Q, A), ob = orient2d(P, Q, B);
-            if (oa == 0 || ob == 0 || oa == ob) continue;
-            const int op = orient2d(A, B, P), oq = orient2d(A, B, Q);
-            if (op == 0 || oq == 0 || op == oq) continue;
-            const Vec2 r = B - A, s = Q - P;
-            const double denom = cross(r, s);
-            const double lambda = cross(P - A, s) / denom;  // along A->B
-            double mu = cross(P - A, r) / denom;            // along P->Q
-            // Cuts within rounding distance of an end of the segment or of the diagonal
-            // would make pieces too thin for double precision downstream (evaluation,
-            // refinement); such a transfer is refused, and the shape-preserving map gets a
-            // chance to move the nodes away.
-            constexpr double kMargin = 1e-9;
-            if (!(lambda > kMargin && lambda < 1.0 - kMargin) || !(mu > kMargin && mu < 1.0 - kMargin)) {
-                why = "a cut of an original edge falls (almost) on a node";
-                return false;
-            }
-            mu = std::min(std::max(mu, std::numeric_limits<double>::min()), std::nextafter(1.0, 0.0));
-            const SurfacePoint on = SurfacePoint::on_edge(fan_->link[tri.diagonals[d][0]], fan_->link[tri.diagonals[d][1]], mu);
-            crossings_.push_back({d, on.a, on.b, on.s, seg.sigma_a + lambda * (seg.sigma_b - seg.sigma_a), seg.edge,
-                                  lambda});
-        }
-        std::sort(crossings_.begin() + static_cast<long>(first), crossings_.end(),
-                  [](const NewCrossing& p, const NewCrossing& q) { return p.lambda < q.lambda; });
-        for (size_t i = first; i + 1 < crossings_.size(); ++i)
-            if (!(crossings_[i].lambda < crossings_[i + 1].lambda)) {
-                why = "two cuts of an original edge coincide";
-                return false;
-            }
-    }
-    cut_begin_.push_back(static_cast<int32_t>(crossings_.size()));
-
-    // Deviation |phi(x) - x| is piecewise linear; its maximum is at the nodes. Nodes on
-    // the link edges keep their place and their deviation, so only moved ones count.
-    max_deviation = 0.0;
-    auto deviation_on_side = [&](const Vec3& image, int32_t lo, int32_t hi, double s) {
-        return distance(image, (1.0 - s) * x[lo] + s * x[hi]);
-    };
-    auto image_of = [&](const StarNode& s) {
-        return x[s.vertex];  // free nodes and new-edge nodes are original vertices
-    };
-    for (const StarNode& s : graph_.nodes) {
-        if (s.free && s.new_triangle >= 0) {
-            const auto& c = tri.triangles[s.new_triangle];
-            max_deviation = std::max(max_deviation, distance(image_of(s), barycentric_point(x[fan_->link[c[0]]], x[fan_->link[c[1]]],
-                                                                                                x[fan_->link[c[2]]], s.bary)));
-        } else if ((s.free && s.diagonal >= 0) || (!fan_->closed && s.poly_edge == n_ - 1)) {
-            max_deviation = std::max(max_deviation, deviation_on_side(image_of(s), s.edge_lo, s.edge_hi, s.edge_s));
-        }
-    }
-    const auto& ox = emb_.original->vertices;
-    for (const NewCrossing& c : crossings_) {
-        const auto& e = emb_.edges[c.edge];
-        const Vec3 image = (1.0 - c.sigma) * ox[e[0]] + c.sigma * ox[e[1]];
-        max_deviation = std::max(max_deviation, deviation_on_side(image, c.lo, c.hi, c.s));
-    }
+    if (!locate_free_nodes(*fan_, map_.q, tri, validate_, graph_, triangle_boxes_, why)) return false;
+    if (!cut_segments(*fan_, map_.q, tri, graph_, cuts_, why)) return false;
+    max_deviation = transfer_deviation(mesh_.positions(), emb_, *fan_, tri, graph_, cuts_);
     return true;
 }
 
@@ -404,7 +190,7 @@ bool FanPlanner::prepare_checks(std::string& why) {
     auto candidates = [&](int32_t item, int32_t out[], int& count) {
         count = 0;
         if (item >= nnodes) {
-            const auto& dt = diagonal_triangles_[crossings_[item - nnodes].diagonal];
+            const auto& dt = diagonal_triangles_[cuts_.crossings[item - nnodes].diagonal];
             out[count++] = dt[0];
             out[count++] = dt[1];
             return;
@@ -430,7 +216,7 @@ bool FanPlanner::prepare_checks(std::string& why) {
     int32_t ca[64], cb[64];
     for (size_t si = 0; si < graph_.segments.size(); ++si) {
         const StraightSegment& seg = graph_.segments[si];
-        const int32_t c0 = cut_begin_[si], c1 = cut_begin_[si + 1];
+        const int32_t c0 = cuts_.cut_begin[si], c1 = cuts_.cut_begin[si + 1];
         int32_t previous = seg.a;
         for (int32_t i = c0; i <= c1; ++i) {
             const int32_t item = i < c1 ? nnodes + i : seg.b;
@@ -473,7 +259,7 @@ bool FanPlanner::prepare_checks(std::string& why) {
         PathEdit edit{seg.edge, seg.first, seg.last, {}};
         const bool increasing = seg.sigma_b > seg.sigma_a;
         for (int32_t i = 0; i < c1 - c0; ++i) {
-            const NewCrossing& c = crossings_[increasing ? c0 + i : c1 - 1 - i];
+            const NewCrossing& c = cuts_.crossings[increasing ? c0 + i : c1 - 1 - i];
             edit.middle.push_back({c.lo, c.hi, c.s, c.sigma});
         }
         path_edits.push_back(std::move(edit));
@@ -488,7 +274,7 @@ bool FanPlanner::check_triangles(int32_t begin, int32_t end, TriangleCheck& chec
     TriangleGraph& graph = check.graph;
     auto& local_ = check.local;
     auto& touched_ = check.touched;
-    local_.assign(nnodes + crossings_.size(), -1);
+    local_.assign(nnodes + cuts_.crossings.size(), -1);
     for (int32_t t = begin; t < end; ++t) {
         const auto& c = tri.triangles[t];
         graph.nodes.clear();
@@ -543,8 +329,8 @@ bool FanPlanner::check_triangles(int32_t begin, int32_t end, TriangleCheck& chec
                 add(id, g);
             }
         }
-        for (size_t i = 0; i < crossings_.size(); ++i) {
-            const NewCrossing& nc = crossings_[i];
+        for (size_t i = 0; i < cuts_.crossings.size(); ++i) {
+            const NewCrossing& nc = cuts_.crossings[i];
             GraphNode g;
             if (!on_side(nc.lo, nc.hi, nc.s, g)) continue;
             g.kind = NodeKind::EdgeCrossing;
@@ -597,7 +383,7 @@ FanPlanner::Stage FanPlanner::estimate(std::string& why) {
     if (!validate_) {
         // For ranking only: the deviation at the original vertices that move, placed by
         // the flattening. The full plan adds the new edge crossings and validates.
-        if (!locate_free_nodes(why)) return Stage::Failed;
+        if (!locate_free_nodes(*fan_, map_.q, tri, validate_, graph_, triangle_boxes_, why)) return Stage::Failed;
         const auto& x = mesh_.positions();
         max_deviation = 0.0;
         for (const StarNode& s : graph_.nodes) {
