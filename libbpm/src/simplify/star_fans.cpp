@@ -17,6 +17,127 @@ inline bool rotate_to(const Tri& t, int32_t v, int32_t& x, int32_t& y) {
     return false;
 }
 
+// Other triangle on edge (v,x), or -1 unless the edge has exactly two: the alive
+// triangles of v containing x, in the order of CoarseMesh::edge_triangles().
+// `corners[i]`: the corners of tris[i].
+int32_t other_triangle_across(const std::vector<int32_t>& tris, const std::vector<Tri>& corners, int32_t t, int32_t x) {
+    int32_t found[2] = {-1, -1};
+    int count = 0;
+    for (size_t i = 0; i < corners.size(); ++i) {
+        const Tri& c = corners[i];
+        if (c[0] == x || c[1] == x || c[2] == x) {
+            if (count < 2) found[count] = tris[i];
+            ++count;
+        }
+    }
+    if (count != 2) return -1;
+    return found[0] == t ? found[1] : found[0];
+}
+
+// The closed fan of a vertex off the feature lines, from its smallest triangle id.
+VertexClass walk_disk(const CoarseMesh& mesh, int32_t v, const std::vector<Tri>& corners, std::vector<Fan>& fans,
+                      std::string& why) {
+    const auto& tris = mesh.triangles_of(v);
+    fans.resize(1);
+    Fan& fan = fans[0];
+    fan.closed = true;
+    fan.link.clear();
+    fan.triangles.clear();
+    const int32_t t0 = *std::min_element(tris.begin(), tris.end());
+    int32_t x = -1, y = -1;
+    rotate_to(mesh.triangle(t0), v, x, y);
+    fan.link.push_back(x);
+    fan.triangles.push_back(t0);
+    int32_t t = t0, last = y;
+    while (true) {
+        const int32_t n = other_triangle_across(tris, corners, t, last);
+        if (n < 0) {
+            why = "non-manifold edge without feature mark";
+            return VertexClass::Feature;
+        }
+        if (n == t0) break;
+        int32_t nx = -1, ny = -1;
+        rotate_to(mesh.triangle(n), v, nx, ny);
+        if (nx != last) {
+            why = "inconsistent orientation in the star";
+            return VertexClass::Feature;
+        }
+        fan.link.push_back(last);
+        fan.triangles.push_back(n);
+        t = n;
+        last = ny;
+        if (fan.triangles.size() > tris.size()) {
+            why = "star is not a disk";
+            return VertexClass::Feature;
+        }
+    }
+    if (last != fan.link.front() || fan.triangles.size() != tris.size()) {
+        why = "star is not a single disk (non-manifold vertex)";
+        return VertexClass::Feature;
+    }
+    return VertexClass::Regular;
+}
+
+// The open fans between feature edges v -- f0 and v -- f1, one per sheet.
+VertexClass walk_half_disks(const CoarseMesh& mesh, int32_t v, int32_t f0, int32_t f1, const std::vector<Tri>& corners,
+                            std::vector<int32_t>& starts, std::vector<Fan>& fans, std::string& why) {
+    const auto& tris = mesh.triangles_of(v);
+    // Half-disks: start at every triangle on the first feature edge and walk across
+    // non-feature edges until the second feature edge.
+    mesh.edge_triangles(v, f0, starts);
+    size_t covered = 0;
+    fans.resize(starts.size());
+    for (size_t i = 0; i < starts.size(); ++i) {
+        const int32_t t0 = starts[i];
+        Fan& fan = fans[i];
+        fan.closed = false;
+        int32_t x = -1, y = -1;
+        rotate_to(mesh.triangle(t0), v, x, y);
+        const bool forward = x == f0;  // the stored orientation runs from f0 around v
+        auto& link = fan.link;
+        auto& triangles = fan.triangles;
+        link.assign(1, f0);
+        triangles.assign(1, t0);
+        int32_t t = t0, last = forward ? y : x;
+        while (true) {
+            link.push_back(last);
+            if (last == f1 || last == f0) break;
+            const int32_t n = other_triangle_across(tris, corners, t, last);
+            if (n < 0) {
+                why = "non-manifold edge without feature mark";
+                return VertexClass::Feature;
+            }
+            int32_t nx = -1, ny = -1;
+            rotate_to(mesh.triangle(n), v, nx, ny);
+            if ((forward ? nx : ny) != last) {
+                why = "inconsistent orientation in the star";
+                return VertexClass::Feature;
+            }
+            triangles.push_back(n);
+            t = n;
+            last = forward ? ny : nx;
+            if (triangles.size() > tris.size()) {
+                why = "star is not made of half-disks";
+                return VertexClass::Feature;
+            }
+        }
+        if (link.back() != f1) {
+            why = "half-disk does not reach the other feature edge";
+            return VertexClass::Feature;
+        }
+        if (!forward) {
+            std::reverse(link.begin(), link.end());
+            std::reverse(triangles.begin(), triangles.end());
+        }
+        covered += triangles.size();
+    }
+    if (covered != tris.size()) {
+        why = "star is not made of half-disks";
+        return VertexClass::Feature;
+    }
+    return VertexClass::FeatureLine;
+}
+
 }  // namespace
 
 VertexClass classify_star(const CoarseMesh& mesh, int32_t v, bool force_disk, std::vector<Fan>& fans,
@@ -72,121 +193,12 @@ VertexClass classify_star(const CoarseMesh& mesh, int32_t v, bool force_disk, st
         crease_line = true;
     }
 
-    // Other triangle on edge (v,x), or -1 unless the edge has exactly two: the alive
-    // triangles of v containing x, in the order of CoarseMesh::edge_triangles().
-    auto next_across = [&](int32_t t, int32_t x) -> int32_t {
-        int32_t found[2] = {-1, -1};
-        int count = 0;
-        for (size_t i = 0; i < corners.size(); ++i) {
-            const Tri& c = corners[i];
-            if (c[0] == x || c[1] == x || c[2] == x) {
-                if (count < 2) found[count] = tris[i];
-                ++count;
-            }
-        }
-        if (count != 2) return -1;
-        return found[0] == t ? found[1] : found[0];
-    };
-
-    if (features.empty()) {
-        fans.resize(1);
-        Fan& fan = fans[0];
-        fan.closed = true;
-        fan.link.clear();
-        fan.triangles.clear();
-        const int32_t t0 = *std::min_element(tris.begin(), tris.end());
-        int32_t x = -1, y = -1;
-        rotate_to(mesh.triangle(t0), v, x, y);
-        fan.link.push_back(x);
-        fan.triangles.push_back(t0);
-        int32_t t = t0, last = y;
-        while (true) {
-            const int32_t n = next_across(t, last);
-            if (n < 0) {
-                why = "non-manifold edge without feature mark";
-                return VertexClass::Feature;
-            }
-            if (n == t0) break;
-            int32_t nx = -1, ny = -1;
-            rotate_to(mesh.triangle(n), v, nx, ny);
-            if (nx != last) {
-                why = "inconsistent orientation in the star";
-                return VertexClass::Feature;
-            }
-            fan.link.push_back(last);
-            fan.triangles.push_back(n);
-            t = n;
-            last = ny;
-            if (fan.triangles.size() > tris.size()) {
-                why = "star is not a disk";
-                return VertexClass::Feature;
-            }
-        }
-        if (last != fan.link.front() || fan.triangles.size() != tris.size()) {
-            why = "star is not a single disk (non-manifold vertex)";
-            return VertexClass::Feature;
-        }
-        return VertexClass::Regular;
-    }
+    if (features.empty()) return walk_disk(mesh, v, corners, fans, why);
     if (features.size() != 2) {
         why = features.size() == 1 ? "end of a feature line" : "meeting point of feature lines";
         return VertexClass::Feature;
     }
-    // Half-disks: start at every triangle on the first feature edge and walk across
-    // non-feature edges until the second feature edge.
-    const int32_t f0 = features[0], f1 = features[1];
-    mesh.edge_triangles(v, f0, starts);
-    size_t covered = 0;
-    fans.resize(starts.size());
-    for (size_t i = 0; i < starts.size(); ++i) {
-        const int32_t t0 = starts[i];
-        Fan& fan = fans[i];
-        fan.closed = false;
-        int32_t x = -1, y = -1;
-        rotate_to(mesh.triangle(t0), v, x, y);
-        const bool forward = x == f0;  // the stored orientation runs from f0 around v
-        auto& link = fan.link;
-        auto& triangles = fan.triangles;
-        link.assign(1, f0);
-        triangles.assign(1, t0);
-        int32_t t = t0, last = forward ? y : x;
-        while (true) {
-            link.push_back(last);
-            if (last == f1 || last == f0) break;
-            const int32_t n = next_across(t, last);
-            if (n < 0) {
-                why = "non-manifold edge without feature mark";
-                return VertexClass::Feature;
-            }
-            int32_t nx = -1, ny = -1;
-            rotate_to(mesh.triangle(n), v, nx, ny);
-            if ((forward ? nx : ny) != last) {
-                why = "inconsistent orientation in the star";
-                return VertexClass::Feature;
-            }
-            triangles.push_back(n);
-            t = n;
-            last = forward ? ny : nx;
-            if (triangles.size() > tris.size()) {
-                why = "star is not made of half-disks";
-                return VertexClass::Feature;
-            }
-        }
-        if (link.back() != f1) {
-            why = "half-disk does not reach the other feature edge";
-            return VertexClass::Feature;
-        }
-        if (!forward) {
-            std::reverse(link.begin(), link.end());
-            std::reverse(triangles.begin(), triangles.end());
-        }
-        covered += triangles.size();
-    }
-    if (covered != tris.size()) {
-        why = "star is not made of half-disks";
-        return VertexClass::Feature;
-    }
-    return VertexClass::FeatureLine;
+    return walk_half_disks(mesh, v, features[0], features[1], corners, starts, fans, why);
 }
 
 }  // namespace bpm::detail

@@ -30,7 +30,12 @@ struct Piece {
 
 namespace {
 
-// Everything needed to process one fan.
+// One fan through the stages of a removal, in order: polar_map (polar_map.h),
+// retriangulate_fan (fan_retriangulation.h), gather_star_nodes and
+// gather_straight_segments (star_graph.h), locate_free_nodes, cut_segments and
+// transfer_deviation (phi_transfer.h), the overlay checks below, and floater_repair
+// (floater_repair.h) when straightening fails. FanPlanner keeps what the stages hand on
+// (the polygon, the new triangles, the star graph, the cuts) and their buffers.
 class FanPlanner {
 public:
     // Planners are reused across removals so that their buffers keep their capacity.
@@ -456,6 +461,16 @@ bool FanPlanner::end_finish(bool checks_passed, const std::string& reason, doubl
 
 }  // namespace
 
+// Every buffer of a VertexRemover, reused across its plans (plans are made millions of
+// times). Buffers are kept one way: in this struct, handed to the stage functions
+// explicitly as their own small scratch structs (StarScratch, EarScratch,
+// StarGraphScratch; FanPlanner, which lives here, holds those of its stages). A
+// VertexRemover is used by one thread at a time (the driver gives every planning thread
+// its own), so the buffers are per thread without thread_local; unlike function-local
+// static thread_local buffers they are visible in the signatures, so every stage can be
+// called and tested on its own, and they are freed with their remover instead of living
+// as long as the thread. (finish_part() runs parts of one plan on several threads at
+// once: each part has its own TriangleCheck in `parts`.)
 struct RemovalScratch {
     // Aspect ratio per coarse triangle id, NaN until computed: a triangle's corners
     // never change after construction, and every star is planned many times.
