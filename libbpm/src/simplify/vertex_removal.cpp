@@ -12,6 +12,7 @@
 #include "simplify/floater_repair.h"
 #include "simplify/phi_transfer.h"
 #include "simplify/polar_map.h"
+#include "simplify/removal_validation.h"
 #include "simplify/star_fans.h"
 #include "simplify/star_graph.h"
 
@@ -19,22 +20,12 @@ namespace bpm::detail {
 
 namespace {
 
-struct Piece {
-    int32_t triangle;  // new triangle (polygon-local index)
-    int32_t item0, item1;  // star node id, or #nodes + new crossing index
-    int32_t edge;
-};
-
-}  // namespace
-
-
-namespace {
-
 // One fan through the stages of a removal, in order: polar_map (polar_map.h),
 // retriangulate_fan (fan_retriangulation.h), gather_star_nodes and
 // gather_straight_segments (star_graph.h), locate_free_nodes, cut_segments and
-// transfer_deviation (phi_transfer.h), the overlay checks below, and floater_repair
-// (floater_repair.h) when straightening fails. FanPlanner keeps what the stages hand on
+// transfer_deviation (phi_transfer.h), assign_pieces and check_new_triangles
+// (removal_validation.h), and floater_repair (floater_repair.h) when the straightened
+// transfer fails. FanPlanner keeps what the stages hand on
 // (the polygon, the new triangles, the star graph, the cuts) and their buffers.
 class FanPlanner {
 public:
@@ -54,7 +45,7 @@ public:
         estimated_deviation = 0.0;
         min_normal_cosine = 1.0;
         used_floater = false;
-        path_edits.clear();
+        pieces.path_edits.clear();
         locations.clear();
         along_diagonal_ = {-1, -1};
     }
@@ -79,12 +70,6 @@ public:
     // be shared by threads: prepare_checks(), then check_triangles() for ranges of the new
     // triangles, on any threads with a TriangleCheck each, then end_finish() with
     // whether all passed (and the reason of the failure in the first triangle that failed).
-    struct TriangleCheck {
-        TriangleGraph graph;
-        std::vector<int32_t> local, touched;
-        std::vector<OverlayFace> faces;
-        std::string reason;
-    };
     bool prepare_checks(std::string& why);
     bool check_triangles(int32_t begin, int32_t end, TriangleCheck& check, double& min_cosine, std::string& why) const;
     bool end_finish(bool checks_passed, const std::string& reason, double min_cosine, std::string& why);
@@ -96,11 +81,7 @@ public:
 
     // Outputs.
     FanTriangulation tri;  // the new triangles
-    struct PathEdit {
-        int32_t edge, first, last;
-        std::vector<Crossing> middle;  // new crossings between first and last
-    };
-    std::vector<PathEdit> path_edits;
+    TransferPieces pieces;  // where the re-cut edges lie, and the path edits
     std::vector<std::pair<int32_t, SurfacePoint>> locations;  // free vertices; Inside uses -1-local
     double max_deviation = 0.0;
     // max_deviation of the first transfer that got its cost (before validation and a
@@ -132,9 +113,6 @@ private:
     StarGraphScratch graph_scratch_;  // of gather_star_nodes, gather_straight_segments
     // Buffers of transfer().
     RecutEdges cuts_;  // the straightened segments cut along the diagonals
-    std::vector<std::array<int32_t, 2>> diagonal_triangles_;
-    std::vector<int32_t> side_triangle_;
-    std::vector<Piece> pieces_;
     std::vector<std::array<double, 4>> triangle_boxes_;  // of locate_free_nodes: x/y min, x/y max
     TriangleCheck own_check_;  // of finish() and transfer_validate()
     std::vector<Vec3> new_normals_;                 // unit normal of every new triangle
@@ -174,196 +152,14 @@ bool FanPlanner::transfer_validate(std::string& why) {
 }
 
 bool FanPlanner::prepare_checks(std::string& why) {
-    const int32_t ntris = static_cast<int32_t>(tri.triangles.size());
-    const int32_t nnodes = static_cast<int32_t>(graph_.nodes.size());
-    // 3. Full: which new triangle every piece of a cut segment lies in, the graph of
-    // every new triangle, validated exactly.
     min_normal_cosine = 1.0;  // a second transfer (after Floater's map) starts afresh
-    diagonal_triangles_.assign(tri.diagonals.size(), {-1, -1});
-    side_triangle_.assign(n_, -1);
-    for (int32_t t = 0; t < ntris; ++t) {
-        const auto& c = tri.triangles[t];
-        for (int k = 0; k < 3; ++k) {
-            const int32_t a = c[k], b = c[(k + 1) % 3];
-            if (b == mod(a + 1, n_)) side_triangle_[a] = t;
-            for (int32_t d = 0; d < int32_t(tri.diagonals.size()); ++d)
-                if ((tri.diagonals[d][0] == a && tri.diagonals[d][1] == b) || (tri.diagonals[d][0] == b && tri.diagonals[d][1] == a))
-                    (diagonal_triangles_[d][0] < 0 ? diagonal_triangles_[d][0] : diagonal_triangles_[d][1]) = t;
-        }
-    }
-    // Items: star nodes (id) and new crossings (nnodes + index).
-    auto candidates = [&](int32_t item, int32_t out[], int& count) {
-        count = 0;
-        if (item >= nnodes) {
-            const auto& dt = diagonal_triangles_[cuts_.crossings[item - nnodes].diagonal];
-            out[count++] = dt[0];
-            out[count++] = dt[1];
-            return;
-        }
-        const StarNode& s = graph_.nodes[item];
-        if (s.free) {
-            if (s.new_triangle >= 0) {
-                out[count++] = s.new_triangle;
-            } else {
-                out[count++] = diagonal_triangles_[s.diagonal][0];
-                out[count++] = diagonal_triangles_[s.diagonal][1];
-            }
-        } else if (s.poly_edge >= 0) {
-            out[count++] = side_triangle_[s.poly_edge];
-        } else {
-            for (int32_t t = 0; t < ntris && count < 64; ++t)
-                for (int k = 0; k < 3; ++k)
-                    if (tri.triangles[t][k] == s.poly_corner) out[count++] = t;
-        }
-    };
-    pieces_.clear();
-    path_edits.clear();
-    int32_t ca[64], cb[64];
-    for (size_t si = 0; si < graph_.segments.size(); ++si) {
-        const StraightSegment& seg = graph_.segments[si];
-        const int32_t c0 = cuts_.cut_begin[si], c1 = cuts_.cut_begin[si + 1];
-        int32_t previous = seg.a;
-        for (int32_t i = c0; i <= c1; ++i) {
-            const int32_t item = i < c1 ? nnodes + i : seg.b;
-            int na, nb;
-            candidates(previous, ca, na);
-            candidates(item, cb, nb);
-            int32_t common = -1, count = 0;
-            for (int p = 0; p < na; ++p)
-                for (int q = 0; q < nb; ++q)
-                    if (ca[p] == cb[q] && ca[p] != common) {
-                        common = ca[p];
-                        ++count;
-                    }
-            if (count != 1) {
-                why = count == 0 ? "re-cut lost track of an original edge" : "original edge along a new edge";
-                if (count > 1) {
-                    // The two triangles the run lies in share the diagonal it runs along.
-                    int32_t t1 = -1, t2 = -1;
-                    for (int p = 0; p < na; ++p)
-                        for (int q = 0; q < nb; ++q) {
-                            if (ca[p] != cb[q]) continue;
-                            if (t1 < 0) t1 = ca[p];
-                            else if (ca[p] != t1 && t2 < 0) t2 = ca[p];
-                        }
-                    if (t1 >= 0 && t2 >= 0) {
-                        int32_t shared[2], k = 0;
-                        for (int32_t u : tri.triangles[t1])
-                            for (int32_t w : tri.triangles[t2])
-                                if (u == w && k < 2) shared[k++] = u;
-                        if (k == 2) along_diagonal_ = {shared[0], shared[1]};
-                    }
-                }
-                return false;
-            }
-            pieces_.push_back({common, previous, item, seg.edge});
-            previous = item;
-        }
-        // Path edit: the new crossings in order along the original edge (which runs
-        // from its smaller vertex; the segment may run the other way).
-        PathEdit edit{seg.edge, seg.first, seg.last, {}};
-        const bool increasing = seg.sigma_b > seg.sigma_a;
-        for (int32_t i = 0; i < c1 - c0; ++i) {
-            const NewCrossing& c = cuts_.crossings[increasing ? c0 + i : c1 - 1 - i];
-            edit.middle.push_back({c.lo, c.hi, c.s, c.sigma});
-        }
-        path_edits.push_back(std::move(edit));
-    }
-
-    return true;
+    return assign_pieces(*fan_, tri, graph_, cuts_, pieces, along_diagonal_, why);
 }
 
 bool FanPlanner::check_triangles(int32_t begin, int32_t end, TriangleCheck& check, double& min_cosine,
                                  std::string& why) const {
-    const int32_t nnodes = static_cast<int32_t>(graph_.nodes.size());
-    TriangleGraph& graph = check.graph;
-    auto& local_ = check.local;
-    auto& touched_ = check.touched;
-    local_.assign(nnodes + cuts_.crossings.size(), -1);
-    for (int32_t t = begin; t < end; ++t) {
-        const auto& c = tri.triangles[t];
-        graph.nodes.clear();
-        graph.segments.clear();
-        const Tri cv{fan_->link[c[0]], fan_->link[c[1]], fan_->link[c[2]]};
-        // Places a node stored as (lo, hi, s) on the side of this triangle it lies on.
-        auto on_side = [&](int32_t lo, int32_t hi, double s, GraphNode& g) {
-            const int k = local_edge(cv, lo, hi);
-            if (k < 0) return false;
-            g.bary = bary_on_side(cv, k, lo, s);
-            g.on_edge = static_cast<int8_t>(k);
-            return true;
-        };
-        touched_.clear();
-        auto add = [&](int32_t item, const GraphNode& g) {
-            local_[item] = static_cast<int32_t>(graph.nodes.size());
-            touched_.push_back(item);
-            graph.nodes.push_back(g);
-        };
-        for (int k = 0; k < 3; ++k) add(graph_.vertex_node.get(cv[k]), corner_node(k, cv[k]));
-        for (int k = 0; k < 3; ++k) {
-            const int32_t a = c[k], b = c[(k + 1) % 3];
-            if (b != mod(a + 1, n_)) continue;
-            for (int32_t id : graph_.side_nodes[a]) {
-                const StarNode& s = graph_.nodes[id];
-                GraphNode g;
-                if (!on_side(s.edge_lo, s.edge_hi, s.edge_s, g)) {
-                    why = "fixed node without its edge";
-                    return false;
-                }
-                if (s.vertex >= 0) {
-                    g.kind = NodeKind::OriginalVertex;
-                    g.vertex = s.vertex;
-                } else {
-                    g.kind = NodeKind::EdgeCrossing;
-                    g.edge = s.edge;
-                    g.sigma = s.sigma;
-                }
-                add(id, g);
-            }
-        }
-        for (int32_t id = 0; id < nnodes; ++id) {
-            const StarNode& s = graph_.nodes[id];
-            if (!s.free) continue;
-            GraphNode g;
-            g.kind = NodeKind::OriginalVertex;
-            g.vertex = s.vertex;
-            if (s.new_triangle == t) {
-                g.bary = s.bary;
-                add(id, g);
-            } else if (s.diagonal >= 0 && on_side(s.edge_lo, s.edge_hi, s.edge_s, g)) {
-                add(id, g);
-            }
-        }
-        for (size_t i = 0; i < cuts_.crossings.size(); ++i) {
-            const NewCrossing& nc = cuts_.crossings[i];
-            GraphNode g;
-            if (!on_side(nc.lo, nc.hi, nc.s, g)) continue;
-            g.kind = NodeKind::EdgeCrossing;
-            g.edge = nc.edge;
-            g.sigma = nc.sigma;
-            add(nnodes + static_cast<int32_t>(i), g);
-        }
-        for (const Piece& p : pieces_) {
-            if (p.triangle != t) continue;
-            const int32_t i0 = local_[p.item0], i1 = local_[p.item1];
-            if (i0 < 0 || i1 < 0) {
-                why = "segment end missing in its triangle";
-                return false;
-            }
-            graph.segments.push_back({i0, i1, p.edge});
-        }
-        for (int32_t item : touched_) local_[item] = -1;
-        std::string& reason = check.reason;
-        size_t face_count = 0;
-        if (!check_faces(graph, emb_, sign_, check.faces, face_count, &reason)) {
-            why = "invalid transfer: " + reason;
-            return false;
-        }
-        // Every original triangle with a piece on t has a face here: exact.
-        for (size_t f = 0; f < face_count && !normals_.empty(); ++f)
-            min_cosine = std::min(min_cosine, dot(new_normals_[t], normals_[check.faces[f].original_triangle]));
-    }
-    return true;
+    const FanTransfer transfer{emb_, sign_, normals_, *fan_, tri, new_normals_, graph_, cuts_, pieces};
+    return check_new_triangles(transfer, begin, end, check, min_cosine, why);
 }
 
 void FanPlanner::set_locations() {
@@ -494,7 +290,7 @@ struct RemovalScratch {
     std::vector<SurfacePoint> points;
     std::vector<double> sigmas;
     FanPlanner planner;
-    std::vector<FanPlanner::PathEdit> edits;               // of all fans of a plan
+    std::vector<PathEdit> edits;               // of all fans of a plan
     // finish_part(): 0 while part 0 prepares the checks, then 1 (prepared) or 2 (failed).
     std::atomic<int> prepared{0};
     std::string prepare_reason;
@@ -502,7 +298,7 @@ struct RemovalScratch {
         bool passed = false;
         double min_cosine = 1.0;
         std::string reason;
-        FanPlanner::TriangleCheck check;
+        TriangleCheck check;
     };
     Part parts[VertexRemover::kMaxFinishParts];
     std::unordered_map<int32_t, double> new_edge_params;  // see plan_once
@@ -781,7 +577,7 @@ void add_fan(const CoarseMesh& mesh_, RemovalScratch& scratch, const Fan& fan, F
         if (loc.second.kind == SurfacePoint::Inside) loc.second.a = -1 - (base + (-1 - loc.second.a));
         plan.new_locations.push_back(loc);
     }
-    for (auto& e : planner.path_edits) scratch.edits.push_back(std::move(e));
+    for (auto& e : planner.pieces.path_edits) scratch.edits.push_back(std::move(e));
 }
 
 void finish_paths(const CoarseMesh& mesh, const Embedding& embedding, RemovalScratch& scratch, RemovalPlan& plan) {

@@ -8,8 +8,8 @@
 //
 // The stages, each in its own file: star_fans (the star as fans, or why v is kept),
 // polar_map, fan_retriangulation, star_graph (the original surface in the fan),
-// phi_transfer (locate, re-cut, deviation), floater_repair; the overlay validation and
-// the assembly of the plan are in vertex_removal.cpp.
+// phi_transfer (locate, re-cut, deviation), removal_validation (exact overlay checks),
+// floater_repair. vertex_removal.cpp runs them per fan (FanPlanner) and assembles the plan.
 //
 // VertexRemover::plan() and plan_deferred() only compute; commit_removal() applies.
 // Everything a removal changes is in the RemovalPlan, so costs can be evaluated without
