@@ -7,310 +7,26 @@
 #include <thread>
 #include <unordered_map>
 
-#include <Eigen/Sparse>
-#include <Eigen/SparseLU>
-
 #include "bpm/predicates.h"
+#include "simplify/fan_retriangulation.h"
+#include "simplify/floater_repair.h"
+#include "simplify/phi_transfer.h"
+#include "simplify/polar_map.h"
+#include "simplify/removal_validation.h"
+#include "simplify/star_fans.h"
+#include "simplify/star_graph.h"
 
 namespace bpm::detail {
 
 namespace {
 
-// One fan of triangles around the removed vertex v: the whole disk of a regular
-// vertex (closed) or one half-disk between the two feature edges (open).
-// Triangle i is (v, link[i], link[i+1]) (indices mod n when closed), counter-clockwise
-// in the stored orientation.
-struct Fan {
-    bool closed = true;
-    std::vector<int32_t> link;
-    std::vector<int32_t> triangles;
-};
-
-// What a point of an original edge's path is, relative to one fan.
-enum class PointRole : uint8_t { Outside, Boundary, Free, Dropped };
-
-struct StarNode {
-    Vec2 pos{};
-    bool free = false;
-    int32_t vertex = -1;     // original vertex, or -1 for a crossing
-    int32_t edge = -1;       // crossing: original edge
-    double sigma = 0.0;      // crossing: position on the original edge
-    int32_t poly_edge = -1;  // fixed node on polygon side i (q_i -> q_i+1): the side
-    double poly_t = 0.0;     // ... and its parameter along that side
-    int32_t poly_corner = -1;
-    // On a coarse edge (fixed nodes on sides, free nodes on diagonals): the stored,
-    // canonical form, edge (lo, hi) at parameter s from lo.
-    int32_t edge_lo = -1, edge_hi = -1;
-    double edge_s = 0.0;
-    // Location in the new triangulation (free nodes).
-    int32_t new_triangle = -1;  // inside this new triangle, at `bary`
-    Vec3 bary{};
-    int32_t diagonal = -1;      // or on this diagonal
-};
-
-struct StraightSegment {
-    int32_t a, b;         // star nodes
-    int32_t edge;         // original edge
-    int32_t first, last;  // indices into the edge's point sequence replaced by this run
-    double sigma_a, sigma_b;
-};
-
-struct NewCrossing {
-    int32_t diagonal;
-    int32_t lo, hi;  // the diagonal as a coarse edge, lo < hi
-    double s;        // along it from lo
-    double sigma;    // along the original edge
-    int32_t edge;
-    double lambda;   // along the straightened segment
-};
-
-struct Piece {
-    int32_t triangle;  // new triangle (polygon-local index)
-    int32_t item0, item1;  // star node id, or #nodes + new crossing index
-    int32_t edge;
-};
-
-// A map from original vertex to star node that is cleared in O(1).
-class VertexSlots {
-public:
-    void resize(size_t n) {
-        if (value_.size() < n) {
-            value_.resize(n, -1);
-            stamp_.resize(n, 0);
-        }
-    }
-    void clear() { ++current_; }
-    int32_t get(int32_t v) const { return stamp_[v] == current_ ? value_[v] : -1; }
-    void set(int32_t v, int32_t id) {
-        value_[v] = id;
-        stamp_[v] = current_;
-    }
-
-private:
-    std::vector<int32_t> value_;
-    std::vector<uint32_t> stamp_;
-    uint32_t current_ = 1;
-};
-
-inline int32_t mod(int32_t i, int32_t n) {
-    // Nearly always one step outside [0, n): no division then.
-    if (i >= 0 && i < n) return i;
-    if (i < 0 && i >= -n) return i + n;
-    if (i >= n && i - n < n) return i - n;
-    return ((i % n) + n) % n;
-}
-
-// Rotates a triangle so that v is first; returns the other two in order.
-inline bool rotate_to(const Tri& t, int32_t v, int32_t& x, int32_t& y) {
-    for (int k = 0; k < 3; ++k)
-        if (t[k] == v) {
-            x = t[(k + 1) % 3];
-            y = t[(k + 2) % 3];
-            return true;
-        }
-    return false;
-}
-
-// Delaunay admissibility is a quality heuristic, not a validity decision: points within
-// rounding distance of the circle count as on it, so that the choice does not depend on
-// the model's units.
-bool clearly_in_circle(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d) {
-    const double adx = a[0] - d[0], ady = a[1] - d[1];
-    const double bdx = b[0] - d[0], bdy = b[1] - d[1];
-    const double cdx = c[0] - d[0], cdy = c[1] - d[1];
-    const double alift = adx * adx + ady * ady, blift = bdx * bdx + bdy * bdy, clift = cdx * cdx + cdy * cdy;
-    const double det = alift * (bdx * cdy - cdx * bdy) + blift * (cdx * ady - adx * cdy) + clift * (adx * bdy - bdx * ady);
-    const double permanent = (std::abs(bdx * cdy) + std::abs(cdx * bdy)) * alift +
-                             (std::abs(cdx * ady) + std::abs(adx * cdy)) * blift +
-                             (std::abs(adx * bdy) + std::abs(bdx * ady)) * clift;
-    return det > 1e-9 * permanent;
-}
-
-double angle_between(const Vec3& a, const Vec3& b) {
-    const double c = dot(a, b), s = norm(cross(a, b));
-    return std::atan2(s, c);
-}
-
-}  // namespace
-
-
-
-namespace {
-
-// Builds the fans of v; returns the class. `why` says why a vertex is kept.
-VertexClass build_fans(const CoarseMesh& mesh, int32_t v, bool force_disk, std::vector<Fan>& fans,
-                       bool& crease_line, std::string& why) {
-    crease_line = false;
-    // `fans` keeps its elements' buffers between calls: resized, never cleared.
-    const auto& tris = mesh.triangles_of(v);
-    if (tris.empty()) {
-        fans.clear();
-        why = "vertex already removed";
-        return VertexClass::Feature;
-    }
-    switch (mesh.corner(v)) {
-        case CoarseMesh::Corner::Junction:
-            why = std::string(kCornerJunctionReason);
-            return VertexClass::Feature;
-        case CoarseMesh::Corner::ConeEnd:
-            why = std::string(kCornerConeEndReason);
-            return VertexClass::Feature;
-        case CoarseMesh::Corner::None: break;
-    }
-    static thread_local std::vector<int32_t> hard, crease, features, starts;
-    // The corners of the star's triangles, read once: the walks below look up the
-    // triangles on an edge (v, x) many times.
-    static thread_local std::vector<Tri> corners;
-    hard.clear();
-    crease.clear();
-    features.clear();
-    starts.clear();
-    corners.clear();
-    for (int32_t t : tris) corners.push_back(mesh.triangle(t));
-    for (const Tri& c : corners)
-        for (int32_t x : c) {
-            if (x == v) continue;
-            const auto kind = mesh.feature(v, x);
-            if (kind == CoarseMesh::Feature::Hard) hard.push_back(x);
-            if (kind == CoarseMesh::Feature::Crease) crease.push_back(x);
-        }
-    for (auto* list : {&hard, &crease}) {
-        std::sort(list->begin(), list->end());
-        list->erase(std::unique(list->begin(), list->end()), list->end());
-    }
-    // Hard feature lines are always kept. Creases are followed when exactly two meet
-    // here; otherwise (a crease ending, a junction of creases) the vertex is removed as
-    // a disk if the geometric error allows it.
-    if (!hard.empty())
-        features = hard;
-    else if (crease.size() == 2 && !force_disk) {
-        features = crease;
-        crease_line = true;
-    }
-
-    // Other triangle on edge (v,x), or -1 unless the edge has exactly two: the alive
-    // triangles of v containing x, in the order of CoarseMesh::edge_triangles().
-    auto next_across = [&](int32_t t, int32_t x) -> int32_t {
-        int32_t found[2] = {-1, -1};
-        int count = 0;
-        for (size_t i = 0; i < corners.size(); ++i) {
-            const Tri& c = corners[i];
-            if (c[0] == x || c[1] == x || c[2] == x) {
-                if (count < 2) found[count] = tris[i];
-                ++count;
-            }
-        }
-        if (count != 2) return -1;
-        return found[0] == t ? found[1] : found[0];
-    };
-
-    if (features.empty()) {
-        fans.resize(1);
-        Fan& fan = fans[0];
-        fan.closed = true;
-        fan.link.clear();
-        fan.triangles.clear();
-        const int32_t t0 = *std::min_element(tris.begin(), tris.end());
-        int32_t x = -1, y = -1;
-        rotate_to(mesh.triangle(t0), v, x, y);
-        fan.link.push_back(x);
-        fan.triangles.push_back(t0);
-        int32_t t = t0, last = y;
-        while (true) {
-            const int32_t n = next_across(t, last);
-            if (n < 0) {
-                why = "non-manifold edge without feature mark";
-                return VertexClass::Feature;
-            }
-            if (n == t0) break;
-            int32_t nx = -1, ny = -1;
-            rotate_to(mesh.triangle(n), v, nx, ny);
-            if (nx != last) {
-                why = "inconsistent orientation in the star";
-                return VertexClass::Feature;
-            }
-            fan.link.push_back(last);
-            fan.triangles.push_back(n);
-            t = n;
-            last = ny;
-            if (fan.triangles.size() > tris.size()) {
-                why = "star is not a disk";
-                return VertexClass::Feature;
-            }
-        }
-        if (last != fan.link.front() || fan.triangles.size() != tris.size()) {
-            why = "star is not a single disk (non-manifold vertex)";
-            return VertexClass::Feature;
-        }
-        return VertexClass::Regular;
-    }
-    if (features.size() != 2) {
-        why = features.size() == 1 ? "end of a feature line" : "meeting point of feature lines";
-        return VertexClass::Feature;
-    }
-    // Half-disks: start at every triangle on the first feature edge and walk across
-    // non-feature edges until the second feature edge.
-    const int32_t f0 = features[0], f1 = features[1];
-    mesh.edge_triangles(v, f0, starts);
-    size_t covered = 0;
-    fans.resize(starts.size());
-    for (size_t i = 0; i < starts.size(); ++i) {
-        const int32_t t0 = starts[i];
-        Fan& fan = fans[i];
-        fan.closed = false;
-        int32_t x = -1, y = -1;
-        rotate_to(mesh.triangle(t0), v, x, y);
-        const bool forward = x == f0;  // the stored orientation runs from f0 around v
-        auto& link = fan.link;
-        auto& triangles = fan.triangles;
-        link.assign(1, f0);
-        triangles.assign(1, t0);
-        int32_t t = t0, last = forward ? y : x;
-        while (true) {
-            link.push_back(last);
-            if (last == f1 || last == f0) break;
-            const int32_t n = next_across(t, last);
-            if (n < 0) {
-                why = "non-manifold edge without feature mark";
-                return VertexClass::Feature;
-            }
-            int32_t nx = -1, ny = -1;
-            rotate_to(mesh.triangle(n), v, nx, ny);
-            if ((forward ? nx : ny) != last) {
-                why = "inconsistent orientation in the star";
-                return VertexClass::Feature;
-            }
-            triangles.push_back(n);
-            t = n;
-            last = forward ? ny : nx;
-            if (triangles.size() > tris.size()) {
-                why = "star is not made of half-disks";
-                return VertexClass::Feature;
-            }
-        }
-        if (link.back() != f1) {
-            why = "half-disk does not reach the other feature edge";
-            return VertexClass::Feature;
-        }
-        if (!forward) {
-            std::reverse(link.begin(), link.end());
-            std::reverse(triangles.begin(), triangles.end());
-        }
-        covered += triangles.size();
-    }
-    if (covered != tris.size()) {
-        why = "star is not made of half-disks";
-        return VertexClass::Feature;
-    }
-    return VertexClass::FeatureLine;
-}
-
-}  // namespace
-
-
-namespace {
-
-// Everything needed to process one fan.
+// One fan through the stages of a removal, in order: polar_map (polar_map.h),
+// retriangulate_fan (fan_retriangulation.h), gather_star_nodes and
+// gather_straight_segments (star_graph.h), locate_free_nodes, cut_segments and
+// transfer_deviation (phi_transfer.h), assign_pieces and check_new_triangles
+// (removal_validation.h), and floater_repair (floater_repair.h) when the straightened
+// transfer fails. FanPlanner keeps what the stages hand on
+// (the polygon, the new triangles, the star graph, the cuts) and their buffers.
 class FanPlanner {
 public:
     // Planners are reused across removals so that their buffers keep their capacity.
@@ -324,16 +40,12 @@ public:
         scale_ = radius_scale;
         new_edge_params_ = new_edge_params;
         validate_ = validate;
-        nodes_.clear();
-        segments_.clear();
-        crossing_node_.clear();
-        vertex_node_.resize(emb_.location.size());
-        vertex_node_.clear();
+        graph_.clear(emb_.location.size());
         max_deviation = 0.0;
         estimated_deviation = 0.0;
         min_normal_cosine = 1.0;
         used_floater = false;
-        path_edits.clear();
+        pieces.path_edits.clear();
         locations.clear();
         along_diagonal_ = {-1, -1};
     }
@@ -358,30 +70,18 @@ public:
     // be shared by threads: prepare_checks(), then check_triangles() for ranges of the new
     // triangles, on any threads with a TriangleCheck each, then end_finish() with
     // whether all passed (and the reason of the failure in the first triangle that failed).
-    struct TriangleCheck {
-        TriangleGraph graph;
-        std::vector<int32_t> local, touched;
-        std::vector<OverlayFace> faces;
-        std::string reason;
-    };
     bool prepare_checks(std::string& why);
     bool check_triangles(int32_t begin, int32_t end, TriangleCheck& check, double& min_cosine, std::string& why) const;
     bool end_finish(bool checks_passed, const std::string& reason, double min_cosine, std::string& why);
-    int32_t num_new_triangles() const { return static_cast<int32_t>(new_tris.size()); }
+    int32_t num_new_triangles() const { return static_cast<int32_t>(tri.triangles.size()); }
     bool run(std::string& why) {
         const Stage stage = estimate(why);
         return stage == Stage::Done || (stage == Stage::Estimated && finish(why));
     }
 
     // Outputs.
-    std::vector<std::array<int32_t, 3>> new_tris;   // polygon corner indices, ccw
-    std::vector<double> new_aspects;                // aspect_ratio of each new triangle, corners in that order
-    std::vector<std::array<int32_t, 2>> diagonals;  // polygon corner index pairs
-    struct PathEdit {
-        int32_t edge, first, last;
-        std::vector<Crossing> middle;  // new crossings between first and last
-    };
-    std::vector<PathEdit> path_edits;
+    FanTriangulation tri;  // the new triangles
+    TransferPieces pieces;  // where the re-cut edges lie, and the path edits
     std::vector<std::pair<int32_t, SurfacePoint>> locations;  // free vertices; Inside uses -1-local
     double max_deviation = 0.0;
     // max_deviation of the first transfer that got its cost (before validation and a
@@ -404,1074 +104,68 @@ private:
     const std::unordered_map<int32_t, double>* new_edge_params_;
     bool validate_ = false;  // full validation of the new triangles' overlays (else: costs only)
 
-    int32_t n_ = 0;                // polygon corners
-    std::vector<Vec2> q_;          // polygon corners in 2D
-    std::vector<double> theta_, phi_, radius_;  // of flatten(): angles at v, polar angles, radii
-    bool cocircular_ = false;      // q_ on a circle (the convex fallback flattening)
-    std::vector<Vec2> q_polar_;    // with cocircular_: the corners as the polar map put them (not convex)
+    int32_t n_ = 0;   // polygon corners
+    PolarMap map_;    // the polygon in the plane
+    EarScratch ears_;  // of retriangulate_fan
     std::vector<std::array<int32_t, 2>> forbidden_;
     std::array<int32_t, 2> along_diagonal_{-1, -1};
-    bool forbidden(int32_t a, int32_t d) const {
-        for (const auto& f : forbidden_)
-            if ((f[0] == a && f[1] == d) || (f[0] == d && f[1] == a)) return true;
-        return false;
-    }
-    std::vector<StarNode> nodes_;
-    VertexSlots vertex_node_;
-    std::vector<std::pair<int64_t, int32_t>> crossing_node_;  // ((edge << 20) | index, node)
-    int32_t find_crossing_node(int64_t key) const {
-        for (const auto& p : crossing_node_)
-            if (p.first == key) return p.second;
-        return -1;
-    }
+    StarGraph graph_;  // the original surface in the fan
+    StarGraphScratch graph_scratch_;  // of gather_star_nodes, gather_straight_segments
     // Buffers of transfer().
-    std::vector<NewCrossing> crossings_;
-    std::vector<int32_t> cut_begin_;
-    std::vector<std::array<int32_t, 2>> diagonal_triangles_;
-    std::vector<int32_t> side_triangle_;
-    std::vector<Piece> pieces_;
+    RecutEdges cuts_;  // the straightened segments cut along the diagonals
     std::vector<std::array<double, 4>> triangle_boxes_;  // of locate_free_nodes: x/y min, x/y max
     TriangleCheck own_check_;  // of finish() and transfer_validate()
-    std::vector<int32_t> free_vertices_;
-    std::vector<int32_t> sorted_;  // scratch for sorted copies of edge contents
-    std::vector<StraightSegment> segments_;
-    std::vector<std::vector<int32_t>> side_nodes_;  // per polygon side: fixed nodes on it
     std::vector<Vec3> new_normals_;                 // unit normal of every new triangle
 
     void compute_new_normals() {
         if (normals_.empty()) return;
         const auto& x = mesh_.positions();
-        new_normals_.resize(new_tris.size());
-        for (size_t t = 0; t < new_tris.size(); ++t) {
-            const auto& c = new_tris[t];
+        new_normals_.resize(tri.triangles.size());
+        for (size_t t = 0; t < tri.triangles.size(); ++t) {
+            const auto& c = tri.triangles[t];
             new_normals_[t] = triangle_normal(x[fan_->link[c[0]]], x[fan_->link[c[1]]], x[fan_->link[c[2]]]);
         }
     }
 
-    Vec2 corner_pos(int32_t vertex) const {
-        if (vertex == v_) return {0.0, 0.0};
-        for (int32_t i = 0; i < n_; ++i)
-            if (fan_->link[i] == vertex) return q_[i];
-        return {std::nan(""), std::nan("")};
-    }
-    int32_t corner_index(int32_t vertex) const {
-        for (int32_t i = 0; i < n_; ++i)
-            if (fan_->link[i] == vertex) return i;
-        return -1;
-    }
-    bool flatten(std::string& why);
-    bool triangulate(std::string& why);
-    // Nodes: polygon corners, fixed nodes on the sides, free nodes inside. Then the
-    // straightened runs of the original edges through the fan.
-    bool gather_nodes(std::string& why);
-    bool gather_segments(std::string& why);
-    bool locate_free_nodes(std::string& why);
     // transfer = transfer_cost (re-cut, deviation) + transfer_validate (overlays).
     bool transfer(std::string& why) { return transfer_cost(why) && (!validate_ || transfer_validate(why)); }
     bool transfer_cost(std::string& why);
     bool transfer_validate(std::string& why);
     void set_locations();
-    bool floater(std::string& why);
     std::string first_reason_;  // why the first transfer failed (before Floater's map)
-    // Interior edge (v, link[i]) of this fan? (in an open fan the first and last are the
-    // feature edges, which are boundary)
-    bool is_interior_spoke(int32_t i) const { return fan_->closed || (i > 0 && i < n_ - 1); }
-    int32_t fan_triangle_index(int32_t t) const {
-        for (size_t i = 0; i < fan_->triangles.size(); ++i)
-            if (fan_->triangles[i] == t) return static_cast<int32_t>(i);
-        return -1;
-    }
-    // Polygon side of link edge (x,y) of this fan, or -1.
-    int32_t link_side(int32_t x, int32_t y) const {
-        const int32_t sides = fan_->closed ? n_ : n_ - 1;
-        for (int32_t i = 0; i < sides; ++i) {
-            const int32_t a = fan_->link[i], b = fan_->link[mod(i + 1, n_)];
-            if ((a == x && b == y) || (a == y && b == x)) return i;
-        }
-        return -1;
-    }
-    int32_t spoke_index(int32_t x, int32_t y) const {
-        const int32_t other = x == v_ ? y : (y == v_ ? x : -1);
-        return other < 0 ? -1 : corner_index(other);
-    }
-    // Does fixed node s lie on (the closure of) fan triangle i = (v, l_i, l_i+1)?
-    bool in_fan_triangle(const StarNode& s, int32_t i) const {
-        const int32_t next = mod(i + 1, n_);
-        if (s.poly_corner >= 0) return s.poly_corner == i || s.poly_corner == next;
-        if (!fan_->closed && s.poly_edge == n_ - 1) {
-            // On the new edge: v (x = 0) is in every triangle, the rest on spoke 0 or n-1.
-            if (s.pos[0] == 0.0) return true;
-            return s.pos[0] > 0.0 ? i == 0 : i == n_ - 2;
-        }
-        return s.poly_edge == i;
-    }
-    int32_t add_node(const StarNode& node) {
-        nodes_.push_back(node);
-        return static_cast<int32_t>(nodes_.size()) - 1;
-    }
-    PointRole role(const SurfacePoint& p, bool endpoint, int32_t edge, int32_t index, int32_t& node) const;
 };
 
-bool FanPlanner::flatten(std::string& why) {
-    const auto& x = mesh_.positions();
-    n_ = static_cast<int32_t>(fan_->link.size());
-    const int32_t ntri = static_cast<int32_t>(fan_->triangles.size());
-    auto& theta = theta_;
-    theta.resize(ntri);
-    double total = 0.0;
-    for (int32_t i = 0; i < ntri; ++i) {
-        const Vec3 a = x[fan_->link[i]] - x[v_], b = x[fan_->link[mod(i + 1, n_)]] - x[v_];
-        theta[i] = angle_between(a, b);
-        if (!(theta[i] > 0.0)) {
-            why = "degenerate triangle in the star";
-            return false;
-        }
-        total += theta[i];
-    }
-    const double alpha = (fan_->closed ? 2.0 * M_PI : M_PI) / total;
-    cocircular_ = false;
-    q_.assign(n_, {0.0, 0.0});
-    auto& phi = phi_;
-    phi.assign(n_, 0.0);
-    for (int32_t i = 1; i < n_; ++i) phi[i] = phi[i - 1] + alpha * theta[i - 1];
-    for (int32_t i = 0; i < ntri; ++i)
-        if (!(alpha * theta[i] < M_PI)) {
-            why = "flattened star angle too wide";
-            return false;
-        }
-    auto& r = radius_;
-    r.resize(n_);
-    for (int32_t i = 0; i < n_; ++i) r[i] = distance(x[fan_->link[i]], x[v_]) / scale_;
-    // Closed: the polar map z -> z^alpha (conformal). Open: angles scaled, radii kept,
-    // so that the position of v on the new edge is the same in every half-disk.
-    for (int32_t i = 0; i < n_; ++i) {
-        const double radius = fan_->closed ? std::pow(r[i], alpha) : r[i];
-        q_[i] = {radius * std::cos(phi[i]), radius * std::sin(phi[i])};
-    }
-    if (!fan_->closed) {
-        q_[0] = {r[0], 0.0};
-        q_[n_ - 1] = {-r[n_ - 1], 0.0};
-    }
-    auto convex = [&]() {
-        for (int32_t i = 0; i < n_; ++i)
-            if (orient2d(q_[mod(i - 1, n_)], q_[i], q_[mod(i + 1, n_)]) <= 0) return false;
-        return true;
-    };
-    if (!convex()) {
-        // A star-shaped but non-convex polygon cannot always carry the re-cut graph
-        // (paper §2.2.4); move the corners outwards onto a circle (closed) or a
-        // half-circle through the fixed ends (open), which is convex.
-        cocircular_ = true;  // every ear is Delaunay-admissible on a circle
-        q_polar_ = q_;
-        if (fan_->closed) {
-            for (int32_t i = 0; i < n_; ++i) q_[i] = {std::cos(phi[i]), std::sin(phi[i])};
-        } else {
-            const double c = 0.5 * (r[0] - r[n_ - 1]), R = 0.5 * (r[0] + r[n_ - 1]);
-            for (int32_t i = 1; i < n_ - 1; ++i) q_[i] = {c + R * std::cos(phi[i]), R * std::sin(phi[i])};
-        }
-        if (!convex()) {
-            why = "cannot flatten the star to a convex polygon";
-            return false;
-        }
-    }
-    return true;
-}
-
-bool FanPlanner::triangulate(std::string& why) {
-    const auto& x = mesh_.positions();
-    static thread_local std::vector<int32_t> poly;
-    poly.resize(n_);
-    for (int32_t i = 0; i < n_; ++i) poly[i] = i;
-    new_tris.clear();
-    new_aspects.clear();
-    diagonals.clear();
-    // The ear at a corner only changes when a neighbouring ear is cut, so its aspect
-    // ratio and whether its diagonal already exists are cached per corner.
-    static thread_local std::vector<double> ear_aspect;   // NaN: unknown
-    static thread_local std::vector<int8_t> ear_blocked;  // -1 unknown, 0 free, 1 edge exists
-    // Whether an ear is Delaunay-admissible: a cut only removes a test point, so an
-    // admissible ear stays admissible unless it is one of the two ears next to the cut.
-    static thread_local std::vector<int8_t> ear_delaunay;  // -1 unknown, 0 no, 1 yes
-    // A corner found clearly inside the circle of a non-admissible ear: the ear stays
-    // non-admissible until that corner is cut off (or the ear itself changes).
-    static thread_local std::vector<int32_t> ear_witness;
-    ear_witness.assign(n_, -1);
-    ear_aspect.assign(n_, std::nan(""));
-    ear_blocked.assign(n_, -1);
-    ear_delaunay.assign(n_, cocircular_ ? 1 : -1);
-    // On a circle (a star the polar map made non-convex) every ear is valid in 2D, but an
-    // ear at a reflex corner of the polar map's polygon folds over the rest of the star
-    // in space (on a flat face it overlaps it: a self-intersection). Ears of the polar
-    // map's polygon, convex and holding no other corner, come first.
-    auto polar_ear = [&](int32_t a, int32_t b, int32_t d) {
-        if (!cocircular_) return true;
-        const Vec2 &pa = q_polar_[a], &pb = q_polar_[b], &pd = q_polar_[d];
-        if (orient2d(pa, pb, pd) <= 0) return false;
-        for (int32_t p : poly) {
-            if (p == a || p == b || p == d) continue;
-            const Vec2& pp = q_polar_[p];
-            if (orient2d(pa, pb, pp) >= 0 && orient2d(pb, pd, pp) >= 0 && orient2d(pd, pa, pp) >= 0) return false;
-        }
-        return true;
-    };
-    while (poly.size() > 3) {
-        const int32_t m = static_cast<int32_t>(poly.size());
-        int32_t best = -1;
-        bool best_delaunay = false, best_polar = false;
-        double best_aspect = std::numeric_limits<double>::infinity();
-        for (int32_t c = 0; c < m; ++c) {
-            const int32_t a = poly[mod(c - 1, m)], b = poly[c], d = poly[mod(c + 1, m)];
-            if (std::isnan(ear_aspect[b]))
-                ear_aspect[b] = aspect_ratio(x[fan_->link[a]], x[fan_->link[b]], x[fan_->link[d]]);
-            const double aspect = ear_aspect[b];
-            if (!std::isfinite(aspect)) continue;  // degenerate
-            const bool polar = polar_ear(a, b, d);
-            if (best_polar && !polar) continue;
-            if (ear_delaunay[b] < 0) {
-                bool admissible = true;
-                for (int32_t o = 0; o < m && admissible; ++o) {
-                    const int32_t p = poly[o];
-                    if (p == a || p == b || p == d) continue;
-                    if (clearly_in_circle(q_[a], q_[b], q_[d], q_[p])) {
-                        admissible = false;
-                        ear_witness[b] = p;
-                    }
-                }
-                ear_delaunay[b] = admissible;
-            }
-            const bool delaunay = ear_delaunay[b] != 0;
-            // Prefer Delaunay-admissible ears; among them the best 3D aspect ratio.
-            // Near-ties count as ties (first ear wins), so that rounding differences, e.g.
-            // between a model and its scaled copy, do not change the triangulation.
-            if ((polar && !best_polar) || (delaunay && !best_delaunay) ||
-                (delaunay == best_delaunay && aspect < best_aspect * (1.0 - 1e-9))) {
-                // Topology condition (Conjecture 2.1): the new edge must not exist yet.
-                // Asked only of ears that would become the best: an ear that would not
-                // leaves the choice the same whether it is blocked or not.
-                if (ear_blocked[b] < 0)
-                    ear_blocked[b] = mesh_.has_edge(fan_->link[a], fan_->link[d]) || forbidden(a, d);
-                if (ear_blocked[b]) continue;
-                best = c;
-                best_polar = polar;
-                best_delaunay = delaunay;
-                best_aspect = aspect;
-            }
-        }
-        if (best < 0) {
-            why = "no admissible retriangulation (topology condition)";
-            return false;
-        }
-        const int32_t a = poly[mod(best - 1, m)], b = poly[best], d = poly[mod(best + 1, m)];
-        new_tris.push_back({a, b, d});
-        new_aspects.push_back(ear_aspect[b]);  // ear_aspect[b] is that of (a, b, d) now
-        diagonals.push_back({a, d});
-        poly.erase(poly.begin() + best);
-        ear_blocked[a] = ear_blocked[d] = -1;
-        ear_aspect[a] = ear_aspect[d] = std::nan("");
-        ear_delaunay[a] = ear_delaunay[d] = cocircular_ ? 1 : -1;
-        for (int32_t p : poly)
-            if (ear_delaunay[p] == 0 && ear_witness[p] == b) ear_delaunay[p] = -1;
-    }
-    const Vec3& p0 = x[fan_->link[poly[0]]];
-    const Vec3& p1 = x[fan_->link[poly[1]]];
-    const Vec3& p2 = x[fan_->link[poly[2]]];
-    const double last_aspect = aspect_ratio(p0, p1, p2);
-    if (!std::isfinite(last_aspect)) {
-        why = "retriangulation would create a degenerate triangle";
-        return false;
-    }
-    if (mesh_.find_triangle(fan_->link[poly[0]], fan_->link[poly[1]], fan_->link[poly[2]]) >= 0) {
-        why = "new triangle already exists (topology condition)";
-        return false;
-    }
-    new_tris.push_back({poly[0], poly[1], poly[2]});
-    new_aspects.push_back(last_aspect);
-    return true;
-}
-
-PointRole FanPlanner::role(const SurfacePoint& p, bool endpoint, int32_t edge, int32_t index, int32_t& node) const {
-    node = -1;
-    auto lookup_vertex = [&](int32_t vertex) {
-        return vertex_node_.get(vertex);
-    };
-    switch (p.kind) {
-        case SurfacePoint::Corner: {
-            if (p.a == v_) {
-                node = lookup_vertex(v_);
-                return fan_->closed ? PointRole::Free : PointRole::Boundary;
-            }
-            if (corner_index(p.a) >= 0) {
-                node = lookup_vertex(p.a);
-                return PointRole::Boundary;
-            }
-            return PointRole::Outside;
-        }
-        case SurfacePoint::OnEdge: {
-            const int32_t spoke = spoke_index(p.a, p.b);
-            if (spoke >= 0) {
-                if (is_interior_spoke(spoke)) {
-                    if (!endpoint) return PointRole::Dropped;
-                    node = lookup_vertex(emb_.edges[edge][index == 0 ? 0 : 1]);
-                    return PointRole::Free;
-                }
-                if (!endpoint) return PointRole::Dropped;  // a crossing on a feature edge: invalid, caught later
-                node = lookup_vertex(emb_.edges[edge][index == 0 ? 0 : 1]);
-                return PointRole::Boundary;
-            }
-            if (link_side(p.a, p.b) >= 0) {
-                if (endpoint) {
-                    node = lookup_vertex(emb_.edges[edge][index == 0 ? 0 : 1]);
-                } else {
-                    node = find_crossing_node((int64_t(edge) << 20) | (index - 1));
-                }
-                return PointRole::Boundary;
-            }
-            return PointRole::Outside;
-        }
-        case SurfacePoint::Inside:
-            if (fan_triangle_index(p.a) >= 0) {
-                node = lookup_vertex(emb_.edges[edge][index == 0 ? 0 : 1]);
-                return PointRole::Free;
-            }
-            return PointRole::Outside;
-    }
-    return PointRole::Outside;
-}
-
-bool FanPlanner::gather_nodes(std::string& why) {
-    const int32_t sides = n_;  // open fans: side n-1 is the new edge (end -> start)
-    if (side_nodes_.size() < size_t(sides)) side_nodes_.resize(sides);
-    for (auto& list : side_nodes_) list.clear();
-    // Polygon corners.
-    for (int32_t i = 0; i < n_; ++i) {
-        StarNode c;
-        c.pos = q_[i];
-        c.vertex = fan_->link[i];
-        c.poly_corner = i;
-        vertex_node_.set(c.vertex, add_node(c));
-    }
-    // Fixed nodes on the link edges (only the full plan needs them: their place and
-    // deviation do not change).
-    for (int32_t i = 0; validate_ && i < (fan_->closed ? n_ : n_ - 1); ++i) {
-        const int32_t a = fan_->link[i], b = fan_->link[mod(i + 1, n_)];
-        auto it = emb_.edge_content.find(edge_key(a, b));
-        if (it == emb_.edge_content.end()) continue;
-        auto t_of = [&](double s) { return a < b ? s : 1.0 - s; };  // from q_i to q_i+1
-        auto& vs = sorted_;
-        vs.assign(it->second.vertices.begin(), it->second.vertices.end());
-        std::sort(vs.begin(), vs.end());
-        for (int32_t u : vs) {
-            StarNode s;
-            s.vertex = u;
-            s.poly_edge = i;
-            s.poly_t = t_of(emb_.location[u].s);
-            s.edge_lo = std::min(a, b);
-            s.edge_hi = std::max(a, b);
-            s.edge_s = emb_.location[u].s;
-            s.pos = (1.0 - s.poly_t) * q_[i] + s.poly_t * q_[mod(i + 1, n_)];
-            const int32_t id = add_node(s);
-            vertex_node_.set(u, id);
-            side_nodes_[i].push_back(id);
-        }
-        auto& es = sorted_;
-        es.assign(it->second.crossing_edges.begin(), it->second.crossing_edges.end());
-        std::sort(es.begin(), es.end());
-        es.erase(std::unique(es.begin(), es.end()), es.end());
-        const int64_t key = edge_key(a, b);
-        for (int32_t e : es) {
-            const auto& path = emb_.path[e];
-            for (int32_t j = 0; j < int32_t(path.size()); ++j) {
-                if (edge_key(path[j].a, path[j].b) != uint64_t(key)) continue;
-                StarNode s;
-                s.edge = e;
-                s.sigma = path[j].sigma;
-                s.poly_edge = i;
-                s.poly_t = t_of(path[j].s);
-                s.edge_lo = std::min(a, b);
-                s.edge_hi = std::max(a, b);
-                s.edge_s = path[j].s;
-                s.pos = (1.0 - s.poly_t) * q_[i] + s.poly_t * q_[mod(i + 1, n_)];
-                const int32_t id = add_node(s);
-                crossing_node_.push_back({(int64_t(e) << 20) | j, id});
-                side_nodes_[i].push_back(id);
-            }
-        }
-    }
-    // v and the vertices on the two feature edges lie on the new edge of an open fan.
-    if (!fan_->closed) {
-        const int32_t side = n_ - 1;  // from q_{n-1} (x < 0) to q_0 (x > 0)
-        const double x0 = q_[n_ - 1][0], x1 = q_[0][0];
-        auto add_on_new_edge = [&](int32_t u, double x) {
-            StarNode s;
-            s.vertex = u;
-            s.poly_edge = side;
-            s.poly_t = (x - x0) / (x1 - x0);
-            s.pos = {x, 0.0};
-            auto it = new_edge_params_->find(u);
-            if (it == new_edge_params_->end()) return false;
-            s.edge_lo = std::min(fan_->link.front(), fan_->link.back());
-            s.edge_hi = std::max(fan_->link.front(), fan_->link.back());
-            s.edge_s = it->second;
-            const int32_t id = add_node(s);
-            vertex_node_.set(u, id);
-            side_nodes_[side].push_back(id);
-            return true;
-        };
-        if (!add_on_new_edge(v_, 0.0)) {
-            why = "internal: vertex on the new feature edge without parameter";
-            return false;
-        }
-        for (int32_t end : {0, n_ - 1}) {
-            const int32_t w = fan_->link[end];
-            auto it = emb_.edge_content.find(edge_key(v_, w));
-            if (it == emb_.edge_content.end()) continue;
-            if (!it->second.crossing_edges.empty()) {
-                why = "an original edge crosses a feature line";
-                return false;
-            }
-            auto& vs = sorted_;
-            vs.assign(it->second.vertices.begin(), it->second.vertices.end());
-            std::sort(vs.begin(), vs.end());
-            for (int32_t u : vs) {
-                const double from_v = v_ < w ? emb_.location[u].s : 1.0 - emb_.location[u].s;
-                if (!add_on_new_edge(u, from_v * q_[end][0])) {
-                    why = "internal: vertex on the new feature edge without parameter";
-                    return false;
-                }
-            }
-        }
-    }
-    // Free nodes: vertices inside the fan's triangles, on its interior spokes, and v of a disk.
-    auto& free_vertices = free_vertices_;
-    free_vertices.clear();
-    for (int32_t t : fan_->triangles)
-        if (t < int32_t(emb_.inside.size()))
-            free_vertices.insert(free_vertices.end(), emb_.inside[t].begin(), emb_.inside[t].end());
-    for (int32_t i = 0; i < n_; ++i) {
-        if (!is_interior_spoke(i)) continue;
-        auto it = emb_.edge_content.find(edge_key(v_, fan_->link[i]));
-        if (it == emb_.edge_content.end()) continue;
-        free_vertices.insert(free_vertices.end(), it->second.vertices.begin(), it->second.vertices.end());
-    }
-    if (fan_->closed) free_vertices.push_back(v_);
-    std::sort(free_vertices.begin(), free_vertices.end());
-    for (int32_t u : free_vertices) {
-        StarNode s;
-        s.free = true;
-        s.vertex = u;
-        const SurfacePoint& p = emb_.location[u];
-        if (p.kind == SurfacePoint::Inside) {
-            const Tri& c = mesh_.triangle(p.a);
-            s.pos = p.bary[0] * corner_pos(c[0]) + p.bary[1] * corner_pos(c[1]) + p.bary[2] * corner_pos(c[2]);
-        } else if (p.kind == SurfacePoint::OnEdge) {
-            s.pos = (1.0 - p.s) * corner_pos(p.a) + p.s * corner_pos(p.b);
-        } else {
-            s.pos = corner_pos(p.a);
-        }
-        vertex_node_.set(u, add_node(s));
-    }
-
-    return true;
-}
-
-bool FanPlanner::gather_segments(std::string& why) {
-    // Original edges that may pass through the fan, and their straightened runs.
-    static thread_local std::vector<int32_t> candidates;
-    candidates.clear();
-    auto add_incident = [&](int32_t u) {
-        for (int32_t i = emb_.vertex_edge_offsets[u]; i < emb_.vertex_edge_offsets[u + 1]; ++i)
-            candidates.push_back(emb_.vertex_edges[i]);
-    };
-    for (int32_t u : free_vertices_) add_incident(u);
-    add_incident(v_);
-    if (!fan_->closed)
-        for (int32_t id : side_nodes_[n_ - 1])
-            if (nodes_[id].vertex >= 0) add_incident(nodes_[id].vertex);
-    for (int32_t i = 0; i < n_; ++i) {
-        if (!is_interior_spoke(i)) continue;
-        auto it = emb_.edge_content.find(edge_key(v_, fan_->link[i]));
-        if (it != emb_.edge_content.end())
-            candidates.insert(candidates.end(), it->second.crossing_edges.begin(), it->second.crossing_edges.end());
-    }
-    std::sort(candidates.begin(), candidates.end());
-    candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
-
-    static thread_local std::vector<PointRole> roles;
-    static thread_local std::vector<int32_t> node_of;
-    for (int32_t e : candidates) {
-        // The point sequence of Embedding::path_points, read in place: the two
-        // locations with the crossings in between.
-        const auto& path = emb_.path[e];
-        const int32_t last = static_cast<int32_t>(path.size()) + 1;
-        auto sigma_at = [&](int32_t j) { return j == 0 ? 0.0 : (j == last ? 1.0 : path[j - 1].sigma); };
-        roles.resize(last + 1);
-        node_of.resize(last + 1);
-        roles[0] = role(emb_.location[emb_.edges[e][0]], true, e, 0, node_of[0]);
-        for (int32_t j = 1; j < last; ++j) {
-            const Crossing& c = path[j - 1];
-            roles[j] = role(SurfacePoint{SurfacePoint::OnEdge, c.a, c.b, c.s, {}}, false, e, j, node_of[j]);
-        }
-        roles[last] = role(emb_.location[emb_.edges[e][1]], true, e, last, node_of[last]);
-        // Is segment (j, j+1) inside the fan?
-        auto inside_fan = [&](int32_t j) {
-            const PointRole r0 = roles[j], r1 = roles[j + 1];
-            if (r0 == PointRole::Outside || r1 == PointRole::Outside) return false;
-            if (r0 != PointRole::Boundary || r1 != PointRole::Boundary) return true;
-            // Both on the polygon boundary: inside only if they are in one fan triangle
-            // without sharing a side of the polygon.
-            if (node_of[j] < 0 || node_of[j + 1] < 0) return true;  // reported below
-            const StarNode& a = nodes_[node_of[j]];
-            const StarNode& b = nodes_[node_of[j + 1]];
-            auto on_side = [&](const StarNode& s, int32_t side) {
-                return s.poly_edge == side ||
-                       (s.poly_corner >= 0 && (s.poly_corner == side || mod(s.poly_corner - 1, n_) == side));
-            };
-            for (int32_t side = 0; side < n_; ++side)
-                if (on_side(a, side) && on_side(b, side)) return false;
-            const int32_t ntri = static_cast<int32_t>(fan_->triangles.size());
-            for (int32_t i = 0; i < ntri; ++i)
-                if (in_fan_triangle(a, i) && in_fan_triangle(b, i)) return true;
-            return false;
-        };
-        int32_t j = 0;
-        while (j < last) {
-            if (!inside_fan(j)) {
-                ++j;
-                continue;
-            }
-            int32_t k = j + 1;
-            while (k < last && roles[k] == PointRole::Dropped) ++k;
-            if (roles[j] == PointRole::Dropped || roles[k] == PointRole::Dropped || node_of[j] < 0 || node_of[k] < 0) {
-                why = "an original edge runs along a removed edge in an unexpected way";
-                return false;
-            }
-            segments_.push_back({node_of[j], node_of[k], e, j, k, sigma_at(j), sigma_at(k)});
-            j = k;
-        }
-    }
-    return true;
-}
-
-bool FanPlanner::floater(std::string& why) {
-    // Floater's shape-preserving idea with mean value weights from the original surface:
-    // every free node becomes a convex combination of its neighbours in the straightened
-    // graph, with the polygon boundary fixed. On a convex polygon this embeds the graph
-    // without flips (Floater 1997/2003).
-    const auto& x = emb_.original->vertices;
-    std::vector<int32_t> index(nodes_.size(), -1);
-    int32_t count = 0;
-    for (size_t i = 0; i < nodes_.size(); ++i)
-        if (nodes_[i].free) index[i] = count++;
-    if (count == 0) return true;
-    // Neighbours with 3D positions of their images.
-    std::vector<std::vector<std::pair<int32_t, Vec3>>> neighbours(nodes_.size());
-    auto image = [&](int32_t node, int32_t edge, double sigma) {
-        const StarNode& s = nodes_[node];
-        if (s.vertex >= 0) return x[s.vertex];
-        const auto& e = emb_.edges[edge];
-        return (1.0 - sigma) * x[e[0]] + sigma * x[e[1]];
-    };
-    for (const StraightSegment& s : segments_) {
-        neighbours[s.a].push_back({s.b, image(s.b, s.edge, s.sigma_b)});
-        neighbours[s.b].push_back({s.a, image(s.a, s.edge, s.sigma_a)});
-    }
-    std::vector<Eigen::Triplet<double>> triplets;
-    Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(count, 2);
-    for (size_t i = 0; i < nodes_.size(); ++i) {
-        if (index[i] < 0) continue;
-        const Vec3 center = x[nodes_[i].vertex];
-        auto& nb = neighbours[i];
-        if (nb.size() < 2) {
-            why = "free node with fewer than two neighbours";
-            return false;
-        }
-        // Order the neighbours around the node by angle in a tangent frame of the
-        // original surface (the average of the directions' plane).
-        Vec3 normal{0, 0, 0};
-        for (size_t a = 0; a < nb.size(); ++a) {
-            const Vec3 d0 = nb[a].second - center, d1 = nb[(a + 1) % nb.size()].second - center;
-            normal = normal + cross(d0, d1);
-        }
-        // A robust frame: first direction, and normal from PCA-free accumulation.
-        Vec3 e0 = nb[0].second - center;
-        const double l0 = norm(e0);
-        if (!(l0 > 0)) {
-            why = "zero-length neighbour direction";
-            return false;
-        }
-        e0 = (1.0 / l0) * e0;
-        Vec3 nrm = normal;
-        if (!(norm(nrm) > 0)) nrm = cross(e0, Vec3{0.0, 0.0, 1.0});
-        if (!(norm(nrm) > 0)) nrm = cross(e0, Vec3{0.0, 1.0, 0.0});
-        nrm = (1.0 / norm(nrm)) * nrm;
-        const Vec3 e1 = cross(nrm, e0);
-        std::vector<std::pair<double, size_t>> order;
-        for (size_t a = 0; a < nb.size(); ++a) {
-            const Vec3 d = nb[a].second - center;
-            order.push_back({std::atan2(dot(d, e1), dot(d, e0)), a});
-        }
-        std::sort(order.begin(), order.end());
-        const size_t m = order.size();
-        std::vector<double> w(m, 0.0);
-        double total = 0.0;
-        for (size_t a = 0; a < m; ++a) {
-            const Vec3 dp = nb[order[(a + m - 1) % m].second].second - center;
-            const Vec3 d = nb[order[a].second].second - center;
-            const Vec3 dn = nb[order[(a + 1) % m].second].second - center;
-            const double len = norm(d);
-            const double t0 = std::tan(0.5 * angle_between(dp, d)), t1 = std::tan(0.5 * angle_between(d, dn));
-            w[a] = (len > 0 && std::isfinite(t0 + t1)) ? (t0 + t1) / len : 0.0;
-            if (!(w[a] > 0.0)) w[a] = len > 0 ? 1.0 / len : 1.0;  // fall back to positive weights
-            total += w[a];
-        }
-        const int32_t row = index[i];
-        triplets.push_back({row, row, 1.0});
-        for (size_t a = 0; a < m; ++a) {
-            const int32_t other = nb[order[a].second].first;
-            const double weight = w[a] / total;
-            if (index[other] >= 0)
-                triplets.push_back({row, index[other], -weight});
-            else {
-                rhs(row, 0) += weight * nodes_[other].pos[0];
-                rhs(row, 1) += weight * nodes_[other].pos[1];
-            }
-        }
-    }
-    Eigen::SparseMatrix<double> A(count, count);
-    A.setFromTriplets(triplets.begin(), triplets.end());
-    Eigen::SparseLU<Eigen::SparseMatrix<double>> solver;
-    solver.compute(A);
-    if (solver.info() != Eigen::Success) {
-        why = "shape-preserving map: singular system";
-        return false;
-    }
-    Eigen::MatrixXd sol = solver.solve(rhs);
-    if (solver.info() != Eigen::Success || !sol.allFinite()) {
-        why = "shape-preserving map: solve failed";
-        return false;
-    }
-    for (size_t i = 0; i < nodes_.size(); ++i)
-        if (index[i] >= 0) nodes_[i].pos = {sol(index[i], 0), sol(index[i], 1)};
-    return true;
-}
-
-bool FanPlanner::locate_free_nodes(std::string& why) {
-    const int32_t ntris = static_cast<int32_t>(new_tris.size());
-    // Bounding boxes of the new triangles (counter-clockwise, non-degenerate: ears of
-    // a strictly convex polygon). A point strictly outside a box is strictly outside
-    // that triangle, so the exact tests below would find a negative orientation.
-    auto& boxes = triangle_boxes_;
-    boxes.resize(ntris);
-    for (int32_t t = 0; t < ntris; ++t) {
-        const Vec2 &p0 = q_[new_tris[t][0]], &p1 = q_[new_tris[t][1]], &p2 = q_[new_tris[t][2]];
-        boxes[t] = {std::min({p0[0], p1[0], p2[0]}), std::min({p0[1], p1[1], p2[1]}),
-                    std::max({p0[0], p1[0], p2[0]}), std::max({p0[1], p1[1], p2[1]})};
-    }
-    // Free nodes strictly inside the polygon (by construction before straightening, so
-    // only the full plan checks), then located in the new triangulation.
-    for (StarNode& s : nodes_) {
-        if (!s.free) continue;
-        for (int32_t i = 0; validate_ && i < n_; ++i)
-            if (orient2d(q_[i], q_[mod(i + 1, n_)], s.pos) <= 0) {
-                why = "an original vertex would leave the star";
-                return false;
-            }
-        s.new_triangle = -1;
-        s.diagonal = -1;
-        for (int32_t t = 0; t < ntris && s.new_triangle < 0 && s.diagonal < 0; ++t) {
-            const auto& c = new_tris[t];
-            const auto& box = boxes[t];
-            if (s.pos[0] < box[0] || s.pos[1] < box[1] || s.pos[0] > box[2] || s.pos[1] > box[3]) continue;
-            int zero = -1, negative = 0;
-            for (int k = 0; k < 3 && !negative; ++k) {
-                const int o = orient2d(q_[c[k]], q_[c[(k + 1) % 3]], s.pos);
-                if (o < 0) ++negative;
-                if (o == 0) zero = zero < 0 ? k : 3;
-            }
-            if (negative) continue;
-            if (zero < 0) {
-                s.new_triangle = t;
-            } else if (zero < 3) {
-                const int32_t a = c[zero], b = c[(zero + 1) % 3];
-                for (int32_t d = 0; d < int32_t(diagonals.size()); ++d) {
-                    const auto& dg = diagonals[d];
-                    if ((dg[0] == a && dg[1] == b) || (dg[0] == b && dg[1] == a)) {
-                        s.diagonal = d;
-                        const Vec2 p0 = q_[dg[0]], dir = q_[dg[1]] - q_[dg[0]];
-                        double t_along = dot(s.pos - p0, dir) / dot(dir, dir);
-                        t_along = std::min(std::max(t_along, 1e-300), std::nextafter(1.0, 0.0));
-                        const SurfacePoint on = SurfacePoint::on_edge(fan_->link[dg[0]], fan_->link[dg[1]], t_along);
-                        s.edge_lo = on.a;
-                        s.edge_hi = on.b;
-                        s.edge_s = on.s;
-                    }
-                }
-            }
-        }
-        if (s.new_triangle < 0 && s.diagonal < 0) {
-            why = "cannot locate an original vertex in the new triangles";
-            return false;
-        }
-        if (s.new_triangle >= 0) {
-            const auto& c = new_tris[s.new_triangle];
-            const Vec2 p0 = q_[c[0]], p1 = q_[c[1]], p2 = q_[c[2]];
-            const double area = cross(p1 - p0, p2 - p0);
-            const double b1 = cross(s.pos - p0, p2 - p0) / area;
-            const double b2 = cross(p1 - p0, s.pos - p0) / area;
-            s.bary = {1.0 - b1 - b2, b1, b2};
-            // Within rounding distance of a side, a node would make slivers too thin for
-            // double precision downstream. Near a new edge (diagonal) it is put on it
-            // (symmetric stars put v exactly there); near a link edge, or a corner, the
-            // transfer is refused.
-            constexpr double kMargin = 1e-9;
-            int near = -1, count = 0;
-            for (int k = 0; k < 3; ++k)
-                if (!(s.bary[k] > kMargin)) {
-                    near = k;
-                    ++count;
-                }
-            if (count > 1) {
-                why = "an original vertex would sit (almost) on a coarse vertex";
-                return false;
-            }
-            if (count == 1) {
-                const int32_t a = c[(near + 1) % 3], b = c[(near + 2) % 3];
-                int32_t on = -1;
-                for (int32_t d = 0; d < int32_t(diagonals.size()); ++d)
-                    if ((diagonals[d][0] == a && diagonals[d][1] == b) || (diagonals[d][0] == b && diagonals[d][1] == a))
-                        on = d;
-                if (on < 0) {
-                    why = "an original vertex would sit (almost) on a link edge";
-                    return false;
-                }
-                const double ba = s.bary[(near + 1) % 3], bb = s.bary[(near + 2) % 3];
-                double t_along = diagonals[on][0] == a ? bb / (ba + bb) : ba / (ba + bb);
-                if (!(t_along > kMargin && t_along < 1.0 - kMargin)) {
-                    why = "an original vertex would sit (almost) on a coarse vertex";
-                    return false;
-                }
-                s.new_triangle = -1;
-                s.diagonal = on;
-                const SurfacePoint p = SurfacePoint::on_edge(fan_->link[diagonals[on][0]], fan_->link[diagonals[on][1]], t_along);
-                s.edge_lo = p.a;
-                s.edge_hi = p.b;
-                s.edge_s = p.s;
-                // The straight-line position on the diagonal, for the cuts.
-                s.pos = (1.0 - t_along) * q_[diagonals[on][0]] + t_along * q_[diagonals[on][1]];
-            }
-        }
-    }
-
-    return true;
-}
-
 bool FanPlanner::transfer_cost(std::string& why) {
-    const auto& x = mesh_.positions();
-    if (!locate_free_nodes(why)) return false;
-
-    // 2. Cut the straightened segments along the diagonals.
-    crossings_.clear();
-    cut_begin_.clear();
-    for (const StraightSegment& seg : segments_) {
-        cut_begin_.push_back(static_cast<int32_t>(crossings_.size()));
-        const Vec2 A = nodes_[seg.a].pos, B = nodes_[seg.b].pos;
-        if (!(A[0] != B[0] || A[1] != B[1])) {
-            why = "degenerate straightened edge";
-            return false;
-        }
-        // Polygon corners on the segment would put a coarse vertex on an original edge.
-        // A corner strictly outside the segment's bounding box cannot be: exactly on the
-        // line AB but beyond an end, both factors of every term of the dot product
-        // below have one sign (rounding keeps signs of differences), so it is >= 0.
-        const double box_lo[2] = {std::min(A[0], B[0]), std::min(A[1], B[1])};
-        const double box_hi[2] = {std::max(A[0], B[0]), std::max(A[1], B[1])};
-        auto outside_box = [&](const Vec2& p) {
-            return p[0] < box_lo[0] || p[0] > box_hi[0] || p[1] < box_lo[1] || p[1] > box_hi[1];
-        };
-        for (int32_t i = 0; i < n_; ++i) {
-            if (i == nodes_[seg.a].poly_corner || i == nodes_[seg.b].poly_corner) continue;
-            if (outside_box(q_[i])) continue;
-            if (orient2d(A, B, q_[i]) == 0 && dot(q_[i] - A, q_[i] - B) < 0) {
-                why = "an original edge would pass through a coarse vertex";
-                return false;
-            }
-        }
-        const size_t first = crossings_.size();
-        for (int32_t d = 0; d < int32_t(diagonals.size()); ++d) {
-            // A segment that starts on a diagonal does not cut it (it leaves it).
-            if ((nodes_[seg.a].free && nodes_[seg.a].diagonal == d) || (nodes_[seg.b].free && nodes_[seg.b].diagonal == d))
-                continue;
-            const Vec2 P = q_[diagonals[d][0]], Q = q_[diagonals[d][1]];
-            // Segments whose bounding boxes are apart cannot cross properly (the exact
-            // tests below would say so too).
-            if (std::max(P[0], Q[0]) < box_lo[0] || std::min(P[0], Q[0]) > box_hi[0] ||
-                std::max(P[1], Q[1]) < box_lo[1] || std::min(P[1], Q[1]) > box_hi[1])
-                continue;
-            const int oa = orient2d(P, Q, A), ob = orient2d(P, Q, B);
-            if (oa == 0 || ob == 0 || oa == ob) continue;
-            const int op = orient2d(A, B, P), oq = orient2d(A, B, Q);
-            if (op == 0 || oq == 0 || op == oq) continue;
-            const Vec2 r = B - A, s = Q - P;
-            const double denom = cross(r, s);
-            const double lambda = cross(P - A, s) / denom;  // along A->B
-            double mu = cross(P - A, r) / denom;            // along P->Q
-            // Cuts within rounding distance of an end of the segment or of the diagonal
-            // would make pieces too thin for double precision downstream (evaluation,
-            // refinement); such a transfer is refused, and the shape-preserving map gets a
-            // chance to move the nodes away.
-            constexpr double kMargin = 1e-9;
-            if (!(lambda > kMargin && lambda < 1.0 - kMargin) || !(mu > kMargin && mu < 1.0 - kMargin)) {
-                why = "a cut of an original edge falls (almost) on a node";
-                return false;
-            }
-            mu = std::min(std::max(mu, std::numeric_limits<double>::min()), std::nextafter(1.0, 0.0));
-            const SurfacePoint on = SurfacePoint::on_edge(fan_->link[diagonals[d][0]], fan_->link[diagonals[d][1]], mu);
-            crossings_.push_back({d, on.a, on.b, on.s, seg.sigma_a + lambda * (seg.sigma_b - seg.sigma_a), seg.edge,
-                                  lambda});
-        }
-        std::sort(crossings_.begin() + static_cast<long>(first), crossings_.end(),
-                  [](const NewCrossing& p, const NewCrossing& q) { return p.lambda < q.lambda; });
-        for (size_t i = first; i + 1 < crossings_.size(); ++i)
-            if (!(crossings_[i].lambda < crossings_[i + 1].lambda)) {
-                why = "two cuts of an original edge coincide";
-                return false;
-            }
-    }
-    cut_begin_.push_back(static_cast<int32_t>(crossings_.size()));
-
-    // Deviation |phi(x) - x| is piecewise linear; its maximum is at the nodes. Nodes on
-    // the link edges keep their place and their deviation, so only moved ones count.
-    max_deviation = 0.0;
-    auto deviation_on_side = [&](const Vec3& image, int32_t lo, int32_t hi, double s) {
-        return distance(image, (1.0 - s) * x[lo] + s * x[hi]);
-    };
-    auto image_of = [&](const StarNode& s) {
-        return x[s.vertex];  // free nodes and new-edge nodes are original vertices
-    };
-    for (const StarNode& s : nodes_) {
-        if (s.free && s.new_triangle >= 0) {
-            const auto& c = new_tris[s.new_triangle];
-            max_deviation = std::max(max_deviation, distance(image_of(s), barycentric_point(x[fan_->link[c[0]]], x[fan_->link[c[1]]],
-                                                                                                x[fan_->link[c[2]]], s.bary)));
-        } else if ((s.free && s.diagonal >= 0) || (!fan_->closed && s.poly_edge == n_ - 1)) {
-            max_deviation = std::max(max_deviation, deviation_on_side(image_of(s), s.edge_lo, s.edge_hi, s.edge_s));
-        }
-    }
-    const auto& ox = emb_.original->vertices;
-    for (const NewCrossing& c : crossings_) {
-        const auto& e = emb_.edges[c.edge];
-        const Vec3 image = (1.0 - c.sigma) * ox[e[0]] + c.sigma * ox[e[1]];
-        max_deviation = std::max(max_deviation, deviation_on_side(image, c.lo, c.hi, c.s));
-    }
+    if (!locate_free_nodes(*fan_, map_.q, tri, validate_, graph_, triangle_boxes_, why)) return false;
+    if (!cut_segments(*fan_, map_.q, tri, graph_, cuts_, why)) return false;
+    max_deviation = transfer_deviation(mesh_.positions(), emb_, *fan_, tri, graph_, cuts_);
     return true;
 }
 
 bool FanPlanner::transfer_validate(std::string& why) {
     if (!prepare_checks(why)) return false;
     double min_cosine = 1.0;
-    if (!check_triangles(0, int32_t(new_tris.size()), own_check_, min_cosine, why)) return false;
+    if (!check_triangles(0, int32_t(tri.triangles.size()), own_check_, min_cosine, why)) return false;
     min_normal_cosine = min_cosine;
     set_locations();
     return true;
 }
 
 bool FanPlanner::prepare_checks(std::string& why) {
-    const int32_t ntris = static_cast<int32_t>(new_tris.size());
-    const int32_t nnodes = static_cast<int32_t>(nodes_.size());
-    // 3. Full: which new triangle every piece of a cut segment lies in, the graph of
-    // every new triangle, validated exactly.
     min_normal_cosine = 1.0;  // a second transfer (after Floater's map) starts afresh
-    diagonal_triangles_.assign(diagonals.size(), {-1, -1});
-    side_triangle_.assign(n_, -1);
-    for (int32_t t = 0; t < ntris; ++t) {
-        const auto& c = new_tris[t];
-        for (int k = 0; k < 3; ++k) {
-            const int32_t a = c[k], b = c[(k + 1) % 3];
-            if (b == mod(a + 1, n_)) side_triangle_[a] = t;
-            for (int32_t d = 0; d < int32_t(diagonals.size()); ++d)
-                if ((diagonals[d][0] == a && diagonals[d][1] == b) || (diagonals[d][0] == b && diagonals[d][1] == a))
-                    (diagonal_triangles_[d][0] < 0 ? diagonal_triangles_[d][0] : diagonal_triangles_[d][1]) = t;
-        }
-    }
-    // Items: star nodes (id) and new crossings (nnodes + index).
-    auto candidates = [&](int32_t item, int32_t out[], int& count) {
-        count = 0;
-        if (item >= nnodes) {
-            const auto& dt = diagonal_triangles_[crossings_[item - nnodes].diagonal];
-            out[count++] = dt[0];
-            out[count++] = dt[1];
-            return;
-        }
-        const StarNode& s = nodes_[item];
-        if (s.free) {
-            if (s.new_triangle >= 0) {
-                out[count++] = s.new_triangle;
-            } else {
-                out[count++] = diagonal_triangles_[s.diagonal][0];
-                out[count++] = diagonal_triangles_[s.diagonal][1];
-            }
-        } else if (s.poly_edge >= 0) {
-            out[count++] = side_triangle_[s.poly_edge];
-        } else {
-            for (int32_t t = 0; t < ntris && count < 64; ++t)
-                for (int k = 0; k < 3; ++k)
-                    if (new_tris[t][k] == s.poly_corner) out[count++] = t;
-        }
-    };
-    pieces_.clear();
-    path_edits.clear();
-    int32_t ca[64], cb[64];
-    for (size_t si = 0; si < segments_.size(); ++si) {
-        const StraightSegment& seg = segments_[si];
-        const int32_t c0 = cut_begin_[si], c1 = cut_begin_[si + 1];
-        int32_t previous = seg.a;
-        for (int32_t i = c0; i <= c1; ++i) {
-            const int32_t item = i < c1 ? nnodes + i : seg.b;
-            int na, nb;
-            candidates(previous, ca, na);
-            candidates(item, cb, nb);
-            int32_t common = -1, count = 0;
-            for (int p = 0; p < na; ++p)
-                for (int q = 0; q < nb; ++q)
-                    if (ca[p] == cb[q] && ca[p] != common) {
-                        common = ca[p];
-                        ++count;
-                    }
-            if (count != 1) {
-                why = count == 0 ? "re-cut lost track of an original edge" : "original edge along a new edge";
-                if (count > 1) {
-                    // The two triangles the run lies in share the diagonal it runs along.
-                    int32_t t1 = -1, t2 = -1;
-                    for (int p = 0; p < na; ++p)
-                        for (int q = 0; q < nb; ++q) {
-                            if (ca[p] != cb[q]) continue;
-                            if (t1 < 0) t1 = ca[p];
-                            else if (ca[p] != t1 && t2 < 0) t2 = ca[p];
-                        }
-                    if (t1 >= 0 && t2 >= 0) {
-                        int32_t shared[2], k = 0;
-                        for (int32_t u : new_tris[t1])
-                            for (int32_t w : new_tris[t2])
-                                if (u == w && k < 2) shared[k++] = u;
-                        if (k == 2) along_diagonal_ = {shared[0], shared[1]};
-                    }
-                }
-                return false;
-            }
-            pieces_.push_back({common, previous, item, seg.edge});
-            previous = item;
-        }
-        // Path edit: the new crossings in order along the original edge (which runs
-        // from its smaller vertex; the segment may run the other way).
-        PathEdit edit{seg.edge, seg.first, seg.last, {}};
-        const bool increasing = seg.sigma_b > seg.sigma_a;
-        for (int32_t i = 0; i < c1 - c0; ++i) {
-            const NewCrossing& c = crossings_[increasing ? c0 + i : c1 - 1 - i];
-            edit.middle.push_back({c.lo, c.hi, c.s, c.sigma});
-        }
-        path_edits.push_back(std::move(edit));
-    }
-
-    return true;
+    return assign_pieces(*fan_, tri, graph_, cuts_, pieces, along_diagonal_, why);
 }
 
 bool FanPlanner::check_triangles(int32_t begin, int32_t end, TriangleCheck& check, double& min_cosine,
                                  std::string& why) const {
-    const int32_t nnodes = static_cast<int32_t>(nodes_.size());
-    TriangleGraph& graph = check.graph;
-    auto& local_ = check.local;
-    auto& touched_ = check.touched;
-    local_.assign(nnodes + crossings_.size(), -1);
-    for (int32_t t = begin; t < end; ++t) {
-        const auto& c = new_tris[t];
-        graph.nodes.clear();
-        graph.segments.clear();
-        const Tri cv{fan_->link[c[0]], fan_->link[c[1]], fan_->link[c[2]]};
-        // Places a node stored as (lo, hi, s) on the side of this triangle it lies on.
-        auto on_side = [&](int32_t lo, int32_t hi, double s, GraphNode& g) {
-            const int k = local_edge(cv, lo, hi);
-            if (k < 0) return false;
-            g.bary = bary_on_side(cv, k, lo, s);
-            g.on_edge = static_cast<int8_t>(k);
-            return true;
-        };
-        touched_.clear();
-        auto add = [&](int32_t item, const GraphNode& g) {
-            local_[item] = static_cast<int32_t>(graph.nodes.size());
-            touched_.push_back(item);
-            graph.nodes.push_back(g);
-        };
-        for (int k = 0; k < 3; ++k) add(vertex_node_.get(cv[k]), corner_node(k, cv[k]));
-        for (int k = 0; k < 3; ++k) {
-            const int32_t a = c[k], b = c[(k + 1) % 3];
-            if (b != mod(a + 1, n_)) continue;
-            for (int32_t id : side_nodes_[a]) {
-                const StarNode& s = nodes_[id];
-                GraphNode g;
-                if (!on_side(s.edge_lo, s.edge_hi, s.edge_s, g)) {
-                    why = "fixed node without its edge";
-                    return false;
-                }
-                if (s.vertex >= 0) {
-                    g.kind = NodeKind::OriginalVertex;
-                    g.vertex = s.vertex;
-                } else {
-                    g.kind = NodeKind::EdgeCrossing;
-                    g.edge = s.edge;
-                    g.sigma = s.sigma;
-                }
-                add(id, g);
-            }
-        }
-        for (int32_t id = 0; id < nnodes; ++id) {
-            const StarNode& s = nodes_[id];
-            if (!s.free) continue;
-            GraphNode g;
-            g.kind = NodeKind::OriginalVertex;
-            g.vertex = s.vertex;
-            if (s.new_triangle == t) {
-                g.bary = s.bary;
-                add(id, g);
-            } else if (s.diagonal >= 0 && on_side(s.edge_lo, s.edge_hi, s.edge_s, g)) {
-                add(id, g);
-            }
-        }
-        for (size_t i = 0; i < crossings_.size(); ++i) {
-            const NewCrossing& nc = crossings_[i];
-            GraphNode g;
-            if (!on_side(nc.lo, nc.hi, nc.s, g)) continue;
-            g.kind = NodeKind::EdgeCrossing;
-            g.edge = nc.edge;
-            g.sigma = nc.sigma;
-            add(nnodes + static_cast<int32_t>(i), g);
-        }
-        for (const Piece& p : pieces_) {
-            if (p.triangle != t) continue;
-            const int32_t i0 = local_[p.item0], i1 = local_[p.item1];
-            if (i0 < 0 || i1 < 0) {
-                why = "segment end missing in its triangle";
-                return false;
-            }
-            graph.segments.push_back({i0, i1, p.edge});
-        }
-        for (int32_t item : touched_) local_[item] = -1;
-        std::string& reason = check.reason;
-        size_t face_count = 0;
-        if (!check_faces(graph, emb_, sign_, check.faces, face_count, &reason)) {
-            why = "invalid transfer: " + reason;
-            return false;
-        }
-        // Every original triangle with a piece on t has a face here: exact.
-        for (size_t f = 0; f < face_count && !normals_.empty(); ++f)
-            min_cosine = std::min(min_cosine, dot(new_normals_[t], normals_[check.faces[f].original_triangle]));
-    }
-    return true;
+    const FanTransfer transfer{emb_, sign_, normals_, *fan_, tri, new_normals_, graph_, cuts_, pieces};
+    return check_new_triangles(transfer, begin, end, check, min_cosine, why);
 }
 
 void FanPlanner::set_locations() {
     // 4. New locations of the free vertices.
     locations.clear();
-    for (const StarNode& s : nodes_) {
+    for (const StarNode& s : graph_.nodes) {
         if (!s.free) continue;
         if (s.new_triangle >= 0)
             locations.push_back({s.vertex, SurfacePoint::inside(-1 - s.new_triangle, s.bary)});
@@ -1481,19 +175,21 @@ void FanPlanner::set_locations() {
 }
 
 FanPlanner::Stage FanPlanner::estimate(std::string& why) {
-    if (!flatten(why)) return Stage::Failed;
-    if (!triangulate(why)) return Stage::Failed;
+    n_ = fan_->corners();
+    if (!polar_map(mesh_.positions(), v_, *fan_, scale_, map_, why)) return Stage::Failed;
+    if (!retriangulate_fan(mesh_, *fan_, map_, forbidden_, tri, ears_, why)) return Stage::Failed;
     compute_new_normals();
-    if (!gather_nodes(why)) return Stage::Failed;
+    if (!gather_star_nodes(mesh_, emb_, v_, *fan_, map_.q, validate_, new_edge_params_, graph_, graph_scratch_, why))
+        return Stage::Failed;
     if (!validate_) {
         // For ranking only: the deviation at the original vertices that move, placed by
         // the flattening. The full plan adds the new edge crossings and validates.
-        if (!locate_free_nodes(why)) return Stage::Failed;
+        if (!locate_free_nodes(*fan_, map_.q, tri, validate_, graph_, triangle_boxes_, why)) return Stage::Failed;
         const auto& x = mesh_.positions();
         max_deviation = 0.0;
-        for (const StarNode& s : nodes_) {
+        for (const StarNode& s : graph_.nodes) {
             if (s.free && s.new_triangle >= 0) {
-                const auto& c = new_tris[s.new_triangle];
+                const auto& c = tri.triangles[s.new_triangle];
                 const Vec3 flat = barycentric_point(x[fan_->link[c[0]]], x[fan_->link[c[1]]], x[fan_->link[c[2]]], s.bary);
                 max_deviation = std::max(max_deviation, distance(x[s.vertex], flat));
                 // A vertex strictly inside a new triangle has a piece of every triangle
@@ -1514,14 +210,14 @@ FanPlanner::Stage FanPlanner::estimate(std::string& why) {
         estimated_deviation = max_deviation;
         return Stage::Done;
     }
-    if (!gather_segments(why)) return Stage::Failed;
+    if (!gather_straight_segments(emb_, v_, *fan_, graph_, graph_scratch_, why)) return Stage::Failed;
     first_reason_.clear();
     if (transfer_cost(first_reason_)) {
         estimated_deviation = max_deviation;
         return Stage::Estimated;
     }
     // Straightening flipped or squeezed something: reposition with Floater's map.
-    if (!floater(why)) return Stage::Failed;
+    if (!floater_repair(emb_, graph_, why)) return Stage::Failed;
     used_floater = true;
     if (!transfer_cost(why)) {
         why = "transfer failed (" + first_reason_ + "; after shape-preserving map: " + why + ")";
@@ -1535,7 +231,7 @@ bool FanPlanner::finish(std::string& why) {
     std::string reason;
     const bool prepared = prepare_checks(reason);
     double min_cosine = 1.0;
-    const bool ok = prepared && check_triangles(0, int32_t(new_tris.size()), own_check_, min_cosine, reason);
+    const bool ok = prepared && check_triangles(0, int32_t(tri.triangles.size()), own_check_, min_cosine, reason);
     return end_finish(ok, reason, min_cosine, why);
 }
 
@@ -1552,7 +248,7 @@ bool FanPlanner::end_finish(bool checks_passed, const std::string& reason, doubl
     }
     first_reason_ = reason;
     // The overlays are not valid: reposition with Floater's map.
-    if (!floater(why)) return false;
+    if (!floater_repair(emb_, graph_, why)) return false;
     used_floater = true;
     if (transfer(why)) return true;
     why = "transfer failed (" + first_reason_ + "; after shape-preserving map: " + why + ")";
@@ -1561,6 +257,16 @@ bool FanPlanner::end_finish(bool checks_passed, const std::string& reason, doubl
 
 }  // namespace
 
+// Every buffer of a VertexRemover, reused across its plans (plans are made millions of
+// times). Buffers are kept one way: in this struct, handed to the stage functions
+// explicitly as their own small scratch structs (StarScratch, EarScratch,
+// StarGraphScratch; FanPlanner, which lives here, holds those of its stages). A
+// VertexRemover is used by one thread at a time (the driver gives every planning thread
+// its own), so the buffers are per thread without thread_local; unlike function-local
+// static thread_local buffers they are visible in the signatures, so every stage can be
+// called and tested on its own, and they are freed with their remover instead of living
+// as long as the thread. (finish_part() runs parts of one plan on several threads at
+// once: each part has its own TriangleCheck in `parts`.)
 struct RemovalScratch {
     // Aspect ratio per coarse triangle id, NaN until computed: a triangle's corners
     // never change after construction, and every star is planned many times.
@@ -1580,10 +286,11 @@ struct RemovalScratch {
     // A diagonal the next plan_once() must not use (a deferred validation failed on it).
     std::array<int32_t, 2> retry_forbid{-1, -1};
     std::vector<Fan> fans;
+    StarScratch star;
     std::vector<SurfacePoint> points;
     std::vector<double> sigmas;
     FanPlanner planner;
-    std::vector<FanPlanner::PathEdit> edits;               // of all fans of a plan
+    std::vector<PathEdit> edits;               // of all fans of a plan
     // finish_part(): 0 while part 0 prepares the checks, then 1 (prepared) or 2 (failed).
     std::atomic<int> prepared{0};
     std::string prepare_reason;
@@ -1591,7 +298,7 @@ struct RemovalScratch {
         bool passed = false;
         double min_cosine = 1.0;
         std::string reason;
-        FanPlanner::TriangleCheck check;
+        TriangleCheck check;
     };
     Part parts[VertexRemover::kMaxFinishParts];
     std::unordered_map<int32_t, double> new_edge_params;  // see plan_once
@@ -1728,7 +435,7 @@ void VertexRemover::plan_once(int32_t v, bool force_disk, bool validate, bool de
     plan.clear();
     plan.vertex = v;
     auto& fans = scratch_->fans;
-    const VertexClass cls = build_fans(mesh_, v, force_disk, fans, crease_line, plan.reason);
+    const VertexClass cls = classify_star(mesh_, v, force_disk, fans, crease_line, plan.reason, scratch_->star);
     if (cls == VertexClass::Feature) return;
     const auto& x = mesh_.positions();
 
@@ -1823,8 +530,8 @@ void VertexRemover::plan_once(int32_t v, bool force_disk, bool validate, bool de
         // What judging the estimate needs: the deviation, shapes and edges of the new triangles.
         plan.estimated = true;
         plan.estimated_deviation = std::max(plan.estimated_deviation, planner.estimated_deviation);
-        for (double a : planner.new_aspects) plan.worst_new_aspect = std::max(plan.worst_new_aspect, a);
-        for (const auto& d : planner.diagonals)
+        for (double a : planner.tri.aspects) plan.worst_new_aspect = std::max(plan.worst_new_aspect, a);
+        for (const auto& d : planner.tri.diagonals)
             plan.longest_new_edge = std::max(plan.longest_new_edge, distance(x[fan.link[d[0]]], x[fan.link[d[1]]]));
         if (stage == FanPlanner::Stage::Estimated) {
             if (defer) {
@@ -1832,7 +539,7 @@ void VertexRemover::plan_once(int32_t v, bool force_disk, bool validate, bool de
                 plan.max_deviation = planner.estimated_deviation;
                 // The new triangles too, for the intersection test that may run while
                 // finish_part() validates (finish_parts_done() sets them again).
-                for (const auto& t : planner.new_tris)
+                for (const auto& t : planner.tri.triangles)
                     plan.new_triangles.push_back({fan.link[t[0]], fan.link[t[1]], fan.link[t[2]]});
                 return;
             }
@@ -1855,14 +562,14 @@ void add_fan(const CoarseMesh& mesh_, RemovalScratch& scratch, const Fan& fan, F
         plan.max_normal_deviation, std::acos(std::max(-1.0, std::min(1.0, planner.min_normal_cosine))) * (180.0 / M_PI));
     const int32_t base = static_cast<int32_t>(plan.new_triangles.size());
     const int32_t patch = mesh_.patch(fan.triangles[0]);
-    for (size_t i = 0; i < planner.new_tris.size(); ++i) {
-        const auto& t = planner.new_tris[i];
+    for (size_t i = 0; i < planner.tri.triangles.size(); ++i) {
+        const auto& t = planner.tri.triangles[i];
         plan.new_triangles.push_back({fan.link[t[0]], fan.link[t[1]], fan.link[t[2]]});
         plan.new_patches.push_back(patch);
         // The triangulation computed it already, for the same corners in the same order.
-        plan.worst_new_aspect = std::max(plan.worst_new_aspect, planner.new_aspects[i]);
+        plan.worst_new_aspect = std::max(plan.worst_new_aspect, planner.tri.aspects[i]);
     }
-    for (const auto& d : planner.diagonals) {
+    for (const auto& d : planner.tri.diagonals) {
         const int32_t a = fan.link[d[0]], b = fan.link[d[1]];
         plan.new_edges.push_back({std::min(a, b), std::max(a, b)});
     }
@@ -1870,7 +577,7 @@ void add_fan(const CoarseMesh& mesh_, RemovalScratch& scratch, const Fan& fan, F
         if (loc.second.kind == SurfacePoint::Inside) loc.second.a = -1 - (base + (-1 - loc.second.a));
         plan.new_locations.push_back(loc);
     }
-    for (auto& e : planner.path_edits) scratch.edits.push_back(std::move(e));
+    for (auto& e : planner.pieces.path_edits) scratch.edits.push_back(std::move(e));
 }
 
 void finish_paths(const CoarseMesh& mesh, const Embedding& embedding, RemovalScratch& scratch, RemovalPlan& plan) {

@@ -6,8 +6,14 @@
 // triangles: merge, straighten, re-cut, and reposition with Floater's
 // shape-preserving map where straightening would flip pieces.
 //
-// plan_removal() only computes; commit_removal() applies. Everything a removal
-// changes is in the plan, so costs can be evaluated without touching the state.
+// The stages, each in its own file: star_fans (the star as fans, or why v is kept),
+// polar_map, fan_retriangulation, star_graph (the original surface in the fan),
+// phi_transfer (locate, re-cut, deviation), removal_validation (exact overlay checks),
+// floater_repair. vertex_removal.cpp runs them per fan (FanPlanner) and assembles the plan.
+//
+// VertexRemover::plan() and plan_deferred() only compute; commit_removal() applies.
+// Everything a removal changes is in the RemovalPlan, so costs can be evaluated without
+// touching the state.
 
 #include <cstdint>
 #include <string>
@@ -16,18 +22,9 @@
 #include "simplify/coarse_mesh.h"
 #include "simplify/embedding.h"
 #include "simplify/overlay.h"
+#include "simplify/star_fans.h"  // VertexClass, the corner reasons
 
 namespace bpm::detail {
-
-enum class VertexClass : uint8_t {
-    Regular,      // manifold vertex off every feature line: removed as a disk
-    FeatureLine,  // exactly two feature edges: removed half-disk by half-disk
-    Feature,      // kept
-};
-
-// Why a corner (CoarseMesh::Corner) is kept: the reasons SimplifyResult::blocked counts.
-inline constexpr const char* kCornerJunctionReason = "feature vertex: three or more feature edges meet (a corner)";
-inline constexpr const char* kCornerConeEndReason = "feature vertex: a crease ends at a sharp cone";
 
 struct RemovalPlan {
     int32_t vertex = -1;

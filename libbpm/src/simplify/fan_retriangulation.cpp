@@ -1,0 +1,152 @@
+#include "simplify/fan_retriangulation.h"
+
+#include <cmath>
+#include <limits>
+
+#include "bpm/predicates.h"
+
+namespace bpm::detail {
+
+namespace {
+
+// Delaunay admissibility is a quality heuristic, not a validity decision: points within
+// rounding distance of the circle count as on it, so that the choice does not depend on
+// the model's units.
+bool clearly_in_circle(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d) {
+    const double adx = a[0] - d[0], ady = a[1] - d[1];
+    const double bdx = b[0] - d[0], bdy = b[1] - d[1];
+    const double cdx = c[0] - d[0], cdy = c[1] - d[1];
+    const double alift = adx * adx + ady * ady, blift = bdx * bdx + bdy * bdy, clift = cdx * cdx + cdy * cdy;
+    const double det = alift * (bdx * cdy - cdx * bdy) + blift * (cdx * ady - adx * cdy) + clift * (adx * bdy - bdx * ady);
+    const double permanent = (std::abs(bdx * cdy) + std::abs(cdx * bdy)) * alift +
+                             (std::abs(cdx * ady) + std::abs(adx * cdy)) * blift +
+                             (std::abs(adx * bdy) + std::abs(bdx * ady)) * clift;
+    return det > 1e-9 * permanent;
+}
+
+}  // namespace
+
+bool retriangulate_fan(const CoarseMesh& mesh, const Fan& fan, const PolarMap& map,
+                       const std::vector<std::array<int32_t, 2>>& forbidden, FanTriangulation& out,
+                       EarScratch& scratch, std::string& why) {
+    const auto& x = mesh.positions();
+    const int32_t n = fan.corners();
+    auto& poly = scratch.polygon;
+    poly.resize(n);
+    for (int32_t i = 0; i < n; ++i) poly[i] = i;
+    auto& new_tris = out.triangles;
+    auto& new_aspects = out.aspects;
+    auto& diagonals = out.diagonals;
+    new_tris.clear();
+    new_aspects.clear();
+    diagonals.clear();
+    // The ear at a corner only changes when a neighbouring ear is cut, so its aspect
+    // ratio and whether its diagonal already exists are cached per corner.
+    auto& ear_aspect = scratch.aspect;
+    auto& ear_blocked = scratch.blocked;
+    // Whether an ear is Delaunay-admissible: a cut only removes a test point, so an
+    // admissible ear stays admissible unless it is one of the two ears next to the cut.
+    auto& ear_delaunay = scratch.delaunay;
+    // A corner found clearly inside the circle of a non-admissible ear: the ear stays
+    // non-admissible until that corner is cut off (or the ear itself changes).
+    auto& ear_witness = scratch.witness;
+    auto is_forbidden = [&](int32_t a, int32_t d) {
+        for (const auto& f : forbidden)
+            if ((f[0] == a && f[1] == d) || (f[0] == d && f[1] == a)) return true;
+        return false;
+    };
+    ear_witness.assign(n, -1);
+    ear_aspect.assign(n, std::nan(""));
+    ear_blocked.assign(n, -1);
+    ear_delaunay.assign(n, map.cocircular ? 1 : -1);
+    // On a circle (a star the polar map made non-convex) every ear is valid in 2D, but an
+    // ear at a reflex corner of the polar map's polygon folds over the rest of the star
+    // in space (on a flat face it overlaps it: a self-intersection). Ears of the polar
+    // map's polygon, convex and holding no other corner, come first.
+    auto polar_ear = [&](int32_t a, int32_t b, int32_t d) {
+        if (!map.cocircular) return true;
+        const Vec2 &pa = map.q_polar[a], &pb = map.q_polar[b], &pd = map.q_polar[d];
+        if (orient2d(pa, pb, pd) <= 0) return false;
+        for (int32_t p : poly) {
+            if (p == a || p == b || p == d) continue;
+            const Vec2& pp = map.q_polar[p];
+            if (orient2d(pa, pb, pp) >= 0 && orient2d(pb, pd, pp) >= 0 && orient2d(pd, pa, pp) >= 0) return false;
+        }
+        return true;
+    };
+    while (poly.size() > 3) {
+        const int32_t m = static_cast<int32_t>(poly.size());
+        int32_t best = -1;
+        bool best_delaunay = false, best_polar = false;
+        double best_aspect = std::numeric_limits<double>::infinity();
+        for (int32_t c = 0; c < m; ++c) {
+            const int32_t a = poly[mod(c - 1, m)], b = poly[c], d = poly[mod(c + 1, m)];
+            if (std::isnan(ear_aspect[b]))
+                ear_aspect[b] = aspect_ratio(x[fan.link[a]], x[fan.link[b]], x[fan.link[d]]);
+            const double aspect = ear_aspect[b];
+            if (!std::isfinite(aspect)) continue;  // degenerate
+            const bool polar = polar_ear(a, b, d);
+            if (best_polar && !polar) continue;
+            if (ear_delaunay[b] < 0) {
+                bool admissible = true;
+                for (int32_t o = 0; o < m && admissible; ++o) {
+                    const int32_t p = poly[o];
+                    if (p == a || p == b || p == d) continue;
+                    if (clearly_in_circle(map.q[a], map.q[b], map.q[d], map.q[p])) {
+                        admissible = false;
+                        ear_witness[b] = p;
+                    }
+                }
+                ear_delaunay[b] = admissible;
+            }
+            const bool delaunay = ear_delaunay[b] != 0;
+            // Prefer Delaunay-admissible ears; among them the best 3D aspect ratio.
+            // Near-ties count as ties (first ear wins), so that rounding differences, e.g.
+            // between a model and its scaled copy, do not change the triangulation.
+            if ((polar && !best_polar) || (delaunay && !best_delaunay) ||
+                (delaunay == best_delaunay && aspect < best_aspect * (1.0 - 1e-9))) {
+                // Topology condition (Conjecture 2.1): the new edge must not exist yet.
+                // Asked only of ears that would become the best: an ear that would not
+                // leaves the choice the same whether it is blocked or not.
+                if (ear_blocked[b] < 0)
+                    ear_blocked[b] = mesh.has_edge(fan.link[a], fan.link[d]) || is_forbidden(a, d);
+                if (ear_blocked[b]) continue;
+                best = c;
+                best_polar = polar;
+                best_delaunay = delaunay;
+                best_aspect = aspect;
+            }
+        }
+        if (best < 0) {
+            why = "no admissible retriangulation (topology condition)";
+            return false;
+        }
+        const int32_t a = poly[mod(best - 1, m)], b = poly[best], d = poly[mod(best + 1, m)];
+        new_tris.push_back({a, b, d});
+        new_aspects.push_back(ear_aspect[b]);  // ear_aspect[b] is that of (a, b, d) now
+        diagonals.push_back({a, d});
+        poly.erase(poly.begin() + best);
+        ear_blocked[a] = ear_blocked[d] = -1;
+        ear_aspect[a] = ear_aspect[d] = std::nan("");
+        ear_delaunay[a] = ear_delaunay[d] = map.cocircular ? 1 : -1;
+        for (int32_t p : poly)
+            if (ear_delaunay[p] == 0 && ear_witness[p] == b) ear_delaunay[p] = -1;
+    }
+    const Vec3& p0 = x[fan.link[poly[0]]];
+    const Vec3& p1 = x[fan.link[poly[1]]];
+    const Vec3& p2 = x[fan.link[poly[2]]];
+    const double last_aspect = aspect_ratio(p0, p1, p2);
+    if (!std::isfinite(last_aspect)) {
+        why = "retriangulation would create a degenerate triangle";
+        return false;
+    }
+    if (mesh.find_triangle(fan.link[poly[0]], fan.link[poly[1]], fan.link[poly[2]]) >= 0) {
+        why = "new triangle already exists (topology condition)";
+        return false;
+    }
+    new_tris.push_back({poly[0], poly[1], poly[2]});
+    new_aspects.push_back(last_aspect);
+    return true;
+}
+
+}  // namespace bpm::detail

@@ -1,0 +1,47 @@
+#pragma once
+// Retriangulation of the hole a removed vertex leaves in one fan (Krause & Sander
+// §2.2.4): greedy ear cutting on the fan's polygon in the plane (polar_map.h), which
+// prefers Delaunay-admissible ears and among them the best 3D aspect ratio, and never
+// creates an edge or a triangle that already exists (the topology condition,
+// Conjecture 2.1). The plane only decides admissibility; quality is judged in 3D.
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "simplify/coarse_mesh.h"
+#include "simplify/polar_map.h"
+#include "simplify/star_fans.h"
+
+namespace bpm::detail {
+
+// New triangles over polygon corner indices (corner i is fan.link[i]).
+struct FanTriangulation {
+    std::vector<std::array<int32_t, 3>> triangles;  // counter-clockwise in the plane (and in the fan's orientation)
+    std::vector<double> aspects;                     // aspect_ratio() of each, corners in that order
+    std::vector<std::array<int32_t, 2>> diagonals;   // the new interior edges, in the order they were cut
+};
+
+// Buffers of retriangulate_fan(), one entry per polygon corner (see RemovalScratch in
+// vertex_removal.cpp).
+struct EarScratch {
+    std::vector<int32_t> polygon;   // corners still in the polygon
+    std::vector<double> aspect;     // of the ear at each corner, NaN: unknown
+    std::vector<int8_t> blocked;    // -1 unknown, 0 free, 1 its diagonal exists or is forbidden
+    std::vector<int8_t> delaunay;   // -1 unknown, 0 no, 1 yes
+    std::vector<int32_t> witness;   // a corner clearly inside the circle of a non-admissible ear
+};
+
+// Triangulates the polygon of `fan` laid out by `map` (a strictly convex polygon) into
+// n - 2 ears. The ear at corner b, (a, b, d), may be cut when its diagonal a -- d is not
+// an edge of `mesh` and not in `forbidden` (pairs of corner indices, either order).
+// Among those: first ears of the polar map's own polygon (when map.cocircular), then
+// Delaunay-admissible ones (no other corner clearly inside their circumcircle), then the
+// smallest 3D aspect ratio, near-ties to the first. Fails with `why` when no ear may be
+// cut, or the last triangle is degenerate or already exists; `out` is then unspecified.
+bool retriangulate_fan(const CoarseMesh& mesh, const Fan& fan, const PolarMap& map,
+                       const std::vector<std::array<int32_t, 2>>& forbidden, FanTriangulation& out,
+                       EarScratch& scratch, std::string& why);
+
+}  // namespace bpm::detail
