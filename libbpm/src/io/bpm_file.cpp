@@ -96,11 +96,17 @@ std::string hdf5_error_text() {
 // ---------------------------------------------------------------------------
 
 constexpr hsize_t kChunkRows = 65536;    // rows per chunk of a large dataset
-// Datasets with more rows are chunked + compressed. Compression costs about 10% of a
-// small simplification (femur to 1000 vertices: 0.285 -> 0.251 s uncompressed, 1.1 -> 2.1 MB)
-// and matters for size only on large files.
-constexpr hsize_t kChunkThreshold = 262144;
-constexpr unsigned kDeflateLevel = 1;  // level 4 cost 3x the time for ~5% smaller files
+// Datasets with more rows are chunked + compressed; smaller ones stay contiguous, which
+// keeps small files small and fast to write (compressing everything cost about 10% of a
+// small simplification: femur to 1000 vertices, 0.285 -> 0.251 s uncompressed). At
+// 262144 rows the whole original surface of inputs up to 262k triangles (patches, the
+// triangles, the vertices) and the CSR offsets went uncompressed: 16384 makes the .bpm
+// of armadillo + 1x Loop (208k triangles) at --ratio 0.1 13 % smaller (27.6 -> 24.0 MB;
+// the rest is mostly node_image and node_barycentric, float64 that deflate barely shrinks).
+constexpr hsize_t kChunkThreshold = 16384;
+// Level 4/6/9 gave 1.7/2.6/3.2 % smaller files than level 1 (the same file) for
+// 1.2/1.5/7x its deflate time.
+constexpr unsigned kDeflateLevel = 1;
 
 class Writer {
 public:
