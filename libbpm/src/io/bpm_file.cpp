@@ -96,11 +96,17 @@ std::string hdf5_error_text() {
 // ---------------------------------------------------------------------------
 
 constexpr hsize_t kChunkRows = 65536;    // rows per chunk of a large dataset
-// Datasets with more rows are chunked + compressed. Compression costs about 10% of a
-// small simplification (femur to 1000 vertices: 0.285 -> 0.251 s uncompressed, 1.1 -> 2.1 MB)
-// and matters for size only on large files.
-constexpr hsize_t kChunkThreshold = 262144;
-constexpr unsigned kDeflateLevel = 1;  // level 4 cost 3x the time for ~5% smaller files
+// Datasets with more rows are chunked + compressed; smaller ones stay contiguous, which
+// keeps small files small and fast to write (compressing everything cost about 10% of a
+// small simplification: femur to 1000 vertices, 0.285 -> 0.251 s uncompressed). At
+// 262144 rows the whole original surface of inputs up to 262k triangles (patches, the
+// triangles, the vertices) and the CSR offsets went uncompressed: 16384 makes the .bpm
+// of armadillo + 1x Loop (208k triangles) at --ratio 0.1 13 % smaller (27.6 -> 24.0 MB;
+// the rest is mostly node_image and node_barycentric, float64 that deflate barely shrinks).
+constexpr hsize_t kChunkThreshold = 16384;
+// Level 4/6/9 gave 1.7/2.6/3.2 % smaller files than level 1 (the same file) for
+// 1.2/1.5/7x its deflate time.
+constexpr unsigned kDeflateLevel = 1;
 
 class Writer {
 public:
@@ -351,24 +357,21 @@ std::string find_inconsistency(const BpmFile& file) {
     return {};
 }
 
-std::vector<double> flatten(const std::vector<Vec3>& v) {
-    std::vector<double> out;
-    out.reserve(3 * v.size());
-    for (const auto& x : v) out.insert(out.end(), x.begin(), x.end());
-    return out;
-}
-std::vector<int32_t> flatten(const std::vector<Tri>& v) {
-    std::vector<int32_t> out;
-    out.reserve(3 * v.size());
-    for (const auto& x : v) out.insert(out.end(), x.begin(), x.end());
-    return out;
+// The rows of a vector of fixed-size arrays as the flat buffer HDF5 writes: std::array
+// holds its elements without padding, so no copy is needed (copies of every φ array
+// were a third of the writer's peak memory).
+static_assert(sizeof(Vec3) == 3 * sizeof(double) && sizeof(Tri) == 3 * sizeof(int32_t) &&
+              sizeof(std::array<int32_t, 2>) == 2 * sizeof(int32_t) && sizeof(NodeKind) == sizeof(uint8_t));
+template <typename T, size_t N>
+const T* flat(const std::vector<std::array<T, N>>& v) {
+    return v.empty() ? nullptr : v.front().data();
 }
 
 void write_surface(const Writer& w, hid_t group, const Surface& s) {
-    const auto xyz = flatten(s.vertices);
-    const auto tri = flatten(s.triangles);
-    w.write_dataset(group, "vertices", xyz.data(), s.vertices.size(), 3, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE);
-    w.write_dataset(group, "triangles", tri.data(), s.triangles.size(), 3, H5T_STD_I32LE, H5T_NATIVE_INT32);
+    const double* xyz = flat(s.vertices);
+    const int32_t* tri = flat(s.triangles);
+    w.write_dataset(group, "vertices", xyz, s.vertices.size(), 3, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE);
+    w.write_dataset(group, "triangles", tri, s.triangles.size(), 3, H5T_STD_I32LE, H5T_NATIVE_INT32);
     w.write_dataset(group, "patches", s.patches.data(), s.patches.size(), 0, H5T_STD_I32LE, H5T_NATIVE_INT32);
 }
 
@@ -379,15 +382,15 @@ std::atomic<unsigned> g_image_counter{0};
 void write_tetmesh_group(const Writer& w, hid_t f, const TetMesh& m) {
     Handle g = w.create_group(f, "tetmesh");
     w.write_int_attribute(g, "level", std::vector<int32_t>{m.level}, H5T_STD_I32LE, H5T_NATIVE_INT32);
-    const auto xyz = flatten(m.vertices);
-    w.write_dataset(g, "vertices", xyz.data(), m.vertices.size(), 3, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE);
+    const double* xyz = flat(m.vertices);
+    w.write_dataset(g, "vertices", xyz, m.vertices.size(), 3, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE);
     std::vector<int32_t> tets;
     tets.reserve(4 * m.tetrahedra.size());
     for (const auto& t : m.tetrahedra) tets.insert(tets.end(), t.begin(), t.end());
     w.write_dataset(g, "tetrahedra", tets.data(), m.tetrahedra.size(), 4, H5T_STD_I32LE, H5T_NATIVE_INT32);
     w.write_dataset(g, "regions", m.regions.data(), m.regions.size(), 0, H5T_STD_I32LE, H5T_NATIVE_INT32);
-    const auto faces = flatten(m.faces);
-    w.write_dataset(g, "faces", faces.data(), m.faces.size(), 3, H5T_STD_I32LE, H5T_NATIVE_INT32);
+    const int32_t* faces = flat(m.faces);
+    w.write_dataset(g, "faces", faces, m.faces.size(), 3, H5T_STD_I32LE, H5T_NATIVE_INT32);
     w.write_dataset(g, "face_coarse_triangle", m.face_coarse_triangle.data(), m.face_coarse_triangle.size(), 0,
                     H5T_STD_I32LE, H5T_NATIVE_INT32);
     w.write_dataset(g, "face_patches", m.face_patches.data(), m.face_patches.size(), 0, H5T_STD_I32LE,
@@ -487,8 +490,8 @@ void write_simplification_steps_group(const Writer& w, hid_t f, const Simplifica
     w.write_dataset(g, "vertex", s.vertex.data(), s.vertex.size(), 0, H5T_STD_I32LE, H5T_NATIVE_INT32);
     w.write_dataset(g, "triangle_offsets", s.triangle_offsets.data(), s.triangle_offsets.size(), 0, H5T_STD_I64LE,
                     H5T_NATIVE_INT64);
-    const auto tri = flatten(s.triangles);
-    w.write_dataset(g, "triangles", tri.data(), s.triangles.size(), 3, H5T_STD_I32LE, H5T_NATIVE_INT32);
+    const int32_t* tri = flat(s.triangles);
+    w.write_dataset(g, "triangles", tri, s.triangles.size(), 3, H5T_STD_I32LE, H5T_NATIVE_INT32);
     w.write_dataset(g, "triangle_patches", s.triangle_patches.data(), s.triangle_patches.size(), 0, H5T_STD_I32LE,
                     H5T_NATIVE_INT32);
 }
@@ -550,29 +553,32 @@ std::string build_image(const BpmFile& file, const std::string& where) {
         const hsize_t nn = static_cast<hsize_t>(p.num_nodes());
         w.write_dataset(g, "node_offsets", p.node_offsets.data(), p.node_offsets.size(), 0, H5T_STD_I64LE,
                         H5T_NATIVE_INT64);
-        const auto bary = flatten(p.node_barycentric);
-        w.write_dataset(g, "node_barycentric", bary.data(), nn, 3, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE);
-        const auto image = flatten(p.node_image);
-        w.write_dataset(g, "node_image", image.data(), nn, 3, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE);
-        std::vector<uint8_t> kinds(p.node_kind.size());
-        for (size_t i = 0; i < kinds.size(); ++i) kinds[i] = static_cast<uint8_t>(p.node_kind[i]);
-        w.write_dataset(g, "node_kind", kinds.data(), nn, 0, H5T_STD_U8LE, H5T_NATIVE_UINT8);
+        const double* bary = flat(p.node_barycentric);
+        w.write_dataset(g, "node_barycentric", bary, nn, 3, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE);
+        const double* image = flat(p.node_image);
+        w.write_dataset(g, "node_image", image, nn, 3, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE);
+        w.write_dataset(g, "node_kind", p.node_kind.data(), nn, 0, H5T_STD_U8LE, H5T_NATIVE_UINT8);
         w.write_dataset(g, "node_original_vertex", p.node_original_vertex.data(), nn, 0, H5T_STD_I32LE,
                         H5T_NATIVE_INT32);
-        std::vector<int32_t> edges;
-        edges.reserve(2 * nn);
-        for (const auto& e : p.node_original_edge) edges.insert(edges.end(), e.begin(), e.end());
-        w.write_dataset(g, "node_original_edge", edges.data(), nn, 2, H5T_STD_I32LE, H5T_NATIVE_INT32);
+        w.write_dataset(g, "node_original_edge", flat(p.node_original_edge), nn, 2, H5T_STD_I32LE, H5T_NATIVE_INT32);
         // NaN for non-crossings is written as the one canonical quiet NaN so that the
         // bytes do not depend on how the caller produced its NaNs.
-        std::vector<double> params(p.node_edge_parameter);
+        // (A copy only when some entry is not that NaN already.)
+        const auto canonical = [](double x) {
+            const double nan = std::numeric_limits<double>::quiet_NaN();
+            return std::memcmp(&x, &nan, sizeof x) == 0;
+        };
+        std::vector<double> params;
+        for (size_t i = 0; i < p.node_edge_parameter.size() && params.empty(); ++i)
+            if (p.node_kind[i] != NodeKind::EdgeCrossing && !canonical(p.node_edge_parameter[i]))
+                params = p.node_edge_parameter;
         for (size_t i = 0; i < params.size(); ++i)
             if (p.node_kind[i] != NodeKind::EdgeCrossing) params[i] = std::numeric_limits<double>::quiet_NaN();
-        w.write_dataset(g, "node_edge_parameter", params.data(), nn, 0, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE);
+        w.write_dataset(g, "node_edge_parameter", params.empty() ? p.node_edge_parameter.data() : params.data(), nn, 0, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE);
         w.write_dataset(g, "piece_offsets", p.piece_offsets.data(), p.piece_offsets.size(), 0, H5T_STD_I64LE,
                         H5T_NATIVE_INT64);
-        const auto pieces = flatten(p.pieces);
-        w.write_dataset(g, "pieces", pieces.data(), p.pieces.size(), 3, H5T_STD_I32LE, H5T_NATIVE_INT32);
+        const int32_t* pieces = flat(p.pieces);
+        w.write_dataset(g, "pieces", pieces, p.pieces.size(), 3, H5T_STD_I32LE, H5T_NATIVE_INT32);
         w.write_dataset(g, "piece_original_triangle", p.piece_original_triangle.data(),
                         p.piece_original_triangle.size(), 0, H5T_STD_I32LE, H5T_NATIVE_INT32);
     }
@@ -602,8 +608,8 @@ std::string build_image(const BpmFile& file, const std::string& where) {
         w.write_dataset(g, "NumberOfPoints", npoints.data(), 1, 0, H5T_STD_I64LE, H5T_NATIVE_INT64);
         w.write_dataset(g, "NumberOfCells", ncells.data(), 1, 0, H5T_STD_I64LE, H5T_NATIVE_INT64);
         w.write_dataset(g, "NumberOfConnectivityIds", nconn.data(), 1, 0, H5T_STD_I64LE, H5T_NATIVE_INT64);
-        const auto xyz = flatten(s.vertices);
-        w.write_dataset(g, "Points", xyz.data(), s.vertices.size(), 3, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE);
+        const double* xyz = flat(s.vertices);
+        w.write_dataset(g, "Points", xyz, s.vertices.size(), 3, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE);
         std::vector<int64_t> connectivity;
         connectivity.reserve(3 * s.triangles.size());
         for (const auto& t : s.triangles) connectivity.insert(connectivity.end(), t.begin(), t.end());

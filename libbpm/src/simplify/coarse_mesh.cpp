@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <unordered_map>
 
 namespace bpm::detail {
 
@@ -245,8 +244,12 @@ void CoarseMesh::mark_corners(double feature_angle_degrees, double min_crease_le
 
 Surface CoarseMesh::to_surface(std::vector<int32_t>& vertex_origin) const {
     Surface s;
-    std::unordered_map<int32_t, int32_t> index;
+    std::vector<int32_t> index(vertex_triangles_.size(), -1);
     vertex_origin.clear();
+    vertex_origin.reserve(size_t(num_vertices_alive_));
+    s.vertices.reserve(size_t(num_vertices_alive_));
+    s.triangles.reserve(size_t(num_alive_));
+    s.patches.reserve(size_t(num_alive_));
     // Vertices in increasing original id, so that the output is deterministic.
     for (int32_t v = 0; v < int32_t(vertex_triangles_.size()); ++v) {
         if (vertex_triangles_[v].empty()) continue;

@@ -89,6 +89,7 @@ struct Embedding {
     std::vector<std::array<int32_t, 2>> edges;  // original edges (u < w), sorted
     std::vector<int32_t> vertex_edge_offsets;   // CSR: edges incident to each original vertex
     std::vector<int32_t> vertex_edges;
+    std::vector<int32_t> smaller_vertex_edges;  // edges[smaller_vertex_edges[u] .. [u+1]) are (u, w > u)
     std::vector<int32_t> edge_triangle_offsets; // CSR: original triangles incident to each edge
     std::vector<int32_t> edge_triangles;
 

@@ -116,9 +116,10 @@ TEST_CASE("fixtures with non-trivial phi round-trip exactly", "[format]") {
         require_equal(f, read_bpm_from_memory(write_bpm_to_memory(f), "mem"));
     }
     SECTION("large enough to be chunked and compressed") {
-        // libbpm compresses datasets of more than 262144 rows (bpm_file.cpp, spec §3.2).
-        const BpmFile f = with_provenance(test::make_height_field(516, 6, test::default_height));
-        REQUIRE(f.param.num_nodes() > 262144);
+        // libbpm compresses datasets of more than 16384 rows (bpm_file.cpp, spec §3.2).
+        const BpmFile f = with_provenance(test::make_height_field(132, 6, test::default_height));
+        REQUIRE(f.param.num_nodes() > 16384);
+        REQUIRE(f.param.original.num_triangles() > 16384);
         const std::string bytes = write_bpm_to_memory(f);
         require_equal(f, read_bpm_from_memory(bytes, "mem"));
     }
