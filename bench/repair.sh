@@ -126,7 +126,7 @@ out = ["### Repair after a solver refines (bench/repair.sh)", "",
        f"Each mesh is simplified to 10 % (`bpm-simplify --ratio 0.1`), meshed (`bpm-mesh`), red-refined {levels} times "
        "without phi (new boundary vertices at their edge midpoints, as a solver's own refinement leaves them; no "
        "smoothing), and `bpm::repair_boundary` with its default options (bisection 30 steps, volume fraction 0.1, "
-       "dihedral guard 8 degrees, 4 retry passes, interior smoothing) moves the boundary vertices towards phi. "
+       "dihedral guard 5 degrees, 4 retry passes, interior smoothing) moves the boundary vertices towards phi. "
        "**flat**: all levels flat, one repair at the end; **solver**: levels 1.."
        f"{int(levels) - 1} each refined flat and repaired, then level {levels} flat and the timed repair (what a "
        "solver does after each adapt step). Times: the repair call alone (single-threaded), "

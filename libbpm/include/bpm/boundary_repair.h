@@ -89,10 +89,7 @@ struct BoundaryRepairOptions {
     // angle of at least this many degrees, or not to lose any (0 = no such condition).
     // Trades distance to S0 for element quality where smoothing cannot help (tetrahedra
     // whose four vertices are all on S, which a curved S0 flattens). In [0, 90).
-    // 8 rather than 5: red refinement of a tetrahedron of angle a gives children down to
-    // about 0.6 a, and the levels compound; with 5, elephant at 10 % fell to 2.2 degrees at
-    // level 3, with 8 it stays at 3.6 (bench/RESULTS.md, "Tets without slivers").
-    double min_dihedral_degrees = 8;
+    double min_dihedral_degrees = 5;  // (refine_tetmesh uses 8: bpm/tet_refine.h)
     // The boundary vertices approach phi in boundary_steps steps: in step s each goes to
     // the largest admissible 1-lambda <= s / boundary_steps, and the interior is smoothed
     // after every step. Then up to retry_passes more passes retry every boundary vertex
