@@ -224,7 +224,7 @@ w("Started %s on %s cores (%s), load average %s at the start and %s at the end (
   "skipped.\n" % (started, cores, platform.machine(), load_start, load_end, tetgen, max_tets))
 w("**smooth** is the default: TetGen's Steiner points are smoothed, and after every refinement level the "
   "interior vertices (bpm/tetmesh_smooth.h); boundary vertices stop short of phi where a tetrahedron would "
-  "invert, keep less than 10% of its plain-refinement volume, or drop below a 5 degree dihedral angle, and "
+  "invert, keep less than 10% of its plain-refinement volume, or drop below an 8 degree dihedral angle, and "
   "are retried after smoothing. **off** is `--no-smooth --remedy-min-dihedral 0` (positive volume and the "
   "volume fraction only, no smoothing).\n")
 

@@ -61,6 +61,8 @@ int main(int argc, char** argv) {
         "                 orientability, boundary loops, Z2 Betti numbers and non-manifold structure\n"
         "                 (feature vertices by original id, feature lines with their sheet counts)\n"
         "  bijectivity    phi is a bijection: pieces tile every coarse and every original triangle\n"
+        "  distortion     (a report, never fails) phi's area squeeze and normal deviation per piece,\n"
+        "                 p50/p99/max, and the pieces turned more than 60 and 90 degrees (folds)\n"
         "  replay         (with --replay) the recorded removals (bpm-simplify --record-steps) are valid point\n"
         "                 removals (link = boundary of the new triangles, local condition of Conjecture 2.1,\n"
         "                 topology unchanged) and lead exactly to the coarse surface\n"
@@ -68,7 +70,7 @@ int main(int argc, char** argv) {
         "  distance       (with --max-error) Hausdorff distances of phi's image and of the coarse surface to S0",
         tool};
     std::string input;
-    std::string checks = "format,intersections,topology,bijectivity";
+    std::string checks = "format,intersections,topology,bijectivity,distortion";
     bool original = false, json = false, surface_mode = false;
     double max_aspect = 0, min_angle = 0, max_error = 0, error_spacing = 1e-3;
     bool replay = false;
@@ -79,8 +81,8 @@ int main(int argc, char** argv) {
     app.add_option("FILE", input, "Input .bpm file, or a surface file with --surface; '-' reads standard input")
         ->required();
     app.add_option("--checks", checks,
-                   "Comma-separated checks to run: format, intersections, topology, bijectivity, replay "
-                   "('all' = the first four, the default). With --surface only intersections and topology apply")
+                   "Comma-separated checks to run: format, intersections, topology, bijectivity, distortion, replay "
+                   "('all' = the first five, the default). With --surface only intersections and topology apply")
         ->capture_default_str();
     app.add_flag("--original", original,
                  "Also check the original surface S0 for self-intersections (reported as "
@@ -165,13 +167,14 @@ int main(int argc, char** argv) {
             else if (item == "topology") sel.topology = true;
             else if (item == "bijectivity") sel.bijectivity = true;
             else if (item == "replay") sel.replay = true;
+            else if (item == "distortion") sel.distortion = true;
             else if (item == "distance") want_distance = true;
             else if (item == "quality") want_quality = true;
-            else if (item == "all") sel.format = sel.intersections = sel.topology = sel.bijectivity = true;
+            else if (item == "all") sel.format = sel.intersections = sel.topology = sel.bijectivity = sel.distortion = true;
             else
                 throw CLI::ValidationError("--checks", "unknown check '" + item +
                                                            "' (known: format, intersections, topology, bijectivity, "
-                                                           "quality, distance, replay, all)");
+                                                           "distortion, quality, distance, replay, all)");
         }
         sel.original_intersections = original;
         if (replay) sel.replay = true;
@@ -189,10 +192,10 @@ int main(int argc, char** argv) {
         if (surface_mode) {
             if (sel.replay) throw CLI::ValidationError("--replay", "replay needs a .bpm file, not --surface");
             if (*error_opt) throw CLI::ValidationError("--max-error", "--max-error needs a .bpm file, not --surface");
-            if (sel.format || sel.bijectivity) {
+            if (sel.format || sel.bijectivity || sel.distortion) {
                 if (app.count("--checks"))
-                    throw CLI::ValidationError("--checks", "format and bijectivity need a .bpm file, not --surface");
-                sel.format = sel.bijectivity = false;
+                    throw CLI::ValidationError("--checks", "format, bijectivity and distortion need a .bpm file, not --surface");
+                sel.format = sel.bijectivity = sel.distortion = false;
             }
             read_options.triangulate_polygons = triangulate_polygons;
             if (!surface_format.empty()) {

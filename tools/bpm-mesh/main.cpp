@@ -89,10 +89,10 @@ int main(int argc, char** argv) {
     app.add_flag("--no-smooth", no_smooth,
                  "Do not move vertices that are not on the surface (default: smooth them, never inverting an "
                  "element or making the worst one around a vertex worse)");
-    double remedy_min_dihedral = 5;
+    double remedy_min_dihedral = bpm::TetRefineOptions{}.repair.min_dihedral_degrees;
     app.add_option("--remedy-min-dihedral", remedy_min_dihedral,
                    "With --refine: a boundary vertex also stops short of phi where it would bring a tetrahedron's "
-                   "smallest dihedral angle below this many degrees (0 = only the volume conditions; default 5)")
+                   "smallest dihedral angle below this many degrees (0 = only the volume conditions; default 8)")
         ->check(CLI::Range(0.0, 60.0));
     app.add_flag("--existing", existing, "Use the tetrahedral mesh already in INPUT instead of running TetGen");
     app.add_flag("--flat", flat, "With --refine: leave new boundary vertices on the coarse surface (red refinement of the boundary)");

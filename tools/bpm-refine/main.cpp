@@ -114,10 +114,10 @@ int main(int argc, char** argv) {
     app.add_flag("--no-smooth", no_smooth,
                  "--volume: do not smooth the interior vertices (default: smooth them after every level, never "
                  "inverting an element or making the worst one around a vertex worse)");
-    double remedy_min_dihedral = 5;
+    double remedy_min_dihedral = bpm::TetRefineOptions{}.repair.min_dihedral_degrees;
     auto* remedy = app.add_option("--remedy-min-dihedral", remedy_min_dihedral,
                    "--volume: a boundary vertex also stops short of phi where it would bring a tetrahedron's "
-                   "smallest dihedral angle below this many degrees (0 = keep volumes positive only; default 5)")
+                   "smallest dihedral angle below this many degrees (0 = keep volumes positive only; default 8)")
         ->check(CLI::Range(0.0, 60.0));
     app.add_flag("--no-verify", no_verify,
                  ".bpm output: skip the checks run before writing (format, intersections, topology, bijectivity; "

@@ -89,7 +89,7 @@ struct BoundaryRepairOptions {
     // angle of at least this many degrees, or not to lose any (0 = no such condition).
     // Trades distance to S0 for element quality where smoothing cannot help (tetrahedra
     // whose four vertices are all on S, which a curved S0 flattens). In [0, 90).
-    double min_dihedral_degrees = 5;
+    double min_dihedral_degrees = 5;  // (refine_tetmesh uses 8: bpm/tet_refine.h)
     // The boundary vertices approach phi in boundary_steps steps: in step s each goes to
     // the largest admissible 1-lambda <= s / boundary_steps, and the interior is smoothed
     // after every step. Then up to retry_passes more passes retry every boundary vertex

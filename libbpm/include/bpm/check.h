@@ -117,6 +117,15 @@ CheckResult check_topology(const Surface& surface, const CheckOptions& options =
 // every original triangle; every original vertex is the image of exactly one point.
 CheckResult check_bijectivity(const Parametrization& param, const CheckOptions& options = {}, const Context& context = {});
 
+// How far phi is from an isometry, per piece (spec/check-report.md, "distortion"): the
+// area squeeze (a piece's area in its coarse triangle over its original area, divided by
+// the same ratio for the whole triangle; max(s, 1/s)) and the normal deviation (angle
+// between the coarse triangle's normal and the normal of the original triangle the
+// piece maps into), each p50 / p99 / max, and the pieces turned more than 60 and 90
+// degrees (folds of phi seen from S). A report: fails only on unreadable data.
+CheckResult check_distortion(const Parametrization& param, const CheckOptions& options = {},
+                             const Context& context = {});
+
 // Aspect ratio and smallest angle of every triangle against the limits in `options`.
 CheckResult check_quality(const Surface& surface, const CheckOptions& options = {}, const Context& context = {});
 
@@ -153,9 +162,10 @@ struct CheckSelection {
     bool bijectivity = true;
     bool original_intersections = false;  // also check S0 (so a faulty input is reported as such)
     bool replay = false;                  // replay the recorded simplification steps (needs a record)
+    bool distortion = false;              // report phi's distortion (check_distortion; bpm-check's default)
 };
 // Runs the selected checks and reports them in a fixed order: format, original
-// intersections, intersections, topology, bijectivity, quality, distance, replay.
+// intersections, intersections, topology, bijectivity, distortion, quality, distance, replay.
 // With two threads (options.threads) the first four run on a second thread, without
 // progress reports, next to the others.
 CheckReport run_checks(const BpmFile& file, const CheckSelection& selection, const CheckOptions& options = {},

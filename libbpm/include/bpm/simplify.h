@@ -33,6 +33,19 @@ struct SimplifyOptions {
     // Cost = error/diagonal + aspect_weight * 1e-3 * (log2(worst new R/r / 2)
     //                                                - 0.5 log2(worst removed R/r / 2))
     double aspect_weight = 1.0;
+    // Distortion term of the cost (issue 19 item 2), from the largest angle between a new
+    // coarse triangle's normal and an original triangle phi maps onto it: 0 up to 45
+    // degrees, distortion_weight * 1e-3 * ((angle - 45) / 45)^2 above (1e-3: an error of
+    // 0.1 % of the diagonal), and + 1 (more than any error relative to the diagonal) above
+    // fold_limit_degrees (< 180), so that removals folding phi over that limit come after
+    // every other removal. Off by default: measured at --ratio 0.1 (bench/RESULTS.md,
+    // "Tets without slivers, phi's distortion"), weight 0.3 cuts the pieces turned
+    // > 90 degrees by 11-25 % but raises the Hausdorff distance up to 1.22x (fandisk);
+    // weight 1 cuts more and costs femur 1.32x; a fold limit of 90 leaves almost no folds
+    // but costs femur 4.6x. 0 = off (the angle is then not computed unless
+    // max_normal_deviation_degrees asks for it).
+    double distortion_weight = 0.0;
+    double fold_limit_degrees = 180.0;
     // The queue orders candidates by a cheap lower bound of their cost; the candidate on
     // top is then planned in full. If its full cost is above the next candidate's bound
     // by more than this fraction (of that bound's magnitude), it goes back into the

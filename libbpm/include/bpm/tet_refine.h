@@ -61,7 +61,16 @@ struct TetRefineOptions {
     // solver makes after refining its own grid): the new boundary vertices, and those of
     // earlier levels still short of phi, move towards phi as far as admissible (not with
     // move_to_surface = false), and the interior vertices are smoothed (repair.smooth).
-    BoundaryRepairOptions repair;
+    // The dihedral guard is 8 degrees here, not repair_boundary's 5: red refinement of a
+    // tetrahedron of smallest angle a gives children down to about 0.7 a, and the moves to
+    // phi compound it level by level; with 5, elephant at 10 % fell to 2.2 degrees at level
+    // 3, with 8 it stays at 3.5 (bench/RESULTS.md, "Tets without slivers"). A solver's
+    // repair keeps 5 (more boundary vertices on phi: femur level 2 holds back 10.6 % with 8).
+    BoundaryRepairOptions repair = [] {
+        BoundaryRepairOptions o;
+        o.min_dihedral_degrees = 8;
+        return o;
+    }();
 };
 
 struct TetRefineLevel {

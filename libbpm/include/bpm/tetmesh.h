@@ -75,6 +75,11 @@ struct TetMesh {
 // fandisk, 30 elephant) and finished quickly up to 20 on all of them (see generate_tetmesh).
 inline constexpr double kMaxTetgenMinDihedralDegrees = 18.0;
 
+// generate_tetmesh warns when a coarse triangle's aspect ratio R/r exceeds this (the
+// default --max-aspect of bpm-simplify): TetGen keeps S exactly, so the tetrahedra on such
+// a needle get small dihedral angles whatever the quality bounds.
+inline constexpr double kSliverAspectRatio = 30.0;
+
 struct TetMeshOptions {
     double quality = 1.414;          // TetGen -q: maximum radius-edge ratio, > 1.0 (about 1.1 is the practical limit)
     // TetGen -q<quality>/<angle>: minimum dihedral angle to aim for, in degrees, at most

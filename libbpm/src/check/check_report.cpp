@@ -169,6 +169,7 @@ CheckReport run_checks(const BpmFile& file, const CheckSelection& sel, const Che
     auto others = [&](const Context& ctx) {
         std::vector<CheckResult> out;
         if (sel.bijectivity) out.push_back(check_bijectivity(p, options, ctx));
+        if (sel.distortion) out.push_back(check_distortion(p, options, ctx));
         if (options.max_aspect_ratio || options.min_angle_degrees) out.push_back(check_quality(p.coarse, options, ctx));
         if (options.max_error) out.push_back(check_distance(p, options, ctx));
         if (sel.replay) out.push_back(check_replay(file, options, ctx));

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "simplify/distortion.h"
+
 namespace bpm::detail {
 
 double removal_cost(const RemovalPlan& plan, const SimplifyOptions& options, double diagonal, CostBasis basis,
@@ -37,7 +39,11 @@ double removal_cost(const RemovalPlan& plan, const SimplifyOptions& options, dou
     // Costs are compared after rounding to 1e-10 (relative to the diagonal), so that
     // rounding noise, e.g. between a model and its scaled copy, does not reorder
     // removals (the queue breaks exact ties by the smaller vertex id).
-    return std::round((error + options.aspect_weight * 1e-3 * aspect_term) * 1e10) * 1e-10;
+    // The distortion term (simplify/distortion.h) is 0 unless SimplifyOptions::distortion_weight
+    // or fold_limit_degrees ask for it: off by default (bench/RESULTS.md, issue 19 item 2).
+    const double distortion =
+        distortion_cost(plan.max_normal_deviation, options.distortion_weight, options.fold_limit_degrees);
+    return std::round((error + options.aspect_weight * 1e-3 * aspect_term + distortion) * 1e10) * 1e-10;
 }
 
 }  // namespace bpm::detail

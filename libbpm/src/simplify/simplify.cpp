@@ -113,7 +113,8 @@ public:
         sign_.resize(original.triangles.size());
         for (int32_t t = 0; t < original.num_triangles(); ++t) sign_[t] = mesh_.flipped_initially(t) ? -1 : 1;
         // Only with a limit: the angle costs about 5% of the planning time.
-        if (options.max_normal_deviation_degrees < 180.0) oriented_normals_.resize(original.triangles.size());
+        if (options.max_normal_deviation_degrees < 180.0 || options.distortion_weight > 0)
+            oriented_normals_.resize(original.triangles.size());
         for (int32_t t = 0; t < int32_t(oriented_normals_.size()); ++t) {
             const Tri& c = original.triangles[t];
             oriented_normals_[t] = double(sign_[t]) * triangle_normal(original.vertices[c[0]], original.vertices[c[1]],
@@ -647,6 +648,8 @@ SimplifyResult simplify(const Surface& original, const SimplifyOptions& options,
     if (!(options.max_aspect_ratio >= 2)) throw OptionError("--max-aspect must be at least 2 (equilateral)");
     if (!(options.max_normal_deviation_degrees >= 0 && options.max_normal_deviation_degrees <= 180))
         throw OptionError("--max-normal-deviation must be between 0 and 180 degrees");
+    if (!(options.distortion_weight >= 0) || !(options.fold_limit_degrees >= 0 && options.fold_limit_degrees <= 180))
+        throw OptionError("--distortion-weight must be >= 0 and --fold-limit between 0 and 180 degrees");
     if (!(options.queue_tolerance >= 0 && options.queue_tolerance <= 10))
         throw OptionError("--queue-tolerance must be between 0 and 10");
     if (!(options.corner_crease_length >= 0 && options.corner_crease_length <= 1))

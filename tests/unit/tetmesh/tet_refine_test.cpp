@@ -379,7 +379,7 @@ TEST_CASE("tet_refine: smoothing during refinement beats smoothing off, with the
     REQUIRE(ra.levels.size() == 2);
     const TetRefineLevel& last = ra.levels.back();
     CHECK(last.min_dihedral_degrees == Approx(min_dihedral(a)).epsilon(1e-9).margin(1e-5));
-    int64_t below10 = 0;  // (not 5: the default remedy stops vertices at exactly 5 degrees)
+    int64_t below10 = 0;  // (not 8: the default remedy stops vertices at exactly 8 degrees)
     for (const Tet& t : a.tetrahedra)
         below10 +=
             tet_min_dihedral_degrees(a.vertices[t[0]], a.vertices[t[1]], a.vertices[t[2]], a.vertices[t[3]]) < 10;
