@@ -8,6 +8,7 @@
 #include "bpm/errors.h"
 #include "bpm/tet_refine.h"
 #include "bpm/tetmesh.h"
+#include "bpm/write_tetmesh.h"
 #include "bpm/tetmesh_materials.h"
 #include "common/tool_main.h"
 

@@ -12,6 +12,8 @@
 #include "bpm/refine.h"
 #include "bpm/tet_refine.h"
 #include "bpm/tetmesh.h"
+#include "bpm/write_tetmesh.h"
+#include "bpm/write_vtu.h"
 #include "bpm/surface_io.h"
 #include "common/tool_main.h"
 
@@ -261,7 +263,7 @@ int main(int argc, char** argv) {
             }
             cell_data.push_back(std::move(ct));
             cell_data.push_back(std::move(lvl));
-            bpm::write_vtu(output, refined.surface, point_data, cell_data);
+            bpm::write_surface_vtu(output, refined.surface, point_data, cell_data);
         } else {
             bpm::write_surface(output, refined.surface, surface_format);
         }

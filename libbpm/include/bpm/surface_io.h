@@ -69,7 +69,7 @@
 namespace bpm {
 
 // Vtp, Vtu: VTK XML PolyData / UnstructuredGrid, read only (bpm-refine writes .vtu with
-// its own writer, write_vtu in bpm/refine.h). Surf: Amira HyperSurface, read only.
+// its own writer, write_surface_vtu in bpm/write_vtu.h). Surf: Amira HyperSurface, read only.
 enum class SurfaceFormat { Off, Obj, Stl, Ply, Msh, Vtk, Vtp, Vtu, Surf };
 
 // "off", "obj", "stl", "ply", "msh", "vtk", "vtp", "vtu", "surf" (case-insensitive) -> format; nullopt otherwise.
