@@ -91,8 +91,8 @@ int main(int argc, char** argv) {
     app.add_option("-o,--output", output, "Output file (.off .obj .ply .stl .vtu .bpm), or - for standard output")
         ->required();
     bpm::tools::add_format_option(app, format, "output",
-                                  "Output format when it cannot be told from the name (needed for '-o -'): off, obj, "
-                                  "ply, stl, vtu, bpm; with --volume bpm, msh, vtu, mesh");
+                                  "Output format if the name does not tell (needed for -): off obj ply stl vtu bpm; "
+                                  "--volume: bpm msh vtu mesh");
     auto* lv = app.add_option("--levels", levels, "Uniform refinement: each coarse triangle into 4^K triangles (0..10)")
                    ->check(CLI::Range(0, 10));
     auto* tol = app.add_option("--tolerance", tolerance,
@@ -103,33 +103,29 @@ int main(int argc, char** argv) {
     app.add_option("--max-level", options.max_level, "Adaptive: at most this many levels (default 8)")
         ->check(CLI::Range(0, 10));
     app.add_flag("--data", data,
-                 "Carry vertex data of the original surface onto the refined vertices (VTU point data): every data "
-                 "array of the input surface (PLY vertex properties, VTK point data; stored in the .bpm file) and the "
-                 "vertex normals of S0, interpolated through phi, plus the parameter position and the original triangle");
+                 "VTU output: the original's vertex data and normals through phi as point data (and where each "
+                 "vertex lies)");
     bool volume = false;
     app.add_flag("--volume", volume,
-                 "Refine the tetrahedral mesh stored in the file (made by bpm-mesh) instead of the surface: red "
-                 "refinement, --levels times; boundary vertices go to phi, pulled back where a tetrahedron would "
-                 "invert or flatten; the interior vertices are smoothed after every level. Output .bpm .msh .vtu "
-                 ".mesh");
+                 "Refine the file's tetrahedral mesh (from bpm-mesh) --levels times; output .bpm .msh .vtu .mesh");
     bool no_smooth = false;
     app.add_flag("--no-smooth", no_smooth,
-                 "--volume: do not smooth the interior vertices (default: smooth them after every level, never "
-                 "inverting an element or making the worst one around a vertex worse)");
+                 "Do not smooth the interior vertices after every level (smoothing never inverts or worsens)");
     double remedy_min_dihedral = 5;
     auto* remedy = app.add_option("--remedy-min-dihedral", remedy_min_dihedral,
-                   "--volume: a boundary vertex also stops short of phi where it would bring a tetrahedron's "
-                   "smallest dihedral angle below this many degrees (0 = keep volumes positive only; default 5)")
+                   "Hold a boundary vertex short of phi rather than bring a dihedral angle below this (degrees; "
+                   "default 5)")
         ->check(CLI::Range(0.0, 60.0));
     app.add_flag("--no-verify", no_verify,
-                 ".bpm output: skip the checks run before writing (format, intersections, topology, bijectivity; "
-                 "faster)");
+                 ".bpm output: skip the checks run before writing (faster)");
     bool allow_intersections = false;
     app.add_flag("--allow-intersections", allow_intersections,
-                 "Place every new vertex at phi even where the refined surface then intersects itself. By default "
-                 "such vertices are held back towards the coarse surface (halving the distance until no triangles "
-                 "intersect); the summary says how many and how far");
+                 "Place every new vertex at phi even where the surface then intersects itself (default: hold back)");
     bpm::tools::add_output_tool_flags(app, tool, deterministic, verbose, quiet);
+    bpm::tools::group_options(app, "Output", {"--output", "--output-format", "--data"});
+    bpm::tools::group_options(app, "Target (one of)", {"--levels", "--tolerance", "--max-level"});
+    bpm::tools::group_options(app, "Volume", {"--volume", "--no-smooth", "--remedy-min-dihedral"});
+    bpm::tools::group_options(app, "Advanced", {"--no-verify", "--allow-intersections"});
     bpm::tools::add_examples(app, {"bpm-refine femur.bpm --levels 2 -o fine.vtu --data",
                                    "bpm-refine femur.bpm --tolerance 0.001 -o adaptive.off",
                                    "bpm-refine femur.tet.bpm --volume --levels 1 -o fine.msh"});
