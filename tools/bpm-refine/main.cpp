@@ -79,7 +79,7 @@ int main(int argc, char** argv) {
     CLI::App app{
         "Refine the coarse surface of a .bpm file: uniformly (--levels K, 4^K triangles per coarse triangle) or\n"
         "adaptively (--tolerance T), placing every new vertex at phi of its parameter position, i.e. on the\n"
-        "original surface. Output format by extension: .off .obj .ply .stl .vtu, or .bpm (the refined surface\n"
+        "original surface. Output format by extension: .off .obj .ply .stl .msh .vtu, or .bpm (the refined surface\n"
         "with its own phi; see spec/refinement.md).",
         tool};
     std::string input, output, format;
@@ -88,10 +88,10 @@ int main(int argc, char** argv) {
     double tolerance = 0;
     bool data = false, verbose = false, quiet = false, deterministic = false, no_verify = false;
     app.add_option("INPUT", input, "Input .bpm file, or - for standard input")->required();
-    app.add_option("-o,--output", output, "Output file (.off .obj .ply .stl .vtu .bpm), or - for standard output")
+    app.add_option("-o,--output", output, "Output file (.off .obj .ply .stl .msh .vtu .bpm), or - for standard output")
         ->required();
     bpm::tools::add_format_option(app, format, "output",
-                                  "Output format if the name does not tell (needed for -): off obj ply stl vtu bpm; "
+                                  "Output format if the name does not tell (needed for -): off obj ply stl msh vtu bpm; "
                                   "--volume: bpm msh vtu mesh");
     auto* lv = app.add_option("--levels", levels, "Uniform refinement: each coarse triangle into 4^K triangles (0..10)")
                    ->check(CLI::Range(0, 10));
@@ -147,12 +147,11 @@ int main(int argc, char** argv) {
         if (output == "-" && format.empty()) throw CLI::ValidationError("--output-format", "writing to '-' needs --output-format (e.g. --output-format off)");
         const bool is_bpm = kind == "bpm", is_vtu = kind == "vtu";
         const auto surface_format = bpm::surface_format_from_name(kind);
-        if (!is_bpm && !is_vtu && (!surface_format || *surface_format == bpm::SurfaceFormat::Msh ||
-                                        *surface_format == bpm::SurfaceFormat::Vtk ||
+        if (!is_bpm && !is_vtu && (!surface_format || *surface_format == bpm::SurfaceFormat::Vtk ||
                                         *surface_format == bpm::SurfaceFormat::Vtp ||
                                         *surface_format == bpm::SurfaceFormat::Surf))
             throw CLI::ValidationError("--output", "unknown output format '" + kind +
-                                                       "' (use .off .obj .ply .stl .vtu .bpm or --output-format)");
+                                                       "' (use .off .obj .ply .stl .msh .vtu .bpm or --output-format)");
         if (is_bpm) bpm::tools::refuse_binary_to_terminal(output, "binary .bpm (HDF5) data");
         if (surface_format && (*surface_format == bpm::SurfaceFormat::Stl || *surface_format == bpm::SurfaceFormat::Ply))
             bpm::tools::refuse_binary_to_terminal(output, "binary " + kind + " data");
@@ -160,6 +159,8 @@ int main(int argc, char** argv) {
         const bpm::Context context = bpm::tools::make_context(tool, verbose, quiet);
 
         bpm::BpmFile file = bpm::read_bpm(input);
+        if (file.tetmesh && !is_bpm)
+            context.info("refining the surface; the file's tetrahedral mesh is refined with --volume");
         const bpm::Parametrization& param = file.param;
         bpm::RefinedSurface refined;
         const bpm::RefineResult result = bpm::refine(param, options, context, refined);

@@ -23,7 +23,9 @@ std::optional<TetMeshFormat> tetmesh_format_from_path(const std::string& path);
 //          "region_<id>"); one surface entity per patch (physical tag = patch id + 1, as
 //          Gmsh and its readers take tag 0 for "no physical group"; named by
 //          `patch_info`'s name if it has one, else "patch_<id>"); tets (type 4) and
-//          boundary triangles (type 2); node tags = index+1
+//          boundary triangles (type 2); node tags = index+1; a last section
+//          $BpmPatchIds (other readers skip it) from which bpm's MSH reader takes
+//          patch = physical tag - 1 (see bpm/surface_io.h)
 //   Vtu    VTK XML UnstructuredGrid, ASCII: tetrahedra (type 10) with cell data "region"
 //          and, with materials, "material" (the id; the names are in the .bpm, MSH
 //          and MEDIT outputs: meshio 5 refuses a VTK string array); "ancestor" if

@@ -14,9 +14,12 @@
 
 namespace bpm::detail {
 
-// Gmsh MSH 4.1 ASCII. Surface: one surface entity per patch (tags 1, 2, ... in increasing
-// patch order) whose physical tag is the patch id, one element block per run of
-// consecutive triangles of one patch, so that the triangle order is kept exactly.
+// Gmsh MSH 4.1 ASCII; surface and tet mesh alike give patch p the physical tag p + 1
+// (Gmsh and its readers take tag 0 as "no physical group") and end with the section
+// $BpmPatchIds holding 1, from which bpm's reader takes the patch ids back. Surface: one
+// surface entity per patch (tags 1, 2, ... in increasing patch order), physical names
+// "patch_<id>", one element block per run of consecutive triangles of one patch, so that
+// the triangle order is kept exactly.
 std::string msh_of_surface(const Surface& surface);
 // Tetrahedral mesh: see write_tetmesh in bpm/write_tetmesh.h.
 std::string msh_of_tetmesh(const TetMesh& mesh, const std::vector<PatchInfo>& patch_info);

@@ -44,6 +44,9 @@ struct MshModel {
     const std::vector<Vec3>* nodes = nullptr;     // all in one block, on entity (node_dim, 1)
     int node_dim = 0;
     std::vector<MshBlock> blocks;  // element tags 1, 2, ... in block order
+    // The physical tag of patch 0, written as the section $BpmPatchIds that bpm's reader
+    // uses to give back the patch ids (io/read_msh.cpp) and other readers skip.
+    int patch_offset = 1;
 };
 
 std::string num(int64_t v) { return std::to_string(v); }
@@ -118,7 +121,7 @@ std::string write_msh41(const MshModel& m) {
             out += '\n';
         }
     }
-    out += "$EndElements\n";
+    out += "$EndElements\n$BpmPatchIds\n" + num(m.patch_offset) + "\n$EndBpmPatchIds\n";
     return out;
 }
 
@@ -138,8 +141,9 @@ std::string msh_of_surface(const Surface& s) {
     for (auto& [patch, entity] : entity_of_patch) entity = next_entity++;
 
     MshModel m;
+    for (const auto& [patch, entity] : entity_of_patch) m.physical_names.push_back({2, patch + 1, "patch_" + num(patch)});
     for (const auto& [patch, entity] : entity_of_patch) {
-        MshEntity e{2, entity, {0, 0, 0}, {0, 0, 0}, patch};
+        MshEntity e{2, entity, {0, 0, 0}, {0, 0, 0}, int64_t(patch) + 1};
         bool first = true;
         for (size_t t = 0; t < s.triangles.size(); ++t) {
             if (s.patches[t] != patch) continue;
