@@ -53,21 +53,19 @@ int main(int argc, char** argv) {
     const std::string tool = "bpm-check";
     CLI::App app{
         "Validates a parametrized surface (.bpm) and exits 0 only if every requested check passes.\n"
-        "Checks:\n"
-        "  format         structural consistency: sizes, index ranges, CSR offsets, finite values,\n"
-        "                 node barycentrics and identities, images equal to the points they name\n"
-        "  intersections  the coarse surface has no self-intersections (coplanar overlaps included)\n"
-        "  topology       coarse and original surface agree per component in Euler characteristic,\n"
-        "                 orientability, boundary loops, Z2 Betti numbers and non-manifold structure\n"
-        "                 (feature vertices by original id, feature lines with their sheet counts)\n"
-        "  bijectivity    phi is a bijection: pieces tile every coarse and every original triangle\n"
-        "  distortion     (a report, never fails) phi's area squeeze and normal deviation per piece,\n"
-        "                 p50/p99/max, and the pieces turned more than 60 and 90 degrees (folds)\n"
-        "  replay         (with --replay) the recorded removals (bpm-simplify --record-steps) are valid point\n"
-        "                 removals (link = boundary of the new triangles, local condition of Conjecture 2.1,\n"
-        "                 topology unchanged) and lead exactly to the coarse surface\n"
-        "  quality        (with --max-aspect / --min-angle) triangle shapes of the coarse surface\n"
-        "  distance       (with --max-error) Hausdorff distances of phi's image and of the coarse surface to S0",
+        "The checks (--checks):\n"
+        "  format         the file is consistent: sizes, indices and numbers in range, every point of\n"
+        "                 phi where it says it is (spec/bpm-format.md lists the rules)\n"
+        "  intersections  the coarse surface does not intersect itself\n"
+        "  topology       coarse and original surface have the same shape: per connected part the same\n"
+        "                 genus, orientability, boundary loops, non-manifold edges and vertices, and\n"
+        "                 the same feature vertices and lines\n"
+        "  bijectivity    phi is one-to-one and onto: its pieces exactly cover every coarse and every\n"
+        "                 original triangle\n"
+        "  replay         (with --replay) the removals stored by bpm-simplify --record-steps are each a\n"
+        "                 valid removal and together give the coarse surface\n"
+        "  quality        (with --max-aspect / --min-angle) shapes of the coarse triangles\n"
+        "  distance       (with --max-error) how far phi's image and the coarse surface are from the original",
         tool};
     std::string input;
     std::string checks = "format,intersections,topology,bijectivity,distortion";
@@ -85,8 +83,7 @@ int main(int argc, char** argv) {
                    "('all' = the first five, the default). With --surface only intersections and topology apply")
         ->capture_default_str();
     app.add_flag("--original", original,
-                 "Also check the original surface S0 for self-intersections (reported as "
-                 "'original-intersections', so a faulty input is told apart from a faulty result)");
+                 "Also check the original surface for self-intersections (reported as 'original-intersections')");
     app.add_flag("--json", json, "Print the report as JSON on standard output (format: spec/check-report.md)");
     auto* aspect_opt = app.add_option("--max-aspect", max_aspect,
                                       "Fail if a coarse triangle has aspect ratio R/r above A (2 = equilateral)")
@@ -97,22 +94,19 @@ int main(int argc, char** argv) {
     angle_opt->type_name("D");
     auto* error_opt =
         app.add_option("--max-error", max_error,
-                       "Fail if phi's image or the coarse surface is farther than E from S0 (two-sided Hausdorff "
-                       "distances, as a fraction of the bounding-box diagonal of S0; e.g. 0.005)")
+                       "Fail if phi's image or the coarse surface is farther than E from the original (fraction of "
+                       "the diagonal)")
             ->check(CLI::NonNegativeNumber);
     error_opt->type_name("E");
     app.add_option("--error-spacing", error_spacing,
-                   "Sample spacing of --max-error on every triangle, as a fraction of the diagonal (the estimate is at "
-                   "most this far below the true distance)")
+                   "Sample spacing of --max-error (fraction of the diagonal; the estimate is at most this low)")
         ->check(CLI::PositiveNumber)
         ->type_name("H")
         ->capture_default_str();
     app.add_flag("--replay", replay,
-                 "Also replay the recorded simplification steps (files written by bpm-simplify --record-steps); "
-                 "same as adding 'replay' to --checks");
+                 "Also replay the steps stored by bpm-simplify --record-steps (= 'replay' in --checks)");
     app.add_option("--replay-interval", replay_interval,
-                   "With --replay: recompute all topological invariants from scratch every K steps (0 = 4 times "
-                   "evenly spaced); they are always recomputed after the last step")
+                   "With --replay: recompute the invariants from scratch every K steps (0 = 4 times) and at the end")
         ->check(CLI::NonNegativeNumber)
         ->type_name("K")
         ->capture_default_str();
@@ -120,24 +114,23 @@ int main(int argc, char** argv) {
         ->check(CLI::NonNegativeNumber)
         ->capture_default_str();
     app.add_option("--threads", threads,
-                   "Threads for running checks side by side (0 = up to 2 as the hardware allows, 1 = one after "
-                   "the other); the report does not depend on it")
+                   "Threads for checks side by side (0 = up to 2, 1 = one after the other); the report does not "
+                   "depend on it")
         ->check(CLI::Range(0, 64))
         ->capture_default_str();
     app.add_flag("--surface", surface_mode,
-                 "FILE is a plain surface (OFF, OBJ, STL, PLY, MSH, VTK, VTP, VTU, SURF): run intersections and topology on it alone");
+                 "FILE is a plain surface (off obj stl ply msh vtk vtp vtu surf): check intersections and topology");
     bool triangulate_polygons = false;
     bpm::SurfaceReadOptions read_options;
     app.add_flag("--triangulate-polygons", triangulate_polygons,
-                 "With --surface: split faces with more than 3 corners into triangles first (as bpm-simplify's "
-                 "repair of that name)");
+                 "Split faces with more than 3 corners into triangles first");
     // The other repairs of bpm-simplify, so that the flags an error names work here too.
     app.add_flag("--merge-duplicate-vertices", read_options.merge_duplicate_vertices,
-                 "With --surface: merge vertices with identical coordinates first");
+                 "Merge vertices with identical coordinates first");
     app.add_flag("--merge-duplicate-triangles", read_options.merge_duplicate_triangles,
-                 "With --surface: fuse triangles with the same three vertices into one first");
+                 "Fuse triangles with the same three vertices first");
     app.add_flag("--drop-unreferenced-vertices", read_options.drop_unreferenced_vertices,
-                 "With --surface: drop vertices that no triangle uses first");
+                 "Drop vertices that no triangle uses first");
     bpm::tools::add_format_option(app, surface_format, "input",
                                   "Surface format for --surface when reading '-' (off, obj, stl, ply, msh, vtk, vtp, "
                                   "vtu, surf)");
@@ -145,6 +138,14 @@ int main(int argc, char** argv) {
     app.add_flag("-v,--verbose", verbose, "More detail on standard error");
     app.add_flag("-q,--quiet", quiet, "Only errors on standard error (the report still goes to standard output)");
     bpm::tools::add_version_flag(app, tool);
+    bpm::tools::group_options(app, "Checks", {"--checks", "--original", "--replay", "--surface"});
+    bpm::tools::group_options(app, "Thresholds (each adds a check)",
+                              {"--max-aspect", "--min-angle", "--max-error", "--error-spacing"});
+    bpm::tools::group_options(app, "Input repairs (with --surface)",
+                              {"--input-format", "--triangulate-polygons", "--merge-duplicate-vertices",
+                               "--merge-duplicate-triangles", "--drop-unreferenced-vertices"});
+    bpm::tools::group_options(app, "Output", {"--json", "--max-problems", "--verbose", "--quiet"});
+    bpm::tools::group_options(app, "Advanced", {"--replay-interval", "--threads"});
     bpm::tools::add_examples(app, {"bpm-check femur.bpm", "bpm-check femur.bpm --max-error 0.005 --json",
                                    "bpm-check --surface femur.off"});
 

@@ -8,6 +8,7 @@
 #include "bpm/errors.h"
 #include "bpm/tet_refine.h"
 #include "bpm/tetmesh.h"
+#include "bpm/write_tetmesh.h"
 #include "bpm/tetmesh_materials.h"
 #include "common/tool_main.h"
 
@@ -81,18 +82,16 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(0, 8));
     double min_volume_fraction = 0.1;
     app.add_option("--min-volume-fraction", min_volume_fraction,
-                   "With --refine: a boundary vertex is pulled back from the original surface until every "
-                   "tetrahedron around it keeps this fraction of its plain-refinement volume (0 = just positive; "
-                   "default 0.1)")
+                   "Hold a boundary vertex short of phi until its tetrahedra keep this fraction of their volume "
+                   "(default 0.1)")
         ->check(CLI::Range(0.0, 0.99));
     bool no_smooth = false;
     app.add_flag("--no-smooth", no_smooth,
-                 "Do not move vertices that are not on the surface (default: smooth them, never inverting an "
-                 "element or making the worst one around a vertex worse)");
+                 "Do not smooth the interior vertices (smoothing never inverts or worsens)");
     double remedy_min_dihedral = bpm::TetRefineOptions{}.repair.min_dihedral_degrees;
     app.add_option("--remedy-min-dihedral", remedy_min_dihedral,
-                   "With --refine: a boundary vertex also stops short of phi where it would bring a tetrahedron's "
-                   "smallest dihedral angle below this many degrees (0 = only the volume conditions; default 8)")
+                   "Hold a boundary vertex short of phi rather than bring a dihedral angle below this (degrees; "
+                   "default 8)")
         ->check(CLI::Range(0.0, 60.0));
     app.add_flag("--existing", existing, "Use the tetrahedral mesh already in INPUT instead of running TetGen");
     app.add_flag("--flat", flat, "With --refine: leave new boundary vertices on the coarse surface (red refinement of the boundary)");
@@ -100,11 +99,15 @@ int main(int argc, char** argv) {
     app.add_flag("--keep-temporary", options.keep_temporary, "Keep TetGen's input and output files (path on stderr)");
     std::vector<std::string> material_args;
     app.add_option("--material", material_args,
-                   "REGION=NAME: region REGION (an id the log and --json list) is material NAME; repeatable, "
-                   "overrides what the input says")
+                   "Name region REGION (an id from the log or --json) material NAME; repeatable")
         ->type_name("REGION=NAME");
     app.add_flag("--json", json, "Print a JSON report (counts, timings, region volumes, quality) on standard output");
     bpm::tools::add_output_tool_flags(app, tool, deterministic, verbose, quiet);
+    bpm::tools::group_options(app, "Output", {"--output", "--output-format", "--json"});
+    bpm::tools::group_options(app, "Quality", {"--quality", "--min-dihedral", "--max-volume", "--time-limit"});
+    bpm::tools::group_options(app, "Refinement", {"--refine", "--flat", "--min-volume-fraction", "--remedy-min-dihedral"});
+    bpm::tools::group_options(app, "Regions", {"--material"});
+    bpm::tools::group_options(app, "Advanced", {"--no-smooth", "--existing", "--tetgen", "--keep-temporary"});
     bpm::tools::add_examples(app, {"bpm-mesh femur.bpm -o femur.tet.bpm",
                                    "bpm-mesh femur.bpm -o femur.msh --refine 1 --time-limit 600 --json"});
 

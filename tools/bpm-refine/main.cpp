@@ -12,6 +12,8 @@
 #include "bpm/refine.h"
 #include "bpm/tet_refine.h"
 #include "bpm/tetmesh.h"
+#include "bpm/write_tetmesh.h"
+#include "bpm/write_vtu.h"
 #include "bpm/surface_io.h"
 #include "common/tool_main.h"
 
@@ -77,7 +79,7 @@ int main(int argc, char** argv) {
     CLI::App app{
         "Refine the coarse surface of a .bpm file: uniformly (--levels K, 4^K triangles per coarse triangle) or\n"
         "adaptively (--tolerance T), placing every new vertex at phi of its parameter position, i.e. on the\n"
-        "original surface. Output format by extension: .off .obj .ply .stl .vtu, or .bpm (the refined surface\n"
+        "original surface. Output format by extension: .off .obj .ply .stl .msh .vtu, or .bpm (the refined surface\n"
         "with its own phi; see spec/refinement.md).",
         tool};
     std::string input, output, format;
@@ -86,11 +88,11 @@ int main(int argc, char** argv) {
     double tolerance = 0;
     bool data = false, verbose = false, quiet = false, deterministic = false, no_verify = false;
     app.add_option("INPUT", input, "Input .bpm file, or - for standard input")->required();
-    app.add_option("-o,--output", output, "Output file (.off .obj .ply .stl .vtu .bpm), or - for standard output")
+    app.add_option("-o,--output", output, "Output file (.off .obj .ply .stl .msh .vtu .bpm), or - for standard output")
         ->required();
     bpm::tools::add_format_option(app, format, "output",
-                                  "Output format when it cannot be told from the name (needed for '-o -'): off, obj, "
-                                  "ply, stl, vtu, bpm; with --volume bpm, msh, vtu, mesh");
+                                  "Output format if the name does not tell (needed for -): off obj ply stl msh vtu bpm; "
+                                  "--volume: bpm msh vtu mesh");
     auto* lv = app.add_option("--levels", levels, "Uniform refinement: each coarse triangle into 4^K triangles (0..10)")
                    ->check(CLI::Range(0, 10));
     auto* tol = app.add_option("--tolerance", tolerance,
@@ -101,33 +103,29 @@ int main(int argc, char** argv) {
     app.add_option("--max-level", options.max_level, "Adaptive: at most this many levels (default 8)")
         ->check(CLI::Range(0, 10));
     app.add_flag("--data", data,
-                 "Carry vertex data of the original surface onto the refined vertices (VTU point data): every data "
-                 "array of the input surface (PLY vertex properties, VTK point data; stored in the .bpm file) and the "
-                 "vertex normals of S0, interpolated through phi, plus the parameter position and the original triangle");
+                 "VTU output: the original's vertex data and normals through phi as point data (and where each "
+                 "vertex lies)");
     bool volume = false;
     app.add_flag("--volume", volume,
-                 "Refine the tetrahedral mesh stored in the file (made by bpm-mesh) instead of the surface: red "
-                 "refinement, --levels times; boundary vertices go to phi, pulled back where a tetrahedron would "
-                 "invert or flatten; the interior vertices are smoothed after every level. Output .bpm .msh .vtu "
-                 ".mesh");
+                 "Refine the file's tetrahedral mesh (from bpm-mesh) --levels times; output .bpm .msh .vtu .mesh");
     bool no_smooth = false;
     app.add_flag("--no-smooth", no_smooth,
-                 "--volume: do not smooth the interior vertices (default: smooth them after every level, never "
-                 "inverting an element or making the worst one around a vertex worse)");
+                 "Do not smooth the interior vertices after every level (smoothing never inverts or worsens)");
     double remedy_min_dihedral = bpm::TetRefineOptions{}.repair.min_dihedral_degrees;
     auto* remedy = app.add_option("--remedy-min-dihedral", remedy_min_dihedral,
-                   "--volume: a boundary vertex also stops short of phi where it would bring a tetrahedron's "
-                   "smallest dihedral angle below this many degrees (0 = keep volumes positive only; default 8)")
+                   "Hold a boundary vertex short of phi rather than bring a dihedral angle below this (degrees; "
+                   "default 8)")
         ->check(CLI::Range(0.0, 60.0));
     app.add_flag("--no-verify", no_verify,
-                 ".bpm output: skip the checks run before writing (format, intersections, topology, bijectivity; "
-                 "faster)");
+                 ".bpm output: skip the checks run before writing (faster)");
     bool allow_intersections = false;
     app.add_flag("--allow-intersections", allow_intersections,
-                 "Place every new vertex at phi even where the refined surface then intersects itself. By default "
-                 "such vertices are held back towards the coarse surface (halving the distance until no triangles "
-                 "intersect); the summary says how many and how far");
+                 "Place every new vertex at phi even where the surface then intersects itself (default: hold back)");
     bpm::tools::add_output_tool_flags(app, tool, deterministic, verbose, quiet);
+    bpm::tools::group_options(app, "Output", {"--output", "--output-format", "--data"});
+    bpm::tools::group_options(app, "Target (one of)", {"--levels", "--tolerance", "--max-level"});
+    bpm::tools::group_options(app, "Volume", {"--volume", "--no-smooth", "--remedy-min-dihedral"});
+    bpm::tools::group_options(app, "Advanced", {"--no-verify", "--allow-intersections"});
     bpm::tools::add_examples(app, {"bpm-refine femur.bpm --levels 2 -o fine.vtu --data",
                                    "bpm-refine femur.bpm --tolerance 0.001 -o adaptive.off",
                                    "bpm-refine femur.tet.bpm --volume --levels 1 -o fine.msh"});
@@ -149,12 +147,11 @@ int main(int argc, char** argv) {
         if (output == "-" && format.empty()) throw CLI::ValidationError("--output-format", "writing to '-' needs --output-format (e.g. --output-format off)");
         const bool is_bpm = kind == "bpm", is_vtu = kind == "vtu";
         const auto surface_format = bpm::surface_format_from_name(kind);
-        if (!is_bpm && !is_vtu && (!surface_format || *surface_format == bpm::SurfaceFormat::Msh ||
-                                        *surface_format == bpm::SurfaceFormat::Vtk ||
+        if (!is_bpm && !is_vtu && (!surface_format || *surface_format == bpm::SurfaceFormat::Vtk ||
                                         *surface_format == bpm::SurfaceFormat::Vtp ||
                                         *surface_format == bpm::SurfaceFormat::Surf))
             throw CLI::ValidationError("--output", "unknown output format '" + kind +
-                                                       "' (use .off .obj .ply .stl .vtu .bpm or --output-format)");
+                                                       "' (use .off .obj .ply .stl .msh .vtu .bpm or --output-format)");
         if (is_bpm) bpm::tools::refuse_binary_to_terminal(output, "binary .bpm (HDF5) data");
         if (surface_format && (*surface_format == bpm::SurfaceFormat::Stl || *surface_format == bpm::SurfaceFormat::Ply))
             bpm::tools::refuse_binary_to_terminal(output, "binary " + kind + " data");
@@ -162,6 +159,8 @@ int main(int argc, char** argv) {
         const bpm::Context context = bpm::tools::make_context(tool, verbose, quiet);
 
         bpm::BpmFile file = bpm::read_bpm(input);
+        if (file.tetmesh && !is_bpm)
+            context.info("refining the surface; the file's tetrahedral mesh is refined with --volume");
         const bpm::Parametrization& param = file.param;
         bpm::RefinedSurface refined;
         const bpm::RefineResult result = bpm::refine(param, options, context, refined);
@@ -261,7 +260,7 @@ int main(int argc, char** argv) {
             }
             cell_data.push_back(std::move(ct));
             cell_data.push_back(std::move(lvl));
-            bpm::write_vtu(output, refined.surface, point_data, cell_data);
+            bpm::write_surface_vtu(output, refined.surface, point_data, cell_data);
         } else {
             bpm::write_surface(output, refined.surface, surface_format);
         }

@@ -22,95 +22,99 @@ int main(int argc, char** argv) {
     bpm::SurfaceReadOptions read_options;
     bool verbose = false, quiet = false, allow_intersections = false, deterministic = false;
     std::string units;
+    // Help: one plain line per option (default and unit in it), grouped by what a user
+    // wants to set; the tuning internals under "Advanced".
     app.add_option("INPUT", inputs,
-                   "Input surface (.off .obj .stl .ply .msh .vtk .vtp .vtu .surf), or - for standard input. Several inputs "
-                   "(e.g. one closed surface per material) are simplified together as one surface; the patches of "
-                   "different inputs are kept apart")
+                   "Input surface(s): .off .obj .stl .ply .msh .vtk .vtp .vtu .surf, or -; several (one per "
+                   "material) are simplified as one")
         ->required();
-    app.add_option("-o,--output", output, "Output .bpm file, or - for standard output")->required();
-    bpm::tools::add_format_option(app, format, "input",
-                                  "Input format when it cannot be told from the name (needed for standard input): off, "
-                                  "obj, stl, ply, msh, vtk (legacy VTK), vtp, vtu (VTK XML), surf (Amira HyperSurface)");
-    app.add_option("--vertices", options.target_vertices, "Stop when the coarse surface has this many vertices")
-        ->check(CLI::NonNegativeNumber);
-    app.add_option("--ratio", options.target_ratio,
-                   "Stop at this fraction of the input vertices (0..1; e.g. 0.1 keeps 10%)")
-        ->check(bpm::tools::decimal_range(0.0, 1.0, true, false, "0.1"));
+    const std::string target = "Target (the first one reached stops)", quality = "Quality",
+                      features = "Features", repairs = "Input repairs (each is reported)", output_group = "Output",
+                      advanced = "Advanced";
+    app.add_option("--vertices", options.target_vertices, "Stop at this many coarse vertices")
+        ->check(CLI::NonNegativeNumber)
+        ->group(target);
+    app.add_option("--ratio", options.target_ratio, "Stop at this fraction of the input vertices (0..1, e.g. 0.1)")
+        ->check(bpm::tools::decimal_range(0.0, 1.0, true, false, "0.1"))
+        ->group(target);
     app.add_option("--max-error", options.max_error,
-                   "Never let max |phi(x) - x| exceed this fraction of the bounding-box diagonal (e.g. 0.005)")
-        ->check(CLI::NonNegativeNumber);
-    app.add_option("--max-edge-length", options.max_edge_length,
-                   "Longest edge a removal may create, as a fraction of the bounding-box diagonal")
-        ->check(CLI::PositiveNumber);
+                   "Stop before max |phi(x) - x| exceeds this (fraction of the bounding-box diagonal, e.g. 0.005)")
+        ->check(CLI::NonNegativeNumber)
+        ->group(target);
     app.add_option("--max-aspect", options.max_aspect_ratio,
-                   "Refuse removals that create a triangle with circumradius/inradius above this (2 = equilateral; "
-                   "default 30), unless the removed triangles were worse")
-        ->check(CLI::Range(2.0, 1e300));
+                   "Refuse triangles with circumradius/inradius above this (default 30; 2 = equilateral)")
+        ->check(CLI::Range(2.0, 1e300))
+        ->group(quality);
+    app.add_option("--max-edge-length", options.max_edge_length,
+                   "Longest edge a removal may create (fraction of the bounding-box diagonal; default none)")
+        ->check(CLI::PositiveNumber)
+        ->group(quality);
     app.add_option("--max-normal-deviation", options.max_normal_deviation_degrees,
-                   "Refuse removals after which some coarse triangle would carry a piece of the original surface "
-                   "turned by more than this many degrees from it (angle between the normals; above 90 the original "
-                   "folds back over the coarse triangle). Such pieces are squeezed by phi, and surfaces refined "
-                   "through phi converge to them slowly. Default 180 = off")
-        ->check(CLI::Range(0.0, 180.0));
+                   "Refuse coarse triangles whose piece of the original turns more than this (degrees; default 180 = off)")
+        ->check(CLI::Range(0.0, 180.0))
+        ->group(quality);
     app.add_option("--distortion-weight", options.distortion_weight,
-                   "Weight of phi's distortion in the cost: removals that leave a piece of the original turned more "
-                   "than 45 degrees from its coarse triangle cost more, those past --fold-limit come after all others "
-                   "(e.g. 0.3; default 0 = off: it cost up to 1.22x the Hausdorff distance at 10 %)")
-        ->check(CLI::NonNegativeNumber);
+                   "Make removals that turn pieces of the original past 45 degrees cost more (e.g. 0.3; default 0 = off)")
+        ->check(CLI::NonNegativeNumber)
+        ->group(quality);
     app.add_option("--fold-limit", options.fold_limit_degrees,
-                   "Removals turning a piece of the original more than this many degrees from its coarse triangle "
-                   "(a fold of phi) are made only when the target cannot be reached otherwise (default 180 = off: 90 "
-                   "costs up to 4.6x the Hausdorff distance on scanned surfaces)")
-        ->check(CLI::Range(0.0, 180.0));
-    app.add_option("--aspect-weight", options.aspect_weight,
-                   "Weight of triangle shape (circumradius/inradius) against geometric error in the cost (default 1)")
-        ->check(CLI::NonNegativeNumber);
-    app.add_option("--queue-tolerance", options.queue_tolerance,
-                   "Remove the best candidate at once if its full cost is at most this fraction above the next "
-                   "candidate's estimate, instead of putting it back in the queue (default 0.1; 0 with "
-                   "--one-removal-per-step = strict cost order, a few percent slower, results about as good)")
-        ->check(CLI::Range(0.0, 10.0));
-    bool one_removal_per_step = false;
-    app.add_flag("--one-removal-per-step", one_removal_per_step,
-                 "Remove one vertex per step. By default a step also removes the best of the next few candidates "
-                 "outside the first one's neighbourhood when the first removal leaves its plan unchanged; the two "
-                 "share the threads' work (about 10 % faster, results about as good)");
-    app.add_option("--feature-angle", options.feature_angle_degrees,
-                   "Keep edges whose normals differ by more than this many degrees as feature lines (default 60; "
-                   "180 = off). Boundaries, patch borders and edges of 3 or more sheets are always kept")
-        ->check(CLI::Range(0.0, 180.0));
-    bool no_keep_corners = false;
-    app.add_flag("--no-keep-corners", no_keep_corners,
-                 "Let corners of creases go when the error allows. By default a vertex where three or more sharp "
-                 "edges (creases, boundaries, patch borders) meet, such as a corner of a box, or where a crease ends "
-                 "at a sharp tip, is never removed, like the ends and junctions of boundaries and patch borders; "
-                 "a vertex target below their number is then not reached (the summary says so)");
+                   "Turn pieces past this (a fold of phi) only when the target needs it (degrees; default 180 = off)")
+        ->check(CLI::Range(0.0, 180.0))
+        ->group(quality);
     app.add_flag("--allow-intersections", allow_intersections,
-                 "Do not refuse removals that make the surface intersect itself (faster; output may be unusable "
-                 "for mesh generators)");
+                 "Allow removals that make the surface intersect itself (faster; bad for mesh generators)")
+        ->group(quality);
     bool allow_bad_input = false;
     app.add_flag("--allow-self-intersecting-input", allow_bad_input,
-                 "Simplify an input that intersects itself instead of refusing it (the output will intersect "
-                 "itself too and fail bpm-check)");
+                 "Simplify an input that intersects itself (the output will fail bpm-check)")
+        ->group(quality);
+    app.add_option("--feature-angle", options.feature_angle_degrees,
+                   "Keep edges whose normals differ by more than this as feature lines (degrees; default 60, 180 = off)")
+        ->check(CLI::Range(0.0, 180.0))
+        ->group(features);
+    bool no_keep_corners = false;
+    app.add_flag("--no-keep-corners", no_keep_corners,
+                 "Let corners (3+ sharp edges meeting, crease tips) go when the error allows; by default they stay")
+        ->group(features);
+    bpm::tools::add_format_option(app, format, "input",
+                                  "Input format when the name does not tell (needed for -): off obj stl ply msh vtk "
+                                  "vtp vtu surf")
+        ->group(repairs);
     app.add_flag("--merge-duplicate-vertices", read_options.merge_duplicate_vertices,
-                 "Repair: merge input vertices with identical coordinates (reported)");
+                 "Merge input vertices with identical coordinates")
+        ->group(repairs);
     app.add_flag("--merge-duplicate-triangles", read_options.merge_duplicate_triangles,
-                 "Repair: fuse triangles with the same three vertices into one; with one closed surface per material "
-                 "(and --merge-duplicate-vertices) each shared interface becomes a patch of its own (reported)");
+                 "Fuse triangles with the same three vertices (shared interfaces of per-material files become patches)")
+        ->group(repairs);
     app.add_flag("--drop-unreferenced-vertices", read_options.drop_unreferenced_vertices,
-                 "Repair: drop input vertices that no triangle uses (reported)");
+                 "Drop input vertices that no triangle uses")
+        ->group(repairs);
     app.add_flag("--triangulate-polygons", read_options.triangulate_polygons,
-                 "Repair: split faces with more than 3 corners (OFF, OBJ, PLY, VTK; e.g. quads of CAD exports) into "
-                 "triangles by ear clipping in the face's plane (reported)");
-    app.add_option("--units", units, "Length unit of the coordinates, recorded in the file (e.g. mm)");
-    app.add_option("--threads", options.threads,
-                   "Threads (default 0 = automatic: 2 unless every core is busy, judged by the 1-minute load average; "
-                   "else 1). Two take about 1.2x less time and 1.5x more CPU time; the output does not depend on it")
-        ->check(CLI::Range(0, 64));
-    app.add_flag("--trace", options.trace_removals, "With -v: one line per removed vertex (cost, error, aspect ratio)");
+                 "Split faces with more than 3 corners (OFF OBJ PLY VTK) into triangles")
+        ->group(repairs);
+    app.add_option("-o,--output", output, "Output .bpm file, or - for standard output")->required()->group(output_group);
+    app.add_option("--units", units, "Length unit of the coordinates, recorded in the file (e.g. mm)")->group(output_group);
     app.add_flag("--record-steps", options.record_steps,
-                 "Store the sequence of removals in the file (/simplification_steps, spec/bpm-format.md), so that "
-                 "bpm-check --replay can re-apply and verify them");
+                 "Store the removals in the file so that bpm-check --replay can verify them")
+        ->group(output_group);
+    app.add_option("--aspect-weight", options.aspect_weight,
+                   "Weight of triangle shape against geometric error in the cost (default 1)")
+        ->check(CLI::NonNegativeNumber)
+        ->group(advanced);
+    app.add_option("--queue-tolerance", options.queue_tolerance,
+                   "Remove the best candidate at once if within this fraction of the next one's estimate (default 0.1)")
+        ->check(CLI::Range(0.0, 10.0))
+        ->group(advanced);
+    bool one_removal_per_step = false;
+    app.add_flag("--one-removal-per-step", one_removal_per_step,
+                 "One removal per step (default: also the best independent candidates; ~10 % faster)")
+        ->group(advanced);
+    app.add_option("--threads", options.threads,
+                   "Threads (default 0 = 2, or 1 when every core is busy); the output does not depend on it")
+        ->check(CLI::Range(0, 64))
+        ->group(advanced);
+    app.add_flag("--trace", options.trace_removals, "With -v: one line per removed vertex (cost, error, aspect ratio)")
+        ->group(advanced);
     bpm::tools::add_output_tool_flags(app, tool, deterministic, verbose, quiet);
     bpm::tools::add_examples(app, {"bpm-simplify femur.off -o femur.bpm --ratio 0.1",
                                    "bpm-simplify bone.stl marrow.stl -o bone.bpm --vertices 2000 "

@@ -21,19 +21,23 @@ int main(int argc, char** argv) {
     app.add_option("--iterations", options.iterations, "At most this many sweeps over all pairs (default 10)")
         ->check(CLI::NonNegativeNumber);
     app.add_option("--tolerance", options.tolerance,
-                   "Stop when no vertex moved more than this fraction of its pair's edge length in a sweep "
-                   "(default 0.001)")
+                   "Stop when no vertex moved more than this in a sweep (fraction of its pair's edge length; "
+                   "default 0.001)")
         ->check(CLI::NonNegativeNumber);
     app.add_option("--feature-angle", options.feature_angle_degrees,
                    "Leave coarse edges along original edges sharper than this many degrees alone (default 60)")
         ->check(CLI::Range(0.0, 180.0));
     std::string weights = "mean-value";
     app.add_option("--weights", weights,
-                   "How original vertices are placed among their neighbours: mean-value (Floater 2003, default) or "
-                   "shape-preserving (Floater 1997; for comparison, does not converge as well)")
+                   "Placement of original vertices among their neighbours: mean-value (default) or "
+                   "shape-preserving (converges less well)")
         ->check(CLI::IsMember({"shape-preserving", "mean-value"}));
     app.add_flag("--no-quality", no_quality, "Do not measure the refined-triangle quality before and after");
     bpm::tools::add_output_tool_flags(app, tool, deterministic, verbose, quiet);
+    bpm::tools::group_options(app, "Output", {"--output"});
+    bpm::tools::group_options(app, "Stopping", {"--iterations", "--tolerance"});
+    bpm::tools::group_options(app, "Features", {"--feature-angle"});
+    bpm::tools::group_options(app, "Advanced", {"--weights", "--no-quality"});
     bpm::tools::add_examples(app, {"bpm-smooth coarse.bpm -o smooth.bpm",
                                    "bpm-smooth coarse.bpm -o smooth.bpm --iterations 20 -v   (with the breakdown)"});
 

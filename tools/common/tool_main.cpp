@@ -325,10 +325,15 @@ void add_version_flag(CLI::App& app, const std::string& tool) {
 
 void add_output_tool_flags(CLI::App& app, const std::string& tool, bool& deterministic, bool& verbose, bool& quiet) {
     app.add_flag("--deterministic", deterministic,
-                 "Leave the timestamp out of the provenance (byte-identical output for identical input)");
-    app.add_flag("-v,--verbose", verbose, "More detail on standard error");
-    app.add_flag("-q,--quiet", quiet, "Only errors on standard error");
+                 "Leave the timestamp out of the provenance (byte-identical output for identical input)")
+        ->group("Output");
+    app.add_flag("-v,--verbose", verbose, "More detail on standard error")->group("Output");
+    app.add_flag("-q,--quiet", quiet, "Only errors on standard error")->group("Output");
     add_version_flag(app, tool);
+}
+
+void group_options(CLI::App& app, const std::string& group, const std::vector<std::string>& names) {
+    for (const std::string& name : names) app.get_option(name)->group(group);
 }
 
 void require_output_directory(const std::string& path) {

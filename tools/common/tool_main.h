@@ -72,6 +72,10 @@ void add_version_flag(CLI::App& app, const std::string& tool);
 // -q/--quiet and --version.
 void add_output_tool_flags(CLI::App& app, const std::string& tool, bool& deterministic, bool& verbose, bool& quiet);
 
+// Puts the options named (any of their names, e.g. "--levels") in the --help group
+// `group`; groups are listed in the order of their first option. Unknown names throw.
+void group_options(CLI::App& app, const std::string& group, const std::vector<std::string>& names);
+
 // The one name for a file format option in every tool: --input-format (direction
 // "input") or --output-format ("output"), as meshio names them. The old --format is kept
 // as a deprecated alias with this tool's meaning (a warning names the new option).

@@ -124,17 +124,6 @@ std::vector<Vec3> vertex_normals(const Surface& surface);
 std::vector<double> transfer_vertex_data(const RefinedSurface& refined, const Surface& original,
                                          const std::vector<double>& data, int components);
 
-// Named data arrays for write_vtu.
-struct VtuArray {
-    std::string name;
-    int components = 1;
-    std::vector<double> values;  // #elements * components, row-major
-};
-
-// Writes an unstructured grid of triangles as VTK XML (.vtu, ASCII), atomically; "-"
-// writes standard output. Patch ids are written as the Int32 cell array "patch".
-// \throw bpm::OutputError
-void write_vtu(const std::string& path, const Surface& surface, const std::vector<VtuArray>& point_data,
-               const std::vector<VtuArray>& cell_data);
+// Writing the refined surface with point data: write_surface_vtu in bpm/write_vtu.h.
 
 }  // namespace bpm

@@ -37,6 +37,8 @@
 //   MSH  2.2: the first element tag (physical); 4.1: the first physical tag of the
 //        element's entity in $Entities; 0 when there is none. $PhysicalNames of
 //        dimension 2 name the patches (patch_info; "A|B" or "pair_A_B" names give materials).
+//        A file with the section $BpmPatchIds holding k (as bpm writes, k = 1) has patch
+//        = physical tag - k, names too; a triangle tagged below k is an error.
 //   VTK  the first such integer-valued 1-component cell array (SCALARS or FIELD); the
 //        triangles of a strip or polygon keep their cell's id. Details in read_vtk.cpp.
 // Polygons (faces with more than three corners) are refused in every format, never
@@ -69,7 +71,7 @@
 namespace bpm {
 
 // Vtp, Vtu: VTK XML PolyData / UnstructuredGrid, read only (bpm-refine writes .vtu with
-// its own writer, write_vtu in bpm/refine.h). Surf: Amira HyperSurface, read only.
+// its own writer, write_surface_vtu in bpm/write_vtu.h). Surf: Amira HyperSurface, read only.
 enum class SurfaceFormat { Off, Obj, Stl, Ply, Msh, Vtk, Vtp, Vtu, Surf };
 
 // "off", "obj", "stl", "ply", "msh", "vtk", "vtp", "vtu", "surf" (case-insensitive) -> format; nullopt otherwise.
@@ -147,7 +149,8 @@ Surface read_surface_from_memory(const std::string& bytes, SurfaceFormat format,
                                  const SurfaceReadOptions& options = {}, SurfaceReadReport* report = nullptr);
 
 // Writes OFF, OBJ (patches as `g patch_N`), STL (binary), PLY (binary little endian with
-// an int `patch` face property when a triangle is not in patch 0) or MSH 4.1 ASCII (patches as physical tags), atomically
+// an int `patch` face property when a triangle is not in patch 0) or MSH 4.1 ASCII (patch p as physical tag p + 1 named "patch_<p>",
+// and a section $BpmPatchIds from which bpm reads the patch ids back), atomically
 // (not VTK, VTP, VTU or SURF: an OutputError):
 // to a temporary name in the same directory, renamed when complete. "-" writes stdout.
 // Output is deterministic; text formats write doubles with 17 significant digits, so

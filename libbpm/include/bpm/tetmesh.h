@@ -150,31 +150,6 @@ TetMeshStats tetmesh_stats(const TetMesh& mesh);
 // phi's pieces. Compares the meshed volume with the volume of the original surface.
 std::vector<double> region_volumes_on_original(const Parametrization& param, const TetMesh& mesh);
 
-// --- export -------------------------------------------------------------------
-
-enum class TetMeshFormat { Bpm, Msh, Vtu, Medit };
-// "bpm", "msh", "vtu", "mesh" (case-insensitive) -> format; nullopt otherwise.
-std::optional<TetMeshFormat> tetmesh_format_from_name(const std::string& name);
-std::optional<TetMeshFormat> tetmesh_format_from_path(const std::string& path);
-
-// Writes `mesh` atomically ("-" = standard output) as
-//   Msh    Gmsh MSH 4.1 ASCII: one volume entity per region, its physical tag the region's
-//          material id named by the material (without materials: tag = region id, name
-//          "region_<id>"); one surface entity per patch (physical tag = patch id, named by
-//          `patch_info`'s name if it has one, else "patch_<id>"); tets (type 4) and
-//          boundary triangles (type 2); node tags = index+1
-//   Vtu    VTK XML UnstructuredGrid, ASCII: tetrahedra (type 10) with cell data "region"
-//          and, with materials, "material" (the id) and field data "material_names" (a
-//          string array, entry id-1 names material id); "ancestor" if present; point
-//          data "coarse_vertex"
-//   Medit  INRIA .mesh (MeshVersionFormatted 2): Vertices (ref 1 on S, 0 inside),
-//          Tetrahedra with ref = material id (region id without materials; comment lines
-//          "# material <id> <name>" name them), Triangles with ref = patch
-// The .bpm format needs the whole BpmFile: use write_bpm (bpm/bpm_file.h).
-// \throw OutputError (unwritable path, or format Bpm).
-void write_tetmesh(const std::string& path, const TetMesh& mesh, TetMeshFormat format,
-                   const std::vector<PatchInfo>& patch_info = {});
-std::string write_tetmesh_to_string(const TetMesh& mesh, TetMeshFormat format,
-                                    const std::vector<PatchInfo>& patch_info = {});
+// Writing a mesh to .msh, .vtu or .mesh: bpm/write_tetmesh.h.
 
 }  // namespace bpm

@@ -14,6 +14,14 @@
 // 4.1 — the first physical tag of the element's entity in $Entities, 0 when the entity
 // has none or there is no $Entities section. (Not the entity tag: entities are a
 // meshing detail, physical groups are what a user names.)
+// Files bpm writes give patch p the physical tag p + 1 (Gmsh and its readers take tag 0
+// as "no physical group") and say so in a section of their own, which other readers skip:
+//     $BpmPatchIds
+//     1
+//     $EndBpmPatchIds
+// (the number k: the physical tag of patch p is p + k). With it, tag t is read back as
+// patch t - k, in the patches and in the names of $PhysicalNames; a tag below k is an
+// error. Without it, patch = physical tag.
 //
 // Binary files: the integer after the version line must be 1 in the file's byte order;
 // a file written on a big-endian machine is read by swapping. Only data size 8 (double
@@ -114,6 +122,12 @@ public:
             } else if (section == "PhysicalNames") {
                 read_physical_names();
                 expect_end("PhysicalNames");
+            } else if (section == "BpmPatchIds") {
+                const std::string_view value = in_.next_token();
+                const int64_t offset = in_.to_int(value, "the physical tag of patch 0 in $BpmPatchIds");
+                if (offset < 0 || offset > 1000000) in_.fail_token(value, "a small non-negative number in $BpmPatchIds");
+                patch_offset_ = static_cast<int32_t>(offset);
+                expect_end("BpmPatchIds");
             } else if (section == "MeshFormat") {
                 in_.fail_line(in_.offset_of(token), "a second $MeshFormat section");
             } else {
@@ -497,8 +511,17 @@ private:
                 s.patches[t] = it == entity_physical_.end() ? 0 : it->second;
             }
         }
+        if (patch_offset_ != 0) {
+            for (size_t t = 0; t < s.patches.size(); ++t) {
+                if (s.patches[t] < patch_offset_)
+                    in_.fail("triangle " + std::to_string(t) + " has physical tag " + std::to_string(s.patches[t]) +
+                             ", below the tag of patch 0 (" + std::to_string(patch_offset_) + ") that $BpmPatchIds gives");
+                s.patches[t] -= patch_offset_;
+            }
+        }
         for (const auto& [tag, name] : physical_names_) {
-            PatchInfo info{tag, name, {}, {}, true};
+            if (tag < patch_offset_) continue;  // not a patch of this file
+            PatchInfo info{tag - patch_offset_, name, {}, {}, true};
             if (const auto pair = materials_from_patch_name(name)) {
                 info.front = pair->first;
                 info.back = pair->second;
@@ -528,6 +551,7 @@ private:
     std::vector<std::pair<int, int>> entities_;
     std::map<std::pair<int, int>, int32_t> entity_physical_;
     std::map<int32_t, std::string> physical_names_;  // dimension 2 only
+    int32_t patch_offset_ = 0;                       // $BpmPatchIds: physical tag of patch 0
     int64_t skipped_ = 0;
 };
 

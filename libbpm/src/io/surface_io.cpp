@@ -19,14 +19,9 @@
 
 namespace bpm {
 
-namespace {
+namespace detail {
 
-std::string lower(std::string s) {
-    for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-    return s;
-}
-
-const char* format_name(SurfaceFormat f) {
+const char* surface_format_name(SurfaceFormat f) {
     switch (f) {
         case SurfaceFormat::Off: return "OFF";
         case SurfaceFormat::Obj: return "OBJ";
@@ -40,6 +35,16 @@ const char* format_name(SurfaceFormat f) {
     }
     return "?";
 }
+
+}  // namespace detail
+
+namespace {
+
+std::string lower(std::string s) {
+    for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return s;
+}
+
 
 // The start tag of a VTK XML file's <VTKFile> element (its first 200 bytes), or empty.
 std::string_view vtk_file_tag(std::string_view bytes) {
@@ -79,7 +84,7 @@ std::string sniffed_format_hint(std::string_view bytes, SurfaceFormat chosen) {
         (chosen == SurfaceFormat::Vtp || chosen == SurfaceFormat::Vtu))
         return "";
     if (!seen || *seen == chosen) return "";
-    return std::string(" (the file looks like ") + format_name(*seen) + ", not " + format_name(chosen) + ")";
+    return std::string(" (the file looks like ") + detail::surface_format_name(*seen) + ", not " + detail::surface_format_name(chosen) + ")";
 }
 
 // The merge-duplicate-triangles repair, with a note per new interface patch.
@@ -419,240 +424,6 @@ Surface read_surfaces(const std::vector<std::string>& paths, const SurfaceReadOp
         throw_surface_problems(names, "the inputs together (vertices and triangles numbered across the files in order): ",
                                problems, surface, options, validate);
     return surface;
-}
-
-// ---- writing ----------------------------------------------------------------------
-
-namespace {
-
-void appendf(std::string& out, const char* format, ...) __attribute__((format(printf, 2, 3)));
-void appendf(std::string& out, const char* format, ...) {
-    char buffer[256];
-    va_list args;
-    va_start(args, format);
-    const int n = std::vsnprintf(buffer, sizeof buffer, format, args);
-    va_end(args);
-    if (n > 0) out.append(buffer, std::min(static_cast<size_t>(n), sizeof buffer - 1));
-}
-
-// A double with 17 significant digits (like "%.17g", so it reads back to the same
-// bits) and, unlike printf, independent of the C locale's decimal separator.
-void append_double(std::string& out, double x) {
-    char buffer[40];
-    const auto result = std::to_chars(buffer, buffer + sizeof buffer, x, std::chars_format::general, 17);
-    out.append(buffer, result.ptr);
-}
-
-// "x y z\n" after `prefix`.
-void append_point(std::string& out, const char* prefix, const Vec3& p) {
-    out += prefix;
-    for (int k = 0; k < 3; ++k) {
-        if (k > 0) out += ' ';
-        append_double(out, p[k]);
-    }
-    out += '\n';
-}
-
-template <class T>
-void put_le(std::string& out, T value) {
-    unsigned char raw[sizeof(T)];
-    std::memcpy(raw, &value, sizeof(T));
-    if (detail::InputCursor::host_is_big_endian()) std::reverse(raw, raw + sizeof(T));
-    out.append(reinterpret_cast<const char*>(raw), sizeof(T));
-}
-
-std::string write_off(const Surface& s) {
-    std::string out;
-    appendf(out, "OFF\n%d %d 0\n", s.num_vertices(), s.num_triangles());
-    for (const Vec3& p : s.vertices) append_point(out, "", p);
-    for (const Tri& t : s.triangles) appendf(out, "3 %d %d %d\n", t[0], t[1], t[2]);
-    return out;
-}
-
-std::string write_obj(const Surface& s) {
-    std::string out;
-    appendf(out, "# bpm surface: %d vertices, %d triangles; groups patch_N are patch ids\n", s.num_vertices(),
-            s.num_triangles());
-    for (const Vec3& p : s.vertices) append_point(out, "v ", p);
-    for (size_t t = 0; t < s.triangles.size(); ++t) {
-        if (t == 0 || s.patches[t] != s.patches[t - 1]) appendf(out, "g patch_%d\n", s.patches[t]);
-        const Tri& tri = s.triangles[t];
-        appendf(out, "f %d %d %d\n", tri[0] + 1, tri[1] + 1, tri[2] + 1);
-    }
-    return out;
-}
-
-std::string write_stl(const Surface& s) {
-    std::string out;
-    std::string header = "binary STL written by bpm";
-    header.resize(80, ' ');
-    out += header;
-    put_le<uint32_t>(out, static_cast<uint32_t>(s.triangles.size()));
-    for (const Tri& t : s.triangles) {
-        const Vec3 n = triangle_normal(s.vertices[t[0]], s.vertices[t[1]], s.vertices[t[2]]);
-        for (double x : n) put_le<float>(out, static_cast<float>(x));
-        for (int32_t v : t) {
-            for (double x : s.vertices[v]) put_le<float>(out, static_cast<float>(x));
-        }
-        put_le<uint16_t>(out, 0);
-    }
-    return out;
-}
-
-std::string write_ply(const Surface& s) {
-    // The per-face `patch` property only when there is more than patch 0: readers take a
-    // missing one as patch 0 (bpm's does), and meshio 5's binary PLY reader fails on any
-    // face property besides the vertex list ("numpy.int32 has no len()"), so the common
-    // one-material surface stays readable there.
-    bool patches = false;
-    for (int32_t p : s.patches) patches = patches || p != 0;
-    std::string out;
-    appendf(out,
-            "ply\nformat binary_little_endian 1.0\ncomment written by bpm\nelement vertex %d\n"
-            "property double x\nproperty double y\nproperty double z\nelement face %d\n"
-            "property list uchar int vertex_indices\n%send_header\n",
-            s.num_vertices(), s.num_triangles(), patches ? "property int patch\n" : "");
-    for (const Vec3& p : s.vertices) {
-        for (double x : p) put_le<double>(out, x);
-    }
-    for (size_t t = 0; t < s.triangles.size(); ++t) {
-        put_le<uint8_t>(out, 3);
-        for (int32_t v : s.triangles[t]) put_le<int32_t>(out, v);
-        if (patches) put_le<int32_t>(out, s.patches[t]);
-    }
-    return out;
-}
-
-// One surface entity per patch (tags 1, 2, ... in increasing patch order) whose physical
-// tag is the patch id; one element block per run of consecutive triangles of one patch,
-// so that the triangle order is kept exactly.
-std::string write_msh(const Surface& s) {
-    std::map<int32_t, int> entity_of_patch;
-    for (int32_t p : s.patches) entity_of_patch.emplace(p, 0);
-    int next_entity = 1;
-    for (auto& [patch, entity] : entity_of_patch) entity = next_entity++;
-
-    std::string out = "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Entities\n";
-    appendf(out, "0 0 %zu 0\n", entity_of_patch.size());
-    for (const auto& [patch, entity] : entity_of_patch) {
-        Vec3 lo{0, 0, 0}, hi{0, 0, 0};
-        bool first = true;
-        for (size_t t = 0; t < s.triangles.size(); ++t) {
-            if (s.patches[t] != patch) continue;
-            for (int32_t v : s.triangles[t]) {
-                const Vec3& p = s.vertices[v];
-                for (int k = 0; k < 3; ++k) {
-                    lo[k] = first ? p[k] : std::min(lo[k], p[k]);
-                    hi[k] = first ? p[k] : std::max(hi[k], p[k]);
-                }
-                first = false;
-            }
-        }
-        appendf(out, "%d ", entity);
-        for (double x : {lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]}) {
-            append_double(out, x);
-            out += ' ';
-        }
-        appendf(out, "1 %d 0\n", patch);
-    }
-    out += "$EndEntities\n$Nodes\n";
-    const int nv = s.num_vertices();
-    if (nv == 0) {
-        out += "0 0 0 0\n";
-    } else {
-        appendf(out, "1 %d 1 %d\n2 1 0 %d\n", nv, nv, nv);
-        for (int i = 1; i <= nv; ++i) appendf(out, "%d\n", i);
-        for (const Vec3& p : s.vertices) append_point(out, "", p);
-    }
-    out += "$EndNodes\n$Elements\n";
-    const size_t nt = s.triangles.size();
-    size_t runs = 0;
-    for (size_t t = 0; t < nt; ++t) runs += (t == 0 || s.patches[t] != s.patches[t - 1]) ? 1 : 0;
-    if (nt == 0) {
-        out += "0 0 0 0\n";
-    } else {
-        appendf(out, "%zu %zu 1 %zu\n", runs, nt, nt);
-    }
-    for (size_t t = 0; t < nt;) {
-        size_t end = t;
-        while (end < nt && s.patches[end] == s.patches[t]) ++end;
-        appendf(out, "2 %d 2 %zu\n", entity_of_patch[s.patches[t]], end - t);
-        for (; t < end; ++t) {
-            const Tri& tri = s.triangles[t];
-            appendf(out, "%zu %d %d %d\n", t + 1, tri[0] + 1, tri[1] + 1, tri[2] + 1);
-        }
-    }
-    out += "$EndElements\n";
-    return out;
-}
-
-}  // namespace
-
-void write_surface(const std::string& path, const Surface& surface, std::optional<SurfaceFormat> format) {
-    const std::string where = path == "-" ? "<stdout>" : path;
-    if (!format) format = surface_format_from_path(path);
-    if (!format) {
-        throw OutputError(where, path == "-" ? "the format for standard output must be given explicitly"
-                                             : "cannot tell the surface format from the file name; expected the "
-                                               "extension .off, .obj, .stl, .ply or .msh, or an explicit format");
-    }
-    if (*format == SurfaceFormat::Vtp || *format == SurfaceFormat::Vtu) {
-        throw OutputError(where, std::string("cannot write ") + format_name(*format) +
-                                     ": VTK XML is an input format here (write .off, .obj, .stl, .ply or .msh)");
-    }
-    if (*format == SurfaceFormat::Surf) {
-        // Region names would have to be made up: a bpm patch is not a pair of materials.
-        throw OutputError(where, "cannot write Amira HyperSurface (.surf): bpm reads it but writes only .off .obj .stl "
-                                 ".ply .msh");
-    }
-    // Refuse what would make a file no reader (bpm's included) can read back.
-    if (surface.patches.size() != surface.triangles.size()) {
-        throw OutputError(where, "cannot write: the surface has " + std::to_string(surface.patches.size()) +
-                                     " patch ids for " + std::to_string(surface.triangles.size()) + " triangles");
-    }
-    for (size_t t = 0; t < surface.triangles.size(); ++t) {
-        for (int32_t v : surface.triangles[t]) {
-            if (v < 0 || v >= surface.num_vertices()) {
-                throw OutputError(where, "cannot write: triangle " + std::to_string(t) + " has vertex index " +
-                                             std::to_string(v) + " out of range");
-            }
-        }
-    }
-    for (size_t v = 0; v < surface.vertices.size(); ++v) {
-        for (double x : surface.vertices[v]) {
-            if (!std::isfinite(x)) {
-                throw OutputError(where, "cannot write: vertex " + std::to_string(v) + " has a NaN or infinite coordinate");
-            }
-        }
-    }
-    if (*format == SurfaceFormat::Stl) {
-        for (size_t v = 0; v < surface.vertices.size(); ++v) {
-            for (double x : surface.vertices[v]) {
-                if (std::fabs(x) > static_cast<double>(std::numeric_limits<float>::max())) {
-                    throw OutputError(where, "cannot write STL: vertex " + std::to_string(v) +
-                                                 " has a coordinate beyond the range of float");
-                }
-            }
-        }
-    }
-    if (*format == SurfaceFormat::Vtk) {
-        // Legacy VTK is read (inputs from VTK, ParaView, Slicer) but not written: bpm writes
-        // VTK's XML .vtu where point data matters (bpm-refine --data).
-        throw OutputError(where, "cannot write legacy VTK (.vtk): bpm reads it but writes only .off .obj .stl .ply .msh");
-    }
-    std::string bytes;
-    switch (*format) {
-        case SurfaceFormat::Off: bytes = write_off(surface); break;
-        case SurfaceFormat::Obj: bytes = write_obj(surface); break;
-        case SurfaceFormat::Stl: bytes = write_stl(surface); break;
-        case SurfaceFormat::Ply: bytes = write_ply(surface); break;
-        case SurfaceFormat::Msh: bytes = write_msh(surface); break;
-        case SurfaceFormat::Vtk: break;  // refused above
-        case SurfaceFormat::Vtp:
-        case SurfaceFormat::Vtu: break;  // refused above
-        case SurfaceFormat::Surf: break;  // refused above
-    }
-    detail::write_file_atomically(path, bytes);
 }
 
 }  // namespace bpm

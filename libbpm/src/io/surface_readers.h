@@ -26,6 +26,7 @@
 #include "bpm/errors.h"
 #include "bpm/patch_info.h"
 #include "bpm/surface.h"
+#include "bpm/surface_io.h"
 
 namespace bpm::detail {
 
@@ -63,6 +64,9 @@ ReaderOutput read_vtk_xml(std::string_view bytes, const std::string& name, bool 
 std::vector<std::string> parallel_vtk_xml_sources(std::string_view bytes, const std::string& name);
 // Amira / Avizo HyperSurface (.surf), ASCII and BINARY; one patch per Patches entry.
 ReaderOutput read_surf(std::string_view bytes, const std::string& name);
+
+// "OFF", "MSH", "HyperSurface", ...: a format as messages name it.
+const char* surface_format_name(SurfaceFormat format);
 
 // A token for an error message: quoted, shortened, non-printable bytes as \xNN, so that
 // binary garbage never ends up raw in a terminal.

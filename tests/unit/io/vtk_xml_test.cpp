@@ -18,6 +18,7 @@
 #include "bpm/errors.h"
 #include "bpm/refine.h"
 #include "bpm/surface_io.h"
+#include "bpm/write_vtu.h"
 #include "test_bytes.h"
 
 using namespace bpm;
@@ -468,7 +469,7 @@ TEST_CASE("vtk xml: point data names and values", "[surface_io][vtk_xml]") {
     CHECK(has_note(report, "stored as 'a_b_2'"));
 }
 
-TEST_CASE("vtk xml: reads back what bpm-refine's write_vtu writes", "[surface_io][vtk_xml]") {
+TEST_CASE("vtk xml: reads back what bpm-refine's write_surface_vtu writes", "[surface_io][vtk_xml]") {
     Surface s;
     s.vertices = {{0.1, 0, 0}, {1, 1.0 / 3, 0}, {0, 1, 2.0 / 3}, {0, 0, 1e-300}};
     s.triangles = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
@@ -476,7 +477,7 @@ TEST_CASE("vtk xml: reads back what bpm-refine's write_vtu writes", "[surface_io
     const fs::path dir = fs::temp_directory_path() / ("bpm_vtk_xml_test_vtu_" + std::to_string(::getpid()));
     fs::create_directories(dir);
     const std::string path = (dir / "refined.vtu").string();
-    write_vtu(path, s, {{"temperature", 1, {1.5, 2.5, -3, 1e-20}}, {"bary", 3, std::vector<double>(12, 0.25)}},
+    write_surface_vtu(path, s, {{"temperature", 1, {1.5, 2.5, -3, 1e-20}}, {"bary", 3, std::vector<double>(12, 0.25)}},
               {{"level", 1, {0, 1, 2, 3}}});
     SurfaceReadReport report;
     const Surface r = read_surface(path, {}, &report);

@@ -12,7 +12,9 @@
 #include "bpm/errors.h"
 #include "bpm/patch_info.h"
 #include "bpm/surface_io.h"
+#include "bpm/write_tetmesh.h"
 #include "bpm/tetmesh.h"
+#include "bpm/write_tetmesh.h"
 #include "bpm/tetmesh_materials.h"
 #include "fixtures_surfaces.h"
 #include "test_support.h"
@@ -257,16 +259,14 @@ TEST_CASE("materials: MSH export names physical volumes by material and keeps th
     options.drop_unreferenced_vertices = true;
     SurfaceReadReport report;
     const Surface s = read_surface_from_memory(msh2, SurfaceFormat::Msh, "mesh.msh", options, &report);
-    // Read back, the physical tags are the patch ids: the patches come back shifted by one.
-    std::vector<int32_t> shifted = m.face_patches;
-    for (int32_t& p : shifted) ++p;
-    CHECK(s.patches == shifted);
+    // Read back, the patches are the same ($BpmPatchIds: patch = physical tag - 1).
+    CHECK(msh2.find("$EndElements\n$BpmPatchIds\n1\n$EndBpmPatchIds\n") != std::string::npos);
+    CHECK(s.patches == m.face_patches);
     REQUIRE(report.patch_info.size() == 3);
-    CHECK(report.patch_info[0] == PatchInfo{1, "A|Exterior", "A", "Exterior", false});
-    CHECK(report.patch_info[2] == PatchInfo{3, "pair_A_B", "A", "B", false});
+    CHECK(report.patch_info[0] == PatchInfo{0, "A|Exterior", "A", "Exterior", false});
+    CHECK(report.patch_info[2] == PatchInfo{2, "pair_A_B", "A", "B", false});
     // And they name the regions again.
     TetMesh again = two_tets();
-    for (int32_t& p : again.face_patches) ++p;
     assign_materials(again, report.patch_info);
     CHECK(region_names(again) == std::vector<std::string>{"A", "B"});
 

@@ -22,6 +22,7 @@
 #include "bpm/errors.h"
 #include "bpm/predicates.h"
 #include "bpm/tetmesh.h"
+#include "bpm/write_tetmesh.h"
 #include "fixtures_surfaces.h"
 
 using namespace bpm;

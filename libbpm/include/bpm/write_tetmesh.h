@@ -1,0 +1,43 @@
+#pragma once
+// Writing a tetrahedral mesh (bpm/tetmesh.h) for solvers and viewers: Gmsh MSH, VTK XML
+// UnstructuredGrid and INRIA MEDIT. The .bpm file, which holds the mesh with its
+// parametrization, is written by write_bpm (bpm/bpm_file.h).
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "bpm/patch_info.h"
+#include "bpm/tetmesh.h"
+
+namespace bpm {
+
+enum class TetMeshFormat { Bpm, Msh, Vtu, Medit };
+// "bpm", "msh", "vtu", "mesh" (case-insensitive) -> format; nullopt otherwise.
+std::optional<TetMeshFormat> tetmesh_format_from_name(const std::string& name);
+std::optional<TetMeshFormat> tetmesh_format_from_path(const std::string& path);
+
+// Writes `mesh` atomically ("-" = standard output) as
+//   Msh    Gmsh MSH 4.1 ASCII: one volume entity per region, its physical tag the region's
+//          material id named by the material (without materials: tag = region id, name
+//          "region_<id>"); one surface entity per patch (physical tag = patch id + 1, as
+//          Gmsh and its readers take tag 0 for "no physical group"; named by
+//          `patch_info`'s name if it has one, else "patch_<id>"); tets (type 4) and
+//          boundary triangles (type 2); node tags = index+1; a last section
+//          $BpmPatchIds (other readers skip it) from which bpm's MSH reader takes
+//          patch = physical tag - 1 (see bpm/surface_io.h)
+//   Vtu    VTK XML UnstructuredGrid, ASCII: tetrahedra (type 10) with cell data "region"
+//          and, with materials, "material" (the id; the names are in the .bpm, MSH
+//          and MEDIT outputs: meshio 5 refuses a VTK string array); "ancestor" if
+//          present; point data "coarse_vertex"
+//   Medit  INRIA .mesh (MeshVersionFormatted 2): Vertices (ref 1 on S, 0 inside),
+//          Tetrahedra with ref = material id (region id without materials; comment lines
+//          "# material <id> <name>" name them), Triangles with ref = patch
+// The .bpm format needs the whole BpmFile: use write_bpm (bpm/bpm_file.h).
+// \throw OutputError (unwritable path, or format Bpm).
+void write_tetmesh(const std::string& path, const TetMesh& mesh, TetMeshFormat format,
+                   const std::vector<PatchInfo>& patch_info = {});
+std::string write_tetmesh_to_string(const TetMesh& mesh, TetMeshFormat format,
+                                    const std::vector<PatchInfo>& patch_info = {});
+
+}  // namespace bpm

@@ -1,0 +1,27 @@
+#pragma once
+// Writing a triangulated surface with named point and cell data as VTK XML
+// UnstructuredGrid (.vtu), e.g. a refined surface with the data carried over from the
+// original (bpm-refine --data). Tetrahedral meshes: write_tetmesh (bpm/write_tetmesh.h).
+
+#include <string>
+#include <vector>
+
+#include "bpm/surface.h"
+
+namespace bpm {
+
+// A named data array: one row of `components` values per point or cell.
+struct VtuArray {
+    std::string name;
+    int components = 1;
+    std::vector<double> values;  // #elements * components, row-major
+};
+
+// Writes the triangles (VTK cell type 5) atomically ("-" = standard output), ASCII; patch
+// ids as the Int32 cell array "patch", the given arrays as Float64 point and cell data.
+// \throw bpm::OutputError for an unwritable path, an index out of range, patches not one
+//        per triangle, or an array whose size is not #elements * components.
+void write_surface_vtu(const std::string& path, const Surface& surface, const std::vector<VtuArray>& point_data,
+                       const std::vector<VtuArray>& cell_data);
+
+}  // namespace bpm
