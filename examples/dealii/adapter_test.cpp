@@ -16,6 +16,7 @@
 #include "fixtures_surfaces.h"
 
 using namespace bpm;
+using namespace bpm::dealii;
 
 namespace {
 

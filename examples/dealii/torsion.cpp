@@ -53,6 +53,7 @@ namespace {
 
 struct Solution {
     double J = 0, volume = 0;
+    std::vector<double> region_volumes;  // [material id - 1]: the tet mesh's regions
     int64_t dofs = 0;
     unsigned cg_iterations = 0;
 };
@@ -109,9 +110,12 @@ Solution solve_torsion(const dealii::Triangulation<3>& tria) {
     for (const auto& cell : dofs.active_cell_iterators()) {
         values.reinit(cell);
         values.get_function_values(u, uq);
+        const size_t region = cell->material_id() - 1;
+        if (s.region_volumes.size() <= region) s.region_volumes.resize(region + 1, 0.0);
         for (unsigned q = 0; q < quadrature.size(); ++q) {
             s.J += uq[q] * values.JxW(q);
             s.volume += values.JxW(q);
+            s.region_volumes[region] += values.JxW(q);
         }
     }
     return s;
@@ -146,8 +150,8 @@ int main(int argc, char** argv) {
         // throw instead of aborting, so that they reach run()'s error report.
         dealii::deal_II_exceptions::disable_abort_on_exception();
         const bpm::BpmFile file = bpm::read_bpm(input);
-        bpm::BpmTriangulation mesh(file, flat ? bpm::BoundaryMode::Flat : bpm::BoundaryMode::Phi);
-        bpm::GlobalRefineOptions options;
+        bpm::dealii::BpmTriangulation mesh(file, flat ? bpm::dealii::BoundaryMode::Flat : bpm::dealii::BoundaryMode::Phi);
+        bpm::dealii::GlobalRefineOptions options;
         options.repair = !no_repair;
 
         std::ostringstream out;
@@ -157,7 +161,7 @@ int main(int argc, char** argv) {
                     "phi_fallbacks seconds\n";
         for (int level = 0; level <= levels; ++level) {
             const auto start = std::chrono::steady_clock::now();
-            bpm::GlobalRefineResult r;
+            bpm::dealii::GlobalRefineResult r;
             if (level > 0 && adaptive) {
                 // Mark the larger half of the cells (a stand-in for an error estimator): the
                 // adapter refuses anything but global refinement with an OptionError.
@@ -168,9 +172,9 @@ int main(int argc, char** argv) {
                 const double median = sorted[sorted.size() / 2];
                 for (const auto& cell : mesh.triangulation().active_cell_iterators())
                     if (cell->measure() >= median) cell->set_refine_flag();
-                r = bpm::execute_refinement(mesh, options);
+                r = bpm::dealii::execute_refinement(mesh, options);
             } else if (level > 0) {
-                r = bpm::refine_global(mesh, options);
+                r = bpm::dealii::refine_global(mesh, options);
             }
             const bpm::TetMeshStats stats = bpm::tetmesh_stats(mesh.cells_as_tetmesh());
             // An inverted cell makes the P1 matrix indefinite; J would be meaningless.
@@ -187,7 +191,9 @@ int main(int argc, char** argv) {
                 out << (level ? ", " : "") << "{\"level\": " << level << ", \"cells\": " << cells << ", \"tets\": " << cells
                     << ", \"vertices\": " << vertices << ", \"dofs\": " << s.dofs
                     << ", \"J\": " << (solved ? number(s.J) : "null")
-                    << ", \"volume\": " << (solved ? number(s.volume) : "null") << ", \"inverted\": " << stats.inverted
+                    << ", \"volume\": " << (solved ? number(s.volume) : "null") << ", \"region_volumes\": [";
+                for (size_t i = 0; i < s.region_volumes.size(); ++i) out << (i ? ", " : "") << number(s.region_volumes[i]);
+                out << "], \"inverted\": " << stats.inverted
                     << ", \"inverted_without_repair\": " << without << ", \"held_back\": " << held_back
                     << ", \"max_held_back_distance\": " << number(r.repaired ? r.repair.max_distance : 0.0)
                     << ", \"min_dihedral_degrees\": " << number(stats.min_dihedral_degrees)

@@ -69,6 +69,9 @@ struct LevelReport {
     long held_back = 0;               // boundary vertices the repair kept short of phi
     long smoothed = 0;                // interior vertices the repair's smoothing moved
     long rules_kept = 0;              // bpm::dune::uggrid_refinement_rules_kept() during this refinement
+    long marked = 0;   // adaptive: elements marked for this level's refinement
+    long probes = 0;   // adaptive: adapt steps tried in a forked child (safe_marks)
+    long dropped = 0;  // adaptive: elements the estimator chose but UG's adapt could not take
     int cg_iterations = 0;
     bool cg_converged = false;
     double seconds = 0;
@@ -227,18 +230,21 @@ void measure(const Grid& grid, const bpm::dune::UGGridFromBpm& built, const bpm:
 }
 
 // Residual estimator for P1 and f = 1: eta_T^2 = h_T^2 |T| + 1/2 sum over interior faces F
-// of T of h_F |F| [grad u . n]^2. Marks the elements with the largest eta holding half of
-// the total (Dörfler, theta = 0.5). Returns the number marked.
-long mark_by_estimator(Grid& grid, const std::vector<Dune::FieldVector<double, 3>>& gradients) {
+// of T of h_F |F| [grad u . n]^2. Returns the elements with the largest eta holding half of
+// the total (Dörfler, theta = 0.5), largest first.
+std::vector<Grid::LeafGridView::Codim<0>::Entity> select_by_estimator(
+    const Grid& grid, const std::vector<Dune::FieldVector<double, 3>>& gradients) {
     const auto view = grid.leafGridView();
     const auto& index = view.indexSet();
     std::vector<double> eta2(static_cast<size_t>(view.size(0)), 0.0);
+    std::vector<Grid::LeafGridView::Codim<0>::Entity> by_index(eta2.size());
     for (const auto& element : elements(view)) {
         const auto geometry = element.geometry();
         double h = 0;
         for (int i = 0; i < 4; ++i)
             for (int j = i + 1; j < 4; ++j) h = std::max(h, (geometry.corner(i) - geometry.corner(j)).two_norm());
         const auto i = index.index(element);
+        by_index[i] = element;
         eta2[i] += h * h * geometry.volume();
         for (const auto& is : intersections(view, element)) {
             if (!is.neighbor()) continue;
@@ -257,45 +263,88 @@ long mark_by_estimator(Grid& grid, const std::vector<Dune::FieldVector<double, 3
     std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return eta2[a] > eta2[b]; });
     double total = 0;
     for (double e : eta2) total += e;
-    std::vector<char> marked(eta2.size(), 0);
+    std::vector<Grid::LeafGridView::Codim<0>::Entity> selected;
     double sum = 0;
-    long count = 0;
     for (size_t k : order) {
         if (sum >= 0.5 * total) break;
-        marked[k] = 1;
+        selected.push_back(by_index[k]);
         sum += eta2[k];
-        ++count;
     }
-    for (const auto& element : elements(view))
-        if (marked[index.index(element)]) grid.mark(1, element);
-    return count;
+    return selected;
 }
 
-// UG's local refinement can abort the whole process: after some adapt steps an assertion
-// in UG's DisposeDoubledSideVector fails (`VCOUNT(Vector0)==1 && VCOUNT(Vector1)==1`;
-// Debian builds libduneuggrid with assertions on). The assertion wants each of the two
-// side vectors of a face UG connects to be referenced once, while DUNE's UGGrid sets the
-// count of every face shared by two elements of a level to 2 after each adapt (its own
-// workaround for UG's side vectors, in UGGrid::setIndices); which faces UG reconnects
-// depends on the marked set, not on phi (flat boundaries abort alike). So the adapt step is
-// first run in a forked child (copy-on-write: the parent's grid is untouched); if the child
-// dies, refinement stops here with a message instead of the whole program dying.
-// Returns an empty string if the step is safe, otherwise what happened to the child.
-std::string probe_adapt(Grid& grid) {
+// Debian's UG 2.9 (libduneuggrid, built with assertions on) can abort the whole process in
+// an adapt step of local refinement: `VCOUNT(Vector0)==1 && VCOUNT(Vector1)==1` fails in
+// DisposeDoubledSideVector, called from Connect_Sons_of_ElementSide (gm/refine.cc), when
+// new children are connected to the existing children of a neighbour across a face, and
+// one of the two face objects ("side vectors") is already shared with another element.
+// What we measured (elephant at 10 %, flat and phi alike, so not caused by moved vertices;
+// the census code is in the notes of branch solvers): it fires from the third adapt step
+// on, and also when only elements of green closures (irregular: UG moves their marks to
+// their regular father) are marked; before that adapt, UG's reference count (VCOUNT) of
+// every side vector on every level equals the number of element sides that use it, and no
+// face has two, so the inconsistency arises inside the one AdaptMultiGrid call. (The counts
+// are reset after each adapt by UG's ConstructConsistentMultiGrid, ModelP, from the
+// neighbour pointers; DUNE's UGGrid does not touch them.) COPY refinement (GM_COPY_ALL)
+// aborts alike. Not found in the time we had: which rule combination; a UG bug report
+// needs a debug build of dune-uggrid to name the element pair.
+//
+// The workaround: every adapt step is first tried in a forked child (copy-on-write: the
+// parent's grid is untouched). If the child dies, the marked set is split and the parts
+// tried in turn, keeping the parts UG survives and dropping single elements it does not
+// (they can be marked again in the next step, when their neighbourhood has changed).
+// safe_marks returns the elements that are safe to mark; `probes` and `dropped` count the
+// children and the elements left out; `failure` says what happened to the first child
+// that died. UG's adapt is deterministic, so the parent's own adapt with the kept marks
+// repeats a child's that survived.
+bool adapt_survives(Grid& grid, const std::vector<Grid::LeafGridView::Codim<0>::Entity>& marks, std::string& failure) {
     std::cout.flush();
     std::cerr.flush();
     const pid_t pid = fork();
-    if (pid < 0) return {};  // cannot probe: just try
+    if (pid < 0) return true;  // cannot probe: just try
     if (pid == 0) {
+        // Quiet: UG's assertion message and Open MPI's backtrace would repeat per probe.
+        if (!freopen("/dev/null", "w", stderr)) _exit(3);
+        for (const auto& e : marks) grid.mark(1, e);
         grid.preAdapt();
         grid.adapt();
         _exit(0);
     }
     int status = 0;
-    if (waitpid(pid, &status, 0) != pid) return {};
-    if (WIFSIGNALED(status)) return "UG's adapt() died with signal " + std::to_string(WTERMSIG(status));
-    if (WEXITSTATUS(status) != 0) return "UG's adapt() exited with status " + std::to_string(WEXITSTATUS(status));
-    return {};
+    if (waitpid(pid, &status, 0) != pid) return true;
+    if (WIFEXITED(status) && WEXITSTATUS(status) == 0) return true;
+    if (failure.empty())
+        failure = WIFSIGNALED(status) ? "UG's adapt() died with signal " + std::to_string(WTERMSIG(status))
+                                      : "UG's adapt() exited with status " + std::to_string(WEXITSTATUS(status));
+    return false;
+}
+
+std::vector<Grid::LeafGridView::Codim<0>::Entity> safe_marks(Grid& grid,
+                                                             const std::vector<Grid::LeafGridView::Codim<0>::Entity>& wanted,
+                                                             long& probes, long& dropped, std::string& failure) {
+    using Entity = Grid::LeafGridView::Codim<0>::Entity;
+    ++probes;
+    if (adapt_survives(grid, wanted, failure)) return wanted;
+    // Keep what survives, one part at a time: `kept` always survives on its own.
+    std::vector<Entity> kept;
+    std::vector<std::vector<Entity>> parts{wanted};
+    while (!parts.empty()) {
+        std::vector<Entity> part = std::move(parts.back());
+        parts.pop_back();
+        std::vector<Entity> trial = kept;
+        trial.insert(trial.end(), part.begin(), part.end());
+        ++probes;
+        if (part.size() < wanted.size() && adapt_survives(grid, trial, failure)) {
+            kept = std::move(trial);
+        } else if (part.size() == 1) {
+            ++dropped;
+        } else {
+            const auto half = part.begin() + static_cast<std::ptrdiff_t>(part.size() / 2);
+            parts.emplace_back(half, part.end());
+            parts.emplace_back(part.begin(), half);
+        }
+    }
+    return kept;
 }
 
 std::string json_string(const std::string& text) {
@@ -322,13 +371,16 @@ int main(int argc, char** argv) {
                  "boundary refines through phi; reports J = ∫u, volume and element quality per level."};
     std::string input;
     int levels = 2;
-    bool flat = false, adaptive = false, json = false, no_repair = false, no_smooth = false;
+    bool flat = false, adaptive = false, json = false, no_repair = false, no_smooth = false, flat_interfaces = false;
     app.add_option("INPUT", input, ".bpm file with a tet mesh (bpm-mesh)")->required();
     app.add_option("--levels", levels, "Refinement steps K: levels 0..K are solved")->check(CLI::Range(0, 8));
     app.add_flag("--flat", flat, "Refine without phi: new boundary vertices at plain edge midpoints");
     app.add_flag("--adaptive", adaptive, "Refine locally by a residual estimator (red-green) instead of uniformly");
     app.add_flag("--no-repair", no_repair,
                  "Leave UG's new boundary vertices at phi (no bpm::repair_boundary; elements may invert)");
+    app.add_flag("--flat-interfaces", flat_interfaces,
+                 "Leave new vertices on interfaces between regions at edge midpoints (UG's own refinement); "
+                 "by default the repair moves them towards phi like boundary vertices");
     app.add_flag("--no-smooth", no_smooth, "Repair without interior smoothing (only boundary vertices move)");
     app.add_flag("--json", json, "Print the report as JSON on standard output");
     CLI11_PARSE(app, argc, argv);
@@ -339,28 +391,32 @@ int main(int argc, char** argv) {
         auto built = bpm::dune::make_uggrid(file, phi, flat ? bpm::dune::BoundaryGeometry::Flat
                                                              : bpm::dune::BoundaryGeometry::Phi);
         Grid& grid = *built.grid;
-        bpm::dune::BoundaryParameterPoints params(built, file.param.coarse);
+        bpm::dune::BoundaryParameterPoints params(built, file.param.coarse, !flat_interfaces);
         const int regions = file.tetmesh->num_regions();
         const std::vector<double> original_volumes = bpm::region_volumes_on_original(file.param, *file.tetmesh);
 
         std::vector<LevelReport> reports;
         std::vector<Dune::FieldVector<double, 3>> gradients;
-        std::string adaptive_stopped;
+        std::string adaptive_stopped, adaptive_failure;
         int64_t rules_kept_before = bpm::dune::uggrid_refinement_rules_kept();
         bpm::BoundaryRepairOptions repair_options;
         repair_options.smooth = !no_smooth;
         for (int level = 0; level <= levels; ++level) {
             const auto start = std::chrono::steady_clock::now();
+            long report_probes = 0, report_dropped = 0, report_marked = 0;
             if (level > 0) {
                 if (adaptive) {
-                    mark_by_estimator(grid, gradients);
-                    const std::string failure = probe_adapt(grid);
-                    if (!failure.empty()) {
-                        adaptive_stopped = "step " + std::to_string(level) + ": " + failure +
-                                           " (UG assertion in DisposeDoubledSideVector; see bpm-torsion.cpp)";
+                    const auto wanted = select_by_estimator(grid, gradients);
+                    std::string failure;
+                    const auto marks = safe_marks(grid, wanted, report_probes, report_dropped, failure);
+                    if (!failure.empty() && adaptive_failure.empty()) adaptive_failure = "step " + std::to_string(level) + ": " + failure;
+                    if (marks.empty()) {
+                        adaptive_stopped = "step " + std::to_string(level) + ": no marked element survives UG's adapt (" + failure + ")";
                         std::cerr << "bpm-torsion: adaptive refinement stopped at " << adaptive_stopped << "\n";
                         break;
                     }
+                    report_marked = static_cast<long>(marks.size());
+                    for (const auto& e : marks) grid.mark(1, e);
                     grid.preAdapt();
                     grid.adapt();
                     grid.postAdapt();
@@ -370,6 +426,9 @@ int main(int argc, char** argv) {
             }
             LevelReport report;
             report.level = level;
+            report.marked = report_marked;
+            report.probes = report_probes;
+            report.dropped = report_dropped;
             report.rules_kept = bpm::dune::uggrid_refinement_rules_kept() - rules_kept_before;
             rules_kept_before += report.rules_kept;
             if (level > 0) {
@@ -391,7 +450,11 @@ int main(int argc, char** argv) {
                 std::cerr << "level " << level << ": " << report.tets << " tets, J = " << report.J
                           << ", volume = " << report.volume << ", inverted " << report.inverted << " (" << report.inverted_before_repair
                           << " before repair, " << report.held_back << " held back), min dihedral "
-                          << report.min_dihedral_degrees << " deg, CG " << report.cg_iterations << " it\n";
+                          << report.min_dihedral_degrees << " deg, CG " << report.cg_iterations << " it"
+                          << (adaptive && level > 0 ? ", marked " + std::to_string(report.marked) + " (" +
+                                                          std::to_string(report.dropped) + " dropped, " +
+                                                          std::to_string(report.probes) + " probes)"
+                                                    : std::string()) << "\n";
         }
 
         if (json) {
@@ -399,10 +462,13 @@ int main(int argc, char** argv) {
             out << "{\"input\": \"" << input << "\", \"boundary\": \"" << (flat ? "flat" : "phi")
                 << "\", \"refinement\": \"" << (adaptive ? "adaptive" : "global") << "\", \"repair\": " << (flat || no_repair ? "false" : "true")
                 << ", \"smooth\": " << (flat || no_repair || no_smooth ? "false" : "true")
+                << ", \"interfaces\": \"" << (flat || no_repair || flat_interfaces ? "flat" : "phi") << "\""
+                << ", \"interface_faces\": " << params.interface_faces()
                 << ", \"original_region_volumes\": [";
             for (size_t r = 0; r < original_volumes.size(); ++r) out << (r ? ", " : "") << json_number(original_volumes[r]);
             out << "]";
             if (!adaptive_stopped.empty()) out << ", \"adaptive_stopped\": " << json_string(adaptive_stopped);
+            if (!adaptive_failure.empty()) out << ", \"adaptive_first_ug_failure\": " << json_string(adaptive_failure);
             out << ", \"levels\": [";
             for (size_t k = 0; k < reports.size(); ++k) {
                 const LevelReport& r = reports[k];
@@ -417,7 +483,8 @@ int main(int argc, char** argv) {
                     << ", \"max_boundary_offset\": " << json_number(r.max_boundary_offset)
                     << ", \"inverted_before_repair\": " << r.inverted_before_repair
                     << ", \"held_back\": " << r.held_back << ", \"smoothed\": " << r.smoothed
-                    << ", \"rules_kept\": " << r.rules_kept
+                    << ", \"rules_kept\": " << r.rules_kept << ", \"marked\": " << r.marked
+                    << ", \"probes\": " << r.probes << ", \"dropped\": " << r.dropped
                     << ", \"cg_iterations\": " << r.cg_iterations
                     << ", \"cg_converged\": " << (r.cg_converged ? "true" : "false")
                     << ", \"seconds\": " << json_number(r.seconds) << "}";

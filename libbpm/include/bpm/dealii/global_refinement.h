@@ -35,7 +35,7 @@
 #include "bpm/predicates.h"
 #include "bpm/tetmesh.h"
 
-namespace bpm {
+namespace bpm::dealii {
 
 struct GlobalRefineOptions {
     // Repair after refining (BoundaryMode::Phi only): deal.II places the new points at
@@ -100,7 +100,7 @@ inline GlobalRefineResult execute_refinement(BpmTriangulation& mesh, const Globa
         throw OptionError("deal.II 9.4 refines tetrahedral meshes only globally (local refinement of simplices fails "
                           "in a Debug build and gives wrong results in Release); the bpm adapter refuses this request: " +
                           detail::describe_flags(refine, coarsen, active) +
-                          ". Flag every cell, or call bpm::refine_global.");
+                          ". Flag every cell, or call bpm::dealii::refine_global.");
     }
     const bool phi_mode = mesh.mode() == BoundaryMode::Phi;
     const bool repair = phi_mode && options.repair;
@@ -158,4 +158,4 @@ inline GlobalRefineResult refine_global(BpmTriangulation& mesh, const GlobalRefi
     return execute_refinement(mesh, options);
 }
 
-}  // namespace bpm
+}  // namespace bpm::dealii

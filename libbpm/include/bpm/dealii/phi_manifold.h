@@ -39,7 +39,7 @@
 #include "bpm/phi_evaluation.h"
 #include "bpm/surface_point.h"
 
-namespace bpm {
+namespace bpm::dealii {
 
 inline Vec3 to_vec3(const ::dealii::Point<3>& p) { return Vec3{p[0], p[1], p[2]}; }
 inline ::dealii::Point<3> to_dealii_point(const Vec3& v) { return ::dealii::Point<3>(v[0], v[1], v[2]); }
@@ -251,4 +251,4 @@ private:
     std::shared_ptr<PhiBoundary> boundary_;
 };
 
-}  // namespace bpm
+}  // namespace bpm::dealii

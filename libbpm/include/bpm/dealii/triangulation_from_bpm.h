@@ -3,9 +3,9 @@
 // in memory (no file round trip), with phi attached to the surface S.
 //
 //   bpm::BpmFile file = bpm::read_bpm("femur.bpm");          // must have a /tetmesh group
-//   bpm::BpmTriangulation mesh(file, bpm::BoundaryMode::Phi);
+//   bpm::dealii::BpmTriangulation mesh(file, bpm::dealii::BoundaryMode::Phi);
 //   dealii::Triangulation<3>& tria = mesh.triangulation();
-//   bpm::refine_global(mesh);                                  // bpm/dealii/global_refinement.h
+//   bpm::dealii::refine_global(mesh);                          // bpm/dealii/global_refinement.h
 //
 // Level-0 vertex i is tet-mesh vertex i and level-0 cell t is tetrahedron t (checked), with
 // its four vertices in the tet mesh's order (positively oriented; deal.II's reference
@@ -51,7 +51,7 @@
 #include "bpm/predicates.h"
 #include "bpm/tetmesh.h"
 
-namespace bpm {
+namespace bpm::dealii {
 
 enum class BoundaryMode {
     Phi,   // new points on S at phi of the combined parameter points
@@ -282,4 +282,4 @@ private:
     std::unordered_set<FaceKey, FaceKeyHash> surface_faces_;
 };
 
-}  // namespace bpm
+}  // namespace bpm::dealii

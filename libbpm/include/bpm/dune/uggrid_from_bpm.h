@@ -16,9 +16,12 @@
 //   exactly one tetrahedron; each is a face in /tetmesh/faces), whose geometry is phi on
 //   that face's part of its coarse triangle (bpm/dune/boundary_segment.h);
 // - faces of /tetmesh/faces between two tetrahedra (interfaces between regions, or sheets
-//   inside one) are *not* boundary segments: UG has no interior boundaries, so they are
-//   refined flat (new vertices at edge midpoints) and leave the original surface.
-//   The per-region volumes that bpm-torsion reports show the size of that error.
+//   inside one) are *not* boundary segments: UG has no interior boundaries, so UG refines
+//   them flat (new vertices at edge midpoints). level0_interface_faces records their
+//   coarse triangles; BoundaryParameterPoints (with follow_interfaces) gives the vertices
+//   UG creates on them parameter points too, and repair_uggrid then moves them towards phi
+//   like boundary vertices (as far as no element inverts). The per-region volumes that
+//   bpm-torsion reports show the difference.
 //
 // After each refinement: BoundaryParameterPoints::update, then repair_uggrid
 // (bpm/dune/uggrid_repair.h), so that no element is inverted. make_uggrid installs
@@ -56,8 +59,12 @@ struct UGGridFromBpm {
     std::vector<int32_t> segment_coarse_triangle;
     // [level-0 element index in grid->levelIndexSet(0)] = region id of that tetrahedron.
     std::vector<int32_t> level0_element_region;
-    // Parameter points of the level-0 boundary vertices, keyed by global id.
+    // Parameter points of the level-0 vertices on S (boundary and interfaces), keyed by
+    // global id.
     std::map<UGGrid3::GlobalIdSet::IdType, SurfacePoint> level0_parameter_points;
+    // [level-0 element index][DUNE face number] = coarse triangle of that face if it is a
+    // face of /tetmesh/faces shared by two tetrahedra (an interface), else -1.
+    std::vector<std::array<int32_t, 4>> level0_interface_faces;
 };
 
 enum class BoundaryGeometry {
@@ -148,9 +155,27 @@ inline UGGridFromBpm make_uggrid(const BpmFile& file, std::shared_ptr<const PhiE
     const auto level0 = out.grid->levelGridView(0);
     const auto& ids = out.grid->globalIdSet();
     out.level0_element_region.assign(static_cast<size_t>(level0.size(0)), 0);
+    std::map<std::array<int32_t, 3>, int32_t> interface_triangle;
+    for (size_t f = 0; f < mesh.faces.size(); ++f) {
+        const Tri& face = mesh.faces[f];
+        const auto key = detail::sorted_face(face[0], face[1], face[2]);
+        if (face_count[key] == 2) interface_triangle.emplace(key, mesh.face_coarse_triangle[f]);
+    }
+    const auto& tet = Dune::referenceElement<double, 3>(Dune::GeometryTypes::tetrahedron);
+    out.level0_interface_faces.assign(static_cast<size_t>(level0.size(0)), {-1, -1, -1, -1});
     for (const auto& element : elements(level0)) {
         const auto t = factory.insertionIndex(element);
-        out.level0_element_region[level0.indexSet().index(element)] = mesh.regions.at(t);
+        const auto e = level0.indexSet().index(element);
+        out.level0_element_region[e] = mesh.regions.at(t);
+        if (interface_triangle.empty()) continue;
+        for (int face = 0; face < 4; ++face) {
+            std::array<int32_t, 3> v;
+            for (int c = 0; c < 3; ++c)
+                v[c] = static_cast<int32_t>(
+                    factory.insertionIndex(element.template subEntity<3>(tet.subEntity(face, 1, c, 3))));
+            const auto it = interface_triangle.find(detail::sorted_face(v[0], v[1], v[2]));
+            if (it != interface_triangle.end()) out.level0_interface_faces[e][face] = it->second;
+        }
     }
     for (const auto& vertex : vertices(level0)) {
         const auto v = factory.insertionIndex(vertex);
@@ -161,7 +186,8 @@ inline UGGridFromBpm make_uggrid(const BpmFile& file, std::shared_ptr<const PhiE
 }
 
 // Parameter points of the boundary vertices of a refined UGGrid, keyed by global id (UG
-// keeps a vertex's id on every level it appears on).
+// keeps a vertex's id on every level it appears on), and with follow_interfaces those of
+// the vertices UG creates on interfaces (faces of /tetmesh/faces between two tetrahedra).
 //
 // update() visits levels 1..maxLevel and, for each boundary face there whose corners are
 // not known yet, takes the corner's position in its father element (geometryInFather):
@@ -169,6 +195,10 @@ inline UGGridFromBpm make_uggrid(const BpmFile& file, std::shared_ptr<const PhiE
 // computes a new boundary vertex as the segment at the midpoint of the edge's ends in the
 // segment's parameter domain. The edge lies on one segment, so both ends are expressed in
 // that segment's coarse triangle and averaged there: exactly the point phi was evaluated at.
+// Interfaces are no segments: a child face is on an interface when its three corners lie
+// on an interface face of its father (by geometryInFather), which gives its coarse
+// triangle; its new vertices get the midpoints of their edge ends' parameter points in that
+// triangle, as on the boundary, although UG left them at the flat midpoint.
 class BoundaryParameterPoints {
 public:
     using IdType = UGGrid3::GlobalIdSet::IdType;
@@ -179,8 +209,12 @@ public:
         std::array<IdType, 2> ends;
     };
 
-    explicit BoundaryParameterPoints(const UGGridFromBpm& built, const Surface& coarse)
-        : built_(built), coarse_(coarse), points_(built.level0_parameter_points) {}
+    // With follow_interfaces = false, interface vertices created by refinement get no
+    // parameter point (they stay where UG puts them: flat).
+    explicit BoundaryParameterPoints(const UGGridFromBpm& built, const Surface& coarse, bool follow_interfaces = true)
+        : built_(built), coarse_(coarse), follow_interfaces_(follow_interfaces) {
+        for (const auto& [id, p] : built.level0_parameter_points) points_.emplace(id, p);
+    }
 
     // Returns the boundary vertices it added, coarser levels first, with the ends of the
     // edges they split (what bpm::repair_boundary needs to put them back at midpoints).
@@ -208,8 +242,12 @@ public:
                 }
             }
         }
+        if (follow_interfaces_) update_interfaces(grid, added);
         return added;
     }
+
+    // Interface faces found by update() so far (on every level).
+    size_t interface_faces() const { return interface_faces_count_; }
 
     // The parameter point of a boundary vertex, or nullptr for interior or unknown ones.
     const SurfacePoint* find(IdType id) const {
@@ -219,6 +257,64 @@ public:
     size_t size() const { return points_.size(); }
 
 private:
+    // Records the interface faces of every element (by element id; DUNE face numbers) and
+    // gives the new vertices on them parameter points.
+    void update_interfaces(const UGGrid3& grid, std::vector<NewVertex>& added) {
+        const auto& ids = grid.globalIdSet();
+        const auto& tet = Dune::referenceElement<double, 3>(Dune::GeometryTypes::tetrahedron);
+        if (interfaces_.empty()) {
+            const auto level0 = grid.levelGridView(0);
+            for (const auto& element : elements(level0)) {
+                const auto& faces = built_.level0_interface_faces.at(level0.indexSet().index(element));
+                if (faces != std::array<int32_t, 4>{-1, -1, -1, -1}) {
+                    interfaces_.emplace(ids.id(element), faces);
+                    for (int32_t t : faces) interface_faces_count_ += (t >= 0);
+                }
+            }
+            if (interfaces_.empty()) return;
+        }
+        for (int level = 1; level <= grid.maxLevel(); ++level) {
+            for (const auto& element : elements(grid.levelGridView(level))) {
+                const auto id = ids.id(element);
+                if (interfaces_.count(id)) continue;  // done by an earlier update
+                const auto father_faces = interfaces_.find(ids.id(element.father()));
+                if (father_faces == interfaces_.end()) continue;
+                const auto in_father = element.geometryInFather();
+                std::array<int32_t, 4> faces{-1, -1, -1, -1};
+                for (int face = 0; face < 4; ++face) {
+                    for (int f = 0; f < 4; ++f) {
+                        const int32_t t = father_faces->second[f];
+                        if (t < 0) continue;
+                        // A point is on father face f when the barycentric weight of the
+                        // father corner opposite f is 0.
+                        const int opposite = 6 - tet.subEntity(f, 1, 0, 3) - tet.subEntity(f, 1, 1, 3) - tet.subEntity(f, 1, 2, 3);
+                        bool on_face = true;
+                        for (int c = 0; c < 3 && on_face; ++c) {
+                            const auto local = in_father.corner(tet.subEntity(face, 1, c, 3));
+                            const double w = opposite == 0 ? 1.0 - local[0] - local[1] - local[2] : local[opposite - 1];
+                            on_face = std::abs(w) < 1e-12;
+                        }
+                        if (on_face) faces[face] = t;
+                    }
+                }
+                if (faces == std::array<int32_t, 4>{-1, -1, -1, -1}) continue;
+                interfaces_.emplace(id, faces);
+                for (int face = 0; face < 4; ++face) {
+                    if (faces[face] < 0) continue;
+                    ++interface_faces_count_;
+                    for (int c = 0; c < 3; ++c) {
+                        const int corner = tet.subEntity(face, 1, c, 3);
+                        const IdType vid = ids.subId(element, corner, 3);
+                        if (points_.count(vid)) continue;
+                        NewVertex v{vid, {vid, vid}};
+                        points_.emplace(vid, from_father(element, corner, faces[face], ids, v.ends));
+                        if (v.ends[0] != vid) added.push_back(v);
+                    }
+                }
+            }
+        }
+    }
+
     template <class Element, class Ids>
     SurfacePoint from_father(const Element& element, int corner, int32_t t, const Ids& ids,
                              std::array<IdType, 2>& end_ids) const {
@@ -261,7 +357,10 @@ private:
 
     const UGGridFromBpm& built_;
     const Surface& coarse_;
+    bool follow_interfaces_ = true;
     std::map<IdType, SurfacePoint> points_;
+    std::map<IdType, std::array<int32_t, 4>> interfaces_;  // element id -> coarse triangle per face, or -1
+    size_t interface_faces_count_ = 0;
 };
 
 }  // namespace bpm::dune
