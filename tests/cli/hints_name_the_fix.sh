@@ -42,4 +42,8 @@ expect 0 "the flags as printed work" -- "$tools/bpm-simplify" "$work/a.stl" "$wo
 expect 3 "one repair given: the other still named" -- "$tools/bpm-simplify" "$work/a.stl" "$work/b.stl" -o "$work/ab.bpm" --ratio 0.5 --merge-duplicate-vertices
 contains "$work/err" "Rerun with: --merge-duplicate-triangles" "the missing repair is named"
 ok "the repair already given is not asked for again" -- bash -c "! grep -q 'Rerun with: --merge-duplicate-vertices' '$work/err'"
+# The library names the SimplifyOptions field that blocked a removal; the tool says the flag.
+expect 0 "a limit that stops the target" -- "$tools/bpm-simplify" "$2/.data/meshes/femur.off" -o "$work/f.bpm" --vertices 10 --max-error 0.001
+contains "$work/err" "geometric error limit (--max-error)" "the blocking limit is named by its flag"
+ok "no field name of the library shown" -- bash -c "! grep -q 'max_error' '$work/err'"
 finish

@@ -9,6 +9,31 @@
 #include "bpm/surface_io.h"
 #include "common/tool_main.h"
 
+namespace {
+
+// The library names SimplifyOptions fields in its errors and reasons; a user of this tool
+// knows them by their flags.
+std::string with_flags(std::string text) {
+    static const std::pair<const char*, const char*> kFlags[] = {
+        {"max_normal_deviation_degrees", "--max-normal-deviation"},
+        {"feature_angle_degrees", "--feature-angle"},
+        {"fold_limit_degrees", "--fold-limit"},
+        {"distortion_weight", "--distortion-weight"},
+        {"max_aspect_ratio", "--max-aspect"},
+        {"max_edge_length", "--max-edge-length"},
+        {"queue_tolerance", "--queue-tolerance"},
+        {"target_vertices", "--vertices"},
+        {"target_ratio", "--ratio"},
+        {"max_error", "--max-error"},
+    };
+    for (const auto& [field, flag] : kFlags)
+        for (size_t at = text.find(field); at != std::string::npos; at = text.find(field, at + 1))
+            text.replace(at, std::string(field).size(), flag);
+    return text;
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
     const std::string tool = "bpm-simplify";
     CLI::App app{
@@ -165,7 +190,12 @@ int main(int argc, char** argv) {
 
         bpm::BpmFile file;
         file.patch_info = report.patch_info;
-        bpm::SimplifyResult result = bpm::simplify(surface, options, context, file.param);
+        bpm::SimplifyResult result;
+        try {
+            result = bpm::simplify(surface, options, context, file.param);
+        } catch (const bpm::OptionError& e) {
+            throw bpm::OptionError(with_flags(e.what()));
+        }
         file.simplification_steps = std::move(result.steps);
         file.units = units;
         file.provenance.push_back({tool, bpm::tools::version_line(tool), bpm::tools::command_line(argc, argv),
@@ -201,9 +231,9 @@ int main(int argc, char** argv) {
             else context.info(kept);
         }
         if (!result.target_reached) {
-            context.warn("stopped before the target: " + result.stop_reason);
+            context.warn("stopped before the target: " + with_flags(result.stop_reason));
             for (const auto& [why, count] : result.blocked)
-                context.warn("  " + std::to_string(count) + " vertices kept: " + why);
+                context.warn("  " + std::to_string(count) + " vertices kept: " + with_flags(why));
             if (result.corners_kept && result.crease_junctions + result.crease_cone_ends > 0 &&
                 std::max<int64_t>(options.target_vertices, int64_t(std::ceil(options.target_ratio * double(result.input_vertices)))) < result.kept_feature_vertices())
                 context.warn("  (--no-keep-corners lets the corners of creases go)");

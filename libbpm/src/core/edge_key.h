@@ -2,7 +2,6 @@
 // One 64-bit key per undirected edge {a, b} of an indexed mesh: the smaller vertex id in
 // the high half, the larger in the low half. Keys of edges sort by their smaller vertex
 // first, then by the other; both orders (a, b) and (b, a) give the same key.
-// (The simplifier has its own copy in simplify/coarse_mesh.h.)
 
 #include <cstdint>
 #include <utility>

@@ -11,14 +11,9 @@
 
 #include "bpm/geometry.h"
 #include "bpm/surface.h"
+#include "core/edge_key.h"
 
 namespace bpm::detail {
-
-// Key of an undirected edge; a < b after normalisation.
-inline uint64_t edge_key(int32_t a, int32_t b) {
-    if (a > b) std::swap(a, b);
-    return (uint64_t(uint32_t(a)) << 32) | uint32_t(b);
-}
 
 class CoarseMesh {
 public:

@@ -11,6 +11,7 @@ namespace bpm::detail {
 double removal_cost(const RemovalPlan& plan, const SimplifyOptions& options, double diagonal, CostBasis basis,
                     std::string& why) {
     const bool estimate = basis == CostBasis::Estimate;
+    // Reasons name the SimplifyOptions field that refused (bpm-simplify shows its flag).
     constexpr double kRefused = std::numeric_limits<double>::infinity();
     if (!plan.valid && !(estimate && plan.estimated)) {
         why = plan.reason;
@@ -18,19 +19,19 @@ double removal_cost(const RemovalPlan& plan, const SimplifyOptions& options, dou
     }
     const double error = (estimate ? plan.estimated_deviation : plan.max_deviation) / diagonal;
     if (error > options.max_error) {
-        why = "geometric error limit (--max-error)";
+        why = "geometric error limit (max_error)";
         return kRefused;
     }
     if (plan.worst_new_aspect > std::max(options.max_aspect_ratio, plan.worst_old_aspect)) {
-        why = "triangle shape limit (--max-aspect)";
+        why = "triangle shape limit (max_aspect_ratio)";
         return kRefused;
     }
     if (plan.longest_new_edge > options.max_edge_length * diagonal) {
-        why = "edge length limit (--max-edge-length)";
+        why = "edge length limit (max_edge_length)";
         return kRefused;
     }
     if (!estimate && plan.max_normal_deviation > options.max_normal_deviation_degrees) {
-        why = "normal deviation limit (--max-normal-deviation)";
+        why = "normal deviation limit (max_normal_deviation_degrees)";
         return kRefused;
     }
     why.clear();

@@ -641,24 +641,24 @@ void Simplifier::self_check(int32_t removed_vertex, const std::vector<int32_t>& 
 SimplifyResult simplify(const Surface& original, const SimplifyOptions& options, const Context& context,
                         Parametrization& out) {
     if (options.target_ratio < 0 || options.target_ratio > 1)
-        throw OptionError("--ratio must be between 0 and 1, got " + std::to_string(options.target_ratio));
-    if (options.target_vertices < 0) throw OptionError("--vertices must not be negative");
-    if (!(options.max_error >= 0)) throw OptionError("--max-error must not be negative");
-    if (!(options.max_edge_length > 0)) throw OptionError("--max-edge-length must be positive");
-    if (!(options.max_aspect_ratio >= 2)) throw OptionError("--max-aspect must be at least 2 (equilateral)");
+        throw OptionError("target_ratio must be between 0 and 1, got " + std::to_string(options.target_ratio));
+    if (options.target_vertices < 0) throw OptionError("target_vertices must not be negative");
+    if (!(options.max_error >= 0)) throw OptionError("max_error must not be negative");
+    if (!(options.max_edge_length > 0)) throw OptionError("max_edge_length must be positive");
+    if (!(options.max_aspect_ratio >= 2)) throw OptionError("max_aspect_ratio must be at least 2 (equilateral)");
     if (!(options.max_normal_deviation_degrees >= 0 && options.max_normal_deviation_degrees <= 180))
-        throw OptionError("--max-normal-deviation must be between 0 and 180 degrees");
+        throw OptionError("max_normal_deviation_degrees must be between 0 and 180 degrees");
     if (!(options.distortion_weight >= 0) || !(options.fold_limit_degrees >= 0 && options.fold_limit_degrees <= 180))
-        throw OptionError("--distortion-weight must be >= 0 and --fold-limit between 0 and 180 degrees");
+        throw OptionError("distortion_weight must be >= 0 and fold_limit_degrees between 0 and 180 degrees");
     if (!(options.queue_tolerance >= 0 && options.queue_tolerance <= 10))
-        throw OptionError("--queue-tolerance must be between 0 and 10");
+        throw OptionError("queue_tolerance must be between 0 and 10");
     if (!(options.corner_crease_length >= 0 && options.corner_crease_length <= 1))
         throw OptionError("the corner crease length must be between 0 and 1 (of the diagonal)");
     if (!(options.feature_angle_degrees >= 0 && options.feature_angle_degrees <= 180))
-        throw OptionError("--feature-angle must be between 0 and 180 degrees");
+        throw OptionError("feature_angle_degrees must be between 0 and 180 degrees");
     const int threads = planning_threads(options.threads);
     context.debug(std::to_string(threads) + (threads == 1 ? " thread" : " threads") +
-                  (options.threads == 0 ? " (automatic: --threads 0)" : ""));
+                  (options.threads == 0 ? " (automatic: threads = 0)" : ""));
     std::unique_ptr<Simplifier> simplifier;
     if (options.reject_self_intersecting_input) {
         context.report(0.0, "checking the input for self-intersections");

@@ -91,9 +91,9 @@ double radians_from_pseudo(double q) {
 
 namespace {
 
-class Smoother {
+class TetMeshSmoother {
 public:
-    Smoother(std::vector<Vec3>& x, const std::vector<Tet>& tets, const std::vector<bool>& negative,
+    TetMeshSmoother(std::vector<Vec3>& x, const std::vector<Tet>& tets, const std::vector<bool>& negative,
              const std::vector<char>& movable, const TetSmoothOptions& o)
         : x_(x),
           tets_(tets),
@@ -350,7 +350,7 @@ TetSmoothResult smooth_interior(std::vector<Vec3>& x, const std::vector<Tet>& te
     const auto start = clock::now();
     check_smooth_options(options);
     TetSmoothResult result;
-    Smoother smoother(x, tets, negative, movable, options);
+    TetMeshSmoother smoother(x, tets, negative, movable, options);
     result.min_dihedral_before_degrees = radians_from_pseudo(smoother.mesh_min()) * 180 / kPi;
     std::vector<char> all;
     if (!dirty) all.assign(x.size(), 1);

@@ -311,7 +311,7 @@ TEST_CASE("simplify keeps the original's normals within --max-normal-deviation o
         require_valid(p, "bump with a normal deviation limit");
         CHECK(max_normal_deviation(p) <= 45.0);
         CHECK(p.coarse.num_vertices() < s.num_vertices());
-        if (!r.target_reached) CHECK(r.blocked.count("normal deviation limit (--max-normal-deviation)") == 1);
+        if (!r.target_reached) CHECK(r.blocked.count("normal deviation limit (max_normal_deviation_degrees)") == 1);
     }
     SECTION("an angle outside 0..180 is refused") {
         options.max_normal_deviation_degrees = 200.0;
