@@ -2,8 +2,7 @@
 // phi on one coarse triangle as an editable value: its nodes and pieces in local
 // numbering, the form the algorithms that rebuild phi triangle by triangle work in
 // (smoothing replaces the nodes and pieces of the two triangles of a pair; the refinement
-// builds one per refined triangle; the simplifier's export could build one per coarse
-// triangle). The read-only view of the same data inside a Parametrization is PhiTriangle
+// builds one per refined triangle; the simplifier's export one per coarse triangle). The read-only view of the same data inside a Parametrization is PhiTriangle
 // (bpm/phi_triangle.h); this is its copy that can be changed and stored back.
 //
 // Conventions: those of bpm/parametrization.h. Piece corners are indices into this
@@ -31,6 +30,18 @@ struct PhiTriangleData {
     std::vector<int32_t> piece_original_triangle;
 
     size_t num_nodes() const { return kind.size(); }
+
+    // Empties every array, keeping their memory (for a buffer reused triangle after triangle).
+    void clear() {
+        barycentric.clear();
+        image.clear();
+        kind.clear();
+        original_vertex.clear();
+        original_edge.clear();
+        edge_parameter.clear();
+        pieces.clear();
+        piece_original_triangle.clear();
+    }
     size_t num_pieces() const { return pieces.size(); }
 
     // Appends a node and returns its local index.

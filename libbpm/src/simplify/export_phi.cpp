@@ -1,11 +1,13 @@
 #include "simplify/export_phi.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <string>
 
 #include "bpm/errors.h"
+#include "phi/phi_triangle_data.h"
 #include "simplify/overlay.h"
 
 namespace bpm::detail {
@@ -28,10 +30,9 @@ void export_chunk(const Surface& original, const CoarseMesh& mesh, const Embeddi
     std::vector<OverlayFace> faces;
     std::vector<Tri> pieces;
     std::vector<int32_t> piece_triangle;
+    PhiTriangleData phi_t;  // phi on one coarse triangle, reused for every triangle of the chunk
     const auto& x = original.vertices;
-    Parametrization& part = chunk.part;
-    part.node_offsets.push_back(0);
-    part.piece_offsets.push_back(0);
+    clear_phi(chunk.part);
     for (size_t i = chunk.begin; i < chunk.end; ++i) {
         const int32_t t = alive[i];
         build_triangle_graph(mesh, embedding, t, graph);
@@ -41,27 +42,18 @@ void export_chunk(const Surface& original, const CoarseMesh& mesh, const Embeddi
             return;
         }
         const Tri& c = mesh.triangle(t);
+        phi_t.clear();
         for (const GraphNode& g : graph.nodes) {
-            part.node_barycentric.push_back(g.bary);
             const Vec3 image = node_image(g, embedding);
-            part.node_image.push_back(image);
             chunk.max_deviation =
                 std::max(chunk.max_deviation, distance(image, barycentric_point(x[c[0]], x[c[1]], x[c[2]], g.bary)));
-            part.node_kind.push_back(g.kind);
-            part.node_original_vertex.push_back(g.kind == NodeKind::EdgeCrossing ? -1 : g.vertex);
-            if (g.kind == NodeKind::EdgeCrossing) {
-                part.node_original_edge.push_back(embedding.edges[g.edge]);
-                part.node_edge_parameter.push_back(g.sigma);
-            } else {
-                part.node_original_edge.push_back({-1, -1});
-                part.node_edge_parameter.push_back(std::nan(""));
-            }
+            const bool crossing = g.kind == NodeKind::EdgeCrossing;
+            phi_t.add_node(g.bary, image, g.kind, crossing ? -1 : g.vertex,
+                           crossing ? embedding.edges[g.edge] : std::array<int32_t, 2>{-1, -1},
+                           crossing ? g.sigma : std::nan(""));
         }
-        part.pieces.insert(part.pieces.end(), pieces.begin(), pieces.end());
-        part.piece_original_triangle.insert(part.piece_original_triangle.end(), piece_triangle.begin(),
-                                            piece_triangle.end());
-        part.node_offsets.push_back(static_cast<int64_t>(part.node_kind.size()));
-        part.piece_offsets.push_back(static_cast<int64_t>(part.pieces.size()));
+        for (size_t k = 0; k < pieces.size(); ++k) phi_t.add_piece(pieces[k], piece_triangle[k]);
+        append_phi_triangle(chunk.part, phi_t);
     }
 }
 
