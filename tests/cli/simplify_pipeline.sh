@@ -140,6 +140,7 @@ crossed=$src/.data/meshes/tetra_intersected_by_triangle.off
 if [ -f "$crossed" ]; then
     expect 5 "self-intersecting input is refused" -- "$simplify" "$crossed" -o "$work/x.bpm" --ratio 0.5
     ok "the refusal names the intersecting triangles" -- grep -q "intersects itself" "$work/err"
+    ok "the refusal names the flag that allows it" -- grep -q "use --allow-self-intersecting-input" "$work/err"
     expect 0 "... unless allowed" -- "$simplify" "$crossed" -o "$work/y.bpm" --ratio 0.9 --allow-self-intersecting-input
 fi
 # Polygon faces: refused with the repair named, read with it (a cube of 6 quads).

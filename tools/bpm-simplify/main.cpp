@@ -15,6 +15,7 @@ namespace {
 // knows them by their flags.
 std::string with_flags(std::string text) {
     static const std::pair<const char*, const char*> kFlags[] = {
+        {"set reject_self_intersecting_input = false", "use --allow-self-intersecting-input"},
         {"max_normal_deviation_degrees", "--max-normal-deviation"},
         {"feature_angle_degrees", "--feature-angle"},
         {"fold_limit_degrees", "--fold-limit"},
@@ -195,6 +196,8 @@ int main(int argc, char** argv) {
             result = bpm::simplify(surface, options, context, file.param);
         } catch (const bpm::OptionError& e) {
             throw bpm::OptionError(with_flags(e.what()));
+        } catch (const bpm::AlgorithmError& e) {
+            throw bpm::AlgorithmError(with_flags(e.what()));
         }
         file.simplification_steps = std::move(result.steps);
         file.units = units;

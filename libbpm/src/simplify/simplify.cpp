@@ -680,7 +680,7 @@ SimplifyResult simplify(const Surface& original, const SimplifyOptions& options,
             throw AlgorithmError("the input surface intersects itself (" + std::to_string(r.problem_count) +
                                  " problems; first: " + (r.problems.empty() ? std::string("?") : r.problems[0].describe()) +
                                  "); bpm needs a surface without self-intersections to produce a coarse surface "
-                                 "without them. Repair the input, or use --allow-self-intersecting-input");
+                                 "without them. Repair the input, or set reject_self_intersecting_input = false");
     }
     if (!simplifier) simplifier = std::make_unique<Simplifier>(original, options, context, threads);
     SimplifyResult result = simplifier->run(out);

@@ -613,8 +613,7 @@ TetMeshResult generate_tetmesh(const Parametrization& param, const TetMeshOption
                 return std::string(b);
             }() +
                          " (above " + format_switch(kSliverAspectRatio) +
-                         "): the tetrahedra on it will have small dihedral angles (bpm-check --max-aspect " +
-                         format_switch(kSliverAspectRatio) + " lists such triangles)");
+                         "): the tetrahedra on it will have small dihedral angles");
     }
 
     const std::string exe = find_executable(options.tetgen);
