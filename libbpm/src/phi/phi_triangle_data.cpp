@@ -49,4 +49,20 @@ void append_phi_triangle(Parametrization& p, const PhiTriangleData& t) {
     p.piece_offsets.push_back(static_cast<int64_t>(p.pieces.size()));
 }
 
+void append_phi(Parametrization& p, const Parametrization& part) {
+    const int64_t node_base = p.node_offsets.back(), piece_base = p.piece_offsets.back();
+    append(p.node_barycentric, part.node_barycentric);
+    append(p.node_image, part.node_image);
+    append(p.node_kind, part.node_kind);
+    append(p.node_original_vertex, part.node_original_vertex);
+    append(p.node_original_edge, part.node_original_edge);
+    append(p.node_edge_parameter, part.node_edge_parameter);
+    append(p.pieces, part.pieces);
+    append(p.piece_original_triangle, part.piece_original_triangle);
+    for (size_t k = 1; k < part.node_offsets.size(); ++k) {
+        p.node_offsets.push_back(node_base + part.node_offsets[k]);
+        p.piece_offsets.push_back(piece_base + part.piece_offsets[k]);
+    }
+}
+
 }  // namespace bpm::detail

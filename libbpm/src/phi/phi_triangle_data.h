@@ -74,4 +74,8 @@ void clear_phi(Parametrization& p);
 // node_offsets.size() - 1): appends its nodes and pieces and closes both CSR ranges.
 void append_phi_triangle(Parametrization& p, const PhiTriangleData& t);
 
+// Stores phi of every coarse triangle of `part` (its own CSR, offsets from 0) after those
+// of `p`, in order: what a task that built phi for a run of triangles hands back.
+void append_phi(Parametrization& p, const Parametrization& part);
+
 }  // namespace bpm::detail

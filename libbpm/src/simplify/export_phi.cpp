@@ -57,24 +57,6 @@ void export_chunk(const Surface& original, const CoarseMesh& mesh, const Embeddi
     }
 }
 
-// Appends a chunk's arrays to `out`, its offsets shifted past what `out` holds.
-void append_chunk(const Parametrization& part, Parametrization& out) {
-    const int64_t node_base = out.node_offsets.back(), piece_base = out.piece_offsets.back();
-    auto append = [](auto& to, const auto& from) { to.insert(to.end(), from.begin(), from.end()); };
-    append(out.node_barycentric, part.node_barycentric);
-    append(out.node_image, part.node_image);
-    append(out.node_kind, part.node_kind);
-    append(out.node_original_vertex, part.node_original_vertex);
-    append(out.node_original_edge, part.node_original_edge);
-    append(out.node_edge_parameter, part.node_edge_parameter);
-    append(out.pieces, part.pieces);
-    append(out.piece_original_triangle, part.piece_original_triangle);
-    for (size_t k = 1; k < part.node_offsets.size(); ++k) {
-        out.node_offsets.push_back(node_base + part.node_offsets[k]);
-        out.piece_offsets.push_back(piece_base + part.piece_offsets[k]);
-    }
-}
-
 }  // namespace
 
 double export_parametrization(const Surface& original, const CoarseMesh& mesh, const Embedding& embedding,
@@ -97,13 +79,12 @@ double export_parametrization(const Surface& original, const CoarseMesh& mesh, c
         export_chunk(original, mesh, embedding, orientation_sign, alive, chunks[c]);
     });
     double max_deviation = 0.0;
-    out.node_offsets.push_back(0);
-    out.piece_offsets.push_back(0);
+    clear_phi(out);
     for (ExportChunk& chunk : chunks) {
         if (chunk.failed != SIZE_MAX)
             throw AlgorithmError("internal error: coarse triangle " + std::to_string(chunk.failed) +
                                  " has an invalid parametrization (" + chunk.why + ")");
-        append_chunk(chunk.part, out);
+        append_phi(out, chunk.part);
         max_deviation = std::max(max_deviation, chunk.max_deviation);
         chunk.part = Parametrization();  // its memory back before the next chunk's is appended
     }
