@@ -230,6 +230,9 @@ public:
 
 private:
     void classify(int32_t v, StepCheck& c);
+    bool check_retriangulation(int64_t s, int32_t v, StepCheck& c);
+    void check_polygons(int64_t s, StepCheck& c);
+    void check_polygon(int32_t i, const std::vector<int64_t>& members, StepCheck& c);
     const SimplificationSteps& steps_;
     ReplayMesh mesh_;
     std::vector<int32_t> owner_;  // polygon of a link vertex in this step (-2: a or b)
@@ -356,7 +359,6 @@ void Replayer::check(int64_t s, StepCheck& c) {
     c.new_edges = 0;
     c.spokes = 0;
     const int32_t v = steps_.vertex[s];
-    const int64_t first = steps_.triangle_offsets[s], last = steps_.triangle_offsets[s + 1];
     c.star = mesh_.around(v);
     if (c.star.empty()) {
         c.boundary.push_back("vertex " + std::to_string(v) + " has no triangles (removed before, or not on S0)");
@@ -364,10 +366,22 @@ void Replayer::check(int64_t s, StepCheck& c) {
     }
     std::sort(c.star.begin(), c.star.end());
     classify(v, c);
-    auto new_tri = [&](int64_t j) { return steps_.triangles[j]; };
+    const bool corners_ok = check_retriangulation(s, v, c);
+    if (c.kind == StepCheck::Kind::FeatureVertex) {
+        c.structure.push_back("vertex " + std::to_string(v) + " is a feature vertex (" + c.why_feature +
+                              "); point removal must keep it");
+        return;
+    }
+    if (!corners_ok) return;
+    check_polygons(s, c);
+}
 
-    // Rule 3 and the plain boundary condition, for every kind of vertex: link edges (the
-    // edges of the star opposite v) and the edges of N.
+// Rule 3 and the plain boundary condition, for every kind of vertex: link edges (the
+// edges of the star opposite v) and the edges of N. Returns false where a recorded
+// triangle has a bad corner (then the per-polygon rules are not checked).
+bool Replayer::check_retriangulation(int64_t s, int32_t v, StepCheck& c) {
+    const int64_t first = steps_.triangle_offsets[s], last = steps_.triangle_offsets[s + 1];
+    auto new_tri = [&](int64_t j) { return steps_.triangles[j]; };
     std::vector<uint64_t> link_edges;
     for (int32_t t : c.star) {
         const auto [x, y] = others(mesh_.tri(t), v);
@@ -443,13 +457,14 @@ void Replayer::check(int64_t s, StepCheck& c) {
     for (size_t i = 1; i < link_edges.size(); ++i)
         if (link_edges[i] == link_edges[i - 1])
             c.boundary.push_back("link edge " + edge_text(link_edges[i]) + " bounds two triangles of the star");
+    return corners_ok;
+}
 
-    if (c.kind == StepCheck::Kind::FeatureVertex) {
-        c.structure.push_back("vertex " + std::to_string(v) + " is a feature vertex (" + c.why_feature +
-                              "); point removal must keep it");
-        return;
-    }
-    if (!corners_ok) return;
+// Rule 2 per polygon (the star's disk, or each half-disk): every recorded triangle lies
+// in one polygon and has its patch.
+void Replayer::check_polygons(int64_t s, StepCheck& c) {
+    const int64_t first = steps_.triangle_offsets[s], last = steps_.triangle_offsets[s + 1];
+    auto new_tri = [&](int64_t j) { return steps_.triangles[j]; };
 
     // Rule 2 per polygon: sides once, other edges twice, n - 2 triangles, one fan per corner.
     const int32_t np = static_cast<int32_t>(c.polygons.size());
@@ -481,136 +496,150 @@ void Replayer::check(int64_t s, StepCheck& c) {
                                   " it replaces has patch " + std::to_string(c.polygon_patch[poly]));
     }
     if (!c.boundary.empty()) return;
-    for (int32_t i = 0; i < np; ++i) {
-        const auto& poly = c.polygons[i];
-        const int32_t n = static_cast<int32_t>(poly.size());
-        const std::string what = c.kind == StepCheck::Kind::Disk ? "the hole" : "half-disk " + std::to_string(i);
-        if (n < 3) {
-            c.local.push_back(what + " (" + std::to_string(c.a) + ", " + std::to_string(c.b) +
-                              ") has a single triangle: its new feature edge is an edge of the surface already "
-                              "(local condition of Conjecture 2.1)");
-            continue;
-        }
-        std::vector<uint64_t> sides, edges;
-        for (int32_t k = 0; k < n; ++k) sides.push_back(edge_key(poly[k], poly[(k + 1) % n]));
-        std::sort(sides.begin(), sides.end());
-        for (int64_t j : members[i])
-            for (int k = 0; k < 3; ++k) edges.push_back(edge_key(new_tri(j)[k], new_tri(j)[(k + 1) % 3]));
-        std::sort(edges.begin(), edges.end());
-        for (size_t e = 0; e < edges.size();) {
-            size_t f = e;
-            while (f < edges.size() && edges[f] == edges[e]) ++f;
-            const bool side = std::binary_search(sides.begin(), sides.end(), edges[e]);
-            if (side && f - e != 1)
-                c.boundary.push_back(what + ": side " + edge_text(edges[e]) + " is in " + std::to_string(f - e) +
-                                     " recorded triangles, expected 1");
-            else if (!side && f - e != 2)
-                c.boundary.push_back(what + ": edge " + edge_text(edges[e]) + " is in " + std::to_string(f - e) +
-                                     " recorded triangles, expected 2 (the triangles do not close up)");
-            e = f;
-        }
-        for (uint64_t k : sides)
-            if (!std::binary_search(edges.begin(), edges.end(), k))
-                c.boundary.push_back(what + ": side " + edge_text(k) + " is in no recorded triangle (the hole is not "
-                                     "filled)");
-        if (!c.boundary.empty()) continue;
-        if (static_cast<int32_t>(members[i].size()) != n - 2) {
-            c.structure.push_back(what + " has " + std::to_string(n) + " corners but is filled with " +
-                                  std::to_string(members[i].size()) + " triangles, not " + std::to_string(n - 2) +
-                                  " (not a triangulated disk)");
-            continue;
-        }
-        // One fan around every corner, from the side to its successor to the side to its predecessor.
-        for (int32_t k = 0; k < n; ++k) {
-            const int32_t x = poly[k], succ = poly[(k + 1) % n], pred = poly[(k + n - 1) % n];
-            std::vector<int64_t> at;
-            for (int64_t j : members[i])
-                if (contains(new_tri(j), x)) at.push_back(j);
-            int64_t t = -1;
+    for (int32_t i = 0; i < np; ++i) check_polygon(i, members[i], c);
+}
+
+// Rule 2 for polygon i filled by the recorded triangles `members`: sides once, other
+// edges twice, n - 2 triangles, one fan around every corner.
+void Replayer::check_polygon(int32_t i, const std::vector<int64_t>& members, StepCheck& c) {
+    auto new_tri = [&](int64_t j) { return steps_.triangles[j]; };
+    const auto& poly = c.polygons[i];
+    const int32_t n = static_cast<int32_t>(poly.size());
+    const std::string what = c.kind == StepCheck::Kind::Disk ? "the hole" : "half-disk " + std::to_string(i);
+    if (n < 3) {
+        c.local.push_back(what + " (" + std::to_string(c.a) + ", " + std::to_string(c.b) +
+                          ") has a single triangle: its new feature edge is an edge of the surface already "
+                          "(local condition of Conjecture 2.1)");
+        return;
+    }
+    std::vector<uint64_t> sides, edges;
+    for (int32_t k = 0; k < n; ++k) sides.push_back(edge_key(poly[k], poly[(k + 1) % n]));
+    std::sort(sides.begin(), sides.end());
+    for (int64_t j : members)
+        for (int k = 0; k < 3; ++k) edges.push_back(edge_key(new_tri(j)[k], new_tri(j)[(k + 1) % 3]));
+    std::sort(edges.begin(), edges.end());
+    for (size_t e = 0; e < edges.size();) {
+        size_t f = e;
+        while (f < edges.size() && edges[f] == edges[e]) ++f;
+        const bool side = std::binary_search(sides.begin(), sides.end(), edges[e]);
+        if (side && f - e != 1)
+            c.boundary.push_back(what + ": side " + edge_text(edges[e]) + " is in " + std::to_string(f - e) +
+                                 " recorded triangles, expected 1");
+        else if (!side && f - e != 2)
+            c.boundary.push_back(what + ": edge " + edge_text(edges[e]) + " is in " + std::to_string(f - e) +
+                                 " recorded triangles, expected 2 (the triangles do not close up)");
+        e = f;
+    }
+    for (uint64_t k : sides)
+        if (!std::binary_search(edges.begin(), edges.end(), k))
+            c.boundary.push_back(what + ": side " + edge_text(k) + " is in no recorded triangle (the hole is not "
+                                 "filled)");
+    if (!c.boundary.empty()) return;
+    if (static_cast<int32_t>(members.size()) != n - 2) {
+        c.structure.push_back(what + " has " + std::to_string(n) + " corners but is filled with " +
+                              std::to_string(members.size()) + " triangles, not " + std::to_string(n - 2) +
+                              " (not a triangulated disk)");
+        return;
+    }
+    // One fan around every corner, from the side to its successor to the side to its predecessor.
+    for (int32_t k = 0; k < n; ++k) {
+        const int32_t x = poly[k], succ = poly[(k + 1) % n], pred = poly[(k + n - 1) % n];
+        std::vector<int64_t> at;
+        for (int64_t j : members)
+            if (contains(new_tri(j), x)) at.push_back(j);
+        int64_t t = -1;
+        for (int64_t j : at)
+            if (contains(new_tri(j), succ)) t = j;
+        int32_t from = succ;
+        size_t visited = 0;
+        while (t >= 0 && visited <= at.size()) {
+            ++visited;
+            const Tri& tri = new_tri(t);
+            int32_t third = -1;
+            for (int32_t y : tri)
+                if (y != x && y != from) third = y;
+            if (third == pred) break;
+            int64_t next = -1;
             for (int64_t j : at)
-                if (contains(new_tri(j), succ)) t = j;
-            int32_t from = succ;
-            size_t visited = 0;
-            while (t >= 0 && visited <= at.size()) {
-                ++visited;
-                const Tri& tri = new_tri(t);
-                int32_t third = -1;
-                for (int32_t y : tri)
-                    if (y != x && y != from) third = y;
-                if (third == pred) break;
-                int64_t next = -1;
-                for (int64_t j : at)
-                    if (j != t && contains(new_tri(j), third)) next = j;
-                t = next;
-                from = third;
-            }
-            if (t < 0 || visited != at.size()) {
-                c.structure.push_back(what + ": the recorded triangles around corner " + std::to_string(x) +
-                                      " do not form one fan (not a triangulated disk)");
-                break;
-            }
+                if (j != t && contains(new_tri(j), third)) next = j;
+            t = next;
+            from = third;
+        }
+        if (t < 0 || visited != at.size()) {
+            c.structure.push_back(what + ": the recorded triangles around corner " + std::to_string(x) +
+                                  " do not form one fan (not a triangulated disk)");
+            break;
         }
     }
 }
 
-}  // namespace
+// The record is consistent in itself: offsets, sizes and vertex indices. The reader
+// guarantees this; a BpmFile built in memory might not.
+bool steps_record_well_formed(const SimplificationSteps& steps, int32_t nv0) {
+    bool ok = static_cast<int64_t>(steps.triangle_offsets.size()) == steps.num_steps() + 1 &&
+              steps.triangle_patches.size() == steps.triangles.size() && steps.triangle_offsets.front() == 0 &&
+              steps.triangle_offsets.back() == steps.num_triangles();
+    for (size_t i = 1; ok && i < steps.triangle_offsets.size(); ++i)
+        ok = steps.triangle_offsets[i] >= steps.triangle_offsets[i - 1];
+    for (int32_t v : steps.vertex) ok = ok && v >= 0 && v < nv0;
+    for (const Tri& t : steps.triangles)
+        for (int32_t v : t) ok = ok && v >= 0 && v < nv0;
+    return ok;
+}
 
-CheckResult check_replay(const BpmFile& file, const CheckOptions& options, const Context& context) {
-    CheckResult r;
-    r.name = "replay";
-    const Parametrization& p = file.param;
-    if (!file.simplification_steps) {
-        // (What records them is the caller's to name: SimplifyOptions::record_steps, a
-        // tool's flag.)
-        detail::refuse(r, "the file has no recorded simplification steps");
-        return r;
-    }
-    if (auto why = detail::parametrization_unsafe(p)) {
-        detail::refuse(r, *why);
-        return r;
-    }
-    const SimplificationSteps& steps = *file.simplification_steps;
-    const int32_t nv0 = p.original.num_vertices();
-    {
-        // The reader guarantees this; a BpmFile built in memory might not.
-        bool ok = static_cast<int64_t>(steps.triangle_offsets.size()) == steps.num_steps() + 1 &&
-                  steps.triangle_patches.size() == steps.triangles.size() && steps.triangle_offsets.front() == 0 &&
-                  steps.triangle_offsets.back() == steps.num_triangles();
-        for (size_t i = 1; ok && i < steps.triangle_offsets.size(); ++i)
-            ok = steps.triangle_offsets[i] >= steps.triangle_offsets[i - 1];
-        for (int32_t v : steps.vertex) ok = ok && v >= 0 && v < nv0;
-        for (const Tri& t : steps.triangles)
-            for (int32_t v : t) ok = ok && v >= 0 && v < nv0;
-        if (!ok) {
-            detail::refuse(r, "the record of simplification steps is malformed (sizes, offsets or vertex indices)");
-            return r;
+// What the replay did.
+struct ReplayTally {
+    int64_t replayed = 0, disks = 0, half_disks = 0, full_checks = 0;
+    bool failed = false;
+};
+
+// The topology agrees with S0 after `good` steps and differs after `bad` (its differences
+// `at_bad`): bisects down to the step that changed it, leaving good + 1 == bad.
+void bisect_topology_change(const Parametrization& p, const SimplificationSteps& steps,
+                            const SurfaceTopology& original, const std::vector<int32_t>& identity,
+                            const CheckOptions& options, int64_t& good, int64_t& bad,
+                            std::vector<std::string>& at_bad, ReplayTally& tally) {
+    while (bad - good > 1) {
+        const int64_t mid = good + (bad - good) / 2;
+        Replayer again(p.original, original.triangle_component, steps);
+        for (int64_t i = 0; i < mid; ++i) again.apply(i);
+        ++tally.full_checks;
+        auto d = topology_differences(original, again.mesh(), p.original, identity, options.max_problems);
+        if (d.empty()) {
+            good = mid;
+        } else {
+            bad = mid;
+            at_bad = std::move(d);
         }
     }
+}
+
+// Replays the steps in order on `replay`, checking each against the rules and the Euler
+// characteristic exactly, and the whole topology every `interval` steps. Stops at the
+// first failure, which it reports into `r`.
+ReplayTally replay_steps(const Parametrization& p, const SimplificationSteps& steps, const SurfaceTopology& original,
+                         Replayer& replay, const CheckOptions& options, const Context& context, CheckResult& r) {
     const int64_t ns = steps.num_steps();
-    r.add_count("steps", ns);
-    context.report(0.0, "replay: topology of S0");
-    const SurfaceTopology original = compute_topology(p.original);
+    const int32_t nv0 = p.original.num_vertices();
     std::vector<int32_t> identity(static_cast<size_t>(nv0));
     std::iota(identity.begin(), identity.end(), 0);
     const int64_t interval =
         options.replay_check_interval > 0 ? options.replay_check_interval : std::max<int64_t>(1, (ns + 3) / 4);
-
-    Replayer replay(p.original, original.triangle_component, steps);
     const int64_t chi0 = original.euler_characteristic;
     int64_t chi = chi0;
-    int64_t disks = 0, half_disks = 0, full_checks = 0, replayed = 0, last_good = 0;
-    bool failed = false;
+    int64_t last_good = 0;
+    ReplayTally tally;
     StepCheck c;
     auto step_ids = [&](int64_t s) { return Ids{{"step", s}, {"original_vertex", steps.vertex[s]}}; };
     auto report_all = [&](int64_t s, const std::vector<std::string>& messages, const std::string& prefix) {
         for (const std::string& m : messages) r.add_problem({step_ids(s), prefix + m}, options.max_problems);
     };
-    for (int64_t s = 0; s < ns && !failed; ++s) {
+    for (int64_t s = 0; s < ns; ++s) {
         if ((s & 1023) == 0) context.report(0.05 + 0.85 * double(s) / double(ns), "replay");
         replay.check(s, c);
         const bool hypothesis = c.boundary.empty() && c.local.empty();  // what Conjecture 2.1 assumes
         if (!hypothesis || !c.structure.empty()) {
-            failed = true;
+            tally.failed = true;
             report_all(s, c.boundary, "");
             report_all(s, c.local, "");
             report_all(s, c.structure, "");
@@ -618,14 +647,14 @@ CheckResult check_replay(const BpmFile& file, const CheckOptions& options, const
                 // The local condition holds but the removal is not a regular one: does it
                 // change the topology? Apply it and recompute.
                 replay.apply(s);
-                ++full_checks;
+                ++tally.full_checks;
                 const auto diff =
                     topology_differences(original, replay.mesh(), p.original, identity, options.max_problems);
                 if (!diff.empty())
                     report_all(s, diff, "counterexample to Conjecture 2.1 (the local condition holds, but the topology "
                                         "changes): ");
             }
-            break;
+            return tally;
         }
         // Exact local update of V - E + T.
         const int64_t v_before = replay.mesh().referenced_vertices();
@@ -634,60 +663,43 @@ CheckResult check_replay(const BpmFile& file, const CheckOptions& options, const
         const int64_t dv = replay.mesh().referenced_vertices() - v_before;
         const int64_t dt = replay.mesh().alive_triangles() - t_before;
         chi += dv - (c.new_edges - c.spokes) + dt;
-        ++replayed;
-        (c.kind == StepCheck::Kind::Disk ? disks : half_disks) += 1;
+        ++tally.replayed;
+        (c.kind == StepCheck::Kind::Disk ? tally.disks : tally.half_disks) += 1;
         if (chi != chi0) {
-            failed = true;
+            tally.failed = true;
             r.add_problem({step_ids(s), "counterexample: every local check passed, but the Euler characteristic "
                                         "changed from " + std::to_string(chi0) + " to " + std::to_string(chi)},
                           options.max_problems);
-            break;
+            return tally;
         }
         if ((s + 1) % interval == 0 || s + 1 == ns) {
-            ++full_checks;
-            const auto diff = topology_differences(original, replay.mesh(), p.original, identity, options.max_problems);
+            ++tally.full_checks;
+            auto diff = topology_differences(original, replay.mesh(), p.original, identity, options.max_problems);
             if (diff.empty()) {
                 last_good = s + 1;
                 continue;
             }
-            // Bisect over (last_good, s + 1]: the state after `good` steps agrees, after `bad` it does not.
             int64_t good = last_good, bad = s + 1;
-            std::vector<std::string> at_bad = diff;
-            while (bad - good > 1) {
-                const int64_t mid = good + (bad - good) / 2;
-                Replayer again(p.original, original.triangle_component, steps);
-                for (int64_t i = 0; i < mid; ++i) again.apply(i);
-                ++full_checks;
-                auto d = topology_differences(original, again.mesh(), p.original, identity, options.max_problems);
-                if (d.empty()) {
-                    good = mid;
-                } else {
-                    bad = mid;
-                    at_bad = std::move(d);
-                }
-            }
-            failed = true;
-            report_all(bad - 1, at_bad,
+            bisect_topology_change(p, steps, original, identity, options, good, bad, diff, tally);
+            tally.failed = true;
+            report_all(bad - 1, diff,
                        "counterexample: every local check passed, but the topology changed with this step: ");
-            break;
+            return tally;
         }
     }
-    r.add_count("replayed_steps", replayed);
-    r.add_count("disk_removals", disks);
-    r.add_count("feature_line_removals", half_disks);
-    r.add_count("full_topology_checks", full_checks);
-    if (failed) {
-        r.summary = "replay stopped at step " + std::to_string(replayed) + " of " + std::to_string(ns);
-        return r;
-    }
+    return tally;
+}
 
-    // The replayed connectivity must be the coarse surface (triangles as vertex sets, with patches).
-    context.report(0.95, "replay: comparing with the coarse surface");
+// The replayed connectivity must be the coarse surface (triangles as vertex sets, with
+// patches). Reports every difference; returns how many triangles differ, and sets
+// `triangles` to the replayed surface's count.
+int64_t compare_with_coarse(const ReplayMesh& mesh, const Parametrization& p, const CheckOptions& options,
+                            CheckResult& r, int64_t& triangles) {
     using Key = std::pair<std::array<int32_t, 3>, int32_t>;
     std::vector<std::pair<Key, int64_t>> replayed_tris, coarse_tris;
     {
         std::vector<int32_t> label;
-        const Surface now = replay.mesh().surface({}, label);
+        const Surface now = mesh.surface({}, label);
         for (size_t t = 0; t < now.triangles.size(); ++t) {
             Tri k = now.triangles[t];
             std::sort(k.begin(), k.end());
@@ -724,10 +736,53 @@ CheckResult check_replay(const BpmFile& file, const CheckOptions& options, const
             ++j;
         }
     }
+    triangles = static_cast<int64_t>(replayed_tris.size());
+    return mismatched;
+}
+
+}  // namespace
+
+CheckResult check_replay(const BpmFile& file, const CheckOptions& options, const Context& context) {
+    CheckResult r;
+    r.name = "replay";
+    const Parametrization& p = file.param;
+    if (!file.simplification_steps) {
+        // (What records them is the caller's to name: SimplifyOptions::record_steps, a
+        // tool's flag.)
+        detail::refuse(r, "the file has no recorded simplification steps");
+        return r;
+    }
+    if (auto why = detail::parametrization_unsafe(p)) {
+        detail::refuse(r, *why);
+        return r;
+    }
+    const SimplificationSteps& steps = *file.simplification_steps;
+    if (!steps_record_well_formed(steps, p.original.num_vertices())) {
+        detail::refuse(r, "the record of simplification steps is malformed (sizes, offsets or vertex indices)");
+        return r;
+    }
+    const int64_t ns = steps.num_steps();
+    r.add_count("steps", ns);
+    context.report(0.0, "replay: topology of S0");
+    const SurfaceTopology original = compute_topology(p.original);
+    Replayer replay(p.original, original.triangle_component, steps);
+    const ReplayTally tally = replay_steps(p, steps, original, replay, options, context, r);
+    r.add_count("replayed_steps", tally.replayed);
+    r.add_count("disk_removals", tally.disks);
+    r.add_count("feature_line_removals", tally.half_disks);
+    r.add_count("full_topology_checks", tally.full_checks);
+    if (tally.failed) {
+        r.summary = "replay stopped at step " + std::to_string(tally.replayed) + " of " + std::to_string(ns);
+        return r;
+    }
+
+    context.report(0.95, "replay: comparing with the coarse surface");
+    int64_t triangles = 0;
+    const int64_t mismatched = compare_with_coarse(replay.mesh(), p, options, r, triangles);
     r.add_count("mismatched_triangles", mismatched);
-    r.add_count("triangles", static_cast<int64_t>(replayed_tris.size()));
-    r.summary = "replayed " + std::to_string(ns) + " removals (" + std::to_string(disks) + " disks, " +
-                std::to_string(half_disks) + " on feature lines) with " + std::to_string(full_checks) +
+    r.add_count("triangles", triangles);
+    r.summary = "replayed " + std::to_string(ns) + " removals (" + std::to_string(tally.disks) + " disks, " +
+                std::to_string(tally.half_disks) + " on feature lines) with " + std::to_string(tally.full_checks) +
                 " full topology checks" +
                 (mismatched ? "; the result differs from the coarse surface in " + std::to_string(mismatched) +
                                   " triangles"
