@@ -146,7 +146,7 @@ fi
 # Polygon faces: refused with the repair named, read with it (a cube of 6 quads).
 printf 'OFF\n8 6 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n0 0 1\n1 0 1\n1 1 1\n0 1 1\n4 0 3 2 1\n4 4 5 6 7\n4 0 1 5 4\n4 1 2 6 5\n4 2 3 7 6\n4 3 0 4 7\n' >"$work/quads.off"
 expect 3 "quads are refused by default" -- "$simplify" "$work/quads.off" -o "$work/q.bpm" --vertices 8
-ok "the refusal names the repair" -- grep -q "triangulate-polygons repair" "$work/err"
+ok "the refusal names the repair and its flag" -- grep -q "the repair it needs: triangulate polygons. Rerun with: --triangulate-polygons" "$work/err"
 expect 0 "quads with --triangulate-polygons" -- "$simplify" "$work/quads.off" -o "$work/q.bpm" --vertices 8 --triangulate-polygons
 ok "the repair is reported" -- grep -q "triangulated 6 polygon faces (up to 4 corners)" "$work/err"
 expect 0 "the triangulated cube passes bpm-check" -- "$check" "$work/q.bpm"

@@ -358,6 +358,7 @@ void require_bpm_output(const std::string& path, const std::string& tool) {
 
 std::string repair_flag(SurfaceRepair repair) {
     switch (repair) {
+        case SurfaceRepair::TriangulatePolygons: return "--triangulate-polygons";
         case SurfaceRepair::MergeDuplicateVertices: return "--merge-duplicate-vertices";
         case SurfaceRepair::DropUnreferencedVertices: return "--drop-unreferenced-vertices";
         case SurfaceRepair::MergeDuplicateTriangles: return "--merge-duplicate-triangles";

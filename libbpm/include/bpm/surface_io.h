@@ -110,7 +110,12 @@ struct SurfaceReadReport {
 };
 
 // The repairs of SurfaceReadOptions, named for InputNeedsRepair.
-enum class SurfaceRepair { MergeDuplicateVertices, DropUnreferencedVertices, MergeDuplicateTriangles };
+enum class SurfaceRepair {
+    TriangulatePolygons,  // SurfaceReadOptions::triangulate_polygons (faces with more than three corners)
+    MergeDuplicateVertices,
+    DropUnreferencedVertices,
+    MergeDuplicateTriangles
+};
 
 // An input that parsed but is unusable as it is, and that the listed repairs would make
 // usable (problems other than these may remain). All repairs are listed at once: the

@@ -153,6 +153,11 @@ void insert_polygons(const InputCursor& in, bool binary, ReaderOutput& out) {
     patches.insert(patches.end(), s.patches.begin() + copied, s.patches.end());
     s.triangles = std::move(triangles);
     s.patches = std::move(patches);
+    const PolygonFace& first = out.polygons.front();
+    out.triangulated_polygons =
+        (binary ? "byte offset " + std::to_string(first.offset) : "line " + std::to_string(in.line_of(first.offset))) +
+        ": face " + std::to_string(first.face) + " has " + std::to_string(first.corners.size()) + " corners" +
+        (out.polygons.size() > 1 ? " (and " + std::to_string(out.polygons.size() - 1) + " more polygon faces)" : "");
     out.notes.push_back("triangulated " + std::to_string(out.polygons.size()) + " polygon face" +
                         (out.polygons.size() == 1 ? "" : "s") + " (up to " + std::to_string(largest) + " corners)");
     out.polygons.clear();

@@ -165,6 +165,7 @@ std::vector<SurfaceRepair> repairs_needed(Surface surface, const std::vector<Sur
 
 std::string repair_words(SurfaceRepair r) {
     switch (r) {
+        case SurfaceRepair::TriangulatePolygons: return "triangulate polygons";
         case SurfaceRepair::MergeDuplicateVertices: return "merge duplicate vertices";
         case SurfaceRepair::DropUnreferencedVertices: return "drop unreferenced vertices";
         case SurfaceRepair::MergeDuplicateTriangles: return "merge duplicate triangles";
@@ -173,11 +174,24 @@ std::string repair_words(SurfaceRepair r) {
 }
 
 // The error for a validated surface with problems: InputNeedsRepair when repairs help.
+// `polygons` (empty: none) is the reader's note of the polygon faces it triangulated
+// although the options did not ask for it (ReaderOutput::triangulated_polygons): they
+// were triangulated only so that this one error can name every repair the input needs.
 [[noreturn]] void throw_surface_problems(const std::string& where, const std::string& prefix,
+                                         const std::string& polygons,
                                          const std::vector<SurfaceProblem>& problems, const Surface& surface,
                                          const SurfaceReadOptions& options, const ValidateOptions& validate) {
-    std::string message = prefix + problems_message(problems, surface, validate.max_problems);
-    const std::vector<SurfaceRepair> repairs = repairs_needed(surface, problems, options, validate);
+    std::string message = prefix;
+    std::vector<SurfaceRepair> repairs;
+    if (!polygons.empty()) {
+        message += polygons + "; only triangles are accepted";
+        repairs.push_back(SurfaceRepair::TriangulatePolygons);
+    }
+    if (!problems.empty()) {
+        message += (polygons.empty() ? "" : "; ") + problems_message(problems, surface, validate.max_problems);
+        const std::vector<SurfaceRepair> more = repairs_needed(surface, problems, options, validate);
+        repairs.insert(repairs.end(), more.begin(), more.end());
+    }
     if (repairs.empty()) throw InputError(where, message);
     message += repairs.size() == 1 ? "; the repair it needs: " : "; the repairs it needs, all together: ";
     for (size_t i = 0; i < repairs.size(); ++i) message += (i ? ", " : "") + repair_words(repairs[i]);
@@ -217,16 +231,20 @@ static Surface read_from_memory(const std::string& bytes, SurfaceFormat format, 
                                 const SurfaceReadOptions& options, SurfaceReadReport* report,
                                 const std::string& material) {
     detail::ReaderOutput parsed;
+    // Polygon faces are always parsed and triangulated, so that one error can name every
+    // repair the input needs (the duplicates of a polygon file show only once it is read);
+    // finish_reading refuses them unless the triangulate_polygons repair was asked for.
+    constexpr bool polygons = true;
     try {
         switch (format) {
-            case SurfaceFormat::Off: parsed = detail::read_off(bytes, name, options.triangulate_polygons); break;
-            case SurfaceFormat::Obj: parsed = detail::read_obj(bytes, name, options.triangulate_polygons); break;
+            case SurfaceFormat::Off: parsed = detail::read_off(bytes, name, polygons); break;
+            case SurfaceFormat::Obj: parsed = detail::read_obj(bytes, name, polygons); break;
             case SurfaceFormat::Stl: parsed = detail::read_stl(bytes, name); break;
-            case SurfaceFormat::Ply: parsed = detail::read_ply(bytes, name, options.triangulate_polygons); break;
+            case SurfaceFormat::Ply: parsed = detail::read_ply(bytes, name, polygons); break;
             case SurfaceFormat::Msh: parsed = detail::read_msh(bytes, name); break;
-            case SurfaceFormat::Vtk: parsed = detail::read_vtk(bytes, name, options.triangulate_polygons); break;
+            case SurfaceFormat::Vtk: parsed = detail::read_vtk(bytes, name, polygons); break;
             case SurfaceFormat::Vtp:
-            case SurfaceFormat::Vtu: parsed = detail::read_vtk_xml(bytes, name, options.triangulate_polygons); break;
+            case SurfaceFormat::Vtu: parsed = detail::read_vtk_xml(bytes, name, polygons); break;
             case SurfaceFormat::Surf: parsed = detail::read_surf(bytes, name); break;
         }
     } catch (const InputError& e) {
@@ -246,8 +264,8 @@ Surface read_surface_from_memory(const std::string& bytes, SurfaceFormat format,
 // Source=...> elements name (relative to its directory) and joined into one surface:
 // triangles and patches in piece order, the point data arrays every piece has, and the
 // points that several pieces share (their borders) merged.
-static detail::ReaderOutput read_parallel_vtk_xml(const std::string& path, const std::string& name, const std::string& bytes,
-                                                  const SurfaceReadOptions& options) {
+static detail::ReaderOutput read_parallel_vtk_xml(const std::string& path, const std::string& name,
+                                                  const std::string& bytes) {
     const std::vector<std::string> sources = detail::parallel_vtk_xml_sources(bytes, name);
     const std::filesystem::path dir = std::filesystem::path(path).parent_path();
     detail::ReaderOutput all;
@@ -266,8 +284,11 @@ static detail::ReaderOutput read_parallel_vtk_xml(const std::string& path, const
             throw InputError(name, "piece " + std::to_string(k) + " (Source " + detail::quote_token(sources[k]) +
                                        ") is a parallel file itself; the pieces must be .vtp or .vtu files");
         }
-        detail::ReaderOutput part =
-            detail::read_vtk_xml(piece_bytes, detail::display_name(piece_path), options.triangulate_polygons);
+        // Polygons always triangulated, as in read_from_memory.
+        detail::ReaderOutput part = detail::read_vtk_xml(piece_bytes, detail::display_name(piece_path), true);
+        if (all.triangulated_polygons.empty() && !part.triangulated_polygons.empty())
+            all.triangulated_polygons = "piece " + std::to_string(k) + " (Source " + detail::quote_token(sources[k]) +
+                                        "): " + part.triangulated_polygons;
         const int32_t offset = s.num_vertices();
         if (int64_t(offset) + part.surface.num_vertices() > std::numeric_limits<int32_t>::max())
             throw InputError(name, "the pieces have more than 2147483647 points together");
@@ -348,7 +369,9 @@ static Surface finish_reading(detail::ReaderOutput parsed, SurfaceFormat format,
     ValidateOptions validate;
     validate.max_problems = 100;
     const std::vector<SurfaceProblem> problems = validate_surface(surface, validate);
-    if (!problems.empty()) throw_surface_problems(name, "", problems, surface, options, validate);
+    const std::string polygons = options.triangulate_polygons ? std::string() : parsed.triangulated_polygons;
+    if (!problems.empty() || !polygons.empty())
+        throw_surface_problems(name, "", polygons, problems, surface, options, validate);
     return surface;
 }
 
@@ -361,7 +384,7 @@ Surface read_surface(const std::string& path, const SurfaceReadOptions& options,
     // One file per material: the material is the file's name without directory and extension.
     const std::string material = path == "-" ? std::string() : std::filesystem::path(path).stem().string();
     if ((!format || format == SurfaceFormat::Vtp || format == SurfaceFormat::Vtu) && is_parallel_vtk_xml(bytes))
-        return finish_reading(read_parallel_vtk_xml(path, name, bytes, options), format.value_or(SurfaceFormat::Vtp),
+        return finish_reading(read_parallel_vtk_xml(path, name, bytes), format.value_or(SurfaceFormat::Vtp),
                               name, options, report, material);
     // No (known) extension: only a HyperSurface head is taken as the format (a first line
     // "# HyperSurface" cannot be mistaken for anything else); every other format needs its
@@ -421,7 +444,7 @@ Surface read_surfaces(const std::vector<std::string>& paths, const SurfaceReadOp
     validate.allow_unreferenced_vertices = options.drop_unreferenced_vertices;
     const std::vector<SurfaceProblem> problems = validate_surface(surface, validate);
     if (!problems.empty())
-        throw_surface_problems(names, "the inputs together (vertices and triangles numbered across the files in order): ",
+        throw_surface_problems(names, "the inputs together (vertices and triangles numbered across the files in order): ", "",
                                problems, surface, options, validate);
     return surface;
 }

@@ -46,6 +46,9 @@ struct ReaderOutput {
     int64_t skipped_elements = 0;    // MSH: elements that are not 3-node triangles; VTK: vertex, line, volume cells
     std::vector<std::string> notes;  // remarks for SurfaceReadReport::notes
     std::vector<PolygonFace> polygons;  // with accept_polygons only; in file order
+    // After insert_polygons: where the first polygon face is and how many there were, e.g.
+    // "line 22: face 0 has 4 corners (and 5 more polygon faces)"; empty if none.
+    std::string triangulated_polygons;
     std::vector<PatchInfo> patch_info;  // what the file says about its patches (SURF, MSH), by patch id
 };
 

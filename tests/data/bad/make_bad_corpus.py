@@ -73,7 +73,7 @@ add("off_header_then_garbage.off", b"OFF\n4 4 0\n" + garbage(2, 200), "*")
 OBJ_V = "".join("v %g %g %g\n" % v for v in TET_V)
 add("obj_empty.obj", "", "no vertices and no faces")
 add("obj_not_obj.obj", "hello world\nthis is text\n", "does not look like an OBJ file")
-add("obj_quad.obj", OBJ_V + "v 1 1 0\nf 1 2 3\nf 2 5 3 4\n", "a face with 4 corners; only triangles")
+add("obj_quad.obj", OBJ_V + "v 1 1 0\nf 1 2 3\nf 2 5 3 4\n", "has 4 corners; only triangles")
 add("obj_two_corners.obj", OBJ_V + "f 1 2\n", "a triangle needs 3")
 add("obj_index_zero.obj", OBJ_V + "f 0 1 2\n", "OBJ indices start at 1")
 add("obj_out_of_range.obj", OBJ_V + "f 1 3 2\nf 1 2 9\n", "vertex index 9 is out of range")
@@ -289,7 +289,7 @@ add("vtk_billions.vtk", "# vtk DataFile Version 4.2\nx\nASCII\nDATASET POLYDATA\
 add("vtk_big_counts.vtk", vtk_ascii(TET_V, TET_F).replace("POLYGONS 4 16", "POLYGONS 100000000 400000000"),
     "cannot hold that many")
 add("vtk_wrong_size.vtk", vtk_ascii(TET_V, TET_F).replace("POLYGONS 4 16", "POLYGONS 3 16"), "3 cells use 12 integers, but 16 were announced")
-add("vtk_quad.vtk", vtk_ascii(TET_V + [(1, 1, 0)], TET_F[:3] + [(1, 4, 2, 3)]), "the triangulate-polygons repair")
+add("vtk_quad.vtk", vtk_ascii(TET_V + [(1, 1, 0)], TET_F[:3] + [(1, 4, 2, 3)]), "the repair it needs: triangulate polygons")
 add("vtk_cells_before_points.vtk", "# vtk DataFile Version 4.2\nx\nASCII\nDATASET POLYDATA\nPOLYGONS 1 4\n3 0 1 2\n",
     "before POINTS")
 add("vtk_point_data_count.vtk", vtk_ascii(TET_V, TET_F, body_extra="POINT_DATA 5\nSCALARS s float\nLOOKUP_TABLE default\n"
@@ -376,7 +376,7 @@ add("vtp_offsets_decreasing.vtp", vtp(offsets=[3, 9, 6, 12]), "offsets must not 
 add("vtp_offsets_past_end.vtp", vtp(offsets=[3, 6, 9, 13]), "holds 12 values, 13 expected")
 add("vtp_index_out_of_range.vtp", vtp(faces=[(0, 2, 1), (0, 1, 4), (0, 3, 2), (1, 2, 3)]), "is out of range (the piece has 4 points)")
 add("vtp_nan.vtp", vtp(vertices=[(0, 0, 0), (1, 0, float("nan")), (0, 1, 0), (0, 0, 1)]), "is not a finite number")
-add("vtp_quad.vtp", vtp(faces=[(0, 2, 1, 3)], offsets=[4]), "triangulate-polygons repair")
+add("vtp_quad.vtp", vtp(faces=[(0, 2, 1, 3)], offsets=[4]), "face 0 (4 corners) cannot be triangulated")
 add("vtp_appended_truncated.vtp", vtp("appended")[:-60], "(truncated?)")
 add("vtp_appended_bad_offset.vtp", vtp("appended").replace(b'offset="0"', b'offset="99999"'), "beyond the end of the appended data")
 add("vtp_appended_no_section.vtp", vtp("appended").split(b"<AppendedData")[0] + b"</VTKFile>\n", "the file has no <AppendedData>")

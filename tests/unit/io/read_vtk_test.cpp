@@ -285,9 +285,8 @@ TEST_CASE("VTK: a quad is refused without the repair and split with it, keeping 
             w.values(std::vector<double>{4, -7});
             const std::string message = vtk_error(w.out);
             INFO(message);
-            CHECK(message.find(
-                      "POLYGONS cell 1 has 4 corners; only triangles are accepted (the triangulate-polygons repair") !=
-                  std::string::npos);
+            CHECK(message.find("face 1 has 4 corners; only triangles are accepted; the repair it needs: "
+                               "triangulate polygons") != std::string::npos);
             CHECK(message.find(binary ? "byte offset " : "line ") == 0);
 
             SurfaceReadOptions options;

@@ -583,7 +583,7 @@ TEST_CASE("reject: garbage tokens, with the line", "[surface_io]") {
 
 TEST_CASE("reject: polygons with more than three corners", "[surface_io]") {
     CHECK_READ_ERROR("OFF\n4 1 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n4 0 1 2 3\n", SurfaceFormat::Off, "only triangles");
-    CHECK_READ_ERROR("v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n", SurfaceFormat::Obj, "line 5: a face with 4 corners");
+    CHECK_READ_ERROR("v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n", SurfaceFormat::Obj, "line 5: face 0 has 4 corners");
     CHECK_READ_ERROR("ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
                      "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n4 0 1 2 3\n",
                      SurfaceFormat::Ply, "face 0 has 4 corners");
@@ -667,7 +667,30 @@ TEST_CASE("triangulate-polygons repair: polygons become triangles in place, orie
     }
     SECTION("without the repair the message names it") {
         CHECK_THAT(read_error("OFF\n4 1 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n4 0 1 2 3\n", SurfaceFormat::Off),
-                   Catch::Contains("the triangulate-polygons repair"));
+                   Catch::Contains("line 7: face 0 has 4 corners; only triangles are accepted; the repair it needs: "
+                                   "triangulate polygons"));
+    }
+    SECTION("without the repair, every repair the input needs is named at once") {
+        // Two quads (a square split in two along x = 1) whose shared corners are given
+        // twice: the duplicates only show once the polygons are read.
+        const std::string twice = "OFF\n8 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n1 0 0\n2 0 0\n2 1 0\n1 1 0\n"
+                                  "4 0 1 2 3\n4 4 5 6 7\n";
+        try {
+            read_surface_from_memory(twice, SurfaceFormat::Off, "twice.off");
+            FAIL("read without the repairs");
+        } catch (const InputNeedsRepair& e) {
+            CHECK_THAT(e.what(), Catch::Contains("line 11: face 0 has 4 corners (and 1 more polygon faces)"));
+            CHECK_THAT(e.what(), Catch::Contains("the repairs it needs, all together: triangulate polygons, merge "
+                                                 "duplicate vertices"));
+            CHECK(e.repairs() ==
+                  std::vector<SurfaceRepair>{SurfaceRepair::TriangulatePolygons, SurfaceRepair::MergeDuplicateVertices});
+        }
+        SurfaceReadOptions both;
+        both.triangulate_polygons = true;
+        both.merge_duplicate_vertices = true;
+        const Surface s = read_surface_from_memory(twice, SurfaceFormat::Off, "twice.off", both);
+        CHECK(s.num_triangles() == 4);
+        CHECK(s.num_vertices() == 6);
     }
 }
 
@@ -869,7 +892,8 @@ TEST_CASE("real meshes with duplicate or unused vertices, flat triangles or poly
         {"boeing.off", "vertex 8: same position", true, false, 1477},
         {"cube-ouvert.off", "vertex 8: not used by any triangle", false, true, 1},
         {"degtri_sliding.off", "triangle 2 (vertices 3, 2, 4): zero area", false, false, 0},
-        {"3torus.off", "line 22: face 0 has 4 corners; only triangles are accepted", false, false, 0},
+        {"3torus.off", "line 22: face 0 has 4 corners (and 22 more polygon faces); only triangles are accepted", false,
+         false, 0},
     };
     for (const Case& c : cases) {
         const fs::path path = dir / c.name;

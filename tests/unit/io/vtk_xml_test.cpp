@@ -408,8 +408,8 @@ TEST_CASE("vtk xml: strips, polygons and cell types", "[surface_io][vtk_xml]") {
                              w2.array("Int32", "connectivity", 1, {0, 1, 4, 3, 1, 2, 4}) +
                              w2.array("Int32", "offsets", 1, {4, 7}) + "</Polys>\n</Piece>\n";
     const std::string quad_file = w2.file("PolyData", quad);
-    CHECK_THAT(vtk_error(quad_file), Catch::Contains("line 14: polygon 0 of <Polys> has 4 corners") &&
-                                         Catch::Contains("triangulate-polygons repair"));
+    CHECK_THAT(vtk_error(quad_file), Catch::Contains("line 14: face 0 has 4 corners") &&
+                                         Catch::Contains("the repairs it needs, all together: triangulate polygons, drop unreferenced vertices"));
     SurfaceReadOptions repair;
     repair.triangulate_polygons = true;
     repair.drop_unreferenced_vertices = true;  // point 5 is in no triangle
