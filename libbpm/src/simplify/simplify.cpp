@@ -183,6 +183,7 @@ private:
     void report_progress(const SimplifyResult& result);
     void state_stop_reason(SimplifyResult& result) const;
     void count_blocked(SimplifyResult& result);
+    void release_planning_state();
     void summarize(const Parametrization& out, double max_deviation, std::chrono::steady_clock::time_point start,
                    SimplifyResult& result) const;
 
@@ -230,6 +231,7 @@ SimplifyResult Simplifier::run(Parametrization& out) {
     }
     state_stop_reason(result);
     count_blocked(result);
+    release_planning_state();
     context_.report(0.95, "writing the parametrization");
     const double max_deviation = export_parametrization(original_, mesh_, embedding_, sign_, pool, out);
     summarize(out, max_deviation, start, result);
@@ -566,6 +568,27 @@ void Simplifier::count_blocked(SimplifyResult& result) {
         ++result.blocked[why];
         if (options_.trace_removals) context_.debug("vertex " + std::to_string(v) + " kept: " + why);
     }
+}
+
+// Frees what only the loop needs (the grid, the queue, the waiting plans, the planners
+// and their buffers) before phi is exported: the export's arrays reuse that memory, so
+// the peak of a run is lower (the export needs the coarse mesh and the embedding only).
+void Simplifier::release_planning_state() {
+    intersections_.release();
+    decltype(queue_)().swap(queue_);
+    decltype(full_plans_)().swap(full_plans_);
+    decltype(last_reason_)().swap(last_reason_);
+    decltype(stamp_)().swap(stamp_);
+    decltype(oriented_normals_)().swap(oriented_normals_);
+    decltype(rerank_costs_)().swap(rerank_costs_);
+    decltype(grid_scratch_)().swap(grid_scratch_);
+    decltype(cheap_plans_)().swap(cheap_plans_);
+    plan_ = RemovalPlan();
+    second_plan_ = RemovalPlan();
+    step_ = Step();
+    remover_.reset();
+    second_remover_.reset();
+    removers_.clear();
 }
 
 // What was achieved: sizes, error and shape of the coarse surface, time, and the
