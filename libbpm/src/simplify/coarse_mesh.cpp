@@ -65,24 +65,36 @@ void CoarseMesh::edge_triangles(int32_t a, int32_t b, std::vector<int32_t>& out)
     }
 }
 
+// The triangle lists are sorted by id (ids only grow: a new triangle goes to the end,
+// a removed one is erased in place), so a triangle on both a and b is found by merging
+// the two short lists, without reading the triangles' corners (scattered in memory:
+// these lookups run for every ear a planner considers).
 bool CoarseMesh::has_edge(int32_t a, int32_t b) const {
     const auto& la = vertex_triangles_[a];
     const auto& lb = vertex_triangles_[b];
-    const auto& shorter = la.size() < lb.size() ? la : lb;
-    const int32_t other = la.size() < lb.size() ? b : a;
-    for (int32_t t : shorter) {
-        const Tri& c = triangles_[t];
-        if (c[0] == other || c[1] == other || c[2] == other) return true;
+    auto i = la.begin(), j = lb.begin();
+    while (i != la.end() && j != lb.end()) {
+        if (*i < *j)
+            ++i;
+        else if (*j < *i)
+            ++j;
+        else
+            return true;
     }
     return false;
 }
 
 int32_t CoarseMesh::find_triangle(int32_t a, int32_t b, int32_t c) const {
-    for (int32_t t : vertex_triangles_[a]) {
-        const Tri& x = triangles_[t];
-        const bool hb = x[0] == b || x[1] == b || x[2] == b;
-        const bool hc = x[0] == c || x[1] == c || x[2] == c;
-        if (hb && hc) return t;
+    const auto& la = vertex_triangles_[a];
+    const auto& lb = vertex_triangles_[b];
+    const auto& lc = vertex_triangles_[c];
+    auto i = la.begin(), j = lb.begin(), k = lc.begin();
+    while (i != la.end() && j != lb.end() && k != lc.end()) {
+        const int32_t t = std::max({*i, *j, *k});
+        if (*i == t && *j == t && *k == t) return t;
+        while (i != la.end() && *i < t) ++i;
+        while (j != lb.end() && *j < t) ++j;
+        while (k != lc.end() && *k < t) ++k;
     }
     return -1;
 }

@@ -33,6 +33,7 @@ public:
     int32_t num_vertices_alive() const { return num_vertices_alive_; }
     bool vertex_alive(int32_t v) const { return !vertex_triangles_[v].empty(); }
 
+    // The alive triangles at v, sorted by id (has_edge() and find_triangle() rely on it).
     const std::vector<int32_t>& triangles_of(int32_t v) const { return vertex_triangles_[v]; }
 
     // Alive triangles containing both a and b (all sheets of a non-manifold edge).

@@ -75,18 +75,26 @@ double export_parametrization(const Surface& original, const CoarseMesh& mesh, c
         chunks[c].begin = c * chunk_size;
         chunks[c].end = std::min(alive.size(), (c + 1) * chunk_size);
     }
-    pool.run_round(chunks.size(), [&](int, size_t c) {
-        export_chunk(original, mesh, embedding, orientation_sign, alive, chunks[c]);
-    });
+    // In batches of a few chunks per thread, each appended and freed before the next
+    // batch is exported: only a batch's parts are alive beside `out`, not a second copy
+    // of the whole of phi.
+    const size_t batch = 4 * size_t(pool.threads());
     double max_deviation = 0.0;
     clear_phi(out);
-    for (ExportChunk& chunk : chunks) {
-        if (chunk.failed != SIZE_MAX)
-            throw AlgorithmError("internal error: coarse triangle " + std::to_string(chunk.failed) +
-                                 " has an invalid parametrization (" + chunk.why + ")");
-        append_phi(out, chunk.part);
-        max_deviation = std::max(max_deviation, chunk.max_deviation);
-        chunk.part = Parametrization();  // its memory back before the next chunk's is appended
+    for (size_t first = 0; first < chunks.size(); first += batch) {
+        const size_t count = std::min(batch, chunks.size() - first);
+        pool.run_round(count, [&](int, size_t c) {
+            export_chunk(original, mesh, embedding, orientation_sign, alive, chunks[first + c]);
+        });
+        for (size_t c = first; c < first + count; ++c) {
+            ExportChunk& chunk = chunks[c];
+            if (chunk.failed != SIZE_MAX)
+                throw AlgorithmError("internal error: coarse triangle " + std::to_string(chunk.failed) +
+                                     " has an invalid parametrization (" + chunk.why + ")");
+            append_phi(out, chunk.part);
+            max_deviation = std::max(max_deviation, chunk.max_deviation);
+            chunk.part = Parametrization();  // its memory back before the next chunk's is appended
+        }
     }
     return max_deviation;
 }

@@ -60,11 +60,16 @@ void IntersectionTest::rebuild() {
     }
     const double cell = count ? 2.0 * extent / double(count) : 1.0;
     grid_ = TriangleGrid(cell > 0 ? cell : 1.0);
+    std::vector<int32_t> ids;
+    std::vector<Tri> corners;
+    ids.reserve(size_t(mesh_.num_alive_triangles()));
+    corners.reserve(size_t(mesh_.num_alive_triangles()));
     for (int32_t t = 0; t < mesh_.triangle_capacity(); ++t) {
         if (!mesh_.alive(t)) continue;
-        const Tri& c = mesh_.triangle(t);
-        grid_.insert(t, x[c[0]], x[c[1]], x[c[2]]);
+        ids.push_back(t);
+        corners.push_back(mesh_.triangle(t));
     }
+    grid_.insert_all(ids, corners, x);
     built_at_ = mesh_.num_alive_triangles();
 }
 

@@ -50,6 +50,10 @@ public:
     // queries would visit many cells.
     void rebuild_if_sparse();
 
+    // Frees the grid once no more tests will be asked (before the export of phi, so that
+    // the memory is reused by it). intersects_rest() must not be called afterwards.
+    void release() { grid_ = TriangleGrid(1.0); }
+
 private:
     void rebuild();
     const CoarseMesh& mesh_;

@@ -22,6 +22,10 @@
 #include <utility>
 #include <vector>
 
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
+
 #include "bpm/check.h"
 #include "bpm/errors.h"
 #include "simplify/coarse_mesh.h"
@@ -183,6 +187,7 @@ private:
     void report_progress(const SimplifyResult& result);
     void state_stop_reason(SimplifyResult& result) const;
     void count_blocked(SimplifyResult& result);
+    void release_planning_state();
     void summarize(const Parametrization& out, double max_deviation, std::chrono::steady_clock::time_point start,
                    SimplifyResult& result) const;
 
@@ -230,6 +235,7 @@ SimplifyResult Simplifier::run(Parametrization& out) {
     }
     state_stop_reason(result);
     count_blocked(result);
+    release_planning_state();
     context_.report(0.95, "writing the parametrization");
     const double max_deviation = export_parametrization(original_, mesh_, embedding_, sign_, pool, out);
     summarize(out, max_deviation, start, result);
@@ -568,6 +574,27 @@ void Simplifier::count_blocked(SimplifyResult& result) {
     }
 }
 
+// Frees what only the loop needs (the grid, the queue, the waiting plans, the planners
+// and their buffers) before phi is exported: the export's arrays reuse that memory, so
+// the peak of a run is lower (the export needs the coarse mesh and the embedding only).
+void Simplifier::release_planning_state() {
+    intersections_.release();
+    decltype(queue_)().swap(queue_);
+    decltype(full_plans_)().swap(full_plans_);
+    decltype(last_reason_)().swap(last_reason_);
+    decltype(stamp_)().swap(stamp_);
+    decltype(oriented_normals_)().swap(oriented_normals_);
+    decltype(rerank_costs_)().swap(rerank_costs_);
+    decltype(grid_scratch_)().swap(grid_scratch_);
+    decltype(cheap_plans_)().swap(cheap_plans_);
+    plan_ = RemovalPlan();
+    second_plan_ = RemovalPlan();
+    step_ = Step();
+    remover_.reset();
+    second_remover_.reset();
+    removers_.clear();
+}
+
 // What was achieved: sizes, error and shape of the coarse surface, time, and the
 // planner's statistics in the debug log.
 void Simplifier::summarize(const Parametrization& out, double max_deviation,
@@ -636,6 +663,16 @@ void Simplifier::self_check(int32_t removed_vertex, const std::vector<int32_t>& 
     }
 }
 
+// The simplifier's state is hundreds of thousands of small blocks (triangle lists, paths,
+// grid cells) that the allocator keeps resident after they are freed; the caller's next
+// large allocations (the file image of phi) would come on top of them. Hand the free
+// pages back, so that the peak of a run is that of the live data.
+void return_free_memory() {
+#ifdef __GLIBC__
+    malloc_trim(0);
+#endif
+}
+
 }  // namespace
 
 SimplifyResult simplify(const Surface& original, const SimplifyOptions& options, const Context& context,
@@ -685,6 +722,8 @@ SimplifyResult simplify(const Surface& original, const SimplifyOptions& options,
     if (!simplifier) simplifier = std::make_unique<Simplifier>(original, options, context, threads);
     SimplifyResult result = simplifier->run(out);
     result.threads = threads;
+    simplifier.reset();
+    return_free_memory();
     return result;
 }
 

@@ -75,6 +75,24 @@ void TriangleGrid::insert(int32_t id, const Vec3& a, const Vec3& b, const Vec3& 
     for_cells(lo, hi, [&](uint64_t key) { cells_[key].push_back(e); });
 }
 
+void TriangleGrid::insert_all(const std::vector<int32_t>& ids, const std::vector<Tri>& corners,
+                              const std::vector<Vec3>& x) {
+    std::unordered_map<uint64_t, uint32_t> counts;
+    counts.reserve(ids.size());
+    for (size_t i = 0; i < ids.size(); ++i) {
+        Vec3 lo, hi;
+        box_of(x[corners[i][0]], x[corners[i][1]], x[corners[i][2]], lo, hi);
+        if (!oversized(lo, hi)) for_cells(lo, hi, [&](uint64_t key) { ++counts[key]; });
+    }
+    cells_.reserve(cells_.size() + counts.size());
+    for (const auto& [key, count] : counts) cells_[key].reserve(cells_[key].size() + count);
+    counts = {};
+    for (size_t i = 0; i < ids.size(); ++i) {
+        const Tri& c = corners[i];
+        insert(ids[i], x[c[0]], x[c[1]], x[c[2]]);
+    }
+}
+
 void TriangleGrid::remove(int32_t id, const Vec3& a, const Vec3& b, const Vec3& c) {
     Vec3 lo, hi;
     box_of(a, b, c, lo, hi);

@@ -27,6 +27,10 @@ public:
     double cell() const { return cell_; }
     void insert(int32_t id, const Vec3& a, const Vec3& b, const Vec3& c);
     void remove(int32_t id, const Vec3& a, const Vec3& b, const Vec3& c);
+    // insert() of triangle ids[i] with corners x[corners[i][0..2]] for every i, into an
+    // empty grid: the cells are counted first and each list allocated once at its size
+    // (inserting one by one grows every list several times and leaves it up to half empty).
+    void insert_all(const std::vector<int32_t>& ids, const std::vector<Tri>& corners, const std::vector<Vec3>& x);
     // The triangles whose bounding box meets the closed box [lo, hi], sorted by id,
     // each once.
     void query_boxes(const Vec3& lo, const Vec3& hi, std::vector<Entry>& out) const;
