@@ -383,10 +383,11 @@ void refuse_binary_to_terminal(const std::string& path, const std::string& kind)
 
 void add_encoding_options(CLI::App& app, EncodingFlags& flags) {
     app.add_flag("--binary", flags.binary,
-                 "Write .msh (MSH 4.1) and .vtu as binary: about a third of the size, written several times faster "
+                 "Write .msh (MSH 4.1) and .vtu as binary: VTU 40 % and MSH 75 % of the ASCII size, written faster "
                  "(default: ASCII)");
     app.add_flag("--compress", flags.compress,
-                 "Write .vtu as binary with zlib-compressed data, as VTK's vtkZLibDataCompressor (implies --binary)");
+                 "Write .vtu as binary with zlib-compressed data (24 % of the ASCII size), as VTK's vtkZLibDataCompressor "
+                 "(implies --binary)");
 }
 
 MeshEncoding output_encoding(const EncodingFlags& flags, const std::string& format, const std::string& path) {
