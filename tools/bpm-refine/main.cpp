@@ -95,8 +95,8 @@ int main(int argc, char** argv) {
     app.add_option("-o,--output", output, "Output file (.off .obj .ply .stl .msh .vtu .bpm), or - for standard output")
         ->required();
     bpm::tools::add_format_option(app, format, "output",
-                                  "Output format if the name does not tell (needed for -): off obj ply stl msh vtu bpm, "
-                                  "or msh22 (MSH 2.2, for DUNE's GmshReader); --volume: bpm msh msh22 vtu mesh");
+                                  "Format if the name does not tell (needed for -): off obj ply stl msh msh22 vtu bpm; "
+                                  "--volume: bpm msh msh22 vtu mesh");
     bpm::tools::EncodingFlags encoding_flags;
     bpm::tools::add_encoding_options(app, encoding_flags);
     auto* lv = app.add_option("--levels", levels, "Uniform refinement: each coarse triangle into 4^K triangles (0..10)")

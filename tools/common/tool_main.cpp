@@ -386,8 +386,7 @@ void add_encoding_options(CLI::App& app, EncodingFlags& flags) {
                  "Write .msh (MSH 4.1) and .vtu as binary: VTU 40 % and MSH 75 % of the ASCII size, written faster "
                  "(default: ASCII)");
     app.add_flag("--compress", flags.compress,
-                 "Write .vtu as binary with zlib-compressed data (24 % of the ASCII size), as VTK's vtkZLibDataCompressor "
-                 "(implies --binary)");
+                 "Write .vtu as binary, zlib-compressed as by VTK (24 % of the ASCII size; implies --binary)");
 }
 
 MeshEncoding output_encoding(const EncodingFlags& flags, const std::string& format, const std::string& path) {
