@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # `-o -` with standard output on a terminal must not dump binary data (HDF5 .bpm, binary
-# STL/PLY) onto it: exit 2 before any work, naming a file or a pipe, as gzip does. Text
+# STL/PLY, --binary or --compress MSH/VTU) onto it: exit 2 before any work, naming a file or a pipe, as gzip does. Text
 # formats still go to the terminal, and a pipe still gets the binary data.
 # Usage: binary_output_to_terminal_refused.sh TOOL_DIR SOURCE_DIR WORK_DIR
 set -u
@@ -30,6 +30,14 @@ expect 2 "bpm-refine -o - .bpm on a terminal" -- on_terminal "$tools/bpm-refine"
 contains "$work/out" "to the terminal" "bpm-refine (.bpm) says why"
 expect 2 "bpm-refine -o - binary STL on a terminal" -- on_terminal "$tools/bpm-refine" "$work/tet.bpm" --levels 1 -o - --output-format stl
 contains "$work/out" "binary stl" "bpm-refine (.stl) says why"
+expect 2 "bpm-refine -o - --binary VTU on a terminal" -- on_terminal "$tools/bpm-refine" "$work/tet.bpm" --levels 1 -o - --output-format vtu --binary
+contains "$work/out" "binary vtu data" "bpm-refine (--binary .vtu) says why"
+expect 2 "bpm-refine -o - --compress VTU on a terminal" -- on_terminal "$tools/bpm-refine" "$work/tet.bpm" --levels 1 -o - --output-format vtu --compress
+contains "$work/out" "compressed VTU data" "bpm-refine (--compress) says why"
+expect 2 "bpm-mesh -o - --binary MSH on a terminal" -- on_terminal "$tools/bpm-mesh" "$work/tet.bpm" -o - --output-format msh --binary
+contains "$work/out" "binary msh data" "bpm-mesh (--binary .msh) says why"
+expect 0 "bpm-refine -o - --binary VTU into a pipe still works" -- bash -c "'$tools/bpm-refine' '$work/tet.bpm' --levels 1 -o - --output-format vtu --binary -q | cat > '$work/piped.vtu'"
+contains "$work/piped.vtu" "AppendedData" "the piped VTU is binary"
 expect 2 "bpm-mesh -o - (.bpm) on a terminal" -- on_terminal "$tools/bpm-mesh" "$work/tet.bpm" -o -
 contains "$work/out" "to the terminal" "bpm-mesh says why"
 

@@ -64,7 +64,10 @@ int main(int argc, char** argv) {
     app.add_option("-o,--output", output, "Output .bpm .msh .vtu .mesh, or - for standard output (see --format)")
         ->required();
     bpm::tools::add_format_option(app, format, "output",
-                                  "Output format when it cannot be told from the name: bpm, msh, vtu, mesh");
+                                  "Output format when it cannot be told from the name: bpm, msh, vtu, mesh, or msh22 "
+                                  "(MSH 2.2, for DUNE's GmshReader)");
+    bpm::tools::EncodingFlags encoding_flags;
+    bpm::tools::add_encoding_options(app, encoding_flags);
     app.add_option("--quality", options.quality, "TetGen -q: maximum radius-edge ratio, > 1.0 (default 1.414)")
         ->check(CLI::PositiveNumber);
     double min_dihedral = -1;
@@ -103,7 +106,7 @@ int main(int argc, char** argv) {
         ->type_name("REGION=NAME");
     app.add_flag("--json", json, "Print a JSON report (counts, timings, region volumes, quality) on standard output");
     bpm::tools::add_output_tool_flags(app, tool, deterministic, verbose, quiet);
-    bpm::tools::group_options(app, "Output", {"--output", "--output-format", "--json"});
+    bpm::tools::group_options(app, "Output", {"--output", "--output-format", "--binary", "--compress", "--json"});
     bpm::tools::group_options(app, "Quality", {"--quality", "--min-dihedral", "--max-volume", "--time-limit"});
     bpm::tools::group_options(app, "Refinement", {"--refine", "--flat", "--min-volume-fraction", "--remedy-min-dihedral"});
     bpm::tools::group_options(app, "Regions", {"--material"});
@@ -122,11 +125,15 @@ int main(int argc, char** argv) {
             format.empty() ? (output == "-" ? std::optional(bpm::TetMeshFormat::Bpm) : bpm::tetmesh_format_from_path(output))
                            : bpm::tetmesh_format_from_name(format);
         if (!out_format)
-            throw CLI::ValidationError("--output", format.empty() ? "cannot tell the format from '" + output +
-                                                                        "': use .bpm .msh .vtu .mesh or --output-format"
-                                                                  : "unknown format '" + format + "'");
+            throw CLI::ValidationError(format.empty() ? "--output" : "--output-format",
+                                       format.empty() ? "cannot tell the format from '" + output +
+                                                            "': use .bpm .msh .vtu .mesh or --output-format"
+                                                      : "unknown output format '" + format +
+                                                            "' (valid: bpm msh msh22 vtu mesh)");
         if (json && output == "-") throw CLI::ValidationError("--json", "needs an output file (stdout carries the JSON)");
         if (*out_format == bpm::TetMeshFormat::Bpm) bpm::tools::refuse_binary_to_terminal(output, "binary .bpm (HDF5) data");
+        const bpm::MeshEncoding encoding =
+            bpm::tools::output_encoding(encoding_flags, bpm::tetmesh_format_name(*out_format), output);
         if (max_volume > 0) options.max_volume = max_volume;
         if (min_dihedral >= 0) options.min_dihedral_degrees = min_dihedral;
         options.smooth = !no_smooth;
@@ -208,7 +215,7 @@ int main(int argc, char** argv) {
                                        deterministic ? std::string() : bpm::tools::utc_timestamp()});
             bpm::write_bpm(output, file);
         } else {
-            bpm::write_tetmesh(output, *file.tetmesh, *out_format, file.patch_info);
+            bpm::write_tetmesh(output, *file.tetmesh, *out_format, file.patch_info, encoding);
         }
 
         if (json) {

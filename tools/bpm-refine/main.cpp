@@ -34,13 +34,17 @@ namespace {
 
 // --volume: the tetrahedral mesh of the file, refined through phi (bpm/tet_refine.h).
 int refine_volume(const std::string& tool, int argc, char** argv, const std::string& input, const std::string& output,
-                  const std::string& format, int levels, bool smooth, double remedy_min_dihedral, bool deterministic,
-                  bool verbose, bool quiet) {
+                  const std::string& format, const bpm::tools::EncodingFlags& encoding_flags, int levels, bool smooth,
+                  double remedy_min_dihedral, bool deterministic, bool verbose, bool quiet) {
     if (levels < 0) throw CLI::ValidationError("--volume needs --levels");
     const auto out_format = format.empty() ? bpm::tetmesh_format_from_path(output) : bpm::tetmesh_format_from_name(format);
     if (!out_format)
-        throw CLI::ValidationError("--output", "--volume writes .bpm .msh .vtu or .mesh (or give --output-format)");
+        throw CLI::ValidationError(format.empty() ? "--output" : "--output-format",
+                                   (format.empty() ? std::string() : "unknown output format '" + format + "': ") +
+                                       "--volume writes bpm msh msh22 vtu mesh (by extension or --output-format)");
     if (*out_format == bpm::TetMeshFormat::Bpm) bpm::tools::refuse_binary_to_terminal(output, "binary .bpm (HDF5) data");
+    const bpm::MeshEncoding encoding =
+        bpm::tools::output_encoding(encoding_flags, bpm::tetmesh_format_name(*out_format), output);
     const bpm::Context context = bpm::tools::make_context(tool, verbose, quiet);
     bpm::BpmFile file = bpm::read_bpm(input);
     if (!file.tetmesh)
@@ -67,7 +71,7 @@ int refine_volume(const std::string& tool, int argc, char** argv, const std::str
                                    deterministic ? std::string() : bpm::tools::utc_timestamp()});
         bpm::write_bpm(output, file);
     } else {
-        bpm::write_tetmesh(output, fine, *out_format, file.patch_info);
+        bpm::write_tetmesh(output, fine, *out_format, file.patch_info, encoding);
     }
     return r.inverted == 0 ? int(bpm::tools::kOk) : int(bpm::tools::kAlgorithm);
 }
@@ -91,8 +95,10 @@ int main(int argc, char** argv) {
     app.add_option("-o,--output", output, "Output file (.off .obj .ply .stl .msh .vtu .bpm), or - for standard output")
         ->required();
     bpm::tools::add_format_option(app, format, "output",
-                                  "Output format if the name does not tell (needed for -): off obj ply stl msh vtu bpm; "
-                                  "--volume: bpm msh vtu mesh");
+                                  "Format if the name does not tell (needed for -): off obj ply stl msh msh22 vtu bpm; "
+                                  "--volume: bpm msh msh22 vtu mesh");
+    bpm::tools::EncodingFlags encoding_flags;
+    bpm::tools::add_encoding_options(app, encoding_flags);
     auto* lv = app.add_option("--levels", levels, "Uniform refinement: each coarse triangle into 4^K triangles (0..10)")
                    ->check(CLI::Range(0, 10));
     auto* tol = app.add_option("--tolerance", tolerance,
@@ -122,7 +128,7 @@ int main(int argc, char** argv) {
     app.add_flag("--allow-intersections", allow_intersections,
                  "Place every new vertex at phi even where the surface then intersects itself (default: hold back)");
     bpm::tools::add_output_tool_flags(app, tool, deterministic, verbose, quiet);
-    bpm::tools::group_options(app, "Output", {"--output", "--output-format", "--data"});
+    bpm::tools::group_options(app, "Output", {"--output", "--output-format", "--binary", "--compress", "--data"});
     bpm::tools::group_options(app, "Target (one of)", {"--levels", "--tolerance", "--max-level"});
     bpm::tools::group_options(app, "Volume", {"--volume", "--no-smooth", "--remedy-min-dihedral"});
     bpm::tools::group_options(app, "Advanced", {"--no-verify", "--allow-intersections"});
@@ -136,8 +142,8 @@ int main(int argc, char** argv) {
             throw CLI::ValidationError(no_smooth ? "--no-smooth" : "--remedy-min-dihedral",
                                        "only applies with --volume");
         if (volume)
-            return refine_volume(tool, argc, argv, input, output, format, levels, !no_smooth, remedy_min_dihedral,
-                                 deterministic, verbose, quiet);
+            return refine_volume(tool, argc, argv, input, output, format, encoding_flags, levels, !no_smooth,
+                                 remedy_min_dihedral, deterministic, verbose, quiet);
         if (levels < 0 && tolerance <= 0) throw CLI::ValidationError("give one of --levels, --tolerance");
         options.levels = levels;
         options.tolerance = tolerance;
@@ -150,11 +156,13 @@ int main(int argc, char** argv) {
         if (!is_bpm && !is_vtu && (!surface_format || *surface_format == bpm::SurfaceFormat::Vtk ||
                                         *surface_format == bpm::SurfaceFormat::Vtp ||
                                         *surface_format == bpm::SurfaceFormat::Surf))
-            throw CLI::ValidationError("--output", "unknown output format '" + kind +
-                                                       "' (use .off .obj .ply .stl .msh .vtu .bpm or --output-format)");
+            throw CLI::ValidationError(format.empty() ? "--output" : "--output-format",
+                                       "unknown output format '" + kind +
+                                           "' (valid: off obj ply stl msh msh22 vtu bpm, by extension or --output-format)");
         if (is_bpm) bpm::tools::refuse_binary_to_terminal(output, "binary .bpm (HDF5) data");
         if (surface_format && (*surface_format == bpm::SurfaceFormat::Stl || *surface_format == bpm::SurfaceFormat::Ply))
             bpm::tools::refuse_binary_to_terminal(output, "binary " + kind + " data");
+        const bpm::MeshEncoding encoding = bpm::tools::output_encoding(encoding_flags, kind, output);
         if (data && !is_vtu) throw CLI::ValidationError("--data", "--data needs .vtu output (the other formats hold no point data)");
         const bpm::Context context = bpm::tools::make_context(tool, verbose, quiet);
 
@@ -260,9 +268,9 @@ int main(int argc, char** argv) {
             }
             cell_data.push_back(std::move(ct));
             cell_data.push_back(std::move(lvl));
-            bpm::write_surface_vtu(output, refined.surface, point_data, cell_data);
+            bpm::write_surface_vtu(output, refined.surface, point_data, cell_data, encoding);
         } else {
-            bpm::write_surface(output, refined.surface, surface_format);
+            bpm::write_surface(output, refined.surface, surface_format, encoding);
         }
         return int(bpm::tools::kOk);
     });

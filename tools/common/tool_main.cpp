@@ -382,6 +382,32 @@ void refuse_binary_to_terminal(const std::string& path, const std::string& kind)
                                                "output into a pipe or file (-o - | ... , -o - > out.bpm)");
 }
 
+void add_encoding_options(CLI::App& app, EncodingFlags& flags) {
+    app.add_flag("--binary", flags.binary,
+                 "Write .msh (MSH 4.1) and .vtu as binary: VTU 40 % and MSH 75 % of the ASCII size, written faster "
+                 "(default: ASCII)");
+    app.add_flag("--compress", flags.compress,
+                 "Write .vtu as binary, zlib-compressed as by VTK (24 % of the ASCII size; implies --binary)");
+}
+
+MeshEncoding output_encoding(const EncodingFlags& flags, const std::string& format, const std::string& path) {
+    if (flags.compress) {
+        if (format != "vtu")
+            throw CLI::ValidationError("--compress", "only .vtu output is compressed, not " + format +
+                                                         " (use --binary alone for .msh)");
+        refuse_binary_to_terminal(path, "compressed VTU data");
+        return MeshEncoding::BinaryZlib;
+    }
+    if (!flags.binary) return MeshEncoding::Ascii;
+    if (format == "msh" || format == "vtu") {
+        refuse_binary_to_terminal(path, "binary " + format + " data");
+        return MeshEncoding::Binary;
+    }
+    if (format == "stl" || format == "ply" || format == "bpm") return MeshEncoding::Binary;  // binary anyway
+    throw CLI::ValidationError("--binary", format + " has no binary form: --binary writes msh (MSH 4.1) and vtu " +
+                                               "(stl, ply and bpm are always binary)");
+}
+
 std::string utc_timestamp() {
     std::time_t now = std::time(nullptr);
     std::tm utc{};

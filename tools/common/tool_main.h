@@ -9,6 +9,7 @@
 #include <CLI/CLI.hpp>
 
 #include "bpm/context.h"
+#include "bpm/mesh_encoding.h"
 #include "bpm/surface_io.h"
 
 namespace bpm::tools {
@@ -99,6 +100,21 @@ void require_bpm_output(const std::string& path, const std::string& tool);
 // terminal: binary data (`kind`, e.g. "binary .bpm (HDF5) data") would only garble it,
 // as gzip refuses to. Checked before any work.
 void refuse_binary_to_terminal(const std::string& path, const std::string& kind);
+
+// --binary and --compress, the same in every tool that writes .msh or .vtu: how that
+// output stores its numbers (bpm/mesh_encoding.h). ASCII is the default.
+struct EncodingFlags {
+    bool binary = false;    // --binary: MSH 4.1 binary, VTU appended raw data
+    bool compress = false;  // --compress: VTU appended data in zlib blocks (implies --binary)
+};
+void add_encoding_options(CLI::App& app, EncodingFlags& flags);
+
+// The encoding `flags` ask for, for the output format named `format` ("msh", "vtu", "off",
+// ...; lower case). Throws CLI::ValidationError (exit 2, before any work) when the format
+// has no such encoding, naming the formats that do; formats that are binary anyway (stl,
+// ply, bpm) accept --binary. A binary encoding to `path` "-" on a terminal is refused
+// (refuse_binary_to_terminal).
+MeshEncoding output_encoding(const EncodingFlags& flags, const std::string& format, const std::string& path);
 
 // The command-line flag of a surface repair (bpm-simplify's; bpm-check --surface has the
 // same names), e.g. "--merge-duplicate-vertices". run() appends them to an

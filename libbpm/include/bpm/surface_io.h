@@ -9,7 +9,9 @@
 //   PLY   (.ply)         ASCII, binary_little_endian, binary_big_endian; a face property
 //                        named patch / material / region / label / physical becomes the patch id
 //   MSH   (.msh)         Gmsh 2.2 and 4.1, ASCII and binary; triangles only (other elements
-//                        are skipped and counted); the physical tag is the patch id
+//                        are skipped and counted); the physical tag is the patch id.
+//                        The format name "msh22" reads the same (any version) and writes
+//                        MSH 2.2 ASCII (for DUNE 2.9's GmshReader and older tools)
 //   VTK   (.vtk)         legacy VTK 1.0-5.1, ASCII and BINARY, POLYDATA (polygons, triangle
 //                        strips) and UNSTRUCTURED_GRID (triangles, quads, polygons, strips);
 //                        vertex, line and (next to surface cells) volume cells are skipped and
@@ -64,17 +66,20 @@
 #include <string>
 #include <vector>
 
-#include "bpm/patch_info.h"
 #include "bpm/errors.h"
+#include "bpm/mesh_encoding.h"
+#include "bpm/patch_info.h"
 #include "bpm/surface.h"
 
 namespace bpm {
 
 // Vtp, Vtu: VTK XML PolyData / UnstructuredGrid, read only (bpm-refine writes .vtu with
 // its own writer, write_surface_vtu in bpm/write_vtu.h). Surf: Amira HyperSurface, read only.
-enum class SurfaceFormat { Off, Obj, Stl, Ply, Msh, Vtk, Vtp, Vtu, Surf };
+// Msh writes MSH 4.1, Msh22 MSH 2.2; both read every MSH version.
+enum class SurfaceFormat { Off, Obj, Stl, Ply, Msh, Msh22, Vtk, Vtp, Vtu, Surf };
 
-// "off", "obj", "stl", "ply", "msh", "vtk", "vtp", "vtu", "surf" (case-insensitive) -> format; nullopt otherwise.
+// "off", "obj", "stl", "ply", "msh", "msh22", "vtk", "vtp", "vtu", "surf" (case-insensitive)
+// -> format; nullopt otherwise. The extension .msh is Msh.
 std::optional<SurfaceFormat> surface_format_from_name(const std::string& name);
 // Format from the extension of `path`; nullopt if unknown.
 std::optional<SurfaceFormat> surface_format_from_path(const std::string& path);
@@ -154,16 +159,18 @@ Surface read_surface_from_memory(const std::string& bytes, SurfaceFormat format,
                                  const SurfaceReadOptions& options = {}, SurfaceReadReport* report = nullptr);
 
 // Writes OFF, OBJ (patches as `g patch_N`), STL (binary), PLY (binary little endian with
-// an int `patch` face property when a triangle is not in patch 0) or MSH 4.1 ASCII (patch p as physical tag p + 1 named "patch_<p>",
-// and a section $BpmPatchIds from which bpm reads the patch ids back), atomically
+// an int `patch` face property when a triangle is not in patch 0), MSH 4.1 ASCII or binary
+// (`encoding`, bpm/mesh_encoding.h) or MSH 2.2 ASCII (patch p as physical tag p + 1 named
+// "patch_<p>", and a section $BpmPatchIds from which bpm reads the patch ids back), atomically
 // (not VTK, VTP, VTU or SURF: an OutputError):
 // to a temporary name in the same directory, renamed when complete. "-" writes stdout.
 // Output is deterministic; text formats write doubles with 17 significant digits, so
 // reading back gives the same surface bit for bit (patches are lost in OFF; STL stores
 // float coordinates, no patches, and numbers vertices in order of first use).
 // Throws OutputError for an unwritable path and for a surface that could not be read
-// back: patches.size() != triangles.size(), an index out of range, a NaN/Inf coordinate.
+// back: patches.size() != triangles.size(), an index out of range, a NaN/Inf coordinate;
+// and for an encoding the format lacks (OFF, OBJ, MSH 2.2 binary; anything compressed).
 void write_surface(const std::string& path, const Surface& surface,
-                   std::optional<SurfaceFormat> format = std::nullopt);
+                   std::optional<SurfaceFormat> format = std::nullopt, MeshEncoding encoding = MeshEncoding::Ascii);
 
 }  // namespace bpm

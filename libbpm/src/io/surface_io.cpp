@@ -28,6 +28,7 @@ const char* surface_format_name(SurfaceFormat f) {
         case SurfaceFormat::Stl: return "STL";
         case SurfaceFormat::Ply: return "PLY";
         case SurfaceFormat::Msh: return "MSH";
+        case SurfaceFormat::Msh22: return "MSH 2.2";
         case SurfaceFormat::Vtk: return "VTK";
         case SurfaceFormat::Vtp: return "VTP";
         case SurfaceFormat::Vtu: return "VTU";
@@ -83,7 +84,7 @@ std::string sniffed_format_hint(std::string_view bytes, SurfaceFormat chosen) {
     if (seen && (*seen == SurfaceFormat::Vtp || *seen == SurfaceFormat::Vtu) &&
         (chosen == SurfaceFormat::Vtp || chosen == SurfaceFormat::Vtu))
         return "";
-    if (!seen || *seen == chosen) return "";
+    if (!seen || *seen == chosen || (*seen == SurfaceFormat::Msh && chosen == SurfaceFormat::Msh22)) return "";
     return std::string(" (the file looks like ") + detail::surface_format_name(*seen) + ", not " + detail::surface_format_name(chosen) + ")";
 }
 
@@ -207,6 +208,7 @@ std::optional<SurfaceFormat> surface_format_from_name(const std::string& name) {
     if (n == "stl") return SurfaceFormat::Stl;
     if (n == "ply") return SurfaceFormat::Ply;
     if (n == "msh") return SurfaceFormat::Msh;
+    if (n == "msh22") return SurfaceFormat::Msh22;
     if (n == "vtk") return SurfaceFormat::Vtk;
     if (n == "vtp") return SurfaceFormat::Vtp;
     if (n == "vtu") return SurfaceFormat::Vtu;
@@ -241,7 +243,8 @@ static Surface read_from_memory(const std::string& bytes, SurfaceFormat format, 
             case SurfaceFormat::Obj: parsed = detail::read_obj(bytes, name, polygons); break;
             case SurfaceFormat::Stl: parsed = detail::read_stl(bytes, name); break;
             case SurfaceFormat::Ply: parsed = detail::read_ply(bytes, name, polygons); break;
-            case SurfaceFormat::Msh: parsed = detail::read_msh(bytes, name); break;
+            case SurfaceFormat::Msh:
+            case SurfaceFormat::Msh22: parsed = detail::read_msh(bytes, name); break;
             case SurfaceFormat::Vtk: parsed = detail::read_vtk(bytes, name, polygons); break;
             case SurfaceFormat::Vtp:
             case SurfaceFormat::Vtu: parsed = detail::read_vtk_xml(bytes, name, polygons); break;

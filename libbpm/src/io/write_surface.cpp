@@ -48,14 +48,6 @@ void append_point(std::string& out, const char* prefix, const Vec3& p) {
     out += '\n';
 }
 
-template <class T>
-void put_le(std::string& out, T value) {
-    unsigned char raw[sizeof(T)];
-    std::memcpy(raw, &value, sizeof(T));
-    if (detail::InputCursor::host_is_big_endian()) std::reverse(raw, raw + sizeof(T));
-    out.append(reinterpret_cast<const char*>(raw), sizeof(T));
-}
-
 std::string write_off(const Surface& s) {
     std::string out;
     appendf(out, "OFF\n%d %d 0\n", s.num_vertices(), s.num_triangles());
@@ -82,14 +74,14 @@ std::string write_stl(const Surface& s) {
     std::string header = "binary STL written by bpm";
     header.resize(80, ' ');
     out += header;
-    put_le<uint32_t>(out, static_cast<uint32_t>(s.triangles.size()));
+    detail::append_le<uint32_t>(out, static_cast<uint32_t>(s.triangles.size()));
     for (const Tri& t : s.triangles) {
         const Vec3 n = triangle_normal(s.vertices[t[0]], s.vertices[t[1]], s.vertices[t[2]]);
-        for (double x : n) put_le<float>(out, static_cast<float>(x));
+        for (double x : n) detail::append_le<float>(out, static_cast<float>(x));
         for (int32_t v : t) {
-            for (double x : s.vertices[v]) put_le<float>(out, static_cast<float>(x));
+            for (double x : s.vertices[v]) detail::append_le<float>(out, static_cast<float>(x));
         }
-        put_le<uint16_t>(out, 0);
+        detail::append_le<uint16_t>(out, 0);
     }
     return out;
 }
@@ -108,19 +100,20 @@ std::string write_ply(const Surface& s) {
             "property list uchar int vertex_indices\n%send_header\n",
             s.num_vertices(), s.num_triangles(), patches ? "property int patch\n" : "");
     for (const Vec3& p : s.vertices) {
-        for (double x : p) put_le<double>(out, x);
+        for (double x : p) detail::append_le<double>(out, x);
     }
     for (size_t t = 0; t < s.triangles.size(); ++t) {
-        put_le<uint8_t>(out, 3);
-        for (int32_t v : s.triangles[t]) put_le<int32_t>(out, v);
-        if (patches) put_le<int32_t>(out, s.patches[t]);
+        detail::append_le<uint8_t>(out, 3);
+        for (int32_t v : s.triangles[t]) detail::append_le<int32_t>(out, v);
+        if (patches) detail::append_le<int32_t>(out, s.patches[t]);
     }
     return out;
 }
 
 }  // namespace
 
-void write_surface(const std::string& path, const Surface& surface, std::optional<SurfaceFormat> format) {
+void write_surface(const std::string& path, const Surface& surface, std::optional<SurfaceFormat> format,
+                   MeshEncoding encoding) {
     const std::string where = path == "-" ? "<stdout>" : path;
     if (!format) format = surface_format_from_path(path);
     if (!format) {
@@ -172,13 +165,21 @@ void write_surface(const std::string& path, const Surface& surface, std::optiona
         // VTK's XML .vtu where point data matters (bpm-refine --data).
         throw OutputError(where, "cannot write legacy VTK (.vtk): bpm reads it but writes only .off .obj .stl .ply .msh");
     }
+    const bool binary_format = *format == SurfaceFormat::Stl || *format == SurfaceFormat::Ply;
+    if (encoding == MeshEncoding::BinaryZlib ||
+        (encoding == MeshEncoding::Binary && !binary_format && *format != SurfaceFormat::Msh)) {
+        throw OutputError(where, std::string("cannot write ") + detail::surface_format_name(*format) + " " +
+                                     (encoding == MeshEncoding::Binary ? "as binary" : "compressed") +
+                                     " (binary: MSH 4.1; compressed: VTU)");
+    }
     std::string bytes;
     switch (*format) {
         case SurfaceFormat::Off: bytes = write_off(surface); break;
         case SurfaceFormat::Obj: bytes = write_obj(surface); break;
         case SurfaceFormat::Stl: bytes = write_stl(surface); break;
         case SurfaceFormat::Ply: bytes = write_ply(surface); break;
-        case SurfaceFormat::Msh: bytes = detail::msh_of_surface(surface); break;
+        case SurfaceFormat::Msh: bytes = detail::msh_of_surface(surface, detail::MshVersion::V41, encoding); break;
+        case SurfaceFormat::Msh22: bytes = detail::msh_of_surface(surface, detail::MshVersion::V22, encoding); break;
         case SurfaceFormat::Vtk: break;  // refused above
         case SurfaceFormat::Vtp:
         case SurfaceFormat::Vtu: break;  // refused above

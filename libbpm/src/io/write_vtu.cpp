@@ -1,10 +1,17 @@
 // VTK XML UnstructuredGrid (.vtu) output, for surfaces (triangles, with point and cell
 // data) and tetrahedral meshes. Both are described as one grid (points, cells of one type,
-// named data arrays) and written by one function. Doubles with 17 significant digits,
-// independent of the C locale.
+// named data arrays) and written by one function. ASCII: doubles with 17 significant
+// digits, independent of the C locale. Binary: the arrays' bytes after the XML in one
+// <AppendedData encoding="raw"> (little endian, UInt64 headers), raw or in zlib blocks as
+// VTK's vtkZLibDataCompressor writes them (VTK, ParaView, meshio and bpm read both).
 
+#include <zlib.h>
+
+#include <algorithm>
 #include <charconv>
 #include <cstdint>
+#include <cstring>
+#include <limits>
 
 #include "bpm/errors.h"
 #include "bpm/tetmesh_materials.h"
@@ -47,10 +54,87 @@ void append_double(std::string& out, double x) {
     out.append(buffer, result.ptr);
 }
 
-void write_array(std::string& out, const VtuDataArray& a, const std::string& indent) {
-    out += std::string("        <DataArray type=\"") + a.type + "\"";
+// The appended data of a binary file: every array's block, in the order of the XML.
+struct VtuAppended {
+    bool zlib = false;
+    std::string blob;
+};
+
+// An array's values as little-endian bytes of the type it is written as, which is its own
+// type except that an Int64 array whose values all fit Int32 is written as Int32: the
+// connectivity and offsets are most of a refined surface's bytes, and VTK, ParaView and
+// meshio read any integer type there.
+std::string binary_bytes(const VtuDataArray& a, const char*& type) {
+    std::string bytes;
+    type = a.type;
+    if (!a.reals.empty() || std::string(a.type) == "Float64") {
+        append_le_array(bytes, a.reals.data(), a.reals.size());
+        return bytes;
+    }
+    const std::string t = a.type;
+    const bool fits32 = std::all_of(a.integers.begin(), a.integers.end(), [](int64_t v) {
+        return v >= std::numeric_limits<int32_t>::min() && v <= std::numeric_limits<int32_t>::max();
+    });
+    if (t == "Int64" && !fits32) {
+        append_le_array(bytes, a.integers.data(), a.integers.size());
+        return bytes;
+    }
+    if (t == "UInt8") {
+        const std::vector<uint8_t> narrow(a.integers.begin(), a.integers.end());
+        append_le_array(bytes, narrow.data(), narrow.size());
+        return bytes;
+    }
+    type = "Int32";
+    const std::vector<int32_t> narrow(a.integers.begin(), a.integers.end());
+    append_le_array(bytes, narrow.data(), narrow.size());
+    return bytes;
+}
+
+// vtkZLibDataCompressor's layout: UInt64 header (number of blocks, block size, size of the
+// last block if partial else 0, compressed size of each block), then the blocks.
+void append_zlib_blocks(std::string& blob, const std::string& bytes) {
+    constexpr size_t block = 32768;
+    const size_t blocks = (bytes.size() + block - 1) / block;
+    append_le<uint64_t>(blob, blocks);
+    append_le<uint64_t>(blob, block);
+    append_le<uint64_t>(blob, bytes.size() % block);
+    const size_t sizes_at = blob.size();
+    blob.resize(sizes_at + blocks * sizeof(uint64_t));
+    for (size_t b = 0; b < blocks; ++b) {
+        const size_t n = std::min(block, bytes.size() - b * block);
+        uLongf packed = compressBound(uLong(n));
+        const size_t at = blob.size();
+        blob.resize(at + packed);
+        if (compress2(reinterpret_cast<Bytef*>(&blob[at]), &packed, reinterpret_cast<const Bytef*>(bytes.data() + b * block),
+                      uLong(n), Z_DEFAULT_COMPRESSION) != Z_OK)
+            throw OutputError("<vtu>", "zlib failed to compress a block");
+        blob.resize(at + packed);
+        const uint64_t size = packed;
+        std::string word;
+        append_le<uint64_t>(word, size);
+        std::memcpy(&blob[sizes_at + b * sizeof(uint64_t)], word.data(), sizeof(uint64_t));
+    }
+}
+
+// One <DataArray>: its values as text, or (with `appended`) an offset into the appended
+// data, to which its block is added.
+void write_array(std::string& out, const VtuDataArray& a, const std::string& indent, VtuAppended* appended) {
+    const char* type = a.type;
+    std::string bytes;
+    if (appended) bytes = binary_bytes(a, type);
+    out += std::string("        <DataArray type=\"") + type + "\"";
     if (!a.name.empty()) out += " Name=\"" + a.name + "\"";
     if (a.components_attribute) out += " NumberOfComponents=\"" + num(a.components) + "\"";
+    if (appended) {
+        out += " format=\"appended\" offset=\"" + num(int64_t(appended->blob.size())) + "\"/>\n";
+        if (appended->zlib) {
+            append_zlib_blocks(appended->blob, bytes);
+        } else {
+            append_le<uint64_t>(appended->blob, bytes.size());
+            appended->blob += bytes;
+        }
+        return;
+    }
     out += " format=\"ascii\">\n";
     const size_t n = a.size();
     for (size_t i = 0; i < n; ++i) {
@@ -64,25 +148,33 @@ void write_array(std::string& out, const VtuDataArray& a, const std::string& ind
     out += "        </DataArray>\n";
 }
 
-std::string write_vtu_text(const VtuGrid& g) {
+std::string write_vtu_text(const VtuGrid& g, MeshEncoding encoding) {
+    VtuAppended appended{encoding == MeshEncoding::BinaryZlib, {}};
+    VtuAppended* binary = encoding == MeshEncoding::Ascii ? nullptr : &appended;
     std::string out =
         "<?xml version=\"1.0\"?>\n"
-        "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n"
-        "  <UnstructuredGrid>\n";
+        "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\"";
+    out += appended.zlib ? " compressor=\"vtkZLibDataCompressor\">\n" : ">\n";
+    out += "  <UnstructuredGrid>\n";
     out += "    <Piece NumberOfPoints=\"" + num(g.points) + "\" NumberOfCells=\"" + num(g.cells) + "\">\n";
     out += g.point_scalars.empty() ? "      <PointData>\n" : "      <PointData Scalars=\"" + g.point_scalars + "\">\n";
-    for (const VtuDataArray& a : g.point_data) write_array(out, a, g.indent);
+    for (const VtuDataArray& a : g.point_data) write_array(out, a, g.indent, binary);
     out += "      </PointData>\n";
     out += g.cell_scalars.empty() ? "      <CellData>\n" : "      <CellData Scalars=\"" + g.cell_scalars + "\">\n";
-    for (const VtuDataArray& a : g.cell_data) write_array(out, a, g.indent);
+    for (const VtuDataArray& a : g.cell_data) write_array(out, a, g.indent, binary);
     out += "      </CellData>\n      <Points>\n";
-    write_array(out, g.coordinates, g.indent);
+    write_array(out, g.coordinates, g.indent, binary);
     out += "      </Points>\n      <Cells>\n";
-    write_array(out, g.connectivity, g.indent);
-    write_array(out, g.offsets, g.indent);
-    write_array(out, g.types, g.indent);
-    out += "      </Cells>\n    </Piece>\n  </UnstructuredGrid>\n</VTKFile>\n";
-    return out;
+    write_array(out, g.connectivity, g.indent, binary);
+    write_array(out, g.offsets, g.indent, binary);
+    write_array(out, g.types, g.indent, binary);
+    out += "      </Cells>\n    </Piece>\n  </UnstructuredGrid>\n";
+    if (binary) {
+        out += "  <AppendedData encoding=\"raw\">\n   _";
+        out += appended.blob;
+        out += "\n  </AppendedData>\n";
+    }
+    return out + "</VTKFile>\n";
 }
 
 VtuDataArray coordinates_of(const std::vector<Vec3>& vertices) {
@@ -115,7 +207,8 @@ VtuDataArray integer_array(const char* name, const std::vector<int32_t>& values,
 // Surfaces: values indented, integer scalars 16 to a line (a level-6 refinement has
 // millions of them), tuples one to a line.
 std::string vtu_of_surface(const Surface& surface, const std::vector<VtuArray>& point_data,
-                           const std::vector<VtuArray>& cell_data, const std::string& where) {
+                           const std::vector<VtuArray>& cell_data, const std::string& where,
+                           MeshEncoding encoding) {
     const size_t nv = surface.vertices.size(), nt = surface.triangles.size();
     auto float_array = [&](const VtuArray& a, size_t count) {
         if (a.components < 1 || a.values.size() != count * size_t(a.components))
@@ -133,11 +226,11 @@ std::string vtu_of_surface(const Surface& surface, const std::vector<VtuArray>& 
     for (const VtuArray& a : cell_data) g.cell_data.push_back(float_array(a, nt));
     g.coordinates = coordinates_of(surface.vertices);
     set_cells(g, surface.triangles, 5, 16);
-    return write_vtu_text(g);
+    return write_vtu_text(g, encoding);
 }
 
 // Tetrahedral meshes: one value (or tuple) to a line, not indented.
-std::string vtu_of_tetmesh(const TetMesh& m) {
+std::string vtu_of_tetmesh(const TetMesh& m, MeshEncoding encoding) {
     VtuGrid g;
     g.points = m.num_vertices();
     g.cells = m.num_tetrahedra();
@@ -152,20 +245,20 @@ std::string vtu_of_tetmesh(const TetMesh& m) {
     if (!m.tet_ancestor.empty()) g.cell_data.push_back(integer_array("ancestor", m.tet_ancestor, 1));
     g.coordinates = coordinates_of(m.vertices);
     set_cells(g, m.tetrahedra, 10, 1);
-    return write_vtu_text(g);
+    return write_vtu_text(g, encoding);
 }
 
 }  // namespace detail
 
 void write_surface_vtu(const std::string& path, const Surface& surface, const std::vector<VtuArray>& point_data,
-                       const std::vector<VtuArray>& cell_data) {
+                       const std::vector<VtuArray>& cell_data, MeshEncoding encoding) {
     const std::string where = detail::display_name(path);
     const size_t nv = surface.vertices.size(), nt = surface.triangles.size();
     if (surface.patches.size() != nt) throw OutputError(where, "patches and triangles differ in number");
     for (const Tri& t : surface.triangles)
         for (int32_t v : t)
             if (v < 0 || size_t(v) >= nv) throw OutputError(where, "triangle index out of range");
-    detail::write_file_atomically(path, detail::vtu_of_surface(surface, point_data, cell_data, where));
+    detail::write_file_atomically(path, detail::vtu_of_surface(surface, point_data, cell_data, where, encoding));
 }
 
 }  // namespace bpm
