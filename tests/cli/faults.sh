@@ -241,7 +241,7 @@ twice "$det/steps.bpm" bpm-simplify "$small_off" --ratio 0.4 --record-steps
 twice "$det/smooth.bpm" bpm-smooth "$small"
 twice "$det/refine.bpm" bpm-refine "$small" --levels 1
 twice "$det/refine.off" bpm-refine "$small" --levels 2
-twice "$det/refine.vtu" bpm-refine "$small" --tolerance 0.001 --data
+twice "$det/refine.vtu" bpm-refine "$small" --max-error 0.001 --data
 twice "$det/mesh.bpm" bpm-mesh "$small"
 twice "$det/mesh.msh" bpm-mesh "$small" --refine 1
 twice "$det/volume.vtu" bpm-refine "$det/mesh.bpm" --volume --levels 1

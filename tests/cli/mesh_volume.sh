@@ -47,7 +47,7 @@ expect 2 "--no-smooth needs --volume" -- "$tools/bpm-refine" "$work/e.tet.bpm" -
 expect 2 "remedy angle out of range" -- "$tools/bpm-refine" "$work/e.tet.bpm" --volume --levels 1 --remedy-min-dihedral 90 -o "$work/x.msh"
 expect 3 "volume refinement of a file without a mesh" -- "$tools/bpm-refine" "$work/e.bpm" --volume --levels 1 -o "$work/x.msh"
 contains "$work/err" "bpm-mesh" "the message says how to get a mesh"
-expect 2 "volume refinement needs --levels" -- "$tools/bpm-refine" "$work/e.tet.bpm" --volume --tolerance 0.01 -o "$work/x.msh"
+expect 2 "volume refinement needs --levels" -- "$tools/bpm-refine" "$work/e.tet.bpm" --volume --max-error 0.01 -o "$work/x.msh"
 expect 2 "volume refinement to a surface format" -- "$tools/bpm-refine" "$work/e.tet.bpm" --volume --levels 1 -o "$work/x.off"
 ok "no output after failures" -- test ! -e "$work/x.msh" -a ! -e "$work/x.off"
 finish

@@ -24,7 +24,7 @@ expect 0 "unreachable target with -q" -- "$tools/bpm-simplify" "$work/tet.off" -
 ok "-q: stderr empty" -- test ! -s "$work/err"
 expect 0 "bpm-smooth -q" -- "$tools/bpm-smooth" "$work/a.bpm" -o "$work/b.bpm" -q
 ok "bpm-smooth -q: stderr empty" -- test ! -s "$work/err"
-expect 0 "bpm-refine -q" -- "$tools/bpm-refine" "$work/a.bpm" --tolerance 1e-9 --max-level 1 -o "$work/b.off" -q
+expect 0 "bpm-refine -q" -- "$tools/bpm-refine" "$work/a.bpm" --max-error 1e-9 --max-level 1 -o "$work/b.off" -q
 ok "bpm-refine -q: its max-level warning is not printed" -- test ! -s "$work/err"
 expect 3 "an error is still printed under -q" -- "$tools/bpm-refine" "$work/missing.bpm" --levels 1 -o "$work/b.off" -q
 contains "$work/err" "error:" "errors survive -q"
