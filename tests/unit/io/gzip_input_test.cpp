@@ -118,7 +118,7 @@ TEST_CASE("FILE.EXT.gz: the format from EXT, the material from the name without 
 }
 
 TEST_CASE(".bpm.gz is read like the .bpm", "[io][gzip]") {
-    const BpmFile file = make_two_triangles_example();
+    const BpmFile file = test::make_two_triangles_example();
     const std::string bytes = write_bpm_to_memory(file);
     const BpmFile back = read_bpm_from_memory(gzip(bytes), "example.bpm.gz");
     CHECK(write_bpm_to_memory(back) == bytes);
