@@ -11,12 +11,6 @@
 # exit 70); no file left behind in the (empty) output directory; memory bounded
 # (ulimit -v, or ASan's hard_rss_limit_mb in a sanitized build, where ulimit -v cannot work).
 # Usage: bad_input.sh TOOL_DIR SOURCE_DIR WORK_DIR
-set -u
-tools=$1
-src=$2
-work=$3
-rm -rf "$work"
-mkdir -p "$work"
 source "$(dirname "$0")/lib/harness.bash"
 
 bad=$src/tests/data/bad

@@ -4,12 +4,6 @@
 # JSON (spec/info-report.md); .bpm.gz and standard input too; a missing, non-HDF5 or
 # truncated file is exit 3 with the file named, never a crash.
 # Usage: bpm_info_says_what_a_file_holds.sh TOOL_DIR SOURCE_DIR WORK_DIR
-set -u
-tools=$1
-src=$2
-work=$3
-rm -rf "$work"
-mkdir -p "$work"
 source "$(dirname "$0")/lib/harness.bash"
 py=/usr/bin/python3
 info=$tools/bpm-info

@@ -15,13 +15,7 @@
 #   (c) Determinism: the same input and options give byte-identical output, twice, for
 #       every tool and output format.
 # Usage: faults.sh TOOL_DIR SOURCE_DIR WORK_DIR
-set -u
-tools=$1
-src=$2
-work=$3
-for m in "$work"/ro "$work"/tiny; do mountpoint -q "$m" 2>/dev/null && umount "$m"; done
-rm -rf "$work"
-mkdir -p "$work"
+for m in "$3"/ro "$3"/tiny; do mountpoint -q "$m" 2>/dev/null && umount "$m"; done
 source "$(dirname "$0")/lib/harness.bash"
 
 meshes=$src/.data/meshes

@@ -4,12 +4,6 @@
 # or corrupt .gz, or a .gz name over plain data, is exit 3 with the file and what is
 # wrong, never a crash.
 # Usage: gz_inputs_read_and_bad_gz_refused.sh TOOL_DIR SOURCE_DIR WORK_DIR
-set -u
-tools=$1
-src=$2
-work=$3
-rm -rf "$work"
-mkdir -p "$work"
 source "$(dirname "$0")/lib/harness.bash"
 
 eight=$src/.data/meshes/eight.off

@@ -4,11 +4,6 @@
 # line per option, and every tool prints at most two lines on stderr by default (bpm-smooth printed ~15: one per sweep and the
 # breakdown of skipped / rejected updates, now under -v).
 # Usage: help_for_newcomers.sh TOOL_DIR SOURCE_DIR WORK_DIR
-set -u
-tools=$1
-work=$3
-rm -rf "$work"
-mkdir -p "$work"
 source "$(dirname "$0")/lib/harness.bash"
 for t in bpm-simplify bpm-smooth bpm-check bpm-refine bpm-mesh bpm-info; do
     expect 0 "$t --help" -- "$tools/$t" --help

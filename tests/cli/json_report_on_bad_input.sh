@@ -3,11 +3,6 @@
 # (passed/ok false and the error's file, message and exit code), not empty output that
 # crashes the CI job parsing it (spec/check-report.md, "Errors").
 # Usage: json_report_on_bad_input.sh TOOL_DIR SOURCE_DIR WORK_DIR
-set -u
-tools=$1
-work=$3
-rm -rf "$work"
-mkdir -p "$work"
 source "$(dirname "$0")/lib/harness.bash"
 
 # is_error_report FILE KEY CODE ERRORFILE: stdout is one JSON object with KEY false and

@@ -2,12 +2,6 @@
 # Pipeline: bpm-simplify -> bpm-mesh -> bpm-refine --volume on elephant, with exports
 # and the error cases of the volume path.
 # Usage: mesh_volume.sh TOOL_DIR SOURCE_DIR WORK_DIR
-set -u
-tools=$1
-src=$2
-work=$3
-rm -rf "$work"
-mkdir -p "$work"
 source "$(dirname "$0")/lib/harness.bash"
 elephant=$src/.data/meshes/elephant.off
 if [ ! -f "$elephant" ] || ! command -v tetgen >/dev/null; then

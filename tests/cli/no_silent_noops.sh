@@ -2,12 +2,6 @@
 # A target the input already meets must not pass silently ("3897 -> 3897", exit 0, no
 # word), and -q must mean what its help says: only errors on stderr, no warnings.
 # Usage: no_silent_noops.sh TOOL_DIR SOURCE_DIR WORK_DIR
-set -u
-tools=$1
-src=$2
-work=$3
-rm -rf "$work"
-mkdir -p "$work"
 source "$(dirname "$0")/lib/harness.bash"
 printf 'OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n' >"$work/tet.off"
 

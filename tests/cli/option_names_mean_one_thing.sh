@@ -9,11 +9,6 @@
 # the same quantity as --max-error, is --max-error now); the old spellings work with a
 # deprecation warning (none with -q) and cannot be combined with the new ones.
 # Usage: option_names_mean_one_thing.sh TOOL_DIR SOURCE_DIR WORK_DIR
-set -u
-tools=$1
-work=$3
-rm -rf "$work"
-mkdir -p "$work"
 source "$(dirname "$0")/lib/harness.bash"
 printf 'OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n' >"$work/tet.off"
 

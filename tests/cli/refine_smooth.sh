@@ -2,11 +2,6 @@
 # Pipeline: bpm-simplify -> bpm-smooth -> bpm-refine -> bpm-check on femur, plus the
 # usage / input errors of bpm-refine and bpm-smooth.
 # Usage: refine_smooth.sh TOOL_DIR SOURCE_DIR WORK_DIR
-set -u
-tools=$1
-src=$2
-work=$3
-mkdir -p "$work"
 source "$(dirname "$0")/lib/harness.bash"
 meshes=$src/.data/meshes
 example=$src/spec/examples/two_triangles.bpm

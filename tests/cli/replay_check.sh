@@ -1,11 +1,6 @@
 #!/usr/bin/env bash
 # bpm-simplify --record-steps, then bpm-check --replay and --max-distance on real meshes.
 # Usage: replay_check.sh TOOL_DIR SOURCE_DIR WORK_DIR
-set -u
-tools=$1
-src=$2
-work=$3
-mkdir -p "$work"
 source "$(dirname "$0")/lib/harness.bash"
 simplify=$tools/bpm-simplify
 check=$tools/bpm-check

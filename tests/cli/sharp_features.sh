@@ -2,12 +2,6 @@
 # Sharp features: corners of creases are kept (bpm-simplify --no-keep-corners lets them
 # go), targets below them stop there and say why, crease lines stay lines.
 # Usage: sharp_features.sh TOOL_DIR SOURCE_DIR WORK_DIR
-set -u
-tools=$1
-src=$2
-work=$3
-rm -rf "$work"
-mkdir -p "$work"
 source "$(dirname "$0")/lib/harness.bash"
 simplify=$tools/bpm-simplify
 check=$tools/bpm-check
