@@ -11,12 +11,6 @@
 # exit 70); no file left behind in the (empty) output directory; memory bounded
 # (ulimit -v, or ASan's hard_rss_limit_mb in a sanitized build, where ulimit -v cannot work).
 # Usage: bad_input.sh TOOL_DIR SOURCE_DIR WORK_DIR
-set -u
-tools=$1
-src=$2
-work=$3
-rm -rf "$work"
-mkdir -p "$work"
 source "$(dirname "$0")/lib/harness.bash"
 
 bad=$src/tests/data/bad
@@ -169,7 +163,7 @@ usage "smooth: negative --iterations" "--iterations" bpm-smooth "$garbage" -o "$
 usage "smooth: missing output directory" "directory does not exist" bpm-smooth "$garbage" -o "$work/no/such/dir/x.bpm"
 usage "smooth: not a .bpm output" "--output" bpm-smooth "$garbage" -o "$out/x.vtu"
 usage "refine: negative --levels" "--levels" bpm-refine "$garbage" -o "$out/x.off" --levels -1
-usage "refine: negative --tolerance" "--tolerance" bpm-refine "$garbage" -o "$out/x.off" --tolerance -1
+usage "refine: negative --max-error" "--max-error" bpm-refine "$garbage" -o "$out/x.off" --max-error -1
 usage "refine: unknown output extension" "unknown output format 'xyz'" bpm-refine "$garbage" -o "$out/x.xyz" --levels 1
 usage "refine: missing output directory" "directory does not exist" bpm-refine "$garbage" -o "$work/no/such/dir/x.off" --levels 1
 usage "refine --volume: surface output" "--output" bpm-refine "$garbage" -o "$out/x.off" --volume --levels 1

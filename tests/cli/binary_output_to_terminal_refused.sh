@@ -3,11 +3,6 @@
 # STL/PLY, --binary or --compress MSH/VTU) onto it: exit 2 before any work, naming a file or a pipe, as gzip does. Text
 # formats still go to the terminal, and a pipe still gets the binary data.
 # Usage: binary_output_to_terminal_refused.sh TOOL_DIR SOURCE_DIR WORK_DIR
-set -u
-tools=$1
-work=$3
-rm -rf "$work"
-mkdir -p "$work"
 source "$(dirname "$0")/lib/harness.bash"
 if ! command -v script >/dev/null; then
     echo "skipped: needs script(1) (util-linux) for a terminal"

@@ -1,11 +1,6 @@
 #!/usr/bin/env bash
 # bpm-check end to end: exit codes, text lines, JSON validity.
 # Usage: bpm_check.sh TOOL_DIR SOURCE_DIR WORK_DIR
-set -u
-tools=$1
-src=$2
-work=$3
-mkdir -p "$work"
 source "$(dirname "$0")/lib/harness.bash"
 check=$tools/bpm-check
 example=$src/spec/examples/two_triangles.bpm

@@ -15,13 +15,7 @@
 #   (c) Determinism: the same input and options give byte-identical output, twice, for
 #       every tool and output format.
 # Usage: faults.sh TOOL_DIR SOURCE_DIR WORK_DIR
-set -u
-tools=$1
-src=$2
-work=$3
-for m in "$work"/ro "$work"/tiny; do mountpoint -q "$m" 2>/dev/null && umount "$m"; done
-rm -rf "$work"
-mkdir -p "$work"
+for m in "$3"/ro "$3"/tiny; do mountpoint -q "$m" 2>/dev/null && umount "$m"; done
 source "$(dirname "$0")/lib/harness.bash"
 
 meshes=$src/.data/meshes
@@ -241,7 +235,7 @@ twice "$det/steps.bpm" bpm-simplify "$small_off" --ratio 0.4 --record-steps
 twice "$det/smooth.bpm" bpm-smooth "$small"
 twice "$det/refine.bpm" bpm-refine "$small" --levels 1
 twice "$det/refine.off" bpm-refine "$small" --levels 2
-twice "$det/refine.vtu" bpm-refine "$small" --tolerance 0.001 --data
+twice "$det/refine.vtu" bpm-refine "$small" --max-error 0.001 --data
 twice "$det/mesh.bpm" bpm-mesh "$small"
 twice "$det/mesh.msh" bpm-mesh "$small" --refine 1
 twice "$det/volume.vtu" bpm-refine "$det/mesh.bpm" --volume --levels 1

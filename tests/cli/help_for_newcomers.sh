@@ -4,19 +4,15 @@
 # line per option, and every tool prints at most two lines on stderr by default (bpm-smooth printed ~15: one per sweep and the
 # breakdown of skipped / rejected updates, now under -v).
 # Usage: help_for_newcomers.sh TOOL_DIR SOURCE_DIR WORK_DIR
-set -u
-tools=$1
-work=$3
-rm -rf "$work"
-mkdir -p "$work"
 source "$(dirname "$0")/lib/harness.bash"
-for t in bpm-simplify bpm-smooth bpm-check bpm-refine bpm-mesh; do
+for t in bpm-simplify bpm-smooth bpm-check bpm-refine bpm-mesh bpm-info; do
     expect 0 "$t --help" -- "$tools/$t" --help
     contains "$work/out" "Exit codes:" "$t --help has the exit-code table"
     contains "$work/out" "  6   an external program" "$t --help lists exit code 6"
     contains "$work/out" "Examples:" "$t --help has examples"
     contains "$work/out" "Output:" "$t --help groups the output options"
-    contains "$work/out" "Advanced:" "$t --help has an Advanced group"
+    # bpm-info has no internals to set apart (FILE, --json, -v, -q).
+    [ "$t" = bpm-info ] || contains "$work/out" "Advanced:" "$t --help has an Advanced group"
     ok "$t --help: one line per option, at most 150 characters" -- \
         test "$(grep -E '^  +-' "$work/out" | awk 'length > 150' | wc -l)" -eq 0
 done
@@ -31,7 +27,7 @@ ok "bpm-simplify: --ratio under Target" -- in_group bpm-simplify "Target (the fi
 ok "bpm-simplify: --merge-duplicate-vertices under Input repairs" -- \
     in_group bpm-simplify "Input repairs (each is reported)" --merge-duplicate-vertices
 ok "bpm-simplify: --feature-angle under Features" -- in_group bpm-simplify Features --feature-angle
-ok "bpm-check: --max-error under Thresholds" -- in_group bpm-check "Thresholds (each adds a check)" --max-error
+ok "bpm-check: --max-distance under Thresholds" -- in_group bpm-check "Thresholds (each adds a check)" --max-distance
 ok "bpm-refine: --levels under Target" -- in_group bpm-refine "Target (one of)" --levels
 ok "bpm-mesh: --tetgen under Advanced" -- in_group bpm-mesh Advanced --tetgen
 ok "bpm-smooth: --weights under Advanced" -- in_group bpm-smooth Advanced --weights
@@ -47,4 +43,6 @@ expect 0 "smooth -v" -- "$tools/bpm-smooth" "$work/a.bpm" -o "$work/b.bpm" -v
 contains "$work/err" "sweep 1" "bpm-smooth -v still shows the sweeps"
 expect 0 "refine" -- "$tools/bpm-refine" "$work/a.bpm" --levels 1 -o "$work/c.off"
 ok "bpm-refine: at most 2 lines by default" -- test "$(wc -l <"$work/err")" -le 2
+expect 0 "info" -- "$tools/bpm-info" "$work/a.bpm"
+ok "bpm-info: nothing on stderr by default (the summary is on stdout)" -- test ! -s "$work/err"
 finish

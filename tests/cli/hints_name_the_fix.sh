@@ -5,11 +5,6 @@
 # (two touching per-material surfaces needed two failed runs: duplicate vertices first,
 # duplicate triangles only after).
 # Usage: hints_name_the_fix.sh TOOL_DIR SOURCE_DIR WORK_DIR
-set -u
-tools=$1
-work=$3
-rm -rf "$work"
-mkdir -p "$work"
 source "$(dirname "$0")/lib/harness.bash"
 printf 'OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n' >"$work/tet.off"
 

@@ -3,11 +3,6 @@
 # (passed/ok false and the error's file, message and exit code), not empty output that
 # crashes the CI job parsing it (spec/check-report.md, "Errors").
 # Usage: json_report_on_bad_input.sh TOOL_DIR SOURCE_DIR WORK_DIR
-set -u
-tools=$1
-work=$3
-rm -rf "$work"
-mkdir -p "$work"
 source "$(dirname "$0")/lib/harness.bash"
 
 # is_error_report FILE KEY CODE ERRORFILE: stdout is one JSON object with KEY false and
@@ -38,6 +33,15 @@ expect 3 "bpm-check --json on a surface file without --surface" -- "$tools/bpm-c
 ok "not HDF5: JSON report" -- is_error_report "$work/out" passed 3 "$work/tet.off"
 expect 2 "bpm-check --json with an unknown check" -- "$tools/bpm-check" "$work/tet.bpm" --json --checks nonsense
 ok "unknown check: JSON report, file null" -- is_error_report "$work/out" passed 2 ""
+
+expect 3 "bpm-info --json on a missing file" -- "$tools/bpm-info" "$work/missing.bpm" --json
+ok "bpm-info, missing file: JSON report with ok false and the error" -- is_error_report "$work/out" ok 3 "$work/missing.bpm"
+expect 3 "bpm-info --json on a truncated file" -- "$tools/bpm-info" "$work/truncated.bpm" --json
+ok "bpm-info, truncated file: JSON report" -- is_error_report "$work/out" ok 3 "$work/truncated.bpm"
+expect 3 "bpm-info --json on a surface file" -- "$tools/bpm-info" "$work/tet.off" --json
+ok "bpm-info, not HDF5: JSON report" -- is_error_report "$work/out" ok 3 "$work/tet.off"
+expect 2 "bpm-info --json with an unknown option" -- "$tools/bpm-info" "$work/tet.bpm" --json --nonsense
+ok "bpm-info, unknown option: JSON report, file null" -- is_error_report "$work/out" ok 2 ""
 expect 2 "bpm-check --json with an unknown option" -- "$tools/bpm-check" "$work/tet.bpm" --json --nonsense
 ok "unknown option: JSON report" -- is_error_report "$work/out" passed 2 ""
 expect 0 "bpm-check --json on a good file" -- "$tools/bpm-check" "$work/tet.bpm" --json

@@ -3,12 +3,6 @@
 # material (fused interface), an Amira HyperSurface with InnerRegion/OuterRegion, a Gmsh
 # MSH round trip through $PhysicalNames, --material, and files without patch information.
 # Usage: materials.sh TOOL_DIR SOURCE_DIR WORK_DIR
-set -u
-tools=$1
-src=$2
-work=$3
-rm -rf "$work"
-mkdir -p "$work"
 source "$(dirname "$0")/lib/harness.bash"
 if ! command -v tetgen >/dev/null; then
     echo "skipped: needs tetgen (scripts/setup.sh installs it)"

@@ -5,13 +5,8 @@
 # a clear error. A stand-in tetgen (a shell script that starts a child and waits) makes the
 # timing deterministic; the real tetgen is killed mid-run as well when installed.
 # Usage: mesh_killed_leaves_no_tetgen.sh TOOL_DIR SOURCE_DIR WORK_DIR
-set -u
-tools=$1
-src=$2
-work=$3
-rm -rf "$work"
-mkdir -p "$work/tmp" "$work/pids"
 source "$(dirname "$0")/lib/harness.bash"
+mkdir -p "$work/tmp" "$work/pids"
 export TMPDIR=$work/tmp  # where bpm-mesh makes its bpm-tetgen-XXXXXX directory
 
 # A tetrahedron as input: tiny, valid, meshable.

@@ -2,12 +2,6 @@
 # Pipeline: bpm-simplify -> bpm-mesh -> bpm-refine --volume on elephant, with exports
 # and the error cases of the volume path.
 # Usage: mesh_volume.sh TOOL_DIR SOURCE_DIR WORK_DIR
-set -u
-tools=$1
-src=$2
-work=$3
-rm -rf "$work"
-mkdir -p "$work"
 source "$(dirname "$0")/lib/harness.bash"
 elephant=$src/.data/meshes/elephant.off
 if [ ! -f "$elephant" ] || ! command -v tetgen >/dev/null; then
@@ -47,7 +41,7 @@ expect 2 "--no-smooth needs --volume" -- "$tools/bpm-refine" "$work/e.tet.bpm" -
 expect 2 "remedy angle out of range" -- "$tools/bpm-refine" "$work/e.tet.bpm" --volume --levels 1 --remedy-min-dihedral 90 -o "$work/x.msh"
 expect 3 "volume refinement of a file without a mesh" -- "$tools/bpm-refine" "$work/e.bpm" --volume --levels 1 -o "$work/x.msh"
 contains "$work/err" "bpm-mesh" "the message says how to get a mesh"
-expect 2 "volume refinement needs --levels" -- "$tools/bpm-refine" "$work/e.tet.bpm" --volume --tolerance 0.01 -o "$work/x.msh"
+expect 2 "volume refinement needs --levels" -- "$tools/bpm-refine" "$work/e.tet.bpm" --volume --max-error 0.01 -o "$work/x.msh"
 expect 2 "volume refinement to a surface format" -- "$tools/bpm-refine" "$work/e.tet.bpm" --volume --levels 1 -o "$work/x.off"
 ok "no output after failures" -- test ! -e "$work/x.msh" -a ! -e "$work/x.off"
 finish

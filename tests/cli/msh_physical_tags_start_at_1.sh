@@ -4,11 +4,6 @@
 # must be >= 1, the names keep the patch ids (patch_0 -> tag 1), and every surface entity
 # and element block must use a declared physical tag.
 # Usage: msh_physical_tags_start_at_1.sh TOOL_DIR SOURCE_DIR WORK_DIR
-set -u
-tools=$1
-work=$3
-rm -rf "$work"
-mkdir -p "$work"
 source "$(dirname "$0")/lib/harness.bash"
 if ! command -v tetgen >/dev/null; then
     echo "skipped: needs tetgen"

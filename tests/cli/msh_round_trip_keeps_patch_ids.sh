@@ -5,11 +5,6 @@
 # bpm's reader uses (patch = tag - 1) and Gmsh and meshio skip. Also: bpm-refine writes a
 # refined surface to .msh (it said "unknown output format 'msh'").
 # Usage: msh_round_trip_keeps_patch_ids.sh TOOL_DIR SOURCE_DIR WORK_DIR
-set -u
-tools=$1
-work=$3
-rm -rf "$work"
-mkdir -p "$work"
 source "$(dirname "$0")/lib/harness.bash"
 # An octahedron in two patches (OBJ groups patch_<N> are patch N).
 cat >"$work/octa.obj" <<'OBJ'

@@ -2,12 +2,6 @@
 # A target the input already meets must not pass silently ("3897 -> 3897", exit 0, no
 # word), and -q must mean what its help says: only errors on stderr, no warnings.
 # Usage: no_silent_noops.sh TOOL_DIR SOURCE_DIR WORK_DIR
-set -u
-tools=$1
-src=$2
-work=$3
-rm -rf "$work"
-mkdir -p "$work"
 source "$(dirname "$0")/lib/harness.bash"
 printf 'OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n' >"$work/tet.off"
 
@@ -24,7 +18,7 @@ expect 0 "unreachable target with -q" -- "$tools/bpm-simplify" "$work/tet.off" -
 ok "-q: stderr empty" -- test ! -s "$work/err"
 expect 0 "bpm-smooth -q" -- "$tools/bpm-smooth" "$work/a.bpm" -o "$work/b.bpm" -q
 ok "bpm-smooth -q: stderr empty" -- test ! -s "$work/err"
-expect 0 "bpm-refine -q" -- "$tools/bpm-refine" "$work/a.bpm" --tolerance 1e-9 --max-level 1 -o "$work/b.off" -q
+expect 0 "bpm-refine -q" -- "$tools/bpm-refine" "$work/a.bpm" --max-error 1e-9 --max-level 1 -o "$work/b.off" -q
 ok "bpm-refine -q: its max-level warning is not printed" -- test ! -s "$work/err"
 expect 3 "an error is still printed under -q" -- "$tools/bpm-refine" "$work/missing.bpm" --levels 1 -o "$work/b.off" -q
 contains "$work/err" "error:" "errors survive -q"

@@ -2,11 +2,6 @@
 # Pipeline: bpm-simplify -> bpm-smooth -> bpm-refine -> bpm-check on femur, plus the
 # usage / input errors of bpm-refine and bpm-smooth.
 # Usage: refine_smooth.sh TOOL_DIR SOURCE_DIR WORK_DIR
-set -u
-tools=$1
-src=$2
-work=$3
-mkdir -p "$work"
 source "$(dirname "$0")/lib/harness.bash"
 meshes=$src/.data/meshes
 example=$src/spec/examples/two_triangles.bpm
@@ -20,7 +15,7 @@ check=$tools/bpm-check
 expect 0 "refine help" -- "$refine" --help
 expect 0 "smooth help" -- "$smooth" --help
 expect 2 "refine needs levels or tolerance" -- "$refine" "$example" -o "$work/x.off"
-expect 2 "levels and tolerance exclude each other" -- "$refine" "$example" -o "$work/x.off" --levels 1 --tolerance 0.01
+expect 2 "levels and max-error exclude each other" -- "$refine" "$example" -o "$work/x.off" --levels 1 --max-error 0.01
 expect 2 "unknown output format" -- "$refine" "$example" -o "$work/x.xyz" --levels 1
 expect 2 "stdout needs --output-format" -- "$refine" "$example" -o - --levels 1
 expect 2 "missing output directory" -- "$refine" "$example" -o "$work/no/such/dir/x.off" --levels 1
@@ -50,7 +45,7 @@ if [ -f "$meshes/femur.off" ]; then
     # topology and bijectivity of the refined phi must hold regardless.
     expect 0 "refined femur .bpm is a valid parametrization" -- "$check" --checks format,topology,bijectivity "$work/femur_k2.bpm"
     "$check" --checks intersections "$work/femur_k2.bpm" | sed 's/^/  (information) /'
-    expect 0 "refine femur adaptive to .vtu with data" -- "$refine" "$work/femur_smooth.bpm" -o "$work/femur_adaptive.vtu" --tolerance 0.002 --data
+    expect 0 "refine femur adaptive to .vtu with data" -- "$refine" "$work/femur_smooth.bpm" -o "$work/femur_adaptive.vtu" --max-error 0.002 --data
     contains "$work/femur_adaptive.vtu" "Name=\"original_normal\"" "normals in VTU"
     expect 0 "refine femur K=1 to .off" -- "$refine" "$work/femur_smooth.bpm" -o "$work/femur_k1.off" --levels 1
     expect 0 "refined surface reads back" -- "$check" --surface --checks topology "$work/femur_k1.off"

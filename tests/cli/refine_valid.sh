@@ -2,12 +2,6 @@
 # Refined .bpm files pass bpm-check: new vertices whose phi would make the refined surface
 # intersect itself are held back towards the coarse surface; multi-material surfaces
 # refine. Usage: refine_valid.sh TOOL_DIR SOURCE_DIR WORK_DIR
-set -u
-tools=$1
-src=$2
-work=$3
-rm -rf "$work"
-mkdir -p "$work"
 source "$(dirname "$0")/lib/harness.bash"
 simplify=$tools/bpm-simplify
 smooth=$tools/bpm-smooth

@@ -1,11 +1,6 @@
 #!/usr/bin/env bash
-# bpm-simplify --record-steps, then bpm-check --replay and --max-error on real meshes.
+# bpm-simplify --record-steps, then bpm-check --replay and --max-distance on real meshes.
 # Usage: replay_check.sh TOOL_DIR SOURCE_DIR WORK_DIR
-set -u
-tools=$1
-src=$2
-work=$3
-mkdir -p "$work"
 source "$(dirname "$0")/lib/harness.bash"
 simplify=$tools/bpm-simplify
 check=$tools/bpm-check
@@ -16,7 +11,7 @@ shark=$meshes/mech-holes-shark.off   # 4 boundary loops: removals of half-disks 
 
 expect 0 "help" -- "$check" --help
 contains "$work/out" "--replay" "help mentions --replay"
-contains "$work/out" "--max-error" "help mentions --max-error"
+contains "$work/out" "--max-distance" "help mentions --max-distance"
 expect 0 "simplify help" -- "$simplify" --help
 contains "$work/out" "--record-steps" "bpm-simplify help mentions --record-steps"
 
@@ -25,9 +20,9 @@ expect 1 "a file without a record fails --replay" -- "$check" --replay "$example
 contains "$work/out" "FAIL replay  1 problem; first: not checked: the file has no recorded simplification steps" \
     "replay refuses a file without a record"
 expect 2 "--replay with --surface is a usage error" -- "$check" --surface --replay "$example"
-expect 2 "--max-error with --surface is a usage error" -- "$check" --surface --max-error 0.1 "$example"
+expect 2 "--max-distance with --surface is a usage error" -- "$check" --surface --max-distance 0.1 "$example"
 expect 2 "--checks accepts replay, not nonsense" -- "$check" --checks replay,nonsense "$example"
-expect 2 "negative --max-error" -- "$check" --max-error -1 "$example"
+expect 2 "negative --max-distance" -- "$check" --max-distance -1 "$example"
 
 if [ ! -f "$femur" ]; then
     echo "SKIPPED: $femur missing (scripts/setup.sh unpacks libcgal-demo's meshes)"
@@ -77,7 +72,7 @@ assert alive == coarse, (len(alive), len(coarse))
 "
 fi
 
-expect 0 "distance gate passes at 5%" -- "$check" --checks format --max-error 0.05 --json "$work/femur.bpm"
+expect 0 "distance gate passes at 5%" -- "$check" --checks format --max-distance 0.05 --json "$work/femur.bpm"
 cp "$work/out" "$work/distance.json"
 if command -v python3 >/dev/null; then
     ok "distance JSON: measures, bound above the sampled S -> S0" -- python3 -c "
@@ -94,7 +89,7 @@ assert m['image_hausdorff']['value'] < 1e-10
 assert d['worst']['name'] == 'coarse_hausdorff' and 'coarse_triangle' in d['worst']['ids']
 "
 fi
-expect 1 "distance gate fails below the error" -- "$check" --checks format --max-error 0.0005 "$work/femur.bpm"
+expect 1 "distance gate fails below the error" -- "$check" --checks format --max-distance 0.0005 "$work/femur.bpm"
 contains "$work/out" "FAIL distance  1 problem; first: " "distance line"
 contains "$work/out" "the coarse surface is " "distance message"
 
@@ -109,7 +104,7 @@ if [ -f "$shark" ]; then
     expect 0 "simplify a mesh with boundaries with --record-steps" -- \
         "$simplify" "$shark" -o "$work/shark.bpm" --ratio 0.1 --record-steps --deterministic
     expect 0 "it replays clean, with half-disk removals on the boundary" -- \
-        "$check" --replay --max-error 0.05 --json "$work/shark.bpm"
+        "$check" --replay --max-distance 0.05 --json "$work/shark.bpm"
     cp "$work/out" "$work/shark.json"
     if command -v python3 >/dev/null; then
         ok "shark: feature-line removals replayed" -- python3 -c "

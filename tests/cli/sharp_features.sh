@@ -2,12 +2,6 @@
 # Sharp features: corners of creases are kept (bpm-simplify --no-keep-corners lets them
 # go), targets below them stop there and say why, crease lines stay lines.
 # Usage: sharp_features.sh TOOL_DIR SOURCE_DIR WORK_DIR
-set -u
-tools=$1
-src=$2
-work=$3
-rm -rf "$work"
-mkdir -p "$work"
 source "$(dirname "$0")/lib/harness.bash"
 simplify=$tools/bpm-simplify
 check=$tools/bpm-check
@@ -29,7 +23,7 @@ PY
 # The cube of 10 x 10 squares per face at 8 vertices is the cube: error 0, 8 corners.
 expect 0 "cube to 8 vertices" -- "$simplify" "$work/cube10.off" -o "$work/c8.bpm" --vertices 8
 contains "$work/err" "-> 8 vertices (12 triangles)" "cube reaches 8 vertices"
-expect 0 "cube at 8 vertices is the cube (Hausdorff 0)" -- "$check" "$work/c8.bpm" --max-error 1e-9
+expect 0 "cube at 8 vertices is the cube (Hausdorff 0)" -- "$check" "$work/c8.bpm" --max-distance 1e-9
 expect 0 "cube corners written" -- "$refine" "$work/c8.bpm" --levels 0 -o "$work/c8.off"
 ok "the 8 vertices are the corners" -- test "$(off_corners "$work/c8.off")" -eq 0
 
@@ -45,18 +39,18 @@ expect 0 "without corners still valid" -- "$check" "$work/c4n.bpm"
 # A cube of 6 quads stays a cube (it became a tetrahedron).
 expect 0 "cube of quads" -- "$simplify" "$work/cube-quads.off" --triangulate-polygons --ratio 0.5 -o "$work/cq.bpm"
 contains "$work/err" "8 -> 8 vertices" "cube of quads keeps its 8 corners"
-expect 0 "cube of quads is the cube" -- "$check" "$work/cq.bpm" --max-error 1e-9
+expect 0 "cube of quads is the cube" -- "$check" "$work/cq.bpm" --max-distance 1e-9
 
 # The L-block: 12 corners, reached exactly.
 expect 0 "L-block to 12" -- "$simplify" "$work/lblock.off" -o "$work/l.bpm" --vertices 12
 contains "$work/err" "-> 12 vertices" "L-block reaches its 12 corners"
-expect 0 "L-block at 12 vertices is the L-block" -- "$check" "$work/l.bpm" --max-error 1e-9
+expect 0 "L-block at 12 vertices is the L-block" -- "$check" "$work/l.bpm" --max-distance 1e-9
 
 # The cylinder: no corners; the circular creases stay lines while the error allows, so
 # every coarse triangle lies in a cap or on the side (none cuts across the rim).
 expect 0 "cylinder to 100" -- "$simplify" "$work/cylinder.off" -o "$work/cy.bpm" --vertices 100
 contains "$work/err" "-> 100 vertices" "cylinder reaches 100"
-expect 0 "cylinder checks" -- "$check" "$work/cy.bpm" --max-error 0.02
+expect 0 "cylinder checks" -- "$check" "$work/cy.bpm" --max-distance 0.02
 expect 0 "cylinder written" -- "$refine" "$work/cy.bpm" --levels 0 -o "$work/cy.off"
 ok "no coarse triangle of the cylinder cuts across a rim" -- /usr/bin/python3 - "$work/cy.off" <<'PY'
 import math, sys

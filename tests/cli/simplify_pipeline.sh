@@ -2,12 +2,6 @@
 # bpm-simplify end to end: pipes through standard input/output, exit codes, no partial
 # output on failure, byte-identical output for identical runs.
 # Usage: simplify_pipeline.sh TOOL_DIR SOURCE_DIR WORK_DIR
-set -u
-tools=$1
-src=$2
-work=$3
-rm -rf "$work"
-mkdir -p "$work"
 source "$(dirname "$0")/lib/harness.bash"
 simplify=$tools/bpm-simplify
 check=$tools/bpm-check

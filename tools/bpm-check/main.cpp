@@ -39,7 +39,7 @@ void name_flags(bpm::CheckReport& report, bool replay_without_steps) {
             for (bpm::CheckProblem& pr : r.problems) {
                 const std::string field = "the limit max_error = ";
                 const size_t at = pr.message.find(field);
-                if (at != std::string::npos) pr.message.replace(at, field.size(), "--max-error ");
+                if (at != std::string::npos) pr.message.replace(at, field.size(), "--max-distance ");
             }
         if (r.name == "replay" && replay_without_steps) {
             const std::string hint = " (write it with bpm-simplify --record-steps)";
@@ -65,12 +65,12 @@ int main(int argc, char** argv) {
         "  replay         (with --replay) the removals stored by bpm-simplify --record-steps are each a\n"
         "                 valid removal and together give the coarse surface\n"
         "  quality        (with --max-aspect / --min-angle) shapes of the coarse triangles\n"
-        "  distance       (with --max-error) how far phi's image and the coarse surface are from the original",
+        "  distance       (with --max-distance) how far phi's image and the coarse surface are from the original",
         tool};
     std::string input;
     std::string checks = "format,intersections,topology,bijectivity,distortion";
     bool original = false, json = false, surface_mode = false;
-    double max_aspect = 0, min_angle = 0, max_error = 0, error_spacing = 1e-3;
+    double max_aspect = 0, min_angle = 0, max_distance = 0, sample_spacing = 1e-3;
     bool replay = false;
     int64_t replay_interval = 0;
     size_t max_problems = 10;
@@ -92,17 +92,26 @@ int main(int argc, char** argv) {
     auto* angle_opt = app.add_option("--min-angle", min_angle, "Fail if a coarse triangle has an angle below D degrees")
                           ->check(CLI::Range(0.0, 60.0));
     angle_opt->type_name("D");
-    auto* error_opt =
-        app.add_option("--max-error", max_error,
-                       "Fail if phi's image or the coarse surface is farther than E from the original (fraction of "
-                       "the diagonal)")
+    // --max-distance is a Hausdorff distance; it was --max-error, which bpm-simplify and
+    // bpm-refine use for max |phi(x) - x| (an upper bound of one direction of it).
+    auto* distance_opt =
+        app.add_option("--max-distance", max_distance,
+                       "Fail if the Hausdorff distance of phi's image or of the coarse surface to the original is "
+                       "above D (fraction of the diagonal)")
             ->check(CLI::NonNegativeNumber);
-    error_opt->type_name("E");
-    app.add_option("--error-spacing", error_spacing,
-                   "Sample spacing of --max-error (fraction of the diagonal; the estimate is at most this low)")
-        ->check(CLI::PositiveNumber)
-        ->type_name("H")
-        ->capture_default_str();
+    distance_opt->type_name("D");
+    auto* distance_alias =
+        bpm::tools::add_deprecated_alias(app, "--max-error", max_distance, distance_opt,
+                                         "--max-error of bpm-simplify and bpm-refine is max |phi(x) - x|, which "
+                                         "bpm-check reports as coarse_to_original_bound")
+            ->check(CLI::NonNegativeNumber);
+    auto* spacing_opt = app.add_option("--sample-spacing", sample_spacing,
+                                       "Sample spacing of --max-distance (fraction of the diagonal; the estimate is at "
+                                       "most this low)")
+                            ->check(CLI::PositiveNumber)
+                            ->type_name("H")
+                            ->capture_default_str();
+    bpm::tools::add_deprecated_alias(app, "--error-spacing", sample_spacing, spacing_opt)->check(CLI::PositiveNumber);
     app.add_flag("--replay", replay,
                  "Also replay the steps stored by bpm-simplify --record-steps (= 'replay' in --checks)");
     app.add_option("--replay-interval", replay_interval,
@@ -140,13 +149,13 @@ int main(int argc, char** argv) {
     bpm::tools::add_version_flag(app, tool);
     bpm::tools::group_options(app, "Checks", {"--checks", "--original", "--replay", "--surface"});
     bpm::tools::group_options(app, "Thresholds (each adds a check)",
-                              {"--max-aspect", "--min-angle", "--max-error", "--error-spacing"});
+                              {"--max-aspect", "--min-angle", "--max-distance", "--sample-spacing"});
     bpm::tools::group_options(app, "Input repairs (with --surface)",
                               {"--input-format", "--triangulate-polygons", "--merge-duplicate-vertices",
                                "--merge-duplicate-triangles", "--drop-unreferenced-vertices"});
     bpm::tools::group_options(app, "Output", {"--json", "--max-problems", "--verbose", "--quiet"});
     bpm::tools::group_options(app, "Advanced", {"--replay-interval", "--threads"});
-    bpm::tools::add_examples(app, {"bpm-check femur.bpm", "bpm-check femur.bpm --max-error 0.005 --json",
+    bpm::tools::add_examples(app, {"bpm-check femur.bpm", "bpm-check femur.bpm --max-distance 0.005 --json",
                                    "bpm-check --surface femur.off"});
 
     // With --json every error is a report too (spec/check-report.md, "Errors").
@@ -157,7 +166,7 @@ int main(int argc, char** argv) {
     return bpm::tools::run(tool, argc, argv, app, [&]() {
         bpm::CheckSelection sel;
         sel.format = sel.intersections = sel.topology = sel.bijectivity = false;
-        // distance and quality are run by their limits (--max-error, --max-aspect,
+        // distance and quality are run by their limits (--max-distance, --max-aspect,
         // --min-angle); named in --checks without one they measure and pass.
         bool want_distance = false, want_quality = false;
         std::stringstream list(checks);
@@ -183,8 +192,9 @@ int main(int argc, char** argv) {
         options.max_problems = max_problems;
         if (*aspect_opt) options.max_aspect_ratio = max_aspect;
         if (*angle_opt) options.min_angle_degrees = min_angle;
-        if (*error_opt) options.max_error = max_error;
-        options.error_sample_spacing = error_spacing;
+        const bool distance_limit = distance_opt->count() + distance_alias->count() > 0;
+        if (distance_limit) options.max_error = max_distance;
+        options.error_sample_spacing = sample_spacing;
         options.replay_check_interval = replay_interval;
         options.threads = threads;
         const bpm::Context context = bpm::tools::make_context(tool, verbose, quiet || json);
@@ -192,7 +202,8 @@ int main(int argc, char** argv) {
         bpm::CheckReport report;
         if (surface_mode) {
             if (sel.replay) throw CLI::ValidationError("--replay", "replay needs a .bpm file, not --surface");
-            if (*error_opt) throw CLI::ValidationError("--max-error", "--max-error needs a .bpm file, not --surface");
+            if (distance_limit)
+                throw CLI::ValidationError("--max-distance", "--max-distance needs a .bpm file, not --surface");
             if (sel.format || sel.bijectivity || sel.distortion) {
                 if (app.count("--checks"))
                     throw CLI::ValidationError("--checks", "format, bijectivity and distortion need a .bpm file, not --surface");
@@ -212,7 +223,7 @@ int main(int argc, char** argv) {
         } else {
             const bpm::BpmFile file = read_bpm_or_hint(input);
             // distance reads phi, so it needs a structurally sound file.
-            if (want_distance && !*error_opt) sel.format = true;
+            if (want_distance && !distance_limit) sel.format = true;
             report = bpm::run_checks(file, sel, options, context);
             if (want_quality && !report.find("quality"))
                 add_in_order(report, bpm::check_quality(file.param.coarse, options, context));

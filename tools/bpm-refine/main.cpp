@@ -82,14 +82,14 @@ int main(int argc, char** argv) {
     const std::string tool = "bpm-refine";
     CLI::App app{
         "Refine the coarse surface of a .bpm file: uniformly (--levels K, 4^K triangles per coarse triangle) or\n"
-        "adaptively (--tolerance T), placing every new vertex at phi of its parameter position, i.e. on the\n"
+        "adaptively (--max-error E), placing every new vertex at phi of its parameter position, i.e. on the\n"
         "original surface. Output format by extension: .off .obj .ply .stl .msh .vtu, or .bpm (the refined surface\n"
         "with its own phi; see spec/refinement.md).",
         tool};
     std::string input, output, format;
     bpm::RefineOptions options;
     int levels = -1;
-    double tolerance = 0;
+    double max_error = 0;
     bool data = false, verbose = false, quiet = false, deterministic = false, no_verify = false;
     app.add_option("INPUT", input, "Input .bpm file, or - for standard input")->required();
     app.add_option("-o,--output", output, "Output file (.off .obj .ply .stl .msh .vtu .bpm), or - for standard output")
@@ -101,11 +101,17 @@ int main(int argc, char** argv) {
     bpm::tools::add_encoding_options(app, encoding_flags);
     auto* lv = app.add_option("--levels", levels, "Uniform refinement: each coarse triangle into 4^K triangles (0..10)")
                    ->check(CLI::Range(0, 10));
-    auto* tol = app.add_option("--tolerance", tolerance,
-                               "Adaptive refinement: split triangles whose image deviates from flat by more than this "
-                               "fraction of the bounding-box diagonal (e.g. 0.001)")
+    // --max-error is the quantity bpm-simplify --max-error limits: max |phi(x) - x| over the
+    // surface, as a fraction of the diagonal (it was --tolerance, which is bpm-smooth's
+    // stopping threshold).
+    auto* tol = app.add_option("--max-error", max_error,
+                               "Adaptive refinement: split triangles until max |phi(x) - x| is at most this fraction "
+                               "of the bounding-box diagonal (e.g. 0.001)")
                     ->check(CLI::PositiveNumber);
     lv->excludes(tol);
+    bpm::tools::add_deprecated_alias(app, "--tolerance", max_error, tol,
+                                     "bpm-smooth's --tolerance is its stopping threshold, another quantity")
+        ->check(CLI::PositiveNumber);
     app.add_option("--max-level", options.max_level, "Adaptive: at most this many levels (default 8)")
         ->check(CLI::Range(0, 10));
     app.add_flag("--data", data,
@@ -129,11 +135,11 @@ int main(int argc, char** argv) {
                  "Place every new vertex at phi even where the surface then intersects itself (default: hold back)");
     bpm::tools::add_output_tool_flags(app, tool, deterministic, verbose, quiet);
     bpm::tools::group_options(app, "Output", {"--output", "--output-format", "--binary", "--compress", "--data"});
-    bpm::tools::group_options(app, "Target (one of)", {"--levels", "--tolerance", "--max-level"});
+    bpm::tools::group_options(app, "Target (one of)", {"--levels", "--max-error", "--max-level"});
     bpm::tools::group_options(app, "Volume", {"--volume", "--no-smooth", "--remedy-min-dihedral"});
     bpm::tools::group_options(app, "Advanced", {"--no-verify", "--allow-intersections"});
     bpm::tools::add_examples(app, {"bpm-refine femur.bpm --levels 2 -o fine.vtu --data",
-                                   "bpm-refine femur.bpm --tolerance 0.001 -o adaptive.off",
+                                   "bpm-refine femur.bpm --max-error 0.001 -o adaptive.off",
                                    "bpm-refine femur.tet.bpm --volume --levels 1 -o fine.msh"});
 
     return bpm::tools::run(tool, argc, argv, app, [&]() {
@@ -144,9 +150,9 @@ int main(int argc, char** argv) {
         if (volume)
             return refine_volume(tool, argc, argv, input, output, format, encoding_flags, levels, !no_smooth,
                                  remedy_min_dihedral, deterministic, verbose, quiet);
-        if (levels < 0 && tolerance <= 0) throw CLI::ValidationError("give one of --levels, --tolerance");
+        if (levels < 0 && max_error <= 0) throw CLI::ValidationError("give one of --levels, --max-error");
         options.levels = levels;
-        options.tolerance = tolerance;
+        options.tolerance = max_error;
         options.prevent_intersections = !allow_intersections;
         std::string kind = format.empty() ? extension_of(output) : format;
         std::transform(kind.begin(), kind.end(), kind.begin(), [](unsigned char c) { return char(std::tolower(c)); });
@@ -193,7 +199,7 @@ int main(int argc, char** argv) {
         context.info(line);
         if (result.triangles_at_max_level_above_tolerance > 0)
             context.warn(std::to_string(result.triangles_at_max_level_above_tolerance) +
-                         " triangles still deviate more than the tolerance at --max-level " +
+                         " triangles still deviate more than --max-error at --max-level " +
                          std::to_string(options.max_level));
 
         if (is_bpm) {

@@ -108,27 +108,49 @@ std::string signal_name(int sig) {
 bool interrupted() { return g_signal != 0; }
 
 namespace {
-// Deprecated spellings registered by add_format_option: {old, replacement}.
-std::vector<std::pair<std::string, std::string>> g_deprecated;
+// Deprecated spellings registered by note_deprecated.
+struct DeprecatedName {
+    std::string old_name, new_name, note;
+};
+std::vector<DeprecatedName> g_deprecated;
+
+// The old spelling stands for the new one: it may not come with it, nor with what the
+// new one excludes. Throws CLI::ExcludesError (exit 2).
+void check_deprecated(const CLI::App& app) {
+    for (const DeprecatedName& d : g_deprecated) {
+        const CLI::Option* old_option = app.get_option_no_throw(d.old_name);
+        const CLI::Option* new_option = app.get_option_no_throw(d.new_name);
+        if (!old_option || old_option->count() == 0 || !new_option) continue;
+        if (new_option->count() > 0)
+            throw CLI::ValidationError(d.old_name, "is the old name of " + d.new_name +
+                                                       ": give only " + d.new_name);
+        for (const CLI::Option* excluded : new_option->get_excludes())
+            if (excluded->count() > 0)
+                throw CLI::ExcludesError(d.old_name, excluded->get_name());
+    }
+}
 
 void warn_deprecated(const std::string& tool, const CLI::App& app) {
     const CLI::Option* quiet = app.get_option_no_throw("--quiet");
     if (quiet && quiet->count() > 0) return;
-    for (const auto& [old_name, new_name] : g_deprecated) {
-        const CLI::Option* o = app.get_option_no_throw(old_name);
+    for (const DeprecatedName& d : g_deprecated) {
+        const CLI::Option* o = app.get_option_no_throw(d.old_name);
         if (o && o->count() > 0)
-            std::cerr << tool << ": warning: " << old_name << " is deprecated and will be removed in the next minor "
-                      << "version: use " << new_name << " (same meaning)" << std::endl;
+            std::cerr << tool << ": warning: " << d.old_name << " is deprecated and will be removed in the next minor "
+                      << "version: use " << d.new_name << " (same meaning)" << (d.note.empty() ? "" : "; ") << d.note
+                      << std::endl;
     }
 }
 }  // namespace
 
+void note_deprecated(const std::string& old_name, const std::string& new_name, const std::string& note) {
+    g_deprecated.push_back({old_name, new_name, note});
+}
+
 CLI::Option* add_format_option(CLI::App& app, std::string& value, const std::string& direction,
                                const std::string& description) {
-    const std::string name = "--" + direction + "-format";
-    CLI::Option* option = app.add_option(name, value, description);
-    app.add_option("--format", value, "Deprecated: the old name of " + name)->group("Deprecated");
-    g_deprecated.emplace_back("--format", name);
+    CLI::Option* option = app.add_option("--" + direction + "-format", value, description);
+    add_deprecated_alias(app, "--format", value, option);
     return option;
 }
 
@@ -227,6 +249,7 @@ int run(const std::string& tool, int argc, char** argv, CLI::App& app, const std
     };
     try {
         app.parse(argc, argv);
+        check_deprecated(app);
     } catch (const CLI::CallForHelp&) {
         std::cout << app.help();
         return kOk;

@@ -83,6 +83,26 @@ void group_options(CLI::App& app, const std::string& group, const std::vector<st
 CLI::Option* add_format_option(CLI::App& app, std::string& value, const std::string& direction,
                                const std::string& description);
 
+// Records that `old_name` is a deprecated spelling of `new_name`: after parsing, run()
+// refuses the two together and the old one together with an option the new one excludes
+// (exit 2), and warns on stderr (not with -q: it is a warning) when the old one is used,
+// naming the new option and adding `note` (e.g. what the old name means in other tools).
+void note_deprecated(const std::string& old_name, const std::string& new_name, const std::string& note = "");
+
+// Keeps `old_name` working for one minor version as a deprecated alias of `replacement`
+// (an option already added): it sets the same variable, is listed under "Deprecated" in
+// --help, and run() checks and warns as note_deprecated says (no CLI11 `excludes`, which
+// would name the old spelling in the replacement's help line). Returns the alias, for
+// its validators and its count.
+template <typename T>
+CLI::Option* add_deprecated_alias(CLI::App& app, const std::string& old_name, T& value, CLI::Option* replacement,
+                                  const std::string& note = "") {
+    const std::string new_name = replacement->get_name();
+    CLI::Option* alias = app.add_option(old_name, value, "Deprecated: the old name of " + new_name)->group("Deprecated");
+    note_deprecated(old_name, new_name, note);
+    return alias;
+}
+
 // Validator for a number in a range, open or closed at each end, whose message says the
 // expected range with an example and, for "0,1", that the decimal point is a dot.
 CLI::Validator decimal_range(double low, double high, bool low_open, bool high_open, const std::string& example);

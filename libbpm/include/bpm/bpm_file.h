@@ -21,6 +21,11 @@ struct ProvenanceStep {
     std::string timestamp;   // ISO 8601 UTC; empty in deterministic mode
 };
 
+struct BpmFormatVersion {
+    int major = 0;
+    int minor = 0;
+};
+
 struct BpmFile {
     Parametrization param;
     std::vector<ProvenanceStep> provenance;  // oldest first
@@ -37,12 +42,11 @@ struct BpmFile {
     // on their two sides), in the optional /patch_info group (format 1.3, spec/bpm-format.md
     // §5.2), sorted by patch id; empty in older files and when nothing was known.
     std::vector<PatchInfo> patch_info;
+    // The format version the file was written in, as read_bpm found it ({0, 0} for a
+    // BpmFile made in memory); write_bpm ignores it and writes bpm_format_version().
+    BpmFormatVersion format_version;
 };
 
-struct BpmFormatVersion {
-    int major = 0;
-    int minor = 0;
-};
 BpmFormatVersion bpm_format_version();  // what this build writes
 
 // The functions below use the HDF5 library, which (as packaged by Debian) is not
@@ -60,7 +64,9 @@ std::string write_bpm_to_memory(const BpmFile& file);
 
 // Reads and checks structure (datasets, types, shapes, index ranges, CSR offsets,
 // finite values, version). Throws bpm::InputError with the dataset and element at fault.
-// "-" reads standard input. Accepts any minor version of major version 1 and ignores
+// "-" reads standard input. gzip-compressed input (a .bpm.gz, or gzip data on standard
+// input or in memory, told by its magic bytes) is decompressed first; a truncated or
+// corrupt one is an InputError. Accepts any minor version of major version 1 and ignores
 // groups and attributes it does not know (spec §2, §10); the /VTKHDF group is not read.
 // Does not check the geometry of phi (tiling, orientation, bijectivity): bpm-check does.
 // Memory use is bounded by a small multiple of the input size (dataset extents are

@@ -70,7 +70,7 @@ struct CheckOptions {
     // Quality gates on the coarse surface; unset = not checked.
     std::optional<double> max_aspect_ratio;     // circumradius / inradius, 2 for equilateral
     std::optional<double> min_angle_degrees;
-    // Distance gate (--max-error): fails when the two-sided Hausdorff distance between
+    // Distance gate (bpm-check --max-distance): fails when the two-sided Hausdorff distance between
     // phi's image and S0, or between the coarse surface S and S0, exceeds this fraction
     // of the bounding-box diagonal of S0. Unset = the distance check is not run.
     std::optional<double> max_error;

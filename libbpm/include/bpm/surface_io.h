@@ -49,6 +49,11 @@
 // The format is chosen by options.format, else by the extension; a file without a known
 // extension whose first line starts with "# HyperSurface" is read as SURF.
 //
+// Compressed input: gzip data (a file, standard input or a buffer that starts with the
+// gzip magic bytes) is decompressed first, and the format of FILE.EXT.gz is told by EXT
+// (femur.off.gz is OFF). A name ending in .gz must hold gzip data; truncated or corrupt
+// gzip data is an InputError saying so.
+//
 // Parallel VTK XML (.pvtp / .pvtu, read_surface only: the pieces are other files): the
 // files its <Piece Source=...> name, relative to its directory, are read as VTP / VTU and
 // joined in order, and the points that pieces share (their borders) are merged; point
@@ -81,7 +86,7 @@ enum class SurfaceFormat { Off, Obj, Stl, Ply, Msh, Msh22, Vtk, Vtp, Vtu, Surf }
 // "off", "obj", "stl", "ply", "msh", "msh22", "vtk", "vtp", "vtu", "surf" (case-insensitive)
 // -> format; nullopt otherwise. The extension .msh is Msh.
 std::optional<SurfaceFormat> surface_format_from_name(const std::string& name);
-// Format from the extension of `path`; nullopt if unknown.
+// Format from the extension of `path` (before a final .gz); nullopt if unknown.
 std::optional<SurfaceFormat> surface_format_from_path(const std::string& path);
 
 struct SurfaceReadOptions {

@@ -1,4 +1,4 @@
-// check_distance: the --max-error gate of bpm-check. How far phi's image and the coarse
+// check_distance: the --max-distance gate of bpm-check. How far phi's image and the coarse
 // surface S are from the original surface S0, as two-sided Hausdorff distances relative
 // to the bounding-box diagonal of S0, plus the exact bound max |phi(x) - x| over the
 // nodes of phi. The only file of the checker that includes CGAL's AABB tree.

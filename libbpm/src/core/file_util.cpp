@@ -1,4 +1,5 @@
 #include "core/file_util.h"
+#include "core/gzip.h"
 
 #include <fcntl.h>
 #include <signal.h>
@@ -180,7 +181,7 @@ std::string read_whole_input(const std::string& path, size_t max_bytes) {
         bytes.append(buffer, static_cast<size_t>(n));
     }
     if (fd != STDIN_FILENO) ::close(fd);
-    return bytes;
+    return decompress_if_gzip(std::move(bytes), where, path != "-" && has_gz_suffix(path), max_bytes);
 }
 
 namespace {

@@ -21,8 +21,10 @@ namespace bpm::detail {
 // complete output, and it may be deleted.
 void write_file_atomically(const std::string& path, const std::string& bytes);
 
-// Reads a whole file (or standard input for "-") into memory. Throws bpm::InputError
-// for a missing file, a directory, an unreadable file, or more than `max_bytes` bytes.
+// Reads a whole file (or standard input for "-") into memory, decompressed if it is gzip
+// data (core/gzip.h: by its magic bytes; a name ending in .gz must hold gzip data).
+// Throws bpm::InputError for a missing file, a directory, an unreadable file, corrupt or
+// truncated gzip data, or more than `max_bytes` bytes (read or decompressed).
 std::string read_whole_input(const std::string& path, size_t max_bytes = size_t(16) << 30);
 
 // A name for error messages: the path, or "<stdin>" for "-".

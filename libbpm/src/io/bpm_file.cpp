@@ -28,6 +28,7 @@
 #include "bpm/tetmesh_materials.h"
 #include "bpm/version.h"
 #include "core/file_util.h"
+#include "core/gzip.h"
 #include "phi/phi_layout.h"
 
 namespace bpm {
@@ -1265,6 +1266,7 @@ BpmFile read_image(const std::string& bytes, const std::string& where, Tape* rec
                ", this reader supports major version " + num(BPM_FORMAT_VERSION_MAJOR) +
                (version[0] > BPM_FORMAT_VERSION_MAJOR ? " only; a newer bpm is needed to read it" : " only"));
     if (version[1] < 0) r.fail("root attribute 'format_version': negative minor version");
+    out.format_version = {static_cast<int>(version[0]), static_cast<int>(version[1])};
     out.units = r.read_string_attribute("units", false);
 
     Parametrization& p = out.param;
@@ -1403,6 +1405,9 @@ BpmFile read_bpm(const std::string& path) {
     return read_checked(bytes, detail::display_name(path));
 }
 
-BpmFile read_bpm_from_memory(const std::string& bytes, const std::string& name) { return read_checked(bytes, name); }
+BpmFile read_bpm_from_memory(const std::string& bytes, const std::string& name) {
+    if (detail::looks_like_gzip(bytes)) return read_checked(detail::decompress_if_gzip(bytes, name, false), name);
+    return read_checked(bytes, name);
+}
 
 }  // namespace bpm

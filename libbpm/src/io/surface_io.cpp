@@ -15,6 +15,7 @@
 
 #include "bpm/errors.h"
 #include "core/file_util.h"
+#include "core/gzip.h"
 #include "io/surface_readers.h"
 
 namespace bpm {
@@ -218,7 +219,8 @@ std::optional<SurfaceFormat> surface_format_from_name(const std::string& name) {
     return std::nullopt;
 }
 
-std::optional<SurfaceFormat> surface_format_from_path(const std::string& path) {
+std::optional<SurfaceFormat> surface_format_from_path(const std::string& compressed_or_not) {
+    const std::string path = detail::without_gz_suffix(compressed_or_not);  // femur.off.gz: off
     const size_t slash = path.find_last_of('/');
     const size_t dot = path.find_last_of('.');
     if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return std::nullopt;
@@ -260,6 +262,8 @@ static Surface read_from_memory(const std::string& bytes, SurfaceFormat format, 
 
 Surface read_surface_from_memory(const std::string& bytes, SurfaceFormat format, const std::string& name,
                                  const SurfaceReadOptions& options, SurfaceReadReport* report) {
+    if (detail::looks_like_gzip(bytes))
+        return read_from_memory(detail::decompress_if_gzip(bytes, name, false), format, name, options, report, {});
     return read_from_memory(bytes, format, name, options, report, {});
 }
 
@@ -385,7 +389,8 @@ Surface read_surface(const std::string& path, const SurfaceReadOptions& options,
     if (!format && path == "-") throw InputError(name, "the format of standard input must be given explicitly");
     const std::string bytes = detail::read_whole_input(path);
     // One file per material: the material is the file's name without directory and extension.
-    const std::string material = path == "-" ? std::string() : std::filesystem::path(path).stem().string();
+    const std::string material =
+        path == "-" ? std::string() : std::filesystem::path(detail::without_gz_suffix(path)).stem().string();
     if ((!format || format == SurfaceFormat::Vtp || format == SurfaceFormat::Vtu) && is_parallel_vtk_xml(bytes))
         return finish_reading(read_parallel_vtk_xml(path, name, bytes), format.value_or(SurfaceFormat::Vtp),
                               name, options, report, material);

@@ -1,5 +1,19 @@
-# Shared helpers of the CLI pipeline tests (tests/cli/*.sh), sourced after setting
-# $work. Each check counts into $passes / $failures; scripts end with `finish`.
+# Shared helpers of the CLI pipeline tests (tests/cli/*.sh). Each check counts into
+# $passes / $failures; scripts end with `finish`.
+#
+# The preamble of every script is the one line
+#     source "$(dirname "$0")/lib/harness.bash"
+# which, run as `X.sh TOOL_DIR SOURCE_DIR WORK_DIR` (tests/CMakeLists.txt), sets $tools,
+# $src and $work, empties $work and turns on `set -u`. A script that sets $work itself
+# before sourcing (the old preamble) keeps what it made there.
+if [ -z "${work+x}" ]; then
+    set -u
+    tools=$1
+    src=$2
+    work=$3
+    rm -rf "$work"
+    mkdir -p "$work"
+fi
 passes=0
 failures=0
 

@@ -570,7 +570,7 @@ TEST_CASE("surface-level intersection cases", "[check]") {
     }
 }
 
-// ---- distance (--max-error) --------------------------------------------------------
+// ---- distance (--max-distance) ----------------------------------------------------
 
 namespace {
 

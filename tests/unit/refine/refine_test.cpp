@@ -332,7 +332,7 @@ TEST_CASE("refined femur does not intersect itself: new vertices held back from 
 TEST_CASE("the adaptive bound holds: the sampled Hausdorff distance of the refined surface is never above it",
           "[refine][bound]") {
     // The tolerance used to be judged at 7 sample points per triangle: on a CAD part at
-    // 10 % --tolerance 0.003 gave a measured Hausdorff distance of 0.0045. The deviation
+    // 10 % --max-error 0.003 gave a measured Hausdorff distance of 0.0045. The deviation
     // is now the maximum over the overlay with phi's pieces; the checker's sampled
     // distance (a lower estimate of the true one) must stay at or below the bound.
     for (const Case& c : cases()) {

@@ -1,0 +1,162 @@
+// bpm-info: what a .bpm file holds (bpm/bpm_info.h), as text or JSON (spec/info-report.md).
+#include <cstdio>
+#include <iostream>
+#include <sstream>
+
+#include "bpm/bpm_info.h"
+#include "common/tool_main.h"
+
+namespace {
+
+using bpm::tools::json_string;
+
+std::string json_or_null(const std::string& text) { return text.empty() ? "null" : json_string(text); }
+
+std::string json_strings(const std::vector<std::string>& items) {
+    std::string out = "[";
+    for (size_t i = 0; i < items.size(); ++i) out += (i ? ", " : "") + json_string(items[i]);
+    return out + "]";
+}
+
+// spec/info-report.md: the keys in this order; absent things are null or [].
+std::string to_json(const bpm::BpmInfo& info) {
+    std::ostringstream o;
+    o << "{\"bpm_info\": 1, \"ok\": true, \"file\": " << json_string(info.file) << ", \"file_bytes\": "
+      << (info.file_bytes < 0 ? std::string("null") : std::to_string(info.file_bytes)) << ",\n"
+      << " \"format_version\": [" << info.format_version.major << ", " << info.format_version.minor
+      << "], \"units\": " << json_or_null(info.units) << ",\n"
+      << " \"original\": {\"vertices\": " << info.original_vertices << ", \"triangles\": " << info.original_triangles
+      << ", \"point_data\": " << json_strings(info.original_point_data) << "},\n"
+      << " \"coarse\": {\"vertices\": " << info.coarse_vertices << ", \"triangles\": " << info.coarse_triangles
+      << "},\n"
+      << " \"phi\": {\"nodes\": " << info.phi_nodes << ", \"pieces\": " << info.phi_pieces << "},\n"
+      << " \"patches\": [";
+    for (size_t i = 0; i < info.patches.size(); ++i) {
+        const bpm::BpmPatchSummary& p = info.patches[i];
+        o << (i ? ",\n   " : "\n   ") << "{\"id\": " << p.id << ", \"name\": "
+          << (p.info ? json_or_null(p.info->name) : "null")
+          << ", \"front_material\": " << (p.info ? json_or_null(p.info->front) : "null")
+          << ", \"back_material\": " << (p.info ? json_or_null(p.info->back) : "null")
+          << ", \"oriented\": " << (p.info ? (p.info->oriented ? "true" : "false") : "null")
+          << ", \"original_triangles\": " << p.original_triangles << ", \"coarse_triangles\": " << p.coarse_triangles
+          << "}";
+    }
+    o << "],\n \"materials\": " << json_strings(info.materials) << ",\n \"tetmesh\": ";
+    if (!info.tetmesh) {
+        o << "null";
+    } else {
+        const bpm::BpmTetMeshSummary& t = *info.tetmesh;
+        o << "{\"vertices\": " << t.vertices << ", \"tetrahedra\": " << t.tetrahedra
+          << ", \"boundary_faces\": " << t.boundary_faces << ", \"level\": " << t.level
+          << ", \"materials\": " << json_strings(t.materials) << ", \"regions\": [";
+        for (size_t i = 0; i < t.regions.size(); ++i)
+            o << (i ? ", " : "") << "{\"id\": " << t.regions[i].id << ", \"tetrahedra\": " << t.regions[i].tetrahedra
+              << ", \"material\": " << json_or_null(t.regions[i].material) << "}";
+        o << "]}";
+    }
+    o << ",\n \"simplification_steps\": "
+      << (info.simplification_steps ? std::to_string(*info.simplification_steps) : std::string("null"))
+      << ",\n \"provenance\": [";
+    for (size_t i = 0; i < info.provenance.size(); ++i) {
+        const bpm::ProvenanceStep& s = info.provenance[i];
+        o << (i ? ",\n   " : "\n   ") << "{\"tool\": " << json_string(s.tool) << ", \"version\": "
+          << json_string(s.version) << ", \"arguments\": " << json_string(s.arguments)
+          << ", \"timestamp\": " << json_or_null(s.timestamp) << "}";
+    }
+    o << "]}\n";
+    return o.str();
+}
+
+std::string bytes_text(int64_t bytes) {
+    if (bytes < 0) return "standard input";
+    char buffer[64];
+    if (bytes < 10000) std::snprintf(buffer, sizeof buffer, "%lld bytes", (long long)bytes);
+    else if (bytes < 10000000) std::snprintf(buffer, sizeof buffer, "%.1f kB (%lld bytes)", bytes / 1e3, (long long)bytes);
+    else std::snprintf(buffer, sizeof buffer, "%.1f MB (%lld bytes)", bytes / 1e6, (long long)bytes);
+    return buffer;
+}
+
+std::string materials_text(const bpm::PatchInfo& pi) {
+    if (pi.front.empty() && pi.back.empty()) return "";
+    const std::string front = pi.front.empty() ? "?" : pi.front, back = pi.back.empty() ? "?" : pi.back;
+    return pi.oriented ? "front " + front + ", back " + back : "between " + front + " and " + back;
+}
+
+std::string to_text(const bpm::BpmInfo& info) {
+    std::ostringstream o;
+    o << info.file << ": bpm format " << info.format_version.major << "." << info.format_version.minor << ", "
+      << bytes_text(info.file_bytes) << ", units " << (info.units.empty() ? "not recorded" : info.units) << "\n";
+    o << "original    " << info.original_vertices << " vertices, " << info.original_triangles << " triangles";
+    if (!info.original_point_data.empty()) {
+        o << "; point data:";
+        for (const std::string& name : info.original_point_data) o << " " << name;
+    }
+    o << "\ncoarse      " << info.coarse_vertices << " vertices, " << info.coarse_triangles << " triangles\n";
+    o << "phi         " << info.phi_nodes << " nodes, " << info.phi_pieces << " pieces\n";
+    o << "patches     " << info.patches.size() << "\n";
+    for (const bpm::BpmPatchSummary& p : info.patches) {
+        o << "  " << p.id << ":";
+        if (p.info && !p.info->name.empty()) o << " \"" << p.info->name << "\"";
+        if (p.info && !materials_text(*p.info).empty()) o << " (" << materials_text(*p.info) << ")";
+        o << " " << p.original_triangles << " original, " << p.coarse_triangles << " coarse triangles\n";
+    }
+    o << "materials   ";
+    if (info.materials.empty()) o << "none recorded";
+    for (size_t i = 0; i < info.materials.size(); ++i) o << (i ? ", " : "") << info.materials[i];
+    o << "\ntet mesh    ";
+    if (!info.tetmesh) {
+        o << "none (bpm-mesh makes one)\n";
+    } else {
+        const bpm::BpmTetMeshSummary& t = *info.tetmesh;
+        o << t.vertices << " vertices, " << t.tetrahedra << " tetrahedra, " << t.boundary_faces
+          << " boundary faces, refinement level " << t.level << ", " << t.regions.size()
+          << (t.regions.size() == 1 ? " region" : " regions") << "\n";
+        for (const bpm::BpmRegionSummary& r : t.regions) {
+            o << "  region " << r.id << ": " << r.tetrahedra << " tetrahedra";
+            if (!r.material.empty()) o << ", material " << r.material;
+            o << "\n";
+        }
+    }
+    o << "steps       "
+      << (info.simplification_steps ? std::to_string(*info.simplification_steps) + " removals recorded"
+                                    : std::string("not recorded (bpm-simplify --record-steps)"))
+      << "\n";
+    o << "provenance  " << info.provenance.size() << (info.provenance.size() == 1 ? " step" : " steps") << "\n";
+    for (size_t i = 0; i < info.provenance.size(); ++i) {
+        const bpm::ProvenanceStep& s = info.provenance[i];
+        o << "  " << i + 1 << ". " << s.version << ", " << (s.timestamp.empty() ? "no date (--deterministic)" : s.timestamp)
+          << "\n     " << s.arguments << "\n";
+    }
+    return o.str();
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    const std::string tool = "bpm-info";
+    CLI::App app{
+        "Say what a .bpm file holds: format version, size, the original and the coarse surface, phi, the\n"
+        "patches with their names and materials, the tetrahedral mesh (bpm-mesh) with its regions, the\n"
+        "recorded simplification steps and the provenance (which tool made it, with which command line, when).\n"
+        "Reads only; bpm-check validates.",
+        tool};
+    std::string input;
+    bool json = false, verbose = false, quiet = false;
+    app.add_option("FILE", input, "Input .bpm file (also .bpm.gz), or - for standard input")->required();
+    app.add_flag("--json", json, "Print the summary as JSON on standard output (format: spec/info-report.md)");
+    app.add_flag("-v,--verbose", verbose, "More detail on standard error (none so far)");
+    app.add_flag("-q,--quiet", quiet, "Only errors on standard error (the summary still goes to standard output)");
+    bpm::tools::add_version_flag(app, tool);
+    bpm::tools::group_options(app, "Output", {"--json", "--verbose", "--quiet"});
+    bpm::tools::add_examples(app, {"bpm-info femur.bpm", "bpm-info femur.tet.bpm --json | jq .tetmesh.regions"});
+
+    bpm::tools::set_json_error_report(json, [&](const bpm::tools::ErrorReport& error) {
+        return "{\"bpm_info\": 1, \"ok\": false, \"file\": " + bpm::tools::json_string(input) +
+               ", \"error\": " + bpm::tools::error_json(error) + "}";
+    });
+    return bpm::tools::run(tool, argc, argv, app, [&]() {
+        const bpm::BpmInfo info = bpm::read_bpm_info(input);
+        std::cout << (json ? to_json(info) : to_text(info)) << std::flush;
+        return int(bpm::tools::kOk);
+    });
+}
