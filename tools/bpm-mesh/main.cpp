@@ -76,6 +76,10 @@ int main(int argc, char** argv) {
                        std::to_string(int(bpm::kMaxTetgenMinDihedralDegrees)) +
                        " (TetGen does not terminate above; default: none)")
         ->check(CLI::NonNegativeNumber);
+    app.add_option("--max-dihedral", options.max_dihedral_degrees,
+                   "TetGen -o/<angle>: largest dihedral angle TetGen's optimisation aims below (degrees; default "
+                   "150, 0 = TetGen's own 165)")
+        ->check(CLI::Range(0.0, 179.0));
     app.add_option("--time-limit", options.time_limit_seconds,
                    "Stop TetGen after this many seconds with an error (default 0 = no limit)")
         ->check(CLI::NonNegativeNumber);
@@ -107,7 +111,7 @@ int main(int argc, char** argv) {
     app.add_flag("--json", json, "Print a JSON report (counts, timings, region volumes, quality) on standard output");
     bpm::tools::add_output_tool_flags(app, tool, deterministic, verbose, quiet);
     bpm::tools::group_options(app, "Output", {"--output", "--output-format", "--binary", "--compress", "--json"});
-    bpm::tools::group_options(app, "Quality", {"--quality", "--min-dihedral", "--max-volume", "--time-limit"});
+    bpm::tools::group_options(app, "Quality", {"--quality", "--min-dihedral", "--max-dihedral", "--max-volume", "--time-limit"});
     bpm::tools::group_options(app, "Refinement", {"--refine", "--flat", "--min-volume-fraction", "--remedy-min-dihedral"});
     bpm::tools::group_options(app, "Regions", {"--material"});
     bpm::tools::group_options(app, "Advanced", {"--no-smooth", "--existing", "--tetgen", "--keep-temporary"});
@@ -136,6 +140,8 @@ int main(int argc, char** argv) {
             bpm::tools::output_encoding(encoding_flags, bpm::tetmesh_format_name(*out_format), output);
         if (max_volume > 0) options.max_volume = max_volume;
         if (min_dihedral >= 0) options.min_dihedral_degrees = min_dihedral;
+        if (options.max_dihedral_degrees != 0 && options.max_dihedral_degrees < 90)
+            throw CLI::ValidationError("--max-dihedral", "must be 0 (TetGen's default) or between 90 and 179 degrees");
         options.smooth = !no_smooth;
         bpm::MaterialOptions material_options;
         for (const std::string& a : material_args) {

@@ -21,6 +21,7 @@ std::string with_flags(std::string text) {
         {"fold_limit_degrees", "--fold-limit"},
         {"distortion_weight", "--distortion-weight"},
         {"max_aspect_ratio", "--max-aspect"},
+        {"flip_min_dihedral_degrees", "--flip-min-dihedral"},
         {"max_edge_length", "--max-edge-length"},
         {"queue_tolerance", "--queue-tolerance"},
         {"target_vertices", "--vertices"},
@@ -70,6 +71,15 @@ int main(int argc, char** argv) {
     app.add_option("--max-aspect", options.max_aspect_ratio,
                    "Refuse triangles with circumradius/inradius above this (default 30; 2 = equilateral)")
         ->check(CLI::Range(2.0, 1e300))
+        ->group(quality);
+    bool no_flips = false;
+    app.add_flag("--no-flips", no_flips,
+                 "Do not flip edges of needles (and of thin tetrahedra, --flip-min-dihedral) at the end")
+        ->group(quality);
+    app.add_option("--flip-min-dihedral", options.flip_min_dihedral_degrees,
+                   "Flip convex edges whose tetrahedron with their two triangles has a dihedral angle below this "
+                   "(degrees; default 0 = needles only, e.g. 6)")
+        ->check(CLI::Range(0.0, 60.0))
         ->group(quality);
     app.add_option("--max-edge-length", options.max_edge_length,
                    "Longest edge a removal may create (fraction of the bounding-box diagonal; default none)")
@@ -160,6 +170,7 @@ int main(int argc, char** argv) {
             throw CLI::ValidationError("give at least one of --vertices, --ratio, --max-error");
         options.prevent_intersections = !allow_intersections;
         options.keep_corners = !no_keep_corners;
+        options.flip_edges = !no_flips;
         options.batch_removals = !one_removal_per_step;
         options.reject_self_intersecting_input = !allow_bad_input;
         const bpm::Context context = bpm::tools::make_context(tool, verbose, quiet);

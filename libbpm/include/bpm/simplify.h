@@ -66,6 +66,24 @@ struct SimplifyOptions {
     // create, unless the triangles it removes were already worse. Mesh generators need
     // bounded aspect ratios; infinity disables.
     double max_aspect_ratio = 30.0;
+    // Final phase: edge flips of the coarse surface, with phi re-embedded exactly, for the
+    // triangles that make slivers in a volume mesh (issue 19 item 5). A needle (R/r above
+    // max_aspect_ratio) gets the flip of one of its edges that at least halves the worst
+    // R/r of the two triangles (a cap; a needle with one short edge cannot be helped by
+    // flips). With flip_min_dihedral_degrees > 0, on a closed single-patch surface, a
+    // convex edge whose tetrahedron with its two triangles has a dihedral angle below it
+    // and an empty circumsphere (TetGen keeps such tetrahedra: it may not split S) is
+    // flipped too, if the new triangles are no worse than max(old worst R/r,
+    // max_aspect_ratio). Never feature edges or patch borders; never a flip that makes
+    // phi invalid, an intersection, a new crease (normals turning more than 60 degrees
+    // unless they did before), or an error above the largest error of a removal.
+    // Measured (bench/RESULTS.md "Tets without slivers"): no needle of the bench surfaces
+    // at 10 % or 1000 vertices can be flipped (femur's has a short edge); the sliver flips
+    // (6 degrees) raise elephant 10 % from 4.92 to 6.29 degrees at level 0 but add
+    // nothing once TetGen optimises towards 150 degrees (TetMeshOptions::
+    // max_dihedral_degrees), so they are off by default. false: no flips at all.
+    bool flip_edges = true;
+    double flip_min_dihedral_degrees = 0.0;
     // Largest angle (degrees) a removal may leave between the normal of a new coarse
     // triangle and the normal of any original triangle that phi maps (partly) onto it.
     // Where the original surface turns away from the coarse triangle (above 90 degrees
@@ -121,6 +139,7 @@ struct SimplifyResult {
     int64_t removed = 0;
     int64_t shape_preserving_repairs = 0;  // removals whose transfer needed Floater's map
     int64_t paired_steps = 0;              // steps that removed two vertices (batch_removals)
+    int64_t needle_flips = 0, sliver_flips = 0;  // edge flips of the final phase (flip_edges)
     double max_error = 0.0;           // final max |phi(x) - x| / diagonal
     double worst_aspect_ratio = 0.0;  // of the coarse surface
     double seconds = 0.0;

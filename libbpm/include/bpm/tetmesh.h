@@ -86,6 +86,14 @@ struct TetMeshOptions {
     // kMaxTetgenMinDihedralDegrees (TetGen 1.5 does not terminate above it on real surfaces).
     std::optional<double> min_dihedral_degrees;
     std::optional<double> max_volume;  // TetGen -a: maximum tetrahedron volume, in units^3
+    // TetGen -o/<angle>: the largest dihedral angle (degrees) TetGen's mesh optimisation
+    // (flips and smoothing of its own vertices, never of S) aims below; TetGen's default
+    // is 165. With S kept exactly (-Y), the slivers left at level 0 are flat tetrahedra
+    // with two dihedral angles near 155-165 degrees, all four vertices on S, which the
+    // dihedral refinement cannot split; a 150 bound makes TetGen flip them away
+    // (bench/RESULTS.md "Tets without slivers": level-0 minimum elephant 10 % 4.92 ->
+    // 6.89 degrees before smoothing, armadillo 4.07 -> 8.35). 0 = TetGen's default.
+    double max_dihedral_degrees = 150.0;
     std::string tetgen = "tetgen";   // executable: a name looked up on PATH, or a path
     // Stop TetGen and throw ExternalToolError when its runs together take longer than
     // this many seconds (0 = no limit).

@@ -5,6 +5,7 @@
 //   removal_cost.h       the queue key of a removal and the limits that refuse one
 //   intersection_test.h  new triangles against the rest of the coarse surface
 //   planning_pool.h      the threads that share a round's tasks
+//   edge_flip.h          the final flips of needles and of edges under thin tetrahedra
 //   export_phi.h         the final phi written out as a Parametrization
 #include "bpm/simplify.h"
 
@@ -29,6 +30,7 @@
 #include "bpm/check.h"
 #include "bpm/errors.h"
 #include "simplify/coarse_mesh.h"
+#include "simplify/edge_flip.h"
 #include "simplify/embedding.h"
 #include "simplify/export_phi.h"
 #include "simplify/intersection_test.h"
@@ -187,6 +189,7 @@ private:
     void report_progress(const SimplifyResult& result);
     void state_stop_reason(SimplifyResult& result) const;
     void count_blocked(SimplifyResult& result);
+    void flip_edges_phase(SimplifyResult& result);
     void release_planning_state();
     void summarize(const Parametrization& out, double max_deviation, std::chrono::steady_clock::time_point start,
                    SimplifyResult& result) const;
@@ -235,6 +238,7 @@ SimplifyResult Simplifier::run(Parametrization& out) {
     }
     state_stop_reason(result);
     count_blocked(result);
+    flip_edges_phase(result);
     release_planning_state();
     context_.report(0.95, "writing the parametrization");
     const double max_deviation = export_parametrization(original_, mesh_, embedding_, sign_, pool, out);
@@ -595,6 +599,24 @@ void Simplifier::release_planning_state() {
     removers_.clear();
 }
 
+// Edge flips of needles and of edges under thin tetrahedra (edge_flip.h), within the
+// largest error a removal reached.
+void Simplifier::flip_edges_phase(SimplifyResult& result) {
+    if (!options_.flip_edges) return;
+    context_.report(0.94, "flipping edges of needles and slivers");
+    FlipLimits limits;
+    limits.needle_aspect = options_.max_aspect_ratio;
+    limits.sliver_dihedral_degrees = options_.flip_min_dihedral_degrees;
+    limits.max_deviation = error_so_far_ * diagonal_;
+    limits.prevent_intersections = options_.prevent_intersections;
+    const FlipStats stats = flip_edges(mesh_, embedding_, sign_, intersections_, limits);
+    result.needle_flips = stats.needle_flips;
+    result.sliver_flips = stats.sliver_flips;
+    context_.debug("edge flips: " + std::to_string(stats.needle_flips) + " of needles, " +
+                   std::to_string(stats.sliver_flips) + " under thin tetrahedra, " + std::to_string(stats.refused) +
+                   " refused");
+}
+
 // What was achieved: sizes, error and shape of the coarse surface, time, and the
 // planner's statistics in the debug log.
 void Simplifier::summarize(const Parametrization& out, double max_deviation,
@@ -683,6 +705,8 @@ SimplifyResult simplify(const Surface& original, const SimplifyOptions& options,
     if (!(options.max_error >= 0)) throw OptionError("max_error must not be negative");
     if (!(options.max_edge_length > 0)) throw OptionError("max_edge_length must be positive");
     if (!(options.max_aspect_ratio >= 2)) throw OptionError("max_aspect_ratio must be at least 2 (equilateral)");
+    if (!(options.flip_min_dihedral_degrees >= 0 && options.flip_min_dihedral_degrees <= 60))
+        throw OptionError("flip_min_dihedral_degrees must be between 0 and 60 degrees");
     if (!(options.max_normal_deviation_degrees >= 0 && options.max_normal_deviation_degrees <= 180))
         throw OptionError("max_normal_deviation_degrees must be between 0 and 180 degrees");
     if (!(options.distortion_weight >= 0) || !(options.fold_limit_degrees >= 0 && options.fold_limit_degrees <= 180))

@@ -7,11 +7,11 @@
 //           tetrahedra, flood-filled across the faces that are not on S, give the regions
 //           exactly; the incentre of the fattest tetrahedron of each region is a point
 //           strictly inside it.
-//   pass 2  `-pYzA -q<quality> [-a<volume>]` with those points as region attributes.
+//   pass 2  `-pYzA -q<quality> [-a<volume>] -o/<max dihedral>` with those points as region attributes.
 // The regions of the final mesh are found by the same flood fill (so their ids do not
 // depend on TetGen) and checked against TetGen's attributes.
 //
-// Reference: H. Si, TetGen 1.5 user manual (file formats, switches -p -Y -q -a -A -z).
+// Reference: H. Si, TetGen 1.5 user manual (file formats, switches -p -Y -q -a -A -z -o/).
 
 #include "bpm/tetmesh.h"
 #include "bpm/tetmesh_smooth.h"
@@ -591,6 +591,9 @@ TetMeshResult generate_tetmesh(const Parametrization& param, const TetMeshOption
                           " is above the limit of " + format_switch(kMaxTetgenMinDihedralDegrees) +
                           " degrees: TetGen does not terminate for larger bounds (the elements bpm-mesh makes "
                           "from its output are smoothed afterwards)");
+    if (!(options.max_dihedral_degrees == 0 ||
+          (options.max_dihedral_degrees >= 90 && options.max_dihedral_degrees < 180)))
+        throw OptionError("max_dihedral_degrees must be 0 (TetGen's default) or between 90 and 180 degrees");
     if (!(options.time_limit_seconds >= 0) || !std::isfinite(options.time_limit_seconds))
         throw OptionError("time limit must be a number of seconds >= 0 (0 = no limit)");
     context.report(0.0, "checking the coarse surface");
@@ -662,6 +665,7 @@ TetMeshResult generate_tetmesh(const Parametrization& param, const TetMeshOption
                                                      ? "/" + format_switch(*options.min_dihedral_degrees)
                                                      : std::string())};
     if (options.max_volume) switches.push_back("-a" + format_switch(*options.max_volume));
+    if (options.max_dihedral_degrees > 0) switches.push_back("-o/" + format_switch(options.max_dihedral_degrees));
     TetgenMesh m = run("mesh", seeds, switches, 0.2, "TetGen pass 2 (quality mesh)");
     context.report(0.8, "reading the tetrahedral mesh");
     const Regions r = find_regions(s, m.nodes, m.tets);

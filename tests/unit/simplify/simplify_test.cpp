@@ -433,3 +433,30 @@ TEST_CASE("simplify does not take short noisy creases for corners", "[simplify][
     CHECK(r.crease_junctions == 0);
     CHECK(r.kept_feature_vertices() < 10);
 }
+
+TEST_CASE("simplify: the final edge flips keep phi valid, and can be turned off", "[simplify][flip]") {
+    const Surface s = noisy_torus();
+    SimplifyOptions options;
+    options.target_vertices = 80;
+    options.threads = 1;
+    SECTION("flips under thin tetrahedra (flip_min_dihedral_degrees) happen and keep phi valid") {
+        options.flip_min_dihedral_degrees = 10.0;
+        Parametrization p;
+        const SimplifyResult r = simplify(s, options, Context{}, p);
+        CHECK(r.sliver_flips > 0);
+        require_valid(p, "torus with sliver flips");
+        options.flip_edges = false;
+        Parametrization off;
+        const SimplifyResult r_off = simplify(s, options, Context{}, off);
+        CHECK(r_off.sliver_flips + r_off.needle_flips == 0);
+        CHECK(off.coarse.triangles != p.coarse.triangles);
+        // The flips stay within the largest error a removal reached, which may be a little
+        // above the final error without them.
+        CHECK(r.max_error <= r_off.max_error * 1.05);
+    }
+    SECTION("an out-of-range dihedral bound is refused") {
+        options.flip_min_dihedral_degrees = 61;
+        Parametrization p;
+        CHECK_THROWS_AS(simplify(s, options, Context{}, p), OptionError);
+    }
+}

@@ -477,3 +477,18 @@ for (etype, p), c in sorted(result.items()): print(etype, p, c)
     REQUIRE(run_capture("/usr/bin/python3 " + vtk_reader + " " + vtu + " 2>&1", out) == 0);
     CHECK(out == std::to_string(nv) + " " + std::to_string(nt) + " 10 1 3\n");
 }
+
+TEST_CASE("tetmesh: TetGen's optimisation aims below max_dihedral_degrees (-o/), 0 = TetGen's default",
+          "[tetmesh]") {
+    REQUIRE_TETGEN();
+    const Parametrization p = fixtures::identity_parametrization(fixtures::cube(2));
+    TetMesh m;
+    TetMeshOptions o;
+    CHECK(generate_tetmesh(p, o, Context{}, m).tetgen_command.find(" -o/150 ") != std::string::npos);
+    o.max_dihedral_degrees = 0;
+    CHECK(generate_tetmesh(p, o, Context{}, m).tetgen_command.find("-o/") == std::string::npos);
+    o.max_dihedral_degrees = 60;  // below a right angle: no tetrahedron could meet it
+    CHECK_THROWS_AS(generate_tetmesh(p, o, Context{}, m), OptionError);
+    o.max_dihedral_degrees = 180;
+    CHECK_THROWS_AS(generate_tetmesh(p, o, Context{}, m), OptionError);
+}
