@@ -10,7 +10,8 @@ Writes RESULTS_DIR/dune_torsion-MESH.md and .json.
 
 Usage: bench/dune_torsion.py [--build-dir build] [--work-dir DIR] [--results-dir bench/results]
                              [--mesh femur] [--ratio 0.1] [--levels 3] [--reference-levels 2]
-                             [--adaptive-levels 6]
+                             [--adaptive-levels 6] [--adaptive-runs phi,flat] [--adaptive-until-flat]
+                             [--reference-json FILE] [--reuse]
 Needs build-dir/bin/{bpm-simplify,bpm-mesh,bpm-torsion} (bpm-torsion is built with the tests
 when DUNE 2.9 with UG is installed). Non-interactive; progress on stderr.
 """
@@ -49,7 +50,21 @@ def main():
     ap.add_argument("--ratio", default="0.1")
     ap.add_argument("--levels", type=int, default=3)
     ap.add_argument("--reference-levels", type=int, default=2)
-    ap.add_argument("--adaptive-levels", type=int, default=6, help="0: no adaptive runs")
+    ap.add_argument("--adaptive-levels", type=int, default=6,
+                    help="adaptive steps (with --adaptive-until-flat: the most steps); 0: no adaptive runs")
+    ap.add_argument("--adaptive-runs", default="flat,phi",
+                    help="which adaptive series to run: comma-separated from flat, phi")
+    ap.add_argument("--adaptive-until-flat", action="store_true",
+                    help="stop each adaptive series at the first step whose J error is at most the uniform flat "
+                         "series' error at --levels (bpm-torsion --reference-j --until-error)")
+    ap.add_argument("--adaptive-until-error", type=float, default=None,
+                    help="with --adaptive-until-flat: this fraction instead of the flat series' final error "
+                         "(for instance the flat error of an earlier level-0 mesh)")
+    ap.add_argument("--max-probes", type=int, default=None,
+                    help="bpm-torsion --max-probes: forked adapt tries per adaptive step")
+    ap.add_argument("--reuse", action="store_true",
+                    help="reuse meshes and bpm-torsion JSON already in the work directory from an earlier run "
+                         "with the same arguments (one run at a time on a shared machine)")
     ap.add_argument("--reference-json", default=None,
                     help="reuse the JSON of an earlier reference run (bpm-torsion --flat --json on the --ratio 1 mesh)")
     args = ap.parse_args()
@@ -64,16 +79,30 @@ def main():
     def mesh(ratio, tag):
         coarse = os.path.join(work, f"{args.mesh}-{tag}.bpm")
         tets = os.path.join(work, f"{args.mesh}-{tag}.tets.bpm")
+        if args.reuse and os.path.exists(tets):
+            return tets
         run([tool("bpm-simplify"), surface, "--ratio", str(ratio), "-o", coarse, "-q", "--deterministic"])
         run([tool("bpm-mesh"), coarse, "-o", tets, "-q", "--deterministic"])
         return tets
 
-    def torsion(tets, levels, *flags):
+    def torsion(tets, levels, *flags, until=None):
         name = os.path.basename(tets).replace(".tets.bpm", "") + "".join(f.replace("--", "-") for f in flags)
-        out, seconds = run([tool("bpm-torsion"), tets, "--levels", str(levels), "--json", *flags],
-                           os.path.join(work, name + ".json"))
+        name += f"-levels{levels}" + (f"-until{until[1]:.6g}" if until else "")
+        path = os.path.join(work, name + ".json")
+        if args.reuse and os.path.exists(path):
+            print(f"reusing {path}", file=sys.stderr)
+            with open(path) as f:
+                return json.load(f)
+        extra = ["--reference-j", repr(until[0]), "--until-error", repr(until[1])] if until else []
+        # CPU seconds of the child (bpm-torsion and its forked adapt tries) from the kernel's accounting.
+        before = os.times()
+        out, seconds = run([tool("bpm-torsion"), tets, "--levels", str(levels), "--json", *flags, *extra])
+        after = os.times()
         data = json.loads(out)
         data["wall_seconds"] = seconds
+        data["cpu_seconds"] = (after.children_user - before.children_user) + (after.children_system - before.children_system)
+        with open(path, "w") as f:
+            json.dump(data, f, indent=1)
         return data
 
     if args.reference_json:
@@ -88,9 +117,16 @@ def main():
         "flat": torsion(tets, args.levels, "--flat"),
         "phi": torsion(tets, args.levels),
     }
-    if args.adaptive_levels > 0:
-        runs["adaptive flat"] = torsion(tets, args.adaptive_levels, "--flat", "--adaptive")
-        runs["adaptive phi"] = torsion(tets, args.adaptive_levels, "--adaptive")
+    flat_final_error = abs(runs["flat"]["levels"][-1]["J"] - j_ref) / j_ref
+    until_error = args.adaptive_until_error if args.adaptive_until_error else flat_final_error
+    until = (j_ref, until_error) if args.adaptive_until_flat else None
+    probe_flags = ["--max-probes", str(args.max_probes)] if args.max_probes else []
+    adaptive_runs = [r for r in args.adaptive_runs.split(",") if r] if args.adaptive_levels > 0 else []
+    for r in adaptive_runs:
+        if r not in ("flat", "phi"):
+            ap.error(f"--adaptive-runs: unknown series {r!r} (flat, phi)")
+        runs["adaptive " + r] = torsion(tets, args.adaptive_levels, *(["--flat"] if r == "flat" else []), "--adaptive",
+                                        *probe_flags, until=until)
     v_orig = sum(runs["phi"]["original_region_volumes"])
 
     lines = []
@@ -110,12 +146,12 @@ def main():
                  "flattens, interior smoothed; UG keeps the rules of refined elements, "
                  "bpm/dune/uggrid_refinement_rules.h); *without repair* counts the inverted elements with UG's "
                  "vertices at phi, before the repair.\n")
-    lines.append("| level | tets (flat / phi) | J flat | error flat | J phi | error phi | volume error flat | volume error phi "
+    lines.append("| level | tets (flat / phi) | unknowns flat | J flat | error flat | J phi | error phi | volume error flat | volume error phi "
                  "| inverted phi (without repair) | held back | min dihedral flat / phi (deg) | CG iterations phi |")
-    lines.append("|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
+    lines.append("|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
     for a, b in zip(runs["flat"]["levels"], runs["phi"]["levels"]):
         tets = str(a["tets"]) if a["tets"] == b["tets"] else f"{a['tets']} / {b['tets']}"
-        lines.append(f"| {a['level']} | {tets} | {a['J']:.6g} | {abs(a['J'] - j_ref) / j_ref:.2%} "
+        lines.append(f"| {a['level']} | {tets} | {a['unknowns']} | {a['J']:.6g} | {abs(a['J'] - j_ref) / j_ref:.2%} "
                      f"| {b['J']:.6g} | {abs(b['J'] - j_ref) / j_ref:.2%} "
                      f"| {abs(a['volume'] - v_orig) / v_orig:.3%} | {abs(b['volume'] - v_orig) / v_orig:.3%} "
                      f"| {b['inverted']} ({b['inverted_before_repair']}) | {b['held_back']} "
@@ -127,19 +163,48 @@ def main():
     ef = abs(runs["flat"]["levels"][-1]["J"] - j_ref) / j_ref
     ep = abs(runs["phi"]["levels"][-1]["J"] - j_ref) / j_ref
     lines.append(f"At level {args.levels}: error flat / error phi = {ef / ep:.1f}.\n")
-    if "adaptive phi" not in runs:
+    if "cpu_seconds" in runs["flat"] and "cpu_seconds" in runs["phi"]:
+        lines.append(f"CPU seconds, levels 0..{args.levels}: flat {runs['flat']['cpu_seconds']:.1f}, "
+                     f"phi {runs['phi']['cpu_seconds']:.1f}.\n")
+    adaptive = [name for name in ("adaptive flat", "adaptive phi") if name in runs]
+    if not adaptive:
         return finish(args, lines, reference, j_ref, runs)
-    lines.append("Adaptive (residual estimator, Dörfler marking of half the estimate, UG red-green refinement):\n")
-    lines.append("| run | step | tets | unknowns | J | error | inverted (without repair) | min dihedral (deg) |")
-    lines.append("|---|---:|---:|---:|---:|---:|---:|---:|")
-    for name in ("adaptive flat", "adaptive phi"):
+    lines.append("Adaptive (residual estimator, Dörfler marking of half the estimate, UG red-green refinement; "
+                 "each adapt step first tried in forked children, marks UG's adapt cannot take are dropped: "
+                 "*marked* = marks refined, *dropped* = marks left out, *probes* = forked tries, "
+                 "*reset* = earlier boundary vertices the repair put back to their midpoints; "
+                 "s = wall seconds of the step, tries included):\n")
+    lines.append("| run | step | tets | unknowns | J | error | inverted (without repair) | min dihedral (deg) "
+                 "| marked | dropped | probes | reset | s |")
+    lines.append("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
+    for name in adaptive:
         for l in runs[name]["levels"]:
             lines.append(f"| {name} | {l['level']} | {l['tets']} | {l['unknowns']} | {l['J']:.6g} "
                          f"| {abs(l['J'] - j_ref) / j_ref:.2%} | {l['inverted']} ({l['inverted_before_repair']}) "
-                         f"| {l['min_dihedral_degrees']:.3g} |")
-    for name in ("adaptive flat", "adaptive phi"):
-        if "adaptive_stopped" in runs[name]:
-            lines.append(f"\n{name}: stopped at {runs[name]['adaptive_stopped']}.")
+                         f"| {l['min_dihedral_degrees']:.3g} | {l.get('marked', 0)} | {l.get('dropped', 0)} "
+                         f"| {l.get('probes', 0)} | {l.get('reset', 0)} | {l['seconds']:.1f} |")
+    flat_last = runs["flat"]["levels"][-1]
+    lines.append("")
+    for name in adaptive:
+        run_ = runs[name]
+        if "adaptive_stopped" in run_:
+            lines.append(f"{name}: stopped at {run_['adaptive_stopped']}.\n")
+        if "cpu_seconds" in run_:
+            lines.append(f"{name}: {run_['cpu_seconds']:.1f} CPU s (forked tries included), "
+                         f"{run_['wall_seconds']:.0f} s wall.\n")
+        reached = [l for l in run_["levels"] if abs(l["J"] - j_ref) / j_ref <= flat_final_error]
+        if reached:
+            l = reached[0]
+            verdict = "yes" if l["unknowns"] < flat_last["unknowns"] else "no (more unknowns)"
+            lines.append(f"{name} reaches the uniform flat series' final accuracy ({flat_final_error:.2%} at level "
+                         f"{flat_last['level']}, {flat_last['unknowns']} unknowns) at step {l['level']}: "
+                         f"{abs(l['J'] - j_ref) / j_ref:.2%} with {l['unknowns']} unknowns "
+                         f"({flat_last['unknowns'] / l['unknowns']:.1f}x fewer): **{verdict}**.\n")
+        else:
+            last = run_["levels"][-1]
+            lines.append(f"{name} does not reach the uniform flat series' final accuracy ({flat_final_error:.2%}) "
+                         f"within {last['level']} steps (last {abs(last['J'] - j_ref) / j_ref:.2%} with "
+                         f"{last['unknowns']} unknowns).\n")
     finish(args, lines, reference, j_ref, runs)
 
 

@@ -5,7 +5,7 @@
 // torsion functional J = ∫u, the volume, inverted tets and the smallest dihedral angle,
 // the numbers of the paper's §3 experiment (bench/RESULTS.md, "Solvers: DUNE torsion").
 //
-//   bpm-torsion FILE.bpm --levels K [--flat] [--adaptive] [--json]
+//   bpm-torsion FILE.bpm --levels K [--flat] [--adaptive [--reference-j J --until-error E]] [--json]
 //
 // An example of using bpm from a DUNE program, not a bpm tool: it is built with the tests
 // when DUNE and UG are found (examples/dune/CMakeLists.txt).
@@ -68,6 +68,7 @@ struct LevelReport {
     long inverted_before_repair = 0;  // with UG's new boundary vertices at phi
     long held_back = 0;               // boundary vertices the repair kept short of phi
     long smoothed = 0;                // interior vertices the repair's smoothing moved
+    long reset = 0;                   // earlier boundary vertices put back to midpoints (repair_uggrid)
     long rules_kept = 0;              // bpm::dune::uggrid_refinement_rules_kept() during this refinement
     long marked = 0;   // adaptive: elements marked for this level's refinement
     long probes = 0;   // adaptive: adapt steps tried in a forked child (safe_marks)
@@ -319,30 +320,83 @@ bool adapt_survives(Grid& grid, const std::vector<Grid::LeafGridView::Codim<0>::
     return false;
 }
 
+// Marks that make UG's adapt abort, as far as we saw them (femur at 10 %, step 2: all 3
+// dropped marks): regular elements with an irregular (green closure) leaf neighbour and a
+// marked regular neighbour. A heuristic to probe them last, not UG's rule.
+bool suspicious_mark(const Grid& grid, const Grid::LeafGridView::Codim<0>::Entity& element, const std::vector<char>& is_marked) {
+    if (!element.isRegular()) return false;
+    const auto view = grid.leafGridView();
+    bool irregular_neighbour = false, marked_regular_neighbour = false;
+    for (const auto& is : intersections(view, element)) {
+        if (!is.neighbor()) continue;
+        const auto neighbour = is.outside();
+        if (!neighbour.isRegular())
+            irregular_neighbour = true;
+        else if (is_marked[static_cast<size_t>(view.indexSet().index(neighbour))])
+            marked_regular_neighbour = true;
+    }
+    return irregular_neighbour && marked_regular_neighbour;
+}
+
+// The marks of `wanted` UG's adapt survives (see adapt_survives). If the whole set fails:
+// the marks that are not suspicious_mark are tried on their own first (when they survive,
+// only the suspicious ones are split); then the failing part is split in halves, first half
+// on top of the stack, each part tried together with what is kept so far; a single mark
+// that fails is dropped. When a first half is kept, its second half's trial (kept + second
+// half) is the one that just failed, so it is split without a probe (UG's adapt is
+// deterministic). After `max_probes` probes the parts not yet tried are dropped.
 std::vector<Grid::LeafGridView::Codim<0>::Entity> safe_marks(Grid& grid,
                                                              const std::vector<Grid::LeafGridView::Codim<0>::Entity>& wanted,
-                                                             long& probes, long& dropped, std::string& failure) {
+                                                             long max_probes, long& probes, long& dropped,
+                                                             std::string& failure) {
     using Entity = Grid::LeafGridView::Codim<0>::Entity;
     ++probes;
     if (adapt_survives(grid, wanted, failure)) return wanted;
-    // Keep what survives, one part at a time: `kept` always survives on its own.
+    struct Part {
+        std::vector<Entity> marks;
+        bool first_half = false;     // its second half lies right below it on the stack
+        bool known_to_fail = false;  // its trial with the current `kept` failed already
+    };
     std::vector<Entity> kept;
-    std::vector<std::vector<Entity>> parts{wanted};
-    while (!parts.empty()) {
-        std::vector<Entity> part = std::move(parts.back());
-        parts.pop_back();
-        std::vector<Entity> trial = kept;
-        trial.insert(trial.end(), part.begin(), part.end());
-        ++probes;
-        if (part.size() < wanted.size() && adapt_survives(grid, trial, failure)) {
-            kept = std::move(trial);
-        } else if (part.size() == 1) {
-            ++dropped;
-        } else {
-            const auto half = part.begin() + static_cast<std::ptrdiff_t>(part.size() / 2);
-            parts.emplace_back(half, part.end());
-            parts.emplace_back(part.begin(), half);
+    std::vector<Part> parts{{wanted, false, true}};
+    {
+        const auto view = grid.leafGridView();
+        std::vector<char> is_marked(static_cast<size_t>(view.size(0)), 0);
+        for (const auto& e : wanted) is_marked[static_cast<size_t>(view.indexSet().index(e))] = 1;
+        std::vector<Entity> ordinary, suspicious;
+        for (const auto& e : wanted) (suspicious_mark(grid, e, is_marked) ? suspicious : ordinary).push_back(e);
+        if (!suspicious.empty() && !ordinary.empty()) {
+            ++probes;
+            if (adapt_survives(grid, ordinary, failure)) {
+                kept = std::move(ordinary);
+                parts = {{std::move(suspicious), false, true}};
+            }
         }
+    }
+    while (!parts.empty()) {
+        Part part = std::move(parts.back());
+        parts.pop_back();
+        if (probes >= max_probes) {
+            dropped += static_cast<long>(part.marks.size());
+            continue;
+        }
+        if (!part.known_to_fail) {
+            std::vector<Entity> trial = kept;
+            trial.insert(trial.end(), part.marks.begin(), part.marks.end());
+            ++probes;
+            if (adapt_survives(grid, trial, failure)) {
+                kept = std::move(trial);
+                if (part.first_half) parts.back().known_to_fail = true;
+                continue;
+            }
+        }
+        if (part.marks.size() == 1) {
+            ++dropped;
+            continue;
+        }
+        const auto half = part.marks.begin() + static_cast<std::ptrdiff_t>(part.marks.size() / 2);
+        parts.push_back({std::vector<Entity>(half, part.marks.end()), false, false});
+        parts.push_back({std::vector<Entity>(part.marks.begin(), half), true, false});
     }
     return kept;
 }
@@ -372,8 +426,11 @@ int main(int argc, char** argv) {
     std::string input;
     int levels = 2;
     bool flat = false, adaptive = false, json = false, no_repair = false, no_smooth = false, flat_interfaces = false;
+    double reference_j = 0, until_error = 0;
+    long max_probes = 1000000;
     app.add_option("INPUT", input, ".bpm file with a tet mesh (bpm-mesh)")->required();
-    app.add_option("--levels", levels, "Refinement steps K: levels 0..K are solved")->check(CLI::Range(0, 8));
+    app.add_option("--levels", levels, "Refinement steps K: levels 0..K are solved (uniform: K <= 8)")
+        ->check(CLI::Range(0, 40));
     app.add_flag("--flat", flat, "Refine without phi: new boundary vertices at plain edge midpoints");
     app.add_flag("--adaptive", adaptive, "Refine locally by a residual estimator (red-green) instead of uniformly");
     app.add_flag("--no-repair", no_repair,
@@ -382,8 +439,24 @@ int main(int argc, char** argv) {
                  "Leave new vertices on interfaces between regions at edge midpoints (UG's own refinement); "
                  "by default the repair moves them towards phi like boundary vertices");
     app.add_flag("--no-smooth", no_smooth, "Repair without interior smoothing (only boundary vertices move)");
-    app.add_flag("--json", json, "Print the report as JSON on standard output");
+    app.add_flag("--json", json, "Print the report as JSON on standard output (progress stays on standard error)");
+    app.add_option("--max-probes", max_probes,
+                   "With --adaptive: at most this many forked adapt tries per step; marks not yet tried then are "
+                   "dropped (left for the next step)")
+        ->check(CLI::PositiveNumber);
+    auto* reference_option =
+        app.add_option("--reference-j", reference_j, "Reference value of J (for --until-error)")->check(CLI::PositiveNumber);
+    app.add_option("--until-error", until_error,
+                   "With --adaptive: stop after the first level whose |J - J_ref| / J_ref is at most this fraction "
+                   "(--levels stays the limit)")
+        ->check(CLI::PositiveNumber)
+        ->needs(reference_option);
     CLI11_PARSE(app, argc, argv);
+    if (!adaptive && levels > 8) {
+        // Each uniform level has 8 times the tets of the one before.
+        std::cerr << "bpm-torsion: --levels " << levels << " without --adaptive: at most 8 uniform levels\n";
+        return 1;
+    }
 
     try {
         const bpm::BpmFile file = bpm::read_bpm(input);
@@ -398,6 +471,7 @@ int main(int argc, char** argv) {
         std::vector<LevelReport> reports;
         std::vector<Dune::FieldVector<double, 3>> gradients;
         std::string adaptive_stopped, adaptive_failure;
+        int reached_error = -1;  // --until-error: the level that reached it
         int64_t rules_kept_before = bpm::dune::uggrid_refinement_rules_kept();
         bpm::BoundaryRepairOptions repair_options;
         repair_options.smooth = !no_smooth;
@@ -408,7 +482,7 @@ int main(int argc, char** argv) {
                 if (adaptive) {
                     const auto wanted = select_by_estimator(grid, gradients);
                     std::string failure;
-                    const auto marks = safe_marks(grid, wanted, report_probes, report_dropped, failure);
+                    const auto marks = safe_marks(grid, wanted, max_probes, report_probes, report_dropped, failure);
                     if (!failure.empty() && adaptive_failure.empty()) adaptive_failure = "step " + std::to_string(level) + ": " + failure;
                     if (marks.empty()) {
                         adaptive_stopped = "step " + std::to_string(level) + ": no marked element survives UG's adapt (" + failure + ")";
@@ -436,7 +510,10 @@ int main(int argc, char** argv) {
                 if (!flat) {
                     report.inverted_before_repair = count_inverted(grid);
                     if (!no_repair) {
-                        const bpm::BoundaryRepairResult r = bpm::dune::repair_uggrid(grid, params, added, *phi, repair_options);
+                        int64_t reset = 0;
+                        const bpm::BoundaryRepairResult r =
+                            bpm::dune::repair_uggrid(grid, params, added, *phi, repair_options, &reset);
+                        report.reset = reset;
                         report.held_back = r.held_back;
                         report.smoothed = r.smoothed_vertices;
                     }
@@ -446,15 +523,19 @@ int main(int argc, char** argv) {
             measure(grid, built, params, *phi, regions, report);
             report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
             reports.push_back(report);
-            if (!json)
-                std::cerr << "level " << level << ": " << report.tets << " tets, J = " << report.J
+            std::cerr << "level " << level << ": " << report.tets << " tets, J = " << report.J
                           << ", volume = " << report.volume << ", inverted " << report.inverted << " (" << report.inverted_before_repair
-                          << " before repair, " << report.held_back << " held back), min dihedral "
+                          << " before repair, " << report.held_back << " held back, " << report.reset << " reset), min dihedral "
                           << report.min_dihedral_degrees << " deg, CG " << report.cg_iterations << " it"
                           << (adaptive && level > 0 ? ", marked " + std::to_string(report.marked) + " (" +
                                                           std::to_string(report.dropped) + " dropped, " +
                                                           std::to_string(report.probes) + " probes)"
-                                                    : std::string()) << "\n";
+                                                    : std::string())
+                          << ", " << report.seconds << " s" << std::endl;
+            if (adaptive && until_error > 0 && std::abs(report.J - reference_j) <= until_error * reference_j) {
+                reached_error = level;
+                break;
+            }
         }
 
         if (json) {
@@ -469,6 +550,9 @@ int main(int argc, char** argv) {
             out << "]";
             if (!adaptive_stopped.empty()) out << ", \"adaptive_stopped\": " << json_string(adaptive_stopped);
             if (!adaptive_failure.empty()) out << ", \"adaptive_first_ug_failure\": " << json_string(adaptive_failure);
+            if (until_error > 0)
+                out << ", \"reference_j\": " << json_number(reference_j) << ", \"until_error\": " << json_number(until_error)
+                    << ", \"until_error_reached_at\": " << reached_error;
             out << ", \"levels\": [";
             for (size_t k = 0; k < reports.size(); ++k) {
                 const LevelReport& r = reports[k];
@@ -482,7 +566,7 @@ int main(int argc, char** argv) {
                     << ", \"min_dihedral_degrees\": " << json_number(r.min_dihedral_degrees)
                     << ", \"max_boundary_offset\": " << json_number(r.max_boundary_offset)
                     << ", \"inverted_before_repair\": " << r.inverted_before_repair
-                    << ", \"held_back\": " << r.held_back << ", \"smoothed\": " << r.smoothed
+                    << ", \"held_back\": " << r.held_back << ", \"smoothed\": " << r.smoothed << ", \"reset\": " << r.reset
                     << ", \"rules_kept\": " << r.rules_kept << ", \"marked\": " << r.marked
                     << ", \"probes\": " << r.probes << ", \"dropped\": " << r.dropped
                     << ", \"cg_iterations\": " << r.cg_iterations

@@ -243,7 +243,15 @@ public:
             }
         }
         if (follow_interfaces_) update_interfaces(grid, added);
+        for (const NewVertex& v : added) ends_.emplace(v.vertex, v.ends);
         return added;
+    }
+
+    // The ends of the edge a vertex returned by an earlier update() split, or nullptr
+    // (level-0 vertices, interior vertices, unknown ids).
+    const std::array<IdType, 2>* ends_of(IdType id) const {
+        const auto it = ends_.find(id);
+        return it == ends_.end() ? nullptr : &it->second;
     }
 
     // Interface faces found by update() so far (on every level).
@@ -359,6 +367,7 @@ private:
     const Surface& coarse_;
     bool follow_interfaces_ = true;
     std::map<IdType, SurfacePoint> points_;
+    std::map<IdType, std::array<IdType, 2>> ends_;  // every vertex update() returned -> its edge ends
     std::map<IdType, std::array<int32_t, 4>> interfaces_;  // element id -> coarse triangle per face, or -1
     size_t interface_faces_count_ = 0;
 };

@@ -25,7 +25,18 @@
 //
 // Call it after each adapt()/globalRefine(n = 1) and BoundaryParameterPoints::update, with
 // what update returned.
+//
+// Local (red-green) refinement: UG replaces a green closure by red refinement of its father
+// when a neighbour is refined further, and the father's new children take the father's edge
+// midpoints as corners, boundary vertices among them that an earlier call moved towards phi
+// while checking only the green children then present. Such a child can be inverted before
+// any new vertex moves (femur at 10 %, adaptive step 3: 2 inverted tets after the repair,
+// with or without smoothing; 0 when refined flat). So, while the grid with the new vertices
+// at their midpoints has inverted tetrahedra, their corners that earlier refinements created
+// on the boundary (params.ends_of) go back to their own midpoints as well, coarser levels
+// first, and take part in the repair like the new ones; `reset` (if given) counts them.
 
+#include <algorithm>
 #include <map>
 #include <string>
 #include <vector>
@@ -34,6 +45,7 @@
 #include "bpm/dune/uggrid_from_bpm.h"
 #include "bpm/errors.h"
 #include "bpm/phi_evaluation.h"
+#include "bpm/predicates.h"
 
 namespace bpm::dune {
 
@@ -45,21 +57,26 @@ namespace bpm::dune {
 inline BoundaryRepairResult repair_uggrid(UGGrid3& grid, const BoundaryParameterPoints& params,
                                           const std::vector<BoundaryParameterPoints::NewVertex>& added,
                                           const PhiEvaluator& phi,
-                                          const BoundaryRepairOptions& options = {}) {
+                                          const BoundaryRepairOptions& options = {},
+                                          int64_t* reset = nullptr) {
     const auto view = grid.leafGridView();
     const auto& index = view.indexSet();
     const auto& ids = grid.globalIdSet();
     const size_t n = static_cast<size_t>(view.size(3));
     std::vector<Vec3> x(n);
     std::vector<SurfacePoint> points(n);
+    std::vector<int> vertex_level(n, 0);
+    std::vector<BoundaryParameterPoints::IdType> id_of(n);
     std::map<BoundaryParameterPoints::IdType, size_t> by_id;
     for (const auto& vertex : vertices(view)) {
         const size_t i = index.index(vertex);
+        vertex_level[i] = vertex.level();
         const auto c = vertex.geometry().corner(0);
         x[i] = {c[0], c[1], c[2]};
         const auto id = ids.id(vertex);
         if (const SurfacePoint* p = params.find(id)) points[i] = *p;
         by_id.emplace(id, i);
+        id_of[i] = id;
     }
     auto leaf_index = [&](BoundaryParameterPoints::IdType id) {
         const auto it = by_id.find(id);
@@ -77,6 +94,37 @@ inline BoundaryRepairResult repair_uggrid(UGGrid3& grid, const BoundaryParameter
                               static_cast<int32_t>(index.subIndex(element, 1, 3)),
                               static_cast<int32_t>(index.subIndex(element, 2, 3)),
                               static_cast<int32_t>(index.subIndex(element, 3, 3))});
+
+    // Earlier boundary vertices of inverted tetrahedra back to their midpoints (see above).
+    std::vector<char> is_reset(n, 0);
+    for (const auto& v : added) is_reset[leaf_index(v.vertex)] = 1;
+    int64_t reset_count = 0;
+    for (int round = 0; round < 16; ++round) {
+        std::vector<size_t> to_reset;
+        for (const Tet& t : tetrahedra) {
+            const auto& a = x[static_cast<size_t>(t[0])];
+            if (orient3d(a, x[static_cast<size_t>(t[1])], x[static_cast<size_t>(t[2])], x[static_cast<size_t>(t[3])]) == 1)
+                continue;
+            for (int32_t c : t) {
+                const auto i = static_cast<size_t>(c);
+                const auto* ends = params.ends_of(id_of[i]);
+                if (!is_reset[i] && ends && by_id.count((*ends)[0]) && by_id.count((*ends)[1])) {
+                    is_reset[i] = 1;
+                    to_reset.push_back(i);
+                }
+            }
+        }
+        if (to_reset.empty()) break;
+        // Coarser levels first: the ends of an edge are on coarser levels than its midpoint.
+        std::stable_sort(to_reset.begin(), to_reset.end(),
+                         [&](size_t a, size_t b) { return vertex_level[a] < vertex_level[b]; });
+        for (size_t i : to_reset) {
+            const auto* ends = params.ends_of(id_of[i]);
+            x[i] = 0.5 * (x[leaf_index((*ends)[0])] + x[leaf_index((*ends)[1])]);
+        }
+        reset_count += static_cast<int64_t>(to_reset.size());
+    }
+    if (reset) *reset = reset_count;
 
     const BoundaryRepairResult result = repair_boundary(phi, x, tetrahedra, points, options);
 
