@@ -12,41 +12,11 @@
 #include "simplify/export_phi.h"
 #include "simplify/planning_pool.h"
 #include "simplify/vertex_removal.h"
+#include "simplifier_state_fixture.h"
 
 using namespace bpm;
 using namespace bpm::detail;
-
-namespace {
-
-// The simplifier's state for `original`, before any removal.
-struct LiveState {
-    CoarseMesh mesh;
-    Embedding embedding;
-    std::vector<int8_t> sign;
-    std::vector<Vec3> no_normals;  // VertexRemover keeps a reference: no normal deviation
-    explicit LiveState(const Surface& original) : mesh(original) {
-        mesh.mark_feature_edges(60.0);
-        sign.resize(original.triangles.size());
-        for (int32_t t = 0; t < original.num_triangles(); ++t) sign[t] = mesh.flipped_initially(t) ? -1 : 1;
-        embedding.init_identity(original, mesh.triangle_capacity());
-    }
-    // Removes up to `count` vertices, every `stride`th one whose full plan is valid.
-    int remove_some(int count, int stride) {
-        VertexRemover remover(mesh, embedding, sign, no_normals);
-        RemovalPlan plan;
-        int removed = 0;
-        for (int32_t v = 0; v < int32_t(sign.size()) && removed < count; v += stride) {
-            if (v >= int32_t(mesh.positions().size()) || !mesh.vertex_alive(v)) continue;
-            remover.plan(v, true, plan);
-            if (!plan.valid) continue;
-            commit_removal(mesh, embedding, plan);
-            ++removed;
-        }
-        return removed;
-    }
-};
-
-}  // namespace
+using bpm::detail::test::LiveState;
 
 TEST_CASE("export of phi: before any removal, the identity", "[internal][simplify]") {
     const Surface original = fixtures::cube();

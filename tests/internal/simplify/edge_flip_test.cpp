@@ -17,55 +17,13 @@
 #include "simplify/intersection_test.h"
 #include "simplify/planning_pool.h"
 #include "simplify/vertex_removal.h"
+#include "simplifier_state_fixture.h"
 
 using namespace bpm;
 using namespace bpm::detail;
+using bpm::detail::test::LiveState;
 
 namespace {
-
-// The simplifier's state for `original`, before any removal.
-struct LiveState {
-    CoarseMesh mesh;
-    Embedding embedding;
-    std::vector<int8_t> sign;
-    std::vector<Vec3> no_normals;
-    explicit LiveState(const Surface& original) : mesh(original) {
-        mesh.mark_feature_edges(60.0);
-        sign.resize(original.triangles.size());
-        for (int32_t t = 0; t < original.num_triangles(); ++t) sign[t] = mesh.flipped_initially(t) ? -1 : 1;
-        embedding.init_identity(original, mesh.triangle_capacity());
-    }
-    int remove_some(int count, int stride) {
-        VertexRemover remover(mesh, embedding, sign, no_normals);
-        RemovalPlan plan;
-        int removed = 0;
-        for (int32_t v = 0; v < int32_t(sign.size()) && removed < count; v += stride) {
-            if (v >= int32_t(mesh.positions().size()) || !mesh.vertex_alive(v)) continue;
-            remover.plan(v, true, plan);
-            if (!plan.valid) continue;
-            commit_removal(mesh, embedding, plan);
-            ++removed;
-        }
-        return removed;
-    }
-    Parametrization exported(const Surface& original) {
-        PlanningPool pool(1);
-        Parametrization out;
-        export_parametrization(original, mesh, embedding, sign, pool, out);
-        return out;
-    }
-    std::vector<Tri> sorted_triangles() const {
-        std::vector<Tri> tris;
-        for (int32_t t = 0; t < mesh.triangle_capacity(); ++t) {
-            if (!mesh.alive(t)) continue;
-            Tri c = mesh.triangle(t);
-            std::rotate(c.begin(), std::min_element(c.begin(), c.end()), c.end());
-            tris.push_back(c);
-        }
-        std::sort(tris.begin(), tris.end());
-        return tris;
-    }
-};
 
 // Two triangles (a,b,c) (b,a,d) in the plane: (a,b,c) a cap (c close to a -- b).
 Surface cap_pair() {
