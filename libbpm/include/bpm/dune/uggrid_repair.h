@@ -30,8 +30,9 @@
 // when a neighbour is refined further, and the father's new children take the father's edge
 // midpoints as corners, boundary vertices among them that an earlier call moved towards phi
 // while checking only the green children then present. Such a child can be inverted before
-// any new vertex moves (femur at 10 %, adaptive step 3: 2 inverted tets after the repair,
-// with or without smoothing; 0 when refined flat). So, while the grid with the new vertices
+// any new vertex moves (femur at 10 %, adaptive bpm-torsion: 3-9 inverted tets after the
+// repair at steps 3-4 without what follows, 0 when refined flat; with it 0 without interior
+// smoothing and 1-3 with it, see bench/RESULTS.md). So, while the grid with the new vertices
 // at their midpoints has inverted tetrahedra, their corners that earlier refinements created
 // on the boundary (params.ends_of) go back to their own midpoints as well, coarser levels
 // first, and take part in the repair like the new ones; `reset` (if given) counts them.
