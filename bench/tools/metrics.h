@@ -26,6 +26,11 @@ struct OneSidedDistance {
     double max = 0.0;           // absolute, in model units
     double mean = 0.0;
     double rms = 0.0;
+    // 99th and 99.9th percentile of the sample distances: the bulk of the surface, without
+    // the few farthest points that decide `max` (a sharp kink or a fold of S0 can hold the
+    // maximum while everything else converges).
+    double p99 = 0.0;
+    double p999 = 0.0;
     // The sample point where the maximum was found.
     Vec3 max_at{0.0, 0.0, 0.0};
     // A triangle of `from` that contains that sample point (for diagnostics).

@@ -80,6 +80,13 @@ void for_each_sample(const Surface& surface, const SamplingOptions& options, Vis
     }
 }
 
+// The q-quantile of `values` (nearest rank; reorders them).
+double percentile(std::vector<double>& values, double q) {
+    const size_t rank = std::min(values.size() - 1, static_cast<size_t>(q * static_cast<double>(values.size())));
+    std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(rank), values.end());
+    return values[rank];
+}
+
 OneSidedDistance one_sided(const Surface& from, const Surface& to, const SamplingOptions& options) {
     std::vector<Triangle> triangles;
     triangles.reserve(to.triangles.size());
@@ -91,9 +98,11 @@ OneSidedDistance one_sided(const Surface& from, const Surface& to, const Samplin
     tree.accelerate_distance_queries();
 
     double sum = 0.0, sum_sq = 0.0;
+    std::vector<double> distances;
     for_each_sample(from, options, [&](const Vec3& p, int32_t triangle) {
         const Point q = to_point(p);
         const double dist = std::sqrt(CGAL::to_double(tree.squared_distance(q)));
+        distances.push_back(dist);
         ++d.samples;
         sum += dist;
         sum_sq += dist * dist;
@@ -106,6 +115,8 @@ OneSidedDistance one_sided(const Surface& from, const Surface& to, const Samplin
     if (d.samples > 0) {
         d.mean = sum / static_cast<double>(d.samples);
         d.rms = std::sqrt(sum_sq / static_cast<double>(d.samples));
+        d.p99 = percentile(distances, 0.99);
+        d.p999 = percentile(distances, 0.999);
     }
     return d;
 }

@@ -259,6 +259,10 @@ std::string convergence(const Parametrization& p, const std::vector<int>& levels
               << ", \"refined_to_original_max_relative\": " << num(d.coarse_to_original.max / diagonal)
               << ", \"mean_two_sided_relative\": "
               << num(0.5 * (d.original_to_coarse.mean + d.coarse_to_original.mean) / diagonal)
+              << ", \"p99_two_sided_relative\": "
+              << num(std::max(d.original_to_coarse.p99, d.coarse_to_original.p99) / diagonal)
+              << ", \"p999_two_sided_relative\": "
+              << num(std::max(d.original_to_coarse.p999, d.coarse_to_original.p999) / diagonal)
               << ", \"samples\": " << d.original_to_coarse.samples + d.coarse_to_original.samples << "}";
             return s.str();
         };
