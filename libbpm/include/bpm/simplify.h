@@ -43,7 +43,8 @@ struct SimplifyOptions {
     // > 90 degrees by 11-25 % but raises the Hausdorff distance up to 1.22x (fandisk);
     // weight 1 cuts more and costs femur 1.32x; a fold limit of 90 leaves almost no folds
     // but costs femur 4.6x. 0 = off (the angle is then not computed unless
-    // max_normal_deviation_degrees asks for it).
+    // max_normal_deviation_degrees or fold_limit_degrees asks for it). The fold limit works
+    // with any weight, 0 included.
     double distortion_weight = 0.0;
     double fold_limit_degrees = 180.0;
     // The queue orders candidates by a cheap lower bound of their cost; the candidate on

@@ -67,9 +67,14 @@ void triangle_distortion(const Parametrization& p, int32_t t, const std::vector<
 }
 
 double distortion_cost(double deviation, double weight, double fold_limit) {
-    if (!(weight > 0) || !(deviation > 45)) return 0;
-    const double over = (deviation - 45) / 45;
-    return weight * 1e-3 * over * over + (deviation > fold_limit && fold_limit < 180 ? 1.0 : 0.0);
+    double cost = 0.0;
+    if (weight > 0 && deviation > 45) {
+        const double over = (deviation - 45) / 45;
+        cost += weight * 1e-3 * over * over;
+    }
+    // Independent of the weight: a fold limit alone (weight 0) must still put folds last.
+    if (fold_limit < 180 && deviation > fold_limit) cost += 1.0;
+    return cost;
 }
 
 }  // namespace bpm::detail

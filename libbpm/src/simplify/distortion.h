@@ -51,7 +51,7 @@ std::vector<Vec3> unit_normals(const Surface& surface);
 //                                              costs are errors relative to the diagonal;
 //                                              it is made only when the target cannot be
 //                                              reached otherwise).
-// weight 0 turns the term off (0 for every deviation).
+// weight 0 turns the quadratic part off; fold_limit 180 the fold part. Either works alone.
 double distortion_cost(double max_normal_deviation_degrees, double weight, double fold_limit_degrees);
 
 }  // namespace bpm::detail

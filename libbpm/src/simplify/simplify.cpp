@@ -119,7 +119,8 @@ public:
         sign_.resize(original.triangles.size());
         for (int32_t t = 0; t < original.num_triangles(); ++t) sign_[t] = mesh_.flipped_initially(t) ? -1 : 1;
         // Only with a limit: the angle costs about 5% of the planning time.
-        if (options.max_normal_deviation_degrees < 180.0 || options.distortion_weight > 0)
+        if (options.max_normal_deviation_degrees < 180.0 || options.distortion_weight > 0 ||
+            options.fold_limit_degrees < 180.0)
             oriented_normals_.resize(original.triangles.size());
         for (int32_t t = 0; t < int32_t(oriented_normals_.size()); ++t) {
             const Tri& c = original.triangles[t];

@@ -100,6 +100,10 @@ TEST_CASE("distortion: the cost term is 0 up to 45 degrees, grows, and sends fol
     CHECK(detail::distortion_cost(90, 1, 90) == Approx(1e-3));
     CHECK(detail::distortion_cost(67.5, 2, 90) == Approx(2e-3 * 0.25));
     CHECK(detail::distortion_cost(91, 1, 90) > 1.0);
-    CHECK(detail::distortion_cost(179, 0, 90) == 0);  // off
+    CHECK(detail::distortion_cost(179, 0, 180) == 0);  // off
+    // A fold limit works without a weight (--fold-limit alone was a silent no-op).
+    CHECK(detail::distortion_cost(179, 0, 90) == 1.0);
+    CHECK(detail::distortion_cost(30, 0, 20) == 1.0);
+    CHECK(detail::distortion_cost(89, 0, 90) == 0);
     CHECK(detail::distortion_cost(179, 1, 180) < 0.01);  // no fold limit: the quadratic part only
 }
