@@ -43,8 +43,9 @@
 //        = physical tag - k, names too; a triangle tagged below k is an error.
 //   VTK  the first such integer-valued 1-component cell array (SCALARS or FIELD); the
 //        triangles of a strip or polygon keep their cell's id. Details in read_vtk.cpp.
-// Polygons (faces with more than three corners) are refused in every format, never
-// triangulated silently.
+// Polygons (faces with more than three corners) are never triangulated silently: without
+// triangulate_polygons the read fails with InputNeedsRepair naming that repair and every
+// other one the triangulated surface needs.
 //
 // The format is chosen by options.format, else by the extension; a file without a known
 // extension whose first line starts with "# HyperSurface" is read as SURF.
