@@ -1538,7 +1538,8 @@ namespace {
 // The size of `path` if it is a regular file that starts with the HDF5 signature (as bpm
 // writes them: no user block, not gzip-compressed), which can be opened in place.
 std::optional<size_t> plain_hdf5_file(const std::string& path) {
-    if (path == "-") return std::nullopt;
+    // A .gz name must hold gzip data (read_whole_input says so when it does not).
+    if (path == "-" || without_gz_suffix(path) != path) return std::nullopt;
     std::error_code ec;
     if (!std::filesystem::is_regular_file(path, ec)) return std::nullopt;
     const auto size = std::filesystem::file_size(path, ec);
