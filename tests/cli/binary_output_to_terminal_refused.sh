@@ -31,6 +31,8 @@ expect 2 "bpm-refine -o - --compress VTU on a terminal" -- on_terminal "$tools/b
 contains "$work/out" "compressed VTU data" "bpm-refine (--compress) says why"
 expect 2 "bpm-mesh -o - --binary MSH on a terminal" -- on_terminal "$tools/bpm-mesh" "$work/tet.bpm" -o - --output-format msh --binary
 contains "$work/out" "binary msh data" "bpm-mesh (--binary .msh) says why"
+# The hint named "-o out.bpm" whatever the output format: a .msh user was sent to .bpm.
+ok "bpm-mesh (--binary .msh) names no .bpm file to write instead" -- bash -c "! grep -q 'out.bpm' '$work/out'"
 expect 0 "bpm-refine -o - --binary VTU into a pipe still works" -- bash -c "'$tools/bpm-refine' '$work/tet.bpm' --levels 1 -o - --output-format vtu --binary -q | cat > '$work/piped.vtu'"
 contains "$work/piped.vtu" "AppendedData" "the piped VTU is binary"
 expect 2 "bpm-mesh -o - (.bpm) on a terminal" -- on_terminal "$tools/bpm-mesh" "$work/tet.bpm" -o -

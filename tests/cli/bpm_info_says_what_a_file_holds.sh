@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # bpm-info says what a .bpm holds (nothing else did, short of h5dump): counts, patches and
-# materials, the tet mesh with its regions, recorded steps, provenance, size; the same as
+# materials, the features of the coarse surface (a cube simplified to 8 vertices: 8 corners,
+# 12 crease lines), phi's distortion with --distortion (bpm-check's numbers), the tet mesh
+# with its regions, recorded steps, provenance, size; the same as
 # JSON (spec/info-report.md); .bpm.gz and standard input too; a missing, non-HDF5 or
 # truncated file is exit 3 with the file named, never a crash.
 # Usage: bpm_info_says_what_a_file_holds.sh TOOL_DIR SOURCE_DIR WORK_DIR
@@ -43,6 +45,73 @@ assert j["tetmesh"] is None, j["tetmesh"]
 assert p["tool"] == "bpm-simplify" and "--record-steps" in p["arguments"] and p["timestamp"] is None, p
 PY
 cp "$work/out" "$work/eight.json"
+
+# Features and distortion (issue 20: "feature lines/vertices", "phi's distortion summary").
+# A cube of 4 x 4 squares per face simplified to its 8 corners: its 12 edges are creases
+# (90 degrees), its 8 corners feature vertices; the face diagonals are flat.
+$py - "$work/cube.off" <<'PY'
+import sys
+n = 4
+index, vertices, faces = {}, [], []
+def vertex(p):
+    if p not in index:
+        index[p] = len(vertices)
+        vertices.append(p)
+    return index[p]
+for axis in range(3):
+    for side in (0, n):
+        for i in range(n):
+            for j in range(n):
+                quad = []
+                for a, b in ((i, j), (i + 1, j), (i + 1, j + 1), (i, j + 1)):
+                    p = [0, 0, 0]
+                    p[axis], p[(axis + 1) % 3], p[(axis + 2) % 3] = side, a, b
+                    quad.append(vertex(tuple(p)))
+                if side == 0:
+                    quad.reverse()  # outward normals
+                faces += [(quad[0], quad[1], quad[2]), (quad[0], quad[2], quad[3])]
+with open(sys.argv[1], "w") as f:
+    f.write("OFF\n%d %d 0\n" % (len(vertices), len(faces)))
+    f.writelines("%d %d %d\n" % p for p in vertices)
+    f.writelines("3 %d %d %d\n" % t for t in faces)
+PY
+expect 0 "simplify the cube to its corners" -- "$tools/bpm-simplify" "$work/cube.off" -o "$work/cube.bpm" --vertices 8 -q
+expect 0 "bpm-info on the cube" -- "$info" "$work/cube.bpm"
+contains "$work/out" "features    12 lines, 8 vertices of the coarse surface; 12 feature edges: 12 creases over 60 degrees" \
+    "the cube's 12 crease lines and 8 corners"
+contains "$work/out" "distortion  not measured (bpm-info --distortion)" "no distortion without --distortion"
+expect 0 "bpm-info --json on the cube" -- "$info" "$work/cube.bpm" --json
+ok "JSON features: 12 creases, 8 feature vertices, 12 lines; no distortion" -- $py -c '
+import json, sys
+j = json.load(open(sys.argv[1]))
+f = j["features"]
+assert f == {"feature_angle_degrees": 60, "boundary_edges": 0, "non_manifold_edges": 0, "interface_edges": 0,
+             "crease_edges": 12, "feature_edges": 12, "feature_vertices": 8, "feature_lines": 12,
+             "feature_loops": 0}, f
+assert j["distortion"] is None, j["distortion"]
+assert list(j)[-2:] == ["features", "distortion"], list(j)' "$work/out"
+expect 0 "bpm-info --feature-angle 95: no creases on a cube" -- "$info" "$work/cube.bpm" --json --feature-angle 95
+ok "above 90 degrees the cube has no feature" -- $py -c '
+import json, sys
+f = json.load(open(sys.argv[1]))["features"]
+assert f["feature_angle_degrees"] == 95 and f["feature_edges"] == 0 and f["feature_vertices"] == 0, f' "$work/out"
+expect 2 "--feature-angle above 180 is refused" -- "$info" "$work/cube.bpm" --feature-angle 200
+# The distortion of a real surface is bpm-check's, to the last digit and under its names.
+expect 0 "bpm-info --distortion --json" -- "$info" "$work/eight.bpm" --distortion --json
+cp "$work/out" "$work/eight-distortion.json"
+expect 0 "bpm-check --checks distortion --json" -- "$tools/bpm-check" "$work/eight.bpm" --checks distortion --json
+ok "--distortion says what bpm-check's distortion check says" -- $py - "$work/eight-distortion.json" "$work/out" <<'PY'
+import json, sys
+d = json.load(open(sys.argv[1]))["distortion"]
+(c,) = [c for c in json.load(open(sys.argv[2]))["checks"] if c["name"] == "distortion"]
+for name, value in c["counts"].items():
+    assert d[name] == value, (name, d[name], value)
+for m in c["measures"]:
+    assert d[m["name"]] == m["value"], (m, d[m["name"]])
+assert d["pieces"] > 630 and d["area_squeeze_max"] >= d["area_squeeze_p99"] >= d["area_squeeze_p50"] >= 1, d
+PY
+expect 0 "bpm-info --distortion (text)" -- "$info" "$work/eight.bpm" --distortion
+contains "$work/out" "pieces turned over 60 degrees" "the text says how many pieces turned over"
 
 # Compressed and from standard input: the same summary, the size of what is stored.
 gzip -c "$work/eight.bpm" >"$work/eight.bpm.gz"

@@ -31,6 +31,13 @@ ok "bpm-check: --max-distance under Thresholds" -- in_group bpm-check "Threshold
 ok "bpm-refine: --levels under Target" -- in_group bpm-refine "Target (one of)" --levels
 ok "bpm-mesh: --tetgen under Advanced" -- in_group bpm-mesh Advanced --tetgen
 ok "bpm-smooth: --weights under Advanced" -- in_group bpm-smooth Advanced --weights
+# bpm-mesh (issue 20 item 1: "the default of every option shown in --help"): every option
+# with a number says its default (--max-volume and --refine did not). Option lines that
+# wrap are joined first.
+"$tools/bpm-mesh" --help | awk '/^  +-/ { if (o != "") print o; o = $0; next }
+    /^      +[^ -]/ { o = o " " $0; next } { if (o != "") print o; o = "" }' >"$work/mesh-options"
+ok "bpm-mesh --help: a default for every numeric option" -- \
+    test "$(grep -E '^  +--[a-z-]+ (FLOAT|INT|UINT)' "$work/mesh-options" | grep -vc 'default')" -eq 0
 "$tools/bpm-check" --help >"$work/out"
 ok "bpm-check --help in plain words (no Conjecture 2.1, CSR offsets, Z2 Betti)" -- \
     test "$(grep -cE 'Conjecture|CSR|Betti' "$work/out")" -eq 0

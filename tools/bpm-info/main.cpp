@@ -12,6 +12,18 @@ using bpm::tools::json_string;
 
 std::string json_or_null(const std::string& text) { return text.empty() ? "null" : json_string(text); }
 
+// Doubles: round-trip precision in JSON, six digits for people.
+std::string json_number(double value) {
+    char buffer[32];
+    std::snprintf(buffer, sizeof buffer, "%.17g", value);
+    return buffer;
+}
+std::string text_number(double value) {
+    char buffer[32];
+    std::snprintf(buffer, sizeof buffer, "%.3g", value);
+    return buffer;
+}
+
 std::string json_strings(const std::vector<std::string>& items) {
     std::string out = "[";
     for (size_t i = 0; i < items.size(); ++i) out += (i ? ", " : "") + json_string(items[i]);
@@ -63,7 +75,31 @@ std::string to_json(const bpm::BpmInfo& info) {
           << json_string(s.version) << ", \"arguments\": " << json_string(s.arguments)
           << ", \"timestamp\": " << json_or_null(s.timestamp) << "}";
     }
-    o << "]}\n";
+    const bpm::BpmFeatureSummary& f = info.features;
+    o << "],\n \"features\": {\"feature_angle_degrees\": " << json_number(f.feature_angle_degrees)
+      << ", \"boundary_edges\": " << f.boundary_edges << ", \"non_manifold_edges\": " << f.non_manifold_edges
+      << ", \"interface_edges\": " << f.interface_edges << ", \"crease_edges\": " << f.crease_edges
+      << ", \"feature_edges\": " << f.feature_edges << ", \"feature_vertices\": " << f.feature_vertices
+      << ", \"feature_lines\": " << f.feature_lines << ", \"feature_loops\": " << f.feature_loops << "},\n"
+      << " \"distortion\": ";
+    if (!info.distortion) {
+        o << "null";
+    } else {
+        const bpm::BpmDistortionSummary& d = *info.distortion;
+        o << "{\"pieces\": " << d.pieces << ", \"degenerate_pieces\": " << d.degenerate_pieces
+          << ",\n  \"area_squeeze_p50\": " << json_number(d.area_squeeze_p50)
+          << ", \"area_squeeze_p99\": " << json_number(d.area_squeeze_p99)
+          << ", \"area_squeeze_max\": " << json_number(d.area_squeeze_max)
+          << ",\n  \"normal_deviation_degrees_p50\": " << json_number(d.normal_deviation_degrees_p50)
+          << ", \"normal_deviation_degrees_p99\": " << json_number(d.normal_deviation_degrees_p99)
+          << ", \"normal_deviation_degrees_max\": " << json_number(d.normal_deviation_degrees_max)
+          << ",\n  \"pieces_turned_over_60_degrees\": " << d.pieces_turned_over_60_degrees
+          << ", \"pieces_turned_over_90_degrees\": " << d.pieces_turned_over_90_degrees
+          << ", \"coarse_triangles_with_pieces_over_60_degrees\": " << d.coarse_triangles_with_pieces_over_60_degrees
+          << ", \"coarse_triangles_with_pieces_over_90_degrees\": " << d.coarse_triangles_with_pieces_over_90_degrees
+          << "}";
+    }
+    o << "}\n";
     return o.str();
 }
 
@@ -100,6 +136,13 @@ std::string to_text(const bpm::BpmInfo& info) {
         if (p.info && !materials_text(*p.info).empty()) o << " (" << materials_text(*p.info) << ")";
         o << " " << p.original_triangles << " original, " << p.coarse_triangles << " coarse triangles\n";
     }
+    const bpm::BpmFeatureSummary& f = info.features;
+    o << "features    " << f.feature_lines << (f.feature_lines == 1 ? " line" : " lines");
+    if (f.feature_loops > 0) o << " (" << f.feature_loops << " closed)";
+    o << ", " << f.feature_vertices << (f.feature_vertices == 1 ? " vertex" : " vertices") << " of the coarse surface; "
+      << f.feature_edges << " feature edges: " << f.crease_edges << " creases over "
+      << text_number(f.feature_angle_degrees) << " degrees, " << f.interface_edges << " on patch borders, "
+      << f.boundary_edges << " boundary, " << f.non_manifold_edges << " non-manifold\n";
     o << "materials   ";
     if (info.materials.empty()) o << "none recorded";
     for (size_t i = 0; i < info.materials.size(); ++i) o << (i ? ", " : "") << info.materials[i];
@@ -121,6 +164,19 @@ std::string to_text(const bpm::BpmInfo& info) {
       << (info.simplification_steps ? std::to_string(*info.simplification_steps) + " removals recorded"
                                     : std::string("not recorded (bpm-simplify --record-steps)"))
       << "\n";
+    o << "distortion  ";
+    if (!info.distortion) {
+        o << "not measured (bpm-info --distortion)\n";
+    } else {
+        const bpm::BpmDistortionSummary& d = *info.distortion;
+        o << d.pieces << " pieces, area squeeze p50 " << text_number(d.area_squeeze_p50) << " p99 "
+          << text_number(d.area_squeeze_p99) << " max " << text_number(d.area_squeeze_max)
+          << ", normal deviation p50 " << text_number(d.normal_deviation_degrees_p50) << " p99 "
+          << text_number(d.normal_deviation_degrees_p99) << " max " << text_number(d.normal_deviation_degrees_max)
+          << " degrees\n            " << d.pieces_turned_over_60_degrees << " pieces turned over 60 degrees, "
+          << d.pieces_turned_over_90_degrees << " over 90 (on " << d.coarse_triangles_with_pieces_over_60_degrees
+          << " and " << d.coarse_triangles_with_pieces_over_90_degrees << " coarse triangles)\n";
+    }
     o << "provenance  " << info.provenance.size() << (info.provenance.size() == 1 ? " step" : " steps") << "\n";
     for (size_t i = 0; i < info.provenance.size(); ++i) {
         const bpm::ProvenanceStep& s = info.provenance[i];
@@ -137,25 +193,36 @@ int main(int argc, char** argv) {
     CLI::App app{
         "Say what a .bpm file holds: format version, size, the original and the coarse surface, phi, the\n"
         "patches with their names and materials, the tetrahedral mesh (bpm-mesh) with its regions, the\n"
-        "recorded simplification steps and the provenance (which tool made it, with which command line, when).\n"
-        "Reads only; bpm-check validates.",
+        "recorded simplification steps and the provenance (which tool made it, with which command line, when),\n"
+        "the feature lines and vertices of the coarse surface and, with --distortion, how far phi is from an\n"
+        "isometry. Reads only what it reports; bpm-check validates.",
         tool};
     std::string input;
     bool json = false, verbose = false, quiet = false;
+    bpm::BpmInfoOptions options;
     app.add_option("FILE", input, "Input .bpm file (also .bpm.gz), or - for standard input")->required();
+    app.add_flag("--distortion", options.distortion,
+                 "Also measure phi's distortion (area squeeze, normal deviation, turned pieces) as bpm-check does; "
+                 "reads the whole file");
+    app.add_option("--feature-angle", options.feature_angle_degrees,
+                   "Edges of the coarse surface sharper than this count as creases, in degrees (180: none)")
+        ->default_val(60.0)
+        ->check(CLI::Range(0.0, 180.0));
     app.add_flag("--json", json, "Print the summary as JSON on standard output (format: spec/info-report.md)");
     app.add_flag("-v,--verbose", verbose, "More detail on standard error (none so far)");
     app.add_flag("-q,--quiet", quiet, "Only errors on standard error (the summary still goes to standard output)");
     bpm::tools::add_version_flag(app, tool);
+    bpm::tools::group_options(app, "Measures", {"--distortion", "--feature-angle"});
     bpm::tools::group_options(app, "Output", {"--json", "--verbose", "--quiet"});
-    bpm::tools::add_examples(app, {"bpm-info femur.bpm", "bpm-info femur.tet.bpm --json | jq .tetmesh.regions"});
+    bpm::tools::add_examples(app, {"bpm-info femur.bpm", "bpm-info femur.tet.bpm --json | jq .tetmesh.regions",
+                                   "bpm-info femur.bpm --distortion --json | jq .distortion"});
 
     bpm::tools::set_json_error_report(json, [&](const bpm::tools::ErrorReport& error) {
         return "{\"bpm_info\": 1, \"ok\": false, \"file\": " + bpm::tools::json_string(input) +
                ", \"error\": " + bpm::tools::error_json(error) + "}";
     });
     return bpm::tools::run(tool, argc, argv, app, [&]() {
-        const bpm::BpmInfo info = bpm::read_bpm_info(input);
+        const bpm::BpmInfo info = bpm::read_bpm_info(input, options);
         std::cout << (json ? to_json(info) : to_text(info)) << std::flush;
         return int(bpm::tools::kOk);
     });

@@ -83,9 +83,9 @@ int main(int argc, char** argv) {
     app.add_option("--time-limit", options.time_limit_seconds,
                    "Stop TetGen after this many seconds with an error (default 0 = no limit)")
         ->check(CLI::NonNegativeNumber);
-    app.add_option("--max-volume", max_volume, "TetGen -a: maximum tetrahedron volume, in the file's units^3")
+    app.add_option("--max-volume", max_volume, "TetGen -a: maximum tetrahedron volume, in the file's units^3 (default: no limit)")
         ->check(CLI::PositiveNumber);
-    app.add_option("--refine", refine_levels, "Red-refine the mesh K times, moving new boundary vertices to phi")
+    app.add_option("--refine", refine_levels, "Red-refine the mesh K times, moving new boundary vertices to phi (default 0)")
         ->check(CLI::Range(0, 8));
     double min_volume_fraction = 0.1;
     app.add_option("--min-volume-fraction", min_volume_fraction,

@@ -276,7 +276,8 @@ int main(int argc, char** argv) {
             cell_data.push_back(std::move(lvl));
             bpm::write_surface_vtu(output, refined.surface, point_data, cell_data, encoding);
         } else {
-            bpm::write_surface(output, refined.surface, surface_format, encoding);
+            // The input's patch names become MSH physical names (they were "patch_<id>").
+            bpm::write_surface(output, refined.surface, surface_format, encoding, file.patch_info);
         }
         return int(bpm::tools::kOk);
     });

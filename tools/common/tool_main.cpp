@@ -400,9 +400,10 @@ void require_input_format_for_stdin(const std::vector<std::string>& inputs, cons
 
 void refuse_binary_to_terminal(const std::string& path, const std::string& kind) {
     if (path != "-" || !isatty(STDOUT_FILENO)) return;
+    // No example name: "out.bpm" for a .msh or .vtu output sent users to the wrong format.
     throw CLI::ValidationError("--output", "'-' would write " + kind +
-                                               " to the terminal: give a file name (-o out.bpm) or send standard "
-                                               "output into a pipe or file (-o - | ... , -o - > out.bpm)");
+                                               " to the terminal: give a file name (-o FILE) or send standard "
+                                               "output into a pipe or file (-o - | ... , -o - > FILE)");
 }
 
 void add_encoding_options(CLI::App& app, EncodingFlags& flags) {

@@ -43,8 +43,9 @@
 //        = physical tag - k, names too; a triangle tagged below k is an error.
 //   VTK  the first such integer-valued 1-component cell array (SCALARS or FIELD); the
 //        triangles of a strip or polygon keep their cell's id. Details in read_vtk.cpp.
-// Polygons (faces with more than three corners) are refused in every format, never
-// triangulated silently.
+// Polygons (faces with more than three corners) are never triangulated silently: without
+// triangulate_polygons the read fails with InputNeedsRepair naming that repair and every
+// other one the triangulated surface needs.
 //
 // The format is chosen by options.format, else by the extension; a file without a known
 // extension whose first line starts with "# HyperSurface" is read as SURF.
@@ -165,8 +166,9 @@ Surface read_surface_from_memory(const std::string& bytes, SurfaceFormat format,
 
 // Writes OFF, OBJ (patches as `g patch_N`), STL (binary), PLY (binary little endian with
 // an int `patch` face property when a triangle is not in patch 0), MSH 4.1 ASCII or binary
-// (`encoding`, bpm/mesh_encoding.h) or MSH 2.2 ASCII (patch p as physical tag p + 1 named
-// "patch_<p>", and a section $BpmPatchIds from which bpm reads the patch ids back), atomically
+// (`encoding`, bpm/mesh_encoding.h) or MSH 2.2 ASCII (patch p as physical tag p + 1 named as
+// `patch_info` names it, else "patch_<p>", and a section $BpmPatchIds from which bpm reads the
+// patch ids back; MSH only: the other formats have no patch names), atomically
 // (not VTK, VTP, VTU or SURF: an OutputError):
 // to a temporary name in the same directory, renamed when complete. "-" writes stdout.
 // Output is deterministic; text formats write doubles with 17 significant digits, so
@@ -176,6 +178,7 @@ Surface read_surface_from_memory(const std::string& bytes, SurfaceFormat format,
 // back: patches.size() != triangles.size(), an index out of range, a NaN/Inf coordinate;
 // and for an encoding the format lacks (OFF, OBJ, MSH 2.2 binary; anything compressed).
 void write_surface(const std::string& path, const Surface& surface,
-                   std::optional<SurfaceFormat> format = std::nullopt, MeshEncoding encoding = MeshEncoding::Ascii);
+                   std::optional<SurfaceFormat> format = std::nullopt, MeshEncoding encoding = MeshEncoding::Ascii,
+                   const std::vector<PatchInfo>& patch_info = {});
 
 }  // namespace bpm

@@ -1,4 +1,5 @@
-// bpm-info's summary of a .bpm file (bpm/bpm_info.h): counts and names as stored.
+// bpm-info's summary of a .bpm file (bpm/bpm_info.h): counts and names as stored, the
+// features of the coarse surface, and phi's distortion when asked for.
 #include "bpm/bpm_info.h"
 
 #include <algorithm>
@@ -7,24 +8,31 @@
 #include <set>
 #include <system_error>
 
+#include "bpm/check.h"
+#include "bpm/errors.h"
+#include "core/file_util.h"
+#include "io/bpm_outline.h"
+
 namespace bpm {
 
-BpmInfo summarize_bpm(const BpmFile& file) {
+namespace {
+
+// One summary for both ways in (read_bpm_outline, or a whole file in memory).
+BpmInfo summarize(const detail::BpmOutline& file, const BpmInfoOptions& options) {
     BpmInfo info;
-    const Parametrization& p = file.param;
     info.format_version = file.format_version;
     info.units = file.units;
-    info.original_vertices = p.original.num_vertices();
-    info.original_triangles = p.original.num_triangles();
-    info.coarse_vertices = p.coarse.num_vertices();
-    info.coarse_triangles = p.coarse.num_triangles();
-    info.phi_nodes = p.num_nodes();
-    info.phi_pieces = p.num_pieces();
-    for (const VertexArray& a : p.original.vertex_data) info.original_point_data.push_back(a.name);
+    info.original_vertices = file.original_vertices;
+    info.original_triangles = static_cast<int64_t>(file.original_patches.size());
+    info.coarse_vertices = file.coarse.num_vertices();
+    info.coarse_triangles = file.coarse.num_triangles();
+    info.phi_nodes = file.phi_nodes;
+    info.phi_pieces = file.phi_pieces;
+    info.original_point_data = file.original_point_data;
 
     std::map<int32_t, BpmPatchSummary> patches;
-    for (const int32_t id : p.original.patches) ++patches[id].original_triangles;
-    for (const int32_t id : p.coarse.patches) ++patches[id].coarse_triangles;
+    for (const int32_t id : file.original_patches) ++patches[id].original_triangles;
+    for (const int32_t id : file.coarse.patches) ++patches[id].coarse_triangles;
     for (const PatchInfo& pi : file.patch_info) patches[pi.patch].info = pi;
     std::set<std::string> materials;
     for (auto& [id, summary] : patches) {
@@ -36,17 +44,19 @@ BpmInfo summarize_bpm(const BpmFile& file) {
         info.patches.push_back(summary);
     }
     info.materials.assign(materials.begin(), materials.end());
+    info.features = summarize_features(file.coarse, options.feature_angle_degrees);
 
     if (file.tetmesh) {
-        const TetMesh& m = *file.tetmesh;
+        const detail::BpmTetMeshOutline& m = *file.tetmesh;
         BpmTetMeshSummary t;
-        t.vertices = m.num_vertices();
-        t.tetrahedra = m.num_tetrahedra();
-        t.boundary_faces = static_cast<int64_t>(m.faces.size());
+        t.vertices = m.vertices;
+        t.tetrahedra = m.tetrahedra;
+        t.boundary_faces = m.faces;
         t.level = m.level;
         t.materials = m.material_names;
-        const int32_t regions = m.num_regions();
-        t.regions.resize(static_cast<size_t>(std::max(regions, 0)));
+        int32_t regions = 0;  // TetMesh::num_regions: the largest region id
+        for (const int32_t r : m.regions) regions = std::max(regions, r);
+        t.regions.resize(static_cast<size_t>(regions));
         for (int32_t r = 0; r < regions; ++r) {
             t.regions[size_t(r)].id = r + 1;
             if (size_t(r) < m.region_material.size()) {
@@ -59,13 +69,50 @@ BpmInfo summarize_bpm(const BpmFile& file) {
             if (r >= 1 && r <= regions) ++t.regions[size_t(r) - 1].tetrahedra;
         info.tetmesh = std::move(t);
     }
-    if (file.simplification_steps) info.simplification_steps = static_cast<int64_t>(file.simplification_steps->vertex.size());
+    info.simplification_steps = file.simplification_steps;
     info.provenance = file.provenance;
     return info;
 }
 
-BpmInfo read_bpm_info(const std::string& path) {
-    BpmInfo info = summarize_bpm(read_bpm(path));
+// check_distortion's counts and measures, by the names spec/check-report.md gives them.
+BpmDistortionSummary distortion_of(const BpmFile& file, const std::string& where) {
+    const CheckResult r = check_distortion(file.param);
+    if (!r.passed) throw InputError(where, "cannot measure phi's distortion: " + r.summary);
+    BpmDistortionSummary d;
+    d.pieces = r.count("pieces");
+    d.degenerate_pieces = r.count("degenerate_pieces");
+    d.pieces_turned_over_60_degrees = r.count("pieces_turned_over_60_degrees");
+    d.pieces_turned_over_90_degrees = r.count("pieces_turned_over_90_degrees");
+    d.coarse_triangles_with_pieces_over_60_degrees = r.count("coarse_triangles_with_pieces_over_60_degrees");
+    d.coarse_triangles_with_pieces_over_90_degrees = r.count("coarse_triangles_with_pieces_over_90_degrees");
+    for (const WorstValue& m : r.measures) {
+        if (m.name == "area_squeeze_p50") d.area_squeeze_p50 = m.value;
+        if (m.name == "area_squeeze_p99") d.area_squeeze_p99 = m.value;
+        if (m.name == "area_squeeze_max") d.area_squeeze_max = m.value;
+        if (m.name == "normal_deviation_degrees_p50") d.normal_deviation_degrees_p50 = m.value;
+        if (m.name == "normal_deviation_degrees_p99") d.normal_deviation_degrees_p99 = m.value;
+        if (m.name == "normal_deviation_degrees_max") d.normal_deviation_degrees_max = m.value;
+    }
+    return d;
+}
+
+}  // namespace
+
+BpmInfo summarize_bpm(const BpmFile& file, const BpmInfoOptions& options) {
+    BpmInfo info = summarize(detail::outline_of(file), options);
+    if (options.distortion) info.distortion = distortion_of(file, "<memory>");
+    return info;
+}
+
+BpmInfo read_bpm_info(const std::string& path, const BpmInfoOptions& options) {
+    BpmInfo info;
+    if (options.distortion) {
+        const BpmFile file = read_bpm(path);
+        info = summarize(detail::outline_of(file), options);
+        info.distortion = distortion_of(file, detail::display_name(path));
+    } else {
+        info = summarize(detail::read_bpm_outline(path), options);
+    }
     info.file = path;
     if (path != "-") {
         std::error_code ec;

@@ -49,10 +49,12 @@ enum class MshVersion { V41, V22 };
 // Surface and tet mesh alike give patch p the physical tag p + 1
 // (Gmsh and its readers take tag 0 as "no physical group") and end with the section
 // $BpmPatchIds holding 1, from which bpm's reader takes the patch ids back. Surface: one
-// surface entity per patch (tags 1, 2, ... in increasing patch order), physical names
-// "patch_<id>", one element block per run of consecutive triangles of one patch, so that
-// the triangle order is kept exactly.
-std::string msh_of_surface(const Surface& surface, MshVersion version, MeshEncoding encoding);
+// surface entity per patch (tags 1, 2, ... in increasing patch order), physical names as
+// `patch_info` names the patches (the input's names, e.g. "pair_0_1"), else "patch_<id>",
+// one element block per run of consecutive triangles of one patch, so that the triangle
+// order is kept exactly.
+std::string msh_of_surface(const Surface& surface, const std::vector<PatchInfo>& patch_info, MshVersion version,
+                           MeshEncoding encoding);
 // Tetrahedral mesh: see write_tetmesh in bpm/write_tetmesh.h (2.2: outer boundary faces only).
 std::string msh_of_tetmesh(const TetMesh& mesh, const std::vector<PatchInfo>& patch_info, MshVersion version,
                            MeshEncoding encoding);

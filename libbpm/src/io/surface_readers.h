@@ -3,10 +3,22 @@
 // a whole file already in memory, and the cursor they share.
 //
 // The readers only parse. They reject what they cannot represent (syntax, counts that do
-// not fit the input, NaN/Inf, indices outside the vertex list, polygons) with the line or
-// byte offset where it happens; everything that is a property of the finished surface
+// not fit the input, NaN/Inf, indices outside the vertex list) with the line or byte
+// offset where it happens; everything that is a property of the finished surface
 // (zero-area and duplicate triangles, unreferenced and duplicate vertices) is left to
 // validate_surface(), called by read_surface() after the requested repairs.
+//
+// Polygons (faces with more than three corners; OFF, OBJ, PLY, VTK, VTP/VTU) are not
+// rejected here: read_surface always passes accept_polygons = true, the reader
+// triangulates them (insert_polygons) and notes where they were
+// (ReaderOutput::triangulated_polygons), and finish_reading in surface_io.cpp then refuses
+// the surface with InputNeedsRepair, listing SurfaceRepair::TriangulatePolygons together
+// with every other repair the triangulated surface needs, unless the caller asked for
+// SurfaceReadOptions::triangulate_polygons. So polygons are never triangulated silently,
+// and one error names all repairs. Only a face that cannot be triangulated (not a simple
+// polygon seen along its normal) is an error of the reader itself. accept_polygons =
+// false (the default) makes the reader refuse the first polygon face, with its line or
+// byte offset; no caller in libbpm uses that any more.
 //
 // Every error is a bpm::InputError whose `where` is the file name and whose message
 // starts with the location: "line 12: ..." (text) or "byte offset 84: ..." (binary).
@@ -30,8 +42,8 @@
 
 namespace bpm::detail {
 
-// A face with more than three corners, kept when the caller accepts polygons (the
-// triangulate-polygons repair); insert_polygons() replaces it by triangles.
+// A face with more than three corners, kept when the caller accepts polygons (always, from
+// read_surface); insert_polygons() replaces it by triangles.
 struct PolygonFace {
     size_t position = 0;           // triangles read before it: its triangles go there
     int64_t face = 0;              // index of the face in the file, for messages
@@ -53,7 +65,8 @@ struct ReaderOutput {
 };
 
 // `accept_polygons`: faces with more than three corners go to ReaderOutput::polygons
-// and are triangulated before the reader returns, instead of being refused.
+// and are triangulated before the reader returns, instead of being refused (read_surface
+// decides afterwards whether the triangulate-polygons repair was asked for).
 ReaderOutput read_off(std::string_view bytes, const std::string& name, bool accept_polygons = false);
 ReaderOutput read_obj(std::string_view bytes, const std::string& name, bool accept_polygons = false);
 ReaderOutput read_stl(std::string_view bytes, const std::string& name);

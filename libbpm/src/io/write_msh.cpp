@@ -248,14 +248,19 @@ std::string msh_name(std::string name) {
 
 }  // namespace
 
-std::string msh_of_surface(const Surface& s, MshVersion version, MeshEncoding encoding) {
+std::string msh_of_surface(const Surface& s, const std::vector<PatchInfo>& patch_info, MshVersion version,
+                           MeshEncoding encoding) {
     std::map<int32_t, int> entity_of_patch;
     for (int32_t p : s.patches) entity_of_patch.emplace(p, 0);
     int next_entity = 1;
     for (auto& [patch, entity] : entity_of_patch) entity = next_entity++;
 
     MshModel m;
-    for (const auto& [patch, entity] : entity_of_patch) m.physical_names.push_back({2, patch + 1, "patch_" + num(patch)});
+    for (const auto& [patch, entity] : entity_of_patch) {
+        const PatchInfo* info = find_patch_info(patch_info, patch);
+        m.physical_names.push_back(
+            {2, patch + 1, info && !info->name.empty() ? msh_name(info->name) : "patch_" + num(patch)});
+    }
     for (const auto& [patch, entity] : entity_of_patch) {
         MshEntity e{2, entity, {0, 0, 0}, {0, 0, 0}, int64_t(patch) + 1};
         bool first = true;

@@ -113,7 +113,7 @@ std::string write_ply(const Surface& s) {
 }  // namespace
 
 void write_surface(const std::string& path, const Surface& surface, std::optional<SurfaceFormat> format,
-                   MeshEncoding encoding) {
+                   MeshEncoding encoding, const std::vector<PatchInfo>& patch_info) {
     const std::string where = path == "-" ? "<stdout>" : path;
     if (!format) format = surface_format_from_path(path);
     if (!format) {
@@ -178,8 +178,12 @@ void write_surface(const std::string& path, const Surface& surface, std::optiona
         case SurfaceFormat::Obj: bytes = write_obj(surface); break;
         case SurfaceFormat::Stl: bytes = write_stl(surface); break;
         case SurfaceFormat::Ply: bytes = write_ply(surface); break;
-        case SurfaceFormat::Msh: bytes = detail::msh_of_surface(surface, detail::MshVersion::V41, encoding); break;
-        case SurfaceFormat::Msh22: bytes = detail::msh_of_surface(surface, detail::MshVersion::V22, encoding); break;
+        case SurfaceFormat::Msh:
+            bytes = detail::msh_of_surface(surface, patch_info, detail::MshVersion::V41, encoding);
+            break;
+        case SurfaceFormat::Msh22:
+            bytes = detail::msh_of_surface(surface, patch_info, detail::MshVersion::V22, encoding);
+            break;
         case SurfaceFormat::Vtk: break;  // refused above
         case SurfaceFormat::Vtp:
         case SurfaceFormat::Vtu: break;  // refused above

@@ -1,0 +1,105 @@
+// The feature structure bpm-info reports for the coarse surface (bpm/bpm_info.h,
+// BpmFeatureSummary): bpm-check's combinatorial feature edges and vertices
+// (bpm/surface_topology.h) together with the creases of the surface's geometry.
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <vector>
+
+#include "bpm/bpm_info.h"
+#include "bpm/geometry.h"
+#include "bpm/surface_topology.h"
+
+namespace bpm {
+
+namespace {
+
+// Does triangle `t` run from u to w (rather than from w to u)?
+bool runs_from(const Tri& t, int32_t u, int32_t w) {
+    for (int k = 0; k < 3; ++k)
+        if (t[k] == u && t[(k + 1) % 3] == w) return true;
+    return false;
+}
+
+int32_t find_root(std::vector<int32_t>& parent, int32_t x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+}
+
+}  // namespace
+
+BpmFeatureSummary summarize_features(const Surface& surface, double feature_angle_degrees) {
+    BpmFeatureSummary out;
+    out.feature_angle_degrees = feature_angle_degrees;
+    const SurfaceTopology topology = compute_topology(surface);
+    const SurfaceConnectivity& c = topology.connectivity;
+    const int32_t ne = c.num_edges();
+    const double cos_limit = std::cos(feature_angle_degrees * M_PI / 180.0);
+
+    std::vector<char> feature(static_cast<size_t>(ne), 0), crease(static_cast<size_t>(ne), 0);
+    for (int32_t e = 0; e < ne; ++e) {
+        switch (topology.edge_class[e]) {
+            case EdgeClass::Boundary: ++out.boundary_edges; feature[e] = 1; continue;
+            case EdgeClass::NonManifold: ++out.non_manifold_edges; feature[e] = 1; continue;
+            case EdgeClass::Interface: ++out.interface_edges; feature[e] = 1; continue;
+            case EdgeClass::Regular: break;
+        }
+        if (c.edge_degree(e) != 2 || feature_angle_degrees >= 180.0) continue;
+        const auto [u, w] = c.edges[e];
+        const Tri& t0 = surface.triangles[c.edge_triangles[c.edge_triangle_offsets[e]]];
+        const Tri& t1 = surface.triangles[c.edge_triangles[c.edge_triangle_offsets[e] + 1]];
+        const auto& p = surface.vertices;
+        const Vec3 n0 = triangle_normal(p[t0[0]], p[t0[1]], p[t0[2]]);
+        Vec3 n1 = triangle_normal(p[t1[0]], p[t1[1]], p[t1[2]]);
+        if (dot(n0, n0) == 0 || dot(n1, n1) == 0) continue;  // a degenerate triangle has no normal
+        // Consistently oriented neighbours run the edge in opposite directions; if they
+        // do not, their normals are compared with the second turned over.
+        if (runs_from(t0, u, w) == runs_from(t1, u, w)) n1 = -1.0 * n1;
+        if (dot(n0, n1) < cos_limit) {
+            ++out.crease_edges;
+            feature[e] = crease[e] = 1;
+        }
+    }
+    out.feature_edges = out.boundary_edges + out.non_manifold_edges + out.interface_edges + out.crease_edges;
+
+    // Feature edges and creases at each vertex.
+    const size_t nv = surface.vertices.size();
+    std::vector<int32_t> degree(nv, 0), creases(nv, 0);
+    for (int32_t e = 0; e < ne; ++e) {
+        if (!feature[e]) continue;
+        for (const int32_t v : c.edges[e]) {
+            ++degree[size_t(v)];
+            creases[size_t(v)] += crease[e];
+        }
+    }
+    std::vector<char> corner(nv, 0);
+    for (const int32_t v : topology.feature_vertices) corner[size_t(v)] = 1;
+    for (size_t v = 0; v < nv; ++v)
+        if (creases[v] > 0 && degree[v] != 2) corner[v] = 1;
+    out.feature_vertices = std::count(corner.begin(), corner.end(), char(1));
+
+    // Lines: feature edges joined at the vertices that are not feature vertices (those
+    // have exactly two feature edges: every other count makes a feature vertex above).
+    std::vector<int32_t> parent(static_cast<size_t>(ne)), first(nv, -1);
+    std::iota(parent.begin(), parent.end(), 0);
+    for (int32_t e = 0; e < ne; ++e) {
+        if (!feature[e]) continue;
+        for (const int32_t v : c.edges[e]) {
+            if (corner[size_t(v)]) continue;
+            if (first[size_t(v)] < 0) first[size_t(v)] = e;
+            else parent[size_t(find_root(parent, e))] = find_root(parent, first[size_t(v)]);
+        }
+    }
+    std::vector<char> open(static_cast<size_t>(ne), 0);
+    for (int32_t e = 0; e < ne; ++e)
+        if (feature[e] && (corner[size_t(c.edges[e][0])] || corner[size_t(c.edges[e][1])]))
+            open[size_t(find_root(parent, e))] = 1;
+    for (int32_t e = 0; e < ne; ++e) {
+        if (!feature[e] || find_root(parent, e) != e) continue;
+        ++out.feature_lines;
+        out.feature_loops += open[size_t(e)] ? 0 : 1;
+    }
+    return out;
+}
+
+}  // namespace bpm
