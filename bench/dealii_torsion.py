@@ -65,7 +65,7 @@ def main():
 
     os.makedirs(args.results_dir, exist_ok=True)
     md_path = os.path.join(args.results_dir, "dealii-torsion.md")
-    title = "### Solvers: deal.II torsion (bench/dealii_torsion.py)"
+    title = "# Solvers: deal.II torsion (bench/dealii_torsion.py)"
     if not os.path.exists(DEALII_CONFIG):
         open(md_path, "w").write(f"{title}\n\nSkipped: deal.II is not installed ({DEALII_CONFIG}; Debian libdeal.ii-dev).\n")
         return 0
@@ -127,7 +127,7 @@ def main():
            f"to level {args.reference_levels}, extrapolated by Aitken's delta-squared from its last three levels.", ""]
     for name, r in results.items():
         ref = r["J_ref"]
-        out += [f"#### {name} at {args.ratio:.0%}", "",
+        out += [f"## {name} at {args.ratio:.0%}", "",
                 f"J_ref = {e(ref)} (mesh of S0, levels {', '.join(e(l['J']) for l in r['s0']['levels'])}; "
                 f"{r['s0']['levels'][0]['cells']} cells at level 0). Extrapolated from the last three levels: "
                 f"phi {e(r['J_phi_extrapolated'])}, flat {e(r['J_flat_extrapolated'])}.", "",

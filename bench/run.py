@@ -18,7 +18,13 @@ all       the one command: builds every tool once in Release, runs simplify, sca
           convergence, shape, phi throughput; if present), bench/tetmesh.sh (tet meshes),
           bench/repair.sh (the repair call on a 1 M-tet mesh; if present) and
           bench/corpus.sh (the whole libcgal-demo corpus), and writes bench/RESULTS.md:
-          machine, date, commit, every command run, every table.
+          machine, date, commit, every command run, every table, then the sections written
+          by hand (bench/results/manual/*.md, in the order of MANUAL_SECTIONS). The run
+          itself (machine, commands, exit codes, times) is recorded in results/all.json.
+
+--assemble  (all only) rewrites RESULTS.md from results/all.json, the results/*.md it
+          names and the hand-written sections, without building or running anything: for
+          after editing a section by hand or a results file.
 
 --quick   fewer meshes, fewer subdivision levels, fewer samples, shorter timeouts, for
           trying it out. Its tables go to BUILD_DIR/bench-quick/ (RESULTS.md and results/),
@@ -74,6 +80,22 @@ PROFILES = {
     "repeats": (3, 1),
     "external_timeout": (7200, 1800),
 }
+# The sections of RESULTS.md written by hand (measurements run by hand, analyses), one file
+# each in bench/results/manual/, appended after the generated ones in this order; and
+# remarks written by hand on a step's tables, manual/after-STEP.md, appended to the section
+# of step STEP (the `name` of its step in all_suites). Edit them there: RESULTS.md is
+# regenerated. A file in that folder that is neither listed here nor after-STEP.md, or a
+# listed one that is missing, is an error, so that no section is silently dropped.
+MANUAL = os.path.join(RESULTS, "manual")
+MANUAL_SECTIONS = [
+    "solvers-dune-torsion.md",
+    "solvers-adaptive-ug-and-interfaces.md",
+    "inverse-phi-throughput.md",
+    "floor-bpm-size-and-memory.md",
+    "tets-without-slivers-and-phi-distortion.md",
+    "output-formats.md",
+]
+RUN_RECORD = "all.json"  # in the results folder: what `all` ran, for --assemble
 QUICK_REFINE_MESHES = "femur"
 QUICK_TETMESH_MESHES = "femur,two_cubes"
 QUICK_MAX_TETS = "2000000"
@@ -869,6 +891,77 @@ def os_name():
     return platform.system()
 
 
+def machine_info():
+    """The machine as RESULTS.md describes it, captured when a run starts."""
+    mem = memory_gib()
+    return {"cpu": cpu_model(), "cores": os.cpu_count(), "memory_gib": mem,
+            "system": f"{os_name()}, Linux {platform.release()}"}
+
+
+def manual_sections():
+    """Paths of the hand-written sections in MANUAL_SECTIONS order; exits if the folder and the list disagree."""
+    present = sorted(os.path.basename(p) for p in glob.glob(os.path.join(MANUAL, "*.md")))
+    missing = [n for n in MANUAL_SECTIONS if n not in present]
+    unlisted = [n for n in present if n not in MANUAL_SECTIONS and not n.startswith("after-")]
+    if missing or unlisted:
+        sys.exit("run.py: error: bench/results/manual/ and MANUAL_SECTIONS in bench/run.py disagree: "
+                 + "; ".join(([f"missing {', '.join(missing)}"] if missing else [])
+                             + ([f"not listed {', '.join(unlisted)}"] if unlisted else [])))
+    return [os.path.join(MANUAL, n) for n in MANUAL_SECTIONS]
+
+
+def manual_remarks(step_name):
+    """The text of manual/after-STEP.md for a step, or None."""
+    try:
+        with open(os.path.join(MANUAL, f"after-{step_name}.md")) as f:
+            return f.read().strip()
+    except FileNotFoundError:
+        return None
+
+
+def save_run(run, path):
+    """The run record as JSON: times as ISO strings, paths relative to the repository root."""
+    def encode(v):
+        if isinstance(v, datetime.datetime):
+            return v.isoformat()
+        if isinstance(v, dict):
+            return {k: (rel(x) if k in ("path", "log", "capture") and isinstance(x, str) and os.path.isabs(x)
+                        else [[rel(a) if os.path.isabs(a) else a for a in c] for c in x] if k == "commands"
+                        else encode(x)) for k, x in v.items()}
+        if isinstance(v, (list, tuple)):
+            return [encode(x) for x in v]
+        return v
+    write_atomic(path, json.dumps(encode(run), indent=1, ensure_ascii=False) + "\n")
+
+
+def load_run(path):
+    """save_run's record back: times as datetimes, paths absolute."""
+    try:
+        with open(path) as f:
+            run = json.load(f)
+    except OSError as e:
+        sys.exit(f"run.py: error: {rel(path)}: {e.strerror}: --assemble needs the record of a run of `all`")
+    for key in ("started", "finished"):
+        if run.get(key):
+            run[key] = datetime.datetime.fromisoformat(run[key])
+    for step in run.get("steps", []):
+        for key in ("log", "capture"):
+            if step.get(key) and not os.path.isabs(step[key]):
+                step[key] = os.path.join(ROOT, step[key])
+        for f in step.get("files", []):
+            if not os.path.isabs(f["path"]):
+                f["path"] = os.path.join(ROOT, f["path"])
+    return run
+
+
+def assemble(args):
+    """--assemble: RESULTS.md from the recorded run, its results files and the hand-written sections."""
+    run = load_run(os.path.join(args.results_dir, RUN_RECORD))
+    out_dir = os.path.dirname(args.results_file)
+    write_atomic(args.results_file, results_markdown(args, run, lambda path: os.path.relpath(path, out_dir)))
+    log(f"wrote {args.results_file}")
+
+
 def demote(md):
     """A results file's markdown with every heading one level lower, to sit inside RESULTS.md."""
     lines, fence = [], False
@@ -907,12 +1000,15 @@ def all_suites(args, invocation):
     started = utcnow()
     load_start = load_average()
     run = {"started": started, "load_start": load_start, "commit": git_commit(), "invocation": invocation,
-           "steps": [], "build": None}
+           "machine": machine_info(), "logs": rel(logs), "steps": [], "build": None}
+    if not args.quick:
+        manual_sections()  # fail now rather than after the run
 
     def link(path):
         return os.path.relpath(path, out_dir)
 
     def write():
+        save_run(run, os.path.join(args.results_dir, RUN_RECORD))
         write_atomic(results_md, results_markdown(args, run, link))
 
     def step(name, title, cmd, timeout, result_globs=(), env=None, capture=None, note=None, display_env=""):
@@ -1049,9 +1145,12 @@ def all_suites(args, invocation):
 
 
 def results_markdown(args, run, link):
-    mem = memory_gib()
+    machine = run["machine"]
+    mem = machine["memory_gib"]
     ls, le = run["load_start"], run.get("load_end")
-    out = ["# bpm benchmark results", ""]
+    out = ["# bpm benchmark results", "",
+           "<!-- Written by bench/all.sh (bench/run.py): edit the hand-written sections in "
+           "bench/results/manual/, not here. -->", ""]
     if args.quick:
         out += ["> **Quick mode** (`--quick`): fewer meshes, fewer subdivision levels, fewer samples, shorter "
                 "timeouts. For trying the command out, not for quoting. The full run is `bench/all.sh`.", ""]
@@ -1061,12 +1160,12 @@ def results_markdown(args, run, link):
                if finished else " — **still running or interrupted**: the sections below are what has finished."),
             "", "## Machine and software", "",
             "| | |", "|---|---|",
-            f"| CPU | {cpu_model()}, {os.cpu_count()} cores |",
+            f"| CPU | {machine['cpu']}, {machine['cores']} cores |",
             f"| memory | {'unknown' if mem is None else f'{mem:.1f} GiB'} |",
             f"| load average at start (1 / 5 / 15 min) | {ls[0]:.2f} / {ls[1]:.2f} / {ls[2]:.2f} |"]
     if le:
         out.append(f"| load average at the end | {le[0]:.2f} / {le[1]:.2f} / {le[2]:.2f} |")
-    out += [f"| system | {os_name()}, Linux {platform.release()} |",
+    out += [f"| system | {machine['system']} |",
             f"| bpm commit | {run['commit']} |"]
     for k, v in run.get("versions", {}).items():
         out.append(f"| {k} | {v} |")
@@ -1076,7 +1175,7 @@ def results_markdown(args, run, link):
                 "wall times carry noise; the tables also give CPU seconds, the steadier number.", "",
             "## Commands", "",
             "Run from the repository root, in this order; logs in "
-            f"`{rel(os.path.join(args.build_dir, 'bench-work', 'logs'))}/`.", ""]
+            f"`{run['logs']}/`.", ""]
     b = run.get("build")
     n = 0
     if b and not b["commands"]:
@@ -1128,6 +1227,15 @@ def results_markdown(args, run, link):
                 out.append(demote(fh.read()))
         if not s.get("files") and not s.get("capture") and s.get("command"):
             out += ["No results file was written.", ""]
+        remarks = None if args.quick else manual_remarks(s["name"])
+        if remarks:
+            out += [f"<!-- {rel(os.path.join(MANUAL, 'after-' + s['name'] + '.md'))}: written by hand -->", "",
+                    remarks, ""]
+    if not args.quick:
+        for path in manual_sections():
+            with open(path) as fh:
+                out += [f"<!-- {rel(path)}: written by hand, appended by bench/all.sh -->", "",
+                        fh.read().strip(), ""]
     return "\n".join(out)
 
 
@@ -1159,6 +1267,9 @@ def main():
     ap.add_argument("--check-levels", help="check suite: which scaling outputs to check (0,1,2; --quick 0,1)")
     ap.add_argument("--check-timeout", type=int, help="seconds per bpm-check run (900; --quick 300)")
     ap.add_argument("--check-repeats", type=int, help="check suite: runs per measurement, the best is kept (3; --quick 1)")
+    ap.add_argument("--assemble", action="store_true",
+                    help="all: only rewrite RESULTS.md from results/all.json, results/*.md and results/manual/*.md "
+                         "(no build, no runs)")
     ap.add_argument("--external-timeout", type=int,
                     help="all: seconds per suite and per external script (7200; --quick 1800)")
     args = ap.parse_args()
@@ -1183,6 +1294,11 @@ def main():
         args.results_dir = os.path.join(quick_dir, "results") if args.quick else RESULTS
     args.results_dir = os.path.abspath(args.results_dir)
     args.results_file = os.path.join(quick_dir if args.quick else BENCH, "RESULTS.md")
+    if args.assemble:
+        if args.suite != "all":
+            ap.error("--assemble works with `all` only")
+        assemble(args)
+        return
     work = os.path.join(args.build_dir, "bench-work")
     os.makedirs(work, exist_ok=True)
     os.makedirs(args.results_dir, exist_ok=True)

@@ -3,7 +3,11 @@
 
 #include <catch2/catch.hpp>
 
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <string>
@@ -56,6 +60,38 @@ inline const Parametrization* simplified_femur() {
         }
     }
     return p.coarse.num_triangles() > 0 ? &p : nullptr;
+}
+
+// A fresh directory bpm_NAME_PID under the system's temporary directory for a test's
+// files, removed with its contents when it goes out of scope (each test case runs in its
+// own process under ctest, so the pid keeps parallel tests apart).
+struct ScratchDir {
+    std::filesystem::path path;
+    explicit ScratchDir(const std::string& name)
+        : path(std::filesystem::temp_directory_path() / ("bpm_" + name + "_" + std::to_string(::getpid()))) {
+        std::filesystem::remove_all(path);
+        std::filesystem::create_directories(path);
+    }
+    ~ScratchDir() {
+        std::error_code ignored;  // a destructor must not throw
+        std::filesystem::remove_all(path, ignored);
+    }
+    ScratchDir(const ScratchDir&) = delete;
+    ScratchDir& operator=(const ScratchDir&) = delete;
+    std::string file(const std::string& name) const { return (path / name).string(); }
+};
+
+// Runs a shell command; returns its exit status (-1 if it did not exit normally) and its
+// standard output in `output`.
+inline int run_command(const std::string& command, std::string& output) {
+    output.clear();
+    FILE* pipe = popen(command.c_str(), "r");
+    if (!pipe) return -1;
+    char buffer[4096];
+    size_t n;
+    while ((n = fread(buffer, 1, sizeof buffer, pipe)) > 0) output.append(buffer, n);
+    const int status = pclose(pipe);
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
 // The line (1-based) of a text file's first occurrence of `marker`, for expected messages.

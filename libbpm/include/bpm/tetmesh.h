@@ -145,7 +145,9 @@ std::string find_tetmesh_inconsistency(const TetMesh& mesh, const Surface& coars
 
 struct TetMeshStats {
     int64_t inverted = 0;            // tetrahedra that are not positively oriented (exact orient3d)
-    double min_dihedral_degrees = 0; // smallest dihedral angle over all tetrahedra
+    // smallest and largest dihedral angle over all tetrahedra, unsigned (an inverted
+    // tetrahedron counts with the angles of its mirror image, a flat one with 0)
+    double min_dihedral_degrees = 0;
     double max_dihedral_degrees = 0;
     // tetrahedra whose smallest dihedral angle is below 1, 5 and 10 degrees
     int64_t below_1_degree = 0, below_5_degrees = 0, below_10_degrees = 0;

@@ -40,6 +40,8 @@
 #include <functional>
 #include <limits>
 #include <memory>
+#include <optional>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -227,17 +229,18 @@ struct Extreme {
 };
 
 // Elements with key <= floor are settled by their key (an upper bound of all their
-// samples' distances at rounding level); the others are evaluated by `exact`, in
-// decreasing key order, until the key is below the maximum found. Keys must be upper
-// bounds of the distances `exact` can find.
+// samples' distances at rounding level), offered to `best` at where_settled(id); the
+// others are evaluated by `exact`, in decreasing key order, until the key is below the
+// maximum found. Keys must be upper bounds of the distances `exact` can find.
 void branch_and_bound(std::vector<std::pair<double, int64_t>>& keyed, double floor, Extreme& best,
-                      const std::function<void(double, int64_t)>& settle, const std::function<void(int64_t)>& exact) {
+                      const std::function<Ids(int64_t)>& where_settled, const std::function<void(int64_t)>& exact) {
     std::vector<std::pair<double, int64_t>> open;
     for (const auto& [key, id] : keyed) {
-        if (key <= floor)
-            settle(key, id);
-        else
+        if (key <= floor) {
+            if (best.could_raise(key)) best.offer(key, where_settled(id));
+        } else {
             open.emplace_back(key, id);
+        }
     }
     std::sort(open.begin(), open.end(), [](const auto& a, const auto& b) {
         return a.first > b.first || (a.first == b.first && a.second < b.second);
@@ -248,25 +251,30 @@ void branch_and_bound(std::vector<std::pair<double, int64_t>>& keyed, double flo
     }
 }
 
-}  // namespace
+// A sample's local bound `dist` (to triangle `nearest`) lowered to its distance to the
+// whole triangle set, by a tree query starting from `hint`, unless it is at rounding
+// level (floor) already.
+void tighten(ClosestPoints& tree, const Vec3& x, int64_t hint, double floor, double& dist, int64_t& nearest) {
+    if (!(dist > floor)) return;
+    const auto hit = tree.query(x, hint);
+    if (hit.first < dist) {
+        dist = hit.first;
+        nearest = hit.second;
+    }
+}
 
-CheckResult check_distance(const Parametrization& p, const CheckOptions& options, const Context& context) {
-    CheckResult r;
-    r.name = "distance";
-    if (auto why = detail::parametrization_unsafe(p)) {
-        detail::refuse(r, *why);
-        return r;
-    }
-    const double diagonal = bounding_box_diagonal(p.original);
-    if (!(diagonal > 0) || p.original.num_triangles() == 0 || p.coarse.num_triangles() == 0) {
-        detail::refuse(r, "the surfaces are empty or S0 has no extent");
-        return r;
-    }
-    if (!(options.error_sample_spacing > 0) || !std::isfinite(options.error_sample_spacing)) {
-        detail::refuse(r, "the sample spacing must be a positive number");
-        return r;
-    }
-    double magnitude = 0.0;
+// Why the distances cannot be measured in double precision, if they cannot: phi unsafe
+// to read, empty surfaces, a bad sample spacing, or coordinates too small or too large.
+// Otherwise the bounding-box diagonal of S0 and its largest |coordinate|.
+std::optional<std::string> why_not_measurable(const Parametrization& p, const CheckOptions& options, double& diagonal,
+                                              double& magnitude) {
+    if (auto why = detail::parametrization_unsafe(p)) return why;
+    diagonal = bounding_box_diagonal(p.original);
+    if (!(diagonal > 0) || p.original.num_triangles() == 0 || p.coarse.num_triangles() == 0)
+        return "the surfaces are empty or S0 has no extent";
+    if (!(options.error_sample_spacing > 0) || !std::isfinite(options.error_sample_spacing))
+        return "the sample spacing must be a positive number";
+    magnitude = 0.0;
     for (const Vec3& x : p.original.vertices)
         magnitude = std::max({magnitude, std::abs(x[0]), std::abs(x[1]), std::abs(x[2])});
     // Squared distances of coordinates beyond ~1e150 overflow to inf, and inf or NaN handed
@@ -274,273 +282,318 @@ CheckResult check_distance(const Parametrization& p, const CheckOptions& options
     double largest = magnitude;
     for (const auto* points : {&p.coarse.vertices, &p.node_image})
         for (const Vec3& x : *points) largest = std::max({largest, std::abs(x[0]), std::abs(x[1]), std::abs(x[2])});
-    if (!(diagonal >= kSmallestDiagonal)) {
-        detail::refuse(r, "the original surface is too small to measure distances in double precision (diagonal " +
-                              detail::format_number(diagonal) + ", limit " + detail::format_number(kSmallestDiagonal) +
-                              "): scale it");
-        return r;
-    }
-    if (!(largest <= kLargestCoordinate)) {
-        detail::refuse(r, "coordinates up to " + detail::format_number(largest) +
-                              " are too large to measure distances in double precision (limit " +
-                              detail::format_number(kLargestCoordinate) + ")");
-        return r;
-    }
-    const double floor = kFloor * (diagonal + magnitude);
-    const double spacing = options.error_sample_spacing * diagonal;
-    double reached = 0.0;  // largest spacing of a sampled triangle
-    int64_t samples = 0;
+    if (!(diagonal >= kSmallestDiagonal))
+        return "the original surface is too small to measure distances in double precision (diagonal " +
+               detail::format_number(diagonal) + ", limit " + detail::format_number(kSmallestDiagonal) + "): scale it";
+    if (!(largest <= kLargestCoordinate))
+        return "coordinates up to " + detail::format_number(largest) +
+               " are too large to measure distances in double precision (limit " +
+               detail::format_number(kLargestCoordinate) + ")";
+    return std::nullopt;
+}
 
-    const Surface& S0 = p.original;
-    const Surface& S = p.coarse;
-    const int64_t np = p.num_pieces();
-    const int32_t nt0 = S0.num_triangles(), ntc = S.num_triangles();
-    auto original_corners = [&](int64_t t) -> std::array<Vec3, 3> {
-        const Tri& c = S0.triangles[static_cast<size_t>(t)];
-        return {S0.vertices[c[0]], S0.vertices[c[1]], S0.vertices[c[2]]};
-    };
-    auto coarse_corners = [&](int64_t t) -> std::array<Vec3, 3> {
-        const Tri& c = S.triangles[static_cast<size_t>(t)];
-        return {S.vertices[c[0]], S.vertices[c[1]], S.vertices[c[2]]};
-    };
-    std::vector<int32_t> piece_coarse(static_cast<size_t>(np));
-    for (int32_t t = 0; t < ntc; ++t)
-        for (int64_t q = p.piece_offsets[t]; q < p.piece_offsets[t + 1]; ++q) piece_coarse[q] = t;
-    auto image_corners = [&](int64_t q) -> std::array<Vec3, 3> {
+// What the four directions share: the triangles of S0, of S and of phi's image (the
+// pieces), which coarse triangle each piece belongs to, the pieces by the original
+// triangle they map into, the closest-point searches on the three triangle sets, and the
+// running totals of samples and spacing reached.
+struct DistanceProblem {
+    DistanceProblem(const Parametrization& param, double floor_level, double sample_spacing)
+        : p(param),
+          num_pieces(param.num_pieces()),
+          num_original(param.original.num_triangles()),
+          num_coarse(param.coarse.num_triangles()),
+          floor(floor_level),
+          spacing(sample_spacing),
+          piece_coarse(static_cast<size_t>(num_pieces)),
+          to_original(num_original, [this](int64_t t) { return original_corners(t); }),
+          to_coarse(num_coarse, [this](int64_t t) { return coarse_corners(t); }),
+          to_image(num_pieces, [this](int64_t q) { return image_corners(q); }) {
+        for (int32_t t = 0; t < num_coarse; ++t)
+            for (int64_t q = p.piece_offsets[t]; q < p.piece_offsets[t + 1]; ++q) piece_coarse[q] = t;
+        // Pieces by the original triangle they map into (CSR).
+        by_original_offsets.assign(static_cast<size_t>(num_original) + 1, 0);
+        for (int32_t o : p.piece_original_triangle) ++by_original_offsets[static_cast<size_t>(o) + 1];
+        for (int32_t o = 0; o < num_original; ++o) by_original_offsets[o + 1] += by_original_offsets[o];
+        by_original.resize(static_cast<size_t>(num_pieces));
+        std::vector<int64_t> fill(by_original_offsets.begin(), by_original_offsets.end() - 1);
+        for (int64_t q = 0; q < num_pieces; ++q) by_original[fill[p.piece_original_triangle[q]]++] = q;
+    }
+    DistanceProblem(const DistanceProblem&) = delete;  // the searches hold `this`
+    DistanceProblem& operator=(const DistanceProblem&) = delete;
+
+    std::array<Vec3, 3> original_corners(int64_t t) const {
+        const Tri& c = p.original.triangles[static_cast<size_t>(t)];
+        return {p.original.vertices[c[0]], p.original.vertices[c[1]], p.original.vertices[c[2]]};
+    }
+    std::array<Vec3, 3> coarse_corners(int64_t t) const {
+        const Tri& c = p.coarse.triangles[static_cast<size_t>(t)];
+        return {p.coarse.vertices[c[0]], p.coarse.vertices[c[1]], p.coarse.vertices[c[2]]};
+    }
+    std::array<Vec3, 3> image_corners(int64_t q) const {
         const int64_t base = p.node_offsets[piece_coarse[q]];
         const Tri& c = p.pieces[static_cast<size_t>(q)];
         return {p.node_image[base + c[0]], p.node_image[base + c[1]], p.node_image[base + c[2]]};
-    };
-    ClosestPoints to_original(nt0, original_corners), to_coarse(ntc, coarse_corners), to_image(np, image_corners);
-
-    // Pieces by the original triangle they map into (CSR).
-    std::vector<int64_t> by_original_offsets(static_cast<size_t>(nt0) + 1, 0);
-    for (int32_t o : p.piece_original_triangle) ++by_original_offsets[static_cast<size_t>(o) + 1];
-    for (int32_t o = 0; o < nt0; ++o) by_original_offsets[o + 1] += by_original_offsets[o];
-    std::vector<int64_t> by_original(static_cast<size_t>(np));
-    {
-        std::vector<int64_t> fill(by_original_offsets.begin(), by_original_offsets.end() - 1);
-        for (int64_t q = 0; q < np; ++q) by_original[fill[p.piece_original_triangle[q]]++] = q;
     }
+    // Samples triangle t (for_each_sample), counting them and the spacing reached.
+    template <class Visit>
+    void sample(const std::array<Vec3, 3>& t, Visit&& visit) {
+        reached = std::max(reached, for_each_sample(t, spacing, [&](const Vec3& x) {
+            ++samples;
+            visit(x);
+        }));
+    }
+    int64_t queries() const { return to_original.queries + to_coarse.queries + to_image.queries; }
 
-    // --- image -> S0 -------------------------------------------------------------------
-    context.report(0.0, "distance: phi's image to S0");
-    std::vector<double> piece_bound(static_cast<size_t>(np));  // max over corners of distance to its original triangle
-    Extreme image_to_original;
-    {
-        std::vector<std::pair<double, int64_t>> keyed(static_cast<size_t>(np));
-        for (int64_t q = 0; q < np; ++q) {
-            const auto img = image_corners(q);
-            const auto target = original_corners(p.piece_original_triangle[q]);
-            double e = 0.0;
-            for (const Vec3& x : img) e = std::max(e, triangle_distance(x, target));
-            piece_bound[q] = e;
-            keyed[q] = {e, q};
-        }
-        auto where = [&](int64_t q) { return Ids{{"coarse_triangle", piece_coarse[q]}, {"piece", q}}; };
-        branch_and_bound(
-            keyed, floor, image_to_original,
-            [&](double key, int64_t q) {
-                if (image_to_original.could_raise(key)) image_to_original.offer(key, where(q));
-            },
-            [&](int64_t q) {
-                const auto target = original_corners(p.piece_original_triangle[q]);
-                reached = std::max(reached, for_each_sample(image_corners(q), spacing, [&](const Vec3& x) {
-                    ++samples;
-                    const double u = triangle_distance(x, target);
-                    if (!image_to_original.could_raise(u)) return;
-                    const double d =
-                        u <= floor ? u : std::min(u, to_original.query(x, p.piece_original_triangle[q]).first);
-                    image_to_original.offer(d, where(q));
-                }));
+    const Parametrization& p;
+    const int64_t num_pieces;
+    const int32_t num_original, num_coarse;
+    const double floor;    // distances at rounding level, settled by their bounds
+    const double spacing;  // requested sample spacing (absolute)
+    std::vector<int32_t> piece_coarse;
+    std::vector<int64_t> by_original_offsets, by_original;
+    ClosestPoints to_original, to_coarse, to_image;
+    double reached = 0.0;  // largest spacing of a sampled triangle
+    int64_t samples = 0;
+};
+
+// image -> S0: samples on every piece's image, to S0. piece_bound[q] (out): the exact
+// bound of piece q, the largest distance of its image's corners to its original triangle.
+Extreme measure_image_to_original(DistanceProblem& d, std::vector<double>& piece_bound) {
+    const Parametrization& p = d.p;
+    Extreme best;
+    piece_bound.assign(static_cast<size_t>(d.num_pieces), 0.0);
+    std::vector<std::pair<double, int64_t>> keyed(static_cast<size_t>(d.num_pieces));
+    for (int64_t q = 0; q < d.num_pieces; ++q) {
+        const auto img = d.image_corners(q);
+        const auto target = d.original_corners(p.piece_original_triangle[q]);
+        double e = 0.0;
+        for (const Vec3& x : img) e = std::max(e, triangle_distance(x, target));
+        piece_bound[q] = e;
+        keyed[q] = {e, q};
+    }
+    auto where = [&](int64_t q) { return Ids{{"coarse_triangle", d.piece_coarse[q]}, {"piece", q}}; };
+    branch_and_bound(
+        keyed, d.floor, best,
+        where,
+        [&](int64_t q) {
+            const auto target = d.original_corners(p.piece_original_triangle[q]);
+            d.sample(d.image_corners(q), [&](const Vec3& x) {
+                const double u = triangle_distance(x, target);
+                if (!best.could_raise(u)) return;
+                const double dist =
+                    u <= d.floor ? u : std::min(u, d.to_original.query(x, p.piece_original_triangle[q]).first);
+                best.offer(dist, where(q));
             });
-    }
+        });
+    return best;
+}
 
-    // --- S0 -> image and S0 -> S: one pass for the per-sample bounds --------------------
-    context.report(0.25, "distance: S0 to phi's image and to S");
-    // Per-sample bounds: distance to the images of the pieces that map into the original
-    // triangle, and to the coarse triangles those pieces belong to; with the nearest one.
-    std::vector<int32_t> candidates;
-    auto coarse_candidates = [&](int32_t o) {
-        candidates.clear();
-        for (int64_t i = by_original_offsets[o]; i < by_original_offsets[o + 1]; ++i)
-            candidates.push_back(piece_coarse[by_original[i]]);
-        std::sort(candidates.begin(), candidates.end());
-        candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
-    };
-    auto image_bound = [&](int32_t o, const Vec3& x, int64_t& nearest) {
+// The local upper bounds of a sample x of original triangle o: its distance to the
+// images of the pieces that map into o, and to the coarse triangles those pieces belong
+// to, with the nearest piece or coarse triangle.
+class OriginalSampleBounds {
+public:
+    explicit OriginalSampleBounds(const DistanceProblem& d) : d_(d) {}
+    // Selects the coarse triangles of the pieces in o, for coarse_bound.
+    void select_coarse_candidates(int32_t o) {
+        candidates_.clear();
+        for (int64_t i = d_.by_original_offsets[o]; i < d_.by_original_offsets[o + 1]; ++i)
+            candidates_.push_back(d_.piece_coarse[d_.by_original[i]]);
+        std::sort(candidates_.begin(), candidates_.end());
+        candidates_.erase(std::unique(candidates_.begin(), candidates_.end()), candidates_.end());
+    }
+    double image_bound(int32_t o, const Vec3& x, int64_t& nearest) const {
         double best = kInf;
         nearest = -1;
-        for (int64_t i = by_original_offsets[o]; i < by_original_offsets[o + 1]; ++i) {
-            const double d = triangle_distance(x, image_corners(by_original[i]));
-            if (d < best) {
-                best = d;
-                nearest = by_original[i];
+        for (int64_t i = d_.by_original_offsets[o]; i < d_.by_original_offsets[o + 1]; ++i) {
+            const double e = triangle_distance(x, d_.image_corners(d_.by_original[i]));
+            if (e < best) {
+                best = e;
+                nearest = d_.by_original[i];
             }
         }
         return best;
-    };
-    auto coarse_bound = [&](const Vec3& x, int64_t& nearest) {
+    }
+    // \pre select_coarse_candidates(o) for the o that x samples.
+    double coarse_bound(const Vec3& x, int64_t& nearest) const {
         double best = kInf;
         nearest = -1;
-        for (int32_t c : candidates) {
-            const double d = triangle_distance(x, coarse_corners(c));
-            if (d < best) {
-                best = d;
+        for (int32_t c : candidates_) {
+            const double e = triangle_distance(x, d_.coarse_corners(c));
+            if (e < best) {
+                best = e;
                 nearest = c;
             }
         }
         return best;
-    };
-    Extreme original_to_image, original_to_coarse;
-    {
-        std::vector<std::pair<double, int64_t>> keyed_image(static_cast<size_t>(nt0));
-        std::vector<std::pair<double, int64_t>> keyed_coarse(static_cast<size_t>(nt0));
-        for (int32_t o = 0; o < nt0; ++o) {
-            if ((o & 0xffff) == 0) context.report(0.25 + 0.25 * o / nt0, "distance: S0 to phi's image and to S");
-            coarse_candidates(o);
-            double ki = 0.0, kc = 0.0;
-            reached = std::max(reached, for_each_sample(original_corners(o), spacing, [&](const Vec3& x) {
-                ++samples;
+    }
+
+private:
+    const DistanceProblem& d_;
+    std::vector<int32_t> candidates_;
+};
+
+// Every original triangle keyed by the largest local bound of its samples, towards the
+// image (keyed_image) and towards S (keyed_coarse): one sampling pass for both.
+void key_original_triangles(DistanceProblem& d, OriginalSampleBounds& bounds, const Context& context,
+                            std::vector<std::pair<double, int64_t>>& keyed_image,
+                            std::vector<std::pair<double, int64_t>>& keyed_coarse) {
+    const int32_t nt0 = d.num_original;
+    keyed_image.assign(static_cast<size_t>(nt0), {});
+    keyed_coarse.assign(static_cast<size_t>(nt0), {});
+    for (int32_t o = 0; o < nt0; ++o) {
+        if ((o & 0xffff) == 0) context.report(0.25 + 0.25 * o / nt0, "distance: S0 to phi's image and to S");
+        bounds.select_coarse_candidates(o);
+        double ki = 0.0, kc = 0.0;
+        d.sample(d.original_corners(o), [&](const Vec3& x) {
+            int64_t nearest;
+            ki = std::max(ki, bounds.image_bound(o, x, nearest));
+            kc = std::max(kc, bounds.coarse_bound(x, nearest));
+        });
+        keyed_image[o] = {ki, o};
+        keyed_coarse[o] = {kc, o};
+    }
+}
+
+// S0 -> image: the samples of the original triangles, to phi's image. (Not counted in
+// samples: key_original_triangles visited them.)
+Extreme measure_original_to_image(DistanceProblem& d, const OriginalSampleBounds& bounds,
+                                  std::vector<std::pair<double, int64_t>>& keyed) {
+    Extreme best;
+    branch_and_bound(
+        keyed, d.floor, best,
+        [](int64_t o) { return Ids{{"original_triangle", o}}; },
+        [&](int64_t o) {
+            for_each_sample(d.original_corners(o), d.spacing, [&](const Vec3& x) {
                 int64_t nearest;
-                ki = std::max(ki, image_bound(o, x, nearest));
-                kc = std::max(kc, coarse_bound(x, nearest));
-            }));
-            keyed_image[o] = {ki, o};
-            keyed_coarse[o] = {kc, o};
-        }
-        branch_and_bound(
-            keyed_image, floor, original_to_image,
-            [&](double key, int64_t o) {
-                if (original_to_image.could_raise(key)) original_to_image.offer(key, Ids{{"original_triangle", o}});
-            },
-            [&](int64_t o) {
-                for_each_sample(original_corners(o), spacing, [&](const Vec3& x) {
-                    int64_t nearest;
-                    double d = image_bound(static_cast<int32_t>(o), x, nearest);
-                    if (!original_to_image.could_raise(d)) return;
-                    if (d > floor) {
-                        const auto hit = to_image.query(x, nearest);
-                        if (hit.first < d) {
-                            d = hit.first;
-                            nearest = hit.second;
-                        }
-                    }
-                    Ids where{{"original_triangle", o}};
-                    if (nearest >= 0) {
-                        where.emplace_back("coarse_triangle", piece_coarse[nearest]);
-                        where.emplace_back("piece", nearest);
-                    }
-                    original_to_image.offer(d, std::move(where));
-                });
+                double dist = bounds.image_bound(static_cast<int32_t>(o), x, nearest);
+                if (!best.could_raise(dist)) return;
+                tighten(d.to_image, x, nearest, d.floor, dist, nearest);
+                Ids where{{"original_triangle", o}};
+                if (nearest >= 0) {
+                    where.emplace_back("coarse_triangle", d.piece_coarse[nearest]);
+                    where.emplace_back("piece", nearest);
+                }
+                best.offer(dist, std::move(where));
             });
-        branch_and_bound(
-            keyed_coarse, floor, original_to_coarse,
-            [&](double key, int64_t o) {
-                if (original_to_coarse.could_raise(key)) original_to_coarse.offer(key, Ids{{"original_triangle", o}});
-            },
-            [&](int64_t o) {
-                coarse_candidates(static_cast<int32_t>(o));
-                for_each_sample(original_corners(o), spacing, [&](const Vec3& x) {
-                    int64_t nearest;
-                    double d = coarse_bound(x, nearest);
-                    if (!original_to_coarse.could_raise(d)) return;
-                    if (d > floor) {
-                        const auto hit = to_coarse.query(x, nearest);
-                        if (hit.first < d) {
-                            d = hit.first;
-                            nearest = hit.second;
-                        }
-                    }
-                    Ids where{{"original_triangle", o}};
-                    if (nearest >= 0) where.emplace_back("coarse_triangle", nearest);
-                    original_to_coarse.offer(d, std::move(where));
-                });
-            });
-    }
+        });
+    return best;
+}
 
-    // --- S -> S0, and the exact bound max |phi(x) - x| ------------------------------------
-    context.report(0.75, "distance: S to S0");
-    Extreme node_bound, coarse_to_original;
-    {
-        std::vector<std::pair<double, int64_t>> keyed(static_cast<size_t>(ntc));
-        for (int32_t t = 0; t < ntc; ++t) {
-            const auto c = coarse_corners(t);
-            double deviation = 0.0, image = 0.0;
-            for (int64_t n = p.node_offsets[t]; n < p.node_offsets[t + 1]; ++n) {
-                const double d = distance(barycentric_point(c[0], c[1], c[2], p.node_barycentric[n]), p.node_image[n]);
-                deviation = std::max(deviation, d);
-                if (node_bound.could_raise(d)) node_bound.offer(d, Ids{{"coarse_triangle", t}, {"node", n}});
-            }
+// S0 -> S: the samples of the original triangles, to the coarse surface.
+Extreme measure_original_to_coarse(DistanceProblem& d, OriginalSampleBounds& bounds,
+                                   std::vector<std::pair<double, int64_t>>& keyed) {
+    Extreme best;
+    branch_and_bound(
+        keyed, d.floor, best,
+        [](int64_t o) { return Ids{{"original_triangle", o}}; },
+        [&](int64_t o) {
+            bounds.select_coarse_candidates(static_cast<int32_t>(o));
+            for_each_sample(d.original_corners(o), d.spacing, [&](const Vec3& x) {
+                int64_t nearest;
+                double dist = bounds.coarse_bound(x, nearest);
+                if (!best.could_raise(dist)) return;
+                tighten(d.to_coarse, x, nearest, d.floor, dist, nearest);
+                Ids where{{"original_triangle", o}};
+                if (nearest >= 0) where.emplace_back("coarse_triangle", nearest);
+                best.offer(dist, std::move(where));
+            });
+        });
+    return best;
+}
+
+// The exact bound max |phi(x) - x| over the nodes (node_bound, out), and every coarse
+// triangle keyed by its bound: the largest |phi(x) - x| of its nodes plus the largest
+// piece_bound of its pieces.
+std::vector<std::pair<double, int64_t>> key_coarse_triangles(const DistanceProblem& d,
+                                                              const std::vector<double>& piece_bound,
+                                                              Extreme& node_bound) {
+    const Parametrization& p = d.p;
+    std::vector<std::pair<double, int64_t>> keyed(static_cast<size_t>(d.num_coarse));
+    for (int32_t t = 0; t < d.num_coarse; ++t) {
+        const auto c = d.coarse_corners(t);
+        double deviation = 0.0, image = 0.0;
+        for (int64_t n = p.node_offsets[t]; n < p.node_offsets[t + 1]; ++n) {
+            const double e = distance(barycentric_point(c[0], c[1], c[2], p.node_barycentric[n]), p.node_image[n]);
+            deviation = std::max(deviation, e);
+            if (node_bound.could_raise(e)) node_bound.offer(e, Ids{{"coarse_triangle", t}, {"node", n}});
+        }
+        for (int64_t q = p.piece_offsets[t]; q < p.piece_offsets[t + 1]; ++q) image = std::max(image, piece_bound[q]);
+        keyed[t] = {deviation + image, t};
+    }
+    return keyed;
+}
+
+// S -> S0: samples on every coarse triangle, to S0, bounded locally by the original
+// triangles its pieces map into.
+Extreme measure_coarse_to_original(DistanceProblem& d, std::vector<std::pair<double, int64_t>>& keyed) {
+    const Parametrization& p = d.p;
+    Extreme best;
+    std::vector<int32_t> originals;
+    branch_and_bound(
+        keyed, d.floor, best,
+        [](int64_t t) { return Ids{{"coarse_triangle", t}}; },
+        [&](int64_t t) {
+            originals.clear();
             for (int64_t q = p.piece_offsets[t]; q < p.piece_offsets[t + 1]; ++q)
-                image = std::max(image, piece_bound[q]);
-            keyed[t] = {deviation + image, t};
-        }
-        std::vector<int32_t> originals;
-        branch_and_bound(
-            keyed, floor, coarse_to_original,
-            [&](double key, int64_t t) {
-                if (coarse_to_original.could_raise(key)) coarse_to_original.offer(key, Ids{{"coarse_triangle", t}});
-            },
-            [&](int64_t t) {
-                originals.clear();
-                for (int64_t q = p.piece_offsets[t]; q < p.piece_offsets[t + 1]; ++q)
-                    originals.push_back(p.piece_original_triangle[q]);
-                std::sort(originals.begin(), originals.end());
-                originals.erase(std::unique(originals.begin(), originals.end()), originals.end());
-                // A large coarse triangle covers hundreds of original ones: then the tree
-                // is cheaper than the local bound.
-                if (originals.size() > kMaxCandidates) originals.clear();
-                reached = std::max(reached, for_each_sample(coarse_corners(t), spacing, [&](const Vec3& x) {
-                    ++samples;
-                    double d = kInf;
-                    int64_t nearest = -1;
-                    for (int32_t o : originals) {
-                        const double e = triangle_distance(x, original_corners(o));
-                        if (e < d) {
-                            d = e;
-                            nearest = o;
-                        }
+                originals.push_back(p.piece_original_triangle[q]);
+            std::sort(originals.begin(), originals.end());
+            originals.erase(std::unique(originals.begin(), originals.end()), originals.end());
+            // A large coarse triangle covers hundreds of original ones: then the tree
+            // is cheaper than the local bound.
+            if (originals.size() > kMaxCandidates) originals.clear();
+            d.sample(d.coarse_corners(t), [&](const Vec3& x) {
+                double dist = kInf;
+                int64_t nearest = -1;
+                for (int32_t o : originals) {
+                    const double e = triangle_distance(x, d.original_corners(o));
+                    if (e < dist) {
+                        dist = e;
+                        nearest = o;
                     }
-                    if (!coarse_to_original.could_raise(d)) return;
-                    if (d > floor) {
-                        int64_t hint = nearest;
-                        if (hint < 0 && p.piece_offsets[t] < p.piece_offsets[t + 1])
-                            hint = p.piece_original_triangle[p.piece_offsets[t]];
-                        const auto hit = to_original.query(x, hint);
-                        if (hit.first < d) {
-                            d = hit.first;
-                            nearest = hit.second;
-                        }
-                    }
-                    Ids where{{"coarse_triangle", t}};
-                    if (nearest >= 0) where.emplace_back("original_triangle", nearest);
-                    coarse_to_original.offer(d, std::move(where));
-                }));
+                }
+                if (!best.could_raise(dist)) return;
+                int64_t hint = nearest;
+                if (hint < 0 && p.piece_offsets[t] < p.piece_offsets[t + 1])
+                    hint = p.piece_original_triangle[p.piece_offsets[t]];
+                tighten(d.to_original, x, hint, d.floor, dist, nearest);
+                Ids where{{"coarse_triangle", t}};
+                if (nearest >= 0) where.emplace_back("original_triangle", nearest);
+                best.offer(dist, std::move(where));
             });
-    }
+        });
+    return best;
+}
 
-    // --- report --------------------------------------------------------------------------
+// The four one-sided distances and the node bound (absolute).
+struct Distances {
+    Extreme image_to_original, original_to_image, coarse_to_original, original_to_coarse, node_bound;
+};
+
+// Fills r: the measures relative to the diagonal, the counts, the problems against
+// options.max_error and the summary.
+void report_distances(CheckResult& r, const DistanceProblem& d, const Distances& m, double diagonal,
+                      const CheckOptions& options) {
     auto relative = [&](const Extreme& e, const std::string& name) {
         return WorstValue{name, e.value / diagonal, e.ids};
     };
-    const WorstValue img_to = relative(image_to_original, "image_to_original");
-    const WorstValue img_from = relative(original_to_image, "original_to_image");
-    const WorstValue s_to = relative(coarse_to_original, "coarse_to_original");
-    const WorstValue s_from = relative(original_to_coarse, "original_to_coarse");
+    const WorstValue img_to = relative(m.image_to_original, "image_to_original");
+    const WorstValue img_from = relative(m.original_to_image, "original_to_image");
+    const WorstValue s_to = relative(m.coarse_to_original, "coarse_to_original");
+    const WorstValue s_from = relative(m.original_to_coarse, "original_to_coarse");
     WorstValue image = img_to.value >= img_from.value ? img_to : img_from;
     image.name = "image_hausdorff";
     WorstValue coarse = s_to.value >= s_from.value ? s_to : s_from;
     coarse.name = "coarse_hausdorff";
-    WorstValue bound = relative(node_bound, "coarse_to_original_bound");
+    WorstValue bound = relative(m.node_bound, "coarse_to_original_bound");
     r.measures = {coarse, s_to, s_from, bound, image, img_to, img_from,
-                  WorstValue{"sample_spacing", reached / diagonal, {}}};
+                  WorstValue{"sample_spacing", d.reached / diagonal, {}}};
     r.worst = coarse;
-    r.add_count("coarse_triangles", ntc);
-    r.add_count("original_triangles", nt0);
-    r.add_count("pieces", np);
-    r.add_count("samples", samples);
-    r.add_count("closest_point_queries", to_original.queries + to_coarse.queries + to_image.queries);
+    r.add_count("coarse_triangles", d.num_coarse);
+    r.add_count("original_triangles", d.num_original);
+    r.add_count("pieces", d.num_pieces);
+    r.add_count("samples", d.samples);
+    r.add_count("closest_point_queries", d.queries());
 
     using detail::format_number;
     if (options.max_error) {
@@ -564,7 +617,38 @@ CheckResult check_distance(const Parametrization& p, const CheckOptions& options
                 format_number(s_to.value) + ", S0->S " + format_number(s_from.value) + "; bound max|phi(x)-x| " +
                 format_number(bound.value) + "), phi's image within " + format_number(image.value) +
                 (options.max_error ? "; limit " + format_number(*options.max_error) : std::string()) + "; " +
-                std::to_string(samples) + " samples, spacing " + format_number(reached / diagonal);
+                std::to_string(d.samples) + " samples, spacing " + format_number(d.reached / diagonal);
+}
+
+}  // namespace
+
+CheckResult check_distance(const Parametrization& p, const CheckOptions& options, const Context& context) {
+    CheckResult r;
+    r.name = "distance";
+    double diagonal = 0.0, magnitude = 0.0;
+    if (auto why = why_not_measurable(p, options, diagonal, magnitude)) {
+        detail::refuse(r, *why);
+        return r;
+    }
+    DistanceProblem d(p, kFloor * (diagonal + magnitude), options.error_sample_spacing * diagonal);
+    Distances m;
+
+    context.report(0.0, "distance: phi's image to S0");
+    std::vector<double> piece_bound;
+    m.image_to_original = measure_image_to_original(d, piece_bound);
+
+    context.report(0.25, "distance: S0 to phi's image and to S");
+    OriginalSampleBounds bounds(d);
+    std::vector<std::pair<double, int64_t>> keyed_image, keyed_coarse;
+    key_original_triangles(d, bounds, context, keyed_image, keyed_coarse);
+    m.original_to_image = measure_original_to_image(d, bounds, keyed_image);
+    m.original_to_coarse = measure_original_to_coarse(d, bounds, keyed_coarse);
+
+    context.report(0.75, "distance: S to S0");
+    std::vector<std::pair<double, int64_t>> keyed_coarse_triangles = key_coarse_triangles(d, piece_bound, m.node_bound);
+    m.coarse_to_original = measure_coarse_to_original(d, keyed_coarse_triangles);
+
+    report_distances(r, d, m, diagonal, options);
     context.report(1.0, "distance");
     return r;
 }

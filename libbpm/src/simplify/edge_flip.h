@@ -76,7 +76,4 @@ struct FlipStats {
 FlipStats flip_edges(CoarseMesh& mesh, Embedding& embedding, const std::vector<int8_t>& orientation_sign,
                      IntersectionTest& intersections, const FlipLimits& limits);
 
-// Smallest dihedral angle (degrees) of tetrahedron (p0, p1, p2, p3); 0 if flat.
-double tetrahedron_min_dihedral(const Vec3& p0, const Vec3& p1, const Vec3& p2, const Vec3& p3);
-
 }  // namespace bpm::detail

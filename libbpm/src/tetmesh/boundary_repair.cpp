@@ -13,6 +13,7 @@
 
 #include "bpm/errors.h"
 #include "bpm/predicates.h"
+#include "core/tetrahedron_quality.h"
 #include "tetmesh/boundary_repair_internal.h"
 #include "tetmesh/tetmesh_internal.h"
 

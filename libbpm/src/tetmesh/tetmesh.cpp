@@ -40,6 +40,7 @@
 #include "bpm/errors.h"
 #include "bpm/predicates.h"
 #include "bpm/surface_topology.h"
+#include "core/tetrahedron_quality.h"
 #include "tetmesh/tetgen_poly.h"
 #include "tetmesh/tetmesh_internal.h"
 
@@ -802,23 +803,15 @@ TetMeshStats tetmesh_stats(const TetMesh& m) {
         const Vec3 p[4] = {m.vertices[x[0]], m.vertices[x[1]], m.vertices[x[2]], m.vertices[x[3]]};
         if (orient3d(p[0], p[1], p[2], p[3]) != 1) ++st.inverted;
         if (m.regions[t] >= 1) st.region_volumes[m.regions[t] - 1] += detail::signed_volume(p[0], p[1], p[2], p[3]);
-        // Outward normals of the four faces (face k opposite vertex k).
-        Vec3 n[4];
-        for (int k = 0; k < 4; ++k) {
-            const auto f = detail::outward_face(Tet{0, 1, 2, 3}, k);
-            Vec3 c = cross(p[f[1]] - p[f[0]], p[f[2]] - p[f[0]]);
-            const double len = norm(c);
-            n[k] = len > 0 ? (1.0 / len) * c : Vec3{0, 0, 0};
-        }
+        // Unsigned angles: an inverted tetrahedron is counted in `inverted`, its shape here.
+        double angles[6];
+        detail::dihedral_angles(p[0], p[1], p[2], p[3], angles);
         double tet_min = 180;
-        for (int a = 0; a < 4; ++a)
-            for (int b = a + 1; b < 4; ++b) {
-                // The edge opposite faces a and b; its dihedral angle is pi - angle(n_a, n_b).
-                const double d = std::clamp(-dot(n[a], n[b]), -1.0, 1.0);
-                const double angle = std::acos(d) * 180.0 / kPi;
-                tet_min = std::min(tet_min, angle);
-                max_angle = std::max(max_angle, angle);
-            }
+        for (double a : angles) {
+            const double angle = std::abs(a) * 180 / kPi;  // as min_dihedral_degrees
+            tet_min = std::min(tet_min, angle);
+            max_angle = std::max(max_angle, angle);
+        }
         min_angle = std::min(min_angle, tet_min);
         st.below_1_degree += tet_min < 1;
         st.below_5_degrees += tet_min < 5;

@@ -32,19 +32,6 @@ std::array<int32_t, 3> outward_face(const Tet& t, int k);
 
 double signed_volume(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
 
-// The six dihedral angles (radians) of (a, b, c, d) at the edges 01 02 03 12 13 23,
-// signed: in (0, pi) for a positively oriented tetrahedron, in (-pi, 0) for an inverted
-// one. min_dihedral: the smallest of them.
-void dihedral_angles(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, double out[6]);
-double min_dihedral(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
-// The same as pseudo-angles, cheaper (no atan2) and strictly increasing in the angle:
-// sin(angle) for |angle| <= pi/2, continued by 2 - sin (up to pi) and -2 - sin (down to
-// -pi), so in (-2, 2), and equal to the angle to first order near 0.
-void dihedral_pseudo_angles(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, double out[6]);
-double min_dihedral_pseudo(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
-double pseudo_from_radians(double angle);
-double radians_from_pseudo(double pseudo);
-
 // \throw OptionError for options smooth_tetmesh refuses.
 void check_smooth_options(const TetSmoothOptions& options);
 // smooth_tetmesh on raw arrays: moves the vertices v with movable[v] != 0. tets[t] is

@@ -17,6 +17,7 @@
 
 #include "bpm/errors.h"
 #include "bpm/predicates.h"
+#include "core/tetrahedron_quality.h"
 #include "tetmesh/tetmesh_internal.h"
 
 namespace bpm {
@@ -26,70 +27,6 @@ namespace detail {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-// Faces opposite each corner, outward for a positive tetrahedron (= kTetFaces).
-constexpr int kFace[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
-// Edge (i, j) and the corners k, l opposite the two faces that share it.
-constexpr int kEdge[6][4] = {{0, 1, 2, 3}, {0, 2, 1, 3}, {0, 3, 1, 2}, {1, 2, 0, 3}, {1, 3, 0, 2}, {2, 3, 0, 1}};
-
-}  // namespace
-
-void dihedral_angles(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, double out[6]) {
-    const Vec3* p[4] = {&a, &b, &c, &d};
-    Vec3 n[4];  // outward face normals, |n_k| = 2 area_k
-    for (int k = 0; k < 4; ++k)
-        n[k] = cross(*p[kFace[k][1]] - *p[kFace[k][0]], *p[kFace[k][2]] - *p[kFace[k][0]]);
-    const double det = dot(b - a, cross(c - a, d - a)) + 0.0;  // 6 volume, signed (never -0: flat is 0 degrees)
-    // sin = det |e| / (|n_k| |n_l|), cos = -n_k.n_l / (|n_k| |n_l|): the common factor cancels.
-    for (int e = 0; e < 6; ++e) {
-        const double len = distance(*p[kEdge[e][0]], *p[kEdge[e][1]]);
-        out[e] = std::atan2(det * len, -dot(n[kEdge[e][2]], n[kEdge[e][3]]));
-    }
-}
-
-double min_dihedral(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
-    double angles[6];
-    dihedral_angles(a, b, c, d, angles);
-    return *std::min_element(angles, angles + 6);
-}
-
-void dihedral_pseudo_angles(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, double out[6]) {
-    const Vec3* p[4] = {&a, &b, &c, &d};
-    Vec3 n[4];
-    for (int k = 0; k < 4; ++k)
-        n[k] = cross(*p[kFace[k][1]] - *p[kFace[k][0]], *p[kFace[k][2]] - *p[kFace[k][0]]);
-    const double det = dot(b - a, cross(c - a, d - a)) + 0.0;
-    for (int e = 0; e < 6; ++e) {
-        const double sine = det * distance(*p[kEdge[e][0]], *p[kEdge[e][1]]);  // times |n_k| |n_l|
-        const double cosine = -dot(n[kEdge[e][2]], n[kEdge[e][3]]);
-        const double r = std::sqrt(sine * sine + cosine * cosine);
-        if (!(r > 0)) {
-            out[e] = 0;
-            continue;
-        }
-        const double s = sine / r;
-        out[e] = cosine >= 0 ? s : (s >= 0 ? 2 - s : -2 - s);
-    }
-}
-
-double min_dihedral_pseudo(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
-    double angles[6];
-    dihedral_pseudo_angles(a, b, c, d, angles);
-    return *std::min_element(angles, angles + 6);
-}
-
-double pseudo_from_radians(double angle) {
-    if (angle >= kPi / 2) return 2 - std::sin(angle);
-    if (angle <= -kPi / 2) return -2 - std::sin(angle);
-    return std::sin(angle);
-}
-
-double radians_from_pseudo(double q) {
-    if (q > 1) return kPi - std::asin(std::min(1.0, 2 - q));
-    if (q < -1) return -kPi - std::asin(std::max(-1.0, -2 - q));
-    return std::asin(q);
-}
-
-namespace {
 
 class TetMeshSmoother {
 public:
@@ -363,7 +300,7 @@ TetSmoothResult smooth_interior(std::vector<Vec3>& x, const std::vector<Tet>& te
 }  // namespace detail
 
 double tet_min_dihedral_degrees(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
-    return detail::min_dihedral(a, b, c, d) * 180 / detail::kPi;
+    return detail::min_dihedral_degrees(a, b, c, d);
 }
 
 TetSmoothResult smooth_tetmesh(TetMesh& mesh, const TetSmoothOptions& options, const Context& context) {

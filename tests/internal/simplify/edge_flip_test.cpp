@@ -168,9 +168,3 @@ TEST_CASE("edge flip: phi stays bijective through flips of edges that carry phi"
     CHECK(check_format(p).passed);
     CHECK(check_bijectivity(p).passed);
 }
-
-TEST_CASE("edge flip: smallest dihedral angle of a tetrahedron", "[internal][simplify][flip]") {
-    // The corner tetrahedron: dihedral angles 90 (three) and acos(1/sqrt(3)) = 54.7 (three).
-    CHECK(tetrahedron_min_dihedral({0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}) == Approx(54.7356).epsilon(1e-4));
-    CHECK(tetrahedron_min_dihedral({0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}) == Approx(0.0).margin(1e-9));
-}

@@ -10,7 +10,6 @@
 #include <fstream>
 #include <functional>
 #include <sstream>
-#include <unistd.h>
 
 #include "bpm/bpm_file.h"
 #include "bpm/errors.h"
@@ -18,6 +17,7 @@
 #include "bpm/version.h"
 #include "fixtures_hdf5.h"
 #include "fixtures_phi.h"
+#include "test_support.h"
 
 using namespace bpm;
 using Image = bpm::test::Hdf5Image;
@@ -164,12 +164,11 @@ TEST_CASE("writing is deterministic and write_bpm writes the same bytes", "[form
     const std::string a = write_bpm_to_memory(f);
     const std::string b = write_bpm_to_memory(f);
     REQUIRE(a == b);
-    const auto dir = std::filesystem::temp_directory_path();
-    const std::string path = (dir / ("bpm_file_test_" + std::to_string(::getpid()) + ".bpm")).string();
+    const test_support::ScratchDir scratch("bpm_file_test");
+    const std::string path = scratch.file("written.bpm");
     write_bpm(path, f);
     CHECK(read_file(path) == a);
     require_equal(f, read_bpm(path));
-    std::filesystem::remove(path);
 }
 
 TEST_CASE("identity phi read from a file evaluates to the input exactly", "[format][phi]") {

@@ -3,7 +3,6 @@
 // a .gz name over plain data, are InputErrors that say so, never a crash.
 #include <catch2/catch.hpp>
 
-#include <unistd.h>
 #include <zlib.h>
 
 #include <filesystem>
@@ -15,6 +14,7 @@
 #include "bpm/errors.h"
 #include "bpm/surface_io.h"
 #include "fixtures_phi.h"
+#include "test_support.h"
 
 using namespace bpm;
 namespace fs = std::filesystem;
@@ -96,8 +96,8 @@ TEST_CASE("FILE.EXT.gz: the format from EXT, the material from the name without 
     CHECK(surface_format_from_path("bone.stl.GZ") == SurfaceFormat::Stl);
     CHECK_FALSE(surface_format_from_path("femur.gz").has_value());
 
-    const fs::path dir = fs::temp_directory_path() / ("bpm_gzip_input_test_" + std::to_string(::getpid()));
-    fs::create_directories(dir);
+    const test_support::ScratchDir scratch("gzip_input_test");
+    const fs::path& dir = scratch.path;
     write_file(dir / "bone.off.gz", gzip(kTetOff));
     SurfaceReadReport report;
     const Surface s = read_surface((dir / "bone.off.gz").string(), {}, &report);
@@ -114,7 +114,6 @@ TEST_CASE("FILE.EXT.gz: the format from EXT, the material from the name without 
     // gzip data under a plain name is recognised by its magic bytes.
     write_file(dir / "zipped.off", gzip(kTetOff));
     CHECK(read_surface((dir / "zipped.off").string()).num_triangles() == 4);
-    fs::remove_all(dir);
 }
 
 TEST_CASE(".bpm.gz is read like the .bpm", "[io][gzip]") {
@@ -125,8 +124,8 @@ TEST_CASE(".bpm.gz is read like the .bpm", "[io][gzip]") {
     CHECK(back.format_version.major == bpm_format_version().major);
     CHECK(back.format_version.minor == bpm_format_version().minor);
 
-    const fs::path dir = fs::temp_directory_path() / ("bpm_gzip_bpm_test_" + std::to_string(::getpid()));
-    fs::create_directories(dir);
+    const test_support::ScratchDir scratch("gzip_bpm_test");
+    const fs::path& dir = scratch.path;
     const std::string zipped = gzip(bytes);
     write_file(dir / "example.bpm.gz", zipped);
     const BpmInfo info = read_bpm_info((dir / "example.bpm.gz").string());
@@ -135,5 +134,4 @@ TEST_CASE(".bpm.gz is read like the .bpm", "[io][gzip]") {
     write_file(dir / "cut.bpm.gz", zipped.substr(0, zipped.size() / 2));
     CHECK_THAT(error_of([&] { (void)read_bpm((dir / "cut.bpm.gz").string()); }),
                Catch::Contains("cut.bpm.gz: truncated gzip data"));
-    fs::remove_all(dir);
 }

@@ -3,8 +3,6 @@
 // encodings a format does not have are refused, not ignored.
 #include <catch2/catch.hpp>
 
-#include <unistd.h>
-
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -16,22 +14,12 @@
 #include "bpm/mesh_encoding.h"
 #include "bpm/surface_io.h"
 #include "bpm/write_vtu.h"
+#include "test_support.h"
 
 using namespace bpm;
+using bpm::test_support::ScratchDir;
 
 namespace {
-
-// A fresh directory under the temporary directory, removed at the end of the test.
-struct ScratchDir {
-    std::filesystem::path path;
-    explicit ScratchDir(const std::string& name)
-        : path(std::filesystem::temp_directory_path() / ("bpm_" + name + "_" + std::to_string(::getpid()))) {
-        std::filesystem::remove_all(path);
-        std::filesystem::create_directories(path);
-    }
-    ~ScratchDir() { std::filesystem::remove_all(path); }
-    std::string file(const std::string& name) const { return (path / name).string(); }
-};
 
 std::string file_bytes(const std::string& path) {
     std::ifstream in(path, std::ios::binary);

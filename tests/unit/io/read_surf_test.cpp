@@ -4,8 +4,6 @@
 // Parameters with nested braces and quoted strings, the sections that are parsed and not
 // used, unknown keys; the format from the head of a file without the extension; errors
 // with their line (ASCII) or byte offset (BINARY).
-#include <unistd.h>
-
 #include <algorithm>
 #include <array>
 #include <catch2/catch.hpp>
@@ -175,12 +173,6 @@ std::string replaced(std::string bytes, const std::string& from, const std::stri
         CHECK(message_.find(text) != std::string::npos); \
     } while (0)
 
-fs::path scratch_dir() {
-    const fs::path dir = fs::temp_directory_path() / ("bpm_read_surf_test_" + std::to_string(::getpid()));
-    fs::create_directories(dir);
-    return dir;
-}
-
 }  // namespace
 
 TEST_CASE("HyperSurface: format name and extension, writing refused, a hint for the wrong format",
@@ -199,14 +191,14 @@ TEST_CASE("HyperSurface: format name and extension, writing refused, a hint for 
     }();
     CHECK(message.find("looks like HyperSurface, not OFF") != std::string::npos);
 
-    const fs::path dir = scratch_dir();
+    const test_support::ScratchDir scratch("read_surf_test");
+    const fs::path& dir = scratch.path;
     const Surface s = read_surface_from_memory(bytes, SurfaceFormat::Surf, "t.surf");
     CHECK_THROWS_WITH(write_surface((dir / "out.surf").string(), s),
                       Catch::Contains("cannot write Amira HyperSurface"));
     CHECK_THROWS_AS(write_surface((dir / "out.off").string(), s, SurfaceFormat::Surf), OutputError);
     CHECK_FALSE(fs::exists(dir / "out.surf"));
     CHECK_FALSE(fs::exists(dir / "out.off"));
-    fs::remove_all(dir);
 }
 
 TEST_CASE("HyperSurface: two materials, ASCII, BINARY and BINARY-LITTLE-ENDIAN, give the same surface and notes",
@@ -323,7 +315,8 @@ TEST_CASE("HyperSurface: many patches are summed up in one note", "[surface_io][
 }
 
 TEST_CASE("HyperSurface: a file without the extension is read by its first line", "[surface_io][surf]") {
-    const fs::path dir = scratch_dir();
+    const test_support::ScratchDir scratch("read_surf_test");
+    const fs::path& dir = scratch.path;
     for (const bool binary : {false, true}) {
         for (const char* name : {"labels", "labels.dat", "labels.surf"}) {
             INFO(name << (binary ? " BINARY" : " ASCII"));
@@ -339,7 +332,6 @@ TEST_CASE("HyperSurface: a file without the extension is read by its first line"
     // Only the HyperSurface head chooses a format; other files still need their extension.
     std::ofstream(dir / "mesh.dat") << "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
     CHECK_THROWS_WITH(read_surface((dir / "mesh.dat").string()), Catch::Contains("cannot tell the surface format"));
-    fs::remove_all(dir);
 }
 
 TEST_CASE("HyperSurface: ASCII errors name the line", "[surface_io][surf]") {

@@ -4,12 +4,8 @@
 // their line or byte offset.
 #include <catch2/catch.hpp>
 
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -504,27 +500,16 @@ TEST_CASE("VTK: errors name the line (ASCII) or byte offset (BINARY) and what wa
     }
 }
 
-namespace {
-int run_command(const std::string& command, std::string& output) {
-    output.clear();
-    FILE* pipe = popen(command.c_str(), "r");
-    if (!pipe) return -1;
-    char buffer[4096];
-    size_t n;
-    while ((n = fread(buffer, 1, sizeof buffer, pipe)) > 0) output.append(buffer, n);
-    const int status = pclose(pipe);
-    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
-}  // namespace
-
 TEST_CASE("VTK: point data written by VTK itself (every array type, ASCII and binary, 4.2 and 5.1) reads exactly",
           "[surface_io][vtk]") {
+    using test_support::run_command;
     std::string out;
     if (run_command("/usr/bin/python3 -c 'import vtk' 2>/dev/null", out) != 0) {
         WARN("SKIPPED: python3-vtk9 is not installed; VTK-written files not read");
         return;
     }
-    const std::string dir = "/tmp/bpm_read_vtk_test_" + std::to_string(::getpid());
+    const test_support::ScratchDir scratch("read_vtk_test");
+    const std::string dir = scratch.file("vtk");
     // Two triangles as a strip; arrays of each VTK type, component names (METADATA), a
     // string array (skipped), a bit array, and the dataset's own field data.
     const std::string script = R"PY(
@@ -570,7 +555,7 @@ for binary in (0, 1):
         w.SetFileName(os.path.join(d, "%s_%d.vtk" % ("binary" if binary else "ascii", version)))
         w.SetFileType(2 if binary else 1); w.SetFileVersion(version); w.Write()
 )PY";
-    const std::string script_path = dir + ".py";
+    const std::string script_path = scratch.file("write_vtk.py");
     { std::ofstream(script_path) << script; }
     const int status = run_command("/usr/bin/python3 " + script_path + " " + dir + " 2>&1", out);
     INFO(out);

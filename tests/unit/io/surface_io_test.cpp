@@ -3,8 +3,6 @@
 // InputError that says where and what (never a crash, a hang or a huge allocation).
 #include <catch2/catch.hpp>
 
-#include <unistd.h>
-
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -16,6 +14,7 @@
 #include "bpm/errors.h"
 #include "bpm/surface_io.h"
 #include "test_bytes.h"
+#include "test_support.h"
 
 using namespace bpm;
 namespace fs = std::filesystem;
@@ -37,12 +36,6 @@ Surface awkward_tetrahedron() {
                   {-5.5, 1e-7, 3.0000000000000004}};
     s.patches = {7, 2, 7, 0};
     return s;
-}
-
-fs::path scratch_dir() {
-    const fs::path dir = fs::temp_directory_path() / ("bpm_surface_io_test_" + std::to_string(::getpid()));
-    fs::create_directories(dir);
-    return dir;
 }
 
 std::string file_bytes(const fs::path& path) {
@@ -439,7 +432,8 @@ TEST_CASE("standard input needs an explicit format", "[surface_io]") {
 // ============================================================================ round trips
 
 TEST_CASE("write then read gives back the same surface bit for bit", "[surface_io]") {
-    const fs::path dir = scratch_dir();
+    const test_support::ScratchDir scratch("surface_io_test");
+    const fs::path& dir = scratch.path;
     const Surface t = awkward_tetrahedron();
     for (const char* ext : {"off", "obj", "ply", "msh"}) {
         INFO(ext);
@@ -456,11 +450,11 @@ TEST_CASE("write then read gives back the same surface bit for bit", "[surface_i
         write_surface(path.string(), back);
         CHECK(file_bytes(path) == first);
     }
-    fs::remove_all(dir);
 }
 
 TEST_CASE("STL round trip is exact for float coordinates", "[surface_io]") {
-    const fs::path dir = scratch_dir();
+    const test_support::ScratchDir scratch("surface_io_test");
+    const fs::path& dir = scratch.path;
     Surface t = tetrahedron();
     t.vertices[1] = {0.25f, -3.5f, 1e-3f};  // representable as float
     t.patches.assign(4, 0);                 // STL has no patches
@@ -471,11 +465,11 @@ TEST_CASE("STL round trip is exact for float coordinates", "[surface_io]") {
     CHECK(file_bytes(path).size() == 84 + 50 * 4);
     CHECK(file_bytes(path).rfind("solid", 0) != 0);  // the header must not look like ASCII STL
     check_same(read_surface(path.string()), t);
-    fs::remove_all(dir);
 }
 
 TEST_CASE("writer refuses inconsistent surfaces and unknown formats", "[surface_io]") {
-    const fs::path dir = scratch_dir();
+    const test_support::ScratchDir scratch("surface_io_test");
+    const fs::path& dir = scratch.path;
     Surface t = tetrahedron();
     t.patches.pop_back();
     CHECK_THROWS_AS(write_surface((dir / "x.off").string(), t), OutputError);
@@ -487,7 +481,6 @@ TEST_CASE("writer refuses inconsistent surfaces and unknown formats", "[surface_
     CHECK_THROWS_AS(write_surface((dir / "x.stl").string(), huge), OutputError);
     huge.vertices[3][2] = std::numeric_limits<double>::quiet_NaN();
     CHECK_THROWS_AS(write_surface((dir / "x.obj").string(), huge), OutputError);
-    fs::remove_all(dir);
 }
 
 // ============================================================================ malformed input, by kind
@@ -500,7 +493,8 @@ TEST_CASE("reject: empty file", "[surface_io]") {
 }
 
 TEST_CASE("reject: directory, missing file, unknown extension", "[surface_io]") {
-    const fs::path dir = scratch_dir();
+    const test_support::ScratchDir scratch("surface_io_test");
+    const fs::path& dir = scratch.path;
     fs::create_directories(dir / "looks_like.off");
     try {
         (void)read_surface((dir / "looks_like.off").string());
@@ -512,7 +506,6 @@ TEST_CASE("reject: directory, missing file, unknown extension", "[surface_io]") 
     CHECK_THROWS_AS(read_surface((dir / "missing.off").string()), InputError);
     std::ofstream(dir / "mesh.txt") << "OFF\n";
     CHECK_THROWS_WITH(read_surface((dir / "mesh.txt").string()), Catch::Contains("format"));
-    fs::remove_all(dir);
 }
 
 TEST_CASE("reject: truncated files", "[surface_io]") {

@@ -7,8 +7,6 @@
 #include <catch2/catch.hpp>
 #include <zlib.h>
 
-#include <unistd.h>
-
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -20,6 +18,7 @@
 #include "bpm/surface_io.h"
 #include "bpm/write_vtu.h"
 #include "test_bytes.h"
+#include "test_support.h"
 
 using namespace bpm;
 namespace fs = std::filesystem;
@@ -283,12 +282,11 @@ TEST_CASE("vtk xml: formats, names and write refusal", "[surface_io][vtk_xml]") 
     s.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
     s.triangles = {{0, 1, 2}};
     s.patches = {0};
-    const fs::path dir = fs::temp_directory_path() / ("bpm_vtk_xml_test_" + std::to_string(::getpid()));
-    fs::create_directories(dir);
+    const test_support::ScratchDir scratch("vtk_xml_test");
+    const fs::path& dir = scratch.path;
     CHECK_THROWS_AS(write_surface((dir / "x.vtp").string(), s), OutputError);
     CHECK_THROWS_AS(write_surface((dir / "x.off").string(), s, SurfaceFormat::Vtu), OutputError);
     CHECK(!fs::exists(dir / "x.vtp"));
-    fs::remove_all(dir);
 }
 
 TEST_CASE("vtk xml: files VTK wrote (ascii with InformationKey, zlib binary)", "[surface_io][vtk_xml]") {
@@ -474,8 +472,8 @@ TEST_CASE("vtk xml: reads back what bpm-refine's write_surface_vtu writes", "[su
     s.vertices = {{0.1, 0, 0}, {1, 1.0 / 3, 0}, {0, 1, 2.0 / 3}, {0, 0, 1e-300}};
     s.triangles = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
     s.patches = {3, -1, 3, 8};
-    const fs::path dir = fs::temp_directory_path() / ("bpm_vtk_xml_test_vtu_" + std::to_string(::getpid()));
-    fs::create_directories(dir);
+    const test_support::ScratchDir scratch("vtk_xml_test_vtu");
+    const fs::path& dir = scratch.path;
     const std::string path = (dir / "refined.vtu").string();
     write_surface_vtu(path, s, {{"temperature", 1, {1.5, 2.5, -3, 1e-20}}, {"bary", 3, std::vector<double>(12, 0.25)}},
               {{"level", 1, {0, 1, 2, 3}}});
@@ -488,7 +486,6 @@ TEST_CASE("vtk xml: reads back what bpm-refine's write_surface_vtu writes", "[su
     REQUIRE(r.vertex_data.size() == 2);
     CHECK(r.vertex_data[0].values == std::vector<double>{1.5, 2.5, -3, 1e-20});
     CHECK(r.vertex_data[1].components == 3);
-    fs::remove_all(dir);
 }
 
 TEST_CASE("vtk xml: malformed files fail with their line", "[surface_io][vtk_xml]") {
@@ -685,7 +682,8 @@ void put_text_file(const fs::path& path, const std::string& text) {
 }  // namespace
 
 TEST_CASE("vtk xml: a parallel file (.pvtp) reads as the union of its pieces", "[surface_io][vtk_xml]") {
-    const fs::path dir = fs::temp_directory_path() / ("bpm_pvtp_test_" + std::to_string(::getpid()));
+    const test_support::ScratchDir scratch("pvtp_test");
+    const fs::path& dir = scratch.path;
     fs::create_directories(dir / "parts");
     // A tetrahedron in two pieces of two triangles; the pieces share all four points.
     const std::vector<Vec3> x = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
@@ -722,5 +720,4 @@ TEST_CASE("vtk xml: a parallel file (.pvtp) reads as the union of its pieces", "
     // An error inside a piece names the piece file and its line.
     put_text_file(dir / "parts" / "broken.vtp", "<?xml version=\"1.0\"?>\n<VTKFile type=\"PolyData\">\n<PolyData>\n");
     CHECK_THAT(error_of(pvtp({"parts/t_0.vtp", "parts/broken.vtp"})), Catch::Contains("broken.vtp: line"));
-    fs::remove_all(dir);
 }

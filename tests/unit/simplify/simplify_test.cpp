@@ -11,25 +11,18 @@
 #include "bpm/simplify.h"
 #include "bpm/surface_io.h"
 #include "fixtures_surfaces.h"
+#include "test_support.h"
 
 using namespace bpm;
 
 namespace {
 
+// Format, bijectivity and topology (test_support), and no self-intersections of S.
 void require_valid(const Parametrization& p, const std::string& label) {
     INFO(label);
-    CheckOptions options;
-    const CheckResult format = check_format(p, options);
-    INFO(check_report_to_text(CheckReport{label, {format}}));
-    REQUIRE(format.passed);
-    const CheckResult bijective = check_bijectivity(p, options);
-    INFO(check_report_to_text(CheckReport{label, {bijective}}));
-    CHECK(bijective.passed);
-    const CheckResult topology = check_topology(p, options);
-    INFO(check_report_to_text(CheckReport{label, {topology}}));
-    CHECK(topology.passed);
-    const CheckResult intersections = check_intersections(p.coarse, options);
-    INFO(check_report_to_text(CheckReport{label, {intersections}}));
+    test_support::require_valid_parametrization(p);
+    const CheckResult intersections = check_intersections(p.coarse);
+    INFO(test_support::check_text(intersections));
     CHECK(intersections.passed);
 }
 

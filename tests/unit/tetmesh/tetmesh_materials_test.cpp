@@ -2,8 +2,6 @@
 // (bpm/tetmesh_materials.h): the name conventions, the file-per-material and fused-interface
 // rules, the resolution of region materials (oriented, unordered, conflicts, user names),
 // the /patch_info and /tetmesh material datasets in .bpm files, and the exports.
-#include <unistd.h>
-
 #include <catch2/catch.hpp>
 #include <filesystem>
 #include <fstream>
@@ -23,12 +21,6 @@ using namespace bpm;
 namespace fs = std::filesystem;
 
 namespace {
-
-fs::path temp_dir() {
-    const fs::path dir = fs::temp_directory_path() / ("bpm-materials-test-" + std::to_string(getpid()));
-    fs::create_directories(dir);
-    return dir;
-}
 
 // Two tetrahedra sharing the face (0, 1, 2): A = (0,1,2,3) above it, B = (0,2,1,4) below
 // (both positively oriented), region 1 = A, region 2 = B; faces = the 7 triangles of the
@@ -146,7 +138,8 @@ TEST_CASE("materials: the HyperSurface fixture's InnerRegion/OuterRegion name th
 }
 
 TEST_CASE("materials: one file per material, interfaces fused, name the materials after the files", "[materials]") {
-    const fs::path dir = temp_dir();
+    const test_support::ScratchDir scratch("materials_test");
+    const fs::path& dir = scratch.path;
     // The two cubes of fixtures::two_cubes as two closed surfaces, left.off and right.off.
     const Surface both = fixtures::two_cubes();
     for (const auto& [name, label] : {std::pair{"left", 1}, std::pair{"right", 2}}) {
@@ -192,7 +185,6 @@ TEST_CASE("materials: one file per material, interfaces fused, name the material
     std::sort(names.begin(), names.end());
     CHECK(names == std::vector<std::string>{"left", "right"});
     CHECK(r.problems.empty());
-    fs::remove_all(dir);
 }
 
 TEST_CASE("materials: .bpm files carry /patch_info and the region materials, older files read without them",

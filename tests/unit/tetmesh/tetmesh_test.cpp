@@ -3,8 +3,6 @@
 // message saying so) when it is not on PATH.
 
 #include <hdf5.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <catch2/catch.hpp>
 
@@ -26,6 +24,8 @@
 #include "fixtures_surfaces.h"
 
 using namespace bpm;
+using test_support::run_command;
+using test_support::ScratchDir;
 
 namespace {
 
@@ -52,24 +52,6 @@ std::map<std::array<int32_t, 3>, int> face_counts(const TetMesh& m) {
             ++count[sorted(f)];
         }
     return count;
-}
-
-std::string temp_path(const std::string& name) {
-    const auto dir = std::filesystem::temp_directory_path() / ("bpm-tetmesh-test-" + std::to_string(getpid()));
-    std::filesystem::create_directories(dir);
-    return (dir / name).string();
-}
-
-// Runs a command, returns its exit status and standard output.
-int run_capture(const std::string& command, std::string& output) {
-    output.clear();
-    FILE* pipe = popen(command.c_str(), "r");
-    if (!pipe) return -1;
-    char buffer[4096];
-    size_t n;
-    while ((n = fread(buffer, 1, sizeof buffer, pipe)) > 0) output.append(buffer, n);
-    const int status = pclose(pipe);
-    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
 }  // namespace
@@ -225,7 +207,8 @@ TEST_CASE("tetmesh: a missing or failing tetgen is an ExternalToolError naming t
         CHECK(what.find("tetgen failed (exit status 1)") != std::string::npos);
     }
     // A script standing in for TetGen that prints an error: its output is in the message.
-    const std::string fake = temp_path("fake-tetgen.sh");
+    const ScratchDir scratch("tetmesh_test");
+    const std::string fake = scratch.file("fake-tetgen.sh");
     {
         std::ofstream out(fake);
         out << "#!/bin/sh\necho 'Error:  A self-intersection was detected.'\nexit 3\n";
@@ -286,7 +269,8 @@ TEST_CASE("tetmesh: the reader rejects a malformed /tetmesh group naming the dat
     BpmFile file;
     file.param = fixtures::identity_parametrization(fixtures::cube());
     file.tetmesh = mesh_of(file.param);
-    const std::string path = temp_path("malformed.bpm");
+    const ScratchDir scratch("tetmesh_test");
+    const std::string path = scratch.file("malformed.bpm");
     auto mutate = [&](const std::function<void(hid_t)>& change) {
         write_bpm(path, file);
         H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
@@ -359,16 +343,17 @@ TEST_CASE("tetmesh: exports are read back by independent readers", "[tetmesh][ex
     for (int32_t r : m.regions) ++per_region[r];
     for (int32_t q : m.face_patches) ++per_patch[q];
 
-    const std::string msh = temp_path("wedges.msh");
-    const std::string vtu = temp_path("wedges.vtu");
-    const std::string medit = temp_path("wedges.mesh");
+    const ScratchDir scratch("tetmesh_test");
+    const std::string msh = scratch.file("wedges.msh");
+    const std::string vtu = scratch.file("wedges.vtu");
+    const std::string medit = scratch.file("wedges.mesh");
     write_tetmesh(msh, m, TetMeshFormat::Msh);
     write_tetmesh(vtu, m, TetMeshFormat::Vtu);
     write_tetmesh(medit, m, TetMeshFormat::Medit);
     CHECK(tetmesh_format_from_path("a/b.MSH") == TetMeshFormat::Msh);
     CHECK(tetmesh_format_from_path("x.mesh") == TetMeshFormat::Medit);
     CHECK(!tetmesh_format_from_path("x.off"));
-    CHECK_THROWS_AS(write_tetmesh(temp_path("x.bpm"), m, TetMeshFormat::Bpm), OutputError);
+    CHECK_THROWS_AS(write_tetmesh(scratch.file("x.bpm"), m, TetMeshFormat::Bpm), OutputError);
 
     // MEDIT: parse here.
     {
@@ -400,12 +385,12 @@ TEST_CASE("tetmesh: exports are read back by independent readers", "[tetmesh][ex
     }
 
     std::string out;
-    if (run_capture("/usr/bin/python3 -c 'import sys' 2>/dev/null", out) != 0) {
+    if (run_command("/usr/bin/python3 -c 'import sys' 2>/dev/null", out) != 0) {
         WARN("SKIPPED: /usr/bin/python3 is not available; MSH and VTU exports not re-read");
         return;
     }
     // Gmsh MSH 4.1 by a small independent Python reader (meshio is not installed here).
-    const std::string reader = temp_path("read_msh.py");
+    const std::string reader = scratch.file("read_msh.py");
     {
         std::ofstream py(reader);
         py << R"PY(import sys
@@ -455,7 +440,7 @@ print(nnodes)
 for (etype, p), c in sorted(result.items()): print(etype, p, c)
 )PY";
     }
-    REQUIRE(run_capture("/usr/bin/python3 " + reader + " " + msh, out) == 0);
+    REQUIRE(run_command("/usr/bin/python3 " + reader + " " + msh, out) == 0);
     std::ostringstream expected;
     expected << nv << "\n";
     for (const auto& [patch, count] : per_patch) expected << "2 " << patch + 1 << " " << count << "\n";  // physical tag = patch + 1
@@ -463,7 +448,7 @@ for (etype, p), c in sorted(result.items()): print(etype, p, c)
     CHECK(out == expected.str());
 
     // VTU by VTK's own reader (python3-vtk9).
-    if (run_capture("/usr/bin/python3 -c 'import vtk' 2>/dev/null", out) != 0) {
+    if (run_command("/usr/bin/python3 -c 'import vtk' 2>/dev/null", out) != 0) {
         WARN("SKIPPED: python3-vtk9 is not installed; VTU export not re-read");
         return;
     }
@@ -472,9 +457,9 @@ for (etype, p), c in sorted(result.items()): print(etype, p, c)
                                    "g = r.GetOutput(); a = g.GetCellData().GetArray('region')\n"
                                    "print(g.GetNumberOfPoints(), g.GetNumberOfCells(), g.GetCellType(0), "
                                    "int(a.GetRange()[0]), int(a.GetRange()[1]))\n";
-    const std::string vtk_reader = temp_path("read_vtu.py");
+    const std::string vtk_reader = scratch.file("read_vtu.py");
     std::ofstream(vtk_reader) << vtk_script;
-    REQUIRE(run_capture("/usr/bin/python3 " + vtk_reader + " " + vtu + " 2>&1", out) == 0);
+    REQUIRE(run_command("/usr/bin/python3 " + vtk_reader + " " + vtu + " 2>&1", out) == 0);
     CHECK(out == std::to_string(nv) + " " + std::to_string(nt) + " 10 1 3\n");
 }
 
