@@ -93,6 +93,7 @@ MANUAL_SECTIONS = [
     "inverse-phi-throughput.md",
     "floor-bpm-size-and-memory.md",
     "tets-without-slivers-and-phi-distortion.md",
+    "convergence-limits-and-distortion-weight.md",
     "output-formats.md",
 ]
 RUN_RECORD = "all.json"  # in the results folder: what `all` ran, for --assemble
