@@ -90,6 +90,7 @@ MANUAL = os.path.join(RESULTS, "manual")
 MANUAL_SECTIONS = [
     "solvers-dune-torsion.md",
     "solvers-adaptive-ug-and-interfaces.md",
+    "solvers-adaptive-ug-one-adapt-per-level.md",
     "inverse-phi-throughput.md",
     "floor-bpm-size-and-memory.md",
     "tets-without-slivers-and-phi-distortion.md",

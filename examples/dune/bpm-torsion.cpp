@@ -21,9 +21,6 @@
 #include <string>
 #include <vector>
 
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include <CLI/CLI.hpp>
 
 #include <dune/common/parallel/mpihelper.hh>
@@ -37,6 +34,7 @@
 #include <dune/istl/solvers.hh>
 
 #include "bpm/bpm_file.h"
+#include "bpm/dune/uggrid_adapt.h"
 #include "bpm/dune/uggrid_from_bpm.h"
 #include "bpm/dune/uggrid_refinement_rules.h"
 #include "bpm/dune/uggrid_repair.h"
@@ -70,9 +68,9 @@ struct LevelReport {
     long smoothed = 0;                // interior vertices the repair's smoothing moved
     long reset = 0;                   // earlier boundary vertices put back to midpoints (repair_uggrid)
     long rules_kept = 0;              // bpm::dune::uggrid_refinement_rules_kept() during this refinement
-    long marked = 0;   // adaptive: elements marked for this level's refinement
-    long probes = 0;   // adaptive: adapt steps tried in a forked child (safe_marks)
-    long dropped = 0;  // adaptive: elements the estimator chose but UG's adapt could not take
+    long marked = 0;      // adaptive: elements marked for this level's refinement
+    int adapts = 0;       // adaptive: UG adapt() calls of this step (one per level UG refines, bpm/dune/uggrid_adapt.h)
+    long superseded = 0;  // adaptive: marked leaves an earlier adapt() of this step had replaced
     int cg_iterations = 0;
     bool cg_converged = false;
     double seconds = 0;
@@ -274,133 +272,6 @@ std::vector<Grid::LeafGridView::Codim<0>::Entity> select_by_estimator(
     return selected;
 }
 
-// Debian's UG 2.9 (libduneuggrid, built with assertions on) can abort the whole process in
-// an adapt step of local refinement: `VCOUNT(Vector0)==1 && VCOUNT(Vector1)==1` fails in
-// DisposeDoubledSideVector, called from Connect_Sons_of_ElementSide (gm/refine.cc), when
-// new children are connected to the existing children of a neighbour across a face, and
-// one of the two face objects ("side vectors") is already shared with another element.
-// What we measured (elephant at 10 %, flat and phi alike, so not caused by moved vertices;
-// the census code is in the notes of branch solvers): it fires from the third adapt step
-// on, and also when only elements of green closures (irregular: UG moves their marks to
-// their regular father) are marked; before that adapt, UG's reference count (VCOUNT) of
-// every side vector on every level equals the number of element sides that use it, and no
-// face has two, so the inconsistency arises inside the one AdaptMultiGrid call. (The counts
-// are reset after each adapt by UG's ConstructConsistentMultiGrid, ModelP, from the
-// neighbour pointers; DUNE's UGGrid does not touch them.) COPY refinement (GM_COPY_ALL)
-// aborts alike. Not found in the time we had: which rule combination; a UG bug report
-// needs a debug build of dune-uggrid to name the element pair.
-//
-// The workaround: every adapt step is first tried in a forked child (copy-on-write: the
-// parent's grid is untouched). If the child dies, the marked set is split and the parts
-// tried in turn, keeping the parts UG survives and dropping single elements it does not
-// (they can be marked again in the next step, when their neighbourhood has changed).
-// safe_marks returns the elements that are safe to mark; `probes` and `dropped` count the
-// children and the elements left out; `failure` says what happened to the first child
-// that died. UG's adapt is deterministic, so the parent's own adapt with the kept marks
-// repeats a child's that survived.
-bool adapt_survives(Grid& grid, const std::vector<Grid::LeafGridView::Codim<0>::Entity>& marks, std::string& failure) {
-    std::cout.flush();
-    std::cerr.flush();
-    const pid_t pid = fork();
-    if (pid < 0) return true;  // cannot probe: just try
-    if (pid == 0) {
-        // Quiet: UG's assertion message and Open MPI's backtrace would repeat per probe.
-        if (!freopen("/dev/null", "w", stderr)) _exit(3);
-        for (const auto& e : marks) grid.mark(1, e);
-        grid.preAdapt();
-        grid.adapt();
-        _exit(0);
-    }
-    int status = 0;
-    if (waitpid(pid, &status, 0) != pid) return true;
-    if (WIFEXITED(status) && WEXITSTATUS(status) == 0) return true;
-    if (failure.empty())
-        failure = WIFSIGNALED(status) ? "UG's adapt() died with signal " + std::to_string(WTERMSIG(status))
-                                      : "UG's adapt() exited with status " + std::to_string(WEXITSTATUS(status));
-    return false;
-}
-
-// Marks that make UG's adapt abort, as far as we saw them (femur at 10 %, step 2: all 3
-// dropped marks): regular elements with an irregular (green closure) leaf neighbour and a
-// marked regular neighbour. A heuristic to probe them last, not UG's rule.
-bool suspicious_mark(const Grid& grid, const Grid::LeafGridView::Codim<0>::Entity& element, const std::vector<char>& is_marked) {
-    if (!element.isRegular()) return false;
-    const auto view = grid.leafGridView();
-    bool irregular_neighbour = false, marked_regular_neighbour = false;
-    for (const auto& is : intersections(view, element)) {
-        if (!is.neighbor()) continue;
-        const auto neighbour = is.outside();
-        if (!neighbour.isRegular())
-            irregular_neighbour = true;
-        else if (is_marked[static_cast<size_t>(view.indexSet().index(neighbour))])
-            marked_regular_neighbour = true;
-    }
-    return irregular_neighbour && marked_regular_neighbour;
-}
-
-// The marks of `wanted` UG's adapt survives (see adapt_survives). If the whole set fails:
-// the marks that are not suspicious_mark are tried on their own first (when they survive,
-// only the suspicious ones are split); then the failing part is split in halves, first half
-// on top of the stack, each part tried together with what is kept so far; a single mark
-// that fails is dropped. When a first half is kept, its second half's trial (kept + second
-// half) is the one that just failed, so it is split without a probe (UG's adapt is
-// deterministic). After `max_probes` probes the parts not yet tried are dropped.
-std::vector<Grid::LeafGridView::Codim<0>::Entity> safe_marks(Grid& grid,
-                                                             const std::vector<Grid::LeafGridView::Codim<0>::Entity>& wanted,
-                                                             long max_probes, long& probes, long& dropped,
-                                                             std::string& failure) {
-    using Entity = Grid::LeafGridView::Codim<0>::Entity;
-    ++probes;
-    if (adapt_survives(grid, wanted, failure)) return wanted;
-    struct Part {
-        std::vector<Entity> marks;
-        bool first_half = false;     // its second half lies right below it on the stack
-        bool known_to_fail = false;  // its trial with the current `kept` failed already
-    };
-    std::vector<Entity> kept;
-    std::vector<Part> parts{{wanted, false, true}};
-    {
-        const auto view = grid.leafGridView();
-        std::vector<char> is_marked(static_cast<size_t>(view.size(0)), 0);
-        for (const auto& e : wanted) is_marked[static_cast<size_t>(view.indexSet().index(e))] = 1;
-        std::vector<Entity> ordinary, suspicious;
-        for (const auto& e : wanted) (suspicious_mark(grid, e, is_marked) ? suspicious : ordinary).push_back(e);
-        if (!suspicious.empty() && !ordinary.empty()) {
-            ++probes;
-            if (adapt_survives(grid, ordinary, failure)) {
-                kept = std::move(ordinary);
-                parts = {{std::move(suspicious), false, true}};
-            }
-        }
-    }
-    while (!parts.empty()) {
-        Part part = std::move(parts.back());
-        parts.pop_back();
-        if (probes >= max_probes) {
-            dropped += static_cast<long>(part.marks.size());
-            continue;
-        }
-        if (!part.known_to_fail) {
-            std::vector<Entity> trial = kept;
-            trial.insert(trial.end(), part.marks.begin(), part.marks.end());
-            ++probes;
-            if (adapt_survives(grid, trial, failure)) {
-                kept = std::move(trial);
-                if (part.first_half) parts.back().known_to_fail = true;
-                continue;
-            }
-        }
-        if (part.marks.size() == 1) {
-            ++dropped;
-            continue;
-        }
-        const auto half = part.marks.begin() + static_cast<std::ptrdiff_t>(part.marks.size() / 2);
-        parts.push_back({std::vector<Entity>(half, part.marks.end()), false, false});
-        parts.push_back({std::vector<Entity>(part.marks.begin(), half), true, false});
-    }
-    return kept;
-}
-
 std::string json_string(const std::string& text) {
     std::string out = "\"";
     for (char c : text) {
@@ -427,7 +298,6 @@ int main(int argc, char** argv) {
     int levels = 2;
     bool flat = false, adaptive = false, json = false, no_repair = false, no_smooth = false, flat_interfaces = false;
     double reference_j = 0, until_error = 0;
-    long max_probes = 1000000;
     app.add_option("INPUT", input, ".bpm file with a tet mesh (bpm-mesh)")->required();
     app.add_option("--levels", levels, "Refinement steps K: levels 0..K are solved (uniform: K <= 8)")
         ->check(CLI::Range(0, 40));
@@ -440,10 +310,6 @@ int main(int argc, char** argv) {
                  "by default the repair moves them towards phi like boundary vertices");
     app.add_flag("--no-smooth", no_smooth, "Repair without interior smoothing (only boundary vertices move)");
     app.add_flag("--json", json, "Print the report as JSON on standard output (progress stays on standard error)");
-    app.add_option("--max-probes", max_probes,
-                   "With --adaptive: at most this many forked adapt tries per step; marks not yet tried then are "
-                   "dropped (left for the next step)")
-        ->check(CLI::PositiveNumber);
     auto* reference_option =
         app.add_option("--reference-j", reference_j, "Reference value of J (for --until-error)")->check(CLI::PositiveNumber);
     app.add_option("--until-error", until_error,
@@ -470,55 +336,41 @@ int main(int argc, char** argv) {
 
         std::vector<LevelReport> reports;
         std::vector<Dune::FieldVector<double, 3>> gradients;
-        std::string adaptive_stopped, adaptive_failure;
         int reached_error = -1;  // --until-error: the level that reached it
         int64_t rules_kept_before = bpm::dune::uggrid_refinement_rules_kept();
         bpm::BoundaryRepairOptions repair_options;
         repair_options.smooth = !no_smooth;
         for (int level = 0; level <= levels; ++level) {
             const auto start = std::chrono::steady_clock::now();
-            long report_probes = 0, report_dropped = 0, report_marked = 0;
-            if (level > 0) {
-                if (adaptive) {
-                    const auto wanted = select_by_estimator(grid, gradients);
-                    std::string failure;
-                    const auto marks = safe_marks(grid, wanted, max_probes, report_probes, report_dropped, failure);
-                    if (!failure.empty() && adaptive_failure.empty()) adaptive_failure = "step " + std::to_string(level) + ": " + failure;
-                    if (marks.empty()) {
-                        adaptive_stopped = "step " + std::to_string(level) + ": no marked element survives UG's adapt (" + failure + ")";
-                        std::cerr << "bpm-torsion: adaptive refinement stopped at " << adaptive_stopped << "\n";
-                        break;
-                    }
-                    report_marked = static_cast<long>(marks.size());
-                    for (const auto& e : marks) grid.mark(1, e);
-                    grid.preAdapt();
-                    grid.adapt();
-                    grid.postAdapt();
-                } else {
-                    grid.globalRefine(1);
-                }
-            }
             LevelReport report;
             report.level = level;
-            report.marked = report_marked;
-            report.probes = report_probes;
-            report.dropped = report_dropped;
-            report.rules_kept = bpm::dune::uggrid_refinement_rules_kept() - rules_kept_before;
-            rules_kept_before += report.rules_kept;
-            if (level > 0) {
+            // After every adapt()/globalRefine(1): parameter points of the new boundary vertices,
+            // then the repair (before the next adapt() refines the repaired grid).
+            auto after_refinement = [&]() {
                 const auto added = params.update(grid);
-                if (!flat) {
-                    report.inverted_before_repair = count_inverted(grid);
-                    if (!no_repair) {
-                        int64_t reset = 0;
-                        const bpm::BoundaryRepairResult r =
-                            bpm::dune::repair_uggrid(grid, params, added, *phi, repair_options, &reset);
-                        report.reset = reset;
-                        report.held_back = r.held_back;
-                        report.smoothed = r.smoothed_vertices;
-                    }
+                if (flat) return;
+                report.inverted_before_repair += count_inverted(grid);
+                if (no_repair) return;
+                int64_t reset = 0;
+                const bpm::BoundaryRepairResult r = bpm::dune::repair_uggrid(grid, params, added, *phi, repair_options, &reset);
+                report.reset += reset;
+                report.held_back += r.held_back;
+                report.smoothed += r.smoothed_vertices;
+            };
+            if (level > 0) {
+                if (adaptive) {
+                    const auto marks = select_by_estimator(grid, gradients);
+                    const bpm::dune::UGGridAdaptResult adapted = bpm::dune::adapt_uggrid(grid, marks, after_refinement);
+                    report.marked = adapted.marked;
+                    report.adapts = adapted.adapts;
+                    report.superseded = adapted.superseded;
+                } else {
+                    grid.globalRefine(1);
+                    after_refinement();
                 }
             }
+            report.rules_kept = bpm::dune::uggrid_refinement_rules_kept() - rules_kept_before;
+            rules_kept_before += report.rules_kept;
             solve_torsion(grid, report, gradients);
             measure(grid, built, params, *phi, regions, report);
             report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -527,9 +379,8 @@ int main(int argc, char** argv) {
                           << ", volume = " << report.volume << ", inverted " << report.inverted << " (" << report.inverted_before_repair
                           << " before repair, " << report.held_back << " held back, " << report.reset << " reset), min dihedral "
                           << report.min_dihedral_degrees << " deg, CG " << report.cg_iterations << " it"
-                          << (adaptive && level > 0 ? ", marked " + std::to_string(report.marked) + " (" +
-                                                          std::to_string(report.dropped) + " dropped, " +
-                                                          std::to_string(report.probes) + " probes)"
+                          << (adaptive && level > 0 ? ", marked " + std::to_string(report.marked) + " in " +
+                                                          std::to_string(report.adapts) + " adapt calls"
                                                     : std::string())
                           << ", " << report.seconds << " s" << std::endl;
             if (adaptive && until_error > 0 && std::abs(report.J - reference_j) <= until_error * reference_j) {
@@ -547,9 +398,20 @@ int main(int argc, char** argv) {
                 << ", \"interface_faces\": " << params.interface_faces()
                 << ", \"original_region_volumes\": [";
             for (size_t r = 0; r < original_volumes.size(); ++r) out << (r ? ", " : "") << json_number(original_volumes[r]);
+            out << "], \"region_names\": [";
+            // The material name of each region where the file has materials (spec/tetmesh.md), else "region r".
+            const bpm::TetMesh& mesh = *file.tetmesh;
+            for (int r = 1; r <= regions; ++r) {
+                std::string name = "region " + std::to_string(r);
+                if (static_cast<size_t>(r) <= mesh.region_material.size()) {
+                    const int32_t m = mesh.region_material[static_cast<size_t>(r - 1)];
+                    if (m >= 1 && static_cast<size_t>(m) <= mesh.material_names.size() &&
+                        !mesh.material_names[static_cast<size_t>(m - 1)].empty())
+                        name = mesh.material_names[static_cast<size_t>(m - 1)] + " (region " + std::to_string(r) + ")";
+                }
+                out << (r > 1 ? ", " : "") << json_string(name);
+            }
             out << "]";
-            if (!adaptive_stopped.empty()) out << ", \"adaptive_stopped\": " << json_string(adaptive_stopped);
-            if (!adaptive_failure.empty()) out << ", \"adaptive_first_ug_failure\": " << json_string(adaptive_failure);
             if (until_error > 0)
                 out << ", \"reference_j\": " << json_number(reference_j) << ", \"until_error\": " << json_number(until_error)
                     << ", \"until_error_reached_at\": " << reached_error;
@@ -568,7 +430,7 @@ int main(int argc, char** argv) {
                     << ", \"inverted_before_repair\": " << r.inverted_before_repair
                     << ", \"held_back\": " << r.held_back << ", \"smoothed\": " << r.smoothed << ", \"reset\": " << r.reset
                     << ", \"rules_kept\": " << r.rules_kept << ", \"marked\": " << r.marked
-                    << ", \"probes\": " << r.probes << ", \"dropped\": " << r.dropped
+                    << ", \"adapts\": " << r.adapts << ", \"superseded\": " << r.superseded
                     << ", \"cg_iterations\": " << r.cg_iterations
                     << ", \"cg_converged\": " << (r.cg_converged ? "true" : "false")
                     << ", \"seconds\": " << json_number(r.seconds) << "}";

@@ -28,16 +28,22 @@
 //
 // Local (red-green) refinement: UG replaces a green closure by red refinement of its father
 // when a neighbour is refined further, and the father's new children take the father's edge
-// midpoints as corners, boundary vertices among them that an earlier call moved towards phi
-// while checking only the green children then present. Such a child can be inverted before
-// any new vertex moves (femur at 10 %, adaptive bpm-torsion: 3-9 inverted tets after the
-// repair at steps 3-4 without what follows, 0 when refined flat; with it 0 without interior
-// smoothing and 1-3 with it, see bench/RESULTS.md). So, while the grid with the new vertices
-// at their midpoints has inverted tetrahedra, their corners that earlier refinements created
-// on the boundary (params.ends_of) go back to their own midpoints as well, coarser levels
-// first, and take part in the repair like the new ones; `reset` (if given) counts them.
+// midpoints as corners: vertices an earlier call moved (boundary vertices towards phi,
+// interior vertices by smoothing) while checking only the green children then present.
+// Such a child can be inverted before any new vertex moves (femur at 10 %, adaptive
+// bpm-torsion: 3-9 inverted tets after the repair at steps 3-4 with no reset, 0 when
+// refined flat). So, while the grid with the new vertices at their midpoints has inverted
+// tetrahedra, their corners that refinement created (any vertex but a level-0 one) go back
+// to the midpoints of the edges they split, coarser levels first; when every such corner of
+// an inverted tetrahedron is back, the ends of their edges follow, and so on (at most 16
+// rounds). Flat refinement of a positive grid is positive, so resetting far enough gives a
+// positive grid. The reset vertices then take part in the repair like the new ones; `reset`
+// (if given) counts them. (Resetting only boundary vertices left 1-7 inverted tets at
+// adaptive steps 3-4 on the femur with interior smoothing; bench/RESULTS.md.)
 
 #include <algorithm>
+#include <array>
+#include <cmath>
 #include <map>
 #include <string>
 #include <vector>
@@ -96,34 +102,85 @@ inline BoundaryRepairResult repair_uggrid(UGGrid3& grid, const BoundaryParameter
                               static_cast<int32_t>(index.subIndex(element, 2, 3)),
                               static_cast<int32_t>(index.subIndex(element, 3, 3))});
 
-    // Earlier boundary vertices of inverted tetrahedra back to their midpoints (see above).
+    // Vertices of inverted tetrahedra back to the midpoints of their edges (see above). The
+    // edge a vertex splits: the two corners of the father at whose midpoint the vertex is a
+    // corner of a child (UG refines tetrahedra only at edge midpoints), on the level where
+    // the vertex first appears.
+    std::map<BoundaryParameterPoints::IdType, std::array<BoundaryParameterPoints::IdType, 2>> ends;
+    for (int level = 1; level <= grid.maxLevel(); ++level) {
+        for (const auto& element : elements(grid.levelGridView(level))) {
+            const auto in_father = element.geometryInFather();
+            const auto father = element.father();
+            for (int c = 0; c < 4; ++c) {
+                const auto id = ids.subId(element, c, 3);
+                if (ends.count(id)) continue;
+                const auto local = in_father.corner(c);
+                const std::array<double, 4> w{1 - local[0] - local[1] - local[2], local[0], local[1], local[2]};
+                int halves = 0, zeros = 0;
+                std::array<int, 2> at{-1, -1};
+                for (int k = 0; k < 4; ++k) {
+                    if (std::abs(w[k] - 0.5) < 1e-9) {
+                        if (halves < 2) at[static_cast<size_t>(halves)] = k;
+                        ++halves;
+                    } else if (std::abs(w[k]) < 1e-9) {
+                        ++zeros;
+                    }
+                }
+                if (halves == 2 && zeros == 2)
+                    ends.emplace(id, std::array<BoundaryParameterPoints::IdType, 2>{ids.subId(father, at[0], 3),
+                                                                                    ids.subId(father, at[1], 3)});
+            }
+        }
+    }
+    auto ends_in_leaf = [&](size_t i) -> const std::array<BoundaryParameterPoints::IdType, 2>* {
+        const auto it = ends.find(id_of[i]);
+        if (it == ends.end() || !by_id.count(it->second[0]) || !by_id.count(it->second[1])) return nullptr;
+        return &it->second;
+    };
     std::vector<char> is_reset(n, 0);
-    for (const auto& v : added) is_reset[leaf_index(v.vertex)] = 1;
+    std::vector<size_t> all_reset;  // the new vertices and those reset below
+    for (const auto& v : added) {
+        is_reset[leaf_index(v.vertex)] = 1;
+        all_reset.push_back(leaf_index(v.vertex));
+    }
     int64_t reset_count = 0;
     for (int round = 0; round < 16; ++round) {
         std::vector<size_t> to_reset;
+        std::vector<char> queued(n, 0);
+        auto queue = [&](size_t i) {
+            if (!is_reset[i] && !queued[i] && ends_in_leaf(i)) {
+                queued[i] = 1;
+                to_reset.push_back(i);
+            }
+        };
         for (const Tet& t : tetrahedra) {
             const auto& a = x[static_cast<size_t>(t[0])];
             if (orient3d(a, x[static_cast<size_t>(t[1])], x[static_cast<size_t>(t[2])], x[static_cast<size_t>(t[3])]) == 1)
                 continue;
+            const size_t before = to_reset.size();
+            for (int32_t c : t) queue(static_cast<size_t>(c));
+            if (to_reset.size() > before) continue;
+            // Every corner is back already (or level 0): the ends of their edges follow.
             for (int32_t c : t) {
-                const auto i = static_cast<size_t>(c);
-                const auto* ends = params.ends_of(id_of[i]);
-                if (!is_reset[i] && ends && by_id.count((*ends)[0]) && by_id.count((*ends)[1])) {
-                    is_reset[i] = 1;
-                    to_reset.push_back(i);
-                }
+                const auto* e = ends_in_leaf(static_cast<size_t>(c));
+                if (!e) continue;
+                queue(by_id.at((*e)[0]));
+                queue(by_id.at((*e)[1]));
             }
         }
         if (to_reset.empty()) break;
-        // Coarser levels first: the ends of an edge are on coarser levels than its midpoint.
-        std::stable_sort(to_reset.begin(), to_reset.end(),
-                         [&](size_t a, size_t b) { return vertex_level[a] < vertex_level[b]; });
-        for (size_t i : to_reset) {
-            const auto* ends = params.ends_of(id_of[i]);
-            x[i] = 0.5 * (x[leaf_index((*ends)[0])] + x[leaf_index((*ends)[1])]);
-        }
+        for (size_t i : to_reset) is_reset[i] = 1;
         reset_count += static_cast<int64_t>(to_reset.size());
+        // Every vertex back so far is placed again, coarser levels first (the ends of an edge
+        // are on coarser levels than its midpoint): a vertex reset now may be the end of one
+        // reset in an earlier round.
+        all_reset.insert(all_reset.end(), to_reset.begin(), to_reset.end());
+        std::stable_sort(all_reset.begin(), all_reset.end(),
+                         [&](size_t a, size_t b) { return vertex_level[a] < vertex_level[b]; });
+        for (size_t i : all_reset) {
+            const auto* e = ends_in_leaf(i);
+            if (e) x[i] = 0.5 * (x[by_id.at((*e)[0])] + x[by_id.at((*e)[1])]);
+        }
     }
     if (reset) *reset = reset_count;
 
