@@ -8,6 +8,10 @@
 //   oriented      the region on the front side is `front`, the one behind is `back`;
 //   unordered     both regions are one of the two, and they differ (so once one side is
 //                 known, so is the other; this is propagated until nothing changes).
+// "exterior" (any case) on an oriented side of a meshed region is weak: it means only
+// "outside this file" (every file of the file-per-material convention has it on its outer
+// side, and a file nested in another has the enclosing file's material there), so it names
+// the region only when no other constraint does.
 // A region's material is the one name every constraint on it allows. If the outside is
 // still undecided between names of which one is "exterior" (any case), it is exterior.
 // When the oriented reading contradicts itself somewhere (reversed normals in the input),

@@ -73,7 +73,7 @@ struct Constraint {
 struct Resolution {
     std::vector<std::optional<std::set<int>>> allowed;  // per region 0..R; nullopt = unconstrained
     std::vector<std::set<int>> named;                   // every material a side of the region names
-    int64_t conflicts = 0;
+    int64_t conflicts = 0;                              // regions 0..R whose constraints leave nothing
 };
 
 Resolution resolve(const std::vector<Constraint>& constraints, int32_t nr, const std::vector<std::string>& names,
@@ -93,21 +93,29 @@ Resolution resolve(const std::vector<Constraint>& constraints, int32_t nr, const
         a = std::move(both);
         return true;
     };
+    int exterior = -1;
+    for (size_t i = 0; i < names.size(); ++i)
+        if (is_exterior(names[i])) exterior = static_cast<int>(i);
+    // "exterior" on a side of a meshed region (not the unmeshed outside, region 0) says
+    // only "outside this file" (the file-per-material convention: every file's outer side
+    // is exterior, apply_file_material): a file nested in another has the enclosing
+    // file's material there. So it names a region only when nothing else does.
+    std::vector<int32_t> weakly_exterior;
     for (const Constraint& c : constraints) {
         if (c.oriented && !all_unordered) {
-            constrain(c.front, {c.a});
-            constrain(c.back, {c.b});
-            res.named[size_t(c.front)].insert(c.a);
-            res.named[size_t(c.back)].insert(c.b);
+            for (const auto& [r, m] : {std::pair{c.front, c.a}, std::pair{c.back, c.b}}) {
+                res.named[size_t(r)].insert(m);
+                if (m == exterior && r != 0) weakly_exterior.push_back(r);
+                else constrain(r, {m});
+            }
         } else {
             constrain(c.front, {c.a, c.b});
             constrain(c.back, {c.a, c.b});
             for (int32_t r : {c.front, c.back}) res.named[size_t(r)].insert({c.a, c.b});
         }
     }
-    int exterior = -1;
-    for (size_t i = 0; i < names.size(); ++i)
-        if (is_exterior(names[i])) exterior = static_cast<int>(i);
+    for (int32_t r : weakly_exterior)
+        if (!res.allowed[size_t(r)]) constrain(r, {exterior});
     for (bool changed = true; changed;) {
         changed = false;
         for (const Constraint& c : constraints) {
@@ -127,7 +135,9 @@ Resolution resolve(const std::vector<Constraint>& constraints, int32_t nr, const
             changed = true;
         }
     }
-    for (int32_t r = 1; r <= nr; ++r)
+    // The outside counts too: with reversed normals the weak exteriors no longer
+    // contradict, but the outside is then told to be a file's material.
+    for (int32_t r = 0; r <= nr; ++r)
         if (res.allowed[size_t(r)] && res.allowed[size_t(r)]->empty()) ++res.conflicts;
     return res;
 }

@@ -187,6 +187,37 @@ TEST_CASE("materials: one file per material, interfaces fused, name the material
     CHECK(r.problems.empty());
 }
 
+TEST_CASE("materials: a file nested in another lies in the enclosing file's material, not in exterior",
+          "[materials]") {
+    // outer.off = a cube of edge 3, inner.off = a unit cube inside it (the nested spheres of
+    // bench/dune_torsion.py --nested-spheres: the shell was named "exterior", since every
+    // file's outer side says exterior).
+    const test_support::ScratchDir scratch("materials_nested_test");
+    const fs::path& dir = scratch.path;
+    Surface outer = fixtures::cube(), inner = fixtures::cube();
+    for (Vec3& v : outer.vertices) v = {3 * v[0] - 1, 3 * v[1] - 1, 3 * v[2] - 1};
+    write_surface((dir / "outer.off").string(), outer);
+    write_surface((dir / "inner.off").string(), inner);
+    SurfaceReadReport report;
+    const Surface s = read_surfaces({(dir / "outer.off").string(), (dir / "inner.off").string()}, {}, &report);
+    REQUIRE(report.patch_info.size() == 2);
+    CHECK(report.patch_info[1] == PatchInfo{1, "inner|exterior", "exterior", "inner", true});
+
+    REQUIRE_TETGEN();
+    BpmFile file;
+    file.param = make_identity_parametrization(s);
+    file.patch_info = report.patch_info;
+    TetMesh m;
+    (void)generate_tetmesh(file.param, TetMeshOptions{}, Context{}, m);
+    const MaterialResult r = assign_materials(m, file.patch_info);
+    REQUIRE(m.num_regions() == 2);
+    std::vector<std::string> names = region_names(m);
+    std::sort(names.begin(), names.end());
+    CHECK(names == std::vector<std::string>{"inner", "outer"});
+    CHECK(r.problems.empty());
+    CHECK_FALSE(r.orientation_ignored);
+}
+
 TEST_CASE("materials: .bpm files carry /patch_info and the region materials, older files read without them",
           "[materials][bpm_file]") {
     REQUIRE_TETGEN();
