@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <memory>
 
 #include "bpm/bpm_file.h"
 #include "bpm/errors.h"
@@ -157,7 +158,22 @@ int main(int argc, char** argv) {
             }
             material_options.region_names[region] = a.substr(eq + 1);
         }
-        const bpm::Context context = bpm::tools::make_context(tool, verbose, quiet);
+        bpm::Context context = bpm::tools::make_context(tool, verbose, quiet);
+        // TetGen can run forever with quality bounds near their limits (e.g. --quality 1.1
+        // --min-dihedral 18 on a fine surface, each fine alone); without a time limit, the
+        // first progress line says how to bound the run.
+        if (options.time_limit_seconds <= 0 && context.log) {
+            auto hinted = std::make_shared<bool>(false);
+            context.log = [log = context.log, hinted, quiet](bpm::LogLevel level, const std::string& line) {
+                log(level, line);
+                if (!*hinted && !quiet && line.rfind("TetGen still running", 0) == 0) {
+                    *hinted = true;
+                    log(bpm::LogLevel::Warning,
+                        "TetGen may not finish with --quality or --min-dihedral near their limits; "
+                        "--time-limit SECONDS stops it with an error (exit 6)");
+                }
+            };
+        }
 
         bpm::BpmFile file = bpm::read_bpm(input);
         bpm::TetMeshResult mesh_result;
