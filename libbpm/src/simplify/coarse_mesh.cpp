@@ -21,10 +21,17 @@ CoarseMesh::CoarseMesh(const Surface& original)
       alive_(original.triangles.size(), 1),
       initially_flipped_(original.triangles.size(), 0),
       vertex_triangles_(original.vertices.size()),
+      neighbour_bits_(original.vertices.size(), 0),
       feature_degree_(original.vertices.size(), 0) {
     if (patches_.size() != triangles_.size()) patches_.assign(triangles_.size(), 0);
-    for (int32_t t = 0; t < int32_t(triangles_.size()); ++t)
-        for (int32_t v : triangles_[t]) vertex_triangles_[v].push_back(t);
+    for (int32_t t = 0; t < int32_t(triangles_.size()); ++t) {
+        const Tri& c = triangles_[t];
+        const uint64_t bits = vertex_bit(c[0]) | vertex_bit(c[1]) | vertex_bit(c[2]);
+        for (int32_t v : c) {
+            vertex_triangles_[v].push_back(t);
+            neighbour_bits_[v] |= bits;
+        }
+    }
     num_alive_ = static_cast<int32_t>(triangles_.size());
     for (const auto& list : vertex_triangles_) num_vertices_alive_ += list.empty() ? 0 : 1;
 
@@ -70,6 +77,7 @@ void CoarseMesh::edge_triangles(int32_t a, int32_t b, std::vector<int32_t>& out)
 // the two short lists, without reading the triangles' corners (scattered in memory:
 // these lookups run for every ear a planner considers).
 bool CoarseMesh::has_edge(int32_t a, int32_t b) const {
+    if (!(neighbour_bits_[a] & vertex_bit(b))) return false;
     const auto& la = vertex_triangles_[a];
     const auto& lb = vertex_triangles_[b];
     auto i = la.begin(), j = lb.begin();
@@ -85,6 +93,7 @@ bool CoarseMesh::has_edge(int32_t a, int32_t b) const {
 }
 
 int32_t CoarseMesh::find_triangle(int32_t a, int32_t b, int32_t c) const {
+    if ((neighbour_bits_[a] & (vertex_bit(b) | vertex_bit(c))) != (vertex_bit(b) | vertex_bit(c))) return -1;
     const auto& la = vertex_triangles_[a];
     const auto& lb = vertex_triangles_[b];
     const auto& lc = vertex_triangles_[c];
@@ -123,9 +132,11 @@ int32_t CoarseMesh::add_triangle(const Tri& corners, int32_t patch) {
     triangles_.push_back(corners);
     patches_.push_back(patch);
     alive_.push_back(1);
+    const uint64_t bits = vertex_bit(corners[0]) | vertex_bit(corners[1]) | vertex_bit(corners[2]);
     for (int32_t v : corners) {
         if (vertex_triangles_[v].empty()) ++num_vertices_alive_;
         vertex_triangles_[v].push_back(t);
+        neighbour_bits_[v] |= bits;
     }
     ++num_alive_;
     return t;
@@ -140,6 +151,16 @@ void CoarseMesh::remove_triangle(int32_t t) {
         list.erase(std::find(list.begin(), list.end(), t));
         if (list.empty()) --num_vertices_alive_;
     }
+    // A bit may stand for a vertex of t only: recount the corners' bits from the
+    // triangles they keep (their stars were just read by the planner: cheap).
+    for (int32_t v : triangles_[t]) set_neighbour_bits(v);
+}
+
+void CoarseMesh::set_neighbour_bits(int32_t v) {
+    uint64_t bits = 0;
+    for (int32_t u : vertex_triangles_[v])
+        for (int32_t x : triangles_[u]) bits |= vertex_bit(x);
+    neighbour_bits_[v] = bits;
 }
 
 void CoarseMesh::mark_feature_edges(double feature_angle_degrees) {

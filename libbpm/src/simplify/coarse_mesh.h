@@ -98,6 +98,14 @@ private:
     std::vector<uint8_t> alive_;
     std::vector<uint8_t> initially_flipped_;
     std::vector<std::vector<int32_t>> vertex_triangles_;
+    // Per vertex, the bits (vertex_bit) of the corners of its alive triangles (itself too),
+    // kept exact by add_triangle() and remove_triangle(): a missing bit proves that there
+    // is no edge, from one load of a dense array, before has_edge() and find_triangle()
+    // merge the scattered triangle lists (the planners ask for edges that mostly do not
+    // exist, several times per plan).
+    std::vector<uint64_t> neighbour_bits_;
+    static uint64_t vertex_bit(int32_t v) { return uint64_t(1) << ((uint32_t(v) * 0x9E3779B9u) >> 26); }
+    void set_neighbour_bits(int32_t v);
     std::unordered_map<uint64_t, Feature> feature_edges_;
     std::vector<int32_t> feature_degree_;  // feature edges at each vertex
     std::vector<uint8_t> corners_;         // Corner of each vertex (empty: none marked)

@@ -57,6 +57,23 @@ void export_chunk(const Surface& original, const CoarseMesh& mesh, const Embeddi
     }
 }
 
+// Reserves room in every array of phi for `scale` times its current size: after the
+// first batch, its sizes per triangle estimate the whole (the arrays otherwise grow by
+// doubling, each growth copying all of phi so far into freshly faulted pages).
+void reserve_phi(Parametrization& p, double scale) {
+    auto grow = [scale](auto& v) { v.reserve(static_cast<size_t>(double(v.size()) * scale) + 1); };
+    grow(p.node_offsets);
+    grow(p.node_barycentric);
+    grow(p.node_image);
+    grow(p.node_kind);
+    grow(p.node_original_vertex);
+    grow(p.node_original_edge);
+    grow(p.node_edge_parameter);
+    grow(p.piece_offsets);
+    grow(p.pieces);
+    grow(p.piece_original_triangle);
+}
+
 }  // namespace
 
 double export_parametrization(const Surface& original, const CoarseMesh& mesh, const Embedding& embedding,
@@ -95,6 +112,8 @@ double export_parametrization(const Surface& original, const CoarseMesh& mesh, c
             max_deviation = std::max(max_deviation, chunk.max_deviation);
             chunk.part = Parametrization();  // its memory back before the next chunk's is appended
         }
+        const size_t done = chunks[first + count - 1].end;
+        if (first == 0 && done < alive.size()) reserve_phi(out, 1.0625 * double(alive.size()) / double(done));
     }
     return max_deviation;
 }

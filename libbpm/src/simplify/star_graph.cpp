@@ -105,7 +105,8 @@ bool Gatherer::gather_nodes(std::string& why) {
         c.pos = q_[i];
         c.vertex = fan_->link[i];
         c.poly_corner = i;
-        graph_.vertex_node.set(c.vertex, add_node(c));
+        const int32_t id = add_node(c);
+        if (validate_) graph_.vertex_node.set(c.vertex, id);
     }
     // Fixed nodes on the link edges (only the full plan needs them: their place and
     // deviation do not change).
@@ -170,7 +171,7 @@ bool Gatherer::gather_nodes(std::string& why) {
             s.edge_hi = std::max(fan_->link.front(), fan_->link.back());
             s.edge_s = it->second;
             const int32_t id = add_node(s);
-            graph_.vertex_node.set(u, id);
+            if (validate_) graph_.vertex_node.set(u, id);
             graph_.side_nodes[side].push_back(id);
             return true;
         };
@@ -225,7 +226,8 @@ bool Gatherer::gather_nodes(std::string& why) {
         } else {
             s.pos = corner_pos(p.a);
         }
-        graph_.vertex_node.set(u, add_node(s));
+        const int32_t id = add_node(s);
+        if (validate_) graph_.vertex_node.set(u, id);
     }
 
     return true;

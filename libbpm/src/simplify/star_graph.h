@@ -47,31 +47,29 @@ struct StraightSegment {
     double sigma_a, sigma_b;
 };
 
-// A map from original vertex to star node that is cleared in O(1).
+// A map from original vertex to star node that is cleared in O(1). The value and its
+// stamp side by side: one cache line per (random) vertex, not two.
 class VertexSlots {
 public:
     void resize(size_t n) {
-        if (value_.size() < n) {
-            value_.resize(n, -1);
-            stamp_.resize(n, 0);
-        }
+        if (slots_.size() < n) slots_.resize(n, Slot{-1, 0});
     }
     void clear() { ++current_; }
-    int32_t get(int32_t v) const { return stamp_[v] == current_ ? value_[v] : -1; }
-    void set(int32_t v, int32_t id) {
-        value_[v] = id;
-        stamp_[v] = current_;
-    }
+    int32_t get(int32_t v) const { return slots_[v].stamp == current_ ? slots_[v].value : -1; }
+    void set(int32_t v, int32_t id) { slots_[v] = Slot{id, current_}; }
 
 private:
-    std::vector<int32_t> value_;
-    std::vector<uint32_t> stamp_;
+    struct Slot {
+        int32_t value;
+        uint32_t stamp;
+    };
+    std::vector<Slot> slots_;
     uint32_t current_ = 1;
 };
 
 struct StarGraph {
     std::vector<StarNode> nodes;
-    VertexSlots vertex_node;                                 // original vertex -> node
+    VertexSlots vertex_node;                                 // original vertex -> node (with fixed nodes only)
     std::vector<std::pair<int64_t, int32_t>> crossing_node;  // ((edge << 20) | index in its path, node)
     std::vector<std::vector<int32_t>> side_nodes;            // per polygon side: its fixed nodes (not corners)
     std::vector<int32_t> free_vertices;                      // the free nodes' original vertices, sorted
@@ -112,7 +110,9 @@ struct StarGraphScratch {
 // open fan, v and the vertices on its two feature edges on the new edge (side n-1), at
 // the parameters `new_edge_params` gives them (every one must be there); then the free
 // nodes (the vertices inside the fan's triangles, on its interior spokes, and v of a
-// closed fan), sorted, placed by their locations through the polar map. Fails with `why`
+// closed fan), sorted, placed by their locations through the polar map. Only with
+// `fixed_nodes` (the full plan, whose segments and checks look nodes up by vertex) is
+// graph.vertex_node filled: a cheap plan saves those scattered writes. Fails with `why`
 // when an original edge crosses a feature edge of the fan.
 bool gather_star_nodes(const CoarseMesh& mesh, const Embedding& emb, int32_t v, const Fan& fan,
                        const std::vector<Vec2>& q, bool fixed_nodes,

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <unordered_map>
 
 namespace bpm::detail {
 
@@ -13,6 +14,40 @@ inline uint64_t cell_key(int64_t x, int64_t y, int64_t z) {
     return (uint64_t(x) & m) | ((uint64_t(y) & m) << 21) | ((uint64_t(z) & m) << 42);
 }
 }  // namespace
+
+void TriangleGrid::CellTable::rehash(size_t capacity) {
+    std::vector<uint64_t> old_keys = std::move(keys_);
+    std::vector<std::vector<Entry>> old_lists = std::move(lists_);
+    keys_.assign(capacity, kEmpty);
+    lists_ = std::vector<std::vector<Entry>>(capacity);
+    shift_ = 64;
+    for (size_t c = capacity; c > 1; c >>= 1) --shift_;
+    const size_t mask = capacity - 1;
+    for (size_t j = 0; j < old_keys.size(); ++j) {
+        if (old_keys[j] == kEmpty) continue;
+        size_t i = home(old_keys[j]);
+        while (keys_[i] != kEmpty) i = (i + 1) & mask;
+        keys_[i] = old_keys[j];
+        lists_[i] = std::move(old_lists[j]);
+    }
+}
+
+void TriangleGrid::CellTable::reserve(size_t cells) {
+    size_t capacity = std::max<size_t>(64, keys_.size());
+    while (capacity < 2 * cells) capacity *= 2;
+    if (capacity > keys_.size()) rehash(capacity);
+}
+
+std::vector<TriangleGrid::Entry>& TriangleGrid::CellTable::operator[](uint64_t key) {
+    if (std::vector<Entry>* list = find(key)) return *list;
+    if (2 * (size_ + 1) > keys_.size()) rehash(std::max<size_t>(64, 2 * keys_.size()));
+    const size_t mask = keys_.size() - 1;
+    size_t i = home(key);
+    while (keys_[i] != kEmpty) i = (i + 1) & mask;
+    keys_[i] = key;
+    ++size_;
+    return lists_[i];
+}
 
 template <class F>
 void TriangleGrid::for_cells(const Vec3& lo, const Vec3& hi, F&& f) const {
@@ -84,8 +119,11 @@ void TriangleGrid::insert_all(const std::vector<int32_t>& ids, const std::vector
         box_of(x[corners[i][0]], x[corners[i][1]], x[corners[i][2]], lo, hi);
         if (!oversized(lo, hi)) for_cells(lo, hi, [&](uint64_t key) { ++counts[key]; });
     }
-    cells_.reserve(cells_.size() + counts.size());
-    for (const auto& [key, count] : counts) cells_[key].reserve(cells_[key].size() + count);
+    cells_.reserve(counts.size());
+    for (const auto& [key, count] : counts) {
+        auto& list = cells_[key];
+        list.reserve(list.size() + count);
+    }
     counts = {};
     for (size_t i = 0; i < ids.size(); ++i) {
         const Tri& c = corners[i];
@@ -103,15 +141,13 @@ void TriangleGrid::remove(int32_t id, const Vec3& a, const Vec3& b, const Vec3& 
         return;
     }
     for_cells(lo, hi, [&](uint64_t key) {
-        auto it = cells_.find(key);
-        if (it == cells_.end()) return;
-        auto& list = it->second;
-        auto pos = std::find_if(list.begin(), list.end(), same_id);
-        if (pos != list.end()) {
-            *pos = list.back();
-            list.pop_back();
+        std::vector<Entry>* list = cells_.find(key);
+        if (!list) return;
+        auto pos = std::find_if(list->begin(), list->end(), same_id);
+        if (pos != list->end()) {
+            *pos = list->back();
+            list->pop_back();
         }
-        if (list.empty()) cells_.erase(it);
     });
 }
 
@@ -120,13 +156,13 @@ void TriangleGrid::for_entries(const Vec3& lo, const Vec3& hi, F&& f) const {
     for (const Entry& e : big_) f(e);
     if (oversized(lo, hi)) {
         // A huge query box: every registered triangle is a candidate.
-        for (const auto& cell : cells_)
-            for (const Entry& e : cell.second) f(e);
+        cells_.for_each([&](const std::vector<Entry>& list) {
+            for (const Entry& e : list) f(e);
+        });
     } else
     for_cells(lo, hi, [&](uint64_t key) {
-        auto it = cells_.find(key);
-        if (it != cells_.end())
-            for (const Entry& e : it->second) f(e);
+        if (const std::vector<Entry>* list = cells_.find(key))
+            for (const Entry& e : *list) f(e);
     });
 }
 
