@@ -44,6 +44,18 @@ std::vector<std::string> region_names(const TetMesh& m) {
     return out;
 }
 
+// Meshes `s` with TetGen, assigns the materials `patch_info` gives, and returns the
+// region names sorted (regions are numbered as TetGen found them).
+MaterialResult mesh_and_assign(const Surface& s, const std::vector<PatchInfo>& patch_info,
+                               std::vector<std::string>& sorted_names) {
+    TetMesh m;
+    (void)generate_tetmesh(make_identity_parametrization(s), TetMeshOptions{}, Context{}, m);
+    const MaterialResult r = assign_materials(m, patch_info);
+    sorted_names = region_names(m);
+    std::sort(sorted_names.begin(), sorted_names.end());
+    return r;
+}
+
 }  // namespace
 
 TEST_CASE("patch names: only the documented conventions give materials", "[materials]") {
@@ -174,15 +186,9 @@ TEST_CASE("materials: one file per material, interfaces fused, name the material
     CHECK(one.patch_info == std::vector<PatchInfo>{{0, "left|exterior", "exterior", "left", true}});
 
     REQUIRE_TETGEN();
-    BpmFile file;
-    file.param = make_identity_parametrization(s);
-    file.patch_info = report.patch_info;
-    TetMesh m;
-    (void)generate_tetmesh(file.param, TetMeshOptions{}, Context{}, m);
-    const MaterialResult r = assign_materials(m, file.patch_info);
-    REQUIRE(m.num_regions() == 2);
-    std::vector<std::string> names = region_names(m);
-    std::sort(names.begin(), names.end());
+    std::vector<std::string> names;
+    const MaterialResult r = mesh_and_assign(s, report.patch_info, names);
+    REQUIRE(names.size() == 2);
     CHECK(names == std::vector<std::string>{"left", "right"});
     CHECK(r.problems.empty());
 }
@@ -204,15 +210,9 @@ TEST_CASE("materials: a file nested in another lies in the enclosing file's mate
     CHECK(report.patch_info[1] == PatchInfo{1, "inner|exterior", "exterior", "inner", true});
 
     REQUIRE_TETGEN();
-    BpmFile file;
-    file.param = make_identity_parametrization(s);
-    file.patch_info = report.patch_info;
-    TetMesh m;
-    (void)generate_tetmesh(file.param, TetMeshOptions{}, Context{}, m);
-    const MaterialResult r = assign_materials(m, file.patch_info);
-    REQUIRE(m.num_regions() == 2);
-    std::vector<std::string> names = region_names(m);
-    std::sort(names.begin(), names.end());
+    std::vector<std::string> names;
+    const MaterialResult r = mesh_and_assign(s, report.patch_info, names);
+    REQUIRE(names.size() == 2);
     CHECK(names == std::vector<std::string>{"inner", "outer"});
     CHECK(r.problems.empty());
     CHECK_FALSE(r.orientation_ignored);
