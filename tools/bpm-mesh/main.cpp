@@ -160,9 +160,12 @@ int main(int argc, char** argv) {
         }
         bpm::Context context = bpm::tools::make_context(tool, verbose, quiet);
         // TetGen can run forever with quality bounds near their limits (e.g. --quality 1.1
-        // --min-dihedral 18 on a fine surface, each fine alone); without a time limit, the
-        // first progress line says how to bound the run.
-        if (options.time_limit_seconds <= 0 && context.log) {
+        // --min-dihedral 18 on a fine surface, each fine alone); when the user tightened a
+        // bound and set no time limit, the first progress line says how to bound the run
+        // (with the defaults a long run is just a big mesh).
+        const bool bounds_tightened =
+            min_dihedral >= 0 || options.quality < bpm::TetMeshOptions{}.quality;
+        if (bounds_tightened && options.time_limit_seconds <= 0 && context.log) {
             auto hinted = std::make_shared<bool>(false);
             context.log = [log = context.log, hinted, quiet](bpm::LogLevel level, const std::string& line) {
                 log(level, line);
