@@ -76,7 +76,7 @@ def main():
                     help="reuse meshes and bpm-torsion JSON already in the work directory from an earlier run "
                          "with the same arguments (one run at a time on a shared machine)")
     ap.add_argument("--reference-json", default=None,
-                    help="reuse the JSON of an earlier reference run (bpm-torsion --flat --json on the --ratio 1 mesh)")
+                    help="reuse an earlier reference run: bpm-torsion --flat --json of the --ratio 1 mesh, or a results file dune_torsion-NAME.json")
     args = ap.parse_args()
     os.chdir(ROOT)
     bin_dir = os.path.join(args.build_dir, "bin")
@@ -128,6 +128,10 @@ def main():
     if args.reference_json:
         with open(args.reference_json) as f:
             reference = json.load(f)
+        # Either bpm-torsion's JSON of the reference run or an earlier results file
+        # (dune_torsion-NAME.json), which keeps that run under "reference".
+        if "levels" not in reference and "reference" in reference:
+            reference = reference["reference"]
     else:
         reference_tets = mesh(1, "original")
         reference = torsion(reference_tets, args.reference_levels, "--flat")
