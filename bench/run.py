@@ -96,6 +96,7 @@ MANUAL_SECTIONS = [
     "tets-without-slivers-and-phi-distortion.md",
     "convergence-limits-and-distortion-weight.md",
     "output-formats.md",
+    "input-slivers-first.md",
 ]
 RUN_RECORD = "all.json"  # in the results folder: what `all` ran, for --assemble
 QUICK_REFINE_MESHES = "femur"

@@ -31,7 +31,10 @@ struct SimplifyOptions {
     //   Hausdorff distance from S to S0).
 
     // Cost = error/diagonal + aspect_weight * 1e-3 * (log2(worst new R/r / 2)
-    //                                                - 0.5 log2(worst removed R/r / 2))
+    //                                                - 0.5 log2(worst removed R/r / 2)
+    //                                                - log2(max(worst removed, A) / max(worst new, A)))
+    // with A = max_aspect_ratio: the last part credits removals that take out triangles
+    // worse than max_aspect_ratio (slivers of the input), so that they go first.
     double aspect_weight = 1.0;
     // Distortion term of the cost (issue 19 item 2), from the largest angle between a new
     // coarse triangle's normal and an original triangle phi maps onto it: 0 up to 45

@@ -2,11 +2,13 @@
 // The cost of a vertex removal: the key of the simplifier's priority queue, and the
 // limits of SimplifyOptions that refuse a removal. Internal to libbpm.
 //
-// cost = error + aspect_weight * 1e-3 * (log2(worst new R/r / 2) - 0.5 log2(worst removed R/r / 2))
+// cost = error + aspect_weight * 1e-3 * (log2(worst new R/r / 2) - 0.5 log2(worst removed R/r / 2)
+//                                         - log2(max(worst removed, A) / max(worst new, A)))
 // with error = max |phi(x) - x| over the new triangles / the bounding-box diagonal, so a
-// cost is in units of the diagonal and the same for a model and its scaled copy. The
-// aspect term prefers removals that make better triangles than they remove (R/r = 2 is
-// equilateral). A new term (for example a distortion of phi) goes into removal_cost(),
+// cost is in units of the diagonal and the same for a model and its scaled copy, and
+// A = max_aspect_ratio. The aspect term prefers removals that make better triangles than
+// they remove (R/r = 2 is equilateral); its last part (0 unless a removed triangle is
+// worse than A) puts removals that repair the input's slivers first. A new term (for example a distortion of phi) goes into removal_cost(),
 // with what it needs carried by RemovalPlan.
 
 #include <string>

@@ -40,6 +40,24 @@ TEST_CASE("removal cost: error over the diagonal plus the aspect term, reason cl
     CHECK(removal_cost(valid_plan(0.1, 8.0, 2.0), options, 10.0, CostBasis::Plan, why) == Approx(0.01));
 }
 
+TEST_CASE("removal cost: removing a triangle worse than max_aspect_ratio gets credit for the excess it repairs",
+          "[internal][simplify]") {
+    SimplifyOptions options;  // max_aspect_ratio 30
+    std::string why;
+    // Femur's needle: the removed triangles' worst is 92.8, the new ones' 35.2 (allowed,
+    // since the removed were worse). Credit log2(92.8 / 35.2) on top of the usual term.
+    const double usual = std::log2(35.2 / 2.0) - 0.5 * std::log2(92.8 / 2.0);
+    const double repaired = std::log2(92.8 / 35.2);
+    CHECK(removal_cost(valid_plan(0.1, 35.2, 92.8), options, 10.0, CostBasis::Plan, why) ==
+          Approx(0.01 + 1e-3 * (usual - repaired)).epsilon(1e-8));
+    // New triangles within the limit: the credit counts from the limit, not from them.
+    CHECK(removal_cost(valid_plan(0.1, 4.0, 92.8), options, 10.0, CostBasis::Plan, why) ==
+          Approx(0.01 + 1e-3 * (std::log2(2.0) - 0.5 * std::log2(46.4) - std::log2(92.8 / 30.0))).epsilon(1e-8));
+    // Nothing above the limit removed: no credit.
+    CHECK(removal_cost(valid_plan(0.1, 8.0, 29.0), options, 10.0, CostBasis::Plan, why) ==
+          Approx(0.01 + 1e-3 * (std::log2(4.0) - 0.5 * std::log2(14.5))).epsilon(1e-8));
+}
+
 TEST_CASE("removal cost: a scaled model gets exactly the same cost", "[internal][simplify]") {
     SimplifyOptions options;
     std::string why;
