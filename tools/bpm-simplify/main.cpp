@@ -69,7 +69,7 @@ int main(int argc, char** argv) {
         ->check(CLI::NonNegativeNumber)
         ->group(target);
     app.add_option("--max-aspect", options.max_aspect_ratio,
-                   "Refuse triangles with circumradius/inradius above this (default 30; 2 = equilateral)")
+                   "Refuse new triangles with circumradius/inradius above this, and remove the input's worse ones first where possible (default 30; 2 = equilateral)")
         ->check(CLI::Range(2.0, 1e300))
         ->group(quality);
     bool no_flips = false;
