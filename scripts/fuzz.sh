@@ -5,7 +5,7 @@
 #   scripts/fuzz.sh [SECONDS] [TARGET...]      e.g.  scripts/fuzz.sh 600 fuzz_read_bpm
 #
 # Targets: fuzz_read_off fuzz_read_obj fuzz_read_stl fuzz_read_ply fuzz_read_msh fuzz_read_vtk
-# fuzz_read_bpm fuzz_read_vtk_xml fuzz_read_surf (default: all). Seeds: small valid files of every format written by
+# fuzz_read_bpm fuzz_read_vtk_xml fuzz_read_surf fuzz_read_bpm_outline (default: all). Seeds: small valid files of every format written by
 # bpm-fuzz-seeds, the malformed corpora of tests/data/bad/ and spec/examples/, all
 # generated or copied into build-fuzz/seeds/ at run time. What a target finds is kept
 # in build-fuzz/corpus/TARGET/ (reused by the next run), crashes in
@@ -18,7 +18,7 @@ cd "$(dirname "$0")/.."
 seconds=${1:-30}
 shift || true
 all=(fuzz_read_off fuzz_read_obj fuzz_read_stl fuzz_read_ply fuzz_read_msh fuzz_read_vtk fuzz_read_bpm)
-all+=(fuzz_read_vtk_xml fuzz_read_surf)
+all+=(fuzz_read_vtk_xml fuzz_read_surf fuzz_read_bpm_outline)
 targets=("$@")
 [ ${#targets[@]} -gt 0 ] || targets=("${all[@]}")
 case $seconds in '' | *[!0-9]*) echo "fuzz: SECONDS must be a whole number, not '$seconds'" >&2; exit 2 ;; esac
@@ -55,16 +55,17 @@ cp tests/data/bad/bpm/*.bpm "$seeds/bpm/" 2>/dev/null || true
 # returns NULL, as under `ulimit -v`: HDF5 (not instrumented, not ours) then fails
 # cleanly, as it does in production, while operator new in our code still aborts with
 # a report, so an unbounded allocation of ours remains a finding. handle_abort: a stack
-# for SIGABRT, which fuzz_read_bpm sends to a child that hangs.
+# for SIGABRT, which the .bpm targets send to a child that hangs.
 export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:symbolize=1:allocator_may_return_null=1:max_allocation_size_mb=512:handle_abort=1
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 export LSAN_OPTIONS=suppressions=$PWD/tests/fuzz/lsan.supp:print_suppressions=0
 failed=()
-# hdf5-skips: inputs on which HDF5 itself crashed (fuzz_read_bpm only; not our code, see
-# tests/fuzz/fuzz_read_bpm.cpp), saved in build-fuzz/hdf5-crashes/TARGET/.
-printf '%-16s %12s %8s %10s  %s\n' target executions exec/s hdf5-skips result
+# hdf5-skips: inputs on which HDF5 itself crashed (the .bpm targets only; not our code, see
+# tests/fuzz/hdf5_child.cpp), saved in build-fuzz/hdf5-crashes/TARGET/.
+printf '%-22s %12s %8s %10s  %s\n' target executions exec/s hdf5-skips result
 for target in "${targets[@]}"; do
     format=${target#fuzz_read_}
+    [ "$format" != bpm_outline ] || format=bpm   # bpm-info's reader: the .bpm seeds and dictionary
     corpus=$build/corpus/$target
     artifacts=$build/artifacts/$target
     log=$build/logs/$target.log
@@ -89,7 +90,7 @@ for target in "${targets[@]}"; do
         result="FAILED (exit $status): $(grep -m1 -E '^==[0-9]+== ?ERROR|runtime error:|fuzz property violated|^SUMMARY' "$log" || echo "see $log")"
         failed+=("$target")
     fi
-    printf '%-16s %12s %8s %10s  %s\n' "$target" "${execs:-?}" "${rate:-?}" "$skips" "$result"
+    printf '%-22s %12s %8s %10s  %s\n' "$target" "${execs:-?}" "${rate:-?}" "$skips" "$result"
 done
 
 if [ ${#failed[@]} -gt 0 ]; then

@@ -42,6 +42,7 @@
 #include "bpm/phi_evaluation.h"
 #include "bpm/predicates.h"
 #include "bpm/tetmesh.h"
+#include "bpm/tetmesh_smooth.h"
 
 namespace {
 
@@ -75,25 +76,6 @@ struct LevelReport {
     bool cg_converged = false;
     double seconds = 0;
 };
-
-// Smallest dihedral angle of tetrahedron (a, b, c, d), in degrees.
-double min_dihedral(const std::array<bpm::Vec3, 4>& x) {
-    static const int edges[6][4] = {{0, 1, 2, 3}, {0, 2, 1, 3}, {0, 3, 1, 2}, {1, 2, 0, 3}, {1, 3, 0, 2}, {2, 3, 0, 1}};
-    double worst = 180;
-    for (const auto& e : edges) {
-        // The angle at edge (e0, e1) between the faces through e2 and through e3.
-        const bpm::Vec3 axis = x[e[1]] - x[e[0]];
-        const double len2 = bpm::dot(axis, axis);
-        auto perp = [&](const bpm::Vec3& p) {
-            const bpm::Vec3 v = p - x[e[0]];
-            return v - (bpm::dot(v, axis) / len2) * axis;
-        };
-        const bpm::Vec3 u = perp(x[e[2]]), w = perp(x[e[3]]);
-        const double c = bpm::dot(u, w) / (bpm::norm(u) * bpm::norm(w));
-        worst = std::min(worst, std::acos(std::clamp(c, -1.0, 1.0)) * 180.0 / M_PI);
-    }
-    return worst;
-}
 
 long count_inverted(const Grid& grid) {
     long inverted = 0;
@@ -213,11 +195,16 @@ void measure(const Grid& grid, const bpm::dune::UGGridFromBpm& built, const bpm:
         for (int i = 0; i < 4; ++i) x[i] = to_vec3(geometry.corner(i));
         // DUNE's reference tetrahedron (0, e1, e2, e3) is positively oriented, and UG
         // keeps the orientation of the coarse elements in their children.
-        if (bpm::orient3d(x[0], x[1], x[2], x[3]) != 1) ++report.inverted;
+        const bool inverted = bpm::orient3d(x[0], x[1], x[2], x[3]) != 1;
+        report.inverted += inverted;
         const double v = bpm::dot(bpm::cross(x[1] - x[0], x[2] - x[0]), x[3] - x[0]) / 6.0;
         report.volume += v;
         report.region_volumes[static_cast<size_t>(region_of(element, built, grid) - 1)] += v;
-        report.min_dihedral_degrees = std::min(report.min_dihedral_degrees, min_dihedral(x));
+        // Unsigned, as bpm-mesh reports (TetMeshStats): an inverted tetrahedron counts with
+        // the angles of its mirror image (tet_min_dihedral_degrees is negative for it).
+        const double angle = inverted ? bpm::tet_min_dihedral_degrees(x[1], x[0], x[2], x[3])
+                                      : bpm::tet_min_dihedral_degrees(x[0], x[1], x[2], x[3]);
+        report.min_dihedral_degrees = std::min(report.min_dihedral_degrees, angle);
     }
     for (const auto& vertex : vertices(view)) {
         const bpm::SurfacePoint* p = params.find(grid.globalIdSet().id(vertex));

@@ -63,7 +63,9 @@ struct BpmTetMeshSummary {
 // Feature vertices: bpm-check's (a vertex that is not regular: neither no feature edge with
 // one closed fan of triangles, nor exactly two feature edges with every fan running from
 // one to the other), and every vertex at a crease with a number of feature edges other than
-// two (a crease ends or meets another feature line there: the 8 corners of a cube).
+// two (a crease ends or meets another feature line there: the 8 corners of a cube). These
+// are not the corners bpm-simplify kept (decided on the original surface, with a length
+// filter for creases and a cone test for crease ends): spec/info-report.md compares them.
 // Feature lines: maximal chains of feature edges whose inner vertices are not feature
 // vertices; closed ones (without any feature vertex) are also counted as loops.
 struct BpmFeatureSummary {

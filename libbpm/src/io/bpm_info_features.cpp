@@ -2,24 +2,17 @@
 // BpmFeatureSummary): bpm-check's combinatorial feature edges and vertices
 // (bpm/surface_topology.h) together with the creases of the surface's geometry.
 #include <algorithm>
-#include <cmath>
 #include <numeric>
 #include <vector>
 
 #include "bpm/bpm_info.h"
 #include "bpm/geometry.h"
 #include "bpm/surface_topology.h"
+#include "core/crease.h"
 
 namespace bpm {
 
 namespace {
-
-// Does triangle `t` run from u to w (rather than from w to u)?
-bool runs_from(const Tri& t, int32_t u, int32_t w) {
-    for (int k = 0; k < 3; ++k)
-        if (t[k] == u && t[(k + 1) % 3] == w) return true;
-    return false;
-}
 
 int32_t find_root(std::vector<int32_t>& parent, int32_t x) {
     while (parent[x] != x) x = parent[x] = parent[parent[x]];
@@ -34,7 +27,7 @@ BpmFeatureSummary summarize_features(const Surface& surface, double feature_angl
     const SurfaceTopology topology = compute_topology(surface);
     const SurfaceConnectivity& c = topology.connectivity;
     const int32_t ne = c.num_edges();
-    const double cos_limit = std::cos(feature_angle_degrees * M_PI / 180.0);
+    const detail::CreaseTest crease_test(feature_angle_degrees);
 
     std::vector<char> feature(static_cast<size_t>(ne), 0), crease(static_cast<size_t>(ne), 0);
     for (int32_t e = 0; e < ne; ++e) {
@@ -44,18 +37,11 @@ BpmFeatureSummary summarize_features(const Surface& surface, double feature_angl
             case EdgeClass::Interface: ++out.interface_edges; feature[e] = 1; continue;
             case EdgeClass::Regular: break;
         }
-        if (c.edge_degree(e) != 2 || feature_angle_degrees >= 180.0) continue;
+        if (c.edge_degree(e) != 2) continue;
         const auto [u, w] = c.edges[e];
         const Tri& t0 = surface.triangles[c.edge_triangles[c.edge_triangle_offsets[e]]];
         const Tri& t1 = surface.triangles[c.edge_triangles[c.edge_triangle_offsets[e] + 1]];
-        const auto& p = surface.vertices;
-        const Vec3 n0 = triangle_normal(p[t0[0]], p[t0[1]], p[t0[2]]);
-        Vec3 n1 = triangle_normal(p[t1[0]], p[t1[1]], p[t1[2]]);
-        if (dot(n0, n0) == 0 || dot(n1, n1) == 0) continue;  // a degenerate triangle has no normal
-        // Consistently oriented neighbours run the edge in opposite directions; if they
-        // do not, their normals are compared with the second turned over.
-        if (runs_from(t0, u, w) == runs_from(t1, u, w)) n1 = -1.0 * n1;
-        if (dot(n0, n1) < cos_limit) {
+        if (crease_test.is_crease(surface.vertices, t0, t1, u, w)) {
             ++out.crease_edges;
             feature[e] = crease[e] = 1;
         }

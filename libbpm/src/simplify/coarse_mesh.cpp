@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/crease.h"
+
 namespace bpm::detail {
 
 namespace {
@@ -164,8 +166,7 @@ void CoarseMesh::set_neighbour_bits(int32_t v) {
 }
 
 void CoarseMesh::mark_feature_edges(double feature_angle_degrees) {
-    const double cos_limit = std::cos(feature_angle_degrees * M_PI / 180.0);
-    const auto& p = *positions_;
+    const CreaseTest crease(feature_angle_degrees);
     std::vector<int32_t> around;
     for (int32_t t = 0; t < int32_t(triangles_.size()); ++t) {
         if (!alive_[t]) continue;
@@ -183,15 +184,8 @@ void CoarseMesh::mark_feature_edges(double feature_angle_degrees) {
                 mark(a, b, Feature::Hard);
                 continue;
             }
-            if (feature_angle_degrees < 180.0) {
-                const Tri& t0 = triangles_[around[0]];
-                const Tri& t1 = triangles_[around[1]];
-                const Vec3 n0 = triangle_normal(p[t0[0]], p[t0[1]], p[t0[2]]);
-                const Vec3 n1 = triangle_normal(p[t1[0]], p[t1[1]], p[t1[2]]);
-                // Within a sheet the triangles are consistently oriented (constructor),
-                // so the normals are directly comparable.
-                if (dot(n0, n1) < cos_limit) mark(a, b, Feature::Crease);
-            }
+            if (crease.is_crease(*positions_, triangles_[around[0]], triangles_[around[1]], a, b))
+                mark(a, b, Feature::Crease);
         }
     }
 }

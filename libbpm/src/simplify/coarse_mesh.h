@@ -58,9 +58,9 @@ public:
     int32_t add_triangle(const Tri& corners, int32_t patch);
     void remove_triangle(int32_t t);
 
-    // Marks creases: a manifold edge whose dihedral angle (angle between the two
-    // normals) exceeds `feature_angle_degrees` becomes a feature edge. Boundary edges,
-    // non-manifold edges and patch borders are always feature edges.
+    // Marks creases: a manifold edge whose two triangles' normals are more than
+    // `feature_angle_degrees` apart (core/crease.h, CreaseTest) becomes a feature edge.
+    // Boundary edges, non-manifold edges and patch borders are always feature edges.
     void mark_feature_edges(double feature_angle_degrees);
 
     // Corners: vertices point removal never removes although they lie on creases

@@ -41,6 +41,7 @@
 #include "bpm/refine.h"
 #include "core/barycentric_orientation.h"
 #include "core/convex_ear_clipping.h"
+#include "core/crease.h"
 #include "core/edge_key.h"
 #include "phi/phi_triangle_data.h"
 
@@ -185,7 +186,7 @@ bool star_weights(const std::vector<StarWedge>& wedges, SmoothWeights mode, std:
 // (see the file comment); the tet-mesh smoother is tetmesh/tetmesh_smooth.cpp.
 class ParametrizationSmoother {
 public:
-    ParametrizationSmoother(Parametrization& p, const SmoothOptions& o) : p_(p), o_(o) {
+    ParametrizationSmoother(Parametrization& p, const SmoothOptions& o) : p_(p), o_(o), crease_(o.feature_angle_degrees) {
         const int32_t nt = p.coarse.num_triangles();
         tris_.resize(size_t(nt));
         for (int32_t t = 0; t < nt; ++t) tris_[size_t(t)] = detail::load_phi_triangle(p, t);
@@ -359,13 +360,9 @@ private:
                 auto it = original_edges_.find(detail::edge_key(u, w));
                 if (it == original_edges_.end()) continue;
                 if (it->second.size() != 2) return skip("feature line with 3 or more sheets");
-                const auto& x = p_.original.vertices;
-                const Tri& t0 = p_.original.triangles[size_t(it->second[0])];
-                const Tri& t1 = p_.original.triangles[size_t(it->second[1])];
-                const Vec3 n0 = triangle_normal(x[size_t(t0[0])], x[size_t(t0[1])], x[size_t(t0[2])]);
-                const Vec3 n1 = triangle_normal(x[size_t(t1[0])], x[size_t(t1[1])], x[size_t(t1[2])]);
-                const double angle = std::acos(std::max(-1.0, std::min(1.0, dot(n0, n1)))) * 180.0 / M_PI;
-                if (angle > o_.feature_angle_degrees) sliding = true;
+                const auto& t = p_.original.triangles;
+                if (crease_.is_crease(p_.original.vertices, t[size_t(it->second[0])], t[size_t(it->second[1])], u, w))
+                    sliding = true;
             }
         }
         if (sliding) {
@@ -780,6 +777,7 @@ private:
 
     Parametrization& p_;
     const SmoothOptions& o_;
+    const detail::CreaseTest crease_;  // original edges sharper than o_.feature_angle_degrees
     std::vector<PhiTriangleData> tris_;
     std::vector<std::vector<int32_t>> vertex_tris_;
     std::unordered_map<uint64_t, std::vector<int32_t>> original_edges_;

@@ -274,6 +274,30 @@ TetMesh plain_mesh_of(const Parametrization& p) {
 
 double min_dihedral(const TetMesh& m) { return tetmesh_stats(m).min_dihedral_degrees; }
 
+// The setup the smoothing tests share: the sagging cube, its TetGen mesh (not smoothed),
+// and refinements of that mesh.
+struct SaggingCube {
+    Parametrization p = sagging_cube();
+    TetMesh coarse = plain_mesh_of(p);
+
+    // refine_tetmesh of the coarse mesh with `o`; its result into *result if asked for.
+    TetMesh refine(const TetRefineOptions& o, TetRefineResult* result = nullptr) const {
+        TetMesh fine;
+        const TetRefineResult r = refine_tetmesh(p, coarse, o, {}, fine);
+        if (result) *result = r;
+        return fine;
+    }
+    // Plain red refinement: no vertex moved onto the surface, none smoothed (the children
+    // keep Bey's shapes: no slivers).
+    TetMesh plain_red(int levels) const {
+        TetRefineOptions o;
+        o.levels = levels;
+        o.move_to_surface = false;
+        o.repair.smooth = false;
+        return refine(o);
+    }
+};
+
 }  // namespace
 
 TEST_CASE("tet_smooth: the signed minimum dihedral angle", "[tet_refine][tet_smooth]") {
@@ -283,7 +307,7 @@ TEST_CASE("tet_smooth: the signed minimum dihedral angle", "[tet_refine][tet_smo
     CHECK(tet_min_dihedral_degrees(o, x, y, {1, 1, 0}) == 0);  // flat
     // tetmesh_stats measures with the same function: equal on a real (positive) mesh
     REQUIRE_TETGEN();
-    const TetMesh m = plain_mesh_of(sagging_cube());
+    const TetMesh m = SaggingCube().coarse;
     double low = 180;
     for (const Tet& t : m.tetrahedra)
         low = std::min(low,
@@ -294,8 +318,7 @@ TEST_CASE("tet_smooth: the signed minimum dihedral angle", "[tet_refine][tet_smo
 TEST_CASE("tet_smooth: smoothing the interior never inverts, raises the worst angle, and keeps S fixed",
           "[tet_refine][tet_smooth]") {
     REQUIRE_TETGEN();
-    const Parametrization p = sagging_cube();
-    const TetMesh coarse = plain_mesh_of(p);
+    const SaggingCube cube;
     // Red refinement with the boundary moved onto the sagging faces as far as volumes stay
     // positive (the paper's rule), not smoothed.
     TetRefineOptions o;
@@ -303,12 +326,8 @@ TEST_CASE("tet_smooth: smoothing the interior never inverts, raises the worst an
     o.repair.smooth = false;
     o.repair.min_volume_fraction = 0;
     o.repair.min_dihedral_degrees = 0;
-    TetMesh moved;
-    refine_tetmesh(p, coarse, o, {}, moved);
-    TetRefineOptions flat = o;
-    flat.move_to_surface = false;
-    TetMesh plain;
-    refine_tetmesh(p, coarse, flat, {}, plain);
+    const TetMesh moved = cube.refine(o);
+    const TetMesh plain = cube.plain_red(1);
     const double before = min_dihedral(moved);
     INFO("plain red refinement " << min_dihedral(plain) << " degrees, boundary moved " << before);
     REQUIRE(before < 1);  // the move made slivers
@@ -356,15 +375,14 @@ TEST_CASE("tet_smooth: smoothing the interior never inverts, raises the worst an
 TEST_CASE("tet_refine: smoothing during refinement beats smoothing off, with the boundary on phi",
           "[tet_refine][tet_smooth]") {
     REQUIRE_TETGEN();
-    const Parametrization p = sagging_cube();
-    const TetMesh coarse = plain_mesh_of(p);
+    const SaggingCube cube;
+    const Parametrization& p = cube.p;
     TetRefineOptions on;
     on.levels = 2;
     TetRefineOptions off = on;
     off.repair.smooth = false;
-    TetMesh a, b;
-    const TetRefineResult ra = refine_tetmesh(p, coarse, on, {}, a);
-    const TetRefineResult rb = refine_tetmesh(p, coarse, off, {}, b);
+    TetRefineResult ra, rb;
+    const TetMesh a = cube.refine(on, &ra), b = cube.refine(off, &rb);
     INFO("smoothed " << min_dihedral(a) << " degrees, not smoothed " << min_dihedral(b));
     CHECK(min_dihedral(a) > min_dihedral(b));
     CHECK(ra.inverted == 0);
@@ -393,30 +411,24 @@ TEST_CASE("tet_refine: smoothing during refinement beats smoothing off, with the
 TEST_CASE("tet_refine: the remedy's angle bound keeps slivers from forming at the boundary",
           "[tet_refine][tet_smooth]") {
     REQUIRE_TETGEN();
-    const Parametrization p = sagging_cube();
-    const TetMesh coarse = plain_mesh_of(p);
+    const SaggingCube cube;
     TetRefineOptions o;
     o.levels = 1;
     o.repair.min_volume_fraction = 0;
-    TetRefineOptions flat = o;
-    flat.move_to_surface = false;
-    flat.repair.smooth = false;
-    TetMesh plain;
-    refine_tetmesh(p, coarse, flat, {}, plain);
-    REQUIRE(min_dihedral(plain) > 10);
+    REQUIRE(min_dihedral(cube.plain_red(1)) > 10);
     for (bool smooth : {false, true}) {
         INFO("smoothing " << smooth);
         o.repair.smooth = smooth;
         // Each move of a boundary vertex keeps the tetrahedra around it at min(bound, what
         // they had), starting from plain red refinement; smoothing never lowers the minimum.
         o.repair.min_dihedral_degrees = 5;
-        TetMesh bounded, unbounded;
-        const TetRefineResult r = refine_tetmesh(p, coarse, o, {}, bounded);
+        TetRefineResult r;
+        const TetMesh bounded = cube.refine(o, &r);
         CHECK(min_dihedral(bounded) >= 5 - 1e-6);
         CHECK(count_inverted(bounded) == 0);
-        CHECK(count_off_surface(p, bounded) == r.remedied_vertices);
+        CHECK(count_off_surface(cube.p, bounded) == r.remedied_vertices);
         o.repair.min_dihedral_degrees = 0;  // positive volume only: slivers where nothing smooths them
-        refine_tetmesh(p, coarse, o, {}, unbounded);
+        const TetMesh unbounded = cube.refine(o);
         CHECK(count_inverted(unbounded) == 0);
         if (!smooth) CHECK(min_dihedral(unbounded) < 1);
     }

@@ -1,0 +1,34 @@
+// The crease test (core/crease.h).
+
+#include "core/crease.h"
+
+#include <cmath>
+
+namespace bpm::detail {
+
+namespace {
+
+// Does triangle `t` run from u to w (rather than from w to u)?
+bool runs_from(const Tri& t, int32_t u, int32_t w) {
+    for (int k = 0; k < 3; ++k)
+        if (t[k] == u && t[(k + 1) % 3] == w) return true;
+    return false;
+}
+
+}  // namespace
+
+CreaseTest::CreaseTest(double feature_angle_degrees)
+    : cos_limit_(std::cos(feature_angle_degrees * M_PI / 180.0)), finds_creases_(feature_angle_degrees < 180.0) {}
+
+bool CreaseTest::is_crease(const std::vector<Vec3>& p, const Tri& t0, const Tri& t1, int32_t u, int32_t w) const {
+    if (!finds_creases_) return false;
+    // The normals from the corners in stored order, so that they are the same bits as
+    // triangle_normal() gives everywhere else for these triangles.
+    const Vec3 n0 = triangle_normal(p[size_t(t0[0])], p[size_t(t0[1])], p[size_t(t0[2])]);
+    Vec3 n1 = triangle_normal(p[size_t(t1[0])], p[size_t(t1[1])], p[size_t(t1[2])]);
+    if (dot(n0, n0) == 0 || dot(n1, n1) == 0) return false;  // a degenerate triangle has no normal
+    if (runs_from(t0, u, w) == runs_from(t1, u, w)) n1 = -1.0 * n1;
+    return dot(n0, n1) < cos_limit_;
+}
+
+}  // namespace bpm::detail

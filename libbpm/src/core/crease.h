@@ -1,0 +1,55 @@
+#pragma once
+// The crease test: is the edge that two triangles share sharp? The one implementation
+// behind every crease bpm finds: the simplifier's feature edges
+// (simplify/coarse_mesh.cpp, mark_feature_edges), the smoother's feature lines
+// (smooth/smooth.cpp) and bpm-info's feature summary (io/bpm_info_features.cpp).
+//
+// Inputs: the corner positions and the two triangles (as stored, any orientation) that
+// share the edge (u, w). Each caller has these over its own mesh structure (the
+// simplifier's CoarseMesh, the smoother's original surface, bpm-info's coarse Surface),
+// so the test takes no mesh type.
+//
+// Angle: the angle between the two unit normals (triangle_normal), 0 where the triangles
+// lie flat, 180 degrees where they fold onto each other; i.e. 180 degrees minus the
+// interior dihedral angle. The edge is a crease where that angle is MORE than the feature
+// angle, compared as cosines: dot(n0, n1) < cos(feature angle). A feature angle of 180
+// degrees or more finds no crease (the guard matters: the dot product of two opposite
+// unit normals may round to just below -1).
+//
+// Orientation: the normals are compared as the triangles are oriented, the second turned
+// over when the two run the edge in the same direction (a consistently oriented pair runs
+// it in opposite directions). So flipping either triangle's stored orientation does not
+// change the answer; on a non-orientable sheet every edge is still judged by its two
+// triangles alone.
+//
+// Degenerate triangles: a triangle whose normal is zero (coincident or exactly collinear
+// corners in floating point) has no direction; its edges are not creases. (Inputs of the
+// simplifier, and so the smoother's S0, pass validate_surface, which refuses zero-area
+// triangles; bpm-info reads coarse surfaces as stored.)
+
+#include <cstdint>
+#include <vector>
+
+#include "bpm/geometry.h"
+#include "bpm/surface.h"
+
+namespace bpm::detail {
+
+class CreaseTest {
+public:
+    explicit CreaseTest(double feature_angle_degrees);
+
+    // false when the feature angle is 180 degrees or more: then no edge is a crease.
+    bool finds_creases() const { return finds_creases_; }
+
+    // Is the edge (u, w) that t0 and t1 share a crease? Corners index `positions`.
+    // \pre t0 and t1 both have u and w as corners.
+    bool is_crease(const std::vector<Vec3>& positions, const Tri& t0, const Tri& t1, int32_t u,
+                   int32_t w) const;
+
+private:
+    double cos_limit_;
+    bool finds_creases_;
+};
+
+}  // namespace bpm::detail
