@@ -97,6 +97,7 @@ MANUAL_SECTIONS = [
     "convergence-limits-and-distortion-weight.md",
     "output-formats.md",
     "input-slivers-first.md",
+    "tet-refinement-best-diagonal.md",
 ]
 RUN_RECORD = "all.json"  # in the results folder: what `all` ran, for --assemble
 QUICK_REFINE_MESHES = "femur"

@@ -15,6 +15,7 @@
 #include "bpm/errors.h"
 #include "bpm/phi_evaluation.h"
 #include "bpm/predicates.h"
+#include "core/tetrahedron_quality.h"
 #include "tetmesh/boundary_repair_internal.h"
 #include "tetmesh/tetmesh_internal.h"
 
@@ -49,6 +50,48 @@ std::array<bool, 8> child_flips() {
 
 Edge make_edge(int32_t a, int32_t b) { return a < b ? Edge{a, b} : Edge{b, a}; }
 
+// The smallest unsigned dihedral angle (radians) of Bey's eight children of (p0, p1, p2, p3)
+// with the new vertices at the edge midpoints.
+double worst_child_angle(const Vec3 (&p)[4]) {
+    Vec3 q[10];
+    for (int i = 0; i < 4; ++i) q[i] = p[i];
+    for (int e = 0; e < 6; ++e) q[4 + e] = 0.5 * (p[kEdges[e][0]] + p[kEdges[e][1]]);
+    double worst = 3.14159265358979323846;  // pi, above every angle
+    for (int k = 0; k < 8; ++k) {
+        double angles[6];
+        detail::dihedral_angles(q[kChildren[k][0]], q[kChildren[k][1]], q[kChildren[k][2]], q[kChildren[k][3]],
+                                angles);
+        for (const double a : angles) worst = std::min(worst, std::abs(a));
+    }
+    return worst;
+}
+
+// Bey's rule keeps all later levels within three congruence classes of the first level's
+// children, but which of the octahedron's three inner diagonals the first level cuts
+// (here M02 -- M13) depends on the corner order. Reorders `tet` so that its children get
+// the largest smallest dihedral angle: the identity, swapping corners 1 and 2 (cuts
+// M01 -- M23) or 2 and 3 (cuts M03 -- M12); a swap reverses the orientation, so
+// `negative` flips with it. Keeps the first of equal choices. Femur at 1000 vertices: the
+// worst child of the level-0 mesh 1.73 degrees in TetGen's order, 3.04 with this choice.
+void order_for_best_children(const std::vector<Vec3>& x, Tet& tet, bool& negative) {
+    static constexpr int kSwaps[3][2] = {{0, 0}, {1, 2}, {2, 3}};
+    double best = -1;
+    int best_swap = 0;
+    for (int s = 0; s < 3; ++s) {
+        Tet t = tet;
+        std::swap(t[kSwaps[s][0]], t[kSwaps[s][1]]);
+        const Vec3 p[4] = {x[t[0]], x[t[1]], x[t[2]], x[t[3]]};
+        const double worst = worst_child_angle(p);
+        if (worst > best) {
+            best = worst;
+            best_swap = s;
+        }
+    }
+    if (best_swap == 0) return;
+    std::swap(tet[kSwaps[best_swap][0]], tet[kSwaps[best_swap][1]]);
+    negative = !negative;
+}
+
 struct State {
     std::vector<Vec3> x;
     std::vector<Tet> tets;               // in Bey order
@@ -82,6 +125,12 @@ TetRefineResult refine_tetmesh(const Parametrization& param, const TetMesh& coar
     s.x = coarse.vertices;
     s.tets = coarse.tetrahedra;
     s.negative.assign(s.tets.size(), false);
+    if (options.levels > 0)
+        for (size_t t = 0; t < s.tets.size(); ++t) {
+            bool negative = false;
+            order_for_best_children(s.x, s.tets[t], negative);
+            s.negative[t] = negative;
+        }
     s.regions = coarse.regions;
     s.ancestor = coarse.tet_ancestor;
     if (s.ancestor.empty()) {

@@ -57,6 +57,8 @@ Parametrization dented_cube(int res, double depth) {
     return p;
 }
 
+double min_dihedral(const TetMesh& m) { return tetmesh_stats(m).min_dihedral_degrees; }
+
 int64_t count_inverted(const TetMesh& m) {
     int64_t n = 0;
     for (const Tet& t : m.tetrahedra)
@@ -136,6 +138,36 @@ TEST_CASE("tet_refine: Bey's rule keeps the shape classes (min dihedral angle st
     // Children of level 1 already show every class; levels 2 and 3 add no new shapes.
     CHECK(tetmesh_stats(three).min_dihedral_degrees == Approx(tetmesh_stats(one).min_dihedral_degrees).epsilon(1e-9));
     CHECK(tetmesh_stats(three).max_dihedral_degrees == Approx(tetmesh_stats(one).max_dihedral_degrees).epsilon(1e-9));
+}
+
+TEST_CASE("tet_refine: the first level cuts every octahedron along its best diagonal, whatever the corner order",
+          "[tet_refine]") {
+    REQUIRE_TETGEN();
+    // A box 3 x 1 x 0.5: TetGen's tetrahedra are not symmetric, so the three inner diagonals
+    // of their octahedra give children of different shapes.
+    Surface box = fixtures::cube(2);
+    for (Vec3& x : box.vertices) x = Vec3{3 * x[0], x[1], 0.5 * x[2]};
+    const Parametrization p = fixtures::identity_parametrization(box);
+    const TetMesh coarse = mesh_of(p);
+    TetRefineOptions o;
+    o.move_to_surface = false;
+    o.repair.smooth = false;
+    o.levels = 1;
+    // The same tetrahedra with their corners cycled (even permutations: orientation kept):
+    // Bey's rule alone would cut M02 -- M13 of each order, three different diagonals.
+    double worst[3];
+    for (int cycle = 0; cycle < 3; ++cycle) {
+        TetMesh input = coarse;
+        for (Tet& t : input.tetrahedra)
+            for (int k = 0; k < cycle; ++k) t = Tet{t[0], t[2], t[3], t[1]};
+        TetMesh fine;
+        refine_tetmesh(p, input, o, {}, fine);
+        CHECK(count_inverted(fine) == 0);
+        worst[cycle] = min_dihedral(fine);
+    }
+    INFO("worst child angle per corner order: " << worst[0] << ", " << worst[1] << ", " << worst[2]);
+    CHECK(worst[1] == Approx(worst[0]).epsilon(1e-12));
+    CHECK(worst[2] == Approx(worst[0]).epsilon(1e-12));
 }
 
 TEST_CASE("tet_refine: boundary vertices move onto a curved original surface", "[tet_refine]") {
@@ -261,8 +293,9 @@ namespace {
 
 // A cube whose faces sag inwards between the coarse vertices: moving the new boundary
 // vertices onto it squashes the tetrahedra next to the boundary (into slivers where only
-// positive volume is asked for).
-Parametrization sagging_cube() { return bent(fixtures::cube(2), {0.5, 0.5, 0.5}, 0.7); }
+// positive volume is asked for). Sagging to 0.6 of the distance from the centre: at 0.7 the
+// children of the best inner diagonal (refine_tetmesh's first level) stayed at 3.3 degrees.
+Parametrization sagging_cube() { return bent(fixtures::cube(2), {0.5, 0.5, 0.5}, 0.6); }
 
 TetMesh plain_mesh_of(const Parametrization& p) {
     TetMesh m;
@@ -272,7 +305,6 @@ TetMesh plain_mesh_of(const Parametrization& p) {
     return m;
 }
 
-double min_dihedral(const TetMesh& m) { return tetmesh_stats(m).min_dihedral_degrees; }
 
 // The setup the smoothing tests share: the sagging cube, its TetGen mesh (not smoothed),
 // and refinements of that mesh.
