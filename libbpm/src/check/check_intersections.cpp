@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <set>
 
 #include "bpm/check.h"
@@ -15,7 +16,28 @@
 namespace bpm {
 
 namespace {
-using Box = CGAL::Box_intersection_d::Box_with_info_d<double, 3, int32_t>;
+// A triangle's bounding box in float, with the triangle's index as the box's id: 28
+// bytes instead of CGAL's Box_with_info_d<double, 3, int32_t> (64 bytes with its explicit
+// id), which halves the memory the box intersection sorts and scans (measured on
+// armadillo + 1x Loop, 208k triangles, the box part alone: 0.25 -> 0.17 CPU s).
+// Rounding to the nearest float and clamping are monotone, so two boxes that touch or
+// overlap in double still do in float: the candidates are a superset of the exact ones
+// (a few more pairs, decided by the same exact predicates).
+struct Box {
+    using NT = float;
+    using ID = int32_t;
+    float lo[3], hi[3];
+    int32_t triangle;
+    static int dimension() { return 3; }
+    int32_t id() const { return triangle; }
+    float min_coord(int d) const { return lo[d]; }
+    float max_coord(int d) const { return hi[d]; }
+    // CGAL's segment tree uses +-FLT_MAX as sentinels: stay inside them.
+    static float to_float(double x) {
+        constexpr double limit = double(std::numeric_limits<float>::max()) / 2;
+        return float(std::clamp(x, -limit, limit));
+    }
+};
 
 // Triangles sharing exactly one vertex s are decided here with orientation tests
 // only (the common case in every mesh; CGAL's general test is much slower, above all
@@ -131,12 +153,12 @@ CheckResult check_intersections(const Surface& surface, const CheckOptions& opti
                           options.max_problems);
             continue;
         }
-        double lo[3], hi[3];
+        Box& box = boxes.emplace_back();
         for (int d = 0; d < 3; ++d) {
-            lo[d] = std::min({V[tri[0]][d], V[tri[1]][d], V[tri[2]][d]});
-            hi[d] = std::max({V[tri[0]][d], V[tri[1]][d], V[tri[2]][d]});
+            box.lo[d] = Box::to_float(std::min({V[tri[0]][d], V[tri[1]][d], V[tri[2]][d]}));
+            box.hi[d] = Box::to_float(std::max({V[tri[0]][d], V[tri[1]][d], V[tri[2]][d]}));
         }
-        boxes.emplace_back(lo, hi, t);
+        box.triangle = t;
     }
 
     // Keep the smallest pairs (by index) so the reported ones do not depend on the
@@ -146,7 +168,7 @@ CheckResult check_intersections(const Surface& surface, const CheckOptions& opti
     const size_t keep = options.max_problems;
     auto callback = [&](const Box& ba, const Box& bb) {
         ++candidates;
-        int32_t ta = ba.info(), tb = bb.info();
+        int32_t ta = ba.triangle, tb = bb.triangle;
         if (ta > tb) std::swap(ta, tb);
         const Tri& A = T[ta];
         const Tri& B = T[tb];
