@@ -44,8 +44,9 @@ struct Box {
 // The two box arrays come straight from mmap. Freed through malloc, blocks of 128 kB to
 // 32 MB raise glibc's dynamic mmap threshold to their size; the simplifier's and the
 // writer's large blocks that follow then come from the heap and stay resident: with the
-// 28-byte boxes, the 832k-triangle armadillo + 2x Loop peaked at 536 instead of 501 MB
-// (equal again with a fixed MALLOC_MMAP_THRESHOLD_, and with this allocator).
+// 28-byte boxes, bpm-simplify on the 832k-triangle armadillo + 2x Loop peaked at 536
+// instead of 501 MB (both 497 MB with a fixed MALLOC_MMAP_THRESHOLD_; 505 MB with this
+// allocator, the rest being the writer's larger image).
 template <class T>
 struct PageAllocator {
     using value_type = T;
