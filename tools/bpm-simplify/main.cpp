@@ -1,7 +1,10 @@
 // bpm-simplify: coarse surface + bijective parametrization from a triangulated surface.
+#include <algorithm>
 #include <cstdio>
+#include <ctime>
 #include <iostream>
 #include <utility>
+#include <vector>
 
 #include "bpm/bpm_file.h"
 #include "bpm/check.h"
@@ -33,6 +36,79 @@ std::string with_flags(std::string text) {
             text.replace(at, std::string(field).size(), flag);
     return text;
 }
+
+// Wall and CPU seconds per phase, for -v (issue 21: the floor broken down without a
+// profiler). The library's phases are told apart by the stages it reports to the progress
+// callback; process CPU time counts every thread (with --threads 2 the second one spins
+// between short rounds).
+class PhaseClock {
+public:
+    explicit PhaseClock(std::string first) { start(std::move(first)); }
+    void start(std::string name) {
+        const auto [wall, cpu] = now();
+        if (!phases_.empty()) {
+            phases_.back().wall = wall - phases_.back().wall;
+            phases_.back().cpu = cpu - phases_.back().cpu;
+        }
+        phases_.push_back({std::move(name), wall, cpu});
+    }
+    const std::string& current() const { return phases_.back().name; }
+    // The library's stage -> phase name (a stage not listed keeps the current phase).
+    void stage(double fraction, const std::string& stage) {
+        const char* phase = stage == "checking the input for self-intersections" ? "input intersection check"
+                            : stage == "checking self-intersections"  ? (fraction < 1.0 ? "input intersection check" : "set-up")
+                            : stage == "evaluating vertices"          ? "first ranking"
+                            : stage.rfind("simplifying", 0) == 0      ? "removals"
+                            : stage.rfind("flipping edges", 0) == 0   ? "edge flips"
+                            : stage == "writing the parametrization"  ? "export of phi"
+                            : stage == "done"                         ? "freeing the simplifier's state"
+                                                                      : nullptr;
+        if (phase && current() != phase) start(phase);
+    }
+    // One line per phase (a phase entered twice is summed, in the order first entered) and
+    // the total; the phase `from` is shown as `to`. Ends the current phase.
+    std::vector<std::string> lines(const std::string& from, const std::string& to) {
+        start("");
+        phases_.pop_back();
+        std::vector<Phase> sums;
+        for (const Phase& p : phases_) {
+            auto same = std::find_if(sums.begin(), sums.end(), [&](const Phase& q) { return q.name == p.name; });
+            if (same == sums.end()) sums.push_back(p);
+            else {
+                same->wall += p.wall;
+                same->cpu += p.cpu;
+            }
+        }
+        std::vector<std::string> out;
+        double wall = 0, cpu = 0;
+        char line[160];
+        for (const Phase& p : sums) {
+            // e.g. the moment before the check when the set-up runs beside it (--threads 2)
+            if (p.wall < 0.0005 && p.cpu < 0.0005) continue;
+            std::snprintf(line, sizeof line, "time: %-40s %8.3f s wall %8.3f s CPU",
+                          (p.name == from ? to : p.name).c_str(), p.wall, p.cpu);
+            out.push_back(line);
+            wall += p.wall;
+            cpu += p.cpu;
+        }
+        std::snprintf(line, sizeof line, "time: %-40s %8.3f s wall %8.3f s CPU", "total (from reading)", wall, cpu);
+        out.push_back(line);
+        return out;
+    }
+
+private:
+    struct Phase {
+        std::string name;
+        double wall, cpu;  // at the start; the duration once the next phase started
+    };
+    std::vector<Phase> phases_;
+    static std::pair<double, double> now() {
+        timespec w{}, c{};
+        clock_gettime(CLOCK_MONOTONIC, &w);
+        clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &c);
+        return {double(w.tv_sec) + 1e-9 * double(w.tv_nsec), double(c.tv_sec) + 1e-9 * double(c.tv_nsec)};
+    }
+};
 
 }  // namespace
 
@@ -173,7 +249,13 @@ int main(int argc, char** argv) {
         options.flip_edges = !no_flips;
         options.batch_removals = !one_removal_per_step;
         options.reject_self_intersecting_input = !allow_bad_input;
-        const bpm::Context context = bpm::tools::make_context(tool, verbose, quiet);
+        bpm::Context context = bpm::tools::make_context(tool, verbose, quiet);
+        PhaseClock clock("reading");
+        if (verbose)
+            context.progress = [&clock, show = context.progress](double fraction, const std::string& stage) {
+                clock.stage(fraction, stage);
+                return show(fraction, stage);
+            };
 
         bpm::SurfaceReadReport report;
         const bpm::Surface surface = bpm::read_surfaces(inputs, read_options, &report);
@@ -203,6 +285,7 @@ int main(int argc, char** argv) {
         bpm::BpmFile file;
         file.patch_info = report.patch_info;
         bpm::SimplifyResult result;
+        clock.start("set-up");  // until the library reports its first stage
         try {
             result = bpm::simplify(surface, options, context, file.param);
         } catch (const bpm::OptionError& e) {
@@ -214,7 +297,9 @@ int main(int argc, char** argv) {
         file.units = units;
         file.provenance.push_back({tool, bpm::tools::version_line(tool), bpm::tools::command_line(argc, argv),
                                    deterministic ? std::string() : bpm::tools::utc_timestamp()});
+        clock.start("writing the .bpm");
         bpm::write_bpm(output, file);
+        clock.start("distortion of phi (report)");
 
         // phi's worst distortion (bpm-check's distortion check, spec/check-report.md).
         const bpm::CheckResult distortion = bpm::check_distortion(file.param);
@@ -229,6 +314,11 @@ int main(int argc, char** argv) {
                       (long long)std::max<int64_t>(folds, 0), result.seconds, result.threads,
                       result.threads == 1 ? "thread" : "threads");
         context.info(line);
+        if (verbose)
+            for (const std::string& l : clock.lines("input intersection check",
+                                                    result.threads > 1 ? "input intersection check with set-up"
+                                                                       : "input intersection check"))
+                context.debug(l);
         // The kept feature vertices matter when they stopped the simplifier (said next to
         // the warning below); otherwise they are a detail for -v.
         if (result.kept_feature_vertices() > 0) {
