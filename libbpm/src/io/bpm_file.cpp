@@ -13,7 +13,6 @@
 #include "bpm/bpm_file.h"
 
 #include <hdf5.h>
-#include <zlib.h>
 
 #include <algorithm>
 #include <atomic>
@@ -112,31 +111,6 @@ constexpr hsize_t kChunkThreshold = 16384;
 // Level 4/6/9 gave 1.7/2.6/3.2 % smaller files than level 1 (the same file) for
 // 1.2/1.5/7x its deflate time.
 constexpr unsigned kDeflateLevel = 1;
-// Deflate where it pays: a large dataset is compressed only if shuffle + deflate shrink a
-// sample of it (its first kSampleRows rows) by at least kMinDeflateSaving; otherwise it is
-// stored contiguous and unfiltered. Level 1 costs about 21 ms per MB of float64
-// coordinates (measured on this project's 2-core machine) to save 14 % of them: the
-// vertex coordinates of armadillo + 1x Loop (104k vertices, 2.5 MB, written three times
-// at --ratio 1: /original, /coarse, /VTKHDF/Points) deflate to 86 %, node_image at
-// --ratio 1 to 81 %, at --ratio 0.1 to 68 %, node_barycentric at --ratio 0.1 to 65 %,
-// and every integer dataset below 50 %.
-constexpr hsize_t kSampleRows = 2048;
-constexpr double kMinDeflateSaving = 0.15;
-
-// The fraction of `bytes` that shuffle (HDF5's byte transposition) + deflate at
-// kDeflateLevel keep of the first kSampleRows rows of a row-major array.
-double deflate_keeps(const void* data, hsize_t rows, hsize_t cols, size_t element) {
-    const size_t n = size_t(std::min(rows, kSampleRows) * std::max<hsize_t>(cols, 1)), bytes = n * element;
-    if (bytes == 0) return 1.0;
-    std::vector<unsigned char> shuffled(bytes);
-    const auto* in = static_cast<const unsigned char*>(data);
-    for (size_t i = 0; i < n; ++i)
-        for (size_t b = 0; b < element; ++b) shuffled[b * n + i] = in[i * element + b];
-    uLongf size = compressBound(uLong(bytes));
-    std::vector<unsigned char> out(size);
-    if (compress2(out.data(), &size, shuffled.data(), uLong(bytes), int(kDeflateLevel)) != Z_OK) return 0.0;
-    return double(size) / double(bytes);
-}
 
 class Writer {
 public:
@@ -202,15 +176,15 @@ public:
     }
 
     // A 1-D (cols == 0) or 2-D (rows x cols) dataset. Large ones are chunked and
-    // compressed where deflate pays; small ones contiguous, which keeps tiny files tiny
-    // and trivially readable.
+    // compressed; small ones contiguous, which keeps tiny files tiny and trivially
+    // readable.
     void write_dataset(hid_t group, const char* name, const void* data, hsize_t rows, hsize_t cols,
                        hid_t file_type, hid_t mem_type) const {
         const int rank = cols == 0 ? 1 : 2;
         hsize_t dims[2] = {rows, cols};
         Handle space(check_id(H5Screate_simple(rank, dims, nullptr), "cannot create a dataspace"), H5Sclose);
         Handle dcpl = untimed_plist(H5P_DATASET_CREATE);
-        if (rows > kChunkThreshold && deflate_keeps(data, rows, cols, H5Tget_size(mem_type)) <= 1 - kMinDeflateSaving) {
+        if (rows > kChunkThreshold) {
             hsize_t chunk[2] = {std::min(rows, kChunkRows), cols};
             check(H5Pset_chunk(dcpl, rank, chunk), std::string("cannot set chunking of ") + name);
             check(H5Pset_shuffle(dcpl), std::string("cannot set shuffle filter of ") + name);
