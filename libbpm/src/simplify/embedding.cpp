@@ -107,7 +107,7 @@ void Embedding::init_identity(const Surface& s, int32_t triangle_capacity) {
     for (int32_t v = 0; v < nv; ++v) location[v] = SurfacePoint::corner(v);
     path.assign(edges.size(), {});
     path_version.assign(edges.size(), 0);
-    inside.assign(triangle_capacity, {});
+    inside.reset(nv, triangle_capacity);
     edge_content.clear();
 }
 
@@ -149,7 +149,7 @@ void Embedding::path_points(int32_t e, std::vector<SurfacePoint>& points, std::v
 void Embedding::clear_location(int32_t vertex) {
     const SurfacePoint& p = location[vertex];
     if (p.kind == SurfacePoint::Inside) {
-        erase_one(inside[p.a], vertex);
+        inside.remove(p.a, vertex);
     } else if (p.kind == SurfacePoint::OnEdge) {
         auto it = edge_content.find(edge_key(p.a, p.b));
         if (it != edge_content.end()) {
@@ -163,8 +163,7 @@ void Embedding::set_location(int32_t vertex, const SurfacePoint& p) {
     clear_location(vertex);
     location[vertex] = p;
     if (p.kind == SurfacePoint::Inside) {
-        ensure_triangle_capacity(p.a + 1);
-        inside[p.a].push_back(vertex);
+        inside.add(p.a, vertex);
     } else if (p.kind == SurfacePoint::OnEdge) {
         edge_content[edge_key(p.a, p.b)].vertices.push_back(vertex);
     }

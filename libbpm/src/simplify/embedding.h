@@ -84,6 +84,53 @@ private:
     void rehash(size_t capacity);
 };
 
+// The original vertices located Inside each coarse triangle, as intrusive doubly linked
+// lists: a head per triangle id and a link pair per original vertex (a vertex lies inside
+// at most one triangle). Triangle ids only grow (several per input vertex by the end of a
+// run), and a std::vector per id cost 24 bytes of header per id ever created plus a heap
+// block per list that kept its capacity after the triangle died; this costs 4 bytes per
+// id and 8 per vertex. The order of a list is unspecified: every reader sorts.
+class InsideLists {
+public:
+    void reset(int32_t num_vertices, int32_t triangle_capacity) {
+        head_.assign(size_t(triangle_capacity), -1);
+        next_.assign(size_t(num_vertices), -1);
+        prev_.assign(size_t(num_vertices), kUnlisted);
+    }
+    void ensure_triangle_capacity(int32_t n) {
+        if (int32_t(head_.size()) < n) head_.resize(size_t(n), -1);
+    }
+    bool empty(int32_t t) const { return t >= int32_t(head_.size()) || head_[t] < 0; }
+    // Appends the vertices inside triangle t to `out`.
+    void append_to(int32_t t, std::vector<int32_t>& out) const {
+        if (t >= int32_t(head_.size())) return;
+        for (int32_t v = head_[t]; v >= 0; v = next_[v]) out.push_back(v);
+    }
+    void add(int32_t t, int32_t v) {
+        ensure_triangle_capacity(t + 1);
+        next_[v] = head_[t];
+        prev_[v] = -1;
+        if (head_[t] >= 0) prev_[head_[t]] = v;
+        head_[t] = v;
+    }
+    // Takes v out of the list of t; nothing if v is in no list.
+    void remove(int32_t t, int32_t v) {
+        if (prev_[v] == kUnlisted) return;
+        if (prev_[v] >= 0)
+            next_[prev_[v]] = next_[v];
+        else
+            head_[t] = next_[v];
+        if (next_[v] >= 0) prev_[next_[v]] = prev_[v];
+        next_[v] = -1;
+        prev_[v] = kUnlisted;
+    }
+
+private:
+    static constexpr int32_t kUnlisted = -2;  // prev_ of a vertex in no list (-1: first of its list)
+    std::vector<int32_t> head_;               // per triangle id: a vertex inside it, or -1
+    std::vector<int32_t> next_, prev_;        // per original vertex: its neighbours in its list
+};
+
 struct Embedding {
     const Surface* original = nullptr;
     std::vector<std::array<int32_t, 2>> edges;  // original edges (u < w), sorted
@@ -96,7 +143,7 @@ struct Embedding {
     std::vector<SurfacePoint> location;          // per original vertex
     std::vector<std::vector<Crossing>> path;     // per original edge, ordered from u to w
     std::vector<uint32_t> path_version;          // per original edge, bumped by set_path
-    std::vector<std::vector<int32_t>> inside;    // per coarse triangle id: vertices located Inside
+    InsideLists inside;                          // per coarse triangle id: vertices located Inside
     EdgeContentMap edge_content;
 
     // Identity embedding: every original vertex at its own corner, no crossings.
@@ -115,9 +162,7 @@ struct Embedding {
     void set_location(int32_t vertex, const SurfacePoint& p);   // maintains inside / edge_content lists
     void clear_location(int32_t vertex);                          // removes from lists (location kept)
     void set_path(int32_t e, std::vector<Crossing> crossings);   // maintains edge_content lists
-    void ensure_triangle_capacity(int32_t n) {
-        if (int32_t(inside.size()) < n) inside.resize(n);
-    }
+    void ensure_triangle_capacity(int32_t n) { inside.ensure_triangle_capacity(n); }
 };
 
 }  // namespace bpm::detail
