@@ -12,6 +12,7 @@
 #include "bpm/geometry.h"
 #include "bpm/surface.h"
 #include "core/edge_key.h"
+#include "simplify/vertex_triangle_lists.h"
 
 namespace bpm::detail {
 
@@ -31,10 +32,11 @@ public:
     int32_t triangle_capacity() const { return static_cast<int32_t>(triangles_.size()); }
     int32_t num_alive_triangles() const { return num_alive_; }
     int32_t num_vertices_alive() const { return num_vertices_alive_; }
-    bool vertex_alive(int32_t v) const { return !vertex_triangles_[v].empty(); }
+    bool vertex_alive(int32_t v) const { return !vertex_triangles_.empty(v); }
 
     // The alive triangles at v, sorted by id (has_edge() and find_triangle() rely on it).
-    const std::vector<int32_t>& triangles_of(int32_t v) const { return vertex_triangles_[v]; }
+    // Valid until the next add_triangle() or remove_triangle().
+    VertexTriangleLists::View triangles_of(int32_t v) const { return vertex_triangles_.of(v); }
 
     // Alive triangles containing both a and b (all sheets of a non-manifold edge).
     void edge_triangles(int32_t a, int32_t b, std::vector<int32_t>& out) const;
@@ -97,7 +99,7 @@ private:
     std::vector<int32_t> patches_;
     std::vector<uint8_t> alive_;
     std::vector<uint8_t> initially_flipped_;
-    std::vector<std::vector<int32_t>> vertex_triangles_;
+    VertexTriangleLists vertex_triangles_;
     // Per vertex, the bits (vertex_bit) of the corners of its alive triangles (itself too),
     // kept exact by add_triangle() and remove_triangle(): a missing bit proves that there
     // is no edge, from one load of a dense array, before has_edge() and find_triangle()
