@@ -58,6 +58,13 @@ public:
     void set_feature_edge(int32_t a, int32_t b, Feature kind);
 
     int32_t add_triangle(const Tri& corners, int32_t patch);
+    // Gives back the room the per-triangle arrays grew into (they double as ids are
+    // added): called once no triangle will be added any more, before phi is exported.
+    void shrink_to_fit() {
+        triangles_.shrink_to_fit();
+        patches_.shrink_to_fit();
+        alive_.shrink_to_fit();
+    }
     void remove_triangle(int32_t t);
 
     // Marks creases: a manifold edge whose dihedral angle (angle between the two

@@ -72,6 +72,11 @@ public:
     const value_type* end() const { return nullptr; }
     EdgeContent& operator[](uint64_t key);  // inserts an empty content if absent
     void erase(const value_type* entry);
+    // Frees the erased entries kept for their buffers, and the room the entries grew into.
+    void shrink_to_fit() {
+        entries_.resize(size_);
+        entries_.shrink_to_fit();
+    }
     void clear() {
         keys_.clear();
         index_.clear();
@@ -132,6 +137,7 @@ public:
         next_[v] = -1;
         prev_[v] = kUnlisted;
     }
+    void shrink_to_fit() { head_.shrink_to_fit(); }
 
 private:
     static constexpr int32_t kUnlisted = -2;  // prev_ of a vertex in no list (-1: first of its list)
@@ -171,6 +177,11 @@ struct Embedding {
     void clear_location(int32_t vertex);                          // removes from lists (location kept)
     void set_path(int32_t e, std::vector<Crossing> crossings);   // maintains edge_content lists
     void ensure_triangle_capacity(int32_t n) { inside.ensure_triangle_capacity(n); }
+    // Gives back the room the growing arrays keep in reserve (before phi is exported).
+    void shrink_to_fit() {
+        inside.shrink_to_fit();
+        edge_content.shrink_to_fit();
+    }
 };
 
 }  // namespace bpm::detail
