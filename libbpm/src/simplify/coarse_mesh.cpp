@@ -62,6 +62,12 @@ CoarseMesh::CoarseMesh(const Surface& original)
             }
         }
     }
+    // After the orientation: the corners in their stored order.
+    aspects_.resize(triangles_.size());
+    for (size_t t = 0; t < triangles_.size(); ++t) {
+        const Tri& c = triangles_[t];
+        aspects_[t] = aspect_ratio((*positions_)[c[0]], (*positions_)[c[1]], (*positions_)[c[2]]);
+    }
 }
 
 void CoarseMesh::edge_triangles(int32_t a, int32_t b, std::vector<int32_t>& out) const {
@@ -132,6 +138,8 @@ int32_t CoarseMesh::add_triangle(const Tri& corners, int32_t patch) {
     triangles_.push_back(corners);
     patches_.push_back(patch);
     alive_.push_back(1);
+    if (keep_aspects_)
+        aspects_.push_back(aspect_ratio((*positions_)[corners[0]], (*positions_)[corners[1]], (*positions_)[corners[2]]));
     const uint64_t bits = vertex_bit(corners[0]) | vertex_bit(corners[1]) | vertex_bit(corners[2]);
     for (int32_t v : corners) {
         if (vertex_triangles_.empty(v)) ++num_vertices_alive_;

@@ -27,6 +27,15 @@ public:
     const std::vector<Vec3>& positions() const { return *positions_; }
     const Tri& triangle(int32_t t) const { return triangles_[t]; }
     int32_t patch(int32_t t) const { return patches_[t]; }
+    // Circumradius / inradius of triangle t (bpm::aspect_ratio of its corners in stored
+    // order), computed once when the triangle is made: the planners ask for it every time
+    // they plan a star, and used to cache it per planner (a double per triangle id each).
+    // Not available after release_aspects().
+    double aspect(int32_t t) const { return aspects_[t]; }
+    void release_aspects() {
+        decltype(aspects_)().swap(aspects_);
+        keep_aspects_ = false;
+    }
     bool alive(int32_t t) const { return alive_[t] != 0; }
     bool flipped_initially(int32_t t) const { return t < int32_t(initially_flipped_.size()) && initially_flipped_[t]; }
     int32_t triangle_capacity() const { return static_cast<int32_t>(triangles_.size()); }
@@ -64,6 +73,7 @@ public:
         triangles_.shrink_to_fit();
         patches_.shrink_to_fit();
         alive_.shrink_to_fit();
+        aspects_.shrink_to_fit();
     }
     void remove_triangle(int32_t t);
 
@@ -106,6 +116,8 @@ private:
     std::vector<int32_t> patches_;
     std::vector<uint8_t> alive_;
     std::vector<uint8_t> initially_flipped_;
+    std::vector<double> aspects_;
+    bool keep_aspects_ = true;
     VertexTriangleLists vertex_triangles_;
     // Per vertex, the bits (vertex_bit) of the corners of its alive triangles (itself too),
     // kept exact by add_triangle() and remove_triangle(): a missing bit proves that there

@@ -599,6 +599,7 @@ void Simplifier::release_planning_state() {
     second_remover_.reset();
     removers_.clear();
     // The flips are done: no triangle is added any more.
+    mesh_.release_aspects();
     mesh_.shrink_to_fit();
     embedding_.shrink_to_fit();
 }
