@@ -93,6 +93,7 @@ MANUAL_SECTIONS = [
     "solvers-adaptive-ug-one-adapt-per-level.md",
     "inverse-phi-throughput.md",
     "floor-bpm-size-and-memory.md",
+    "simplifier-structure-perf.md",
     "tets-without-slivers-and-phi-distortion.md",
     "convergence-limits-and-distortion-weight.md",
     "output-formats.md",

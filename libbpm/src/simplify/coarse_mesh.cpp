@@ -30,12 +30,12 @@ CoarseMesh::CoarseMesh(const Surface& original)
         const Tri& c = triangles_[t];
         const uint64_t bits = vertex_bit(c[0]) | vertex_bit(c[1]) | vertex_bit(c[2]);
         for (int32_t v : c) {
-            vertex_triangles_[v].push_back(t);
+            vertex_triangles_.push_back(v, t);
             neighbour_bits_[v] |= bits;
         }
     }
     num_alive_ = static_cast<int32_t>(triangles_.size());
-    for (const auto& list : vertex_triangles_) num_vertices_alive_ += list.empty() ? 0 : 1;
+    for (int32_t v = 0; v < int32_t(vertex_triangles_.num_vertices()); ++v) num_vertices_alive_ += vertex_alive(v) ? 1 : 0;
 
     // Orient each sheet consistently by a breadth-first walk over edges with exactly two
     // triangles. On a non-orientable sheet the walk leaves some edges inconsistent;
@@ -64,11 +64,17 @@ CoarseMesh::CoarseMesh(const Surface& original)
             }
         }
     }
+    // After the orientation: the corners in their stored order.
+    aspects_.resize(triangles_.size());
+    for (size_t t = 0; t < triangles_.size(); ++t) {
+        const Tri& c = triangles_[t];
+        aspects_[t] = aspect_ratio((*positions_)[c[0]], (*positions_)[c[1]], (*positions_)[c[2]]);
+    }
 }
 
 void CoarseMesh::edge_triangles(int32_t a, int32_t b, std::vector<int32_t>& out) const {
     out.clear();
-    for (int32_t t : vertex_triangles_[a]) {
+    for (int32_t t : vertex_triangles_.of(a)) {
         const Tri& c = triangles_[t];
         if (c[0] == b || c[1] == b || c[2] == b) out.push_back(t);
     }
@@ -80,8 +86,8 @@ void CoarseMesh::edge_triangles(int32_t a, int32_t b, std::vector<int32_t>& out)
 // these lookups run for every ear a planner considers).
 bool CoarseMesh::has_edge(int32_t a, int32_t b) const {
     if (!(neighbour_bits_[a] & vertex_bit(b))) return false;
-    const auto& la = vertex_triangles_[a];
-    const auto& lb = vertex_triangles_[b];
+    const auto la = vertex_triangles_.of(a);
+    const auto lb = vertex_triangles_.of(b);
     auto i = la.begin(), j = lb.begin();
     while (i != la.end() && j != lb.end()) {
         if (*i < *j)
@@ -96,9 +102,9 @@ bool CoarseMesh::has_edge(int32_t a, int32_t b) const {
 
 int32_t CoarseMesh::find_triangle(int32_t a, int32_t b, int32_t c) const {
     if ((neighbour_bits_[a] & (vertex_bit(b) | vertex_bit(c))) != (vertex_bit(b) | vertex_bit(c))) return -1;
-    const auto& la = vertex_triangles_[a];
-    const auto& lb = vertex_triangles_[b];
-    const auto& lc = vertex_triangles_[c];
+    const auto la = vertex_triangles_.of(a);
+    const auto lb = vertex_triangles_.of(b);
+    const auto lc = vertex_triangles_.of(c);
     auto i = la.begin(), j = lb.begin(), k = lc.begin();
     while (i != la.end() && j != lb.end() && k != lc.end()) {
         const int32_t t = std::max({*i, *j, *k});
@@ -134,10 +140,12 @@ int32_t CoarseMesh::add_triangle(const Tri& corners, int32_t patch) {
     triangles_.push_back(corners);
     patches_.push_back(patch);
     alive_.push_back(1);
+    if (keep_aspects_)
+        aspects_.push_back(aspect_ratio((*positions_)[corners[0]], (*positions_)[corners[1]], (*positions_)[corners[2]]));
     const uint64_t bits = vertex_bit(corners[0]) | vertex_bit(corners[1]) | vertex_bit(corners[2]);
     for (int32_t v : corners) {
-        if (vertex_triangles_[v].empty()) ++num_vertices_alive_;
-        vertex_triangles_[v].push_back(t);
+        if (vertex_triangles_.empty(v)) ++num_vertices_alive_;
+        vertex_triangles_.push_back(v, t);
         neighbour_bits_[v] |= bits;
     }
     ++num_alive_;
@@ -149,9 +157,8 @@ void CoarseMesh::remove_triangle(int32_t t) {
     alive_[t] = 0;
     --num_alive_;
     for (int32_t v : triangles_[t]) {
-        auto& list = vertex_triangles_[v];
-        list.erase(std::find(list.begin(), list.end(), t));
-        if (list.empty()) --num_vertices_alive_;
+        vertex_triangles_.erase(v, t);
+        if (vertex_triangles_.empty(v)) --num_vertices_alive_;
     }
     // A bit may stand for a vertex of t only: recount the corners' bits from the
     // triangles they keep (their stars were just read by the planner: cheap).
@@ -160,7 +167,7 @@ void CoarseMesh::remove_triangle(int32_t t) {
 
 void CoarseMesh::set_neighbour_bits(int32_t v) {
     uint64_t bits = 0;
-    for (int32_t u : vertex_triangles_[v])
+    for (int32_t u : vertex_triangles_.of(v))
         for (int32_t x : triangles_[u]) bits |= vertex_bit(x);
     neighbour_bits_[v] = bits;
 }
@@ -192,7 +199,7 @@ void CoarseMesh::mark_feature_edges(double feature_angle_degrees) {
 
 void CoarseMesh::mark_corners(double feature_angle_degrees, double min_crease_length, bool keep) {
     const auto& p = *positions_;
-    const size_t nv = vertex_triangles_.size();
+    const size_t nv = vertex_triangles_.num_vertices();
     std::vector<int32_t> hard(nv, 0);
     // Crease edges per vertex (CSR), for walking along crease lines.
     std::vector<int32_t> offsets(nv + 1, 0), ends;
@@ -256,7 +263,7 @@ void CoarseMesh::mark_corners(double feature_angle_degrees, double min_crease_le
         if (hard[v] != 0 || crease_degree(int32_t(v)) != 1) continue;
         // A crease ends here, inside one sheet (no hard edge: the star is a disk).
         double angles = 0.0;
-        for (int32_t t : vertex_triangles_[v]) {
+        for (int32_t t : vertex_triangles_.of(v)) {
             const Tri& c = triangles_[t];
             int k = 0;
             while (c[k] != int32_t(v)) ++k;
@@ -271,15 +278,15 @@ void CoarseMesh::mark_corners(double feature_angle_degrees, double min_crease_le
 
 Surface CoarseMesh::to_surface(std::vector<int32_t>& vertex_origin) const {
     Surface s;
-    std::vector<int32_t> index(vertex_triangles_.size(), -1);
+    std::vector<int32_t> index(vertex_triangles_.num_vertices(), -1);
     vertex_origin.clear();
     vertex_origin.reserve(size_t(num_vertices_alive_));
     s.vertices.reserve(size_t(num_vertices_alive_));
     s.triangles.reserve(size_t(num_alive_));
     s.patches.reserve(size_t(num_alive_));
     // Vertices in increasing original id, so that the output is deterministic.
-    for (int32_t v = 0; v < int32_t(vertex_triangles_.size()); ++v) {
-        if (vertex_triangles_[v].empty()) continue;
+    for (int32_t v = 0; v < int32_t(vertex_triangles_.num_vertices()); ++v) {
+        if (vertex_triangles_.empty(v)) continue;
         index[v] = static_cast<int32_t>(vertex_origin.size());
         vertex_origin.push_back(v);
         s.vertices.push_back((*positions_)[v]);

@@ -12,6 +12,7 @@
 #include "bpm/geometry.h"
 #include "bpm/surface.h"
 #include "core/edge_key.h"
+#include "simplify/vertex_triangle_lists.h"
 
 namespace bpm::detail {
 
@@ -26,15 +27,25 @@ public:
     const std::vector<Vec3>& positions() const { return *positions_; }
     const Tri& triangle(int32_t t) const { return triangles_[t]; }
     int32_t patch(int32_t t) const { return patches_[t]; }
+    // Circumradius / inradius of triangle t (bpm::aspect_ratio of its corners in stored
+    // order), computed once when the triangle is made: the planners ask for it every time
+    // they plan a star, and used to cache it per planner (a double per triangle id each).
+    // Not available after release_aspects().
+    double aspect(int32_t t) const { return aspects_[t]; }
+    void release_aspects() {
+        decltype(aspects_)().swap(aspects_);
+        keep_aspects_ = false;
+    }
     bool alive(int32_t t) const { return alive_[t] != 0; }
     bool flipped_initially(int32_t t) const { return t < int32_t(initially_flipped_.size()) && initially_flipped_[t]; }
     int32_t triangle_capacity() const { return static_cast<int32_t>(triangles_.size()); }
     int32_t num_alive_triangles() const { return num_alive_; }
     int32_t num_vertices_alive() const { return num_vertices_alive_; }
-    bool vertex_alive(int32_t v) const { return !vertex_triangles_[v].empty(); }
+    bool vertex_alive(int32_t v) const { return !vertex_triangles_.empty(v); }
 
     // The alive triangles at v, sorted by id (has_edge() and find_triangle() rely on it).
-    const std::vector<int32_t>& triangles_of(int32_t v) const { return vertex_triangles_[v]; }
+    // Valid until the next add_triangle() or remove_triangle().
+    VertexTriangleLists::View triangles_of(int32_t v) const { return vertex_triangles_.of(v); }
 
     // Alive triangles containing both a and b (all sheets of a non-manifold edge).
     void edge_triangles(int32_t a, int32_t b, std::vector<int32_t>& out) const;
@@ -56,6 +67,14 @@ public:
     void set_feature_edge(int32_t a, int32_t b, Feature kind);
 
     int32_t add_triangle(const Tri& corners, int32_t patch);
+    // Gives back the room the per-triangle arrays grew into (they double as ids are
+    // added): called once no triangle will be added any more, before phi is exported.
+    void shrink_to_fit() {
+        triangles_.shrink_to_fit();
+        patches_.shrink_to_fit();
+        alive_.shrink_to_fit();
+        aspects_.shrink_to_fit();
+    }
     void remove_triangle(int32_t t);
 
     // Marks creases: a manifold edge whose two triangles' normals are more than
@@ -97,7 +116,9 @@ private:
     std::vector<int32_t> patches_;
     std::vector<uint8_t> alive_;
     std::vector<uint8_t> initially_flipped_;
-    std::vector<std::vector<int32_t>> vertex_triangles_;
+    std::vector<double> aspects_;
+    bool keep_aspects_ = true;
+    VertexTriangleLists vertex_triangles_;
     // Per vertex, the bits (vertex_bit) of the corners of its alive triangles (itself too),
     // kept exact by add_triangle() and remove_triangle(): a missing bit proves that there
     // is no edge, from one load of a dense array, before has_edge() and find_triangle()

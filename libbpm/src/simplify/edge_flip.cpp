@@ -154,9 +154,7 @@ bool plan_edge_flip(const CoarseMesh& mesh, const Embedding& embedding, int32_t 
     // The original vertices inside the quad (inside a triangle, or on a -- b) keep their
     // place in the plane and are located in the new triangles.
     std::vector<int32_t> moved;
-    for (int r = 0; r < 2; ++r)
-        if (flip.removed[r] < int32_t(embedding.inside.size()))
-            moved.insert(moved.end(), embedding.inside[flip.removed[r]].begin(), embedding.inside[flip.removed[r]].end());
+    for (int r = 0; r < 2; ++r) embedding.inside.append_to(flip.removed[r], moved);
     const auto* on_ab = embedding.edge_content.find(edge_key(a, b));
     if (on_ab) moved.insert(moved.end(), on_ab->second.vertices.begin(), on_ab->second.vertices.end());
     std::sort(moved.begin(), moved.end());

@@ -15,48 +15,66 @@ void erase_one(std::vector<int32_t>& list, int32_t value) {
 }  // namespace
 
 void EdgeContentMap::rehash(size_t capacity) {
-    std::vector<value_type> old;
-    old.swap(slots_);
-    slots_.resize(capacity);
-    for (auto& slot : slots_) slot.first = kEmpty;
+    std::vector<uint64_t> old_keys(capacity, kEmpty);
+    std::vector<uint32_t> old_index(capacity);
+    old_keys.swap(keys_);
+    old_index.swap(index_);
     shift_ = 64;
     for (size_t c = capacity; c > 1; c >>= 1) --shift_;
     const size_t mask = capacity - 1;
-    for (auto& entry : old) {
-        if (entry.first == kEmpty) continue;
-        size_t i = home(entry.first);
-        while (slots_[i].first != kEmpty) i = (i + 1) & mask;
-        slots_[i] = std::move(entry);
+    for (size_t j = 0; j < old_keys.size(); ++j) {
+        if (old_keys[j] == kEmpty) continue;
+        size_t i = home(old_keys[j]);
+        while (keys_[i] != kEmpty) i = (i + 1) & mask;
+        keys_[i] = old_keys[j];
+        index_[i] = old_index[j];
     }
+}
+
+size_t EdgeContentMap::slot_of(uint64_t key) const {
+    const size_t mask = keys_.size() - 1;
+    size_t i = home(key);
+    while (keys_[i] != key) i = (i + 1) & mask;
+    return i;
 }
 
 EdgeContent& EdgeContentMap::operator[](uint64_t key) {
     if (value_type* entry = find(key)) return entry->second;
-    if (2 * (size_ + 1) > slots_.size()) rehash(std::max<size_t>(64, 2 * slots_.size()));
-    const size_t mask = slots_.size() - 1;
+    if (2 * (size_ + 1) > keys_.size()) rehash(std::max<size_t>(64, 2 * keys_.size()));
+    const size_t mask = keys_.size() - 1;
     size_t i = home(key);
-    while (slots_[i].first != kEmpty) i = (i + 1) & mask;
-    slots_[i].first = key;
-    ++size_;
-    return slots_[i].second;
+    while (keys_[i] != kEmpty) i = (i + 1) & mask;
+    keys_[i] = key;
+    index_[i] = static_cast<uint32_t>(size_);
+    if (size_ == entries_.size()) entries_.emplace_back();
+    entries_[size_].first = key;
+    return entries_[size_++].second;
 }
 
 void EdgeContentMap::erase(const value_type* entry) {
-    // Backward-shift deletion: move later entries of the probe run into the hole when
+    const size_t removed = static_cast<size_t>(entry - entries_.data());
+    // Backward-shift deletion: move later keys of the probe run into the hole when
     // their home slot does not lie after it, so that lookups need no tombstones.
-    const size_t mask = slots_.size() - 1;
-    size_t hole = static_cast<size_t>(entry - slots_.data());
-    for (size_t j = (hole + 1) & mask; slots_[j].first != kEmpty; j = (j + 1) & mask) {
-        const size_t h = home(slots_[j].first);
+    const size_t mask = keys_.size() - 1;
+    size_t hole = slot_of(entry->first);
+    for (size_t j = (hole + 1) & mask; keys_[j] != kEmpty; j = (j + 1) & mask) {
+        const size_t h = home(keys_[j]);
         if (((j - h) & mask) >= ((j - hole) & mask)) {
-            slots_[hole] = std::move(slots_[j]);
+            keys_[hole] = keys_[j];
+            index_[hole] = index_[j];
             hole = j;
         }
     }
-    slots_[hole].first = kEmpty;
-    slots_[hole].second.vertices.clear();
-    slots_[hole].second.crossing_edges.clear();
-    --size_;
+    keys_[hole] = kEmpty;
+    // The last live entry takes the erased one's place; the erased one's buffers stay
+    // behind the live ones, emptied, for the next insertion.
+    const size_t last = --size_;
+    if (removed != last) {
+        std::swap(entries_[removed], entries_[last]);
+        index_[slot_of(entries_[removed].first)] = static_cast<uint32_t>(removed);
+    }
+    entries_[last].second.vertices.clear();
+    entries_[last].second.crossing_edges.clear();
 }
 
 void Embedding::init_identity(const Surface& s, int32_t triangle_capacity) {
@@ -107,7 +125,7 @@ void Embedding::init_identity(const Surface& s, int32_t triangle_capacity) {
     for (int32_t v = 0; v < nv; ++v) location[v] = SurfacePoint::corner(v);
     path.assign(edges.size(), {});
     path_version.assign(edges.size(), 0);
-    inside.assign(triangle_capacity, {});
+    inside.reset(nv, triangle_capacity);
     edge_content.clear();
 }
 
@@ -149,7 +167,7 @@ void Embedding::path_points(int32_t e, std::vector<SurfacePoint>& points, std::v
 void Embedding::clear_location(int32_t vertex) {
     const SurfacePoint& p = location[vertex];
     if (p.kind == SurfacePoint::Inside) {
-        erase_one(inside[p.a], vertex);
+        inside.remove(p.a, vertex);
     } else if (p.kind == SurfacePoint::OnEdge) {
         auto it = edge_content.find(edge_key(p.a, p.b));
         if (it != edge_content.end()) {
@@ -163,8 +181,7 @@ void Embedding::set_location(int32_t vertex, const SurfacePoint& p) {
     clear_location(vertex);
     location[vertex] = p;
     if (p.kind == SurfacePoint::Inside) {
-        ensure_triangle_capacity(p.a + 1);
-        inside[p.a].push_back(vertex);
+        inside.add(p.a, vertex);
     } else if (p.kind == SurfacePoint::OnEdge) {
         edge_content[edge_key(p.a, p.b)].vertices.push_back(vertex);
     }

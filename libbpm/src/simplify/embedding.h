@@ -51,37 +51,98 @@ struct EdgeContent {
 // Edge key -> EdgeContent, open addressing with linear probing and backward-shift
 // deletion. The planner looks coarse edges up several times per plan, millions of
 // times per run; std::unordered_map's prime-modulo buckets and separate nodes made
-// those lookups cost a few percent of the run time. Interface as far as it is used:
-// find() gives a pointer to the (key, content) pair, or end() (nullptr); pointers are
-// valid until the next operator[] or erase().
+// those lookups cost a few percent of the run time. The probed table holds only the
+// keys (8 bytes a slot, 8 to a cache line) and an index into a dense array of the
+// entries: a probe that misses reads no content, and a rehash moves no vectors. Erased
+// entries keep their vectors' capacity for the next insertion. Interface as far as it
+// is used: find() gives a pointer to the (key, content) pair, or end() (nullptr);
+// pointers are valid until the next operator[] or erase().
 class EdgeContentMap {
 public:
     using value_type = std::pair<uint64_t, EdgeContent>;
     value_type* find(uint64_t key) { return const_cast<value_type*>(std::as_const(*this).find(key)); }
     const value_type* find(uint64_t key) const {
-        if (slots_.empty()) return nullptr;
-        const size_t mask = slots_.size() - 1;
+        if (keys_.empty()) return nullptr;
+        const size_t mask = keys_.size() - 1;
         for (size_t i = home(key);; i = (i + 1) & mask) {
-            if (slots_[i].first == key) return &slots_[i];
-            if (slots_[i].first == kEmpty) return nullptr;
+            if (keys_[i] == key) return &entries_[index_[i]];
+            if (keys_[i] == kEmpty) return nullptr;
         }
     }
     const value_type* end() const { return nullptr; }
     EdgeContent& operator[](uint64_t key);  // inserts an empty content if absent
     void erase(const value_type* entry);
+    // Frees the erased entries kept for their buffers, and the room the entries grew into.
+    void shrink_to_fit() {
+        entries_.resize(size_);
+        entries_.shrink_to_fit();
+    }
     void clear() {
-        slots_.clear();
+        keys_.clear();
+        index_.clear();
+        entries_.clear();
         size_ = 0;
         shift_ = 64;
     }
 
 private:
     static constexpr uint64_t kEmpty = ~uint64_t(0);  // no edge_key(): both halves are < 2^31
-    std::vector<value_type> slots_;  // power-of-two size, at most half full
+    std::vector<uint64_t> keys_;     // power-of-two size, at most half full
+    std::vector<uint32_t> index_;    // per slot: its entry in entries_
+    std::vector<value_type> entries_;  // [0, size_) live; the rest erased, kept for their buffers
     size_t size_ = 0;
-    int shift_ = 64;  // 64 - log2(slots_.size())
+    int shift_ = 64;  // 64 - log2(keys_.size())
     size_t home(uint64_t key) const { return size_t((key * 0x9E3779B97F4A7C15ull) >> shift_); }
+    size_t slot_of(uint64_t key) const;  // the slot of a present key
     void rehash(size_t capacity);
+};
+
+// The original vertices located Inside each coarse triangle, as intrusive doubly linked
+// lists: a head per triangle id and a link pair per original vertex (a vertex lies inside
+// at most one triangle). Triangle ids only grow (several per input vertex by the end of a
+// run), and a std::vector per id cost 24 bytes of header per id ever created plus a heap
+// block per list that kept its capacity after the triangle died; this costs 4 bytes per
+// id and 8 per vertex. The order of a list is unspecified: every reader sorts.
+class InsideLists {
+public:
+    void reset(int32_t num_vertices, int32_t triangle_capacity) {
+        head_.assign(size_t(triangle_capacity), -1);
+        next_.assign(size_t(num_vertices), -1);
+        prev_.assign(size_t(num_vertices), kUnlisted);
+    }
+    void ensure_triangle_capacity(int32_t n) {
+        if (int32_t(head_.size()) < n) head_.resize(size_t(n), -1);
+    }
+    bool empty(int32_t t) const { return t >= int32_t(head_.size()) || head_[t] < 0; }
+    // Appends the vertices inside triangle t to `out`.
+    void append_to(int32_t t, std::vector<int32_t>& out) const {
+        if (t >= int32_t(head_.size())) return;
+        for (int32_t v = head_[t]; v >= 0; v = next_[v]) out.push_back(v);
+    }
+    void add(int32_t t, int32_t v) {
+        ensure_triangle_capacity(t + 1);
+        next_[v] = head_[t];
+        prev_[v] = -1;
+        if (head_[t] >= 0) prev_[head_[t]] = v;
+        head_[t] = v;
+    }
+    // Takes v out of the list of t; nothing if v is in no list.
+    void remove(int32_t t, int32_t v) {
+        if (prev_[v] == kUnlisted) return;
+        if (prev_[v] >= 0)
+            next_[prev_[v]] = next_[v];
+        else
+            head_[t] = next_[v];
+        if (next_[v] >= 0) prev_[next_[v]] = prev_[v];
+        next_[v] = -1;
+        prev_[v] = kUnlisted;
+    }
+    void shrink_to_fit() { head_.shrink_to_fit(); }
+
+private:
+    static constexpr int32_t kUnlisted = -2;  // prev_ of a vertex in no list (-1: first of its list)
+    std::vector<int32_t> head_;               // per triangle id: a vertex inside it, or -1
+    std::vector<int32_t> next_, prev_;        // per original vertex: its neighbours in its list
 };
 
 struct Embedding {
@@ -96,7 +157,7 @@ struct Embedding {
     std::vector<SurfacePoint> location;          // per original vertex
     std::vector<std::vector<Crossing>> path;     // per original edge, ordered from u to w
     std::vector<uint32_t> path_version;          // per original edge, bumped by set_path
-    std::vector<std::vector<int32_t>> inside;    // per coarse triangle id: vertices located Inside
+    InsideLists inside;                          // per coarse triangle id: vertices located Inside
     EdgeContentMap edge_content;
 
     // Identity embedding: every original vertex at its own corner, no crossings.
@@ -115,8 +176,11 @@ struct Embedding {
     void set_location(int32_t vertex, const SurfacePoint& p);   // maintains inside / edge_content lists
     void clear_location(int32_t vertex);                          // removes from lists (location kept)
     void set_path(int32_t e, std::vector<Crossing> crossings);   // maintains edge_content lists
-    void ensure_triangle_capacity(int32_t n) {
-        if (int32_t(inside.size()) < n) inside.resize(n);
+    void ensure_triangle_capacity(int32_t n) { inside.ensure_triangle_capacity(n); }
+    // Gives back the room the growing arrays keep in reserve (before phi is exported).
+    void shrink_to_fit() {
+        inside.shrink_to_fit();
+        edge_content.shrink_to_fit();
     }
 };
 

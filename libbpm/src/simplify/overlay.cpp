@@ -454,8 +454,9 @@ void build_triangle_graph(const CoarseMesh& mesh, const Embedding& embedding, in
             candidates.push_back(e);
         }
     }
-    if (t < int32_t(embedding.inside.size())) {
-        std::vector<int32_t> in = embedding.inside[t];
+    if (!embedding.inside.empty(t)) {
+        std::vector<int32_t> in;
+        embedding.inside.append_to(t, in);
         std::sort(in.begin(), in.end());
         for (int32_t v : in) {
             GraphNode g;

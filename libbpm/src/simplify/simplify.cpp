@@ -598,6 +598,10 @@ void Simplifier::release_planning_state() {
     remover_.reset();
     second_remover_.reset();
     removers_.clear();
+    // The flips are done: no triangle is added any more.
+    mesh_.release_aspects();
+    mesh_.shrink_to_fit();
+    embedding_.shrink_to_fit();
 }
 
 // Edge flips of needles and of edges under thin tetrahedra (edge_flip.h), within the

@@ -20,7 +20,7 @@ inline bool rotate_to(const Tri& t, int32_t v, int32_t& x, int32_t& y) {
 // Other triangle on edge (v,x), or -1 unless the edge has exactly two: the alive
 // triangles of v containing x, in the order of CoarseMesh::edge_triangles().
 // `corners[i]`: the corners of tris[i].
-int32_t other_triangle_across(const std::vector<int32_t>& tris, const std::vector<Tri>& corners, int32_t t, int32_t x) {
+int32_t other_triangle_across(VertexTriangleLists::View tris, const std::vector<Tri>& corners, int32_t t, int32_t x) {
     int32_t found[2] = {-1, -1};
     int count = 0;
     for (size_t i = 0; i < corners.size(); ++i) {

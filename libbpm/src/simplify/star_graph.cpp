@@ -202,9 +202,7 @@ bool Gatherer::gather_nodes(std::string& why) {
     // Free nodes: vertices inside the fan's triangles, on its interior spokes, and v of a disk.
     auto& free_vertices = graph_.free_vertices;
     free_vertices.clear();
-    for (int32_t t : fan_->triangles)
-        if (t < int32_t(emb_.inside.size()))
-            free_vertices.insert(free_vertices.end(), emb_.inside[t].begin(), emb_.inside[t].end());
+    for (int32_t t : fan_->triangles) emb_.inside.append_to(t, free_vertices);
     for (int32_t i = 0; i < n_; ++i) {
         if (!fan_->is_interior_spoke(i)) continue;
         auto it = emb_.edge_content.find(edge_key(v_, fan_->link[i]));

@@ -268,20 +268,6 @@ bool FanPlanner::end_finish(bool checks_passed, const std::string& reason, doubl
 // as long as the thread. (finish_part() runs parts of one plan on several threads at
 // once: each part has its own TriangleCheck in `parts`.)
 struct RemovalScratch {
-    // Aspect ratio per coarse triangle id, NaN until computed: a triangle's corners
-    // never change after construction, and every star is planned many times.
-    std::vector<double> triangle_aspect;
-    double aspect_of(const CoarseMesh& mesh, int32_t t) {
-        if (t >= int32_t(triangle_aspect.size()))
-            triangle_aspect.resize(std::max<size_t>(size_t(t) + 1, 2 * triangle_aspect.size()), std::nan(""));
-        double& a = triangle_aspect[t];
-        if (std::isnan(a)) {
-            const auto& x = mesh.positions();
-            const Tri& c = mesh.triangle(t);
-            a = aspect_ratio(x[c[0]], x[c[1]], x[c[2]]);
-        }
-        return a;
-    }
     RemovalPlan disk;  // the second plan of plan(), kept for its buffers
     // A diagonal the next plan_once() must not use (a deferred validation failed on it).
     std::array<int32_t, 2> retry_forbid{-1, -1};
@@ -505,7 +491,7 @@ void VertexRemover::plan_once(int32_t v, bool force_disk, bool validate, bool de
     for (const Fan& fan : fans) {
         for (int32_t t : fan.triangles) {
             plan.removed_triangles.push_back(t);
-            plan.worst_old_aspect = std::max(plan.worst_old_aspect, scratch_->aspect_of(mesh_, t));
+            plan.worst_old_aspect = std::max(plan.worst_old_aspect, mesh_.aspect(t));
         }
         FanPlanner& planner = scratch_->planner;
         std::string why;

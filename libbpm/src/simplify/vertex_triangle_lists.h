@@ -1,0 +1,98 @@
+#pragma once
+// The alive triangles at each vertex of the coarse surface, sorted by id (CoarseMesh).
+// A list per vertex as a std::vector was a 24-byte header in one array and a heap block
+// elsewhere: two cache misses per list on the planner's hot path (has_edge,
+// classify_star), and a few hundred thousand small blocks. Here each vertex owns one
+// 64-byte block in a flat array, its count and up to kInline ids in one cache line; a
+// vertex of higher degree (rare) keeps its list in a std::vector of its own instead.
+
+#include <algorithm>
+#include <cstdint>
+#include <vector>
+
+namespace bpm::detail {
+
+class VertexTriangleLists {
+public:
+    // A read-only range of triangle ids.
+    class View {
+    public:
+        View(const int32_t* b, const int32_t* e) : b_(b), e_(e) {}
+        const int32_t* begin() const { return b_; }
+        const int32_t* end() const { return e_; }
+        size_t size() const { return size_t(e_ - b_); }
+        bool empty() const { return b_ == e_; }
+        int32_t operator[](size_t i) const { return b_[i]; }
+
+    private:
+        const int32_t* b_;
+        const int32_t* e_;
+    };
+
+    explicit VertexTriangleLists(size_t num_vertices = 0) : blocks_(num_vertices) {}
+    size_t num_vertices() const { return blocks_.size(); }
+
+    View of(int32_t v) const {
+        const Block& b = blocks_[v];
+        if (b.count >= 0) return View(b.ids, b.ids + b.count);
+        const std::vector<int32_t>& list = spilled_[size_t(-1 - b.count)];
+        return View(list.data(), list.data() + list.size());
+    }
+    bool empty(int32_t v) const { return blocks_[v].count == 0; }
+
+    // Appends t, which must be larger than every id in the list of v (ids only grow).
+    void push_back(int32_t v, int32_t t) {
+        Block& b = blocks_[v];
+        if (b.count < 0) {
+            spilled_[size_t(-1 - b.count)].push_back(t);
+        } else if (b.count < kInline) {
+            b.ids[b.count++] = t;
+        } else {
+            // Move the full block into a list of its own, for good (a degree that grew this
+            // far tends to stay high; the list's order does not change).
+            std::vector<int32_t> list(b.ids, b.ids + b.count);
+            list.push_back(t);
+            size_t slot;
+            if (!free_spilled_.empty()) {
+                slot = free_spilled_.back();
+                free_spilled_.pop_back();
+                spilled_[slot] = std::move(list);
+            } else {
+                slot = spilled_.size();
+                spilled_.push_back(std::move(list));
+            }
+            b.count = -1 - int32_t(slot);
+        }
+    }
+
+    // Removes t from the list of v (it must be there), keeping the order.
+    void erase(int32_t v, int32_t t) {
+        Block& b = blocks_[v];
+        if (b.count >= 0) {
+            int32_t* end = b.ids + b.count;
+            std::copy(std::find(b.ids, end, t) + 1, end, std::find(b.ids, end, t));
+            --b.count;
+            return;
+        }
+        const size_t slot = size_t(-1 - b.count);
+        std::vector<int32_t>& list = spilled_[slot];
+        list.erase(std::find(list.begin(), list.end(), t));
+        if (list.empty()) {
+            std::vector<int32_t>().swap(list);
+            free_spilled_.push_back(slot);
+            b.count = 0;
+        }
+    }
+
+private:
+    static constexpr int32_t kInline = 15;
+    struct alignas(64) Block {
+        int32_t count = 0;  // >= 0: ids[0, count); < 0: the list is spilled_[-1 - count]
+        int32_t ids[kInline];
+    };
+    std::vector<Block> blocks_;
+    std::vector<std::vector<int32_t>> spilled_;
+    std::vector<size_t> free_spilled_;  // slots of spilled_ whose list was emptied
+};
+
+}  // namespace bpm::detail
