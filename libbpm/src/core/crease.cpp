@@ -4,18 +4,9 @@
 
 #include <cmath>
 
+#include "core/directed_edge.h"
+
 namespace bpm::detail {
-
-namespace {
-
-// Does triangle `t` run from u to w (rather than from w to u)?
-bool runs_from(const Tri& t, int32_t u, int32_t w) {
-    for (int k = 0; k < 3; ++k)
-        if (t[k] == u && t[(k + 1) % 3] == w) return true;
-    return false;
-}
-
-}  // namespace
 
 CreaseTest::CreaseTest(double feature_angle_degrees)
     : cos_limit_(std::cos(feature_angle_degrees * M_PI / 180.0)), finds_creases_(feature_angle_degrees < 180.0) {}

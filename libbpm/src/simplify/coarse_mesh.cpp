@@ -4,17 +4,9 @@
 #include <cmath>
 
 #include "core/crease.h"
+#include "core/directed_edge.h"
 
 namespace bpm::detail {
-
-namespace {
-// Does triangle t traverse the directed edge a->b?
-bool has_directed_edge(const Tri& t, int32_t a, int32_t b) {
-    for (int k = 0; k < 3; ++k)
-        if (t[k] == a && t[(k + 1) % 3] == b) return true;
-    return false;
-}
-}  // namespace
 
 CoarseMesh::CoarseMesh(const Surface& original)
     : positions_(&original.vertices),
@@ -56,7 +48,7 @@ CoarseMesh::CoarseMesh(const Surface& original)
                 if (visited[n]) continue;
                 visited[n] = 1;
                 // A consistent neighbour traverses the shared edge as b->a.
-                if (has_directed_edge(triangles_[n], a, b)) {
+                if (runs_from(triangles_[n], a, b)) {
                     std::swap(triangles_[n][1], triangles_[n][2]);
                     initially_flipped_[n] = 1;
                 }
