@@ -96,6 +96,7 @@ MANUAL_SECTIONS = [
     "floor-bpm-size-and-memory.md",
     "tets-without-slivers-and-phi-distortion.md",
     "convergence-limits-and-distortion-weight.md",
+    "adaptive-bound-and-triangles.md",
     "output-formats.md",
 ]
 RUN_RECORD = "all.json"  # in the results folder: what `all` ran, for --assemble
