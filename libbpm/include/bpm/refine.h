@@ -106,7 +106,8 @@ struct RefineResult {
     int64_t triangles_at_max_level_above_tolerance = 0;
     // Adaptive with prevent_intersections: rounds of "refine, hold back, measure again";
     // a triangle above the tolerance after the remedy is refined further (up to 12 passes;
-    // the result is the pass with the smallest bound).
+    // the result is the pass with the smallest bound; the passes stop when more than 8 times
+    // as many triangles as after the first (at least 64) are above the tolerance).
     int32_t adaptive_passes = 0;
     // RefineOptions::prevent_intersections: vertices held back from phi, the largest
     // distance from phi of one (relative to the diagonal of S0), rounds of the remedy.
