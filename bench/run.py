@@ -15,7 +15,8 @@ check     bpm-check on the scaling suite's outputs (52k / 208k / 832k original t
           second -> results/check.{md,json}
 all       the one command: builds every tool once in Release, runs simplify, scaling and
           check (each as `run.py SUITE --no-build ...`), then bench/refine.py (refinement
-          convergence, shape, phi throughput; if present), bench/tetmesh.sh (tet meshes),
+          convergence, shape, phi throughput; if present), bench/adaptive.py (adaptive
+          refinement: bound met, triangles; if present), bench/tetmesh.sh (tet meshes),
           bench/repair.sh (the repair call on a 1 M-tet mesh; if present) and
           bench/corpus.sh (the whole libcgal-demo corpus), and writes bench/RESULTS.md:
           machine, date, commit, every command run, every table, then the sections written
@@ -96,6 +97,7 @@ MANUAL_SECTIONS = [
     "simplifier-structure-perf.md",
     "tets-without-slivers-and-phi-distortion.md",
     "convergence-limits-and-distortion-weight.md",
+    "adaptive-bound-and-triangles.md",
     "output-formats.md",
     "input-slivers-first.md",
     "tet-refinement-best-diagonal.md",
@@ -1107,6 +1109,13 @@ def all_suites(args, invocation):
         run["steps"].append({"name": "refine", "title": refine_title, "command": None, "status": "not run",
                              "files": [], "note": "bench/refine.py does not take `--no-build --build-dir` yet."})
         write()
+
+    adaptive = os.path.join(BENCH, "adaptive.py")
+    if os.path.exists(adaptive):
+        # --quick: femur only, T = 0.003 and 0.001.
+        external("adaptive", "adaptive refinement: error bound and triangle count (issue 19)", adaptive,
+                 [PYTHON, rel(adaptive)], [("--meshes", QUICK_REFINE_MESHES), ("--tolerances", "0.003,0.001")],
+                 "adaptive.md")
 
     tetmesh = os.path.join(BENCH, "tetmesh.sh")
     env = dict(os.environ)

@@ -9,6 +9,7 @@
 #include "bpm/bpm_file.h"
 #include "bpm/check.h"
 #include "bpm/errors.h"
+#include "bpm/geometry.h"
 #include "bpm/refine.h"
 #include "bpm/tet_refine.h"
 #include "bpm/tetmesh.h"
@@ -26,6 +27,44 @@ std::string extension_of(const std::string& path) {
     std::string e = path.substr(dot + 1);
     std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return char(std::tolower(c)); });
     return e;
+}
+
+// A number as JSON (17 significant digits; null for NaN / infinity, which JSON lacks).
+std::string json_double(double v) {
+    if (!std::isfinite(v)) return "null";
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.17g", v);
+    return buf;
+}
+
+// A refined triangle whose proven bound is above --max-error, and where it is.
+struct Unmet {
+    int64_t triangle = 0;
+    int32_t coarse_triangle = 0, level = 0;
+    double bound = 0;
+    bpm::Vec3 at{0, 0, 0};  // its centroid
+};
+
+// The `count` triangles with the largest bound above `tolerance` (none if tolerance < 0), worst first.
+std::vector<Unmet> worst_unmet(const bpm::RefinedSurface& r, double tolerance, size_t count) {
+    std::vector<Unmet> out;
+    if (tolerance < 0) return out;
+    for (size_t t = 0; t < r.triangle_bound.size(); ++t) {
+        if (!(r.triangle_bound[t] > tolerance)) continue;
+        Unmet u;
+        u.triangle = int64_t(t);
+        u.coarse_triangle = r.triangle_coarse[t];
+        u.level = r.triangle_level[t];
+        u.bound = r.triangle_bound[t];
+        for (int32_t v : r.surface.triangles[t])
+            for (size_t k = 0; k < 3; ++k) u.at[k] += r.surface.vertices[size_t(v)][k] / 3.0;
+        out.push_back(u);
+    }
+    std::sort(out.begin(), out.end(), [](const Unmet& a, const Unmet& b) {
+        return a.bound != b.bound ? a.bound > b.bound : a.triangle < b.triangle;
+    });
+    if (out.size() > count) out.resize(count);
+    return out;
 }
 
 }  // namespace
@@ -90,7 +129,7 @@ int main(int argc, char** argv) {
     bpm::RefineOptions options;
     int levels = -1;
     double max_error = 0;
-    bool data = false, verbose = false, quiet = false, deterministic = false, no_verify = false;
+    bool data = false, verbose = false, quiet = false, deterministic = false, no_verify = false, json = false;
     app.add_option("INPUT", input, "Input .bpm file, or - for standard input")->required();
     app.add_option("-o,--output", output, "Output file (.off .obj .ply .stl .msh .vtu .bpm), or - for standard output")
         ->required();
@@ -133,8 +172,12 @@ int main(int argc, char** argv) {
     bool allow_intersections = false;
     app.add_flag("--allow-intersections", allow_intersections,
                  "Place every new vertex at phi even where the surface then intersects itself (default: hold back)");
+    app.add_flag("--json", json,
+                 "Print a JSON report on standard output (counts, the proven bound, held-back vertices, the "
+                 "triangles above --max-error)");
     bpm::tools::add_output_tool_flags(app, tool, deterministic, verbose, quiet);
-    bpm::tools::group_options(app, "Output", {"--output", "--output-format", "--binary", "--compress", "--data"});
+    bpm::tools::group_options(app, "Output",
+                              {"--output", "--output-format", "--binary", "--compress", "--data", "--json"});
     bpm::tools::group_options(app, "Target (one of)", {"--levels", "--max-error", "--max-level"});
     bpm::tools::group_options(app, "Volume", {"--volume", "--no-smooth", "--remedy-min-dihedral"});
     bpm::tools::group_options(app, "Advanced", {"--no-verify", "--allow-intersections"});
@@ -142,8 +185,15 @@ int main(int argc, char** argv) {
                                    "bpm-refine femur.bpm --max-error 0.001 -o adaptive.off",
                                    "bpm-refine femur.tet.bpm --volume --levels 1 -o fine.msh"});
 
+    // With --json every error is a report too: {"input", "ok": false, "error"}.
+    bpm::tools::set_json_error_report(json, [&](const bpm::tools::ErrorReport& error) {
+        return "{\"input\": " + bpm::tools::json_string(input) + ", \"ok\": false, \"error\": " +
+               bpm::tools::error_json(error) + "}";
+    });
     return bpm::tools::run(tool, argc, argv, app, [&]() {
         bpm::tools::require_output_directory(output);
+        if (json && output == "-") throw CLI::ValidationError("--json", "needs an output file (stdout carries the JSON)");
+        if (json && volume) throw CLI::ValidationError("--json", "is not available with --volume yet");
         if (!volume && (no_smooth || remedy->count() > 0))
             throw CLI::ValidationError(no_smooth ? "--no-smooth" : "--remedy-min-dihedral",
                                        "only applies with --volume");
@@ -195,12 +245,28 @@ int main(int argc, char** argv) {
         std::snprintf(line, sizeof line,
                       "proven two-sided Hausdorff distance to the original surface: at most %.3g of diagonal%s",
                       result.hausdorff_bound,
-                      result.held_back_vertices > 0 ? " (max |flat - phi| + the held-back distance)" : "");
+                      result.held_back_vertices > 0 ? " (with the held-back vertices where they are)" : "");
         context.info(line);
-        if (result.triangles_at_max_level_above_tolerance > 0)
-            context.warn(std::to_string(result.triangles_at_max_level_above_tolerance) +
-                         " triangles still deviate more than --max-error at --max-level " +
-                         std::to_string(options.max_level));
+        const std::vector<Unmet> unmet = worst_unmet(refined, levels < 0 ? max_error : -1.0, 10);
+        if (result.triangles_above_tolerance > 0) {
+            std::snprintf(line, sizeof line,
+                          "--max-error %g not met: %lld triangles are above it (%lld of them at --max-level %d), "
+                          "the bound is %.3g; the worst:",
+                          max_error, (long long)result.triangles_above_tolerance,
+                          (long long)result.triangles_at_max_level_above_tolerance, options.max_level,
+                          result.hausdorff_bound);
+            std::string text = line;
+            for (size_t k = 0; k < std::min<size_t>(3, unmet.size()); ++k) {
+                const Unmet& u = unmet[k];
+                std::snprintf(line, sizeof line, " triangle %lld (coarse triangle %d, level %d, at %.4g %.4g %.4g): %.3g%s",
+                              (long long)u.triangle, u.coarse_triangle, u.level, u.at[0], u.at[1], u.at[2], u.bound,
+                              k + 1 < std::min<size_t>(3, unmet.size()) ? ";" : "");
+                text += line;
+            }
+            if (result.triangles_at_max_level_above_tolerance > 0 && options.max_level < 10)
+                text += " (a higher --max-level, at most 10, may reach it)";
+            context.warn(text);
+        }
 
         if (is_bpm) {
             bpm::BpmFile out;
@@ -278,6 +344,37 @@ int main(int argc, char** argv) {
         } else {
             // The input's patch names become MSH physical names (they were "patch_<id>").
             bpm::write_surface(output, refined.surface, surface_format, encoding, file.patch_info);
+        }
+        if (json) {
+            std::string j = "{\"input\": " + bpm::tools::json_string(input) + ", \"output\": " +
+                            bpm::tools::json_string(output) + ", \"ok\": true, \"mode\": \"" +
+                            (levels >= 0 ? "uniform" : "adaptive") + "\"";
+            if (levels >= 0) j += ", \"levels\": " + std::to_string(levels);
+            else j += ", \"max_error\": " + json_double(max_error) + ", \"max_level_option\": " +
+                      std::to_string(options.max_level);
+            j += ", \"coarse_triangles\": " + std::to_string(result.coarse_triangles) +
+                 ", \"vertices\": " + std::to_string(result.vertices) +
+                 ", \"triangles\": " + std::to_string(result.triangles) +
+                 ", \"max_level\": " + std::to_string(result.max_level) +
+                 ", \"max_flat_phi\": " + json_double(result.max_estimated_error) +
+                 ", \"hausdorff_bound\": " + json_double(result.hausdorff_bound) +
+                 ", \"held_back_vertices\": " + std::to_string(result.held_back_vertices) +
+                 ", \"max_held_back\": " + json_double(result.max_held_back) +
+                 ", \"remedy_rounds\": " + std::to_string(result.remedy_rounds) +
+                 ", \"adaptive_passes\": " + std::to_string(result.adaptive_passes) +
+                 ", \"triangles_above_max_error\": " + std::to_string(result.triangles_above_tolerance) +
+                 ", \"triangles_at_max_level_above_max_error\": " +
+                 std::to_string(result.triangles_at_max_level_above_tolerance) + ", \"above_max_error\": [";
+            for (size_t k = 0; k < unmet.size(); ++k) {
+                const Unmet& u = unmet[k];
+                j += std::string(k ? ", " : "") + "{\"triangle\": " + std::to_string(u.triangle) +
+                     ", \"coarse_triangle\": " + std::to_string(u.coarse_triangle) +
+                     ", \"level\": " + std::to_string(u.level) + ", \"bound\": " + json_double(u.bound) +
+                     ", \"at\": [" + json_double(u.at[0]) + ", " + json_double(u.at[1]) + ", " +
+                     json_double(u.at[2]) + "]}";
+            }
+            j += "], \"seconds\": " + json_double(result.seconds) + "}\n";
+            std::fputs(j.c_str(), stdout);
         }
         return int(bpm::tools::kOk);
     });

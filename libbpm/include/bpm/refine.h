@@ -31,8 +31,9 @@ struct RefineOptions {
     int levels = -1;
     // Adaptive: split triangles whose phi-image deviates from the flat triangle by more
     // than this fraction of the bounding-box diagonal of S0 (> 0), measured exactly (max
-    // over the overlay of the triangle with phi's pieces): every triangle that is not at
-    // max_level ends within it, a proven two-sided Hausdorff bound (RefineResult).
+    // over the overlay of the triangle with phi's pieces, held-back vertices where they
+    // end up): every triangle that is not at max_level ends within it, a proven two-sided
+    // Hausdorff bound (RefineResult).
     double tolerance = 0.0;
     // Adaptive: never refine a coarse triangle more than this many times.
     int max_level = 8;
@@ -44,7 +45,12 @@ struct RefineOptions {
     // pair intersects. The coarse surface does not intersect itself, so this ends. Then
     // five bisection steps between each vertex's free and last intersecting fraction bring
     // the held-back vertices back towards phi as far as they stay free of intersections.
-    // Off by default in the library so that a measure of phi (bpm::refined_quality) sees
+    // Adaptive refinement holds back in two stages instead: first towards the midpoint of
+    // the vertex's parent edge (its ends at phi), so a deep vertex moves by at most about its
+    // parent's deviation, not towards the far coarse triangle; then on to the coarse
+    // surface (RefinedSurface::vertex_phi_fraction). It measures the deviation again with
+    // the vertices where they end up, refines the triangles still above the tolerance and
+    // runs the remedy again (RefineResult::adaptive_passes). Off by default in the library so that a measure of phi (bpm::refined_quality) sees
     // the vertices at phi; bpm-refine turns it on.
     bool prevent_intersections = false;
 };
@@ -67,8 +73,15 @@ struct RefinedSurface {
     std::vector<int32_t> triangle_level;
     // Per vertex (#V): where it is between its point on the coarse surface (0) and phi of
     // its parameter position (1); below 1 only where RefineOptions::prevent_intersections
-    // held it back. Coarse vertices 1.
+    // held it back. Coarse vertices 1. Adaptive refinement holds back in two stages: from
+    // 1 to 1/2 towards the midpoint of the vertex's parent edge (its ends at phi), from 1/2
+    // to 0 on to the coarse surface.
     std::vector<double> vertex_phi_fraction;
+    // Per triangle (#T): max |x - phi(x)| over the triangle as returned (held-back vertices
+    // where they are), relative to the diagonal of S0, computed exactly over its overlay
+    // with phi's pieces: a proven bound of the two-sided Hausdorff distance between the
+    // triangle and its image phi(triangle) on S0.
+    std::vector<double> triangle_bound;
 };
 
 struct RefineResult {
@@ -82,10 +95,20 @@ struct RefineResult {
     double max_estimated_error = 0.0;
     // Proven upper bound of the two-sided Hausdorff distance between the refined surface
     // (as returned, held-back vertices included) and S0, relative to the diagonal of S0:
-    // max_estimated_error + max_held_back. phi pairs every point of the refined surface
-    // with a point of S0 no farther than that, and maps onto all of S0.
+    // the largest RefinedSurface::triangle_bound (at most max_estimated_error +
+    // max_held_back; it was that sum). phi pairs every point of the refined surface with a
+    // point of S0 no farther than that, and maps onto all of S0.
     double hausdorff_bound = 0.0;
-    int64_t triangles_at_max_level_above_tolerance = 0;  // adaptive: could not meet the tolerance
+    // Adaptive: triangles whose triangle_bound is above the tolerance, and those of them at
+    // max_level (refining was stopped there; the others only if the passes ran out). The
+    // tolerance is met, hausdorff_bound <= tolerance, exactly when the first is 0.
+    int64_t triangles_above_tolerance = 0;
+    int64_t triangles_at_max_level_above_tolerance = 0;
+    // Adaptive with prevent_intersections: rounds of "refine, hold back, measure again";
+    // a triangle above the tolerance after the remedy is refined further (up to 12 passes;
+    // the result is the pass with the smallest bound; the passes stop when more than 8 times
+    // as many triangles as after the first (at least 64) are above the tolerance).
+    int32_t adaptive_passes = 0;
     // RefineOptions::prevent_intersections: vertices held back from phi, the largest
     // distance from phi of one (relative to the diagonal of S0), rounds of the remedy.
     int64_t held_back_vertices = 0;
