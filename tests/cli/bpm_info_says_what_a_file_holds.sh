@@ -49,12 +49,14 @@ cp "$work/out" "$work/eight.json"
 # Its feature vertices are the coarse surface's, not the corners bpm-simplify kept
 # (spec/info-report.md compares the two rules), and --help says so (it did not): on the
 # smooth genus-2 surface the simplifier keeps no corner (no "feature vertices kept" line
-# with -v), while the coarse surface has 42 vertices where creases end or meet.
+# with -v), while the coarse surface has vertices where creases end or meet (42 before
+# bpm-simplify removed input slivers first, 34 since: the count is not the point).
 expect 0 "simplify eight.off -v" -- "$tools/bpm-simplify" "$eight" -o "$work/eight-v.bpm" --ratio 0.5 \
     --deterministic -v
 ok "bpm-simplify kept no corner on eight.off" -- test "$(grep -c 'feature vertices kept' "$work/err")" -eq 0
 expect 0 "bpm-info eight-v.bpm" -- "$info" "$work/eight-v.bpm"
-contains "$work/out" ", 42 vertices of the coarse surface" "bpm-info counts the coarse surface's crease ends"
+ok "bpm-info counts the coarse surface's crease ends (some)" -- \
+    grep -Eq ", [1-9][0-9]* vertices of the coarse surface" "$work/out"
 expect 0 "bpm-info --help" -- "$info" --help
 contains "$work/out" "not the vertices bpm-simplify kept as corners" \
     "bpm-info --help says its feature vertices are not the corners bpm-simplify kept"
