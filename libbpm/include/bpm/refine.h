@@ -50,8 +50,9 @@ struct RefineOptions {
     // parent's deviation, not towards the far coarse triangle; then on to the coarse
     // surface (RefinedSurface::vertex_phi_fraction). It measures the deviation again with
     // the vertices where they end up, refines the triangles still above the tolerance and
-    // runs the remedy again (RefineResult::adaptive_passes). Off by default in the library so that a measure of phi (bpm::refined_quality) sees
-    // the vertices at phi; bpm-refine turns it on.
+    // runs the remedy again (RefineResult::adaptive_passes). Off by default in the library
+    // so that a measure of phi (bpm::refined_quality) sees the vertices at phi; bpm-refine
+    // turns it on.
     bool prevent_intersections = false;
 };
 
@@ -106,8 +107,9 @@ struct RefineResult {
     int64_t triangles_at_max_level_above_tolerance = 0;
     // Adaptive with prevent_intersections: rounds of "refine, hold back, measure again";
     // a triangle above the tolerance after the remedy is refined further (up to 12 passes;
-    // the result is the pass with the smallest bound; the passes stop when more than 8 times
-    // as many triangles as after the first (at least 64) are above the tolerance).
+    // the result is the pass with the smallest bound; the passes stop early when the number
+    // above the tolerance more than doubles (at least 64) while the bound does not fall, or
+    // passes 8 times the first pass's (at least 64): refining is then making it worse).
     int32_t adaptive_passes = 0;
     // RefineOptions::prevent_intersections: vertices held back from phi, the largest
     // distance from phi of one (relative to the diagonal of S0), rounds of the remedy.
