@@ -107,9 +107,9 @@ struct RefineResult {
     int64_t triangles_at_max_level_above_tolerance = 0;
     // Adaptive with prevent_intersections: rounds of "refine, hold back, measure again";
     // a triangle above the tolerance after the remedy is refined further (up to 12 passes;
-    // the result is the pass with the smallest bound; the passes stop early when the number
-    // above the tolerance more than doubles (at least 64) while the bound does not fall, or
-    // passes 8 times the first pass's (at least 64): refining is then making it worse).
+    // the result is the pass with the smallest bound; the passes stop early at a pass that
+    // lowers neither the bound nor the number of triangles above the tolerance, or when that
+    // number passes 8 times the first pass's (at least 64): refining is then not helping).
     int32_t adaptive_passes = 0;
     // RefineOptions::prevent_intersections: vertices held back from phi, the largest
     // distance from phi of one (relative to the diagonal of S0), rounds of the remedy.
