@@ -24,39 +24,18 @@ the triangle count needed for T = 0.001, as a multiple of the original's, is in 
 import argparse
 import json
 import os
-import shlex
 import sys
 import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from run import (binary_line, cpu_model, git_commit, load_average, memory_gib, read_off_header, rel,  # noqa: E402
-                 utcnow, write_atomic)
-from refine import Runner, load_json  # noqa: E402  (the timed command runner of bench/refine.py; logs as refine.py)
+from run import MESHES, binary_line, read_off_header, rel, write_atomic  # noqa: E402  (the main driver)
+from suite import TARGETS, Suite, load_json  # noqa: E402  (shared with refine.py)
 
-BENCH = os.path.dirname(os.path.abspath(__file__))
-ROOT = os.path.dirname(BENCH)
-MESHES = os.path.join(ROOT, ".data", "meshes")
-RESULTS = os.path.join(BENCH, "results")
-DEFAULT_MESHES = ["femur", "fandisk", "elephant", "armadillo", "mech-holes-shark"]
-TARGETS = [("10%", "r10", ["--ratio", "0.1"]), ("1000 V", "v1000", ["--vertices", "1000"])]
-BUILD_TARGETS = ["bpm-simplify", "bpm-refine", "bpm-bench-metrics"]
+SUITE = Suite("adaptive", ["bpm-simplify", "bpm-refine", "bpm-bench-metrics"])
+log = SUITE.log
+
 TRIANGLE_AIM = 4.0      # triangles for T = 0.001 / original triangles (the aim)
 AIM_TOLERANCE = 0.001
-
-
-def log(msg):
-    sys.stderr.write(f"[{utcnow():%H:%M:%S}] adaptive.py: {msg}\n")
-    sys.stderr.flush()
-
-
-def build(build_dir, jobs):
-    import subprocess
-    configure = ["cmake", "-S", ROOT, "-B", build_dir, "-DCMAKE_BUILD_TYPE=Release"]
-    compile_ = ["cmake", "--build", build_dir, f"-j{jobs}", "--target"] + BUILD_TARGETS
-    log(f"building in {build_dir} (Release): {' '.join(BUILD_TARGETS)}")
-    subprocess.run(configure, check=True, stdout=subprocess.DEVNULL)
-    subprocess.run(compile_, check=True, stdout=subprocess.DEVNULL)
-    return [configure, compile_]
 
 
 def run_row(args, bins, runner, mesh, label, tag, sim_opts):
@@ -187,44 +166,24 @@ def markdown(header, rows):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--build-dir", default=os.path.join(ROOT, "build-bench"))
-    ap.add_argument("--no-build", action="store_true", help="use the binaries already in BUILD_DIR/bin")
-    ap.add_argument("--jobs", type=int, default=2)
-    ap.add_argument("--results-dir", default=RESULTS, help="where adaptive.md / adaptive.json go (default bench/results)")
-    ap.add_argument("--work-dir", help="scratch files (default BUILD_DIR/bench-work/adaptive)")
-    ap.add_argument("--meshes", default=",".join(DEFAULT_MESHES), help="comma-separated names in .data/meshes")
+    SUITE.add_arguments(ap)
     ap.add_argument("--targets", default="r10,v1000", help="coarse sizes: r10 (10 %%), v1000 (1000 vertices)")
     ap.add_argument("--tolerances", default="0.003,0.001,0.0003", help="bpm-refine --max-error values")
     ap.add_argument("--samples", type=int, default=500000, help="bpm-bench-metrics --samples")
     ap.add_argument("--min-per-triangle", type=int, default=1, help="bpm-bench-metrics --min-per-triangle")
-    ap.add_argument("--timeout", type=int, default=1800, help="seconds per command")
     args = ap.parse_args()
-    invocation = shlex.join(["/usr/bin/python3", "bench/adaptive.py"] + sys.argv[1:])
-    args.build_dir = os.path.abspath(args.build_dir)
-    args.results_dir = os.path.abspath(args.results_dir)
-    args.work_dir = os.path.abspath(args.work_dir or os.path.join(args.build_dir, "bench-work", "adaptive"))
-    args.meshes = [m for m in args.meshes.split(",") if m]
+    SUITE.prepare(args)
     args.tolerances = [float(x) for x in args.tolerances.split(",") if x]
     targets = [t for t in TARGETS if t[1] in args.targets.split(",")]
-    missing = [m for m in args.meshes if not os.path.exists(os.path.join(MESHES, m + ".off"))]
-    if missing:
-        sys.exit(f"adaptive.py: error: not in {rel(MESHES)}: {', '.join(m + '.off' for m in missing)} "
-                 "(scripts/setup.sh unpacks them)")
-    os.makedirs(args.work_dir, exist_ok=True)
-    os.makedirs(args.results_dir, exist_ok=True)
 
     t_start = time.monotonic()
-    header = {"started": f"{utcnow():%Y-%m-%d %H:%M}", "load_start": list(load_average()), "cpu": cpu_model(),
-              "cores": os.cpu_count(), "memory_gib": memory_gib(), "commit": git_commit(), "invocation": invocation,
-              "build_dir": args.build_dir, "tolerances": args.tolerances, "samples": args.samples,
-              "min_per_triangle": args.min_per_triangle, "timeout": args.timeout}
-    header["build"] = None if args.no_build else build(args.build_dir, args.jobs)
-    bins = {t: os.path.join(args.build_dir, "bin", t) for t in BUILD_TARGETS}
-    for t, p in bins.items():
-        if not os.access(p, os.X_OK):
-            sys.exit(f"adaptive.py: error: {p} missing (build first, or leave out --no-build)")
+    header = SUITE.header(args, sys.argv[1:])
+    header.update({"tolerances": args.tolerances, "samples": args.samples,
+                   "min_per_triangle": args.min_per_triangle, "timeout": args.timeout})
+    header["build"] = SUITE.build(args)
+    bins = SUITE.binaries(args)
     header["binary"] = binary_line(bins["bpm-refine"])
-    runner = Runner(args.work_dir, args.timeout)
+    runner = SUITE.runner(args)
     header["commands"] = runner.commands
     md_path, json_path = os.path.join(args.results_dir, "adaptive.md"), os.path.join(args.results_dir, "adaptive.json")
     rows = []
@@ -237,9 +196,7 @@ def main():
         for label, tag, opts in targets:
             rows.append(run_row(args, bins, runner, mesh, label, tag, opts))
             write()
-    header["finished"] = f"{utcnow():%Y-%m-%d %H:%M}"
-    header["minutes"] = (time.monotonic() - t_start) / 60.0
-    header["load_end"] = list(load_average())
+    SUITE.finish_header(header, t_start)
     write()
     log(f"wrote {rel(md_path)} and {rel(json_path)}")
     failed = [r for r in rows if (r.get("simplify") or {}).get("status") != "ok" or any(

@@ -33,36 +33,24 @@ ratio of the K=3 surface on every mesh; >= 10 million phi evaluations per second
 random points, 2 threads, wall clock).
 """
 import argparse
-import datetime
 import json
 import os
 import shlex
-import subprocess
 import sys
 import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from run import (binary_line, cpu_model, git_commit, load_average, memory_gib, read_off_header, rel,  # noqa: E402
-                 utcnow, write_atomic)  # shared with the main driver
+from run import BENCH, MESHES, ROOT, binary_line, git_commit, read_off_header, rel, write_atomic  # noqa: E402
+from suite import TARGETS, Suite, load_json, stamp  # noqa: E402  (shared with adaptive.py)
 
-BENCH = os.path.dirname(os.path.abspath(__file__))
-ROOT = os.path.dirname(BENCH)
-MESHES = os.path.join(ROOT, ".data", "meshes")
-RESULTS = os.path.join(BENCH, "results")
-PYTHON = "/usr/bin/python3"
-DEFAULT_MESHES = ["femur", "fandisk", "elephant", "armadillo", "mech-holes-shark"]
-TARGETS = [("10%", "r10", ["--ratio", "0.1"]), ("1000 V", "v1000", ["--vertices", "1000"])]
-BUILD_TARGETS = ["bpm-simplify", "bpm-smooth", "bpm-refine", "bpm-check", "bpm-bench-refine"]
+SUITE = Suite("refine", ["bpm-simplify", "bpm-smooth", "bpm-refine", "bpm-check", "bpm-bench-refine"])
+log = SUITE.log
+
 CONVERGENCE_FACTOR = 8.0    # phi: H(K=0) / H(K=max) at least this (issue 19)
 MEAN_FACTOR = 100.0         # phi: mean two-sided distance K=0 / K=max at least this (issue 19)
 PLAIN_FLAT_FACTOR = 2.0     # plain: H(K=0) / H(K=max) below this counts as "stays flat"
 SMOOTH_P99_FACTOR = 2.0     # p99 without / with smoothing at least this
 THROUGHPUT_TARGET = 10e6    # phi evaluations per wall second, 2 threads
-
-
-def log(msg):
-    sys.stderr.write(f"[{utcnow():%H:%M:%S}] refine.py: {msg}\n")
-    sys.stderr.flush()
 
 
 def newest_source():
@@ -83,76 +71,6 @@ def newest_source():
         if os.path.exists(p) and os.path.getmtime(p) > best[1]:
             best = (rel(p), os.path.getmtime(p))
     return best
-
-
-def stamp(t):
-    return f"{datetime.datetime.fromtimestamp(t, datetime.timezone.utc):%Y-%m-%d %H:%M:%S} UTC"
-
-
-def build(build_dir, jobs):
-    configure = ["cmake", "-S", ROOT, "-B", build_dir, "-DCMAKE_BUILD_TYPE=Release"]
-    compile_ = ["cmake", "--build", build_dir, f"-j{jobs}", "--target"] + BUILD_TARGETS
-    log(f"building in {build_dir} (Release): {' '.join(BUILD_TARGETS)}")
-    subprocess.run(configure, check=True, stdout=subprocess.DEVNULL)
-    subprocess.run(compile_, check=True, stdout=subprocess.DEVNULL)
-    return [configure, compile_]
-
-
-class Runner:
-    """Runs commands from the repository root under `timeout` and /usr/bin/time; records every command."""
-
-    def __init__(self, work, timeout):
-        self.work, self.timeout, self.commands = work, timeout, []
-
-    def run(self, cmd, stem, stdout_path=None):
-        logs = os.path.join(self.work, "logs")
-        os.makedirs(logs, exist_ok=True)
-        log_path, time_file = os.path.join(logs, stem + ".log"), os.path.join(logs, stem + ".time")
-        shown = shlex.join(rel(c) if os.path.isabs(c) else c for c in cmd)
-        if stdout_path:
-            shown += " > " + rel(stdout_path)
-        self.commands.append(shown)
-        log(shown)
-        if os.path.exists(time_file):
-            os.remove(time_file)
-        full = ["/usr/bin/time", "-f", "%e %M %U %S", "-o", time_file, "timeout", "--kill-after=10",
-                str(self.timeout)] + cmd
-        start = time.monotonic()
-        with open(log_path, "w") as lf:
-            lf.write("$ " + shown + "\n")
-            lf.flush()
-            out = open(stdout_path, "w") if stdout_path else lf
-            try:
-                proc = subprocess.run(full, stdout=out, stderr=lf, cwd=ROOT)
-            finally:
-                if stdout_path:
-                    out.close()
-        r = {"command": shown, "exit": proc.returncode, "seconds": time.monotonic() - start, "cpu_seconds": None,
-             "peak_mb": None, "log": log_path}
-        try:
-            with open(time_file) as tf:
-                line = [l for l in tf.read().splitlines() if l.strip()][-1].split()
-            r["seconds"], r["peak_mb"] = float(line[0]), float(line[1]) / 1024.0
-            r["cpu_seconds"] = float(line[2]) + float(line[3])
-        except (OSError, IndexError, ValueError):
-            pass
-        r["status"] = "ok" if proc.returncode == 0 else ("timeout" if proc.returncode in (124, 137) else "failed")
-        if proc.returncode != 0:
-            with open(log_path, errors="replace") as lf:
-                lines = [l.strip() for l in lf.read().splitlines()[1:] if l.strip() and not l.startswith("Command ")]
-            r["message"] = f"exit {proc.returncode}: " + (lines[-1][:200] if lines else "")
-            log(f"  -> {r['status']}: {r['message']}")
-        with open(log_path, errors="replace") as lf:
-            r["stderr_tail"] = [l.rstrip() for l in lf.read().splitlines()[1:] if l.strip()][-12:]
-        return r
-
-
-def load_json(path):
-    try:
-        with open(path) as f:
-            return json.load(f)
-    except (OSError, json.JSONDecodeError):
-        return None
 
 
 def smooth_summary(log_path):
@@ -586,12 +504,7 @@ def markdown(header, cases):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--build-dir", default=os.path.join(ROOT, "build-bench"))
-    ap.add_argument("--no-build", action="store_true", help="use the binaries already in BUILD_DIR/bin")
-    ap.add_argument("--jobs", type=int, default=2)
-    ap.add_argument("--results-dir", default=RESULTS, help="where refine.md / refine.json go (default bench/results)")
-    ap.add_argument("--work-dir", help="scratch files (default BUILD_DIR/bench-work/refine)")
-    ap.add_argument("--meshes", default=",".join(DEFAULT_MESHES), help="comma-separated names in .data/meshes")
+    SUITE.add_arguments(ap)
     ap.add_argument("--levels", default="0,1,2,3,4", help="convergence: refinement levels K")
     ap.add_argument("--shape-level", type=int, default=3, help="shape: refinement level K")
     ap.add_argument("--samples", type=int, default=200000, help="convergence: area-proportional samples per surface")
@@ -602,40 +515,24 @@ def main():
     ap.add_argument("--no-throughput", action="store_true", help="skip the throughput measurement")
     ap.add_argument("--no-convergence-smoothed", dest="convergence_smoothed", action="store_false",
                     help="skip the convergence measurement with the smoothed phi (an extra row, not a target)")
-    ap.add_argument("--timeout", type=int, default=1800, help="seconds per command")
     args = ap.parse_args()
-    invocation = shlex.join([PYTHON, "bench/refine.py"] + sys.argv[1:])
-    args.build_dir = os.path.abspath(args.build_dir)
-    args.results_dir = os.path.abspath(args.results_dir)
-    args.work_dir = os.path.abspath(args.work_dir or os.path.join(args.build_dir, "bench-work", "refine"))
-    args.meshes = [m for m in args.meshes.split(",") if m]
+    SUITE.prepare(args)
     args.levels = [int(x) for x in args.levels.split(",") if x]
     args.threads = [int(x) for x in args.threads.split(",") if x]
-    missing = [m for m in args.meshes if not os.path.exists(os.path.join(MESHES, m + ".off"))]
-    if missing:
-        sys.exit(f"refine.py: error: not in {rel(MESHES)}: {', '.join(m + '.off' for m in missing)} "
-                 "(scripts/setup.sh unpacks them)")
-    os.makedirs(args.work_dir, exist_ok=True)
-    os.makedirs(args.results_dir, exist_ok=True)
 
     t_start = time.monotonic()
-    header = {"started": f"{utcnow():%Y-%m-%d %H:%M}", "load_start": list(load_average()), "cpu": cpu_model(),
-              "cores": os.cpu_count(), "memory_gib": memory_gib(), "commit": git_commit(), "invocation": invocation,
-              "build_dir": args.build_dir, "levels": args.levels, "shape_level": args.shape_level,
-              "samples": args.samples, "min_per_triangle": args.min_per_triangle, "points": args.points,
-              "threads": args.threads, "repeat": args.repeat, "timeout": args.timeout,
-              "no_throughput": args.no_throughput, "build": None}
-    header["build"] = None if args.no_build else build(args.build_dir, args.jobs)
-    bins = {t: os.path.join(args.build_dir, "bin", t) for t in BUILD_TARGETS}
-    for t, p in bins.items():
-        if not os.access(p, os.X_OK):
-            sys.exit(f"refine.py: error: {p} missing (build first, or leave out --no-build)")
+    header = SUITE.header(args, sys.argv[1:])
+    header.update({"levels": args.levels, "shape_level": args.shape_level, "samples": args.samples,
+                   "min_per_triangle": args.min_per_triangle, "points": args.points, "threads": args.threads,
+                   "repeat": args.repeat, "timeout": args.timeout, "no_throughput": args.no_throughput})
+    header["build"] = SUITE.build(args)
+    bins = SUITE.binaries(args)
     header["binary"] = binary_line(bins["bpm-simplify"])
     src, src_time = newest_source()
     oldest_bin = min(os.path.getmtime(p) for p in bins.values())
     header["sources"] = {"newest": src, "newest_mtime": stamp(src_time), "oldest_binary_mtime": stamp(oldest_bin),
                          "binaries_older_than_sources": src_time > oldest_bin}
-    runner = Runner(args.work_dir, args.timeout)
+    runner = SUITE.runner(args)
     header["commands"] = runner.commands
     md_path, json_path = os.path.join(args.results_dir, "refine.md"), os.path.join(args.results_dir, "refine.json")
     cases = []
@@ -651,9 +548,7 @@ def main():
             case["coarse_vertices"] = coarse_vertex_count(case)
             cases.append(case)
             write()
-    header["finished"] = f"{utcnow():%Y-%m-%d %H:%M}"
-    header["minutes"] = (time.monotonic() - t_start) / 60.0
-    header["load_end"] = list(load_average())
+    SUITE.finish_header(header, t_start)
     header["commit_end"] = git_commit()
     src, src_time = newest_source()
     header["sources"]["newest_at_end"], header["sources"]["newest_mtime_at_end"] = src, stamp(src_time)
