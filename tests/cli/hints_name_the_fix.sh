@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Error messages that name the fix: standard input without a format names --input-format
-# (a usage error, exit 2); bpm-check on a plain surface file suggests --surface; an input
+# (a usage error, exit 2); bpm-check on a plain surface file suggests --surface, the other
+# .bpm readers bpm-simplify (or bpm-mesh, for bpm-refine --volume); an input
 # that needs repairs lists every repair it needs in one message, as the flags to copy
 # (two touching per-material surfaces needed two failed runs: duplicate vertices first,
 # duplicate triangles only after).
@@ -14,6 +15,20 @@ expect 2 "bpm-check --surface from stdin without a format" -- "$tools/bpm-check"
 contains "$work/err" "add --input-format" "bpm-check names --input-format"
 expect 3 "bpm-check on a surface file" -- "$tools/bpm-check" "$work/tet.off"
 contains "$work/err" "bpm-check --surface $work/tet.off" "the error suggests --surface"
+# The other tools that read a .bpm, given the surface or the tet mesh file a newcomer has at hand,
+# say how to make the .bpm they need; a missing file gets no such hint.
+for t in bpm-smooth bpm-mesh bpm-info; do
+    args=(-o "$work/x.bpm"); [ "$t" = bpm-info ] && args=()
+    expect 3 "$t on a surface file" -- "$tools/$t" "$work/tet.off" "${args[@]}"
+    contains "$work/err" "make one with bpm-simplify $work/tet.off -o tet.bpm" "$t names bpm-simplify"
+done
+expect 3 "bpm-refine on a surface file" -- "$tools/bpm-refine" "$work/tet.off" --levels 1 -o "$work/x.off"
+contains "$work/err" "make one with bpm-simplify $work/tet.off -o tet.bpm" "bpm-refine names bpm-simplify"
+cp "$work/tet.off" "$work/tets.vtu"
+expect 3 "bpm-refine --volume on a .vtu" -- "$tools/bpm-refine" "$work/tets.vtu" --volume --levels 1 -o "$work/x.vtu"
+contains "$work/err" "the .bpm that bpm-mesh writes" "bpm-refine --volume names bpm-mesh"
+expect 3 "bpm-info on a missing .off" -- "$tools/bpm-info" "$work/missing.off"
+ok "a missing file gets no hint" -- bash -c "! grep -q 'make one with' '$work/err'"
 
 # Two unit cubes touching at x = 1, one closed surface per material (STL: a triangle soup
 # per file, positions shared only across files).

@@ -20,17 +20,6 @@ void add_in_order(bpm::CheckReport& report, bpm::CheckResult result) {
 }
 }  // namespace
 
-// read_bpm, with a hint when the file is a plain surface (bpm-check femur.off).
-bpm::BpmFile read_bpm_or_hint(const std::string& input) {
-    try {
-        return bpm::read_bpm(input);
-    } catch (const bpm::InputError& e) {
-        if (input == "-" || !bpm::surface_format_from_path(input)) throw;
-        throw bpm::InputError(e.where(), std::string(e.what()) + ". It looks like a surface file: check it with " +
-                                             "bpm-check --surface " + input);
-    }
-}
-
 // The library reports in its own terms (CheckOptions fields, what a file lacks); the
 // flags that set or fix them are ours to name, as they were before the library dropped them.
 void name_flags(bpm::CheckReport& report, bool replay_without_steps) {
@@ -221,7 +210,7 @@ int main(int argc, char** argv) {
             report = bpm::run_surface_checks(surface, sel, options, context);
             if (want_quality && !report.find("quality")) add_in_order(report, bpm::check_quality(surface, options, context));
         } else {
-            const bpm::BpmFile file = read_bpm_or_hint(input);
+            const bpm::BpmFile file = bpm::tools::read_bpm_input(input, "check it with bpm-check --surface " + input);
             // distance reads phi, so it needs a structurally sound file.
             if (want_distance && !distance_limit) sel.format = true;
             report = bpm::run_checks(file, sel, options, context);

@@ -227,7 +227,12 @@ int main(int argc, char** argv) {
                ", \"error\": " + bpm::tools::error_json(error) + "}";
     });
     return bpm::tools::run(tool, argc, argv, app, [&]() {
-        const bpm::BpmInfo info = bpm::read_bpm_info(input, options);
+        bpm::BpmInfo info;
+        try {
+            info = bpm::read_bpm_info(input, options);
+        } catch (const bpm::InputError& e) {
+            bpm::tools::rethrow_with_mesh_file_hint(e, input);
+        }
         std::cout << (json ? to_json(info) : to_text(info)) << std::flush;
         return int(bpm::tools::kOk);
     });

@@ -178,7 +178,7 @@ int main(int argc, char** argv) {
             };
         }
 
-        bpm::BpmFile file = bpm::read_bpm(input);
+        bpm::BpmFile file = bpm::tools::read_bpm_input(input);
         bpm::TetMeshResult mesh_result;
         if (existing) {
             if (!file.tetmesh) throw bpm::InputError(input, "--existing: the file has no /tetmesh group");

@@ -85,7 +85,8 @@ int refine_volume(const std::string& tool, int argc, char** argv, const std::str
     const bpm::MeshEncoding encoding =
         bpm::tools::output_encoding(encoding_flags, bpm::tetmesh_format_name(*out_format), output);
     const bpm::Context context = bpm::tools::make_context(tool, verbose, quiet);
-    bpm::BpmFile file = bpm::read_bpm(input);
+    bpm::BpmFile file = bpm::tools::read_bpm_input(
+        input, "--volume refines the .bpm that bpm-mesh writes: bpm-mesh COARSE.bpm -o TETS.bpm");
     if (!file.tetmesh)
         throw bpm::InputError(input, "has no tetrahedral mesh (make one with bpm-mesh first)");
     bpm::TetRefineOptions options;
@@ -222,7 +223,7 @@ int main(int argc, char** argv) {
         if (data && !is_vtu) throw CLI::ValidationError("--data", "--data needs .vtu output (the other formats hold no point data)");
         const bpm::Context context = bpm::tools::make_context(tool, verbose, quiet);
 
-        bpm::BpmFile file = bpm::read_bpm(input);
+        bpm::BpmFile file = bpm::tools::read_bpm_input(input);
         if (file.tetmesh && !is_bpm)
             context.info("refining the surface; the file's tetrahedral mesh is refined with --volume");
         const bpm::Parametrization& param = file.param;

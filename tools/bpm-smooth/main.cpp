@@ -48,7 +48,7 @@ int main(int argc, char** argv) {
         options.measure_quality = !no_quality;
         options.weights = weights == "shape-preserving" ? bpm::SmoothWeights::ShapePreserving : bpm::SmoothWeights::MeanValue;
         const bpm::Context context = bpm::tools::make_context(tool, verbose, quiet);
-        bpm::BpmFile file = bpm::read_bpm(input);
+        bpm::BpmFile file = bpm::tools::read_bpm_input(input);
         const bpm::SmoothResult r = bpm::smooth(file.param, options, context);
         file.provenance.push_back({tool, bpm::tools::version_line(tool), bpm::tools::command_line(argc, argv),
                                    deterministic ? std::string() : bpm::tools::utc_timestamp()});

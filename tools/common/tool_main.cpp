@@ -450,4 +450,25 @@ std::string command_line(int argc, char** argv) {
     return line;
 }
 
+std::string bpm_from_surface_hint(const std::string& path) {
+    const std::filesystem::path p(path);
+    return "make one with bpm-simplify " + path + " -o " + p.stem().string() + ".bpm";
+}
+
+void rethrow_with_mesh_file_hint(const InputError& error, const std::string& path, const std::string& hint) {
+    std::error_code ec;
+    if (path == "-" || !surface_format_from_path(path) || !std::filesystem::is_regular_file(path, ec))
+        throw;  // the caught exception, as it was
+    throw InputError(error.where(), std::string(error.what()) + ". It looks like a surface or mesh file, not a .bpm (" +
+                                        (hint.empty() ? bpm_from_surface_hint(path) : hint) + ")");
+}
+
+BpmFile read_bpm_input(const std::string& path, const std::string& hint) {
+    try {
+        return read_bpm(path);
+    } catch (const InputError& e) {
+        rethrow_with_mesh_file_hint(e, path, hint);
+    }
+}
+
 }  // namespace bpm::tools

@@ -8,7 +8,9 @@
 
 #include <CLI/CLI.hpp>
 
+#include "bpm/bpm_file.h"
 #include "bpm/context.h"
+#include "bpm/errors.h"
 #include "bpm/mesh_encoding.h"
 #include "bpm/surface_io.h"
 
@@ -148,6 +150,20 @@ void require_input_format_for_stdin(const std::vector<std::string>& inputs, cons
 // Sets the --help footer to these example command lines (run() appends the exit-code
 // table to every tool's help).
 void add_examples(CLI::App& app, const std::vector<std::string>& examples);
+
+// read_bpm(path), but when an existing file cannot be read as a .bpm and its name says it
+// is a surface or mesh file (femur.off, tets.vtu: what newcomers pass first), the error
+// adds "It looks like a surface or mesh file, not a .bpm (HINT)", HINT saying what this
+// tool needs and how to make it (default: bpm_from_surface_hint(path)).
+BpmFile read_bpm_input(const std::string& path, const std::string& hint = "");
+
+// The same for any reader of a .bpm; call it in the handler that caught `error`: throws
+// it again with the hint when `path` names a surface or mesh file, else rethrows it unchanged.
+[[noreturn]] void rethrow_with_mesh_file_hint(const InputError& error, const std::string& path,
+                                              const std::string& hint = "");
+
+// "make one with bpm-simplify PATH -o STEM.bpm"
+std::string bpm_from_surface_hint(const std::string& path);
 
 // Current time as ISO 8601 UTC, for provenance.
 std::string utc_timestamp();
