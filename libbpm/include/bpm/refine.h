@@ -107,7 +107,8 @@ struct RefineResult {
     int64_t triangles_at_max_level_above_tolerance = 0;
     // Adaptive with prevent_intersections: rounds of "refine, hold back, measure again";
     // a triangle above the tolerance after the remedy is refined further (up to 12 passes;
-    // the result is the pass with the smallest bound; the passes stop early at a pass that
+    // the result is the pass with the smallest bound, of equal bounds the one with fewer
+    // triangles above the tolerance; the passes stop early at a pass that
     // lowers neither the bound nor the number of triangles above the tolerance, or when that
     // number passes 8 times the first pass's (at least 64): refining is then not helping).
     int32_t adaptive_passes = 0;

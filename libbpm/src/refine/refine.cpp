@@ -44,6 +44,54 @@ struct RTri {
 
 inline Vec3 mid(const Vec3& a, const Vec3& b) { return {0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1]), 0.5 * (a[2] + b[2])}; }
 
+// The adaptive passes ("refine, hold back, measure"): which one is the best so far, and
+// when to stop. A pass is better when its bound is below every earlier pass's, or equal to
+// the best one's with fewer triangles above the tolerance: where phi folds at max_level the
+// same triangles set the bound in every pass, and the passes still free the rest of the
+// surface from held-back vertices (femur 1000 V at T = 0.0003: bound 0.006754 in passes
+// 1-3 from triangles at level 8; 707, 295, 289 triangles above T, held back up to 0.0036,
+// 0.0004, 0.0004; pass 1 was returned and the sampled distance was 0.0016). The passes
+// stop after kMaxPasses, at the first pass that lowers neither the bound nor the number of
+// triangles above the tolerance, or when that number passes 8x the first pass's (at least
+// 64): refining is then not helping. Why: femur 10 % at T = 0.001 had 813, 2247, 6059
+// above T in passes 1-3, the bound rising; at T = 0.0003 a pass took minutes, 238 remedy
+// rounds in the first. (With the input needle bpm-simplify now removes, femur at T = 0.003
+// went 1, 1, 1, 1, 2, 2, 4, 2 above T with bounds barely moving and met T after 9 passes;
+// this rule stops such a case after the second pass. Stopping after two passes without a
+// smaller bound instead stopped it at 0.00313.)
+class PassHistory {
+public:
+    // Records the next pass's bound and number of triangles above the tolerance; returns
+    // whether it is the best pass so far.
+    bool record(double bound, int64_t above) {
+        ++passes_;
+        const bool better = passes_ == 1 || bound < best_bound_ || (bound == best_bound_ && above < best_above_);
+        if (better) best_bound_ = bound, best_above_ = above;
+        worse_ = better ? 0 : worse_ + 1;
+        if (passes_ == 1) first_above_ = above;
+        diverging_ = !better && above >= previous_above_;
+        previous_above_ = above;
+        exploding_ = above > 8 * std::max<int64_t>(first_above_, 8);
+        return better;
+    }
+    // No further pass after the one recorded last.
+    bool stop() const { return passes_ >= kMaxPasses || diverging_ || exploding_; }
+    // The best pass is an earlier one than the last (then that one is returned).
+    bool best_is_earlier() const { return passes_ > 1 && worse_ > 0; }
+    int32_t passes() const { return passes_; }
+
+    // Each pass splits at least one triangle one level deeper; the cap only bounds the
+    // time on a pathological input.
+    static constexpr int32_t kMaxPasses = 12;
+
+private:
+    int32_t passes_ = 0;
+    int32_t worse_ = 0;  // passes since the best one
+    double best_bound_ = 0;
+    int64_t best_above_ = 0, first_above_ = 0, previous_above_ = 0;
+    bool diverging_ = false, exploding_ = false;
+};
+
 class Refiner {
 public:
     Refiner(const Parametrization& p, const PhiEvaluator& phi, RefinedSurface& out)
@@ -274,6 +322,14 @@ public:
         }
     }
 
+    // The triangles below max_level whose deviation at phi (phi_error) exceeds the tolerance.
+    std::vector<size_t> above_tolerance(const RefineOptions& options) {
+        std::vector<size_t> marked;
+        for (size_t i = 0; i < tris_.size(); ++i)
+            if (tris_[i].level < options.max_level && !(phi_error(tris_[i]) <= options.tolerance)) marked.push_back(i);
+        return marked;
+    }
+
     // Adaptive, up to the green closure: red-refines every triangle below max_level whose
     // deviation (cached in RTri::error; +infinity = split in any case) exceeds the
     // tolerance, keeps the mesh 1-irregular, and red-refines the parent of a green half
@@ -282,14 +338,7 @@ public:
         const int max_level = options.max_level;
         for (int round = 0; round < max_level; ++round) {
             context.report(double(round) / std::max(1, max_level), "refining");
-            std::vector<size_t> marked;
-            for (size_t i = 0; i < tris_.size(); ++i) {
-                RTri& r = tris_[i];
-                if (r.level >= max_level) continue;
-                if (r.error < 0) r.error = error(r);
-                if (r.error <= options.tolerance) continue;
-                marked.push_back(i);
-            }
+            const std::vector<size_t> marked = above_tolerance(options);
             if (marked.empty()) break;
             for (size_t i : marked) red(i);
             close_red();
@@ -314,18 +363,10 @@ public:
             if (!again) break;
             close_red();
             // New red triangles may need splitting themselves.
-            for (bool marked = true; marked;) {
-                marked = false;
-                const size_t m = tris_.size();
-                for (size_t i = 0; i < m; ++i) {
-                    RTri& r = tris_[i];
-                    if (r.level >= max_level) continue;
-                    if (r.error < 0) r.error = error(r);
-                    if (r.error <= options.tolerance) continue;
-                    red(i);
-                    marked = true;
-                }
-                if (marked) close_red();
+            for (std::vector<size_t> marked = above_tolerance(options); !marked.empty();
+                 marked = above_tolerance(options)) {
+                for (size_t i : marked) red(i);
+                close_red();
             }
         }
     }
@@ -381,14 +422,12 @@ public:
         // back or none), and the remedy runs again on the finer surface, until every
         // triangle is within the tolerance or at max_level.
         // A pass can also make it worse (the new vertices at phi intersect too, as near a
-        // fold of phi or where S0 nearly touches itself): the pass with the smallest bound is
-        // returned. (Stopping after two passes without a smaller bound stopped femur 10 % at
-        // T = 0.003 at 0.00313; it meets T after 9.)
+        // fold of phi, a sharp fold of S0 or where S0 nearly touches itself): the best pass
+        // is returned; PassHistory says which and when to stop.
         RefinedSurface best_out;
         RefineResult best;
-        int32_t worse = 0, pass = 1;
-        int64_t first_above = 0, previous_above = 0;
-        for (;; ++pass) {
+        PassHistory history;
+        for (;;) {
             refine_adaptive(options, context);
             // Green closure, remembering which triangle of the 1-irregular mesh each comes from.
             const std::vector<RTri> irregular = tris_;
@@ -405,40 +444,29 @@ public:
             if (options.prevent_intersections) hold_back(result, context, true);
             std::vector<size_t> split;
             bound(result, &split, &options, &origin);
-            const bool better = pass == 1 || result.hausdorff_bound < best.hausdorff_bound;
-            worse = better ? 0 : worse + 1;
-            if (pass == 1) first_above = result.triangles_above_tolerance;
-            // No progress (femur 10 % at T = 0.001: 813, 2247, 6059 above T in passes 1-3,
-            // the bound rising; at T = 0.0003 a pass takes minutes, 238 remedy rounds in the
-            // first): stop at the first pass that neither lowered the bound nor the number of
-            // triangles above T, or when that number passed 8x the first pass's. (With the
-            // input needle bpm-simplify now removes, femur at T = 0.003 went 1, 1, 1, 1, 2, 2,
-            // 4, 2 above T with bounds barely moving and met T after 9 passes; this rule stops
-            // such a case after the second pass.)
-            const bool diverging = !better && result.triangles_above_tolerance >= previous_above;
-            previous_above = result.triangles_above_tolerance;
-            if (split.empty() || pass >= kMaxPasses || diverging ||
-                result.triangles_above_tolerance > 8 * std::max<int64_t>(first_above, 8))
-                break;
+            context.debug("refine: pass " + std::to_string(history.passes() + 1) + ": bound " +
+                          std::to_string(result.hausdorff_bound) + ", " +
+                          std::to_string(result.triangles_above_tolerance) + " triangles above the tolerance (" +
+                          std::to_string(result.triangles_at_max_level_above_tolerance) + " at max_level), " +
+                          std::to_string(result.held_back_vertices) + " vertices held back up to " +
+                          std::to_string(result.max_held_back) + ", " + std::to_string(result.triangles) + " triangles");
+            const bool better = history.record(result.hausdorff_bound, result.triangles_above_tolerance);
+            if (split.empty() || history.stop()) break;
             if (better) best_out = out_, best = result;
-            context.debug("refine: pass " + std::to_string(pass) + ": " + std::to_string(split.size()) +
+            context.debug("refine: pass " + std::to_string(history.passes()) + ": " + std::to_string(split.size()) +
                           " triangles above the tolerance next to held-back vertices (bound " +
                           std::to_string(result.hausdorff_bound) + "), refined further");
             tris_ = irregular;
             out_.surface.vertices = at_phi;
             for (size_t i : split) tris_[i].error = std::numeric_limits<double>::infinity();
         }
-        if (pass > 1 && worse > 0) {
+        if (history.best_is_earlier()) {
             out_ = std::move(best_out);
             result = best;
         }
-        result.adaptive_passes = pass;
+        result.adaptive_passes = history.passes();
         return result;
     }
-
-    // At most this many rounds of "refine, hold back, measure" (each splits at least one
-    // triangle one level deeper; the cap only bounds the time on a pathological input).
-    static constexpr int32_t kMaxPasses = 12;
 
     // Per-triangle proven bound with the vertices where they are (held back or not),
     // RefineResult::hausdorff_bound and the counts above the tolerance. With `split`,

@@ -330,35 +330,6 @@ TEST_CASE("refined femur does not intersect itself: new vertices held back from 
     }
 }
 
-TEST_CASE("the adaptive bound holds: the sampled Hausdorff distance of the refined surface is never above it",
-          "[refine][bound]") {
-    // The tolerance used to be judged at 7 sample points per triangle: on a CAD part at
-    // 10 % --max-error 0.003 gave a measured Hausdorff distance of 0.0045. The deviation
-    // is now the maximum over the overlay with phi's pieces; the checker's sampled
-    // distance (a lower estimate of the true one) must stay at or below the bound.
-    for (const Case& c : cases()) {
-        for (double tolerance : {1e-2, 3e-3, 1e-3}) {
-            INFO(c.name << " tolerance " << tolerance);
-            RefinedSurface r;
-            RefineOptions o;
-            o.tolerance = tolerance;
-            const RefineResult res = refine(c.param, o, Context{}, r);
-            CHECK(res.hausdorff_bound == res.max_estimated_error);  // nothing held back (off)
-            if (res.triangles_at_max_level_above_tolerance == 0) CHECK(res.hausdorff_bound <= tolerance);
-            const Parametrization p = refined_parametrization(c.param, r);
-            CheckOptions co;
-            co.error_sample_spacing = tolerance / 4;
-            const CheckResult d = check_distance(p, co);
-            double measured = -1;
-            for (const auto& m : d.measures)
-                if (m.name == "coarse_hausdorff") measured = m.value;
-            INFO("bound " << res.hausdorff_bound << ", sampled Hausdorff " << measured);
-            CHECK(measured >= 0);
-            CHECK(measured <= res.hausdorff_bound * (1 + 1e-9) + 1e-12);
-        }
-    }
-}
-
 namespace {
 
 // The checker's sampled two-sided Hausdorff distance between the refined surface as
@@ -374,7 +345,42 @@ double sampled_hausdorff(const Parametrization& coarse, const RefinedSurface& r,
     return -1;
 }
 
+// Refines `c` adaptively to `tolerance` (with or without the intersection remedy) and
+// checks what the bound promises: every triangle above the tolerance is at max_level, the
+// tolerance is met if none is, and the checker's distance sampled `spacing` apart is never
+// above the bound.
+RefineResult check_adaptive_bound(const Case& c, double tolerance, bool prevent_intersections, double spacing) {
+    INFO(c.name << " tolerance " << tolerance << (prevent_intersections ? ", remedy on" : ""));
+    RefinedSurface r;
+    RefineOptions o;
+    o.tolerance = tolerance;
+    o.prevent_intersections = prevent_intersections;
+    const RefineResult res = refine(c.param, o, Context{}, r);
+    INFO(res.triangles << " triangles, bound " << res.hausdorff_bound << ", above " << res.triangles_above_tolerance);
+    CHECK(res.triangles_above_tolerance == res.triangles_at_max_level_above_tolerance);
+    if (res.triangles_above_tolerance == 0) CHECK(res.hausdorff_bound <= tolerance);
+    const double measured = sampled_hausdorff(c.param, r, spacing);
+    INFO("sampled Hausdorff " << measured);
+    CHECK(measured >= 0);
+    CHECK(measured <= res.hausdorff_bound * (1 + 1e-9) + 1e-12);
+    return res;
+}
+
 }  // namespace
+
+TEST_CASE("the adaptive bound holds: the sampled Hausdorff distance of the refined surface is never above it",
+          "[refine][bound]") {
+    // The tolerance used to be judged at 7 sample points per triangle: on a CAD part at
+    // 10 % --max-error 0.003 gave a measured Hausdorff distance of 0.0045. The deviation
+    // is now the maximum over the overlay with phi's pieces; the checker's sampled
+    // distance (a lower estimate of the true one) must stay at or below the bound.
+    for (const Case& c : cases()) {
+        for (double tolerance : {1e-2, 3e-3, 1e-3}) {
+            const RefineResult res = check_adaptive_bound(c, tolerance, false, tolerance / 4);
+            CHECK(res.hausdorff_bound == res.max_estimated_error);  // nothing held back (off)
+        }
+    }
+}
 
 TEST_CASE("adaptive refinement with the intersection remedy meets its tolerance: held-back vertices count",
           "[refine][bound][remedy][real]") {
@@ -409,6 +415,40 @@ TEST_CASE("adaptive refinement with the intersection remedy meets its tolerance:
     CHECK(measured <= res.hausdorff_bound * (1 + 1e-9) + 1e-12);
 }
 
+TEST_CASE("adaptive passes that tie on the bound return the one with fewer triangles above the tolerance",
+          "[refine][bound][remedy][real]") {
+    // Where phi folds, triangles at max_level set the bound and it stays the same from pass
+    // to pass while the passes still split the triangles around held-back vertices. Only a
+    // smaller bound counted: femur at 1000 vertices, T = 0.001, max_level 5 had bounds
+    // 0.002969, 0.002679, 0.002676, 0.002676 in passes 1-4 with 142, 162, 115, 105
+    // triangles above T (63, 106, 111, 105 at max_level) and returned pass 3, four triangles
+    // above T that refining could still split. (At T = 0.0003, max_level 8, the same rule
+    // returned pass 1 with vertices held back by up to 0.0036 of the diagonal and a sampled
+    // distance of 0.0016 instead of pass 3 with 0.00038 and 0.000298.)
+    const std::string path = std::string(BPM_MESH_DIR) + "/femur.off";
+    if (!std::filesystem::exists(path)) {
+        WARN("missing femur.off");
+        return;
+    }
+    SimplifyOptions so;
+    so.target_vertices = 1000;
+    Parametrization femur;
+    simplify(read_surface(path), so, Context{}, femur);
+    RefinedSurface r;
+    RefineOptions o;
+    o.tolerance = 1e-3;
+    o.max_level = 5;
+    o.prevent_intersections = true;
+    const RefineResult res = refine(femur, o, Context{}, r);
+    INFO(res.triangles << " triangles, bound " << res.hausdorff_bound << ", " << res.triangles_above_tolerance
+                       << " above T (" << res.triangles_at_max_level_above_tolerance << " at max_level), "
+                       << res.adaptive_passes << " passes, " << res.held_back_vertices << " held back");
+    REQUIRE(res.triangles_above_tolerance > 0);  // the fold of phi at max_level: what this is about
+    CHECK(res.triangles_above_tolerance == res.triangles_at_max_level_above_tolerance);
+    CHECK(res.hausdorff_bound == *std::max_element(r.triangle_bound.begin(), r.triangle_bound.end()));
+    CHECK(check_intersections(r.surface).passed);
+}
+
 TEST_CASE("the proven bound with held-back vertices is above the sampled distance, multi-material too",
           "[refine][bound][remedy][multimaterial]") {
     // Two materials (two cubes sharing a face) at 5 %, eight octants at 10 % and two
@@ -432,24 +472,10 @@ TEST_CASE("the proven bound with held-back vertices is above the sampled distanc
     cs.push_back({"octahedron", test::make_subdivided_octahedron(3)});
     cs.push_back({"height field", test::make_height_field(12, 3, test::default_height)});
     for (const Case& c : cs) {
-        for (double tolerance : {1e-2, 3e-3, 1e-3}) {
-            INFO(c.name << " tolerance " << tolerance);
-            RefinedSurface r;
-            RefineOptions o;
-            o.tolerance = tolerance;
-            o.prevent_intersections = true;
-            const RefineResult res = refine(c.param, o, Context{}, r);
-            INFO(res.triangles << " triangles, bound " << res.hausdorff_bound << ", above " << res.triangles_above_tolerance);
-            CHECK(res.triangles_above_tolerance == res.triangles_at_max_level_above_tolerance);
-            if (res.triangles_above_tolerance == 0) CHECK(res.hausdorff_bound <= tolerance);
-            // Samples 2e-3 apart at the finest (the uniform cases below too): every sample
-            // must stay below the bound whatever the spacing, and T / 4 (2.5e-4) and 1e-3
-            // made this test take 111 s and 31 s, many times that under ASan.
-            const double measured = sampled_hausdorff(c.param, r, std::max(tolerance / 4, 2e-3));
-            INFO("sampled Hausdorff " << measured);
-            CHECK(measured >= 0);
-            CHECK(measured <= res.hausdorff_bound * (1 + 1e-9) + 1e-12);
-        }
+        // Samples 2e-3 apart at the finest (the uniform cases below too): every sample
+        // must stay below the bound whatever the spacing, and T / 4 (2.5e-4) and 1e-3
+        // made this test take 111 s and 31 s, many times that under ASan.
+        for (double tolerance : {1e-2, 3e-3, 1e-3}) check_adaptive_bound(c, tolerance, true, std::max(tolerance / 4, 2e-3));
         for (int levels : {1, 2}) {
             INFO(c.name << " levels " << levels);
             RefinedSurface r;
