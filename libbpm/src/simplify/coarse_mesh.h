@@ -68,8 +68,10 @@ public:
 
     int32_t add_triangle(const Tri& corners, int32_t patch);
     // Gives back the room the per-triangle arrays grew into (they double as ids are
-    // added): called once no triangle will be added any more, before phi is exported.
+    // added) and stores the per-vertex triangle lists compactly: called once no triangle
+    // will be added or removed any more, before phi is exported.
     void shrink_to_fit() {
+        vertex_triangles_.compact();
         triangles_.shrink_to_fit();
         patches_.shrink_to_fit();
         alive_.shrink_to_fit();

@@ -114,6 +114,12 @@ public:
         if (int32_t(head_.size()) < n) head_.resize(size_t(n), -1);
     }
     bool empty(int32_t t) const { return t >= int32_t(head_.size()) || head_[t] < 0; }
+    size_t count(int32_t t) const {
+        size_t n = 0;
+        if (t < int32_t(head_.size()))
+            for (int32_t v = head_[t]; v >= 0; v = next_[v]) ++n;
+        return n;
+    }
     // Appends the vertices inside triangle t to `out`.
     void append_to(int32_t t, std::vector<int32_t>& out) const {
         if (t >= int32_t(head_.size())) return;
