@@ -134,8 +134,7 @@ double export_parametrization(const Surface& original, const CoarseMesh& mesh, c
     out.original = original;
     out.coarse = mesh.to_surface(out.coarse_vertex_origin);
     std::vector<int32_t> alive;
-    for (int32_t t = 0; t < mesh.triangle_capacity(); ++t)
-        if (mesh.alive(t)) alive.push_back(t);
+    mesh.alive_triangles(alive);
     // At least 512 triangles per chunk, and at most 2^19 chunks (a round of the pool takes
     // fewer than 2^20 tasks); the output is concatenated in order either way.
     const size_t chunk_size = std::max<size_t>(512, (alive.size() + (size_t(1) << 19) - 1) >> 19);
