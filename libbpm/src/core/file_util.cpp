@@ -53,11 +53,9 @@ void sync_directory(const std::string& dir) {
 }
 }  // namespace
 
-void write_file_atomically(const std::string& path, const std::string& bytes) {
-    if (path == "-") {
-        write_all(STDOUT_FILENO, bytes, "<stdout>");
-        return;
-    }
+namespace {
+// The directory of `path`, after checking that `path` can be a file there.
+std::filesystem::path output_directory(const std::string& path) {
     namespace fs = std::filesystem;
     const fs::path target(path);
     std::error_code ec;
@@ -65,52 +63,92 @@ void write_file_atomically(const std::string& path, const std::string& bytes) {
     fs::path dir = target.parent_path();
     if (dir.empty()) dir = ".";
     if (!fs::is_directory(dir, ec)) throw OutputError(path, "directory does not exist: " + dir.string());
+    return dir;
+}
 
-    // Temporary names next to the target (so that rename() is atomic): ".NAME.tmpXXXXXXXX".
-    std::random_device rd;
-    const auto temporary_name = [&] {
-        char suffix[32];
-        std::snprintf(suffix, sizeof suffix, ".tmp%08x", static_cast<unsigned>(rd()));
-        return (dir / ("." + target.filename().string() + suffix)).string();
-    };
+// A fresh temporary name next to `path` (so that rename() is atomic): ".NAME.tmpXXXXXXXX".
+std::string temporary_name(const std::filesystem::path& dir, const std::string& path) {
+    static thread_local std::random_device rd;
+    char suffix[32];
+    std::snprintf(suffix, sizeof suffix, ".tmp%08x", static_cast<unsigned>(rd()));
+    return (dir / ("." + std::filesystem::path(path).filename().string() + suffix)).string();
+}
+
+// Creates a new temporary file next to `path`, open read-write; its name in `tmp`.
+int create_temporary(const std::filesystem::path& dir, const std::string& path, std::string& tmp) {
+    int fd = -1;
+    for (int attempt = 0; attempt < 16 && fd < 0; ++attempt) {
+        tmp = temporary_name(dir, path);
+        fd = ::open(tmp.c_str(), O_RDWR | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
+        if (fd < 0 && errno != EEXIST) throw OutputError(path, "cannot create file: " + errno_text());
+    }
+    if (fd < 0) throw OutputError(path, "cannot create a temporary file next to it");
+    return fd;
+}
+
+// Gives the unnamed file open as `fd` a temporary name next to `path` (in `tmp`), through
+// /proc/self/fd. Returns false, with errno set, if that is not possible.
+bool name_unnamed(int fd, const std::filesystem::path& dir, const std::string& path, std::string& tmp) {
+    const std::string self = "/proc/self/fd/" + std::to_string(fd);
+    for (int attempt = 0; attempt < 16; ++attempt) {
+        tmp = temporary_name(dir, path);
+        if (::linkat(AT_FDCWD, self.c_str(), AT_FDCWD, tmp.c_str(), AT_SYMLINK_FOLLOW) == 0) return true;
+        if (errno != EEXIST) return false;
+    }
+    return false;
+}
+
+// Closes `fd`, the complete temporary file `tmp`, and renames it over `path`; the
+// temporary is removed if any of it fails.
+void close_and_rename(int fd, const std::string& tmp, const std::string& path, const std::filesystem::path& dir) {
+    if (::close(fd) != 0) {
+        const std::string why = errno_text();
+        ::unlink(tmp.c_str());
+        throw OutputError(path, "cannot close: " + why);
+    }
+    if (::rename(tmp.c_str(), path.c_str()) != 0) {
+        const std::string why = errno_text();
+        ::unlink(tmp.c_str());
+        throw OutputError(path, "cannot rename the finished file into place: " + why);
+    }
+    sync_directory(dir.string());
+}
+}  // namespace
+
+void write_file_atomically(const std::string& path, const std::string& bytes) {
+    if (path == "-") {
+        write_all(STDOUT_FILENO, bytes, "<stdout>");
+        return;
+    }
+    write_file_atomically(path, [&](int fd) { write_all(fd, bytes, path); });
+}
+
+void write_file_atomically(const std::string& path, const std::function<void(int fd)>& fill) {
+    if (path == "-") throw OutputError("<stdout>", "internal error: standard output cannot be written in place");
+    const std::filesystem::path dir = output_directory(path);
 
 #ifdef O_TMPFILE
     // Preferred (Linux): an unnamed file in the target's directory, given a name only once
     // it is complete and on disk, so that a process killed while writing leaves nothing
     // behind. Filesystems without O_TMPFILE fall through to a named temporary file.
-    int unnamed = ::open(dir.c_str(), O_TMPFILE | O_WRONLY | O_CLOEXEC, 0644);
+    int unnamed = ::open(dir.c_str(), O_TMPFILE | O_RDWR | O_CLOEXEC, 0644);
     if (unnamed < 0 && errno != EOPNOTSUPP && errno != EISDIR && errno != EINVAL)
         throw OutputError(path, "cannot create file: " + errno_text());
     if (unnamed >= 0) {
         try {
-            write_all(unnamed, bytes, path);
+            fill(unnamed);
             if (::fsync(unnamed) != 0) throw OutputError(path, "cannot flush to disk: " + errno_text());
         } catch (...) {
             ::close(unnamed);  // the unnamed file disappears with its descriptor
             throw;
         }
-        const std::string self = "/proc/self/fd/" + std::to_string(unnamed);
         std::string tmp;
-        bool linked = false;
-        for (int attempt = 0; attempt < 16 && !linked; ++attempt) {
-            tmp = temporary_name();
-            if (::linkat(AT_FDCWD, self.c_str(), AT_FDCWD, tmp.c_str(), AT_SYMLINK_FOLLOW) == 0) linked = true;
-            else if (errno != EEXIST) break;
-        }
-        const int link_errno = errno;
-        if (::close(unnamed) != 0 && linked) {
-            ::unlink(tmp.c_str());
-            throw OutputError(path, "cannot close: " + errno_text());
-        }
-        if (linked) {
-            if (::rename(tmp.c_str(), path.c_str()) != 0) {
-                const std::string why = errno_text();
-                ::unlink(tmp.c_str());
-                throw OutputError(path, "cannot rename the finished file into place: " + why);
-            }
-            sync_directory(dir.string());
+        if (name_unnamed(unnamed, dir, path, tmp)) {
+            close_and_rename(unnamed, tmp, path, dir);
             return;
         }
+        const int link_errno = errno;
+        ::close(unnamed);
         // No /proc, or linking refused: write again under a name (below), unless the
         // directory cannot take one more entry anyway.
         if (link_errno == ENOSPC || link_errno == EDQUOT || link_errno == EROFS)
@@ -119,31 +157,16 @@ void write_file_atomically(const std::string& path, const std::string& bytes) {
 #endif
 
     std::string tmp;
-    int fd = -1;
-    for (int attempt = 0; attempt < 16 && fd < 0; ++attempt) {
-        tmp = temporary_name();
-        fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
-        if (fd < 0 && errno != EEXIST) throw OutputError(path, "cannot create file: " + errno_text());
-    }
-    if (fd < 0) throw OutputError(path, "cannot create a temporary file next to it");
+    const int fd = create_temporary(dir, path, tmp);
     try {
-        write_all(fd, bytes, path);
+        fill(fd);
         if (::fsync(fd) != 0) throw OutputError(path, "cannot flush to disk: " + errno_text());
     } catch (...) {
         ::close(fd);
         ::unlink(tmp.c_str());
         throw;
     }
-    if (::close(fd) != 0) {
-        ::unlink(tmp.c_str());
-        throw OutputError(path, "cannot close: " + errno_text());
-    }
-    if (::rename(tmp.c_str(), path.c_str()) != 0) {
-        const std::string why = errno_text();
-        ::unlink(tmp.c_str());
-        throw OutputError(path, "cannot rename the finished file into place: " + why);
-    }
-    sync_directory(dir.string());
+    close_and_rename(fd, tmp, path, dir);
 }
 
 std::string read_whole_input(const std::string& path, size_t max_bytes) {

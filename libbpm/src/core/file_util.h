@@ -21,6 +21,16 @@ namespace bpm::detail {
 // complete output, and it may be deleted.
 void write_file_atomically(const std::string& path, const std::string& bytes);
 
+// The same for a writer that writes the file itself, so that no image of the whole file
+// has to be built in memory (the .bpm writer: HDF5 through io/hdf5_fd_driver.h):
+// `fill(fd)` writes all of the file through `fd` (open for reading and writing, at offset
+// 0 of an empty file; it may seek and use pwrite/pread) and must not close it, or throws.
+// The complete file is then flushed to disk and renamed over `path` as above; on any
+// error nothing is left and `path` keeps its previous content. `fill` may be called a
+// second time, on a fresh file, if the unnamed file cannot be given a name (no /proc).
+// `path` may not be "-". Throws bpm::OutputError as above, or what `fill` throws.
+void write_file_atomically(const std::string& path, const std::function<void(int fd)>& fill);
+
 // Reads a whole file (or standard input for "-") into memory, decompressed if it is gzip
 // data (core/gzip.h: by its magic bytes; a name ending in .gz must hold gzip data).
 // Throws bpm::InputError for a missing file, a directory, an unreadable file, corrupt or

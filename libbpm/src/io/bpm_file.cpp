@@ -1,10 +1,13 @@
 // The bpm file format v1 on top of the HDF5 C API. spec/bpm-format.md is normative;
 // this file is one implementation of it.
 //
-// Files are built entirely in memory (core driver, no backing store) and the finished
-// image is written with detail::write_file_atomically, so a reader never sees a half
-// written file and "-" works for standard output. Reading goes through a file image as
-// well, which makes standard input and memory buffers the same case as files.
+// Files are written by HDF5 straight into an unnamed temporary file next to the output
+// (io/hdf5_fd_driver.h), which is named and renamed into place when complete
+// (detail::write_file_atomically), so a reader never sees a half written file and no
+// image of the whole file is held in memory.
+// Standard output ("-") and write_bpm_to_memory get an image built in memory (core
+// driver); both ways give the same bytes. Reading goes through a file image, which makes
+// standard input and memory buffers the same case as files.
 //
 // Writing is deterministic: no object timestamps, fixed chunk sizes and filter
 // settings, and nothing that depends on the time or the file name, so the same
@@ -32,6 +35,7 @@
 #include "core/file_util.h"
 #include "core/gzip.h"
 #include "io/bpm_outline.h"
+#include "io/hdf5_fd_driver.h"
 #include "phi/phi_layout.h"
 
 namespace bpm {
@@ -66,6 +70,12 @@ public:
     void reset() {
         if (id_ >= 0 && closer_) closer_(id_);
         id_ = -1;
+    }
+    // Closes now and says whether that succeeded (closing a file writes what is cached).
+    herr_t close() {
+        const herr_t status = id_ >= 0 && closer_ ? closer_(id_) : 0;
+        id_ = -1;
+        return status;
     }
     hid_t get() const { return id_; }
     bool valid() const { return id_ >= 0; }
@@ -500,8 +510,8 @@ void write_simplification_steps_group(const Writer& w, hid_t f, const Simplifica
                     H5T_NATIVE_INT32);
 }
 
-std::string build_image(const BpmFile& file, const std::string& where) {
-    silence_hdf5();
+// Throws OutputError if `file` breaks a rule of the format: nothing inconsistent is written.
+void check_writable(const BpmFile& file, const std::string& where) {
     if (auto problem = find_inconsistency(file); !problem.empty())
         throw OutputError(where, "refusing to write an inconsistent parametrization: " + problem);
     if (auto problem = patch_info_problem(file.patch_info); !problem.empty())
@@ -516,29 +526,21 @@ std::string build_image(const BpmFile& file, const std::string& where) {
         if (auto problem = find_steps_inconsistency(*file.simplification_steps, file.param.original.num_vertices());
             !problem.empty())
             throw OutputError(where, "refusing to write an inconsistent record of simplification steps: " + problem);
-    const Parametrization& p = file.param;
-    Writer w(where);
+}
 
-    // In-memory file; the name only has to be unique among files open in this process.
-    // The driver grows its buffer by a fixed increment, and every growth copies the whole
-    // image (realloc) and zeroes the new part: 1 MB steps made writing quadratic in the
-    // file size (23 growths for the 23.8 MB .bpm of a 208k-triangle input). An eighth of the
-    // uncompressed size of phi and the surfaces bounds the copies to about eight, and the
-    // zeroed overshoot to an eighth of that.
-    const size_t raw_bytes = p.node_kind.size() * (2 * sizeof(Vec3) + 1 + 4 + 8 + 8) +
-                             p.pieces.size() * (sizeof(Tri) + 4) + p.node_offsets.size() * 16 +
-                             p.original.vertices.size() * sizeof(Vec3) + p.original.triangles.size() * 16 +
-                             p.coarse.vertices.size() * 2 * sizeof(Vec3) + p.coarse.triangles.size() * 64;
-    const size_t increment = std::min(size_t(64) << 20, std::max(size_t(1) << 20, raw_bytes / 8));
-    Handle fapl(w.check_id(H5Pcreate(H5P_FILE_ACCESS), "cannot create file access properties"), H5Pclose);
-    w.check(H5Pset_fapl_core(fapl, increment, false), "cannot select the in-memory driver");
-    // The library's default (earliest) object formats on purpose: with the 1.8 formats
-    // the superblock carries a checksum that H5Fget_file_image (HDF5 1.10.8) leaves stale
-    // for images of files still open, and other readers then reject the file.
+// Creates the HDF5 file `name` through the driver of `fapl`. The library's default
+// (earliest) object formats on purpose: with the 1.8 formats the superblock carries a
+// checksum that H5Fget_file_image (HDF5 1.10.8) leaves stale for images of files still
+// open, and other readers then reject the file. Both drivers give the same bytes.
+Handle create_file(const Writer& w, const std::string& name, hid_t fapl) {
     Handle fcpl = w.untimed_plist(H5P_FILE_CREATE);
-    const std::string name = "bpm-write-" + std::to_string(g_image_counter++) + ".h5";
-    Handle f(w.check_id(H5Fcreate(name.c_str(), H5F_ACC_TRUNC, fcpl, fapl), "cannot create an in-memory HDF5 file"),
-             H5Fclose);
+    return Handle(w.check_id(H5Fcreate(name.c_str(), H5F_ACC_TRUNC, fcpl, fapl), "cannot create the HDF5 file"),
+                  H5Fclose);
+}
+
+// Writes every group and dataset of `file` into the new, empty HDF5 file `f`.
+void write_contents(const Writer& w, hid_t f, const BpmFile& file) {
+    const Parametrization& p = file.param;
 
     // Root identification.
     w.write_string_attribute(f, "format", "bpm", H5T_CSET_ASCII);
@@ -642,13 +644,58 @@ std::string build_image(const BpmFile& file, const std::string& where) {
     if (file.tetmesh) write_tetmesh_group(w, f, *file.tetmesh);
     if (file.simplification_steps) write_simplification_steps_group(w, f, *file.simplification_steps);
     if (!file.patch_info.empty()) write_patch_info_group(w, f, file.patch_info);
+}
 
+// The whole file as bytes, built in memory (core driver, no backing store): for standard
+// output and write_bpm_to_memory.
+std::string build_image(const BpmFile& file, const std::string& where) {
+    silence_hdf5();
+    check_writable(file, where);
+    const Parametrization& p = file.param;
+    Writer w(where);
+    // In-memory file; the name only has to be unique among files open in this process.
+    // The driver grows its buffer by a fixed increment, and every growth copies the whole
+    // image (realloc) and zeroes the new part: 1 MB steps made writing quadratic in the
+    // file size (23 growths for the 23.8 MB .bpm of a 208k-triangle input). An eighth of the
+    // uncompressed size of phi and the surfaces bounds the copies to about eight, and the
+    // zeroed overshoot to an eighth of that.
+    const size_t raw_bytes = p.node_kind.size() * (2 * sizeof(Vec3) + 1 + 4 + 8 + 8) +
+                             p.pieces.size() * (sizeof(Tri) + 4) + p.node_offsets.size() * 16 +
+                             p.original.vertices.size() * sizeof(Vec3) + p.original.triangles.size() * 16 +
+                             p.coarse.vertices.size() * 2 * sizeof(Vec3) + p.coarse.triangles.size() * 64;
+    const size_t increment = std::min(size_t(64) << 20, std::max(size_t(1) << 20, raw_bytes / 8));
+    Handle fapl(w.check_id(H5Pcreate(H5P_FILE_ACCESS), "cannot create file access properties"), H5Pclose);
+    w.check(H5Pset_fapl_core(fapl, increment, false), "cannot select the in-memory driver");
+    Handle f = create_file(w, "bpm-write-" + std::to_string(g_image_counter++) + ".h5", fapl);
+    write_contents(w, f, file);
     w.check(H5Fflush(f, H5F_SCOPE_GLOBAL), "cannot flush the in-memory file");
     const ssize_t size = H5Fget_file_image(f, nullptr, 0);
     if (size <= 0) w.fail("cannot get the size of the in-memory file image");
     std::string bytes(static_cast<size_t>(size), '\0');
     if (H5Fget_file_image(f, bytes.data(), bytes.size()) != size) w.fail("cannot copy the in-memory file image");
     return bytes;
+}
+
+// Writes `file` to `path` directly: HDF5 writes each chunk and the metadata as it goes,
+// into the unnamed temporary file of detail::write_file_atomically, renamed into place
+// when complete. Building the image in memory first held the whole file twice beside phi
+// (the core driver's buffer and the copy handed to the writer): ~48 MB for the 24 MB
+// .bpm of a 208k-triangle input, the largest item at the end of a run.
+void write_file(const BpmFile& file, const std::string& path) {
+    silence_hdf5();
+    check_writable(file, path);
+    detail::write_file_atomically(path, [&](int fd) {
+        const Writer w(path);
+        detail::FdDriverStatus status;
+        Handle fapl(w.check_id(detail::fd_driver_access_plist(fd, &status), "cannot set up the file driver"),
+                    H5Pclose);
+        {
+            Handle f = create_file(w, "bpm-write-" + std::to_string(g_image_counter++) + ".h5", fapl);
+            write_contents(w, f, file);
+            w.check(f.close(), "cannot close the file");
+        }
+        if (status.error != 0) throw OutputError(path, std::string("cannot write: ") + std::strerror(status.error));
+    });
 }
 
 // ---------------------------------------------------------------------------
@@ -1486,8 +1533,10 @@ detail::BpmOutline read_outline_image(const std::string& bytes, const std::strin
 std::string write_bpm_to_memory(const BpmFile& file) { return build_image(file, "<memory>"); }
 
 void write_bpm(const std::string& path, const BpmFile& file) {
-    const std::string where = path == "-" ? "<stdout>" : path;
-    detail::write_file_atomically(path, build_image(file, where));
+    if (path == "-")
+        detail::write_file_atomically(path, build_image(file, "<stdout>"));
+    else
+        write_file(file, path);
 }
 
 namespace {

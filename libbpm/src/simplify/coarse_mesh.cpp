@@ -67,7 +67,7 @@ CoarseMesh::CoarseMesh(const Surface& original)
 void CoarseMesh::edge_triangles(int32_t a, int32_t b, std::vector<int32_t>& out) const {
     out.clear();
     for (int32_t t : vertex_triangles_.of(a)) {
-        const Tri& c = triangles_[t];
+        const Tri& c = triangle(t);
         if (c[0] == b || c[1] == b || c[2] == b) out.push_back(t);
     }
 }
@@ -283,12 +283,45 @@ Surface CoarseMesh::to_surface(std::vector<int32_t>& vertex_origin) const {
         vertex_origin.push_back(v);
         s.vertices.push_back((*positions_)[v]);
     }
-    for (int32_t t = 0; t < int32_t(triangles_.size()); ++t) {
-        if (!alive_[t]) continue;
-        s.triangles.push_back({index[triangles_[t][0]], index[triangles_[t][1]], index[triangles_[t][2]]});
-        s.patches.push_back(patches_[t]);
+    for (size_t i = 0; i < triangles_.size(); ++i) {
+        if (!compacted_ && !alive_[i]) continue;  // after shrink_to_fit() every stored one is alive
+        s.triangles.push_back({index[triangles_[i][0]], index[triangles_[i][1]], index[triangles_[i][2]]});
+        s.patches.push_back(patches_[i]);
     }
     return s;
+}
+
+void CoarseMesh::alive_triangles(std::vector<int32_t>& out) const {
+    out.clear();
+    if (compacted_) {
+        out = kept_;
+        return;
+    }
+    out.reserve(size_t(num_alive_));
+    for (int32_t t = 0; t < int32_t(triangles_.size()); ++t)
+        if (alive_[t]) out.push_back(t);
+}
+
+void CoarseMesh::shrink_to_fit() {
+    vertex_triangles_.compact();
+    if (compacted_) return;
+    std::vector<int32_t> kept;
+    alive_triangles(kept);
+    std::vector<Tri> triangles(kept.size());
+    std::vector<int32_t> patches(kept.size());
+    std::vector<double> aspects(aspects_.empty() ? 0 : kept.size());
+    for (size_t i = 0; i < kept.size(); ++i) {
+        triangles[i] = triangles_[size_t(kept[i])];
+        patches[i] = patches_[size_t(kept[i])];
+        if (!aspects.empty()) aspects[i] = aspects_[size_t(kept[i])];
+    }
+    capacity_ = static_cast<int32_t>(triangles_.size());
+    triangles_ = std::move(triangles);
+    patches_ = std::move(patches);
+    aspects_ = std::move(aspects);
+    decltype(alive_)().swap(alive_);
+    kept_ = std::move(kept);
+    compacted_ = true;
 }
 
 }  // namespace bpm::detail

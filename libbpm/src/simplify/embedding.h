@@ -9,6 +9,7 @@
 // Locations never refer to triangle ids for points on edges or corners, so that a
 // vertex removal only touches what lies strictly inside the removed star.
 
+#include <algorithm>
 #include <cstdint>
 #include <utility>
 #include <vector>
@@ -107,17 +108,24 @@ class InsideLists {
 public:
     void reset(int32_t num_vertices, int32_t triangle_capacity) {
         head_.assign(size_t(triangle_capacity), -1);
+        compacted_ = false;
+        listed_.clear();
+        listed_head_.clear();
         next_.assign(size_t(num_vertices), -1);
         prev_.assign(size_t(num_vertices), kUnlisted);
     }
     void ensure_triangle_capacity(int32_t n) {
         if (int32_t(head_.size()) < n) head_.resize(size_t(n), -1);
     }
-    bool empty(int32_t t) const { return t >= int32_t(head_.size()) || head_[t] < 0; }
+    bool empty(int32_t t) const { return head(t) < 0; }
+    size_t count(int32_t t) const {
+        size_t n = 0;
+        for (int32_t v = head(t); v >= 0; v = next_[v]) ++n;
+        return n;
+    }
     // Appends the vertices inside triangle t to `out`.
     void append_to(int32_t t, std::vector<int32_t>& out) const {
-        if (t >= int32_t(head_.size())) return;
-        for (int32_t v = head_[t]; v >= 0; v = next_[v]) out.push_back(v);
+        for (int32_t v = head(t); v >= 0; v = next_[v]) out.push_back(v);
     }
     void add(int32_t t, int32_t v) {
         ensure_triangle_capacity(t + 1);
@@ -137,11 +145,30 @@ public:
         next_[v] = -1;
         prev_[v] = kUnlisted;
     }
-    void shrink_to_fit() { head_.shrink_to_fit(); }
+    // Keeps the heads of the non-empty lists only (sorted by triangle id), instead of one
+    // per id ever made: called once the lists no longer change (before phi is exported;
+    // add() and remove() may not be called after it).
+    void shrink_to_fit() {
+        if (compacted_) return;
+        for (int32_t t = 0; t < int32_t(head_.size()); ++t)
+            if (head_[t] >= 0) {
+                listed_.push_back(t);
+                listed_head_.push_back(head_[t]);
+            }
+        decltype(head_)().swap(head_);
+        compacted_ = true;
+    }
 
 private:
     static constexpr int32_t kUnlisted = -2;  // prev_ of a vertex in no list (-1: first of its list)
     std::vector<int32_t> head_;               // per triangle id: a vertex inside it, or -1
+    bool compacted_ = false;                  // after shrink_to_fit(): heads in listed_, listed_head_
+    std::vector<int32_t> listed_, listed_head_;
+    int32_t head(int32_t t) const {
+        if (!compacted_) return t < int32_t(head_.size()) ? head_[t] : -1;
+        const auto it = std::lower_bound(listed_.begin(), listed_.end(), t);
+        return it != listed_.end() && *it == t ? listed_head_[size_t(it - listed_.begin())] : -1;
+    }
     std::vector<int32_t> next_, prev_;        // per original vertex: its neighbours in its list
 };
 

@@ -29,16 +29,36 @@ public:
         const int32_t* e_;
     };
 
-    explicit VertexTriangleLists(size_t num_vertices = 0) : blocks_(num_vertices) {}
-    size_t num_vertices() const { return blocks_.size(); }
+    explicit VertexTriangleLists(size_t num_vertices = 0) : blocks_(num_vertices), num_vertices_(num_vertices) {}
+    size_t num_vertices() const { return num_vertices_; }
 
     View of(int32_t v) const {
+        if (compact_) return View(flat_.data() + offsets_[v], flat_.data() + offsets_[v + 1]);
         const Block& b = blocks_[v];
         if (b.count >= 0) return View(b.ids, b.ids + b.count);
         const std::vector<int32_t>& list = spilled_[size_t(-1 - b.count)];
         return View(list.data(), list.data() + list.size());
     }
-    bool empty(int32_t v) const { return blocks_[v].count == 0; }
+    bool empty(int32_t v) const { return compact_ ? offsets_[v] == offsets_[v + 1] : blocks_[v].count == 0; }
+
+    // Stores the lists in one array with offsets (CSR) and frees the blocks: once the
+    // simplification is done, most vertices are removed and their 64-byte blocks empty
+    // (208k triangles to 10k vertices: 6.7 MB of blocks for 60k ids). Read-only after.
+    void compact() {
+        if (compact_) return;
+        std::vector<uint32_t> offsets(num_vertices_ + 1, 0);
+        for (size_t v = 0; v < num_vertices_; ++v) offsets[v + 1] = offsets[v] + uint32_t(of(int32_t(v)).size());
+        std::vector<int32_t> flat;
+        flat.reserve(offsets.back());
+        for (size_t v = 0; v < num_vertices_; ++v)
+            for (int32_t t : of(int32_t(v))) flat.push_back(t);
+        offsets_ = std::move(offsets);
+        flat_ = std::move(flat);
+        decltype(blocks_)().swap(blocks_);
+        decltype(spilled_)().swap(spilled_);
+        decltype(free_spilled_)().swap(free_spilled_);
+        compact_ = true;
+    }
 
     // Appends t, which must be larger than every id in the list of v (ids only grow).
     void push_back(int32_t v, int32_t t) {
@@ -93,6 +113,10 @@ private:
     std::vector<Block> blocks_;
     std::vector<std::vector<int32_t>> spilled_;
     std::vector<size_t> free_spilled_;  // slots of spilled_ whose list was emptied
+    size_t num_vertices_ = 0;
+    bool compact_ = false;              // after compact(): the lists are flat_[offsets_[v], offsets_[v + 1])
+    std::vector<uint32_t> offsets_;
+    std::vector<int32_t> flat_;
 };
 
 }  // namespace bpm::detail

@@ -3,8 +3,9 @@
  * $BPM_TEST_ENOSPC_DIR, after the first $BPM_TEST_ENOSPC_AFTER bytes (default 4096) of
  * each file descriptor - a short write first, then ENOSPC, as a filling disk does.
  * Everything else (stderr, pipes, files elsewhere, TetGen's temporary files) is untouched.
- * bpm writes every output with plain write() (libbpm/src/core/file_util.cpp; HDF5 only builds
- * the image in memory), so this is the path a real full disk takes.
+ * bpm writes its text outputs with write() (libbpm/src/core/file_util.cpp) and .bpm files
+ * with pwrite() (HDF5 through libbpm/src/io/hdf5_fd_driver.cpp), so these are the paths a
+ * real full disk takes.
  *
  *   cc -shared -fPIC -o enospc.so enospc.c -ldl
  *   LD_PRELOAD=./enospc.so BPM_TEST_ENOSPC_DIR=/some/dir bpm-simplify ... -o /some/dir/out.bpm

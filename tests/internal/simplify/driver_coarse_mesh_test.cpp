@@ -83,3 +83,39 @@ TEST_CASE("coarse mesh: has_edge and find_triangle agree with a scan after edits
             }
     }
 }
+
+TEST_CASE("coarse mesh: shrink_to_fit keeps every triangle list, also the spilled ones", "[internal][simplify]") {
+    // shrink_to_fit() stores the per-vertex lists as one flat array (CSR) before phi is
+    // exported; a vertex of degree > 15 keeps its list outside its block until then.
+    const Surface s = grid_surface();
+    CoarseMesh mesh(s);
+    const int32_t nv = s.num_vertices();
+    for (int32_t i = 1; i + 1 < nv; ++i) mesh.add_triangle({0, i, i + 1}, 0);  // vertex 0: degree 24
+    mesh.remove_triangle(0);
+    mesh.remove_triangle(mesh.triangle_capacity() - 1);
+    for (int32_t t = 2; t < 32; t += 2) mesh.remove_triangle(t);  // vertices 6 .. 18 become isolated or thin
+    REQUIRE(mesh.triangles_of(0).size() > 15);
+    std::vector<std::vector<int32_t>> before(static_cast<size_t>(nv));
+    std::vector<bool> alive_before(static_cast<size_t>(nv));
+    for (int32_t v = 0; v < nv; ++v) {
+        before[size_t(v)].assign(mesh.triangles_of(v).begin(), mesh.triangles_of(v).end());
+        alive_before[size_t(v)] = mesh.vertex_alive(v);
+    }
+    std::vector<int32_t> origin_before, origin_after;
+    const Surface surface_before = mesh.to_surface(origin_before);
+    mesh.shrink_to_fit();
+    for (int32_t v = 0; v < nv; ++v) {
+        const auto list = mesh.triangles_of(v);
+        CHECK(std::vector<int32_t>(list.begin(), list.end()) == before[size_t(v)]);
+        CHECK(mesh.vertex_alive(v) == alive_before[size_t(v)]);
+    }
+    for (int32_t a = 0; a < nv; ++a)
+        for (int32_t b = 0; b < nv; ++b) {
+            CHECK(mesh.has_edge(a, b) == scan_has_edge(mesh, a, b));
+            CHECK(mesh.find_triangle(a, b, (a + b) % nv) == scan_find_triangle(mesh, a, b, (a + b) % nv));
+        }
+    const Surface surface_after = mesh.to_surface(origin_after);
+    CHECK(origin_after == origin_before);
+    CHECK(surface_after.triangles == surface_before.triangles);
+    CHECK(surface_after.vertices == surface_before.vertices);
+}
