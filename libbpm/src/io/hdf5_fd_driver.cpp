@@ -129,6 +129,13 @@ herr_t truncate(H5FD_t* pub, hid_t, hbool_t) {
 H5FD_class_t make_class() {
     H5FD_class_t c;
     std::memset(&c, 0, sizeof c);
+#ifdef H5FD_CLASS_VERSION
+    // HDF5 >= 1.13.2 versions the class and gives every driver a number (256-511 are free
+    // for drivers that are not registered with The HDF Group). Not built here (Debian 12
+    // has 1.10.8): if the registration fails, write_bpm builds the file in memory instead.
+    c.version = H5FD_CLASS_VERSION;
+    c.value = H5FD_class_value_t(511);
+#endif
     c.name = "bpm_descriptor";
     c.maxaddr = (haddr_t(1) << (8 * sizeof(off_t) - 1)) - 1;
     c.fc_degree = H5F_CLOSE_WEAK;
@@ -154,12 +161,23 @@ H5FD_class_t make_class() {
 
 }  // namespace
 
-hid_t fd_driver_access_plist(int fd, FdDriverStatus* status) {
+namespace {
+// The driver's id, registered once (again if HDF5 was closed and reopened); negative if
+// HDF5 refuses the class.
+hid_t registered_driver() {
     static const H5FD_class_t driver_class = make_class();
     static hid_t driver = -1;
     static std::mutex mutex;
     std::lock_guard<std::mutex> lock(mutex);
     if (driver < 0 || H5Iis_valid(driver) <= 0) driver = H5FDregister(&driver_class);
+    return driver;
+}
+}  // namespace
+
+bool fd_driver_available() { return registered_driver() >= 0; }
+
+hid_t fd_driver_access_plist(int fd, FdDriverStatus* status) {
+    const hid_t driver = registered_driver();
     if (driver < 0) return -1;
     const hid_t fapl = H5Pcreate(H5P_FILE_ACCESS);
     if (fapl < 0) return -1;

@@ -24,6 +24,11 @@ struct FdDriverStatus {
     int error = 0;
 };
 
+// Whether HDF5 accepts the driver (registered on the first call). A build against an
+// HDF5 whose driver interface this file does not know gets false, and the writer falls
+// back to its in-memory image.
+bool fd_driver_available();
+
 // A new file access property list (the caller closes it) whose files are read and
 // written through `fd`, which must be open for reading and writing and stay open until
 // the file is closed; it is never closed by the driver. Failures are recorded in
