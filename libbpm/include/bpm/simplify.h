@@ -13,6 +13,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "bpm/context.h"
 #include "bpm/parametrization.h"
@@ -137,6 +138,20 @@ struct SimplifyOptions {
     bool record_steps = false;
 };
 
+// Time spent in one phase of simplify(), measured by the library.
+struct SimplifyPhaseTime {
+    // One of, in this order: "input intersection check" (one thread; with more threads
+    // the check runs beside the set-up and the phase is "input intersection check with
+    // set-up"), "set-up" (coarse mesh, features, embedding, grid), "first ranking" (cheap
+    // plans of every vertex), "removals" (the loop of steps, and why vertices were kept),
+    // "edge flips" (SimplifyOptions::flip_edges), "export of phi" (freeing the planning
+    // state, the export of the parametrization, the summary), "freeing the simplifier's
+    // state". A phase that did not run is left out.
+    std::string name;
+    double wall_seconds = 0.0;  // steady clock
+    double cpu_seconds = 0.0;   // CPU time of the whole process (all its threads) during the phase
+};
+
 struct SimplifyResult {
     int64_t input_vertices = 0, input_triangles = 0;
     int64_t output_vertices = 0, output_triangles = 0;
@@ -146,7 +161,10 @@ struct SimplifyResult {
     int64_t needle_flips = 0, sliver_flips = 0;  // edge flips of the final phase (flip_edges)
     double max_error = 0.0;           // final max |phi(x) - x| / diagonal
     double worst_aspect_ratio = 0.0;  // of the coarse surface
-    double seconds = 0.0;
+    double seconds = 0.0;  // wall time from the first ranking to the end of the export
+    // Wall and CPU seconds of simplify()'s phases, in order; together they cover the call
+    // (the option checks aside).
+    std::vector<SimplifyPhaseTime> phases;
     int threads = 1;  // threads used (SimplifyOptions::threads, or what 0 chose)
     bool target_reached = false;
     std::string stop_reason;          // human readable

@@ -13,6 +13,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <ctime>
 #include <cstdio>
 #include <future>
 #include <limits>
@@ -85,6 +86,44 @@ struct Step {
     std::vector<QueueEntry> skipped;   // pick(): entries passed over for the second
 };
 
+// Wall and process CPU seconds of simplify()'s phases (SimplifyResult::phases): each
+// phase runs from its start() to the next one's, or to finish(). Measured here rather
+// than told apart by the progress stages, which are free text for the user.
+class PhaseTimer {
+public:
+    void start(std::string name) {
+        close();
+        open_ = true;
+        current_.name = std::move(name);
+        now(current_.wall_seconds, current_.cpu_seconds);
+    }
+    // Ends the current phase; the phases so far, in order.
+    std::vector<SimplifyPhaseTime> finish() {
+        close();
+        return std::move(phases_);
+    }
+
+private:
+    void close() {
+        if (!open_) return;
+        double wall = 0, cpu = 0;
+        now(wall, cpu);
+        current_.wall_seconds = wall - current_.wall_seconds;
+        current_.cpu_seconds = cpu - current_.cpu_seconds;
+        phases_.push_back(current_);
+        open_ = false;
+    }
+    static void now(double& wall, double& cpu) {
+        wall = std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+        timespec c{};
+        clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &c);
+        cpu = double(c.tv_sec) + 1e-9 * double(c.tv_nsec);
+    }
+    bool open_ = false;
+    SimplifyPhaseTime current_;
+    std::vector<SimplifyPhaseTime> phases_;
+};
+
 // The vertex count to stop at (0: none): the larger of the two targets asked for.
 int64_t target_vertex_count(const SimplifyOptions& options, int64_t input_vertices) {
     int64_t target = 0;
@@ -105,10 +144,12 @@ int64_t target_vertex_count(const SimplifyOptions& options, int64_t input_vertic
 // does the output.
 class Simplifier {
 public:
-    Simplifier(const Surface& original, const SimplifyOptions& options, const Context& context, int threads)
+    Simplifier(const Surface& original, const SimplifyOptions& options, const Context& context, int threads,
+               PhaseTimer& timer)
         : original_(original),
           options_(options),
           context_(context),
+          timer_(timer),
           mesh_(original),
           diagonal_(bounding_box_diagonal(original)),
           target_(target_vertex_count(options, original.num_vertices())),
@@ -147,6 +188,7 @@ private:
     const Surface& original_;
     const SimplifyOptions& options_;
     const Context& context_;
+    PhaseTimer& timer_;
     CoarseMesh mesh_;
     Embedding embedding_;
     std::vector<int8_t> sign_;
@@ -225,7 +267,9 @@ SimplifyResult Simplifier::run(Parametrization& out) {
     const auto start = std::chrono::steady_clock::now();
     SimplifyResult result = describe_input();
     PlanningPool pool(static_cast<int>(removers_.size()) + 1);
+    timer_.start("first ranking");
     rank_all(pool);
+    timer_.start("removals");
     start_vertices_ = mesh_.num_vertices_alive();
     while (mesh_.num_vertices_alive() > target_ && pick()) {
         plan_round(pool);
@@ -239,7 +283,9 @@ SimplifyResult Simplifier::run(Parametrization& out) {
     }
     state_stop_reason(result);
     count_blocked(result);
+    if (options_.flip_edges) timer_.start("edge flips");
     flip_edges_phase(result);
+    timer_.start("export of phi");
     release_planning_state();
     context_.report(0.95, "writing the parametrization");
     const double max_deviation = export_parametrization(original_, mesh_, embedding_, sign_, pool, out);
@@ -726,18 +772,20 @@ SimplifyResult simplify(const Surface& original, const SimplifyOptions& options,
     context.debug(std::to_string(threads) + (threads == 1 ? " thread" : " threads") +
                   (options.threads == 0 ? " (automatic: threads = 0)" : ""));
     std::unique_ptr<Simplifier> simplifier;
+    PhaseTimer timer;
     if (options.reject_self_intersecting_input) {
         context.report(0.0, "checking the input for self-intersections");
         CheckOptions check_options;
         check_options.max_problems = 1;
         CheckResult r;
+        timer.start(threads > 1 ? "input intersection check with set-up" : "input intersection check");
         if (threads > 1) {
             // The check and the set-up of the simplification (coarse mesh, features,
             // embedding, grid) only read the input: side by side.
             auto check = std::async(std::launch::async, [&] {
                 return check_intersections(original, check_options, Context{}, "input intersections");
             });
-            simplifier = std::make_unique<Simplifier>(original, options, context, threads);
+            simplifier = std::make_unique<Simplifier>(original, options, context, threads, timer);
             r = check.get();
         } else {
             r = check_intersections(original, check_options, context, "input intersections");
@@ -748,11 +796,16 @@ SimplifyResult simplify(const Surface& original, const SimplifyOptions& options,
                                  "); bpm needs a surface without self-intersections to produce a coarse surface "
                                  "without them. Repair the input, or set reject_self_intersecting_input = false");
     }
-    if (!simplifier) simplifier = std::make_unique<Simplifier>(original, options, context, threads);
+    if (!simplifier) {
+        timer.start("set-up");
+        simplifier = std::make_unique<Simplifier>(original, options, context, threads, timer);
+    }
     SimplifyResult result = simplifier->run(out);
     result.threads = threads;
+    timer.start("freeing the simplifier's state");
     simplifier.reset();
     return_free_memory();
+    result.phases = timer.finish();
     return result;
 }
 
