@@ -59,14 +59,18 @@ struct SimplifyOptions {
     // and the results are as good: the Hausdorff distances of the bench rows moved by up
     // to +-8 %, either way.
     double queue_tolerance = 0.1;
-    // Up to two removals per step: with the queue's top, the best of the next few entries
-    // outside the top's star, committed after it if its plan is still valid then. The two
-    // share the parallel rounds (planning, validation, re-ranking), which the second
-    // thread otherwise mostly waits through: 6-11 % less time on the bench meshes. The
-    // second removal comes before the re-ranked neighbours of the first, so the order
-    // changes a little: the Hausdorff distances of the bench rows moved by -3 % to +6 %.
-    // false: one removal per step (with queue_tolerance 0: strict cost order).
-    bool batch_removals = true;
+    // Removals tried per step, 1..64: the queue's top and, in queue order, the next
+    // entries outside the stars of those taken before (a few passed over at most), planned
+    // and validated together in the parallel rounds, committed in queue order, each after
+    // the earlier ones only if its plan is still valid then and its new triangles do not
+    // meet theirs. The output does not depend on the number of threads, but it does on
+    // this. 2 (the default): the two share the rounds the second thread otherwise mostly
+    // waits through, 6-11 % less time on the bench meshes; the second removal comes
+    // before the re-ranked neighbours of the first, so the order changes a little: the
+    // Hausdorff distances of the bench rows moved by -3 % to +6 % against 1. 1: one
+    // removal per step (with queue_tolerance 0: strict cost order). More: larger rounds
+    // for more threads (bench/README.md, "Parallel rounds").
+    int removals_per_step = 2;
     // Worst triangle shape (circumradius / inradius; 2 = equilateral) a removal may
     // create, unless the triangles it removes were already worse. Mesh generators need
     // bounded aspect ratios; infinity disables.
@@ -157,7 +161,8 @@ struct SimplifyResult {
     int64_t output_vertices = 0, output_triangles = 0;
     int64_t removed = 0;
     int64_t shape_preserving_repairs = 0;  // removals whose transfer needed Floater's map
-    int64_t paired_steps = 0;              // steps that removed two vertices (batch_removals)
+    int64_t paired_steps = 0;              // steps that removed two or more vertices (removals_per_step)
+    int64_t refused_in_step = 0;  // later removals of a step refused: their new triangles met an earlier one's
     int64_t needle_flips = 0, sliver_flips = 0;  // edge flips of the final phase (flip_edges)
     double max_error = 0.0;           // final max |phi(x) - x| / diagonal
     double worst_aspect_ratio = 0.0;  // of the coarse surface
