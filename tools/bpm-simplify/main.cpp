@@ -38,58 +38,45 @@ std::string with_flags(std::string text) {
 }
 
 // Wall and CPU seconds per phase, for -v (issue 21: the floor broken down without a
-// profiler). The library's phases are told apart by the stages it reports to the progress
-// callback; process CPU time counts every thread (with --threads 2 the second one spins
-// between short rounds).
+// profiler): the tool's own phases (reading, writing, the distortion report) around the
+// library's (SimplifyResult::phases). Process CPU time counts every thread (with
+// --threads 2 the second one spins between short rounds).
 class PhaseClock {
 public:
     explicit PhaseClock(std::string first) { start(std::move(first)); }
     void start(std::string name) {
+        end();
         const auto [wall, cpu] = now();
-        if (!phases_.empty()) {
-            phases_.back().wall = wall - phases_.back().wall;
-            phases_.back().cpu = cpu - phases_.back().cpu;
-        }
         phases_.push_back({std::move(name), wall, cpu});
+        open_ = true;
     }
-    const std::string& current() const { return phases_.back().name; }
-    // The library's stage -> phase name (a stage not listed keeps the current phase).
-    void stage(double fraction, const std::string& stage) {
-        const char* phase = stage == "checking the input for self-intersections" ? "input intersection check"
-                            : stage == "checking self-intersections"  ? (fraction < 1.0 ? "input intersection check" : "set-up")
-                            : stage == "evaluating vertices"          ? "first ranking"
-                            : stage.rfind("simplifying", 0) == 0      ? "removals"
-                            : stage.rfind("flipping edges", 0) == 0   ? "edge flips"
-                            : stage == "writing the parametrization"  ? "export of phi"
-                            : stage == "done"                         ? "freeing the simplifier's state"
-                                                                      : nullptr;
-        if (phase && current() != phase) start(phase);
+    // Ends the current phase (before the library call, whose phases it measures itself).
+    void end() {
+        if (!open_) return;
+        const auto [wall, cpu] = now();
+        phases_.back().wall_seconds = wall - phases_.back().wall_seconds;
+        phases_.back().cpu_seconds = cpu - phases_.back().cpu_seconds;
+        open_ = false;
     }
-    // One line per phase (a phase entered twice is summed, in the order first entered) and
-    // the total; the phase `from` is shown as `to`. Ends the current phase.
-    std::vector<std::string> lines(const std::string& from, const std::string& to) {
-        start("");
-        phases_.pop_back();
-        std::vector<Phase> sums;
-        for (const Phase& p : phases_) {
-            auto same = std::find_if(sums.begin(), sums.end(), [&](const Phase& q) { return q.name == p.name; });
-            if (same == sums.end()) sums.push_back(p);
-            else {
-                same->wall += p.wall;
-                same->cpu += p.cpu;
-            }
-        }
+    // The library's phases, measured by it, after the tool's so far.
+    void add(const std::vector<bpm::SimplifyPhaseTime>& phases) {
+        end();
+        phases_.insert(phases_.end(), phases.begin(), phases.end());
+    }
+    // One line per phase and the total. Ends the current phase.
+    std::vector<std::string> lines() {
+        end();
         std::vector<std::string> out;
         double wall = 0, cpu = 0;
         char line[160];
-        for (const Phase& p : sums) {
+        for (const bpm::SimplifyPhaseTime& p : phases_) {
             // e.g. the moment before the check when the set-up runs beside it (--threads 2)
-            if (p.wall < 0.0005 && p.cpu < 0.0005) continue;
-            std::snprintf(line, sizeof line, "time: %-40s %8.3f s wall %8.3f s CPU",
-                          (p.name == from ? to : p.name).c_str(), p.wall, p.cpu);
+            if (p.wall_seconds < 0.0005 && p.cpu_seconds < 0.0005) continue;
+            std::snprintf(line, sizeof line, "time: %-40s %8.3f s wall %8.3f s CPU", p.name.c_str(), p.wall_seconds,
+                          p.cpu_seconds);
             out.push_back(line);
-            wall += p.wall;
-            cpu += p.cpu;
+            wall += p.wall_seconds;
+            cpu += p.cpu_seconds;
         }
         std::snprintf(line, sizeof line, "time: %-40s %8.3f s wall %8.3f s CPU", "total (from reading)", wall, cpu);
         out.push_back(line);
@@ -97,11 +84,8 @@ public:
     }
 
 private:
-    struct Phase {
-        std::string name;
-        double wall, cpu;  // at the start; the duration once the next phase started
-    };
-    std::vector<Phase> phases_;
+    std::vector<bpm::SimplifyPhaseTime> phases_;  // start times while open, then durations
+    bool open_ = false;
     static std::pair<double, double> now() {
         timespec w{}, c{};
         clock_gettime(CLOCK_MONOTONIC, &w);
@@ -218,8 +202,14 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(0.0, 10.0))
         ->group(advanced);
     bool one_removal_per_step = false;
-    app.add_flag("--one-removal-per-step", one_removal_per_step,
-                 "One removal per step (default: also the best independent candidates; ~10 % faster)")
+    auto* one_per_step = app.add_flag("--one-removal-per-step", one_removal_per_step,
+                                      "One removal per step (same as --removals-per-step 1)")
+                             ->group(advanced);
+    app.add_option("--removals-per-step", options.removals_per_step,
+                   "Removals tried together per step, in queue order with disjoint stars (default 2; 1..64); the "
+                   "output depends on it, not on --threads")
+        ->check(CLI::Range(1, 64))
+        ->excludes(one_per_step)
         ->group(advanced);
     app.add_option("--threads", options.threads,
                    "Threads (default 0 = 2, or 1 when every core is busy); the output does not depend on it")
@@ -247,15 +237,10 @@ int main(int argc, char** argv) {
         options.prevent_intersections = !allow_intersections;
         options.keep_corners = !no_keep_corners;
         options.flip_edges = !no_flips;
-        options.batch_removals = !one_removal_per_step;
+        if (one_removal_per_step) options.removals_per_step = 1;
         options.reject_self_intersecting_input = !allow_bad_input;
         bpm::Context context = bpm::tools::make_context(tool, verbose, quiet);
         PhaseClock clock("reading");
-        if (verbose)
-            context.progress = [&clock, show = context.progress](double fraction, const std::string& stage) {
-                clock.stage(fraction, stage);
-                return show(fraction, stage);
-            };
 
         bpm::SurfaceReadReport report;
         const bpm::Surface surface = bpm::read_surfaces(inputs, read_options, &report);
@@ -285,7 +270,7 @@ int main(int argc, char** argv) {
         bpm::BpmFile file;
         file.patch_info = report.patch_info;
         bpm::SimplifyResult result;
-        clock.start("set-up");  // until the library reports its first stage
+        clock.end();
         try {
             result = bpm::simplify(surface, options, context, file.param);
         } catch (const bpm::OptionError& e) {
@@ -297,6 +282,7 @@ int main(int argc, char** argv) {
         file.units = units;
         file.provenance.push_back({tool, bpm::tools::version_line(tool), bpm::tools::command_line(argc, argv),
                                    deterministic ? std::string() : bpm::tools::utc_timestamp()});
+        clock.add(result.phases);
         clock.start("writing the .bpm");
         bpm::write_bpm(output, file);
         clock.start("distortion of phi (report)");
@@ -315,10 +301,7 @@ int main(int argc, char** argv) {
                       result.threads == 1 ? "thread" : "threads");
         context.info(line);
         if (verbose)
-            for (const std::string& l : clock.lines("input intersection check",
-                                                    result.threads > 1 ? "input intersection check with set-up"
-                                                                       : "input intersection check"))
-                context.debug(l);
+            for (const std::string& l : clock.lines()) context.debug(l);
         // The kept feature vertices matter when they stopped the simplifier (said next to
         // the warning below); otherwise they are a detail for -v.
         if (result.kept_feature_vertices() > 0) {

@@ -13,6 +13,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "bpm/context.h"
 #include "bpm/parametrization.h"
@@ -58,14 +59,22 @@ struct SimplifyOptions {
     // and the results are as good: the Hausdorff distances of the bench rows moved by up
     // to +-8 %, either way.
     double queue_tolerance = 0.1;
-    // Up to two removals per step: with the queue's top, the best of the next few entries
-    // outside the top's star, committed after it if its plan is still valid then. The two
-    // share the parallel rounds (planning, validation, re-ranking), which the second
-    // thread otherwise mostly waits through: 6-11 % less time on the bench meshes. The
-    // second removal comes before the re-ranked neighbours of the first, so the order
-    // changes a little: the Hausdorff distances of the bench rows moved by -3 % to +6 %.
-    // false: one removal per step (with queue_tolerance 0: strict cost order).
-    bool batch_removals = true;
+    // Removals tried per step, 1..64: the queue's top and, in queue order, the next
+    // entries outside the stars of those taken before (a few passed over at most), planned
+    // and validated together in the parallel rounds, committed in queue order, each after
+    // the earlier ones only if its plan is still valid then and its new triangles do not
+    // meet theirs. The output does not depend on the number of threads, but it does on
+    // this. 2 (the default): the two share the rounds the second thread otherwise mostly
+    // waits through, 6-11 % less time on the bench meshes; the second removal comes
+    // before the re-ranked neighbours of the first, so the order changes a little: the
+    // Hausdorff distances of the bench rows moved by -3 % to +6 % against 1. 1: one
+    // removal per step (with queue_tolerance 0: strict cost order). More: larger rounds
+    // for more threads, but more work: measured at 4, 8, 16 (bench/README.md, "Parallel
+    // rounds of the simplifier"), the Hausdorff distances of the 10 bench rows moved by
+    // -8 % to +13 % against 2 (removal order), the one-thread CPU time rose by up to 25 %
+    // on 208k triangles (more candidates planned in full and then held back), and the
+    // time at two threads did not drop below that of 2.
+    int removals_per_step = 2;
     // Worst triangle shape (circumradius / inradius; 2 = equilateral) a removal may
     // create, unless the triangles it removes were already worse. Mesh generators need
     // bounded aspect ratios; infinity disables.
@@ -137,16 +146,34 @@ struct SimplifyOptions {
     bool record_steps = false;
 };
 
+// Time spent in one phase of simplify(), measured by the library.
+struct SimplifyPhaseTime {
+    // One of, in this order: "input intersection check" (one thread; with more threads
+    // the check runs beside the set-up and the phase is "input intersection check with
+    // set-up"), "set-up" (coarse mesh, features, embedding, grid), "first ranking" (cheap
+    // plans of every vertex), "removals" (the loop of steps, and why vertices were kept),
+    // "edge flips" (SimplifyOptions::flip_edges), "export of phi" (freeing the planning
+    // state, the export of the parametrization, the summary), "freeing the simplifier's
+    // state". A phase that did not run is left out.
+    std::string name;
+    double wall_seconds = 0.0;  // steady clock
+    double cpu_seconds = 0.0;   // CPU time of the whole process (all its threads) during the phase
+};
+
 struct SimplifyResult {
     int64_t input_vertices = 0, input_triangles = 0;
     int64_t output_vertices = 0, output_triangles = 0;
     int64_t removed = 0;
     int64_t shape_preserving_repairs = 0;  // removals whose transfer needed Floater's map
-    int64_t paired_steps = 0;              // steps that removed two vertices (batch_removals)
+    int64_t paired_steps = 0;              // steps that removed two or more vertices (removals_per_step)
+    int64_t refused_in_step = 0;  // later removals of a step refused: their new triangles met an earlier one's
     int64_t needle_flips = 0, sliver_flips = 0;  // edge flips of the final phase (flip_edges)
     double max_error = 0.0;           // final max |phi(x) - x| / diagonal
     double worst_aspect_ratio = 0.0;  // of the coarse surface
-    double seconds = 0.0;
+    double seconds = 0.0;  // wall time from the first ranking to the end of the export
+    // Wall and CPU seconds of simplify()'s phases, in order; together they cover the call
+    // (the option checks aside).
+    std::vector<SimplifyPhaseTime> phases;
     int threads = 1;  // threads used (SimplifyOptions::threads, or what 0 chose)
     bool target_reached = false;
     std::string stop_reason;          // human readable

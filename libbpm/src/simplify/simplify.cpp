@@ -13,6 +13,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <ctime>
 #include <cstdio>
 #include <future>
 #include <limits>
@@ -63,7 +64,7 @@ struct WaitingPlan {
     RemovalPlan plan;
 };
 
-// One of the (at most two) removals tried in a step.
+// One of the removals tried in a step (at most SimplifyOptions::removals_per_step).
 struct Candidate {
     QueueEntry entry{};
     RemovalPlan* plan = nullptr;
@@ -71,19 +72,61 @@ struct Candidate {
     int known_intersection = -1;       // -1 unknown, else whether it intersects the rest
     bool intersects = false;           // result of the validation round's intersection test
     bool live = false;                 // still to be committed in this step
+    bool committed = false;            // removed in this step
+    bool validated_early = false;      // tested and validated in the planning round (plan_round)
 };
 
 // The removals of one step of the loop, and what their commits changed.
 struct Step {
-    Candidate candidates[2];
-    int count = 0;
+    std::vector<Candidate> candidates;  // removals_per_step slots, each with its plan and planner
+    int count = 0;                      // slots used by this step
     int64_t commits_before = 0;     // commits when the step began to commit
     int32_t first_new = 0;          // first triangle id the step's commits created
     std::vector<int32_t> affected;  // the vertices around the committed removals
     std::vector<std::pair<int32_t, Tri>> grid_removed;  // the triangles the commits removed
-    std::vector<int32_t> star;         // pick(): the first candidate and its link
-    std::vector<QueueEntry> skipped;   // pick(): entries passed over for the second
+    std::vector<int32_t> star;         // pick(): the candidates so far and their links
+    std::vector<QueueEntry> skipped;   // pick(): entries passed over (in a candidate's star)
 };
+
+// Wall and process CPU seconds of simplify()'s phases (SimplifyResult::phases): each
+// phase runs from its start() to the next one's, or to finish(). Measured here rather
+// than told apart by the progress stages, which are free text for the user.
+class PhaseTimer {
+public:
+    void start(std::string name) {
+        close();
+        open_ = true;
+        current_.name = std::move(name);
+        now(current_.wall_seconds, current_.cpu_seconds);
+    }
+    // Ends the current phase; the phases so far, in order.
+    std::vector<SimplifyPhaseTime> finish() {
+        close();
+        return std::move(phases_);
+    }
+
+private:
+    void close() {
+        if (!open_) return;
+        double wall = 0, cpu = 0;
+        now(wall, cpu);
+        current_.wall_seconds = wall - current_.wall_seconds;
+        current_.cpu_seconds = cpu - current_.cpu_seconds;
+        phases_.push_back(current_);
+        open_ = false;
+    }
+    static void now(double& wall, double& cpu) {
+        wall = std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+        timespec c{};
+        clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &c);
+        cpu = double(c.tv_sec) + 1e-9 * double(c.tv_nsec);
+    }
+    bool open_ = false;
+    SimplifyPhaseTime current_;
+    std::vector<SimplifyPhaseTime> phases_;
+};
+
+constexpr int kMaxRemovalsPerStep = 64;  // SimplifyOptions::removals_per_step
 
 // The vertex count to stop at (0: none): the larger of the two targets asked for.
 int64_t target_vertex_count(const SimplifyOptions& options, int64_t input_vertices) {
@@ -105,10 +148,12 @@ int64_t target_vertex_count(const SimplifyOptions& options, int64_t input_vertic
 // does the output.
 class Simplifier {
 public:
-    Simplifier(const Surface& original, const SimplifyOptions& options, const Context& context, int threads)
+    Simplifier(const Surface& original, const SimplifyOptions& options, const Context& context, int threads,
+               PhaseTimer& timer)
         : original_(original),
           options_(options),
           context_(context),
+          timer_(timer),
           mesh_(original),
           diagonal_(bounding_box_diagonal(original)),
           target_(target_vertex_count(options, original.num_vertices())),
@@ -129,12 +174,17 @@ public:
         }
         embedding_.init_identity(original, mesh_.triangle_capacity());
         remover_ = std::make_unique<VertexRemover>(mesh_, embedding_, sign_, oriented_normals_);
-        second_remover_ = std::make_unique<VertexRemover>(mesh_, embedding_, sign_, oriented_normals_);
         for (int i = 1; i < threads; ++i) removers_.push_back(std::make_unique<VertexRemover>(mesh_, embedding_, sign_, oriented_normals_));
-        step_.candidates[0].plan = &plan_;
-        step_.candidates[0].remover = remover_.get();
-        step_.candidates[1].plan = &second_plan_;
-        step_.candidates[1].remover = second_remover_.get();
+        // A pending plan keeps its validation in its planner: one planner per slot of a
+        // step (slot 0 shares thread 0's, which ranks only after the step's commits).
+        const int slots = std::max(1, options.removals_per_step);
+        step_plans_.resize(size_t(slots));
+        step_.candidates.resize(size_t(slots));
+        for (int k = 0; k < slots; ++k) {
+            if (k > 0) candidate_removers_.push_back(std::make_unique<VertexRemover>(mesh_, embedding_, sign_, oriented_normals_));
+            step_.candidates[size_t(k)].plan = &step_plans_[size_t(k)];
+            step_.candidates[size_t(k)].remover = k == 0 ? remover_.get() : candidate_removers_.back().get();
+        }
         finish_parts_ = std::min<int>(VertexRemover::kMaxFinishParts, threads);
         cheap_plans_.resize(threads);
         grid_scratch_.resize(threads);
@@ -147,14 +197,16 @@ private:
     const Surface& original_;
     const SimplifyOptions& options_;
     const Context& context_;
+    PhaseTimer& timer_;
     CoarseMesh mesh_;
     Embedding embedding_;
     std::vector<int8_t> sign_;
     std::vector<Vec3> oriented_normals_;  // unit normals of the original triangles, coarse orientation
     std::unique_ptr<VertexRemover> remover_;         // of thread 0 and of the first removal of a step
-    std::unique_ptr<VertexRemover> second_remover_;  // of the second removal of a step
+    std::vector<std::unique_ptr<VertexRemover>> candidate_removers_;  // of the step's removals 1..
     std::vector<std::unique_ptr<VertexRemover>> removers_;  // of threads 1..
-    RemovalPlan plan_, second_plan_;                 // of the step's removals
+    std::vector<RemovalPlan> step_plans_;            // of the step's removals (Candidate::plan)
+    std::vector<int> to_plan_;                       // plan_round: the slots planned anew
     std::vector<RemovalPlan> cheap_plans_;           // per thread, for ranking
     int finish_parts_ = 1;                           // of a deferred validation (VertexRemover::finish_part)
     double diagonal_;
@@ -173,6 +225,13 @@ private:
     std::atomic<int64_t> plans_[2] = {{0}, {0}};  // cheap, full
     int64_t commits_ = 0;
     int64_t reused_plans_ = 0;
+    // What became of the candidates of the steps (debug log): taken, held back by their
+    // estimate, waiting after validation, gone stale or intersecting after an earlier
+    // commit of their step, meeting an earlier commit's new triangles.
+    int64_t taken_ = 0, held_back_ = 0, waited_ = 0, stale_ = 0, met_ = 0, steps_ = 0;
+    // Wall seconds of the steps' parts: queue (pick, hold back), plan round, validation
+    // round, commits, re-ranking round; and of the grid updates (a task of the latter).
+    double step_seconds_[6] = {};
     // For progress reports.
     int64_t start_vertices_ = 0;
     int64_t next_report_ = 256;  // removals
@@ -225,21 +284,40 @@ SimplifyResult Simplifier::run(Parametrization& out) {
     const auto start = std::chrono::steady_clock::now();
     SimplifyResult result = describe_input();
     PlanningPool pool(static_cast<int>(removers_.size()) + 1);
+    timer_.start("first ranking");
     rank_all(pool);
+    timer_.start("removals");
     start_vertices_ = mesh_.num_vertices_alive();
+    // Wall seconds of the parts of the steps (debug log): which parts are serial.
+    auto lap = [last = std::chrono::steady_clock::now(), this](int part) mutable {
+        const auto now = std::chrono::steady_clock::now();
+        step_seconds_[part] += std::chrono::duration<double>(now - last).count();
+        last = now;
+    };
     while (mesh_.num_vertices_alive() > target_ && pick()) {
+        lap(0);
+        ++steps_;
+        taken_ += step_.count;
         plan_round(pool);
+        lap(1);
         hold_back_by_estimate();
+        lap(0);
         validate_round(pool);
+        lap(2);
         const int committed = commit_step(result);
+        lap(3);
         if (committed == 0) continue;
-        if (committed == 2) ++result.paired_steps;
+        if (committed >= 2) ++result.paired_steps;
         rerank_round(pool);
         report_progress(result);
+        lap(4);
     }
+    result.refused_in_step = met_;
     state_stop_reason(result);
     count_blocked(result);
+    if (options_.flip_edges) timer_.start("edge flips");
     flip_edges_phase(result);
+    timer_.start("export of phi");
     release_planning_state();
     context_.report(0.95, "writing the parametrization");
     const double max_deviation = export_parametrization(original_, mesh_, embedding_, sign_, pool, out);
@@ -286,35 +364,44 @@ void Simplifier::rank_all(PlanningPool& pool) {
     }
 }
 
-// Up to two removals per step: the queue's top, and the best entry among the next few
-// that is not in the top's star, so that its star shares no triangle with the top's.
-// Their plans, validations and re-rankings share the rounds (the second thread otherwise
-// idles while the top is planned). The second is committed after the first only if its
-// plan is still valid then (ready_to_commit), else it goes back into the queue as it was.
-// (The plan is valid, not necessarily the one a planner would choose after the first
-// removal: an ear the first removal blocked could have changed a near-tie, or let a
-// crease be followed where the plan ends it.) False: the queue is empty.
+// Up to removals_per_step removals per step: the queue's top, then in queue order the
+// next entries that are in none of the earlier candidates' stars (so that no two stars
+// share a triangle), passing over at most 3 entries per further candidate (the passed
+// over go back). Their plans, validations and re-rankings share the rounds (other threads
+// otherwise idle while the top is planned). A later candidate is committed after the
+// earlier ones only if its plan is still valid then (ready_to_commit), else it goes back
+// into the queue as it was. (The plan is valid, not necessarily the one a planner would
+// choose after the earlier removals: an ear they blocked could have changed a near-tie,
+// or let a crease be followed where the plan ends it.) Which entries are taken depends
+// on the queue only, never on the thread count. False: the queue is empty.
 bool Simplifier::pick() {
     while (!queue_.empty() && !current(queue_.top())) queue_.pop();
     if (queue_.empty()) return false;
     Step& s = step_;
+    const int slots = int(s.candidates.size());
     s.count = 0;
-    s.candidates[s.count++].entry = queue_.top();
+    s.candidates[size_t(s.count++)].entry = queue_.top();
     queue_.pop();
-    if (!options_.batch_removals) return true;
-    s.star.assign(1, s.candidates[0].entry.vertex);
-    for (int32_t t : mesh_.triangles_of(s.candidates[0].entry.vertex))
-        for (int32_t u : mesh_.triangle(t)) s.star.push_back(u);
+    if (slots == 1) return true;
+    s.star.clear();
+    auto add_star = [&](int32_t v) {
+        s.star.push_back(v);
+        for (int32_t t : mesh_.triangles_of(v))
+            for (int32_t u : mesh_.triangle(t)) s.star.push_back(u);
+    };
+    add_star(s.candidates[0].entry.vertex);
     s.skipped.clear();
-    while (!queue_.empty() && s.skipped.size() < 3) {
+    const size_t max_skipped = 3 * size_t(slots - 1);
+    while (s.count < slots && !queue_.empty() && s.skipped.size() < max_skipped) {
         const QueueEntry e = queue_.top();
         queue_.pop();
         if (!current(e)) continue;
         if (std::find(s.star.begin(), s.star.end(), e.vertex) == s.star.end()) {
-            s.candidates[s.count++].entry = e;
-            break;
+            s.candidates[size_t(s.count++)].entry = e;
+            if (s.count < slots) add_star(e.vertex);
+        } else {
+            s.skipped.push_back(e);
         }
-        s.skipped.push_back(e);
     }
     for (const QueueEntry& e : s.skipped) queue_.push(e);
     return true;
@@ -325,12 +412,14 @@ bool Simplifier::pick() {
 // (one task per candidate, the validation deferred), or reuse a waiting full plan that
 // is provably still the same.
 void Simplifier::plan_round(PlanningPool& pool) {
-    int to_plan[2];
-    size_t count = 0;
+    std::vector<int>& to_plan = to_plan_;
+    to_plan.clear();
     for (int k = 0; k < step_.count; ++k) {
         Candidate& c = step_.candidates[k];
         c.known_intersection = -1;
         c.live = true;
+        c.committed = false;
+        c.validated_early = false;
         auto cached = full_plans_.find(c.entry.vertex);
         if (cached != full_plans_.end() && cached->second.stamp == c.entry.stamp && still_current(cached->second.plan)) {
             WaitingPlan& wp = cached->second;
@@ -339,13 +428,33 @@ void Simplifier::plan_round(PlanningPool& pool) {
             full_plans_.erase(cached);
             ++reused_plans_;
         } else {
-            to_plan[count++] = k;
+            to_plan.push_back(k);
         }
     }
-    pool.run_round(count, [&](int, size_t i) {
+    // A plan whose estimate is not above its queue key never waits (waits()): it is
+    // tested and validated in the same task, exactly as the validation round would do it
+    // (the state does not change in between; the test sees the triangles planned before
+    // the validation, which may re-plan), which spares that round most of its tasks.
+    const size_t count = to_plan.size();
+    pool.run_round(count, [&](int thread, size_t i) {
         Candidate& c = step_.candidates[to_plan[i]];
-        c.remover->plan_deferred(c.entry.vertex, *c.plan);
+        const int32_t v = c.entry.vertex;
+        c.remover->plan_deferred(v, *c.plan);
+        c.validated_early = false;
+        if (!c.plan->pending) return;
+        const double estimate = judge(v, *c.plan, CostBasis::Estimate);
+        if (!std::isfinite(estimate) || estimate > c.entry.cost + 1e-15) return;
+        if (options_.prevent_intersections)
+            c.intersects = intersections_.intersects_rest(c.plan->new_triangles, c.plan->removed_triangles,
+                                                          grid_scratch_[thread]);
+        c.remover->finish_part(0, 1);
+        c.remover->finish_parts_done(*c.plan, 1);
+        c.validated_early = true;
     });
+    for (int k : to_plan) {
+        Candidate& c = step_.candidates[k];
+        if (c.validated_early && options_.prevent_intersections) c.known_intersection = c.intersects;
+    }
     plans_[1].fetch_add(int64_t(count), std::memory_order_relaxed);
 }
 
@@ -355,11 +464,13 @@ void Simplifier::plan_round(PlanningPool& pool) {
 void Simplifier::hold_back_by_estimate() {
     for (int k = 0; k < step_.count; ++k) {
         Candidate& c = step_.candidates[k];
+        if (c.validated_early) continue;  // its estimate did not wait (plan_round)
         const int32_t v = c.entry.vertex;
         const double estimate = judge(v, *c.plan, CostBasis::Estimate);
         if (!std::isfinite(estimate)) {
             c.live = false;
         } else if (waits(k, estimate)) {
+            ++held_back_;
             queue_.push({estimate, v, stamp_[v]});
             c.live = false;
         }
@@ -384,15 +495,19 @@ void Simplifier::validate_round(PlanningPool& pool) {
         int8_t slot;  // candidate
         int8_t part;  // of its validation; -1: its intersection test
     };
-    Check checks[2 * (VertexRemover::kMaxFinishParts + 1)];
+    Check checks[kMaxRemovalsPerStep * (VertexRemover::kMaxFinishParts + 1)];
     size_t count = 0;
     auto validating = [&](int k) { return step_.candidates[k].live && step_.candidates[k].plan->pending; };
     for (int k = 0; k < step_.count; ++k)
         if (validating(k)) checks[count++] = {int8_t(k), 0};
+    // A validation is split into parts only when there are fewer than two validations per
+    // thread (a part waits for its validation's preparation); the result is the same
+    // either way.
+    const int parts = int(count) >= 2 * pool.threads() ? 1 : finish_parts_;
     for (int k = 0; k < step_.count; ++k)
         if (step_.candidates[k].live && options_.prevent_intersections && step_.candidates[k].known_intersection < 0)
             checks[count++] = {int8_t(k), -1};
-    for (int part = 1; part < finish_parts_; ++part)
+    for (int part = 1; part < parts; ++part)
         for (int k = 0; k < step_.count; ++k)
             if (validating(k)) checks[count++] = {int8_t(k), int8_t(part)};
     pool.run_round(count, [&](int thread, size_t i) {
@@ -401,12 +516,12 @@ void Simplifier::validate_round(PlanningPool& pool) {
             c.intersects = intersections_.intersects_rest(c.plan->new_triangles, c.plan->removed_triangles,
                                                           grid_scratch_[thread]);
         else
-            c.remover->finish_part(checks[i].part, finish_parts_);
+            c.remover->finish_part(checks[i].part, parts);
     });
     for (size_t i = 0; i < count; ++i) {
         Candidate& c = step_.candidates[checks[i].slot];
         if (checks[i].part < 0) c.known_intersection = c.intersects;
-        if (checks[i].part == 0) c.remover->finish_parts_done(*c.plan, finish_parts_);
+        if (checks[i].part == 0) c.remover->finish_parts_done(*c.plan, parts);
     }
 }
 
@@ -421,6 +536,7 @@ int Simplifier::commit_step(SimplifyResult& result) {
         double cost = 0.0;
         if (!step_.candidates[k].live || !ready_to_commit(k, cost)) continue;
         commit(k, cost, result);
+        step_.candidates[k].committed = true;
         ++committed;
     }
     return committed;
@@ -431,10 +547,11 @@ bool Simplifier::ready_to_commit(int k, double& cost) {
     const int32_t v = c.entry.vertex;
     RemovalPlan& plan = *c.plan;
     const bool after_first = k > 0 && commits_ > step_.commits_before;
-    // After the first removal of this step: is this plan still valid? (Its intersection
-    // test saw the first one's old triangles, which may be all it met: then it is tested
+    // After an earlier removal of this step: is this plan still valid? (Its intersection
+    // test saw the earlier ones' old triangles, which may be all it met: then it is tested
     // again later.)
     if (after_first && (mesh_.num_vertices_alive() <= target_ || !still_current(plan) || c.known_intersection == 1)) {
+        ++stale_;
         queue_.push(c.entry);
         return false;
     }
@@ -443,6 +560,7 @@ bool Simplifier::ready_to_commit(int k, double& cost) {
     cost = judge(v, plan);
     if (!std::isfinite(cost)) return false;
     if (waits(k, cost)) {
+        ++waited_;
         WaitingPlan& wp = full_plans_[v];
         wp.stamp = stamp_[v];
         wp.made_at = c.known_intersection < 0 ? -1 : step_.commits_before;
@@ -452,12 +570,16 @@ bool Simplifier::ready_to_commit(int k, double& cost) {
         return false;
     }
     if (after_first) {
-        // Its new triangles must not meet the first removal's.
-        if (options_.prevent_intersections &&
-            meet_improperly(original_.vertices, plan.new_triangles, step_.candidates[0].plan->new_triangles)) {
-            last_reason_[v] = "would create a self-intersection";
-            return false;
-        }
+        // Its new triangles must not meet those of any earlier removal of the step (its
+        // intersection test saw the surface before them).
+        if (options_.prevent_intersections)
+            for (int j = 0; j < k; ++j)
+                if (step_.candidates[j].committed &&
+                    meet_improperly(original_.vertices, plan.new_triangles, step_.candidates[j].plan->new_triangles)) {
+                    last_reason_[v] = "would create a self-intersection";
+                    ++met_;
+                    return false;
+                }
     } else if (c.known_intersection >= 0 ? c.known_intersection == 1 : !admissible_globally(v, plan)) {
         if (c.known_intersection == 1) last_reason_[v] = "would create a self-intersection";
         return false;
@@ -501,7 +623,7 @@ void Simplifier::commit(int k, double cost, SimplifyResult& result) {
 // the same round the grid update (cheap plans do not read the grid).
 void Simplifier::rerank_round(PlanningPool& pool) {
     std::vector<int32_t>& affected = step_.affected;
-    // Neither removed vertex was in the other's star: `affected` holds live vertices only.
+    // No removed vertex was in another's star: `affected` holds live vertices only.
     std::sort(affected.begin(), affected.end());
     affected.erase(std::unique(affected.begin(), affected.end()), affected.end());
     for (int32_t u : affected) {
@@ -510,8 +632,11 @@ void Simplifier::rerank_round(PlanningPool& pool) {
     }
     rerank_costs_.assign(affected.size(), 0.0);
     pool.run_round(affected.size() + 1, [&](int thread, size_t i) {
-        if (i == 0)
+        if (i == 0) {
+            const auto t0 = std::chrono::steady_clock::now();
             intersections_.update(step_.grid_removed, step_.first_new);
+            step_seconds_[5] += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        }
         else
             rerank_costs_[i - 1] = rank(affected[i - 1], cheap_plans_[thread], thread);
     });
@@ -571,8 +696,9 @@ void Simplifier::count_blocked(SimplifyResult& result) {
         if (!mesh_.vertex_alive(v)) continue;
         std::string why = last_reason_[v];
         if (why.empty()) {
-            remover_->plan(v, true, plan_);
-            why = plan_.valid ? "not reached" : plan_.reason;
+            RemovalPlan& plan = step_plans_[0];
+            remover_->plan(v, true, plan);
+            why = plan.valid ? "not reached" : plan.reason;
         }
         ++result.blocked[why];
         if (options_.trace_removals) context_.debug("vertex " + std::to_string(v) + " kept: " + why);
@@ -592,11 +718,11 @@ void Simplifier::release_planning_state() {
     decltype(rerank_costs_)().swap(rerank_costs_);
     decltype(grid_scratch_)().swap(grid_scratch_);
     decltype(cheap_plans_)().swap(cheap_plans_);
-    plan_ = RemovalPlan();
-    second_plan_ = RemovalPlan();
+    decltype(step_plans_)().swap(step_plans_);
+    decltype(to_plan_)().swap(to_plan_);
     step_ = Step();
     remover_.reset();
-    second_remover_.reset();
+    candidate_removers_.clear();
     removers_.clear();
     // The flips are done: no triangle is added any more.
     mesh_.release_aspects();
@@ -636,8 +762,18 @@ void Simplifier::summarize(const Parametrization& out, double max_deviation,
     result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     context_.debug("plans: " + std::to_string(plans_[0].load()) + " cheap, " + std::to_string(plans_[1].load()) +
                    " full (" + std::to_string(reused_plans_) + " reused); " + std::to_string(result.paired_steps) +
-                   " steps removed two vertices; " +
+                   " steps removed two or more vertices; " + std::to_string(steps_) + " steps took " +
+                   std::to_string(taken_) + " candidates: " + std::to_string(held_back_) + " held back by the estimate, " +
+                   std::to_string(waited_) + " waited after validation, " + std::to_string(stale_) +
+                   " stale after an earlier commit, " + std::to_string(met_) + " met an earlier commit; " +
                    std::to_string(result.shape_preserving_repairs) + " removals re-embedded with Floater's map");
+    char line[300];
+    std::snprintf(line, sizeof line,
+                  "step parts, wall s: queue %.3f, plan rounds %.3f, validation rounds %.3f, commits %.3f, "
+                  "re-ranking rounds %.3f (of which grid updates %.3f)",
+                  step_seconds_[0], step_seconds_[1], step_seconds_[2], step_seconds_[3], step_seconds_[4],
+                  step_seconds_[5]);
+    context_.debug(line);
 }
 
 double Simplifier::rank(int32_t v, RemovalPlan& plan, int thread) {
@@ -716,6 +852,9 @@ SimplifyResult simplify(const Surface& original, const SimplifyOptions& options,
         throw OptionError("max_normal_deviation_degrees must be between 0 and 180 degrees");
     if (!(options.distortion_weight >= 0) || !(options.fold_limit_degrees >= 0 && options.fold_limit_degrees <= 180))
         throw OptionError("distortion_weight must be >= 0 and fold_limit_degrees between 0 and 180 degrees");
+    if (!(options.removals_per_step >= 1 && options.removals_per_step <= kMaxRemovalsPerStep))
+        throw OptionError("removals_per_step must be between 1 and " + std::to_string(kMaxRemovalsPerStep) + ", got " +
+                          std::to_string(options.removals_per_step));
     if (!(options.queue_tolerance >= 0 && options.queue_tolerance <= 10))
         throw OptionError("queue_tolerance must be between 0 and 10");
     if (!(options.corner_crease_length >= 0 && options.corner_crease_length <= 1))
@@ -726,18 +865,20 @@ SimplifyResult simplify(const Surface& original, const SimplifyOptions& options,
     context.debug(std::to_string(threads) + (threads == 1 ? " thread" : " threads") +
                   (options.threads == 0 ? " (automatic: threads = 0)" : ""));
     std::unique_ptr<Simplifier> simplifier;
+    PhaseTimer timer;
     if (options.reject_self_intersecting_input) {
         context.report(0.0, "checking the input for self-intersections");
         CheckOptions check_options;
         check_options.max_problems = 1;
         CheckResult r;
+        timer.start(threads > 1 ? "input intersection check with set-up" : "input intersection check");
         if (threads > 1) {
             // The check and the set-up of the simplification (coarse mesh, features,
             // embedding, grid) only read the input: side by side.
             auto check = std::async(std::launch::async, [&] {
                 return check_intersections(original, check_options, Context{}, "input intersections");
             });
-            simplifier = std::make_unique<Simplifier>(original, options, context, threads);
+            simplifier = std::make_unique<Simplifier>(original, options, context, threads, timer);
             r = check.get();
         } else {
             r = check_intersections(original, check_options, context, "input intersections");
@@ -748,11 +889,16 @@ SimplifyResult simplify(const Surface& original, const SimplifyOptions& options,
                                  "); bpm needs a surface without self-intersections to produce a coarse surface "
                                  "without them. Repair the input, or set reject_self_intersecting_input = false");
     }
-    if (!simplifier) simplifier = std::make_unique<Simplifier>(original, options, context, threads);
+    if (!simplifier) {
+        timer.start("set-up");
+        simplifier = std::make_unique<Simplifier>(original, options, context, threads, timer);
+    }
     SimplifyResult result = simplifier->run(out);
     result.threads = threads;
+    timer.start("freeing the simplifier's state");
     simplifier.reset();
     return_free_memory();
+    result.phases = timer.finish();
     return result;
 }
 

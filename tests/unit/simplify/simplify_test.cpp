@@ -194,7 +194,7 @@ TEST_CASE("simplify in strict cost order (queue tolerance 0)", "[simplify]") {
     SimplifyOptions options;
     options.target_vertices = 80;
     SECTION("valid, the same for every thread count, and another order than the default's") {
-        options.batch_removals = false;
+        options.removals_per_step = 1;
         const Parametrization tolerant = run(s, options);
         options.queue_tolerance = 0.0;
         options.threads = 1;
@@ -224,7 +224,7 @@ TEST_CASE("simplify with two removals per step and with one", "[simplify]") {
     CHECK(paired.coarse.num_vertices() == 80);
     // Most steps pair up on a torus: far-apart vertices have similar costs.
     CHECK(paired_result.paired_steps > paired_result.removed / 4);
-    options.batch_removals = false;
+    options.removals_per_step = 1;
     SimplifyResult single_result;
     const Parametrization single = run(s, options, &single_result);
     require_valid(single, "torus, one removal per step");
@@ -233,6 +233,61 @@ TEST_CASE("simplify with two removals per step and with one", "[simplify]") {
     CHECK(kept_vertices(paired) != kept_vertices(single));
     options.threads = 2;
     CHECK(run(s, options).pieces == single.pieces);
+}
+
+TEST_CASE("simplify with eight removals per step: valid, and the same for every thread count", "[simplify]") {
+    // Larger steps are planned and validated in larger rounds; which removals a step
+    // takes and commits must depend on the queue only, never on the threads.
+    const Surface s = noisy_torus();
+    SimplifyOptions options;
+    options.target_vertices = 80;
+    options.removals_per_step = 8;
+    options.self_check = true;
+    options.threads = 1;
+    SimplifyResult one_result;
+    const Parametrization one = run(s, options, &one_result);
+    require_valid(one, "torus, eight removals per step");
+    CHECK(one.coarse.num_vertices() == 80);
+    // Steps commit several removals (the steps are used), fewer steps than at two.
+    CHECK(one_result.paired_steps > 0);
+    for (int threads : {2, 3}) {
+        options.threads = threads;
+        const Parametrization many = run(s, options);
+        CHECK(one.coarse.triangles == many.coarse.triangles);
+        CHECK(one.pieces == many.pieces);
+        CHECK(one.node_barycentric == many.node_barycentric);
+        CHECK(one.node_image == many.node_image);
+    }
+    // The step size is a parameter of the output: another order than two per step.
+    options.removals_per_step = 2;
+    CHECK(kept_vertices(run(s, options)) != kept_vertices(one));
+    SECTION("out of range is refused") {
+        for (int bad : {0, 65}) {
+            options.removals_per_step = bad;
+            Parametrization p;
+            CHECK_THROWS_AS(simplify(s, options, Context{}, p), OptionError);
+        }
+    }
+}
+
+TEST_CASE("simplify reports its phases' times", "[simplify]") {
+    const Surface s = fixtures::torus(30, 20);
+    SimplifyOptions options;
+    options.target_vertices = 100;
+    SimplifyResult r;
+    run(s, options, &r);
+    std::vector<std::string> names;
+    for (const SimplifyPhaseTime& p : r.phases) {
+        names.push_back(p.name);
+        CHECK(p.wall_seconds >= 0);
+        CHECK(p.cpu_seconds >= 0);
+    }
+    // In order, each once (the input check runs beside the set-up with two threads).
+    const std::vector<std::string> tail = {"first ranking", "removals", "edge flips", "export of phi",
+                                           "freeing the simplifier's state"};
+    REQUIRE(names.size() >= tail.size() + 1);
+    CHECK(std::vector<std::string>(names.end() - long(tail.size()), names.end()) == tail);
+    CHECK((names.front() == "input intersection check" || names.front() == "input intersection check with set-up"));
 }
 
 TEST_CASE("simplify honours its stopping rules", "[simplify]") {
