@@ -74,6 +74,7 @@ struct Candidate {
     bool live = false;                 // still to be committed in this step
     bool committed = false;            // removed in this step
     bool validated_early = false;      // tested and validated in the planning round (plan_round)
+    bool replanned = false;            // its validation made a new plan (finish_parts_done)
 };
 
 // The removals of one step of the loop, and what their commits changed.
@@ -420,6 +421,7 @@ void Simplifier::plan_round(PlanningPool& pool) {
         c.live = true;
         c.committed = false;
         c.validated_early = false;
+        c.replanned = false;
         auto cached = full_plans_.find(c.entry.vertex);
         if (cached != full_plans_.end() && cached->second.stamp == c.entry.stamp && still_current(cached->second.plan)) {
             WaitingPlan& wp = cached->second;
@@ -441,6 +443,7 @@ void Simplifier::plan_round(PlanningPool& pool) {
         const int32_t v = c.entry.vertex;
         c.remover->plan_deferred(v, *c.plan);
         c.validated_early = false;
+        c.replanned = false;
         if (!c.plan->pending) return;
         const double estimate = judge(v, *c.plan, CostBasis::Estimate);
         if (!std::isfinite(estimate) || estimate > c.entry.cost + 1e-15) return;
@@ -448,12 +451,13 @@ void Simplifier::plan_round(PlanningPool& pool) {
             c.intersects = intersections_.intersects_rest(c.plan->new_triangles, c.plan->removed_triangles,
                                                           grid_scratch_[thread]);
         c.remover->finish_part(0, 1);
-        c.remover->finish_parts_done(*c.plan, 1);
+        c.replanned = c.remover->finish_parts_done(*c.plan, 1);
         c.validated_early = true;
     });
+    // A plan made again during its validation was not tested: the validation round tests it.
     for (int k : to_plan) {
         Candidate& c = step_.candidates[k];
-        if (c.validated_early && options_.prevent_intersections) c.known_intersection = c.intersects;
+        if (c.validated_early && options_.prevent_intersections && !c.replanned) c.known_intersection = c.intersects;
     }
     plans_[1].fetch_add(int64_t(count), std::memory_order_relaxed);
 }
@@ -521,8 +525,13 @@ void Simplifier::validate_round(PlanningPool& pool) {
     for (size_t i = 0; i < count; ++i) {
         Candidate& c = step_.candidates[checks[i].slot];
         if (checks[i].part < 0) c.known_intersection = c.intersects;
-        if (checks[i].part == 0) c.remover->finish_parts_done(*c.plan, parts);
+        if (checks[i].part == 0) c.replanned = c.remover->finish_parts_done(*c.plan, parts);
     }
+    // The test of a plan made again during its validation saw the pending plan's
+    // triangles: unknown again (the first candidate is tested at its commit, a later one
+    // goes back into the queue).
+    for (int k = 0; k < step_.count; ++k)
+        if (step_.candidates[k].replanned) step_.candidates[k].known_intersection = -1;
 }
 
 // Commits the live candidates that are still ready, in order; returns how many.
@@ -549,8 +558,10 @@ bool Simplifier::ready_to_commit(int k, double& cost) {
     const bool after_first = k > 0 && commits_ > step_.commits_before;
     // After an earlier removal of this step: is this plan still valid? (Its intersection
     // test saw the earlier ones' old triangles, which may be all it met: then it is tested
-    // again later.)
-    if (after_first && (mesh_.num_vertices_alive() <= target_ || !still_current(plan) || c.known_intersection == 1)) {
+    // again later; so is a plan without a test, made again during its validation.)
+    const bool untested = options_.prevent_intersections && c.known_intersection < 0;
+    if (after_first && (mesh_.num_vertices_alive() <= target_ || !still_current(plan) || c.known_intersection == 1 ||
+                        untested)) {
         ++stale_;
         queue_.push(c.entry);
         return false;

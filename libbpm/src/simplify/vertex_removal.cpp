@@ -361,8 +361,8 @@ void VertexRemover::finish_part(int part, int parts) {
     p.passed = planner.check_triangles(n * part / parts, n * (part + 1) / parts, p.check, p.min_cosine, p.reason);
 }
 
-void VertexRemover::finish_parts_done(RemovalPlan& plan, int parts) {
-    if (!plan.pending) return;
+bool VertexRemover::finish_parts_done(RemovalPlan& plan, int parts) {
+    if (!plan.pending) return false;
     plan.pending = false;
     FanPlanner& planner = scratch_->planner;
     const bool prepared = scratch_->prepared.load(std::memory_order_acquire) == 1;
@@ -386,13 +386,15 @@ void VertexRemover::finish_parts_done(RemovalPlan& plan, int parts) {
             scratch_->retry_forbid = planner.along_diagonal();
             bool crease_line = false;
             plan_once(plan.vertex, false, true, false, plan, crease_line);
+            return true;
         }
-        return;
+        return false;
     }
     plan.max_deviation = 0.0;  // Floater's map may have changed it: add_fan sets it again
     plan.new_triangles.clear();
     add_fan(mesh_, *scratch_, scratch_->fans[0], planner, plan);
     finish_paths(mesh_, embedding_, *scratch_, plan);
+    return false;
 }
 
 void RemovalPlan::clear() {

@@ -98,10 +98,13 @@ public:
     // tasks of one round whose tasks start in order (part 0 prepares, the others wait for
     // that; each checks its share of the new triangles), then finish_parts_done(). The
     // result is the same for every number of parts (1 = on one thread).
+    // finish_parts_done() returns true when the validation failed along a diagonal and
+    // the plan was made again at once without it: its new triangles are then others than
+    // the pending plan's, and a test of those against the rest of the surface is void.
     void plan_deferred(int32_t v, RemovalPlan& plan);
     static constexpr int kMaxFinishParts = 2;
     void finish_part(int part, int parts);
-    void finish_parts_done(RemovalPlan& plan, int parts);
+    bool finish_parts_done(RemovalPlan& plan, int parts);
 
 private:
     void plan_once(int32_t v, bool force_disk, bool validate, bool defer, RemovalPlan& plan, bool& crease_line);
