@@ -129,6 +129,18 @@ Surface noisy_torus() {
         for (int k = 0; k < 3; ++k) s.vertices[i][k] += 0.01 * std::sin(12.9898 * double(i) + 78.233 * k);
     return s;
 }
+
+// `one` (made with options.threads = 1) is also what two and three threads make.
+void check_same_at_two_and_three_threads(const Surface& s, SimplifyOptions options, const Parametrization& one) {
+    for (int threads : {2, 3}) {
+        options.threads = threads;
+        const Parametrization many = run(s, options);
+        CHECK(one.coarse.triangles == many.coarse.triangles);
+        CHECK(one.pieces == many.pieces);
+        CHECK(one.node_barycentric == many.node_barycentric);
+        CHECK(one.node_image == many.node_image);
+    }
+}
 }  // namespace
 
 TEST_CASE("simplify gives the same output for every thread count", "[simplify]") {
@@ -139,14 +151,7 @@ TEST_CASE("simplify gives the same output for every thread count", "[simplify]")
     options.target_vertices = 80;
     options.threads = 1;
     const Parametrization one = run(s, options);
-    for (int threads : {2, 3}) {
-        options.threads = threads;
-        const Parametrization many = run(s, options);
-        CHECK(one.coarse.triangles == many.coarse.triangles);
-        CHECK(one.pieces == many.pieces);
-        CHECK(one.node_barycentric == many.node_barycentric);
-        CHECK(one.node_image == many.node_image);
-    }
+    check_same_at_two_and_three_threads(s, options, one);
 }
 
 TEST_CASE("simplify one closed surface per material once their shared faces are fused", "[simplify]") {
@@ -250,14 +255,7 @@ TEST_CASE("simplify with eight removals per step: valid, and the same for every 
     CHECK(one.coarse.num_vertices() == 80);
     // Steps commit several removals (the steps are used), fewer steps than at two.
     CHECK(one_result.paired_steps > 0);
-    for (int threads : {2, 3}) {
-        options.threads = threads;
-        const Parametrization many = run(s, options);
-        CHECK(one.coarse.triangles == many.coarse.triangles);
-        CHECK(one.pieces == many.pieces);
-        CHECK(one.node_barycentric == many.node_barycentric);
-        CHECK(one.node_image == many.node_image);
-    }
+    check_same_at_two_and_three_threads(s, options, one);
     // The step size is a parameter of the output: another order than two per step.
     options.removals_per_step = 2;
     CHECK(kept_vertices(run(s, options)) != kept_vertices(one));
