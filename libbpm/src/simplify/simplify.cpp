@@ -74,7 +74,7 @@ struct Candidate {
     bool live = false;                 // still to be committed in this step
     bool committed = false;            // removed in this step
     bool validated_early = false;      // tested and validated in the planning round (plan_round)
-    bool replanned = false;            // its validation made a new plan (finish_parts_done)
+    bool replanned = false;            // its validation in plan_round made a new plan (finish_parts_done)
 };
 
 // The removals of one step of the loop, and what their commits changed.
@@ -522,16 +522,17 @@ void Simplifier::validate_round(PlanningPool& pool) {
         else
             c.remover->finish_part(checks[i].part, parts);
     });
+    bool replanned[kMaxRemovalsPerStep] = {};
     for (size_t i = 0; i < count; ++i) {
         Candidate& c = step_.candidates[checks[i].slot];
         if (checks[i].part < 0) c.known_intersection = c.intersects;
-        if (checks[i].part == 0) c.replanned = c.remover->finish_parts_done(*c.plan, parts);
+        if (checks[i].part == 0) replanned[checks[i].slot] = c.remover->finish_parts_done(*c.plan, parts);
     }
-    // The test of a plan made again during its validation saw the pending plan's
+    // The test of a plan made again during this validation saw the pending plan's
     // triangles: unknown again (the first candidate is tested at its commit, a later one
     // goes back into the queue).
     for (int k = 0; k < step_.count; ++k)
-        if (step_.candidates[k].replanned) step_.candidates[k].known_intersection = -1;
+        if (replanned[k]) step_.candidates[k].known_intersection = -1;
 }
 
 // Commits the live candidates that are still ready, in order; returns how many.
