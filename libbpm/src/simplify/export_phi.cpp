@@ -1,9 +1,5 @@
 #include "simplify/export_phi.h"
 
-#ifdef __GLIBC__
-#include <malloc.h>
-#endif
-
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -13,17 +9,12 @@
 #include "bpm/errors.h"
 #include "phi/phi_triangle_data.h"
 #include "core/edge_key.h"
+#include "core/free_memory.h"
 #include "simplify/overlay.h"
 
 namespace bpm::detail {
 
 namespace {
-
-void return_free_pages() {
-#ifdef __GLIBC__
-    malloc_trim(0);
-#endif
-}
 
 // Consecutive coarse triangles exported by one task, into a Parametrization of their own
 // (node_* and piece* arrays, offsets from 0); the chunks are concatenated in order.
@@ -129,7 +120,7 @@ double export_parametrization(const Surface& original, const CoarseMesh& mesh, c
     // arrays below come from fresh mappings. Handing the free pages back first lowers the
     // peak a little (fragmentation keeps most: 208k triangles to 10k vertices, one run,
     // 139 -> 136 MB).
-    return_free_pages();
+    return_free_memory();
     out = Parametrization();
     out.original = original;
     out.coarse = mesh.to_surface(out.coarse_vertex_origin);

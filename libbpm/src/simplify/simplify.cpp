@@ -24,12 +24,9 @@
 #include <utility>
 #include <vector>
 
-#ifdef __GLIBC__
-#include <malloc.h>
-#endif
-
 #include "bpm/check.h"
 #include "bpm/errors.h"
+#include "core/free_memory.h"
 #include "simplify/coarse_mesh.h"
 #include "simplify/edge_flip.h"
 #include "simplify/embedding.h"
@@ -836,16 +833,6 @@ void Simplifier::self_check(int32_t removed_vertex, const std::vector<int32_t>& 
                                  (t >= first_new_ ? ", new" : ", old") + "): " + why);
         }
     }
-}
-
-// The simplifier's state is hundreds of thousands of small blocks (triangle lists, paths,
-// grid cells) that the allocator keeps resident after they are freed; the caller's next
-// large allocations (the file image of phi) would come on top of them. Hand the free
-// pages back, so that the peak of a run is that of the live data.
-void return_free_memory() {
-#ifdef __GLIBC__
-    malloc_trim(0);
-#endif
 }
 
 }  // namespace
