@@ -1117,6 +1117,13 @@ def all_suites(args, invocation):
                  [PYTHON, rel(adaptive)], [("--meshes", QUICK_REFINE_MESHES), ("--tolerances", "0.003,0.001")],
                  "adaptive.md")
 
+    refined_check = os.path.join(BENCH, "refined_check.py")
+    if os.path.exists(refined_check):
+        # --quick: femur only, K = 1, no multi-material fixtures.
+        external("refined-check", "refined .bpm files through bpm-check (issue 19)", refined_check,
+                 [PYTHON, rel(refined_check)],
+                 [("--meshes", QUICK_REFINE_MESHES), ("--levels", "1"), ("--fixtures", "")], "refined-check.md")
+
     tetmesh = os.path.join(BENCH, "tetmesh.sh")
     env = dict(os.environ)
     display_env = ""
