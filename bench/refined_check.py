@@ -18,7 +18,7 @@ two icospheres, one file per material, bench/make_nested_spheres.py, 10 %):
   bpm-check --json K.bpm                                         (all checks, independently of bpm-refine)
 
 and writes RESULTS_DIR/refined-check.md and refined-check.json (default bench/results), rewritten after
-every row. Work files go to WORK_DIR (default BUILD_DIR/bench-work/refined-check).
+every row. Work files go to WORK_DIR (default BUILD_DIR/bench-work/refined_check).
 
 Target (issue 19): refined .bpm files at K = 1, 2 pass bpm-check on every row and on the multi-material
 fixtures. Exit 1 when a row fails (a tool failed, or a check failed).
@@ -33,7 +33,7 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from run import MESHES, binary_line, rel, write_atomic  # noqa: E402  (the main driver)
 from suite import PYTHON, TARGETS, Suite, load_json  # noqa: E402  (shared with refine.py, adaptive.py)
 
-SUITE = Suite("refined-check", ["bpm-simplify", "bpm-smooth", "bpm-refine", "bpm-check"])
+SUITE = Suite("refined_check", ["bpm-simplify", "bpm-smooth", "bpm-refine", "bpm-check"])
 log = SUITE.log
 HERE = os.path.dirname(os.path.abspath(__file__))
 FIXTURES = ["two_cubes", "nested_spheres"]
