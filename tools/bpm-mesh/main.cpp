@@ -54,7 +54,9 @@ int main(int argc, char** argv) {
         ".vtu (VTK), .mesh (MEDIT). With --refine K the mesh is red-refined K times and new boundary vertices\n"
         "are moved onto the original surface through phi (Krause & Sander §3.3). Vertices not on the surface\n"
         "are smoothed (TetGen's Steiner points, and after every refinement level) to keep the elements next to\n"
-        "the moved boundary well shaped; --no-smooth turns that off.",
+        "the moved boundary well shaped, and tetrahedra with a small dihedral angle are flipped (2-3 flips,\n"
+        "edge removals; never a face of the surface) where that raises it; --no-smooth turns both off,\n"
+        "--no-flip the flips.",
         tool};
     std::string input, output, format;
     bpm::TetMeshOptions options;
@@ -96,6 +98,10 @@ int main(int argc, char** argv) {
     bool no_smooth = false;
     app.add_flag("--no-smooth", no_smooth,
                  "Do not smooth the interior vertices (smoothing never inverts or worsens)");
+    bool no_flip = false;
+    app.add_flag("--no-flip", no_flip,
+                 "Do not flip tetrahedra to remove slivers (keeps TetGen's connectivity and, with --refine, that of "
+                 "plain red refinement)");
     double remedy_min_dihedral = bpm::TetRefineOptions{}.repair.min_dihedral_degrees;
     app.add_option("--remedy-min-dihedral", remedy_min_dihedral,
                    "Hold a boundary vertex short of phi rather than bring a dihedral angle below this (degrees; "
@@ -115,7 +121,7 @@ int main(int argc, char** argv) {
     bpm::tools::group_options(app, "Quality", {"--quality", "--min-dihedral", "--max-dihedral", "--max-volume", "--time-limit"});
     bpm::tools::group_options(app, "Refinement", {"--refine", "--flat", "--min-volume-fraction", "--remedy-min-dihedral"});
     bpm::tools::group_options(app, "Regions", {"--material"});
-    bpm::tools::group_options(app, "Advanced", {"--no-smooth", "--existing", "--tetgen", "--keep-temporary"});
+    bpm::tools::group_options(app, "Advanced", {"--no-smooth", "--no-flip", "--existing", "--tetgen", "--keep-temporary"});
     bpm::tools::add_examples(app, {"bpm-mesh femur.bpm -o femur.tet.bpm",
                                    "bpm-mesh femur.bpm -o femur.msh --refine 1 --time-limit 600 --json"});
 
@@ -144,6 +150,7 @@ int main(int argc, char** argv) {
         if (options.max_dihedral_degrees != 0 && options.max_dihedral_degrees < 90)
             throw CLI::ValidationError("--max-dihedral", "must be 0 (TetGen's default) or between 90 and 179 degrees");
         options.smooth = !no_smooth;
+        options.flip = !no_smooth && !no_flip;  // --no-smooth: no quality improvement at all, as before flips
         bpm::MaterialOptions material_options;
         for (const std::string& a : material_args) {
             const size_t eq = a.find('=');
@@ -201,6 +208,7 @@ int main(int argc, char** argv) {
             ro.repair.min_volume_fraction = min_volume_fraction;
             ro.repair.min_dihedral_degrees = remedy_min_dihedral;
             ro.repair.smooth = !no_smooth;
+            ro.flip = !no_smooth && !no_flip;
             bpm::TetMesh fine;
             refine_result = bpm::refine_tetmesh(file.param, *file.tetmesh, ro, context, fine);
             file.tetmesh = std::move(fine);
@@ -261,6 +269,16 @@ int main(int argc, char** argv) {
                             ", \"below_5_degrees\": " + std::to_string(stats.below_5_degrees) +
                             ", \"below_10_degrees\": " + std::to_string(stats.below_10_degrees) +
                             ", \"smoothed\": " + std::string(no_smooth ? "false" : "true") +
+                            ", \"flips\": " + std::to_string([&] {
+                                int64_t n = mesh_result.flips;
+                                for (const auto& l : refine_result.levels) n += l.flips;
+                                return n;
+                            }()) +
+                            ", \"flip_seconds\": " + json_double([&] {
+                                double sec = mesh_result.flip_seconds;
+                                for (const auto& l : refine_result.levels) sec += l.flip_seconds;
+                                return sec;
+                            }()) +
                             ", \"remedied_vertices\": " + std::to_string(refine_result.remedied_vertices) +
                             ", \"max_remedy_distance\": " + json_double(refine_result.max_remedy_distance) +
                             ", \"max_remedy_distance_relative\": " +

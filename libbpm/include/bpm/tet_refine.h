@@ -34,7 +34,14 @@
 // created at, which is the same line the solver's call uses). Each level is finished (placed, smoothed) before
 // the next one is cut, so new midpoints are those of the smoothed mesh. Vertices on S
 // never move except towards phi along their own segment from x; vertex indices, the
-// connectivity and the parameter positions are those of plain red refinement.
+// faces on S and the parameter positions are those of plain red refinement.
+//
+// After each level's step 4, tetrahedra below 15 degrees are flipped where that raises the
+// smallest dihedral angle (options.flip; 2-3 flips and edge removals, only among the
+// descendants of one level-0 tetrahedron in one region, never a face on S; vertices do
+// not move). The tetrahedra are then no longer exactly those of plain red refinement;
+// tet_ancestor stays valid. Femur at 1000 vertices, level 3: smallest angle 2.56 -> 4.09
+// degrees, 1561 -> 544 tetrahedra below 10 degrees.
 //
 // Typical use (bpm-refine on a .bpm file that has a tet mesh):
 //     bpm::BpmFile file = bpm::read_bpm(in);
@@ -71,6 +78,11 @@ struct TetRefineOptions {
         o.min_dihedral_degrees = 8;
         return o;
     }();
+    // After each level's boundary placement and smoothing, flip tetrahedra (2-3 and 3-2,
+    // among the descendants of one level-0 tetrahedron in one region, never a face on S)
+    // where that raises the smallest dihedral angle. The tetrahedra are then no longer those
+    // of plain red refinement (what a solver refining its own grid gets); false keeps them.
+    bool flip = true;
 };
 
 struct TetRefineLevel {
@@ -85,6 +97,8 @@ struct TetRefineLevel {
     double min_dihedral_degrees = 0;    // smallest dihedral angle of the level's mesh
     int64_t below_1_degree = 0, below_5_degrees = 0, below_10_degrees = 0;  // tetrahedra with a dihedral angle below
     double smoothing_seconds = 0;
+    int64_t flips = 0;                  // flips made after the placement (options.flip): 2-3, edge removals
+    double flip_seconds = 0;
 };
 
 struct TetRefineResult {

@@ -103,11 +103,19 @@ struct TetMeshOptions {
     // Smooth TetGen's Steiner points (bpm/tetmesh_smooth.h); vertices on S do not move.
     bool smooth = true;
     TetSmoothOptions smoothing;
+    // Flip tetrahedra below 15 degrees (2-3 flips and edge removals inside a region, never
+    // a face on S; no vertex moves) where that raises the smallest dihedral angle: the
+    // slivers TetGen leaves have all four corners on S, out of the smoothing's reach. Runs
+    // before the smoothing. Femur at 1000 vertices: 3.41 -> 6.53 degrees. A tetrahedron with
+    // two faces on S that meet at a sharp edge of S is fixed by S and stays.
+    bool flip = true;
 };
 
 struct TetMeshResult {
     int64_t vertices = 0, tetrahedra = 0, faces = 0, regions = 0;
     int64_t steiner_points = 0;      // vertices TetGen added (all strictly inside regions)
+    int64_t flips = 0;               // flips made (options.flip): 2-3 flips and edge removals
+    double flip_seconds = 0.0;
     double tetgen_seconds = 0.0;     // wall time of the TetGen runs
     double seconds = 0.0;            // wall time of the whole call
     std::string tetgen_command;      // the final command line as run

@@ -17,6 +17,7 @@
 #include "bpm/predicates.h"
 #include "core/tetrahedron_quality.h"
 #include "tetmesh/boundary_repair_internal.h"
+#include "tetmesh/tet_flips.h"
 #include "tetmesh/tetmesh_internal.h"
 
 namespace bpm {
@@ -320,6 +321,22 @@ TetRefineResult refine_tetmesh(const Parametrization& param, const TetMesh& coar
             s.x, s.tets, s.negative, reference, movers, movable, seg, options.repair, context,
             base_progress + 0.3 * span, 0.6 * span, "level " + std::to_string(level + 1) + ": boundary vertices towards phi");
 
+        if (options.flip) {
+            std::vector<char> created;
+            const detail::TetFlipResult fr = detail::flip_tetrahedra(s.x, s.tets, &s.negative, s.regions, &s.ancestor,
+                                                                     s.faces, {}, &created);
+            info.flips = fr.flips_23 + fr.edge_removals;
+            info.flip_seconds = fr.seconds;
+            // The next level cuts the new tetrahedra too: give them the corner order with the
+            // best children, as the input's got.
+            if (level + 1 < options.levels)
+                for (size_t t = 0; t < s.tets.size(); ++t)
+                    if (created[t]) {
+                        bool negative = s.negative[t];
+                        order_for_best_children(s.x, s.tets[t], negative);
+                        s.negative[t] = negative;
+                    }
+        }
         for (int32_t v : fresh)
             if (off_surface(v)) {
                 ++info.remedied_vertices;
@@ -344,7 +361,8 @@ TetRefineResult refine_tetmesh(const Parametrization& param, const TetMesh& coar
         result.levels.push_back(info);
         context.debug("level " + std::to_string(level + 1) + ": " + std::to_string(info.tetrahedra) + " tetrahedra, " +
                       std::to_string(info.new_boundary_vertices) + " new boundary vertices, " +
-                      std::to_string(info.off_surface_vertices) + " kept off the surface, min dihedral angle " +
+                      std::to_string(info.off_surface_vertices) + " kept off the surface, " +
+                      std::to_string(info.flips) + " flips, min dihedral angle " +
                       std::to_string(info.min_dihedral_degrees) + " degrees");
     }
 

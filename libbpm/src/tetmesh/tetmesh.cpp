@@ -41,6 +41,7 @@
 #include "bpm/predicates.h"
 #include "bpm/surface_topology.h"
 #include "core/tetrahedron_quality.h"
+#include "tetmesh/tet_flips.h"
 #include "tetmesh/tetgen_poly.h"
 #include "tetmesh/tetmesh_internal.h"
 
@@ -698,6 +699,20 @@ TetMeshResult generate_tetmesh(const Parametrization& param, const TetMeshOption
             out.vertex_parameter_points[v] = {t, b};
         }
     out.level = 0;
+    // Flips first, then smoothing: measured on femur, fandisk, elephant, armadillo at 10 %
+    // and at 1000 vertices, the other orders (smooth then flip, smooth-flip-smooth,
+    // flip-smooth-flip-smooth) gave the same minimum angles and within one the same counts
+    // of tetrahedra below 5 and 10 degrees.
+    if (options.flip) {
+        const detail::TetFlipResult fr =
+            detail::flip_tetrahedra(out.vertices, out.tetrahedra, nullptr, out.regions, nullptr, out.faces, {});
+        result.flips = fr.flips_23 + fr.edge_removals;
+        result.flip_seconds = fr.seconds;
+        context.debug("level-0 flips: " + num(fr.flips_23) + " 2-3 flips and " + num(fr.edge_removals) +
+                      " edge removals (" + num(fr.visited) + " tetrahedra below 15 degrees, " + num(fr.sweeps) +
+                      " sweeps), min dihedral " + std::to_string(fr.min_dihedral_before_degrees) + " -> " +
+                      std::to_string(fr.min_dihedral_after_degrees) + " degrees, " + std::to_string(fr.seconds) + " s");
+    }
     if (options.smooth) {
         const TetSmoothResult sm = smooth_tetmesh(out, options.smoothing);
         context.debug("level-0 smoothing: " + num(sm.moved_vertices) + " vertices moved, min dihedral " +

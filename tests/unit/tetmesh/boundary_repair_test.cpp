@@ -261,6 +261,7 @@ TEST_CASE("boundary_repair: on one level of red refinement it is refine_tetmesh'
         TetRefineOptions o;
         o.levels = 1;
         o.repair.smooth = smooth;
+        o.flip = false;  // a solver's refinement has no flips
         TetRefineOptions flat = o;
         flat.move_to_surface = false;
         flat.repair.smooth = false;

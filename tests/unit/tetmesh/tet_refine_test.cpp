@@ -97,6 +97,7 @@ TEST_CASE("tet_refine: red refinement multiplies elements by 8 and faces by 4, k
             TetMesh fine;
             TetRefineOptions o;
             o.levels = k;
+            o.flip = false;  // exactly red refinement (flips change the count)
             const TetRefineResult r = refine_tetmesh(p, coarse, o, {}, fine);
             REQUIRE(find_tetmesh_inconsistency(fine, p.coarse).empty());
             CHECK(fine.num_tetrahedra() == coarse.num_tetrahedra() * (1 << (3 * k)));
@@ -326,6 +327,7 @@ struct SaggingCube {
         o.levels = levels;
         o.move_to_surface = false;
         o.repair.smooth = false;
+        o.flip = false;
         return refine(o);
     }
 };
@@ -411,6 +413,7 @@ TEST_CASE("tet_refine: smoothing during refinement beats smoothing off, with the
     const Parametrization& p = cube.p;
     TetRefineOptions on;
     on.levels = 2;
+    on.flip = false;  // smoothing alone (flips change the tetrahedra)
     TetRefineOptions off = on;
     off.repair.smooth = false;
     TetRefineResult ra, rb;
@@ -447,6 +450,7 @@ TEST_CASE("tet_refine: the remedy's angle bound keeps slivers from forming at th
     TetRefineOptions o;
     o.levels = 1;
     o.repair.min_volume_fraction = 0;
+    o.flip = false;  // the remedy and smoothing alone
     REQUIRE(min_dihedral(cube.plain_red(1)) > 10);
     for (bool smooth : {false, true}) {
         INFO("smoothing " << smooth);
