@@ -156,6 +156,17 @@ public:
           diagonal_(bounding_box_diagonal(original)),
           target_(target_vertex_count(options, original.num_vertices())),
           intersections_(mesh_) {
+        // Room for the triangle ids the removals will make, at once (the per-triangle arrays
+        // grew by doubling: a copy of the old arrays beside the new ones). A removal of a
+        // vertex of valence d makes d - 2 triangles and the mean valence is 3 T / V, so
+        // this is about 4 per removal: an upper estimate (armadillo: 3.2 to 3.3), and
+        // reserved pages that are never written are never resident.
+        if (target_ > 0 && original.num_vertices() > target_ && original.num_vertices() > 0) {
+            const double made = std::clamp(3.0 * double(original.num_triangles()) / double(original.num_vertices()) - 2.0,
+                                           1.0, 8.0);
+            mesh_.reserve_triangles(size_t(double(original.num_triangles()) +
+                                           made * double(original.num_vertices() - target_) * 1.01) + 1024);
+        }
         mesh_.mark_feature_edges(options.feature_angle_degrees);
         mesh_.mark_corners(options.feature_angle_degrees, options.corner_crease_length * diagonal_,
                            options.keep_corners);
