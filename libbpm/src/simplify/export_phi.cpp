@@ -121,8 +121,14 @@ double export_parametrization(const Surface& original, const CoarseMesh& mesh, c
     // peak a little (fragmentation keeps most: 208k triangles to 10k vertices, one run,
     // 139 -> 136 MB).
     return_free_memory();
-    out = Parametrization();
-    out.original = original;
+    // `original` may be out.original already (simplify(Surface&&)): kept, not copied.
+    if (&original != &out.original) {
+        out = Parametrization();
+        out.original = original;
+    } else {
+        out.coarse = Surface();
+        out.coarse_vertex_origin.clear();
+    }
     out.coarse = mesh.to_surface(out.coarse_vertex_origin);
     std::vector<int32_t> alive;
     mesh.alive_triangles(alive);

@@ -919,8 +919,10 @@ void Simplifier::self_check(int32_t removed_vertex, const std::vector<int32_t>& 
 
 }  // namespace
 
-SimplifyResult simplify(const Surface& original, const SimplifyOptions& options, const Context& context,
-                        Parametrization& out) {
+namespace {
+
+// \throw OptionError for contradictory options.
+void check_options(const SimplifyOptions& options) {
     if (options.target_ratio < 0 || options.target_ratio > 1)
         throw OptionError("target_ratio must be between 0 and 1, got " + std::to_string(options.target_ratio));
     if (options.target_vertices < 0) throw OptionError("target_vertices must not be negative");
@@ -942,6 +944,11 @@ SimplifyResult simplify(const Surface& original, const SimplifyOptions& options,
         throw OptionError("the corner crease length must be between 0 and 1 (of the diagonal)");
     if (!(options.feature_angle_degrees >= 0 && options.feature_angle_degrees <= 180))
         throw OptionError("feature_angle_degrees must be between 0 and 180 degrees");
+}
+
+// simplify() after check_options(); `original` may be out.original.
+SimplifyResult simplify_checked(const Surface& original, const SimplifyOptions& options, const Context& context,
+                                Parametrization& out) {
     const int threads = planning_threads(options.threads);
     context.debug(std::to_string(threads) + (threads == 1 ? " thread" : " threads") +
                   (options.threads == 0 ? " (automatic: threads = 0)" : ""));
@@ -981,6 +988,22 @@ SimplifyResult simplify(const Surface& original, const SimplifyOptions& options,
     return_free_memory();
     result.phases = timer.finish();
     return result;
+}
+
+}  // namespace
+
+SimplifyResult simplify(const Surface& original, const SimplifyOptions& options, const Context& context,
+                        Parametrization& out) {
+    check_options(options);
+    return simplify_checked(original, options, context, out);
+}
+
+SimplifyResult simplify(Surface&& original, const SimplifyOptions& options, const Context& context,
+                        Parametrization& out) {
+    check_options(options);
+    out = Parametrization();
+    out.original = std::move(original);
+    return simplify_checked(out.original, options, context, out);
 }
 
 }  // namespace bpm
