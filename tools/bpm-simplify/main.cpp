@@ -243,7 +243,7 @@ int main(int argc, char** argv) {
         PhaseClock clock("reading");
 
         bpm::SurfaceReadReport report;
-        const bpm::Surface surface = bpm::read_surfaces(inputs, read_options, &report);
+        bpm::Surface surface = bpm::read_surfaces(inputs, read_options, &report);
         for (const auto& note : report.notes) context.info(note);
         context.info("read " + std::to_string(surface.num_vertices()) + " vertices, " +
                      std::to_string(surface.num_triangles()) + " triangles");
@@ -272,7 +272,8 @@ int main(int argc, char** argv) {
         bpm::SimplifyResult result;
         clock.end();
         try {
-            result = bpm::simplify(surface, options, context, file.param);
+            // The surface moves into file.param.original: not held twice while phi is written.
+            result = bpm::simplify(std::move(surface), options, context, file.param);
         } catch (const bpm::OptionError& e) {
             throw bpm::OptionError(with_flags(e.what()));
         } catch (const bpm::AlgorithmError& e) {

@@ -200,5 +200,10 @@ struct SimplifyResult {
 // Fills `out` (original, coarse, phi) and returns what was achieved.
 SimplifyResult simplify(const Surface& original, const SimplifyOptions& options, const Context& context,
                         Parametrization& out);
+// The same, taking the input over: it becomes out.original without a copy, so that the
+// caller's surface is not held a second time beside phi (the tools read a surface only to
+// simplify it). The options are checked before `original` is taken.
+SimplifyResult simplify(Surface&& original, const SimplifyOptions& options, const Context& context,
+                        Parametrization& out);
 
 }  // namespace bpm

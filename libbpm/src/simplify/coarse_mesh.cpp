@@ -18,6 +18,11 @@ CoarseMesh::CoarseMesh(const Surface& original)
       neighbour_bits_(original.vertices.size(), 0),
       feature_degree_(original.vertices.size(), 0) {
     if (patches_.size() != triangles_.size()) patches_.assign(triangles_.size(), 0);
+    // One patch (the common case): no per-triangle patch until a triangle with another.
+    if (std::all_of(patches_.begin(), patches_.end(), [&](int32_t p) { return p == patches_[0]; })) {
+        uniform_patch_ = patches_.empty() ? 0 : patches_[0];
+        decltype(patches_)().swap(patches_);
+    }
     for (int32_t t = 0; t < int32_t(triangles_.size()); ++t) {
         const Tri& c = triangles_[t];
         const uint64_t bits = vertex_bit(c[0]) | vertex_bit(c[1]) | vertex_bit(c[2]);
@@ -127,10 +132,28 @@ void CoarseMesh::mark(int32_t a, int32_t b, Feature kind) {
     }
 }
 
+void CoarseMesh::reserve_triangles(size_t ids) {
+    if (ids <= triangles_.capacity()) return;
+    triangles_.reserve(ids);
+    if (!patches_.empty()) patches_.reserve(ids);
+    alive_.reserve(ids);
+    if (keep_aspects_) aspects_.reserve(ids);
+}
+
+void CoarseMesh::grow_triangle_arrays() {
+    const size_t n = triangles_.size();
+    reserve_triangles(n + std::max<size_t>(n / 8, 1024));
+}
+
 int32_t CoarseMesh::add_triangle(const Tri& corners, int32_t patch) {
     const int32_t t = static_cast<int32_t>(triangles_.size());
+    if (triangles_.size() == triangles_.capacity()) grow_triangle_arrays();
+    if (patches_.empty() && patch != uniform_patch_) {
+        patches_.reserve(triangles_.capacity());
+        patches_.assign(triangles_.size(), uniform_patch_);
+    }
     triangles_.push_back(corners);
-    patches_.push_back(patch);
+    if (!patches_.empty()) patches_.push_back(patch);
     alive_.push_back(1);
     if (keep_aspects_)
         aspects_.push_back(aspect_ratio((*positions_)[corners[0]], (*positions_)[corners[1]], (*positions_)[corners[2]]));
@@ -178,7 +201,7 @@ void CoarseMesh::mark_feature_edges(double feature_angle_degrees) {
             edge_triangles(a, b, around);
             if (around.empty() || around[0] != t) continue;
             bool feature = around.size() != 2;
-            if (!feature && patches_[around[0]] != patches_[around[1]]) feature = true;
+            if (!feature && patch(around[0]) != patch(around[1])) feature = true;
             if (feature) {
                 mark(a, b, Feature::Hard);
                 continue;
@@ -286,7 +309,7 @@ Surface CoarseMesh::to_surface(std::vector<int32_t>& vertex_origin) const {
     for (size_t i = 0; i < triangles_.size(); ++i) {
         if (!compacted_ && !alive_[i]) continue;  // after shrink_to_fit() every stored one is alive
         s.triangles.push_back({index[triangles_[i][0]], index[triangles_[i][1]], index[triangles_[i][2]]});
-        s.patches.push_back(patches_[i]);
+        s.patches.push_back(patches_.empty() ? uniform_patch_ : patches_[i]);
     }
     return s;
 }
@@ -308,11 +331,11 @@ void CoarseMesh::shrink_to_fit() {
     std::vector<int32_t> kept;
     alive_triangles(kept);
     std::vector<Tri> triangles(kept.size());
-    std::vector<int32_t> patches(kept.size());
+    std::vector<int32_t> patches(patches_.empty() ? 0 : kept.size());
     std::vector<double> aspects(aspects_.empty() ? 0 : kept.size());
     for (size_t i = 0; i < kept.size(); ++i) {
         triangles[i] = triangles_[size_t(kept[i])];
-        patches[i] = patches_[size_t(kept[i])];
+        if (!patches.empty()) patches[i] = patches_[size_t(kept[i])];
         if (!aspects.empty()) aspects[i] = aspects_[size_t(kept[i])];
     }
     capacity_ = static_cast<int32_t>(triangles_.size());

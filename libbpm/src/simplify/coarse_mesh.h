@@ -27,7 +27,7 @@ public:
 
     const std::vector<Vec3>& positions() const { return *positions_; }
     const Tri& triangle(int32_t t) const { return triangles_[slot(t)]; }
-    int32_t patch(int32_t t) const { return patches_[slot(t)]; }
+    int32_t patch(int32_t t) const { return patches_.empty() ? uniform_patch_ : patches_[slot(t)]; }
     // Circumradius / inradius of triangle t (bpm::aspect_ratio of its corners in stored
     // order), computed once when the triangle is made: the planners ask for it every time
     // they plan a star, and used to cache it per planner (a double per triangle id each).
@@ -70,6 +70,10 @@ public:
     void set_feature_edge(int32_t a, int32_t b, Feature kind);
 
     int32_t add_triangle(const Tri& corners, int32_t patch);
+    // Room for triangle ids up to `ids` in the per-triangle arrays, allocated once:
+    // ids only grow, and the arrays grew by doubling (208k-triangle input to 10k vertices:
+    // ~600k ids in arrays for 832k). Beyond a reservation they grow by an eighth at a time.
+    void reserve_triangles(size_t ids);
     // Keeps only the alive triangles (ids stay: triangle(t) finds t by binary search among
     // them) and stores the per-vertex triangle lists compactly: called once no triangle
     // will be added or removed any more, before phi is exported. The per-triangle arrays
@@ -124,7 +128,9 @@ private:
     int32_t capacity_ = 0;       // after shrink_to_fit(): the number of ids ever made
     const std::vector<Vec3>* positions_;
     std::vector<Tri> triangles_;
-    std::vector<int32_t> patches_;
+    std::vector<int32_t> patches_;  // per triangle; empty while every triangle has uniform_patch_
+    int32_t uniform_patch_ = 0;
+    void grow_triangle_arrays();  // before add_triangle() fills the capacity
     std::vector<uint8_t> alive_;
     std::vector<uint8_t> initially_flipped_;
     std::vector<double> aspects_;

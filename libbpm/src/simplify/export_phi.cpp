@@ -121,14 +121,23 @@ double export_parametrization(const Surface& original, const CoarseMesh& mesh, c
     // peak a little (fragmentation keeps most: 208k triangles to 10k vertices, one run,
     // 139 -> 136 MB).
     return_free_memory();
-    out = Parametrization();
-    out.original = original;
+    // `original` may be out.original already (simplify(Surface&&)): kept, not copied.
+    if (&original != &out.original) {
+        out = Parametrization();
+        out.original = original;
+    } else {
+        out.coarse = Surface();
+        out.coarse_vertex_origin.clear();
+    }
     out.coarse = mesh.to_surface(out.coarse_vertex_origin);
     std::vector<int32_t> alive;
     mesh.alive_triangles(alive);
-    // At least 512 triangles per chunk, and at most 2^19 chunks (a round of the pool takes
-    // fewer than 2^20 tasks); the output is concatenated in order either way.
-    const size_t chunk_size = std::max<size_t>(512, (alive.size() + (size_t(1) << 19) - 1) >> 19);
+    // At least 128 triangles per chunk, and at most 2^19 chunks (a round of the pool takes
+    // fewer than 2^20 tasks); the output is concatenated in order either way. The parts of
+    // a batch are alive beside `out` at the end of the export, the peak of a run: with 512
+    // triangles per chunk a batch was 2048 coarse triangles' phi at one thread (armadillo
+    // --ratio 0.1: 40 % of phi's 5200 triangles).
+    const size_t chunk_size = std::max<size_t>(128, (alive.size() + (size_t(1) << 19) - 1) >> 19);
     std::vector<ExportChunk> chunks((alive.size() + chunk_size - 1) / chunk_size);
     for (size_t c = 0; c < chunks.size(); ++c) {
         chunks[c].begin = c * chunk_size;

@@ -14,7 +14,7 @@
 
 namespace bpm::detail {
 
-// Replaces `out` with: original = `original`; coarse = the alive triangles of `mesh` in id
+// Replaces `out` with: original = `original` (not copied if it is out.original); coarse = the alive triangles of `mesh` in id
 // order (CoarseMesh::to_surface, with coarse_vertex_origin); for each coarse triangle the
 // nodes of its overlay (barycentric coordinates, image, kind, original vertex or edge and
 // edge parameter) and its pieces, in CSR (node_offsets, piece_offsets).

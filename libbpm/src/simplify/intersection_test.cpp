@@ -59,7 +59,14 @@ void IntersectionTest::rebuild() {
         count += 3;
     }
     const double cell = count ? 2.0 * extent / double(count) : 1.0;
-    grid_ = TriangleGrid(cell > 0 ? cell : 1.0);
+    // The lattice of the grid's boxes spans every position (new triangles use only those).
+    Vec3 lo{}, hi{};
+    for (size_t v = 0; v < x.size(); ++v)
+        for (int k = 0; k < 3; ++k) {
+            lo[k] = v == 0 ? x[v][k] : std::min(lo[k], x[v][k]);
+            hi[k] = v == 0 ? x[v][k] : std::max(hi[k], x[v][k]);
+        }
+    grid_ = TriangleGrid(cell > 0 ? cell : 1.0, TriangleGrid::Frame::of_box(lo, hi));
     std::vector<int32_t> ids;
     std::vector<Tri> corners;
     ids.reserve(size_t(mesh_.num_alive_triangles()));
@@ -96,19 +103,19 @@ bool IntersectionTest::intersects_rest(const std::vector<Tri>& new_triangles,
     // new triangle. Every triangle whose box meets a new triangle's box is in a cell
     // that box meets, so the pairs tested below are exactly those of a query per
     // triangle; the answer does not depend on the order of the tests.
-    static thread_local std::vector<std::array<Vec3, 2>> boxes;
+    static thread_local std::vector<TriangleGrid::LatticeBox> boxes;
     boxes.resize(count_new);
     Vec3 all_lo{}, all_hi{};
     for (size_t i = 0; i < count_new; ++i) {
         const Tri& a = new_triangles[i];
-        Vec3& lo = boxes[i][0];
-        Vec3& hi = boxes[i][1];
+        Vec3 lo, hi;
         for (int k = 0; k < 3; ++k) {
             lo[k] = std::min({x[a[0]][k], x[a[1]][k], x[a[2]][k]});
             hi[k] = std::max({x[a[0]][k], x[a[1]][k], x[a[2]][k]});
             all_lo[k] = i == 0 ? lo[k] : std::min(all_lo[k], lo[k]);
             all_hi[k] = i == 0 ? hi[k] : std::max(all_hi[k], hi[k]);
         }
+        boxes[i] = grid_.lattice_box(lo, hi);
     }
     if (count_new == 0) return false;
     // Only triangles whose box meets the box of all new triangles (the grid tests the
@@ -118,13 +125,10 @@ bool IntersectionTest::intersects_rest(const std::vector<Tri>& new_triangles,
         const int32_t t = candidate.id;
         if (!mesh_.alive(t)) continue;
         if (std::find(removed_triangles.begin(), removed_triangles.end(), t) != removed_triangles.end()) continue;
-        const auto& blo = candidate.lo;  // float, rounded outwards: only a filter
-        const auto& bhi = candidate.hi;
-        for (size_t i = 0; i < count_new; ++i) {
-            bool apart = false;
-            for (int k = 0; k < 3 && !apart; ++k) apart = bhi[k] < boxes[i][0][k] || blo[k] > boxes[i][1][k];
-            if (!apart && meet_improperly(x, new_triangles[i], mesh_.triangle(t))) return true;
-        }
+        for (size_t i = 0; i < count_new; ++i)  // the lattice boxes: only a filter
+            if (!TriangleGrid::apart(boxes[i], candidate.lo, candidate.hi) &&
+                meet_improperly(x, new_triangles[i], mesh_.triangle(t)))
+                return true;
     }
     for (size_t i = 0; i < count_new; ++i)
         for (size_t j = 0; j < i; ++j)

@@ -17,8 +17,10 @@
 #include <cstdio>
 #include <future>
 #include <limits>
+#include <deque>
 #include <memory>
-#include <queue>
+#include <mutex>
+#include <functional>
 #include <string>
 #include <unordered_map>
 #include <utility>
@@ -52,6 +54,30 @@ struct QueueEntry {
     }
 };
 
+// The queue of removals, cheapest first: std::priority_queue's operations (push_heap and
+// pop_heap over a vector, so the same order), with room reserved once. Stale entries stay
+// until they reach the top, so the heap grows to several entries per vertex, and growing
+// by doubling held the old and the new array at once (208k-triangle input: 4 + 8 MB at
+// the peak of the loop); untouched reserved pages cost nothing.
+class RemovalQueue {
+public:
+    void reserve(size_t n) { heap_.reserve(n); }
+    bool empty() const { return heap_.empty(); }
+    const QueueEntry& top() const { return heap_.front(); }
+    void push(const QueueEntry& e) {
+        heap_.push_back(e);
+        std::push_heap(heap_.begin(), heap_.end(), std::greater<QueueEntry>());
+    }
+    void pop() {
+        std::pop_heap(heap_.begin(), heap_.end(), std::greater<QueueEntry>());
+        heap_.pop_back();
+    }
+    void release() { decltype(heap_)().swap(heap_); }
+
+private:
+    std::vector<QueueEntry> heap_;
+};
+
 // A complete full plan of a removal that waits in the queue (its cost after validation
 // was above the next entry), reused when the entry comes back unchanged.
 struct WaitingPlan {
@@ -59,6 +85,42 @@ struct WaitingPlan {
     int64_t made_at = -1;    // number of removals committed when the intersections were tested, or -1
     bool intersects = false; // intersects_rest, valid while no removal was committed since
     RemovalPlan plan;
+};
+
+// Why each vertex could not be removed when last tried: per vertex an index into the
+// distinct texts (0: none). A std::string per vertex was 32 bytes each (3.3 MB for 104k
+// vertices) for a handful of different texts. set() runs on the planning threads, each
+// for its own vertices; a text is looked up behind a lock (only for refusals).
+class ReasonTable {
+public:
+    void reset(size_t vertices) {
+        of_.assign(vertices, 0);
+        texts_.assign(1, std::string());
+        index_.clear();
+    }
+    void set(int32_t v, const std::string& why) {
+        if (why.empty()) {
+            of_[size_t(v)] = 0;
+            return;
+        }
+        std::lock_guard<std::mutex> lock(mutex_);
+        auto [it, added] = index_.try_emplace(why, uint32_t(texts_.size()));
+        if (added) texts_.push_back(why);
+        of_[size_t(v)] = it->second;
+    }
+    // Not while set() may run.
+    const std::string& operator[](int32_t v) const { return texts_[of_[size_t(v)]]; }
+    void release() {
+        decltype(of_)().swap(of_);
+        decltype(texts_)().swap(texts_);
+        decltype(index_)().swap(index_);
+    }
+
+private:
+    std::vector<uint32_t> of_;        // per vertex
+    std::deque<std::string> texts_;   // [0] empty
+    std::unordered_map<std::string, uint32_t> index_;
+    std::mutex mutex_;
 };
 
 // One of the removals tried in a step (at most SimplifyOptions::removals_per_step).
@@ -125,6 +187,7 @@ private:
 };
 
 constexpr int kMaxRemovalsPerStep = 64;  // SimplifyOptions::removals_per_step
+const std::string kSelfIntersection = "would create a self-intersection";
 
 // The vertex count to stop at (0: none): the larger of the two targets asked for.
 int64_t target_vertex_count(const SimplifyOptions& options, int64_t input_vertices) {
@@ -156,6 +219,17 @@ public:
           diagonal_(bounding_box_diagonal(original)),
           target_(target_vertex_count(options, original.num_vertices())),
           intersections_(mesh_) {
+        // Room for the triangle ids the removals will make, at once (the per-triangle arrays
+        // grew by doubling: a copy of the old arrays beside the new ones). A removal of a
+        // vertex of valence d makes d - 2 triangles and the mean valence is 3 T / V, so
+        // this is about 4 per removal: an upper estimate (armadillo: 3.2 to 3.3), and
+        // reserved pages that are never written are never resident.
+        if (target_ > 0 && original.num_vertices() > target_ && original.num_vertices() > 0) {
+            const double made = std::clamp(3.0 * double(original.num_triangles()) / double(original.num_vertices()) - 2.0,
+                                           1.0, 8.0);
+            mesh_.reserve_triangles(size_t(double(original.num_triangles()) +
+                                           made * double(original.num_vertices() - target_) * 1.01) + 1024);
+        }
         mesh_.mark_feature_edges(options.feature_angle_degrees);
         mesh_.mark_corners(options.feature_angle_degrees, options.corner_crease_length * diagonal_,
                            options.keep_corners);
@@ -212,11 +286,11 @@ private:
     IntersectionTest intersections_;  // of new triangles with the rest of the surface
     std::vector<std::vector<TriangleGrid::Entry>> grid_scratch_;  // per thread, for intersects_rest
     std::vector<uint32_t> stamp_;     // per vertex, moved on when its star changes
-    std::priority_queue<QueueEntry, std::vector<QueueEntry>, std::greater<QueueEntry>> queue_;
+    RemovalQueue queue_;
     // Full plans of entries pushed back because their real cost was higher than the
     // estimate; reused when the entry comes back with the same stamp.
     std::unordered_map<int32_t, WaitingPlan> full_plans_;
-    std::vector<std::string> last_reason_;  // per vertex: why it could not be removed when last tried
+    ReasonTable last_reason_;  // per vertex: why it could not be removed when last tried
     Step step_;
     std::vector<double> rerank_costs_;
     int32_t first_new_ = 0;  // first triangle id of the last commit (self_check)
@@ -262,7 +336,10 @@ private:
     // CostBasis::Estimate: the cost a full plan is ranked by first (the same for a plan
     // whose validation is pending and for a complete one).
     double judge(int32_t v, const RemovalPlan& plan, CostBasis basis = CostBasis::Plan) {
-        return removal_cost(plan, options_, diagonal_, basis, last_reason_[v]);
+        thread_local std::string why;
+        const double cost = removal_cost(plan, options_, diagonal_, basis, why);
+        last_reason_.set(v, why);
+        return cost;
     }
     // Whether candidate k, at cost `cost`, waits: its cost is above the next entry's (the
     // queue's top, or a later candidate of the step) by more than the queue tolerance.
@@ -339,7 +416,7 @@ SimplifyResult Simplifier::describe_input() const {
 // First ranking of all vertices by cheap plans, in chunks.
 void Simplifier::rank_all(PlanningPool& pool) {
     const int32_t nv = original_.num_vertices();
-    last_reason_.assign(original_.vertices.size(), std::string());
+    last_reason_.reset(original_.vertices.size());
     // 256 vertices per task; above 2^27 vertices more, so that a round has at most
     // 2^19 tasks (the pool takes fewer than 2^20). The costs do not depend on it.
     const int32_t chunk = std::max<int32_t>(256, int32_t((int64_t(nv) + (1 << 19) - 1) >> 19));
@@ -356,6 +433,9 @@ void Simplifier::rank_all(PlanningPool& pool) {
         if (thread == 0) context_.report(0.2 * done / std::max(nv, 1), "evaluating vertices");
     });
     plans_[0] += nv;
+    // The heap reaches 3 to 5 entries per vertex (208k-triangle input: ~400k for 104k
+    // vertices); beyond the reservation it grows as before.
+    queue_.reserve(8 * size_t(nv) + 1024);
     for (int32_t v = 0; v < nv; ++v) {
         ++stamp_[v];
         if (std::isfinite(costs[v])) queue_.push({costs[v], v, stamp_[v]});
@@ -585,12 +665,12 @@ bool Simplifier::ready_to_commit(int k, double& cost) {
             for (int j = 0; j < k; ++j)
                 if (step_.candidates[j].committed &&
                     meet_improperly(original_.vertices, plan.new_triangles, step_.candidates[j].plan->new_triangles)) {
-                    last_reason_[v] = "would create a self-intersection";
+                    last_reason_.set(v, kSelfIntersection);
                     ++met_;
                     return false;
                 }
     } else if (c.known_intersection >= 0 ? c.known_intersection == 1 : !admissible_globally(v, plan)) {
-        if (c.known_intersection == 1) last_reason_[v] = "would create a self-intersection";
+        if (c.known_intersection == 1) last_reason_.set(v, kSelfIntersection);
         return false;
     }
     return true;
@@ -719,9 +799,9 @@ void Simplifier::count_blocked(SimplifyResult& result) {
 // the peak of a run is lower (the export needs the coarse mesh and the embedding only).
 void Simplifier::release_planning_state() {
     intersections_.release();
-    decltype(queue_)().swap(queue_);
+    queue_.release();
     decltype(full_plans_)().swap(full_plans_);
-    decltype(last_reason_)().swap(last_reason_);
+    last_reason_.release();
     decltype(stamp_)().swap(stamp_);
     decltype(oriented_normals_)().swap(oriented_normals_);
     decltype(rerank_costs_)().swap(rerank_costs_);
@@ -737,6 +817,8 @@ void Simplifier::release_planning_state() {
     mesh_.release_aspects();
     mesh_.shrink_to_fit();
     embedding_.shrink_to_fit();
+    // Only the planners compare the versions of paths (still_current); no path changes now.
+    decltype(embedding_.path_version)().swap(embedding_.path_version);
 }
 
 // Edge flips of needles and of edges under thin tetrahedra (edge_flip.h), within the
@@ -804,7 +886,7 @@ bool Simplifier::still_current(const RemovalPlan& plan) const {
 bool Simplifier::admissible_globally(int32_t v, const RemovalPlan& plan) {
     if (options_.prevent_intersections &&
         intersections_.intersects_rest(plan.new_triangles, plan.removed_triangles, grid_scratch_[0])) {
-        last_reason_[v] = "would create a self-intersection";
+        last_reason_.set(v, kSelfIntersection);
         return false;
     }
     return true;
@@ -837,8 +919,10 @@ void Simplifier::self_check(int32_t removed_vertex, const std::vector<int32_t>& 
 
 }  // namespace
 
-SimplifyResult simplify(const Surface& original, const SimplifyOptions& options, const Context& context,
-                        Parametrization& out) {
+namespace {
+
+// \throw OptionError for contradictory options.
+void check_options(const SimplifyOptions& options) {
     if (options.target_ratio < 0 || options.target_ratio > 1)
         throw OptionError("target_ratio must be between 0 and 1, got " + std::to_string(options.target_ratio));
     if (options.target_vertices < 0) throw OptionError("target_vertices must not be negative");
@@ -860,6 +944,11 @@ SimplifyResult simplify(const Surface& original, const SimplifyOptions& options,
         throw OptionError("the corner crease length must be between 0 and 1 (of the diagonal)");
     if (!(options.feature_angle_degrees >= 0 && options.feature_angle_degrees <= 180))
         throw OptionError("feature_angle_degrees must be between 0 and 180 degrees");
+}
+
+// simplify() after check_options(); `original` may be out.original.
+SimplifyResult simplify_checked(const Surface& original, const SimplifyOptions& options, const Context& context,
+                                Parametrization& out) {
     const int threads = planning_threads(options.threads);
     context.debug(std::to_string(threads) + (threads == 1 ? " thread" : " threads") +
                   (options.threads == 0 ? " (automatic: threads = 0)" : ""));
@@ -899,6 +988,22 @@ SimplifyResult simplify(const Surface& original, const SimplifyOptions& options,
     return_free_memory();
     result.phases = timer.finish();
     return result;
+}
+
+}  // namespace
+
+SimplifyResult simplify(const Surface& original, const SimplifyOptions& options, const Context& context,
+                        Parametrization& out) {
+    check_options(options);
+    return simplify_checked(original, options, context, out);
+}
+
+SimplifyResult simplify(Surface&& original, const SimplifyOptions& options, const Context& context,
+                        Parametrization& out) {
+    check_options(options);
+    out = Parametrization();
+    out.original = std::move(original);
+    return simplify_checked(out.original, options, context, out);
 }
 
 }  // namespace bpm

@@ -69,28 +69,37 @@ void box_of(const Vec3& a, const Vec3& b, const Vec3& c, Vec3& lo, Vec3& hi) {
     }
 }
 
-// Floats at most / at least x (doubles beyond the float range included: converting
-// those directly would be undefined behaviour).
-float float_below(double x) {
-    constexpr float kMax = std::numeric_limits<float>::max();
-    if (x >= double(kMax)) return kMax;
-    if (x < -double(kMax)) return -std::numeric_limits<float>::infinity();
-    float f = static_cast<float>(x);
-    if (double(f) > x) f = std::nextafter(f, -std::numeric_limits<float>::infinity());
-    return f;
-}
-float float_above(double x) { return -float_below(-x); }
-
-// The float box that contains the double box [lo, hi].
-TriangleGrid::Entry entry(int32_t id, const Vec3& lo, const Vec3& hi) {
-    TriangleGrid::Entry e{id, {}, {}};
-    for (int k = 0; k < 3; ++k) {
-        e.lo[k] = float_below(lo[k]);
-        e.hi[k] = float_above(hi[k]);
-    }
-    return e;
+// The lattice index of coordinate x, rounded outwards by one step (`down`: below, else
+// above) and clamped to the lattice: (x - origin) * scale is off by far less than a step
+// (x lies in the frame's box), so the index stays on the side of the exact one.
+uint16_t lattice_index(double x, double origin, double scale, bool down) {
+    const double q = std::floor((x - origin) * scale) + (down ? -1.0 : 1.0);
+    if (!(q > 0.0)) return 0;  // also NaN
+    return q >= 65535.0 ? uint16_t(65535) : uint16_t(q);
 }
 }  // namespace
+
+TriangleGrid::Frame TriangleGrid::Frame::of_box(const Vec3& lo, const Vec3& hi) {
+    Frame f;
+    f.origin = lo;
+    for (int k = 0; k < 3; ++k) {
+        // 65000 steps over the extent: the box's points get indices 0..65000, inside
+        // the 16 bits with room for the rounding.
+        const double extent = hi[k] - lo[k];
+        f.scale[k] = extent > 0 && std::isfinite(extent) ? 65000.0 / extent : 0.0;
+        if (!std::isfinite(f.scale[k])) f.scale[k] = 0.0;
+    }
+    return f;
+}
+
+TriangleGrid::LatticeBox TriangleGrid::lattice_box(const Vec3& lo, const Vec3& hi) const {
+    LatticeBox b;
+    for (int k = 0; k < 3; ++k) {
+        b.lo[k] = lattice_index(lo[k], frame_.origin[k], frame_.scale[k], true);
+        b.hi[k] = lattice_index(hi[k], frame_.origin[k], frame_.scale[k], false);
+    }
+    return b;
+}
 
 bool TriangleGrid::oversized(const Vec3& lo, const Vec3& hi) const {
     double cells = 1.0;
@@ -102,11 +111,12 @@ void TriangleGrid::insert(int32_t id, const Vec3& a, const Vec3& b, const Vec3& 
     Vec3 lo, hi;
     box_of(a, b, c, lo, hi);
     // Triangles much larger than a cell are kept in one list that every query sees.
+    const LatticeBox box = lattice_box(lo, hi);
+    const Entry e{id, box.lo, box.hi};
     if (oversized(lo, hi)) {
-        big_.push_back(entry(id, lo, hi));
+        big_.push_back(e);
         return;
     }
-    const Entry e = entry(id, lo, hi);
     for_cells(lo, hi, [&](uint64_t key) { cells_[key].push_back(e); });
 }
 
@@ -168,10 +178,9 @@ void TriangleGrid::for_entries(const Vec3& lo, const Vec3& hi, F&& f) const {
 
 void TriangleGrid::query_boxes(const Vec3& lo, const Vec3& hi, std::vector<Entry>& out) const {
     out.clear();
+    const LatticeBox box = lattice_box(lo, hi);
     for_entries(lo, hi, [&](const Entry& e) {
-        for (int k = 0; k < 3; ++k)
-            if (e.hi[k] < lo[k] || e.lo[k] > hi[k]) return;
-        out.push_back(e);
+        if (!apart(box, e.lo, e.hi)) out.push_back(e);
     });
     std::sort(out.begin(), out.end(), [](const Entry& a, const Entry& b) { return a.id < b.id; });
     out.erase(std::unique(out.begin(), out.end(), [](const Entry& a, const Entry& b) { return a.id == b.id; }),

@@ -13,15 +13,38 @@ namespace bpm::detail {
 class TriangleGrid {
 public:
     // A triangle with its bounding box, as stored in the cells: queries test the boxes
-    // while they scan a cell, without looking the triangles up. The box is in float,
-    // rounded outwards (it only filters candidates for exact tests, and a triangle sits
-    // in several cells, so the entries are a large part of the simplifier's memory).
+    // while they scan a cell, without looking the triangles up. The box is quantized on a
+    // lattice of 65536 steps per axis over the box of all positions (Frame), rounded
+    // outwards by a step: it only filters candidates for exact tests, and a triangle sits
+    // in several cells, so the entries are a large part of the simplifier's memory
+    // (16 bytes here; 28 with a float box).
     struct Entry {
         int32_t id;
-        std::array<float, 3> lo, hi;
+        std::array<uint16_t, 3> lo, hi;
     };
+    // The lattice of the boxes: lattice index floor((x - origin) * scale) per axis.
+    struct Frame {
+        Vec3 origin{};
+        Vec3 scale{};  // lattice steps per unit length; 0 on an axis of zero or infinite extent
+        // The frame of the box [lo, hi], which must contain every point given to the grid.
+        static Frame of_box(const Vec3& lo, const Vec3& hi);
+    };
+    // A box on the lattice, rounded outwards: it contains the lattice cell of every point
+    // of the box it was made from (at most one lattice step of rounding either way).
+    struct LatticeBox {
+        std::array<uint16_t, 3> lo, hi;
+    };
+    LatticeBox lattice_box(const Vec3& lo, const Vec3& hi) const;
+    // Whether the boxes the two lattice boxes were made from are disjoint (proved by the
+    // lattice: false may still mean disjoint).
+    static bool apart(const LatticeBox& a, const std::array<uint16_t, 3>& lo, const std::array<uint16_t, 3>& hi) {
+        for (int k = 0; k < 3; ++k)
+            if (hi[k] < a.lo[k] || lo[k] > a.hi[k]) return true;
+        return false;
+    }
 
-    // `cell` is the edge length of a grid cell.
+    // `cell` is the edge length of a grid cell; `frame` the lattice of the stored boxes.
+    TriangleGrid(double cell, const Frame& frame) : cell_(cell), frame_(frame) {}
     explicit TriangleGrid(double cell) : cell_(cell) {}
     double cell() const { return cell_; }
     void insert(int32_t id, const Vec3& a, const Vec3& b, const Vec3& c);
@@ -82,6 +105,7 @@ private:
     };
 
     double cell_;
+    Frame frame_;
     CellTable cells_;
     std::vector<Entry> big_;  // triangles spanning too many cells
     bool oversized(const Vec3& lo, const Vec3& hi) const;

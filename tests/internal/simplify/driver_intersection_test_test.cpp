@@ -100,3 +100,25 @@ TEST_CASE("intersection test: update() follows the mesh", "[internal][simplify]"
     test.rebuild_if_sparse();  // 2 of 2 alive: no rebuild, the same answers
     CHECK(!test.intersects_rest({{4, 5, 6}}, {}, scratch));
 }
+
+TEST_CASE("triangle grid: boxes on the 16-bit lattice are rounded outwards", "[internal][simplify]") {
+    // A frame a million times the triangles' size: a lattice step (1e6 / 65000) is much
+    // larger than the boxes, which must still be found when they only touch.
+    const TriangleGrid::Frame frame = TriangleGrid::Frame::of_box({-5e5, -5e5, -5e5}, {5e5, 5e5, 5e5});
+    TriangleGrid grid(1.0, frame);
+    const std::vector<Vec3> x = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {1e-9, 0, 0}, {3, 3, 3}, {4, 4, 4}};
+    grid.insert(7, x[0], x[1], x[2]);
+    std::vector<TriangleGrid::Entry> found;
+    grid.query_boxes({1, 1, 0}, {2, 2, 1}, found);  // touches the box at the corner (1, 1, 0)
+    REQUIRE(found.size() == 1);
+    CHECK(found[0].id == 7);
+    const TriangleGrid::LatticeBox touching = grid.lattice_box({1, 0.5, 0}, {1, 0.5, 0});
+    CHECK(!TriangleGrid::apart(touching, found[0].lo, found[0].hi));
+    // Far apart boxes are told apart by the lattice.
+    const TriangleGrid::LatticeBox far = grid.lattice_box(x[4], x[5]);
+    CHECK(!TriangleGrid::apart(far, far.lo, far.hi));
+    CHECK(TriangleGrid::apart(grid.lattice_box({1e4, 1e4, 1e4}, {2e4, 2e4, 2e4}), found[0].lo, found[0].hi));
+    grid.remove(7, x[0], x[1], x[2]);
+    grid.query_boxes({1, 1, 0}, {2, 2, 1}, found);
+    CHECK(found.empty());
+}

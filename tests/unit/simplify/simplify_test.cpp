@@ -120,6 +120,30 @@ TEST_CASE("simplify is deterministic", "[simplify]") {
     CHECK(a.node_barycentric == b.node_barycentric);
 }
 
+TEST_CASE("simplify taking the surface over gives the same parametrization", "[simplify]") {
+    const Surface s = fixtures::torus(30, 20);
+    SimplifyOptions options;
+    options.target_vertices = 60;
+    const Parametrization a = run(s, options);
+    Surface moved = s;
+    Parametrization b;
+    b.node_kind.resize(3);  // whatever was in `out` before is replaced
+    simplify(std::move(moved), options, Context{}, b);
+    CHECK(b.original.vertices == s.vertices);
+    CHECK(b.original.triangles == s.triangles);
+    CHECK(a.coarse.triangles == b.coarse.triangles);
+    CHECK(a.coarse_vertex_origin == b.coarse_vertex_origin);
+    CHECK(a.pieces == b.pieces);
+    CHECK(a.node_barycentric == b.node_barycentric);
+    CHECK(a.node_image == b.node_image);
+    CHECK(a.node_kind == b.node_kind);
+    // Options are checked before the surface is taken.
+    Surface kept = s;
+    options.target_ratio = 2;
+    CHECK_THROWS_AS(simplify(std::move(kept), options, Context{}, b), OptionError);
+    CHECK(kept.vertices.size() == s.vertices.size());
+}
+
 namespace {
 // A torus with deterministic noise on every coordinate: many plans go stale, and the
 // cheap and full costs often disagree.
