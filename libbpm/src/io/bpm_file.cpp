@@ -9,13 +9,14 @@
 // driver); both ways give the same bytes. Reading goes through a file image, which makes
 // standard input and memory buffers the same case as files.
 //
-// Writing is deterministic: no object timestamps, fixed chunk sizes and filter
-// settings, and nothing that depends on the time or the file name, so the same
-// BpmFile always gives the same bytes.
+// Writing is deterministic: no object timestamps, chunk sizes and filters that depend on
+// the data only (shuffle_pays), and nothing that depends on the time or the file name, so
+// the same BpmFile always gives the same bytes.
 
 #include "bpm/bpm_file.h"
 
 #include <hdf5.h>
+#include <zlib.h>
 
 #include <algorithm>
 #include <atomic>
@@ -109,18 +110,51 @@ std::string hdf5_error_text() {
 // Writing
 // ---------------------------------------------------------------------------
 
-constexpr hsize_t kChunkRows = 65536;    // rows per chunk of a large dataset
-// Datasets with more rows are chunked + compressed; smaller ones stay contiguous, which
-// keeps small files small and fast to write (compressing everything cost about 10% of a
-// small simplification: femur to 1000 vertices, 0.285 -> 0.251 s uncompressed). At
-// 262144 rows the whole original surface of inputs up to 262k triangles (patches, the
-// triangles, the vertices) and the CSR offsets went uncompressed: 16384 makes the .bpm
-// of armadillo + 1x Loop (208k triangles) at --ratio 0.1 13 % smaller (27.6 -> 24.0 MB;
-// the rest is mostly node_image and node_barycentric, float64 that deflate barely shrinks).
-constexpr hsize_t kChunkThreshold = 16384;
-// Level 4/6/9 gave 1.7/2.6/3.2 % smaller files than level 1 (the same file) for
-// 1.2/1.5/7x its deflate time.
+constexpr hsize_t kChunkRows = 65536;  // rows per chunk of a compressed dataset
+// Datasets of at least this many bytes are chunked and deflated; smaller ones stay
+// contiguous. Earlier writers compressed only datasets of more than 16384 rows, which left
+// the whole file of a small input raw: elephant (2775 vertices) at --ratio 0.1 had 1.29 MB
+// of data that deflate makes 0.58 MB. That costs about 0.05 s CPU on small inputs
+// (bpm-simplify femur --vertices 1000: 0.32 -> 0.37 s, elephant --ratio 0.1: 0.27 ->
+// 0.32 s, most of it the shuffle trials); reading takes no measurably longer. Below about
+// 512 bytes the chunk index and filter message cost more than deflate saves (two_cubes:
+// 1024 -> 512 bytes made the file 7 % smaller, 256 no smaller again).
+constexpr size_t kCompressMinBytes = 512;
+// Level 4/6 make armadillo + 1x Loop (208k triangles, --vertices 10000) 1.9/2.4 % smaller
+// than level 1 for 0.5/0.8 s more CPU time (bpm-simplify takes 11 s); inflating costs the
+// same at every level.
 constexpr unsigned kDeflateLevel = 1;
+
+// Whether the shuffle filter (bytes regrouped by significance) before deflate makes the
+// first chunk of a dataset smaller, tried with the level the file uses. It pays on index
+// arrays (phi/pieces: 6x smaller shuffled, 3.8x unshuffled) but not on most float64
+// arrays: coordinates read from text with few digits and barycentric coordinates with
+// exact 0 and 1 deflate better as they are (fandisk's original/vertices: 61 kB unshuffled,
+// 128 kB shuffled). Which way wins differs between meshes for the same dataset
+// (node_image: shuffled 12 % smaller on elephant, 16 % larger on fandisk), so the data
+// decide; the choice depends on the bytes only, so writing stays deterministic. The trial
+// compresses the first 256 kB of the first chunk: trying whole chunks (up to 1.5 MB)
+// compressed every byte of a small file three times (reading and writing armadillo, femur
+// and elephant at --ratio 0.1: 0.31 s CPU uncompressed, 0.60 s with whole-chunk trials,
+// 0.47 s with 256 kB). The files of 256 kB trials are at most 1.5 % larger than those of
+// whole-chunk trials (armadillo + 1x Loop: original/vertices; femur-10.r1 of identical.sh
+// 1.2 %; the --ratio 0.1 outputs the same); 64 kB (also four 64 kB slices spread over the
+// chunk) chose worse on femur at --ratio 0.1 (3.5 % larger).
+constexpr size_t kShuffleTrialBytes = size_t(256) << 10;
+bool shuffle_pays(const void* data, size_t bytes, size_t element_size) {
+    if (element_size < 2 || bytes < element_size) return false;
+    const size_t elements = std::min(bytes, kShuffleTrialBytes) / element_size;
+    const auto* in = static_cast<const unsigned char*>(data);
+    std::vector<unsigned char> shuffled(elements * element_size);
+    for (size_t i = 0; i < elements; ++i)
+        for (size_t b = 0; b < element_size; ++b) shuffled[b * elements + i] = in[i * element_size + b];
+    std::vector<unsigned char> out(compressBound(uLong(shuffled.size())));
+    uLongf plain_size = uLongf(out.size()), shuffled_size = uLongf(out.size());
+    if (compress2(out.data(), &plain_size, in, uLong(shuffled.size()), int(kDeflateLevel)) != Z_OK) return true;
+    if (compress2(out.data(), &shuffled_size, shuffled.data(), uLong(shuffled.size()), int(kDeflateLevel)) != Z_OK)
+        return false;
+    return shuffled_size < plain_size;
+}
 
 class Writer {
 public:
@@ -185,19 +219,28 @@ public:
         check(H5Awrite(attr, mem_type, values.data()), std::string("cannot write attribute ") + name);
     }
 
-    // A 1-D (cols == 0) or 2-D (rows x cols) dataset. Large ones are chunked and
-    // compressed; small ones contiguous, which keeps tiny files tiny and trivially
-    // readable.
+    // A 1-D (cols == 0) or 2-D (rows x cols) dataset: chunked and deflated from
+    // kCompressMinBytes on (one chunk up to kChunkRows rows), shuffled where that pays;
+    // smaller ones contiguous.
     void write_dataset(hid_t group, const char* name, const void* data, hsize_t rows, hsize_t cols,
                        hid_t file_type, hid_t mem_type) const {
         const int rank = cols == 0 ? 1 : 2;
         hsize_t dims[2] = {rows, cols};
         Handle space(check_id(H5Screate_simple(rank, dims, nullptr), "cannot create a dataspace"), H5Sclose);
         Handle dcpl = untimed_plist(H5P_DATASET_CREATE);
-        if (rows > kChunkThreshold) {
+#if H5_VERSION_GE(1, 10, 5)
+        // No dataset has attributes: without the hint every dataset's object header
+        // reserves room for some (about 130 bytes each, a tenth of a small file's metadata).
+        check(H5Pset_dset_no_attrs_hint(dcpl, true), std::string("cannot size the object header of ") + name);
+#endif
+        const size_t element_size = H5Tget_size(mem_type);
+        const size_t bytes = size_t(rows) * size_t(std::max<hsize_t>(cols, 1)) * element_size;
+        if (bytes >= kCompressMinBytes) {
             hsize_t chunk[2] = {std::min(rows, kChunkRows), cols};
             check(H5Pset_chunk(dcpl, rank, chunk), std::string("cannot set chunking of ") + name);
-            check(H5Pset_shuffle(dcpl), std::string("cannot set shuffle filter of ") + name);
+            const size_t chunk_bytes = size_t(chunk[0]) * size_t(std::max<hsize_t>(cols, 1)) * element_size;
+            if (shuffle_pays(data, chunk_bytes, element_size))
+                check(H5Pset_shuffle(dcpl), std::string("cannot set shuffle filter of ") + name);
             check(H5Pset_deflate(dcpl, kDeflateLevel), std::string("cannot set deflate filter of ") + name);
         }
         Handle ds(check_id(H5Dcreate2(group, name, file_type, space, H5P_DEFAULT, dcpl, H5P_DEFAULT),
@@ -531,9 +574,26 @@ void check_writable(const BpmFile& file, const std::string& where) {
 // Creates the HDF5 file `name` through the driver of `fapl`. The library's default
 // (earliest) object formats on purpose: with the 1.8 formats the superblock carries a
 // checksum that H5Fget_file_image (HDF5 1.10.8) leaves stale for images of files still
-// open, and other readers then reject the file. Both drivers give the same bytes.
+// open, and other readers then reject the file (and the 1.8 formats made the files of
+// the benchmark meshes 3-7 % larger, not smaller). Both drivers give the same bytes.
+//
+// Metadata settings that every HDF5 reader since 1.6 reads (superblock version 1): with
+// the default B-tree sizes (K = 32 and 16) every chunked dataset's chunk index is a 2.6 kB
+// node with room for 64 chunks, and every group's a 0.9 kB node for 32 symbol-table
+// leaves, while a dataset of a small file has one chunk and a group at most a dozen links.
+// K = 2 gives nodes of 4 entries (deeper trees for the large datasets cost a few lookups);
+// K = 1, the smallest HDF5 allows, saved another 1.5 kB on small files but made the chunk
+// indexes of armadillo + 2x Loop (19 chunks per large dataset) 219 kB instead of 20 kB.
+// Without the metadata and small-data aggregation blocks (2 kB each by default) objects
+// are allocated where they end rather than in blocks whose unused tails stay in the file.
+// Together with compressing datasets from 512 bytes on: two_cubes (the smallest
+// benchmark file) 106 -> 29 kB, of which 15 kB is data.
 Handle create_file(const Writer& w, const std::string& name, hid_t fapl) {
     Handle fcpl = w.untimed_plist(H5P_FILE_CREATE);
+    w.check(H5Pset_istore_k(fcpl, 2), "cannot set the chunk index node size");
+    w.check(H5Pset_sym_k(fcpl, 2, 4), "cannot set the group node size");
+    w.check(H5Pset_meta_block_size(fapl, 0), "cannot set the metadata block size");
+    w.check(H5Pset_small_data_block_size(fapl, 0), "cannot set the small data block size");
     return Handle(w.check_id(H5Fcreate(name.c_str(), H5F_ACC_TRUNC, fcpl, fapl), "cannot create the HDF5 file"),
                   H5Fclose);
 }

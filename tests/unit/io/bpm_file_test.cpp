@@ -116,7 +116,8 @@ TEST_CASE("fixtures with non-trivial phi round-trip exactly", "[format]") {
         require_equal(f, read_bpm_from_memory(write_bpm_to_memory(f), "mem"));
     }
     SECTION("large enough to be chunked and compressed") {
-        // libbpm compresses datasets of more than 16384 rows (bpm_file.cpp, spec §3.2).
+        // More than 16384 rows: the datasets earlier writers compressed (now every dataset
+        // of at least 512 bytes, bpm_file.cpp, spec §3.2).
         const BpmFile f = with_provenance(test::make_height_field(132, 6, test::default_height));
         REQUIRE(f.param.num_nodes() > 16384);
         REQUIRE(f.param.original.num_triangles() > 16384);
@@ -174,7 +175,7 @@ TEST_CASE("writing is deterministic and write_bpm writes the same bytes", "[form
 TEST_CASE("a file written in place has the bytes of the in-memory image, also with compressed chunks", "[format]") {
     // write_bpm streams through its own HDF5 driver (io/hdf5_fd_driver.h), the image goes
     // through the core driver: the layout must not depend on the driver. 200 x 100 cells
-    // give more triangles than the chunking threshold (16384 rows), so deflated chunks too.
+    // give 40000 triangles, so large deflated chunks too.
     const BpmFile f = with_provenance(test::make_height_field(200, 100, test::default_height));
     REQUIRE(f.param.original.num_triangles() > 16384);
     const test_support::ScratchDir scratch("bpm_file_chunked");
@@ -190,6 +191,44 @@ TEST_CASE("a file written in place has the bytes of the in-memory image, also wi
         ++entries;
     }
     CHECK(entries == 1);
+}
+
+TEST_CASE("datasets of small files are compressed too, and tiny ones stay contiguous", "[format]") {
+    // Earlier writers deflated only datasets of more than 16384 rows, which left the whole
+    // .bpm of a small input raw (elephant: 1.29 MB, 0.58 MB deflated).
+    // bpm_file.cpp compresses every dataset of at least 512 bytes (spec §3.2).
+    const BpmFile f = with_provenance(test::make_subdivided_octahedron(3));
+    REQUIRE(f.param.num_nodes() < 16384);
+    REQUIRE(f.param.num_nodes() * 24 >= 512);
+    Image image(write_bpm_to_memory(f));
+    const auto filters = [&](const char* path) {
+        const hid_t ds = H5Dopen2(image.file, path, H5P_DEFAULT);
+        REQUIRE(ds >= 0);
+        const hid_t dcpl = H5Dget_create_plist(ds);
+        std::vector<H5Z_filter_t> out;
+        const int n = H5Pget_nfilters(dcpl);
+        for (int i = 0; i < n; ++i) {
+            unsigned flags = 0;
+            size_t nvalues = 0;
+            out.push_back(H5Pget_filter2(dcpl, unsigned(i), &flags, &nvalues, nullptr, 0, nullptr, nullptr));
+        }
+        const H5D_layout_t layout = H5Pget_layout(dcpl);
+        H5Pclose(dcpl);
+        H5Dclose(ds);
+        return std::make_pair(layout, out);
+    };
+    for (const char* path : {"/phi/node_image", "/phi/node_barycentric", "/phi/pieces", "/original/vertices",
+                             "/original/triangles"}) {
+        INFO(path);
+        const auto [layout, list] = filters(path);
+        CHECK(layout == H5D_CHUNKED);
+        REQUIRE(!list.empty());
+        CHECK(list.back() == H5Z_FILTER_DEFLATE);
+    }
+    const auto [layout, list] = filters("/VTKHDF/NumberOfPoints");
+    CHECK(layout == H5D_CONTIGUOUS);
+    CHECK(list.empty());
+    require_equal(f, read_bpm_from_memory(write_bpm_to_memory(f), "mem"));
 }
 
 TEST_CASE("identity phi read from a file evaluates to the input exactly", "[format][phi]") {
