@@ -21,12 +21,14 @@
 # --max-tets overrides).
 #
 # Usage: bench/tetmesh.sh [--no-build] [--build-dir DIR] [--work-dir DIR] [--results-dir DIR]
-#                         [--meshes femur,fandisk,...] [--max-tets N] [--no-compare]
+#                         [--meshes femur,fandisk,...] [--targets r10,v1000] [--max-tets N] [--no-compare]
 #   --build-dir DIR    Release build with bpm-simplify, bpm-mesh, bpm-refine in DIR/bin (default build-bench);
 #                      without --no-build: cmake -S . -B DIR -DCMAKE_BUILD_TYPE=Release -DBPM_BUILD_TESTS=OFF
 #                      and cmake --build DIR -j2 --target bpm-simplify bpm-mesh bpm-refine first
 #   --work-dir DIR     scratch files (default DIR/bench-work/tetmesh; kept, outputs of big runs deleted)
 #   --results-dir DIR  where tetmesh.md and tetmesh.json go (default bench/results)
+#   --targets LIST     coarse sizes: r10 (bpm-simplify --ratio 0.1, rows named after the mesh) and
+#                      v1000 (--vertices 1000, rows "NAME 1000 V"; not for two_cubes); default r10,v1000
 # Relative paths are taken from the repository root. Non-interactive; progress on stderr.
 # Exit status: 0 when every run finished (whether the targets were met is in the tables),
 # 1 when a run failed, 2 on a usage error, 6 when tetgen is missing.
@@ -42,6 +44,7 @@ results_dir=bench/results
 meshes="femur,fandisk,elephant,armadillo,two_cubes"
 max_tets="${BPM_BENCH_MAX_TETS:-20000000}"
 compare=1
+targets=r10,v1000
 usage() { sed -n '/^# Usage:/,/^# Needs:/p' "$0" | sed 's/^# \{0,1\}//'; }
 while (($#)); do
     case "$1" in
@@ -57,6 +60,8 @@ while (($#)); do
         --max-tets) max_tets="${2:?--max-tets needs a number}"; shift ;;
         --max-tets=*) max_tets="${1#*=}" ;;
         --no-compare) compare=0 ;;
+        --targets) targets="${2:?--targets needs a list}"; shift ;;
+        --targets=*) targets="${1#*=}" ;;
         -h|--help) usage; exit 0 ;;
         *) echo "tetmesh.sh: unknown argument '$1'" >&2; usage >&2; exit 2 ;;
     esac
@@ -136,8 +141,18 @@ else:
 PY
 )
     read -r orig_v orig_t <<< "$counts"
-    log "$name: bpm-simplify --ratio 0.1"
-    if ! timed "$bin/bpm-simplify" "$input" -o "$work/$name.bpm" --ratio 0.1 --deterministic -q; then
+    IFS=, read -r -a target_list <<< "$targets"
+    mesh=$name
+    for target in "${target_list[@]}"; do
+    case "$target" in
+        r10) name=$mesh simplify_flags=(--ratio 0.1) ;;
+        v1000) [[ "$mesh" == two_cubes ]] && continue
+               name="$mesh 1000 V" simplify_flags=(--vertices 1000) ;;
+        *) log "unknown target '$target' (r10, v1000)"; exit 2 ;;
+    esac
+    stem=${name// /-}
+    log "$name: bpm-simplify ${simplify_flags[*]}"
+    if ! timed "$bin/bpm-simplify" "$input" -o "$work/$stem.bpm" "${simplify_flags[@]}" --deterministic -q; then
         log "$name: bpm-simplify failed"; failed=1; continue
     fi
     simplify_wall=$wall simplify_cpu=$cpu
@@ -145,8 +160,8 @@ PY
     # surface refinement has the same parameter positions (one-region meshes only).
     surface_volumes=()
     for K in 0 1 2 3; do
-        if "$bin/bpm-refine" "$work/$name.bpm" --levels "$K" -o "$work/$name.surface$K.off" -q; then
-            surface_volumes+=(surface_volume_k$K "$("$py" - "$work/$name.surface$K.off" <<'PY'
+        if "$bin/bpm-refine" "$work/$stem.bpm" --levels "$K" -o "$work/$stem.surface$K.off" -q; then
+            surface_volumes+=(surface_volume_k$K "$("$py" - "$work/$stem.surface$K.off" <<'PY'
 import sys
 words = [w for line in open(sys.argv[1]) for w in line.split("#")[0].split()]
 nv, nf = int(words[1]), int(words[2])
@@ -160,7 +175,7 @@ for k in range(nf):
 print(repr(total / 6))
 PY
 )")
-            rm -f "$work/$name.surface$K.off"
+            rm -f "$work/$stem.surface$K.off"
         fi
     done
     configs=(smooth)
@@ -169,13 +184,13 @@ PY
         flags=()
         [[ $config == off ]] && flags=(--no-smooth)
         log "$name ($config): bpm-mesh"
-        if ! timed "$bin/bpm-mesh" "$work/$name.bpm" -o "$work/$name.$config.k0.bpm" --json -q --deterministic \
-                "${flags[@]}" > "$work/$name.$config.k0.json"; then
+        if ! timed "$bin/bpm-mesh" "$work/$stem.bpm" -o "$work/$stem.$config.k0.bpm" --json -q --deterministic \
+                "${flags[@]}" > "$work/$stem.$config.k0.json"; then
             log "$name: bpm-mesh failed"; failed=1; continue
         fi
-        record "$name" "$config" 0 "$work/$name.$config.k0.json" simplify_wall "$simplify_wall" simplify_cpu "$simplify_cpu" \
+        record "$name" "$config" 0 "$work/$stem.$config.k0.json" simplify_wall "$simplify_wall" simplify_cpu "$simplify_cpu" \
             original_vertices "$orig_v" original_triangles "$orig_t" "${surface_volumes[@]}"
-        tets0=$("$py" -c 'import json,sys; print(json.load(open(sys.argv[1]))["tetrahedra"])' "$work/$name.$config.k0.json")
+        tets0=$("$py" -c 'import json,sys; print(json.load(open(sys.argv[1]))["tetrahedra"])' "$work/$stem.$config.k0.json")
         for K in 1 2 3; do
             if ((tets0 * (1 << (3 * K)) > max_tets)); then
                 echo "{\"name\": \"$name\", \"config\": \"$config\", \"K\": $K, \"skipped\": true}" >> "$rows"
@@ -184,14 +199,15 @@ PY
             rflags=()
             [[ $config == off ]] && rflags=(--no-smooth --remedy-min-dihedral 0)
             log "$name ($config): refine K=$K"
-            if ! timed "$bin/bpm-mesh" "$work/$name.$config.k0.bpm" --existing --refine "$K" -o "$work/$name.$config.k$K.bpm" \
-                    --json -q --deterministic "${rflags[@]}" > "$work/$name.$config.k$K.json"; then
+            if ! timed "$bin/bpm-mesh" "$work/$stem.$config.k0.bpm" --existing --refine "$K" -o "$work/$stem.$config.k$K.bpm" \
+                    --json -q --deterministic "${rflags[@]}" > "$work/$stem.$config.k$K.json"; then
                 log "$name: refinement K=$K failed"; failed=1; continue
             fi
-            record "$name" "$config" "$K" "$work/$name.$config.k$K.json"
-            rm -f "$work/$name.$config.k$K.bpm"
+            record "$name" "$config" "$K" "$work/$stem.$config.k$K.json"
+            rm -f "$work/$stem.$config.k$K.bpm"
         done
     done
+done  # targets
 done
 
 load_end="$(cut -d' ' -f1-3 /proc/loadavg)"
@@ -219,7 +235,8 @@ w = L.append
 w("# bpm-mesh and tetrahedral refinement (bench/tetmesh.sh)\n")
 w("Started %s on %s cores (%s), load average %s at the start and %s at the end (the machine may be shared: "
   "CPU seconds are the steadier number). TetGen %s. Inputs simplified to 10%% of their vertices with "
-  "`bpm-simplify --ratio 0.1 --deterministic`; `bpm-mesh` runs TetGen with `-pYzA -q1.414`; refinement is "
+  "`bpm-simplify --ratio 0.1 --deterministic` (rows named after the mesh) and to 1000 vertices with "
+  "`--vertices 1000` (rows \"NAME 1000 V\"); `bpm-mesh` runs TetGen with `-pYzA -q1.414`; refinement is "
   "`bpm-mesh LEVEL0.bpm --existing --refine K`, each K from the level-0 mesh. Runs above %s tetrahedra are "
   "skipped.\n" % (started, cores, platform.machine(), load_start, load_end, tetgen, max_tets))
 w("**smooth** is the default: TetGen's Steiner points are smoothed, and after every refinement level the "
@@ -307,6 +324,31 @@ for config, n, reg, monotone, factor, inverted in targets:
     w("| %s | %s | %d | %s | %s | %d | %s |" % (config, n, reg, "yes" if monotone else "**no**",
                                               "exact" if factor == float("inf") else "%.1fx" % factor, inverted,
                                               "yes" if ok else "**no**"))
+w("")
+
+# Issue 19, "tets without slivers": the default configuration.
+w("## Targets, dihedral angles (issue 19: min dihedral >= 5 degrees at K = 0 and >= 3 at K = 1..3, 0 inverted)\n")
+w("| mesh | K = 0 | K = 1 | K = 2 | K = 3 | inverted | met |")
+w("|---|---|---|---|---|---|---|")
+angle_met = []
+for n in names:
+    done = [get(n, "smooth", K) for K in range(4)]
+    cells, ok = [], True
+    for K, d in enumerate(done):
+        if d is None or d.get("skipped"):
+            cells.append("—")
+            ok = False
+            continue
+        a = d["min_dihedral_degrees"]
+        good = a >= (5 if K == 0 else 3)
+        ok = ok and good
+        cells.append("%.2f" % a if good else "**%.2f**" % a)
+    inverted = sum(d["inverted"] for d in done if d and not d.get("skipped"))
+    ok = ok and inverted == 0
+    angle_met.append(ok)
+    w("| %s | %s | %d | %s |" % (n, " | ".join(cells), inverted, "yes" if ok else "**no**"))
+w("")
+w("Met on %d of %d rows." % (sum(angle_met), len(angle_met)))
 w("")
 open(os.path.join(out_dir, "tetmesh.md"), "w").write("\n".join(L))
 print("\n".join(L))
