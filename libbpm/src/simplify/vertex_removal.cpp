@@ -581,17 +581,12 @@ void finish_paths(const CoarseMesh& mesh, const Embedding& embedding, RemovalScr
               [](const auto& p, const auto& q) { return p.first < q.first; });
 
     // Rewrite the paths of the edited edges, in increasing edge order.
-    // Stable either way; a short list by insertion (std::stable_sort allocates its buffer
-    // for every plan, and most plans edit a handful of paths, already in order per fan).
+    // A fan's edits come in this order already (its segments run by edge, then along it),
+    // so only a plan of two fans needs the sort (std::stable_sort allocates its buffer).
     auto before = [](const PathEdit& p, const PathEdit& q) {
         return p.edge < q.edge || (p.edge == q.edge && p.first < q.first);
     };
-    if (edits.size() <= 32) {
-        for (size_t i = 1; i < edits.size(); ++i)
-            for (size_t k = i; k > 0 && before(edits[k], edits[k - 1]); --k) std::swap(edits[k], edits[k - 1]);
-    } else {
-        std::stable_sort(edits.begin(), edits.end(), before);
-    }
+    if (!std::is_sorted(edits.begin(), edits.end(), before)) std::stable_sort(edits.begin(), edits.end(), before);
     auto& points = scratch.points;
     auto& sigmas = scratch.sigmas;
     for (size_t begin = 0, end = 0; begin < edits.size(); begin = end) {
