@@ -18,6 +18,9 @@ bool clearly_in_circle(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& 
     const double cdx = c[0] - d[0], cdy = c[1] - d[1];
     const double alift = adx * adx + ady * ady, blift = bdx * bdx + bdy * bdy, clift = cdx * cdx + cdy * cdy;
     const double det = alift * (bdx * cdy - cdx * bdy) + blift * (cdx * ady - adx * cdy) + clift * (adx * bdy - bdx * ady);
+    // The bound below is >= 0 (or NaN): a det that is not positive fails it anyway, and
+    // most corners are outside the circle, so the bound is only needed for det > 0.
+    if (!(det > 0.0)) return false;
     const double permanent = (std::abs(bdx * cdy) + std::abs(cdx * bdy)) * alift +
                              (std::abs(cdx * ady) + std::abs(adx * cdy)) * blift +
                              (std::abs(adx * bdy) + std::abs(bdx * ady)) * clift;

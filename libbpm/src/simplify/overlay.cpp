@@ -13,22 +13,12 @@ namespace {
 
 inline Vec2 param_point(const GraphNode& n) { return {n.bary[1], n.bary[2]}; }
 
-// Is node n on local edge k (including its end corners)?
-inline bool on_local_edge(const GraphNode& n, int k) {
-    if (n.on_edge == k) return true;
-    return n.corner == k || n.corner == (k + 1) % 3;
-}
-
-inline bool share_local_edge(const GraphNode& a, const GraphNode& b) {
-    for (int k = 0; k < 3; ++k)
-        if (on_local_edge(a, k) && on_local_edge(b, k)) return true;
-    return false;
-}
-
-inline bool three_on_one_edge(const GraphNode& a, const GraphNode& b, const GraphNode& c) {
-    for (int k = 0; k < 3; ++k)
-        if (on_local_edge(a, k) && on_local_edge(b, k) && on_local_edge(c, k)) return true;
-    return false;
+// The local edges node n lies on (including their end corners), as bits 1 << k: corner
+// c is on edges c and c - 1. Nodes share a local edge when their masks share a bit.
+inline unsigned side_mask(const GraphNode& n) {
+    unsigned mask = n.on_edge >= 0 ? 1u << n.on_edge : 0u;
+    if (n.corner >= 0) mask |= (1u << n.corner) | (1u << ((n.corner + 2) % 3));
+    return mask;
 }
 
 // Position of node n along local edge k, from corner k (0) to corner k+1 (1).
@@ -98,6 +88,13 @@ bool faces_into(const TriangleGraph& graph, const Embedding& embedding, const st
     static thread_local std::vector<int32_t> offset;
     static thread_local std::vector<uint8_t> used_flat;
     static thread_local std::vector<int32_t> chain[3];  // per side: its nodes from corner k to corner k+1
+    // side_mask() of every node, computed once (the checks below ask it for every link
+    // and every face corner).
+    static thread_local std::vector<uint8_t> sides;
+    sides.resize(n);
+    for (int32_t i = 0; i < n; ++i) sides[i] = static_cast<uint8_t>(side_mask(nodes[i]));
+    auto share_side = [&](int32_t a, int32_t b) { return (sides[a] & sides[b]) != 0; };
+    auto three_on_one_side = [&](int32_t a, int32_t b, int32_t c) { return (sides[a] & sides[b] & sides[c]) != 0; };
     int32_t num_edges = 0;
     int32_t corner_node[3] = {-1, -1, -1};
     for (int32_t i = 0; i < n; ++i)
@@ -135,7 +132,7 @@ bool faces_into(const TriangleGraph& graph, const Embedding& embedding, const st
         }
     }
     for (const GraphSegment& s : graph.segments) {
-        if (s.n0 == s.n1 || share_local_edge(nodes[s.n0], nodes[s.n1])) {
+        if (s.n0 == s.n1 || share_side(s.n0, s.n1)) {
             set_reason(why, "degenerate segment");
             return false;
         }
@@ -188,7 +185,7 @@ bool faces_into(const TriangleGraph& graph, const Embedding& embedding, const st
             const Vec2 pa = param_point(nodes[a]), pb = param_point(nodes[b]);
             // The cheap tests first: the two links along a side of the coarse triangle are
             // collinear, and on a slanted side only the exact predicate can tell.
-            if (dot(pa - p, pb - p) > 0 && !three_on_one_edge(nodes[i], nodes[a], nodes[b]) && orient2d(p, pa, pb) == 0) {
+            if (dot(pa - p, pb - p) > 0 && !three_on_one_side(i, a, b) && orient2d(p, pa, pb) == 0) {
                 set_reason(why, "overlapping edges");
                 return false;
             }
@@ -246,11 +243,10 @@ bool faces_into(const TriangleGraph& graph, const Embedding& embedding, const st
             // left winds k times if its edge direction enters the upper half-plane k times.
             int windings = 0;
             for (size_t c = 0; c < m; ++c) {
-                const GraphNode& a = nodes[corners[c == 0 ? m - 1 : c - 1]];
-                const GraphNode& b = nodes[corners[c]];
-                const GraphNode& d = nodes[corners[c + 1 == m ? 0 : c + 1]];
-                const Vec2 pa = param_point(a), pb = param_point(b), pd = param_point(d);
-                if (!three_on_one_edge(a, b, d) && orient2d(pa, pb, pd) <= 0) {
+                const int32_t ia = corners[c == 0 ? m - 1 : c - 1], ib = corners[c];
+                const int32_t id = corners[c + 1 == m ? 0 : c + 1];
+                const Vec2 pa = param_point(nodes[ia]), pb = param_point(nodes[ib]), pd = param_point(nodes[id]);
+                if (!three_on_one_side(ia, ib, id) && orient2d(pa, pb, pd) <= 0) {
                     set_reason(why, "face not convex or flipped");
                     return false;
                 }

@@ -49,6 +49,7 @@ bool assign_pieces(const Fan& fan, const FanTriangulation& tri, const StarGraph&
         }
     };
     pieces.pieces.clear();
+    for (PathEdit& e : pieces.path_edits) pieces.recycle(e.middle);
     pieces.path_edits.clear();
     int32_t ca[64], cb[64];
     for (size_t si = 0; si < graph.segments.size(); ++si) {
@@ -93,7 +94,7 @@ bool assign_pieces(const Fan& fan, const FanTriangulation& tri, const StarGraph&
         }
         // Path edit: the new crossings in order along the original edge (which runs
         // from its smaller vertex; the segment may run the other way).
-        PathEdit edit{seg.edge, seg.first, seg.last, {}};
+        PathEdit edit{seg.edge, seg.first, seg.last, pieces.take()};
         const bool increasing = seg.sigma_b > seg.sigma_a;
         for (int32_t i = 0; i < c1 - c0; ++i) {
             const NewCrossing& c = cuts.crossings[increasing ? c0 + i : c1 - 1 - i];

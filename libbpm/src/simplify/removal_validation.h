@@ -8,6 +8,7 @@
 #include <array>
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "bpm/geometry.h"
@@ -39,6 +40,22 @@ struct TransferPieces {
     std::vector<int32_t> side_triangle;                      // the new triangle on each polygon side
     std::vector<Piece> pieces;
     std::vector<PathEdit> path_edits;  // one per straightened segment
+    // Emptied crossing lists kept for their capacity (every full plan makes a few per
+    // fan, and a plan's rewritten paths one per edited edge): assign_pieces() takes the
+    // path edits' `middle` lists from here, and the planner gives back the lists it has
+    // read (vertex_removal.cpp), so that planning does not allocate them anew each time.
+    std::vector<std::vector<Crossing>> spare;
+    void recycle(std::vector<Crossing>& list) {
+        if (list.capacity() == 0) return;
+        list.clear();
+        spare.push_back(std::move(list));
+    }
+    std::vector<Crossing> take() {
+        if (spare.empty()) return {};
+        std::vector<Crossing> list = std::move(spare.back());
+        spare.pop_back();
+        return list;
+    }
 };
 
 // Splits every cut segment into pieces, each in the one new triangle both its ends are

@@ -45,6 +45,7 @@ public:
         estimated_deviation = 0.0;
         min_normal_cosine = 1.0;
         used_floater = false;
+        for (PathEdit& e : pieces.path_edits) pieces.recycle(e.middle);
         pieces.path_edits.clear();
         locations.clear();
         along_diagonal_ = {-1, -1};
@@ -420,6 +421,9 @@ void RemovalPlan::clear() {
 
 void VertexRemover::plan_once(int32_t v, bool force_disk, bool validate, bool defer, RemovalPlan& plan,
                               bool& crease_line) {
+    // The plan's rewritten paths go back to the spare lists before it is cleared.
+    TransferPieces& spare = scratch_->planner.pieces;
+    for (auto& p : plan.new_paths) spare.recycle(p.second);
     plan.clear();
     plan.vertex = v;
     auto& fans = scratch_->fans;
@@ -460,6 +464,7 @@ void VertexRemover::plan_once(int32_t v, bool force_disk, bool validate, bool de
 
     // Path edits of all fans, grouped by edge in finish_paths() (a feature-line vertex
     // has two fans that an original edge may both pass).
+    for (PathEdit& e : scratch_->edits) spare.recycle(e.middle);
     scratch_->edits.clear();
     // v and the vertices on its two feature edges end up on the new feature edge a--b,
     // in the order a, ..., v, ..., b, at parameters proportional to 3D distance.
@@ -576,9 +581,12 @@ void finish_paths(const CoarseMesh& mesh, const Embedding& embedding, RemovalScr
               [](const auto& p, const auto& q) { return p.first < q.first; });
 
     // Rewrite the paths of the edited edges, in increasing edge order.
-    std::stable_sort(edits.begin(), edits.end(), [](const auto& p, const auto& q) {
+    // A fan's edits come in this order already (its segments run by edge, then along it),
+    // so only a plan of two fans needs the sort (std::stable_sort allocates its buffer).
+    auto before = [](const PathEdit& p, const PathEdit& q) {
         return p.edge < q.edge || (p.edge == q.edge && p.first < q.first);
-    });
+    };
+    if (!std::is_sorted(edits.begin(), edits.end(), before)) std::stable_sort(edits.begin(), edits.end(), before);
     auto& points = scratch.points;
     auto& sigmas = scratch.sigmas;
     for (size_t begin = 0, end = 0; begin < edits.size(); begin = end) {
@@ -586,7 +594,7 @@ void finish_paths(const CoarseMesh& mesh, const Embedding& embedding, RemovalScr
         for (end = begin; end < edits.size() && edits[end].edge == e; ++end) {
         }
         embedding.path_points(e, points, sigmas);
-        std::vector<Crossing> crossings;
+        std::vector<Crossing> crossings = scratch.planner.pieces.take();
         const int32_t last = static_cast<int32_t>(points.size()) - 1;
         size_t count = std::max(last - 1, 0);
         for (size_t k = begin; k < end; ++k) count += edits[k].middle.size();
