@@ -55,8 +55,9 @@ int main(int argc, char** argv) {
         "are moved onto the original surface through phi (Krause & Sander §3.3). Vertices not on the surface\n"
         "are smoothed (TetGen's Steiner points, and after every refinement level) to keep the elements next to\n"
         "the moved boundary well shaped, and tetrahedra with a small dihedral angle are flipped (2-3 flips,\n"
-        "edge removals; never a face of the surface) where that raises it; --no-smooth turns both off,\n"
-        "--no-flip the flips.",
+        "edge removals; never a face of the surface) where that raises it, at level 0 followed by a new\n"
+        "interior vertex in those no flip improves; --no-smooth turns all of it off, --no-flip the flips\n"
+        "and the new vertices.",
         tool};
     std::string input, output, format;
     bpm::TetMeshOptions options;
@@ -100,8 +101,8 @@ int main(int argc, char** argv) {
                  "Do not smooth the interior vertices (smoothing never inverts or worsens)");
     bool no_flip = false;
     app.add_flag("--no-flip", no_flip,
-                 "Do not flip tetrahedra to remove slivers (keeps TetGen's connectivity and, with --refine, that of "
-                 "plain red refinement)");
+                 "Do not flip tetrahedra or insert vertices to remove slivers (keeps TetGen's mesh and, with "
+                 "--refine, red refinement)");
     double remedy_min_dihedral = bpm::TetRefineOptions{}.repair.min_dihedral_degrees;
     app.add_option("--remedy-min-dihedral", remedy_min_dihedral,
                    "Hold a boundary vertex short of phi rather than bring a dihedral angle below this (degrees; "
@@ -274,6 +275,7 @@ int main(int argc, char** argv) {
                                 for (const auto& l : refine_result.levels) n += l.flips;
                                 return n;
                             }()) +
+                            ", \"insertions\": " + std::to_string(mesh_result.insertions) +
                             ", \"flip_seconds\": " + json_double([&] {
                                 double sec = mesh_result.flip_seconds;
                                 for (const auto& l : refine_result.levels) sec += l.flip_seconds;

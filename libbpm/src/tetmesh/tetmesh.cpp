@@ -42,6 +42,7 @@
 #include "bpm/surface_topology.h"
 #include "core/tetrahedron_quality.h"
 #include "tetmesh/tet_flips.h"
+#include "tetmesh/tet_insert.h"
 #include "tetmesh/tetgen_poly.h"
 #include "tetmesh/tetmesh_internal.h"
 
@@ -712,6 +713,27 @@ TetMeshResult generate_tetmesh(const Parametrization& param, const TetMeshOption
                       " edge removals (" + num(fr.visited) + " tetrahedra below 15 degrees, " + num(fr.sweeps) +
                       " sweeps), min dihedral " + std::to_string(fr.min_dihedral_before_degrees) + " -> " +
                       std::to_string(fr.min_dihedral_after_degrees) + " degrees, " + std::to_string(fr.seconds) + " s");
+        // The slivers no flip improves: a new interior vertex in each (and flips around it).
+        const detail::TetInsertResult ir =
+            detail::insert_vertices(out.vertices, out.tetrahedra, out.regions, out.faces, {});
+        result.insertions = ir.inserted;
+        result.flip_seconds += ir.seconds;
+        out.vertex_coarse_vertex.resize(out.vertices.size(), -1);
+        out.vertex_parameter_points.resize(out.vertices.size(), SurfacePoint{});
+        context.debug("level-0 vertex insertion: " + num(ir.inserted) + " vertices inserted (" + num(ir.tried) +
+                      " tetrahedra below 15 degrees, " + num(ir.rounds) + " rounds), min dihedral " +
+                      std::to_string(ir.min_dihedral_before_degrees) + " -> " +
+                      std::to_string(ir.min_dihedral_after_degrees) + " degrees, " + std::to_string(ir.seconds) + " s");
+        if (ir.inserted > 0) {
+            const detail::TetFlipResult again =
+                detail::flip_tetrahedra(out.vertices, out.tetrahedra, nullptr, out.regions, nullptr, out.faces, {});
+            result.flips += again.flips_23 + again.edge_removals;
+            result.flip_seconds += again.seconds;
+            context.debug("level-0 flips after insertion: " + num(again.flips_23) + " 2-3 flips and " +
+                          num(again.edge_removals) + " edge removals, min dihedral " +
+                          std::to_string(again.min_dihedral_before_degrees) + " -> " +
+                          std::to_string(again.min_dihedral_after_degrees) + " degrees");
+        }
     }
     if (options.smooth) {
         const TetSmoothResult sm = smooth_tetmesh(out, options.smoothing);
