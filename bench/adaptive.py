@@ -29,7 +29,7 @@ import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from run import MESHES, binary_line, read_off_header, rel, write_atomic  # noqa: E402  (the main driver)
-from suite import TARGETS, Suite, load_json  # noqa: E402  (shared with refine.py)
+from suite import Suite, load_json  # noqa: E402  (shared with refine.py)
 
 SUITE = Suite("adaptive", ["bpm-simplify", "bpm-refine", "bpm-bench-metrics"])
 log = SUITE.log
@@ -167,14 +167,14 @@ def markdown(header, rows):
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     SUITE.add_arguments(ap)
-    ap.add_argument("--targets", default="r10,v1000", help="coarse sizes: r10 (10 %%), v1000 (1000 vertices)")
+    SUITE.add_target_argument(ap)
     ap.add_argument("--tolerances", default="0.003,0.001,0.0003", help="bpm-refine --max-error values")
     ap.add_argument("--samples", type=int, default=500000, help="bpm-bench-metrics --samples")
     ap.add_argument("--min-per-triangle", type=int, default=1, help="bpm-bench-metrics --min-per-triangle")
     args = ap.parse_args()
     SUITE.prepare(args)
     args.tolerances = [float(x) for x in args.tolerances.split(",") if x]
-    targets = [t for t in TARGETS if t[1] in args.targets.split(",")]
+    targets = SUITE.targets(args)
 
     t_start = time.monotonic()
     header = SUITE.header(args, sys.argv[1:])

@@ -31,7 +31,7 @@ import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from run import MESHES, binary_line, rel, write_atomic  # noqa: E402  (the main driver)
-from suite import PYTHON, TARGETS, Suite, load_json  # noqa: E402  (shared with refine.py, adaptive.py)
+from suite import PYTHON, Suite, load_json  # noqa: E402  (shared with refine.py, adaptive.py)
 
 SUITE = Suite("refined_check", ["bpm-simplify", "bpm-smooth", "bpm-refine", "bpm-check"])
 log = SUITE.log
@@ -149,13 +149,13 @@ def markdown(header, rows):
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     SUITE.add_arguments(ap)
-    ap.add_argument("--targets", default="r10,v1000", help="coarse sizes: r10 (10 %%), v1000 (1000 vertices)")
+    SUITE.add_target_argument(ap)
     ap.add_argument("--levels", default="1,2", help="bpm-refine --levels values")
     ap.add_argument("--fixtures", default=",".join(FIXTURES), help="multi-material fixtures ('' for none)")
     args = ap.parse_args()
     SUITE.prepare(args)
     args.levels = [int(x) for x in args.levels.split(",") if x]
-    targets = [t for t in TARGETS if t[1] in args.targets.split(",")]
+    targets = SUITE.targets(args)
     fixtures = [f for f in args.fixtures.split(",") if f]
     unknown = [f for f in fixtures if f not in FIXTURES]
     if unknown:

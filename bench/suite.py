@@ -43,6 +43,15 @@ class Suite:
         ap.add_argument("--meshes", default=",".join(DEFAULT_MESHES), help="comma-separated names in .data/meshes")
         ap.add_argument("--timeout", type=int, default=1800, help="seconds per command")
 
+    def add_target_argument(self, ap):
+        """--targets: which of TARGETS (the coarse sizes) a per-row suite runs."""
+        ap.add_argument("--targets", default=",".join(t[1] for t in TARGETS),
+                        help="coarse sizes: " + ", ".join(f"{t[1]} ({t[0]})" for t in TARGETS).replace("%", "%%"))
+
+    def targets(self, args):
+        """The (label, tag, bpm-simplify options) of TARGETS that --targets names, in TARGETS' order."""
+        return [t for t in TARGETS if t[1] in args.targets.split(",")]
+
     def prepare(self, args):
         """Absolute directories, the mesh list, and an error naming every mesh that is missing."""
         args.build_dir = os.path.abspath(args.build_dir)
