@@ -14,63 +14,13 @@
 #include "core/tetrahedron_quality.h"
 #include "fixtures_surfaces.h"
 #include "test_support.h"
+#include "tetmesh/conforming_mesh_checks.h"
 #include "tetmesh/tet_flips.h"
 
 using namespace bpm;
+using namespace bpm::test;
 
 namespace {
-
-using Key = std::array<int32_t, 3>;
-
-Key key(int32_t a, int32_t b, int32_t c) {
-    Key k{a, b, c};
-    std::sort(k.begin(), k.end());
-    return k;
-}
-
-double min_angle(const std::vector<Vec3>& x, const std::vector<Tet>& tets) {
-    double m = 180;
-    for (const Tet& t : tets) m = std::min(m, detail::min_dihedral_degrees(x[t[0]], x[t[1]], x[t[2]], x[t[3]]));
-    return m;
-}
-
-// How many tetrahedra have each face (sorted), and on which side (the outward orientation).
-std::map<Key, int> face_counts(const std::vector<Tet>& tets) {
-    static const int f[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
-    std::map<Key, int> count;
-    for (const Tet& t : tets)
-        for (const auto& g : f) ++count[key(t[g[0]], t[g[1]], t[g[2]])];
-    return count;
-}
-
-// A conforming mesh: every tetrahedron positive (exact), no tetrahedron twice, every face
-// in one or two tetrahedra, the faces in one tetrahedron exactly `hull` (the mesh's
-// boundary), every protected face still a face.
-void check_valid(const std::vector<Vec3>& x, const std::vector<Tet>& tets, const std::set<Key>& hull,
-                 const std::vector<Tri>& protected_faces) {
-    std::set<std::array<int32_t, 4>> seen;
-    for (const Tet& t : tets) {
-        CHECK(orient3d(x[t[0]], x[t[1]], x[t[2]], x[t[3]]) == 1);
-        std::array<int32_t, 4> s = t;
-        std::sort(s.begin(), s.end());
-        CHECK(seen.insert(s).second);
-    }
-    const auto counts = face_counts(tets);
-    std::set<Key> boundary;
-    for (const auto& [k, n] : counts) {
-        CHECK(n <= 2);
-        if (n == 1) boundary.insert(k);
-    }
-    CHECK(boundary == hull);
-    for (const Tri& f : protected_faces) CHECK(counts.count(key(f[0], f[1], f[2])) == 1);
-}
-
-std::set<Key> hull_of(const std::vector<Tet>& tets) {
-    std::set<Key> hull;
-    for (const auto& [k, n] : face_counts(tets))
-        if (n == 1) hull.insert(k);
-    return hull;
-}
 
 // Two flat tetrahedra on either side of a large triangle abc (a bipyramid of height 2h),
 // d above and e below; their smallest angle is at the edges of abc, about
@@ -90,13 +40,6 @@ Bipyramid flat_bipyramid(double h) {
     return b;
 }
 
-// The six outer faces of the bipyramid (what a boundary S around it would be).
-std::vector<Tri> outer_faces(const std::vector<Tet>& tets) {
-    std::vector<Tri> out;
-    for (const Key& k : hull_of(tets)) out.push_back({k[0], k[1], k[2]});
-    return out;
-}
-
 }  // namespace
 
 TEST_CASE("tet_flips: a flat pair on a shared face becomes three tetrahedra around the new edge, better",
@@ -104,7 +47,7 @@ TEST_CASE("tet_flips: a flat pair on a shared face becomes three tetrahedra arou
     Bipyramid b = flat_bipyramid(0.05);
     const std::vector<Tri> outer = outer_faces(b.tets);
     REQUIRE(outer.size() == 6);
-    const std::set<Key> hull = hull_of(b.tets);
+    const std::set<FaceKey> hull = hull_of(b.tets);
     const double before = min_angle(b.x, b.tets);
     std::vector<char> created;
     const detail::TetFlipResult r =
@@ -129,7 +72,7 @@ TEST_CASE("tet_flips: three tetrahedra around an edge become two when that is be
     // than three needles around the long axis.
     Bipyramid b = flat_bipyramid(0.8);
     const std::vector<Tri> outer = outer_faces(b.tets);
-    const std::set<Key> hull = hull_of(b.tets);
+    const std::set<FaceKey> hull = hull_of(b.tets);
     std::vector<Tet> three = {Tet{0, 1, 3, 4}, Tet{1, 2, 3, 4}, Tet{2, 0, 3, 4}};
     for (Tet& t : three)
         if (orient3d(b.x[t[0]], b.x[t[1]], b.x[t[2]], b.x[t[3]]) < 0) std::swap(t[2], t[3]);
@@ -206,7 +149,7 @@ TEST_CASE("tet_flips: negatively stored tetrahedra (refinement's Bey order) are 
           "[tetmesh][tet_flips]") {
     Bipyramid b = flat_bipyramid(0.05);
     const std::vector<Tri> outer = outer_faces(b.tets);
-    const std::set<Key> hull = hull_of(b.tets);
+    const std::set<FaceKey> hull = hull_of(b.tets);
     std::vector<bool> negative{true, false};
     std::swap(b.tets[0][2], b.tets[0][3]);  // stored negatively, flagged
     const detail::TetFlipResult r = detail::flip_tetrahedra(b.x, b.tets, &negative, b.regions, nullptr, outer, {});
@@ -237,16 +180,16 @@ TEST_CASE("tet_flips: TetGen meshes stay valid with every face on S and both reg
         CHECK(sa.min_dihedral_degrees >= sb.min_dihedral_degrees - 1e-9);
         CHECK(ra.flips >= 0);
         // Every interface face still separates its two regions.
-        std::map<Key, std::set<int32_t>> sides;
+        std::map<FaceKey, std::set<int32_t>> sides;
         static const int f[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
         for (size_t t = 0; t < a.tetrahedra.size(); ++t)
             for (const auto& g : f)
-                sides[key(a.tetrahedra[t][g[0]], a.tetrahedra[t][g[1]], a.tetrahedra[t][g[2]])].insert(a.regions[t]);
-        std::map<Key, std::set<int32_t>> sides_b;
+                sides[face_key(a.tetrahedra[t][g[0]], a.tetrahedra[t][g[1]], a.tetrahedra[t][g[2]])].insert(a.regions[t]);
+        std::map<FaceKey, std::set<int32_t>> sides_b;
         for (size_t t = 0; t < b.tetrahedra.size(); ++t)
             for (const auto& g : f)
-                sides_b[key(b.tetrahedra[t][g[0]], b.tetrahedra[t][g[1]], b.tetrahedra[t][g[2]])].insert(b.regions[t]);
-        for (const Tri& face : a.faces) CHECK(sides[key(face[0], face[1], face[2])] == sides_b[key(face[0], face[1], face[2])]);
+                sides_b[face_key(b.tetrahedra[t][g[0]], b.tetrahedra[t][g[1]], b.tetrahedra[t][g[2]])].insert(b.regions[t]);
+        for (const Tri& face : a.faces) CHECK(sides[face_key(face[0], face[1], face[2])] == sides_b[face_key(face[0], face[1], face[2])]);
 
         // Refinement with flips: valid, regions inherited from the ancestors, nothing inverted.
         TetRefineOptions ro;

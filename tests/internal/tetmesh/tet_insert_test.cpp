@@ -15,66 +15,15 @@
 #include "bpm/tetmesh.h"
 #include "core/tetrahedron_quality.h"
 #include "test_support.h"
+#include "tetmesh/conforming_mesh_checks.h"
 #include "tetmesh/tet_flips.h"
 #include "tetmesh/tet_insert.h"
 #include "tetmesh/tetmesh_internal.h"
 
 using namespace bpm;
+using namespace bpm::test;
 
 namespace {
-
-using Key = std::array<int32_t, 3>;
-
-Key key(int32_t a, int32_t b, int32_t c) {
-    Key k{a, b, c};
-    std::sort(k.begin(), k.end());
-    return k;
-}
-
-double min_angle(const std::vector<Vec3>& x, const std::vector<Tet>& tets) {
-    double m = 180;
-    for (const Tet& t : tets) m = std::min(m, detail::min_dihedral_degrees(x[t[0]], x[t[1]], x[t[2]], x[t[3]]));
-    return m;
-}
-
-std::map<Key, int> face_counts(const std::vector<Tet>& tets) {
-    std::map<Key, int> count;
-    for (const Tet& t : tets)
-        for (const auto& g : detail::kTetFaces) ++count[key(t[g[0]], t[g[1]], t[g[2]])];
-    return count;
-}
-
-std::set<Key> hull_of(const std::vector<Tet>& tets) {
-    std::set<Key> hull;
-    for (const auto& [k, n] : face_counts(tets))
-        if (n == 1) hull.insert(k);
-    return hull;
-}
-
-// Conforming: every tetrahedron positive (exact), none twice, every face in one or two
-// tetrahedra, the faces in one exactly `hull`, every protected face still a face, every
-// vertex in some tetrahedron.
-void check_valid(const std::vector<Vec3>& x, const std::vector<Tet>& tets, const std::set<Key>& hull,
-                 const std::vector<Tri>& protected_faces) {
-    std::set<std::array<int32_t, 4>> seen;
-    std::vector<char> used(x.size(), 0);
-    for (const Tet& t : tets) {
-        CHECK(orient3d(x[t[0]], x[t[1]], x[t[2]], x[t[3]]) == 1);
-        std::array<int32_t, 4> s = t;
-        std::sort(s.begin(), s.end());
-        CHECK(seen.insert(s).second);
-        for (int32_t v : t) used[v] = 1;
-    }
-    const auto counts = face_counts(tets);
-    std::set<Key> boundary;
-    for (const auto& [k, n] : counts) {
-        CHECK(n <= 2);
-        if (n == 1) boundary.insert(k);
-    }
-    CHECK(boundary == hull);
-    for (const Tri& f : protected_faces) CHECK(counts.count(key(f[0], f[1], f[2])) == 1);
-    CHECK(std::count(used.begin(), used.end(), 0) == 0);
-}
 
 std::vector<double> region_volumes(const std::vector<Vec3>& x, const std::vector<Tet>& tets,
                                    const std::vector<int32_t>& regions) {
@@ -126,12 +75,6 @@ Mesh locked_sliver(double h = 0.05, double height = 0.1) {
     return m;
 }
 
-std::vector<Tri> outer_faces(const std::vector<Tet>& tets) {
-    std::vector<Tri> out;
-    for (const Key& k : hull_of(tets)) out.push_back({k[0], k[1], k[2]});
-    return out;
-}
-
 }  // namespace
 
 TEST_CASE("tet_insert: a sliver no flip improves gets a vertex inside its cavity", "[tetmesh][tet_insert]") {
@@ -139,7 +82,7 @@ TEST_CASE("tet_insert: a sliver no flip improves gets a vertex inside its cavity
     for (const Tet& t : m.tets) REQUIRE(orient3d(m.x[t[0]], m.x[t[1]], m.x[t[2]], m.x[t[3]]) == 1);
     const std::vector<Tri> faces = outer_faces(m.tets);
     REQUIRE(faces.size() == 12);
-    const std::set<Key> hull = hull_of(m.tets);
+    const std::set<FaceKey> hull = hull_of(m.tets);
     check_valid(m.x, m.tets, hull, faces);
     const double before = min_angle(m.x, m.tets);
     REQUIRE(before == Approx(min_angle(m.x, {m.tets[0]})));  // the sliver is the worst, about 8 degrees
@@ -178,7 +121,7 @@ TEST_CASE("tet_insert: faces on S and other regions stay out of the cavity", "[t
             const auto f = detail::outward_face(m.tets[0], k);
             faces.push_back({f[0], f[1], f[2]});
         }
-        const std::set<Key> hull = hull_of(m.tets);
+        const std::set<FaceKey> hull = hull_of(m.tets);
         const Tet sliver = m.tets[0];
         const std::vector<double> volume = region_volumes(m.x, m.tets, m.regions);
         detail::insert_vertices(m.x, m.tets, m.regions, faces, {});
@@ -190,10 +133,10 @@ TEST_CASE("tet_insert: faces on S and other regions stay out of the cavity", "[t
         Mesh m = locked_sliver();
         m.regions.back() = 2;
         std::vector<Tri> faces = outer_faces(m.tets);
-        const std::set<Key> hull = hull_of(m.tets);
+        const std::set<FaceKey> hull = hull_of(m.tets);
         for (int k = 0; k < 4; ++k) {  // its interfaces: the faces it shares with the others
             const auto f = detail::outward_face(m.tets.back(), k);
-            if (!hull.count(key(f[0], f[1], f[2]))) faces.push_back({f[0], f[1], f[2]});
+            if (!hull.count(face_key(f[0], f[1], f[2]))) faces.push_back({f[0], f[1], f[2]});
         }
         REQUIRE(faces.size() == 14);
         const std::vector<double> volume = region_volumes(m.x, m.tets, m.regions);
