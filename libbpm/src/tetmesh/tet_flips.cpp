@@ -48,10 +48,8 @@ public:
     Flipper(const std::vector<Vec3>& x, std::vector<Tet>& tets, std::vector<bool>* negative,
             std::vector<int32_t>& regions, std::vector<int32_t>* ancestor, const std::vector<Tri>& protected_faces,
             const TetFlipOptions& o)
-        : x_(x), tets_(tets), negative_(negative), regions_(regions), ancestor_(ancestor), o_(o) {
-        protected_.reserve(protected_faces.size());
-        for (const Tri& f : protected_faces) protected_.push_back(face_key(f[0], f[1], f[2]));
-        std::sort(protected_.begin(), protected_.end());
+        : x_(x), tets_(tets), negative_(negative), regions_(regions), ancestor_(ancestor), o_(o),
+          protected_(protected_faces) {
         target_ = pseudo_from_radians(o.target_degrees * kPi / 180);
         dead_.assign(tets_.size(), 0);
         created_.assign(tets_.size(), 0);
@@ -161,7 +159,7 @@ private:
     double quality_of(const Tet& T) const { return min_dihedral_pseudo(x_[T[0]], x_[T[1]], x_[T[2]], x_[T[3]]); }
     bool positive(const Tet& T) const { return orient3d(x_[T[0]], x_[T[1]], x_[T[2]], x_[T[3]]) == 1; }
     bool is_protected(int32_t a, int32_t b, int32_t c) const {
-        return std::binary_search(protected_.begin(), protected_.end(), face_key(a, b, c));
+        return protected_.contains(a, b, c);
     }
     bool compatible(int32_t s, int32_t t) const {
         return regions_[s] == regions_[t] && (!ancestor_ || (*ancestor_)[s] == (*ancestor_)[t]);
@@ -411,7 +409,7 @@ private:
     std::vector<int32_t>* ancestor_;
     const TetFlipOptions& o_;
     double target_ = 0;
-    std::vector<FaceKey> protected_;
+    ProtectedFaces protected_;
     std::vector<char> dead_, created_;
     std::vector<int32_t> slot_;
     std::vector<std::vector<int32_t>> lists_;

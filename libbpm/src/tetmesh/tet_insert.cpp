@@ -31,10 +31,7 @@ class Inserter {
 public:
     Inserter(std::vector<Vec3>& x, std::vector<Tet>& tets, std::vector<int32_t>& regions,
              const std::vector<Tri>& protected_faces, const TetInsertOptions& o)
-        : x_(x), tets_(tets), regions_(regions), rounds_(o.rounds) {
-        protected_.reserve(protected_faces.size());
-        for (const Tri& f : protected_faces) protected_.push_back(face_key(f[0], f[1], f[2]));
-        std::sort(protected_.begin(), protected_.end());
+        : x_(x), tets_(tets), regions_(regions), rounds_(o.rounds), protected_(protected_faces) {
         target_ = pseudo_from_radians(o.target_degrees * kPi / 180);
         dead_.assign(tets_.size(), 0);
         in_cavity_.assign(tets_.size(), 0);
@@ -102,7 +99,7 @@ private:
     double quality(int32_t t) const { return quality_of(tets_[t]); }
     double quality_of(const Tet& T) const { return min_dihedral_pseudo(x_[T[0]], x_[T[1]], x_[T[2]], x_[T[3]]); }
     bool is_protected(const std::array<int32_t, 3>& f) const {
-        return std::binary_search(protected_.begin(), protected_.end(), face_key(f[0], f[1], f[2]));
+        return protected_.contains(f[0], f[1], f[2]);
     }
 
     void build_neighbours() {
@@ -335,7 +332,7 @@ private:
     std::vector<int32_t>& regions_;
     int rounds_ = 1;
     double target_ = 0;
-    std::vector<FaceKey> protected_;
+    ProtectedFaces protected_;
     std::vector<std::array<int32_t, 4>> nb_;  // tetrahedron across face k (kTetFaces), or -1
     std::vector<char> dead_, in_cavity_;
 };

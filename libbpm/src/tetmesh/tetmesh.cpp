@@ -64,6 +64,16 @@ FaceKey face_key(int32_t a, int32_t b, int32_t c) {
     return k;
 }
 
+ProtectedFaces::ProtectedFaces(const std::vector<Tri>& faces) {
+    keys_.reserve(faces.size());
+    for (const Tri& f : faces) keys_.push_back(face_key(f[0], f[1], f[2]));
+    std::sort(keys_.begin(), keys_.end());
+}
+
+bool ProtectedFaces::contains(int32_t a, int32_t b, int32_t c) const {
+    return std::binary_search(keys_.begin(), keys_.end(), face_key(a, b, c));
+}
+
 bool same_cyclic_orientation(const Tri& f, const std::array<int32_t, 3>& g) {
     for (int s = 0; s < 3; ++s)
         if (f[0] == g[s] && f[1] == g[(s + 1) % 3] && f[2] == g[(s + 2) % 3]) return true;

@@ -20,6 +20,17 @@ FaceKey face_key(int32_t a, int32_t b, int32_t c);
 // Is g a cyclic rotation of f (same vertices, same orientation)?
 bool same_cyclic_orientation(const Tri& f, const std::array<int32_t, 3>& g);
 
+// The faces on S (boundary and interfaces) as sorted keys: the faces that flips and vertex
+// insertion (tet_flips.h, tet_insert.h) must keep.
+class ProtectedFaces {
+public:
+    explicit ProtectedFaces(const std::vector<Tri>& faces);
+    bool contains(int32_t a, int32_t b, int32_t c) const;
+
+private:
+    std::vector<FaceKey> keys_;  // sorted
+};
+
 struct TetFace {
     FaceKey key;
     int32_t tet;

@@ -17,13 +17,8 @@
 
 namespace bpm::test {
 
-using FaceKey = std::array<int32_t, 3>;  // a face's vertices, sorted
-
-inline FaceKey face_key(int32_t a, int32_t b, int32_t c) {
-    FaceKey k{a, b, c};
-    std::sort(k.begin(), k.end());
-    return k;
-}
+using detail::face_key;  // a face's vertices, sorted
+using detail::FaceKey;
 
 inline double min_angle(const std::vector<Vec3>& x, const std::vector<Tet>& tets) {
     double m = 180;
