@@ -49,8 +49,14 @@ class Suite:
                         help="coarse sizes: " + ", ".join(f"{t[1]} ({t[0]})" for t in TARGETS).replace("%", "%%"))
 
     def targets(self, args):
-        """The (label, tag, bpm-simplify options) of TARGETS that --targets names, in TARGETS' order."""
-        return [t for t in TARGETS if t[1] in args.targets.split(",")]
+        """The (label, tag, bpm-simplify options) of TARGETS that --targets names, in TARGETS' order;
+        exits with an error naming a tag that is not one of them (rather than run nothing)."""
+        asked = [t for t in args.targets.split(",") if t]
+        unknown = [t for t in asked if t not in [x[1] for x in TARGETS]]
+        if unknown or not asked:
+            sys.exit(f"{self.name}.py: error: --targets {args.targets!r}: use one or more of "
+                     f"{', '.join(t[1] for t in TARGETS)}")
+        return [t for t in TARGETS if t[1] in asked]
 
     def prepare(self, args):
         """Absolute directories, the mesh list, and an error naming every mesh that is missing."""
