@@ -18,11 +18,21 @@ void add_in_order(bpm::CheckReport& report, bpm::CheckResult result) {
     if (result.name == "quality" && at != report.checks.begin() && std::prev(at)->name == "distance") --at;
     report.checks.insert(at, std::move(result));
 }
+
+// Adds the tetmesh check where run_checks puts it: after the structural checks.
+void add_tetmesh_in_order(bpm::CheckReport& report, bpm::CheckResult result) {
+    auto at = report.checks.begin();
+    for (auto it = report.checks.begin(); it != report.checks.end(); ++it)
+        if (it->name == "format" || it->name == "original-intersections" || it->name == "intersections" ||
+            it->name == "topology")
+            at = std::next(it);
+    report.checks.insert(at, std::move(result));
+}
 }  // namespace
 
 // The library reports in its own terms (CheckOptions fields, what a file lacks); the
 // flags that set or fix them are ours to name, as they were before the library dropped them.
-void name_flags(bpm::CheckReport& report, bool replay_without_steps) {
+void name_flags(bpm::CheckReport& report, bool replay_without_steps, bool without_tetmesh) {
     for (bpm::CheckResult& r : report.checks) {
         if (r.name == "distance")
             for (bpm::CheckProblem& pr : r.problems) {
@@ -30,6 +40,11 @@ void name_flags(bpm::CheckReport& report, bool replay_without_steps) {
                 const size_t at = pr.message.find(field);
                 if (at != std::string::npos) pr.message.replace(at, field.size(), "--max-distance ");
             }
+        if (r.name == "tetmesh" && without_tetmesh) {
+            const std::string hint = " (bpm-mesh writes one)";
+            r.summary += hint;
+            for (bpm::CheckProblem& pr : r.problems) pr.message += hint;
+        }
         if (r.name == "replay" && replay_without_steps) {
             const std::string hint = " (write it with bpm-simplify --record-steps)";
             r.summary += hint;
@@ -53,11 +68,14 @@ int main(int argc, char** argv) {
         "                 original triangle\n"
         "  replay         (with --replay) the removals stored by bpm-simplify --record-steps are each a\n"
         "                 valid removal and together give the coarse surface\n"
+        "  tetmesh        (files with a volume mesh, from bpm-mesh) the tetrahedra are positively oriented\n"
+        "                 and meet face to face, fill the inside of the coarse surface, and their faces\n"
+        "                 on it cover every coarse triangle exactly once\n"
         "  quality        (with --max-aspect / --min-angle) shapes of the coarse triangles\n"
         "  distance       (with --max-distance) how far phi's image and the coarse surface are from the original",
         tool};
     std::string input;
-    std::string checks = "format,intersections,topology,bijectivity,distortion";
+    std::string checks = "format,intersections,topology,bijectivity,distortion,tetmesh";
     bool original = false, json = false, surface_mode = false;
     double max_aspect = 0, min_angle = 0, max_distance = 0, sample_spacing = 1e-3;
     bool replay = false;
@@ -68,8 +86,9 @@ int main(int argc, char** argv) {
     app.add_option("FILE", input, "Input .bpm file, or a surface file with --surface; '-' reads standard input")
         ->required();
     app.add_option("--checks", checks,
-                   "Comma-separated checks to run: format, intersections, topology, bijectivity, distortion, replay "
-                   "('all' = the first five, the default). With --surface only intersections and topology apply")
+                   "Comma-separated checks to run: format, intersections, topology, bijectivity, distortion, tetmesh, "
+                   "replay ('all' = the first six, the default; tetmesh runs on files with a volume mesh and, named "
+                   "here, fails on files without one). With --surface only intersections and topology apply")
         ->capture_default_str();
     app.add_flag("--original", original,
                  "Also check the original surface for self-intersections (reported as 'original-intersections')");
@@ -154,7 +173,7 @@ int main(int argc, char** argv) {
     });
     return bpm::tools::run(tool, argc, argv, app, [&]() {
         bpm::CheckSelection sel;
-        sel.format = sel.intersections = sel.topology = sel.bijectivity = false;
+        sel.format = sel.intersections = sel.topology = sel.bijectivity = sel.tetmesh = false;
         // distance and quality are run by their limits (--max-distance, --max-aspect,
         // --min-angle); named in --checks without one they measure and pass.
         bool want_distance = false, want_quality = false;
@@ -167,13 +186,15 @@ int main(int argc, char** argv) {
             else if (item == "bijectivity") sel.bijectivity = true;
             else if (item == "replay") sel.replay = true;
             else if (item == "distortion") sel.distortion = true;
+            else if (item == "tetmesh") sel.tetmesh = true;
             else if (item == "distance") want_distance = true;
             else if (item == "quality") want_quality = true;
-            else if (item == "all") sel.format = sel.intersections = sel.topology = sel.bijectivity = sel.distortion = true;
+            else if (item == "all")
+                sel.format = sel.intersections = sel.topology = sel.bijectivity = sel.distortion = sel.tetmesh = true;
             else
                 throw CLI::ValidationError("--checks", "unknown check '" + item +
                                                            "' (known: format, intersections, topology, bijectivity, "
-                                                           "distortion, quality, distance, replay, all)");
+                                                           "distortion, tetmesh, quality, distance, replay, all)");
         }
         sel.original_intersections = original;
         if (replay) sel.replay = true;
@@ -193,10 +214,11 @@ int main(int argc, char** argv) {
             if (sel.replay) throw CLI::ValidationError("--replay", "replay needs a .bpm file, not --surface");
             if (distance_limit)
                 throw CLI::ValidationError("--max-distance", "--max-distance needs a .bpm file, not --surface");
-            if (sel.format || sel.bijectivity || sel.distortion) {
+            if (sel.format || sel.bijectivity || sel.distortion || sel.tetmesh) {
                 if (app.count("--checks"))
-                    throw CLI::ValidationError("--checks", "format, bijectivity and distortion need a .bpm file, not --surface");
-                sel.format = sel.bijectivity = sel.distortion = false;
+                    throw CLI::ValidationError("--checks",
+                                               "format, bijectivity, distortion and tetmesh need a .bpm file, not --surface");
+                sel.format = sel.bijectivity = sel.distortion = sel.tetmesh = false;
             }
             read_options.triangulate_polygons = triangulate_polygons;
             if (!surface_format.empty()) {
@@ -219,7 +241,10 @@ int main(int argc, char** argv) {
             const bpm::CheckResult* format_check = report.find("format");
             if (want_distance && !report.find("distance") && format_check && format_check->passed)
                 add_in_order(report, bpm::check_distance(file.param, options, context));
-            name_flags(report, sel.replay && !file.simplification_steps);
+            // tetmesh runs on files that have a tet mesh; named in --checks, its absence fails.
+            const bool tetmesh_missing = sel.tetmesh && !file.tetmesh && app.count("--checks") > 0;
+            if (tetmesh_missing) add_tetmesh_in_order(report, bpm::check_tetmesh(file, options, context));
+            name_flags(report, sel.replay && !file.simplification_steps, tetmesh_missing);
         }
         report.input = input;
         std::cout << (json ? bpm::check_report_to_json(report) : bpm::check_report_to_text(report)) << std::flush;

@@ -154,6 +154,18 @@ CheckResult check_distance(const Parametrization& param, const CheckOptions& opt
 // equal the coarse surface. Fails ("not checked") on files without a record.
 CheckResult check_replay(const BpmFile& file, const CheckOptions& options = {}, const Context& context = {});
 
+// The tetrahedral mesh of the file (/tetmesh, spec/tetmesh.md), beyond what the reader
+// checks: every tetrahedron positively oriented (exact orient3d); conforming (a face is
+// shared by at most two tetrahedra, which lie on its two sides); every boundary face of
+// the mesh, and every face between two regions, is in /tetmesh/faces, and every listed
+// face is a face of the mesh, once; every vertex is a corner of a tetrahedron; each face
+// on S lies in its coarse triangle (its corners' parameter points) with the triangle's
+// orientation, and the faces of a coarse triangle cover it (4^level of them); coarse
+// vertices are at the coarse surface's positions (at level 0: the first #Vc vertices, in
+// order, and face i is coarse triangle i). Reports the smallest dihedral angle as the
+// worst value. Fails ("not checked") on a file without a tet mesh.
+CheckResult check_tetmesh(const BpmFile& file, const CheckOptions& options = {}, const Context& context = {});
+
 // What bpm-check runs.
 struct CheckSelection {
     bool format = true;
@@ -163,9 +175,11 @@ struct CheckSelection {
     bool original_intersections = false;  // also check S0 (so a faulty input is reported as such)
     bool replay = false;                  // replay the recorded simplification steps (needs a record)
     bool distortion = false;              // report phi's distortion (check_distortion; bpm-check's default)
+    bool tetmesh = true;                  // check the tet mesh (check_tetmesh), when the file has one
 };
 // Runs the selected checks and reports them in a fixed order: format, original
-// intersections, intersections, topology, bijectivity, distortion, quality, distance, replay.
+// intersections, intersections, topology, tetmesh (only for a file with a tet mesh),
+// bijectivity, distortion, quality, distance, replay.
 // With two threads (options.threads) the first four run on a second thread, without
 // progress reports, next to the others.
 CheckReport run_checks(const BpmFile& file, const CheckSelection& selection, const CheckOptions& options = {},

@@ -164,6 +164,7 @@ CheckReport run_checks(const BpmFile& file, const CheckSelection& sel, const Che
             out.push_back(check_intersections(p.original, options, ctx, "original-intersections"));
         if (sel.intersections) out.push_back(check_intersections(p.coarse, options, ctx, "intersections"));
         if (sel.topology) out.push_back(check_topology(p, options, ctx));
+        if (sel.tetmesh && file.tetmesh) out.push_back(check_tetmesh(file, options, ctx));
         return out;
     };
     auto others = [&](const Context& ctx) {
@@ -177,7 +178,7 @@ CheckReport run_checks(const BpmFile& file, const CheckSelection& sel, const Che
     };
     std::vector<CheckResult> first, second;
     const bool side_by_side = threads > 1 && (sel.format || sel.original_intersections || sel.intersections ||
-                                              sel.topology);
+                                              sel.topology || (sel.tetmesh && file.tetmesh));
     if (side_by_side) {
         auto side = std::async(std::launch::async, [&] { return structural(side_context); });
         try {
