@@ -22,9 +22,9 @@
 #
 # Usage: bench/tetmesh.sh [--no-build] [--build-dir DIR] [--work-dir DIR] [--results-dir DIR]
 #                         [--meshes femur,fandisk,...] [--targets r10,v1000] [--max-tets N] [--no-compare]
-#   --build-dir DIR    Release build with bpm-simplify, bpm-mesh, bpm-refine in DIR/bin (default build-bench);
+#   --build-dir DIR    Release build with bpm-simplify, bpm-mesh, bpm-refine, bpm-check in DIR/bin (default build-bench);
 #                      without --no-build: cmake -S . -B DIR -DCMAKE_BUILD_TYPE=Release -DBPM_BUILD_TESTS=OFF
-#                      and cmake --build DIR -j2 --target bpm-simplify bpm-mesh bpm-refine first
+#                      and cmake --build DIR -j2 --target bpm-simplify bpm-mesh bpm-refine bpm-check first
 #   --work-dir DIR     scratch files (default DIR/bench-work/tetmesh; kept, outputs of big runs deleted)
 #   --results-dir DIR  where tetmesh.md and tetmesh.json go (default bench/results)
 #   --targets LIST     coarse sizes: r10 (bpm-simplify --ratio 0.1, rows named after the mesh) and
@@ -75,10 +75,10 @@ command -v tetgen >/dev/null || { log "tetgen not on PATH (Debian package 'tetge
 if ((!no_build)); then
     log "building bpm-simplify and bpm-mesh in $build_dir (Release)"
     cmake -S "$here" -B "$build_dir" -DCMAKE_BUILD_TYPE=Release -DBPM_BUILD_TESTS=OFF >&2
-    cmake --build "$build_dir" -j2 --target bpm-simplify bpm-mesh bpm-refine >&2
+    cmake --build "$build_dir" -j2 --target bpm-simplify bpm-mesh bpm-refine bpm-check >&2
 fi
 bin="$(cd "$build_dir" && pwd)/bin"
-for tool in bpm-simplify bpm-mesh bpm-refine; do
+for tool in bpm-simplify bpm-mesh bpm-refine bpm-check; do
     [[ -x "$bin/$tool" ]] || { log "no $tool in $bin (drop --no-build?)"; exit 2; }
 done
 [[ -n "$work" ]] || work="$build_dir/bench-work/tetmesh"
@@ -100,6 +100,11 @@ timed() {
         return 0
     fi
     return 1
+}
+# 1 if bpm-check's independent tetmesh check passes on FILE (orientation, conformity,
+# faces on S covering every coarse triangle), 0 otherwise. Not timed.
+tetmesh_check() {
+    "$bin/bpm-check" "$1" --checks tetmesh -q > "$1.check.txt" 2>&1 && echo 1 || echo 0
 }
 # Appends the JSON report of a bpm-mesh run with the bench's own fields.
 record() {  # name config K json [key value]...
@@ -189,7 +194,8 @@ PY
             log "$name: bpm-mesh failed"; failed=1; continue
         fi
         record "$name" "$config" 0 "$work/$stem.$config.k0.json" simplify_wall "$simplify_wall" simplify_cpu "$simplify_cpu" \
-            original_vertices "$orig_v" original_triangles "$orig_t" "${surface_volumes[@]}"
+            original_vertices "$orig_v" original_triangles "$orig_t" "${surface_volumes[@]}" \
+            tetmesh_check_passed "$(tetmesh_check "$work/$stem.$config.k0.bpm")"
         tets0=$("$py" -c 'import json,sys; print(json.load(open(sys.argv[1]))["tetrahedra"])' "$work/$stem.$config.k0.json")
         for K in 1 2 3; do
             if ((tets0 * (1 << (3 * K)) > max_tets)); then
@@ -203,7 +209,8 @@ PY
                     --json -q --deterministic "${rflags[@]}" > "$work/$stem.$config.k$K.json"; then
                 log "$name: refinement K=$K failed"; failed=1; continue
             fi
-            record "$name" "$config" "$K" "$work/$stem.$config.k$K.json"
+            record "$name" "$config" "$K" "$work/$stem.$config.k$K.json" \
+                tetmesh_check_passed "$(tetmesh_check "$work/$stem.$config.k$K.bpm")"
             rm -f "$work/$stem.$config.k$K.bpm"
         done
     done
@@ -328,8 +335,10 @@ w("")
 
 # Issue 19, "tets without slivers": the default configuration.
 w("## Targets, dihedral angles (issue 19: min dihedral >= 5 degrees at K = 0 and >= 3 at K = 1..3, 0 inverted)\n")
-w("| mesh | K = 0 | K = 1 | K = 2 | K = 3 | inverted | met |")
-w("|---|---|---|---|---|---|---|")
+w("*bpm-check*: levels whose file passes `bpm-check --checks tetmesh` (positive by exact orient3d, conforming, "
+  "the faces on S covering every coarse triangle), out of those made.\n")
+w("| mesh | K = 0 | K = 1 | K = 2 | K = 3 | inverted | bpm-check | met |")
+w("|---|---|---|---|---|---|---|---|")
 angle_met = []
 for n in names:
     done = [get(n, "smooth", K) for K in range(4)]
@@ -344,9 +353,13 @@ for n in names:
         ok = ok and good
         cells.append("%.2f" % a if good else "**%.2f**" % a)
     inverted = sum(d["inverted"] for d in done if d and not d.get("skipped"))
-    ok = ok and inverted == 0
+    made = [d for d in done if d and not d.get("skipped")]
+    checked = sum(1 for d in made if d.get("tetmesh_check_passed") == 1)
+    ok = ok and inverted == 0 and checked == len(made)
     angle_met.append(ok)
-    w("| %s | %s | %d | %s |" % (n, " | ".join(cells), inverted, "yes" if ok else "**no**"))
+    w("| %s | %s | %d | %s | %s |" % (n, " | ".join(cells), inverted,
+                                      "%d / %d" % (checked, len(made)) if checked == len(made)
+                                      else "**%d / %d**" % (checked, len(made)), "yes" if ok else "**no**"))
 w("")
 w("Met on %d of %d rows." % (sum(angle_met), len(angle_met)))
 w("")
