@@ -16,7 +16,7 @@
 #include "bpm/bpm_file.h"
 
 #include <hdf5.h>
-#include <zlib.h>
+#include <libdeflate.h>
 
 #include <algorithm>
 #include <atomic>
@@ -120,10 +120,14 @@ constexpr hsize_t kChunkRows = 65536;  // rows per chunk of a compressed dataset
 // 512 bytes the chunk index and filter message cost more than deflate saves (two_cubes:
 // 1024 -> 512 bytes made the file 7 % smaller, 256 no smaller again).
 constexpr size_t kCompressMinBytes = 512;
-// Level 4/6 make armadillo + 1x Loop (208k triangles, --vertices 10000) 1.9/2.4 % smaller
-// than level 1 for 0.5/0.8 s more CPU time (bpm-simplify takes 11 s); inflating costs the
-// same at every level.
-constexpr unsigned kDeflateLevel = 1;
+// libdeflate's level (HDF5's filter message records it; inflating costs the same at every
+// level). With zlib, level 1 was the choice (4/6 made armadillo + 1x Loop 1.9/2.4 %
+// smaller for 0.5/0.8 s more of bpm-simplify's 11 s). libdeflate at level 2 writes files
+// 1-3 % smaller than zlib at level 1, in about 60 % of the time (elephant --vertices
+// 1000: writer 0.060 -> 0.038 s CPU, 661 -> 647 kB; armadillo + 2x Loop, 832k triangles,
+// --ratio 1: 2.9 -> 1.8-2.2 s, 95.5 -> 94.3 MB); its level 1 is as fast on small files
+// but 1-4 % larger than level 2, level 4 as fast on large files and slower on small ones.
+constexpr unsigned kDeflateLevel = 2;
 
 // Whether the shuffle filter (bytes regrouped by significance) before deflate makes the
 // first chunk of a dataset smaller. It pays on index arrays (phi/pieces: 6x smaller
@@ -136,8 +140,9 @@ constexpr unsigned kDeflateLevel = 1;
 //
 // The writer compresses the chunks itself and hands them to HDF5 as they are stored
 // (H5Dwrite_chunk, "direct chunk write"): the first chunk both ways, keeping the smaller,
-// the others the way the first chose. The bytes are those HDF5's own shuffle and deflate
-// filters make (the same zlib call), so readers see ordinary filtered chunks. Through
+// the others the way the first chose. The chunks are ordinary shuffle + deflate chunks
+// (zlib streams, made by libdeflate, which is about twice as fast as zlib), so every
+// HDF5 reads them with its own filters. Through
 // HDF5's filters the choice cost a separate trial: two compressions of up to 256 kB
 // before the real one, which on a small file compressed every byte three times (the
 // trial was two thirds of the writer's time on elephant --vertices 1000); now a file
@@ -145,7 +150,12 @@ constexpr unsigned kDeflateLevel = 1;
 // once plus its first chunk again.
 class ChunkCompressor {
 public:
-    explicit ChunkCompressor(size_t element_size) : element_size_(element_size) {}
+    ChunkCompressor() : deflate_(libdeflate_alloc_compressor(int(kDeflateLevel))) {
+        if (!deflate_) throw std::bad_alloc();
+    }
+    ChunkCompressor(const ChunkCompressor&) = delete;
+    ChunkCompressor& operator=(const ChunkCompressor&) = delete;
+    ~ChunkCompressor() { libdeflate_free_compressor(deflate_); }
 
     // The stored bytes of one chunk and the HDF5 filter mask that says which filters of
     // the pipeline (shuffle, deflate) were skipped. The buffer is reused from chunk to
@@ -156,27 +166,26 @@ public:
         uint32_t filter_mask = 0;
     };
 
-    // Compresses one chunk of `bytes` bytes into `out`, shuffled or not; the pipeline of
-    // the dataset has the shuffle filter when `shuffle_in_pipeline`.
-    void compress(const unsigned char* data, size_t bytes, bool shuffle, bool shuffle_in_pipeline, Stored& out) {
+    // Compresses one chunk of `bytes` bytes of elements of `element_size` bytes into
+    // `out`, shuffled or not; the pipeline of the dataset has the shuffle filter when
+    // `shuffle_in_pipeline`.
+    void compress(const unsigned char* data, size_t bytes, size_t element_size, bool shuffle, bool shuffle_in_pipeline,
+                  Stored& out) {
         const unsigned char* in = data;
         if (shuffle) {
             if (shuffled_.size() < bytes) shuffled_.resize(bytes);
-            const size_t elements = bytes / element_size_;
+            const size_t elements = bytes / element_size;
             for (size_t i = 0; i < elements; ++i)
-                for (size_t b = 0; b < element_size_; ++b)
-                    shuffled_[b * elements + i] = data[i * element_size_ + b];
+                for (size_t b = 0; b < element_size; ++b) shuffled_[b * elements + i] = data[i * element_size + b];
             in = shuffled_.data();
         }
-        // HDF5's deflate filter gives zlib this much room and stores the chunk without
-        // deflate (the optional filter skipped) when the output does not fit.
-        const size_t room = size_t(std::ceil(double(bytes) * double(1.001f))) + 12;
-        if (out.buffer.size() < std::max(room, bytes)) out.buffer.resize(std::max(room, bytes));
+        // A chunk that deflate does not make smaller is stored without deflate (the
+        // optional filter skipped), as HDF5's own deflate filter does when zlib's output
+        // does not fit in about the input's size.
+        if (out.buffer.size() < bytes) out.buffer.resize(bytes);
         out.filter_mask = shuffle_in_pipeline && !shuffle ? 1u : 0u;
-        uLongf size = uLongf(room);
-        if (compress2(out.buffer.data(), &size, in, uLong(bytes), int(kDeflateLevel)) == Z_OK) {
-            out.size = size;
-        } else {
+        out.size = libdeflate_zlib_compress(deflate_, in, bytes, out.buffer.data(), bytes);
+        if (out.size == 0) {
             std::memcpy(out.buffer.data(), in, bytes);
             out.size = bytes;
             out.filter_mask |= shuffle_in_pipeline ? 2u : 1u;
@@ -184,7 +193,7 @@ public:
     }
 
 private:
-    size_t element_size_;
+    libdeflate_compressor* deflate_;
     std::vector<unsigned char> shuffled_;
 };
 
@@ -277,7 +286,6 @@ public:
 #if H5_VERSION_GE(1, 10, 3)
         direct = compressed && H5Tequal(file_type, mem_type) > 0;
 #endif
-        ChunkCompressor compressor(element_size);
         ChunkCompressor::Stored first, other;
         bool shuffle = false;
         if (compressed) {
@@ -285,12 +293,12 @@ public:
             // The first chunk is always full (chunk rows = min(rows, kChunkRows)).
             const auto* in = static_cast<const unsigned char*>(data);
             if (element_size >= 2) {
-                compressor.compress(in, chunk_bytes, false, true, first);
-                compressor.compress(in, chunk_bytes, true, true, other);
+                compressor_.compress(in, chunk_bytes, element_size, false, true, first);
+                compressor_.compress(in, chunk_bytes, element_size, true, true, other);
                 shuffle = other.size < first.size;
                 if (shuffle) std::swap(first, other);
             } else {
-                compressor.compress(in, chunk_bytes, false, false, first);
+                compressor_.compress(in, chunk_bytes, element_size, false, false, first);
             }
             if (shuffle) check(H5Pset_shuffle(dcpl), std::string("cannot set shuffle filter of ") + name);
             else if (element_size >= 2) first.filter_mask >>= 1;  // no shuffle in the pipeline: deflate is filter 0
@@ -319,7 +327,7 @@ public:
                     std::memcpy(padded.data(), in, have);
                     in = padded.data();
                 }
-                compressor.compress(in, chunk_bytes, shuffle, shuffle, stored);
+                compressor_.compress(in, chunk_bytes, element_size, shuffle, shuffle, stored);
             }
             const hsize_t offset[2] = {row, 0};
             check(H5Dwrite_chunk(ds, H5P_DEFAULT, stored.filter_mask, offset, stored.size, stored.buffer.data()),
@@ -339,6 +347,7 @@ public:
 
 private:
     std::string where_;
+    mutable ChunkCompressor compressor_;  // its buffers and deflate state serve every dataset
 };
 
 // ---------------------------------------------------------------------------
