@@ -13,6 +13,7 @@ declare -A NEED=(
   [libeigen3-dev]=/usr/include/eigen3/Eigen/Sparse
   [libhdf5-dev]=/usr/include/hdf5/serial/hdf5.h
   [zlib1g-dev]=/usr/include/zlib.h
+  [libdeflate-dev]=/usr/include/libdeflate.h
   [libcli11-dev]=/usr/include/CLI/CLI.hpp
   [catch2]=/usr/include/catch2/catch.hpp
   [tetgen]=/usr/bin/tetgen

@@ -16,7 +16,7 @@
 #include "bpm/bpm_file.h"
 
 #include <hdf5.h>
-#include <zlib.h>
+#include <libdeflate.h>
 
 #include <algorithm>
 #include <atomic>
@@ -120,41 +120,82 @@ constexpr hsize_t kChunkRows = 65536;  // rows per chunk of a compressed dataset
 // 512 bytes the chunk index and filter message cost more than deflate saves (two_cubes:
 // 1024 -> 512 bytes made the file 7 % smaller, 256 no smaller again).
 constexpr size_t kCompressMinBytes = 512;
-// Level 4/6 make armadillo + 1x Loop (208k triangles, --vertices 10000) 1.9/2.4 % smaller
-// than level 1 for 0.5/0.8 s more CPU time (bpm-simplify takes 11 s); inflating costs the
-// same at every level.
-constexpr unsigned kDeflateLevel = 1;
+// libdeflate's level (HDF5's filter message records it; inflating costs the same at every
+// level). With zlib, level 1 was the choice (4/6 made armadillo + 1x Loop 1.9/2.4 %
+// smaller for 0.5/0.8 s more of bpm-simplify's 11 s). libdeflate at level 2 writes files
+// 1-3 % smaller than zlib at level 1, in about 60 % of the time (elephant --vertices
+// 1000: writer 0.060 -> 0.038 s CPU, 661 -> 647 kB; armadillo + 2x Loop, 832k triangles,
+// --ratio 1: 2.9 -> 1.8-2.2 s, 95.5 -> 94.3 MB); its level 1 is as fast on small files
+// but 1-4 % larger than level 2, level 4 as fast on large files and slower on small ones.
+constexpr unsigned kDeflateLevel = 2;
 
 // Whether the shuffle filter (bytes regrouped by significance) before deflate makes the
-// first chunk of a dataset smaller, tried with the level the file uses. It pays on index
-// arrays (phi/pieces: 6x smaller shuffled, 3.8x unshuffled) but not on most float64
-// arrays: coordinates read from text with few digits and barycentric coordinates with
-// exact 0 and 1 deflate better as they are (fandisk's original/vertices: 61 kB unshuffled,
-// 128 kB shuffled). Which way wins differs between meshes for the same dataset
-// (node_image: shuffled 12 % smaller on elephant, 16 % larger on fandisk), so the data
-// decide; the choice depends on the bytes only, so writing stays deterministic. The trial
-// compresses the first 256 kB of the first chunk: trying whole chunks (up to 1.5 MB)
-// compressed every byte of a small file three times (reading and writing armadillo, femur
-// and elephant at --ratio 0.1: 0.31 s CPU uncompressed, 0.60 s with whole-chunk trials,
-// 0.47 s with 256 kB). The files of 256 kB trials are at most 1.5 % larger than those of
-// whole-chunk trials (armadillo + 1x Loop: original/vertices; femur-10.r1 of identical.sh
-// 1.2 %; the --ratio 0.1 outputs the same); 64 kB (also four 64 kB slices spread over the
-// chunk) chose worse on femur at --ratio 0.1 (3.5 % larger).
-constexpr size_t kShuffleTrialBytes = size_t(256) << 10;
-bool shuffle_pays(const void* data, size_t bytes, size_t element_size) {
-    if (element_size < 2 || bytes < element_size) return false;
-    const size_t elements = std::min(bytes, kShuffleTrialBytes) / element_size;
-    const auto* in = static_cast<const unsigned char*>(data);
-    std::vector<unsigned char> shuffled(elements * element_size);
-    for (size_t i = 0; i < elements; ++i)
-        for (size_t b = 0; b < element_size; ++b) shuffled[b * elements + i] = in[i * element_size + b];
-    std::vector<unsigned char> out(compressBound(uLong(shuffled.size())));
-    uLongf plain_size = uLongf(out.size()), shuffled_size = uLongf(out.size());
-    if (compress2(out.data(), &plain_size, in, uLong(shuffled.size()), int(kDeflateLevel)) != Z_OK) return true;
-    if (compress2(out.data(), &shuffled_size, shuffled.data(), uLong(shuffled.size()), int(kDeflateLevel)) != Z_OK)
-        return false;
-    return shuffled_size < plain_size;
-}
+// first chunk of a dataset smaller. It pays on index arrays (phi/pieces: 6x smaller
+// shuffled, 3.8x unshuffled) but not on most float64 arrays: coordinates read from text
+// with few digits and barycentric coordinates with exact 0 and 1 deflate better as they
+// are (fandisk's original/vertices: 61 kB unshuffled, 128 kB shuffled). Which way wins
+// differs between meshes for the same dataset (node_image: shuffled 12 % smaller on
+// elephant, 16 % larger on fandisk), so the data decide; the choice depends on the bytes
+// only, so writing stays deterministic.
+//
+// The writer compresses the chunks itself and hands them to HDF5 as they are stored
+// (H5Dwrite_chunk, "direct chunk write"): the first chunk both ways, keeping the smaller,
+// the others the way the first chose. The chunks are ordinary shuffle + deflate chunks
+// (zlib streams, made by libdeflate, which is about twice as fast as zlib), so every
+// HDF5 reads them with its own filters. Through
+// HDF5's filters the choice cost a separate trial: two compressions of up to 256 kB
+// before the real one, which on a small file compressed every byte three times (the
+// trial was two thirds of the writer's time on elephant --vertices 1000); now a file
+// whose datasets are one chunk each is compressed twice, and a dataset of several chunks
+// once plus its first chunk again.
+class ChunkCompressor {
+public:
+    ChunkCompressor() : deflate_(libdeflate_alloc_compressor(int(kDeflateLevel))) {
+        if (!deflate_) throw std::bad_alloc();
+    }
+    ChunkCompressor(const ChunkCompressor&) = delete;
+    ChunkCompressor& operator=(const ChunkCompressor&) = delete;
+    ~ChunkCompressor() { libdeflate_free_compressor(deflate_); }
+
+    // The stored bytes of one chunk and the HDF5 filter mask that says which filters of
+    // the pipeline (shuffle, deflate) were skipped. The buffer is reused from chunk to
+    // chunk: a fresh 1.5 MB buffer per chunk cost page faults.
+    struct Stored {
+        std::vector<unsigned char> buffer;
+        size_t size = 0;
+        uint32_t filter_mask = 0;
+    };
+
+    // Compresses one chunk of `bytes` bytes of elements of `element_size` bytes into
+    // `out`, shuffled or not; the pipeline of the dataset has the shuffle filter when
+    // `shuffle_in_pipeline`.
+    void compress(const unsigned char* data, size_t bytes, size_t element_size, bool shuffle, bool shuffle_in_pipeline,
+                  Stored& out) {
+        const unsigned char* in = data;
+        if (shuffle) {
+            if (shuffled_.size() < bytes) shuffled_.resize(bytes);
+            const size_t elements = bytes / element_size;
+            for (size_t i = 0; i < elements; ++i)
+                for (size_t b = 0; b < element_size; ++b) shuffled_[b * elements + i] = data[i * element_size + b];
+            in = shuffled_.data();
+        }
+        // A chunk that deflate does not make smaller is stored without deflate (the
+        // optional filter skipped), as HDF5's own deflate filter does when zlib's output
+        // does not fit in about the input's size.
+        if (out.buffer.size() < bytes) out.buffer.resize(bytes);
+        out.filter_mask = shuffle_in_pipeline && !shuffle ? 1u : 0u;
+        out.size = libdeflate_zlib_compress(deflate_, in, bytes, out.buffer.data(), bytes);
+        if (out.size == 0) {
+            std::memcpy(out.buffer.data(), in, bytes);
+            out.size = bytes;
+            out.filter_mask |= shuffle_in_pipeline ? 2u : 1u;
+        }
+    }
+
+private:
+    libdeflate_compressor* deflate_;
+    std::vector<unsigned char> shuffled_;
+};
 
 class Writer {
 public:
@@ -234,21 +275,65 @@ public:
         check(H5Pset_dset_no_attrs_hint(dcpl, true), std::string("cannot size the object header of ") + name);
 #endif
         const size_t element_size = H5Tget_size(mem_type);
-        const size_t bytes = size_t(rows) * size_t(std::max<hsize_t>(cols, 1)) * element_size;
-        if (bytes >= kCompressMinBytes) {
-            hsize_t chunk[2] = {std::min(rows, kChunkRows), cols};
+        const size_t row_bytes = size_t(std::max<hsize_t>(cols, 1)) * element_size;
+        const size_t bytes = size_t(rows) * row_bytes;
+        const bool compressed = bytes >= kCompressMinBytes;
+        hsize_t chunk[2] = {std::min(rows, kChunkRows), cols};
+        const size_t chunk_bytes = size_t(chunk[0]) * row_bytes;
+        // The chunks go to the file as compressed here when the bytes in memory are those
+        // of the file type (little-endian hosts); otherwise HDF5 converts and filters them.
+        bool direct = false;
+#if H5_VERSION_GE(1, 10, 3)
+        direct = compressed && H5Tequal(file_type, mem_type) > 0;
+#endif
+        ChunkCompressor::Stored first, other;
+        bool shuffle = false;
+        if (compressed) {
             check(H5Pset_chunk(dcpl, rank, chunk), std::string("cannot set chunking of ") + name);
-            const size_t chunk_bytes = size_t(chunk[0]) * size_t(std::max<hsize_t>(cols, 1)) * element_size;
-            if (shuffle_pays(data, chunk_bytes, element_size))
-                check(H5Pset_shuffle(dcpl), std::string("cannot set shuffle filter of ") + name);
+            // The first chunk is always full (chunk rows = min(rows, kChunkRows)).
+            const auto* in = static_cast<const unsigned char*>(data);
+            if (element_size >= 2) {
+                compressor_.compress(in, chunk_bytes, element_size, false, true, first);
+                compressor_.compress(in, chunk_bytes, element_size, true, true, other);
+                shuffle = other.size < first.size;
+                if (shuffle) std::swap(first, other);
+            } else {
+                compressor_.compress(in, chunk_bytes, element_size, false, false, first);
+            }
+            if (shuffle) check(H5Pset_shuffle(dcpl), std::string("cannot set shuffle filter of ") + name);
+            else if (element_size >= 2) first.filter_mask >>= 1;  // no shuffle in the pipeline: deflate is filter 0
             check(H5Pset_deflate(dcpl, kDeflateLevel), std::string("cannot set deflate filter of ") + name);
         }
         Handle ds(check_id(H5Dcreate2(group, name, file_type, space, H5P_DEFAULT, dcpl, H5P_DEFAULT),
                            std::string("cannot create dataset ") + name),
                   H5Dclose);
-        if (rows > 0 && (cols > 0 || rank == 1))
+        if (rows == 0 || (cols == 0 && rank == 2)) return;
+        if (!direct) {
             check(H5Dwrite(ds, mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data),
                   std::string("cannot write dataset ") + name);
+            return;
+        }
+#if H5_VERSION_GE(1, 10, 3)
+        // The last chunk of several is padded with zeros to a whole chunk, as HDF5 pads it
+        // with the (default, zero) fill value before filtering.
+        std::vector<unsigned char> padded;
+        for (hsize_t row = 0; row < rows; row += chunk[0]) {
+            ChunkCompressor::Stored& stored = row == 0 ? first : other;
+            if (row > 0) {
+                const auto* in = static_cast<const unsigned char*>(data) + size_t(row) * row_bytes;
+                const size_t have = size_t(std::min(rows - row, chunk[0])) * row_bytes;
+                if (have < chunk_bytes) {
+                    padded.assign(chunk_bytes, 0);
+                    std::memcpy(padded.data(), in, have);
+                    in = padded.data();
+                }
+                compressor_.compress(in, chunk_bytes, element_size, shuffle, shuffle, stored);
+            }
+            const hsize_t offset[2] = {row, 0};
+            check(H5Dwrite_chunk(ds, H5P_DEFAULT, stored.filter_mask, offset, stored.size, stored.buffer.data()),
+                  std::string("cannot write dataset ") + name);
+        }
+#endif
     }
 
     void write_strings(hid_t group, const char* name, const std::vector<std::string>& values) const {
@@ -262,6 +347,7 @@ public:
 
 private:
     std::string where_;
+    mutable ChunkCompressor compressor_;  // its buffers and deflate state serve every dataset
 };
 
 // ---------------------------------------------------------------------------

@@ -6,9 +6,11 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <random>
 #include <sstream>
 
 #include "bpm/bpm_file.h"
@@ -229,6 +231,46 @@ TEST_CASE("datasets of small files are compressed too, and tiny ones stay contig
     CHECK(layout == H5D_CONTIGUOUS);
     CHECK(list.empty());
     require_equal(f, read_bpm_from_memory(write_bpm_to_memory(f), "mem"));
+}
+
+TEST_CASE("a chunk deflate cannot shrink is stored unfiltered, and chunked datasets read back exactly", "[format]") {
+    // bpm_file.cpp compresses the chunks itself and hands them to HDF5 as stored
+    // (H5Dwrite_chunk), with a filter mask saying which filters it skipped: a chunk that
+    // deflate does not shrink (random bits) is stored raw with the deflate filter marked
+    // skipped, the last of several chunks is padded to a whole one. A wrong mask or
+    // padding makes the file unreadable or its values different.
+    BpmFile f = with_provenance(test::make_height_field(200, 100, test::default_height));
+    REQUIRE(f.param.num_nodes() > 65536);  // the node arrays have several chunks, the last partial
+    REQUIRE(f.param.num_nodes() % 65536 != 0);
+    std::mt19937_64 rng(21);
+    VertexArray noise{"noise", 1, {}};
+    while (noise.values.size() < f.param.original.vertices.size()) {
+        const uint64_t bits = rng();
+        double x;
+        std::memcpy(&x, &bits, sizeof x);
+        if (std::isfinite(x)) noise.values.push_back(x);
+    }
+    f.param.original.vertex_data.push_back(noise);
+    const std::string bytes = write_bpm_to_memory(f);
+    {
+        Image image(bytes);
+        const hid_t ds = H5Dopen2(image.file, "/original/point_data/noise", H5P_DEFAULT);
+        REQUIRE(ds >= 0);
+        const hid_t dcpl = H5Dget_create_plist(ds);
+        CHECK(H5Pget_layout(dcpl) == H5D_CHUNKED);
+        REQUIRE(H5Pget_nfilters(dcpl) == 1);  // no shuffle: it does not pay on random bits either
+        H5Pclose(dcpl);
+        unsigned mask = 0;
+        hsize_t stored = 0;
+        const hid_t space = H5Dget_space(ds);
+        const herr_t info = H5Dget_chunk_info(ds, space, 0, nullptr, &mask, nullptr, &stored);
+        H5Sclose(space);
+        H5Dclose(ds);
+        REQUIRE(info >= 0);
+        CHECK(mask == 1u);  // deflate (filter 0) skipped
+        CHECK(stored == noise.values.size() * sizeof(double));
+    }
+    require_equal(f, read_bpm_from_memory(bytes, "mem"));
 }
 
 TEST_CASE("identity phi read from a file evaluates to the input exactly", "[format][phi]") {
