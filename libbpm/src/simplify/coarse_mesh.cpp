@@ -345,6 +345,13 @@ void CoarseMesh::shrink_to_fit() {
     decltype(alive_)().swap(alive_);
     kept_ = std::move(kept);
     compacted_ = true;
+    // Only the planners and the flips ask for edges, features, corners and the initial
+    // orientation (the export has its own orientation signs): ~1.5 MB at 208k triangles.
+    decltype(neighbour_bits_)().swap(neighbour_bits_);
+    decltype(feature_degree_)().swap(feature_degree_);
+    decltype(feature_edges_)().swap(feature_edges_);
+    decltype(corners_)().swap(corners_);
+    decltype(initially_flipped_)().swap(initially_flipped_);
 }
 
 }  // namespace bpm::detail

@@ -78,8 +78,10 @@ public:
     // them) and stores the per-vertex triangle lists compactly: called once no triangle
     // will be added or removed any more, before phi is exported. The per-triangle arrays
     // had a slot per id ever made (208k-triangle input to 10k vertices: ~800k ids, 14 MB,
-    // for 20k alive triangles); the removals are done. add_triangle() and
-    // remove_triangle() may not be called after it.
+    // for 20k alive triangles); the removals are done. It also frees what only the
+    // removals and the flips ask for: add_triangle(), remove_triangle(), has_edge(),
+    // find_triangle(), feature(), corner() and flipped_initially() may not be called
+    // after it (triangle(), triangles_of(), alive() and to_surface() may).
     void shrink_to_fit();
     void remove_triangle(int32_t t);
 

@@ -90,6 +90,9 @@ void Embedding::init_identity(const Surface& s, int32_t triangle_capacity) {
         }
     std::sort(edges.begin(), edges.end());
     edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+    // Reserved for every triangle's three edges, about twice as many as there are: the
+    // other half (2.5 MB at 208k triangles) would stay resident through the whole run.
+    edges.shrink_to_fit();
 
     vertex_edge_offsets.assign(nv + 1, 0);
     for (const auto& e : edges) {
@@ -127,6 +130,83 @@ void Embedding::init_identity(const Surface& s, int32_t triangle_capacity) {
     path_version.assign(edges.size(), 0);
     inside.reset(nv, triangle_capacity);
     edge_content.clear();
+    frozen_ = false;
+    decltype(frozen_path_offsets_)().swap(frozen_path_offsets_);
+    decltype(frozen_crossings_)().swap(frozen_crossings_);
+    decltype(frozen_keys_)().swap(frozen_keys_);
+    decltype(frozen_content_offsets_)().swap(frozen_content_offsets_);
+    decltype(frozen_ids_)().swap(frozen_ids_);
+}
+
+bool Embedding::content(int32_t a, int32_t b, EdgeContentView& out) const {
+    const uint64_t key = edge_key(a, b);
+    if (!frozen_) {
+        const auto* it = edge_content.find(key);
+        if (it == edge_content.end()) return false;
+        out.vertices = ConstRange<int32_t>(it->second.vertices);
+        out.crossing_edges = ConstRange<int32_t>(it->second.crossing_edges);
+        return true;
+    }
+    const auto it = std::lower_bound(frozen_keys_.begin(), frozen_keys_.end(), key);
+    if (it == frozen_keys_.end() || *it != key) return false;
+    const size_t i = size_t(it - frozen_keys_.begin());
+    const int32_t* ids = frozen_ids_.data();
+    out.vertices = {ids + frozen_content_offsets_[2 * i], ids + frozen_content_offsets_[2 * i + 1]};
+    out.crossing_edges = {ids + frozen_content_offsets_[2 * i + 1], ids + frozen_content_offsets_[2 * i + 2]};
+    return true;
+}
+
+void Embedding::freeze() {
+    if (frozen_) return;
+    inside.shrink_to_fit();
+    // Paths: one array of crossings with an offset per edge. uint32 offsets: 2^32
+    // crossings would be 96 GB.
+    size_t total = 0;
+    for (const auto& p : path) total += p.size();
+    std::vector<uint32_t> path_offsets;
+    path_offsets.reserve(path.size() + 1);
+    std::vector<Crossing> all;
+    all.reserve(total);
+    path_offsets.push_back(0);
+    for (const auto& p : path) {
+        all.insert(all.end(), p.begin(), p.end());
+        path_offsets.push_back(static_cast<uint32_t>(all.size()));
+    }
+    decltype(path)().swap(path);
+    decltype(path_version)().swap(path_version);
+    // Edge contents: the keys sorted, each key's vertices and crossing edges in one array
+    // of ids, in the order of the changing form.
+    std::vector<std::pair<uint64_t, const EdgeContent*>> entries;
+    entries.reserve(edge_content.size());
+    size_t ids = 0;
+    edge_content.for_each([&](uint64_t key, const EdgeContent& c) {
+        entries.emplace_back(key, &c);
+        ids += c.vertices.size() + c.crossing_edges.size();
+    });
+    std::sort(entries.begin(), entries.end(),
+              [](const auto& x, const auto& y) { return x.first < y.first; });
+    std::vector<uint64_t> keys;
+    std::vector<uint32_t> offsets;
+    std::vector<int32_t> flat;
+    keys.reserve(entries.size());
+    offsets.reserve(2 * entries.size() + 1);
+    flat.reserve(ids);
+    offsets.push_back(0);
+    for (const auto& [key, c] : entries) {
+        keys.push_back(key);
+        flat.insert(flat.end(), c->vertices.begin(), c->vertices.end());
+        offsets.push_back(static_cast<uint32_t>(flat.size()));
+        flat.insert(flat.end(), c->crossing_edges.begin(), c->crossing_edges.end());
+        offsets.push_back(static_cast<uint32_t>(flat.size()));
+    }
+    decltype(entries)().swap(entries);
+    edge_content.release();
+    frozen_path_offsets_ = std::move(path_offsets);
+    frozen_crossings_ = std::move(all);
+    frozen_keys_ = std::move(keys);
+    frozen_content_offsets_ = std::move(offsets);
+    frozen_ids_ = std::move(flat);
+    frozen_ = true;
 }
 
 int32_t Embedding::find_edge(int32_t u, int32_t w) const {
@@ -156,7 +236,7 @@ void Embedding::path_points(int32_t e, std::vector<SurfacePoint>& points, std::v
     sigmas.clear();
     points.push_back(location[edges[e][0]]);
     sigmas.push_back(0.0);
-    for (const Crossing& c : path[e]) {
+    for (const Crossing& c : crossings(e)) {
         points.push_back(SurfacePoint{SurfacePoint::OnEdge, c.a, c.b, c.s, {}});
         sigmas.push_back(c.sigma);
     }

@@ -49,6 +49,31 @@ struct EdgeContent {
     std::vector<int32_t> crossing_edges;  // original edge ids with a Crossing here (once per edge)
 };
 
+// A read-only range of consecutive elements (a path's crossings, an edge's vertices),
+// in either form of the embedding (Embedding::freeze).
+template <class T>
+class ConstRange {
+public:
+    ConstRange() = default;
+    ConstRange(const T* b, const T* e) : b_(b), e_(e) {}
+    explicit ConstRange(const std::vector<T>& v) : b_(v.data()), e_(v.data() + v.size()) {}
+    const T* begin() const { return b_; }
+    const T* end() const { return e_; }
+    size_t size() const { return size_t(e_ - b_); }
+    bool empty() const { return b_ == e_; }
+    const T& operator[](size_t i) const { return b_[i]; }
+
+private:
+    const T* b_ = nullptr;
+    const T* e_ = nullptr;
+};
+
+// What lies on a coarse edge, read-only (Embedding::content).
+struct EdgeContentView {
+    ConstRange<int32_t> vertices;        // EdgeContent::vertices
+    ConstRange<int32_t> crossing_edges;  // EdgeContent::crossing_edges
+};
+
 // Edge key -> EdgeContent, open addressing with linear probing and backward-shift
 // deletion. The planner looks coarse edges up several times per plan, millions of
 // times per run; std::unordered_map's prime-modulo buckets and separate nodes made
@@ -77,6 +102,20 @@ public:
     void shrink_to_fit() {
         entries_.resize(size_);
         entries_.shrink_to_fit();
+    }
+    size_t size() const { return size_; }
+    // Calls f(key, content) for every entry, in no particular order.
+    template <class F>
+    void for_each(F f) const {
+        for (size_t i = 0; i < size_; ++i) f(entries_[i].first, entries_[i].second);
+    }
+    // Frees everything (the table's room too).
+    void release() {
+        decltype(keys_)().swap(keys_);
+        decltype(index_)().swap(index_);
+        decltype(entries_)().swap(entries_);
+        size_ = 0;
+        shift_ = 64;
     }
     void clear() {
         keys_.clear();
@@ -182,6 +221,8 @@ struct Embedding {
     std::vector<int32_t> edge_triangles;
 
     std::vector<SurfacePoint> location;          // per original vertex
+    // path, path_version and edge_content are the changing form, until freeze(); read
+    // through crossings() and content() where the frozen form may be current (overlay).
     std::vector<std::vector<Crossing>> path;     // per original edge, ordered from u to w
     std::vector<uint32_t> path_version;          // per original edge, bumped by set_path
     InsideLists inside;                          // per coarse triangle id: vertices located Inside
@@ -195,6 +236,15 @@ struct Embedding {
     // Original triangle containing edges e and f (which share a vertex), or -1.
     int32_t triangle_of_edges(int32_t e, int32_t f) const;
 
+    // The crossings of edge e, ordered from its smaller vertex to its larger (path[e]).
+    ConstRange<Crossing> crossings(int32_t e) const {
+        if (!frozen_) return ConstRange<Crossing>(path[size_t(e)]);
+        const Crossing* base = frozen_crossings_.data();
+        return {base + frozen_path_offsets_[size_t(e)], base + frozen_path_offsets_[size_t(e) + 1]};
+    }
+    // What lies on coarse edge (a, b); false if nothing (no entry in edge_content).
+    bool content(int32_t a, int32_t b, EdgeContentView& out) const;
+
     // Full point sequence of edge e from its smaller vertex to its larger: the two
     // locations with the crossings in between. sigma of the endpoints is 0 and 1.
     void path_points(int32_t e, std::vector<SurfacePoint>& points, std::vector<double>& sigmas) const;
@@ -204,11 +254,24 @@ struct Embedding {
     void clear_location(int32_t vertex);                          // removes from lists (location kept)
     void set_path(int32_t e, std::vector<Crossing> crossings);   // maintains edge_content lists
     void ensure_triangle_capacity(int32_t n) { inside.ensure_triangle_capacity(n); }
-    // Gives back the room the growing arrays keep in reserve (before phi is exported).
-    void shrink_to_fit() {
-        inside.shrink_to_fit();
-        edge_content.shrink_to_fit();
-    }
+    // Once the embedding no longer changes (before phi is exported): stores the paths and
+    // the edge contents in a few flat arrays and frees the changing form (path,
+    // path_version, edge_content; the inside lists keep only their non-empty heads). At
+    // the end of a run the changing form was most of the embedding (208k-triangle input
+    // to 10k vertices: 7.5 MB of path headers for 3.4 MB of crossings, a block per
+    // non-empty path, and 4.8 MB of hash table and entries for 0.1 MB of ids), alive
+    // beside phi while it is exported, the peak of a run. Read-only after it: only
+    // crossings(), content(), path_points() and the inside lists read the moved parts.
+    void freeze();
+    bool frozen() const { return frozen_; }
+
+private:
+    bool frozen_ = false;
+    std::vector<uint32_t> frozen_path_offsets_;  // per edge: its crossings are [e], [e + 1]
+    std::vector<Crossing> frozen_crossings_;
+    std::vector<uint64_t> frozen_keys_;          // edge keys with content, increasing
+    std::vector<uint32_t> frozen_content_offsets_;  // per key i: vertices [2i, 2i + 1), crossing edges [2i + 1, 2i + 2)
+    std::vector<int32_t> frozen_ids_;
 };
 
 }  // namespace bpm::detail

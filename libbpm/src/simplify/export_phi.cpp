@@ -8,7 +8,6 @@
 
 #include "bpm/errors.h"
 #include "phi/phi_triangle_data.h"
-#include "core/edge_key.h"
 #include "core/free_memory.h"
 #include "simplify/overlay.h"
 
@@ -68,15 +67,15 @@ size_t count_nodes(const CoarseMesh& mesh, const Embedding& embedding, int32_t t
     size_t n = 3;
     for (int k = 0; k < 3; ++k) {
         const int32_t a = c[k], b = c[(k + 1) % 3];
-        const auto* it = embedding.edge_content.find(edge_key(a, b));
-        if (it == embedding.edge_content.end()) continue;
-        n += it->second.vertices.size();
-        crossing = it->second.crossing_edges;
+        EdgeContentView content;
+        if (!embedding.content(a, b, content)) continue;
+        n += content.vertices.size();
+        crossing.assign(content.crossing_edges.begin(), content.crossing_edges.end());
         std::sort(crossing.begin(), crossing.end());
         crossing.erase(std::unique(crossing.begin(), crossing.end()), crossing.end());
         const int32_t lo = std::min(a, b), hi = std::max(a, b);
         for (int32_t e : crossing)
-            for (const Crossing& x : embedding.path[e]) n += x.a == lo && x.b == hi;
+            for (const Crossing& x : embedding.crossings(e)) n += x.a == lo && x.b == hi;
     }
     inside = embedding.inside.count(t);
     return n + inside;

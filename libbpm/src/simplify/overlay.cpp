@@ -413,11 +413,11 @@ void build_triangle_graph(const CoarseMesh& mesh, const Embedding& embedding, in
     std::vector<int32_t> candidates;
     for (int k = 0; k < 3; ++k) {
         const int32_t a = c[k], b = c[(k + 1) % 3];
-        auto it = embedding.edge_content.find(edge_key(a, b));
-        if (it == embedding.edge_content.end()) continue;
+        EdgeContentView content;
+        if (!embedding.content(a, b, content)) continue;
         const int32_t lo = std::min(a, b);
         auto bary_on_edge = [&](double s) { return bary_on_side(c, k, lo, s); };
-        std::vector<int32_t> on_edge = it->second.vertices;
+        std::vector<int32_t> on_edge(content.vertices.begin(), content.vertices.end());
         std::sort(on_edge.begin(), on_edge.end());
         for (int32_t v : on_edge) {
             GraphNode g;
@@ -430,12 +430,12 @@ void build_triangle_graph(const CoarseMesh& mesh, const Embedding& embedding, in
             for (int32_t i = embedding.vertex_edge_offsets[v]; i < embedding.vertex_edge_offsets[v + 1]; ++i)
                 candidates.push_back(embedding.vertex_edges[i]);
         }
-        std::vector<int32_t> crossing = it->second.crossing_edges;
+        std::vector<int32_t> crossing(content.crossing_edges.begin(), content.crossing_edges.end());
         std::sort(crossing.begin(), crossing.end());
         crossing.erase(std::unique(crossing.begin(), crossing.end()), crossing.end());
         const int32_t hi = std::max(a, b);
         for (int32_t e : crossing) {
-            const auto& p = embedding.path[e];
+            const auto p = embedding.crossings(e);
             for (int32_t j = 0; j < int32_t(p.size()); ++j) {
                 if (p[j].a != lo || p[j].b != hi) continue;
                 GraphNode g;

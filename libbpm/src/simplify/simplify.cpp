@@ -816,9 +816,8 @@ void Simplifier::release_planning_state() {
     // The flips are done: no triangle is added any more.
     mesh_.release_aspects();
     mesh_.shrink_to_fit();
-    embedding_.shrink_to_fit();
-    // Only the planners compare the versions of paths (still_current); no path changes now.
-    decltype(embedding_.path_version)().swap(embedding_.path_version);
+    // No path changes now; only the planners compared the versions of paths (still_current).
+    embedding_.freeze();
 }
 
 // Edge flips of needles and of edges under thin tetrahedra (edge_flip.h), within the

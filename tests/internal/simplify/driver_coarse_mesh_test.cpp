@@ -109,11 +109,8 @@ TEST_CASE("coarse mesh: shrink_to_fit keeps every triangle list, also the spille
         CHECK(std::vector<int32_t>(list.begin(), list.end()) == before[size_t(v)]);
         CHECK(mesh.vertex_alive(v) == alive_before[size_t(v)]);
     }
-    for (int32_t a = 0; a < nv; ++a)
-        for (int32_t b = 0; b < nv; ++b) {
-            CHECK(mesh.has_edge(a, b) == scan_has_edge(mesh, a, b));
-            CHECK(mesh.find_triangle(a, b, (a + b) % nv) == scan_find_triangle(mesh, a, b, (a + b) % nv));
-        }
+    // has_edge() and find_triangle() are not available after shrink_to_fit() (their
+    // neighbour bits are freed); the lists they merge are checked above.
     const Surface surface_after = mesh.to_surface(origin_after);
     CHECK(origin_after == origin_before);
     CHECK(surface_after.triangles == surface_before.triangles);

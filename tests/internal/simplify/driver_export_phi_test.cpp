@@ -62,3 +62,87 @@ TEST_CASE("export of phi: after removals, valid and the same for one and two thr
     CHECK(check_format(one).passed);
     CHECK(check_bijectivity(one).passed);
 }
+
+namespace {
+
+// Exports phi of `original` after a few removals, compacts the mesh and the embedding as
+// the simplifier does before its export (CoarseMesh::shrink_to_fit, Embedding::freeze),
+// checks that crossings() and content() read the same as before and that phi is exported
+// the same; returns the number of original vertices located on coarse edges.
+size_t check_compacted_export(const Surface& original, int removals, int stride) {
+    LiveState state(original);
+    REQUIRE(state.remove_some(removals, stride) >= removals / 2);
+    const Embedding& e = state.embedding;
+    const int32_t num_edges = static_cast<int32_t>(e.edges.size());
+    std::vector<std::vector<Crossing>> paths_before;
+    size_t crossings_before = 0;
+    for (int32_t k = 0; k < num_edges; ++k) {
+        const auto c = e.crossings(k);
+        paths_before.emplace_back(c.begin(), c.end());
+        crossings_before += c.size();
+    }
+    REQUIRE(crossings_before > 0);
+    // The content of every coarse edge, with its vertices.
+    size_t on_edges = 0;
+    auto contents = [&](const Embedding& emb) {
+        std::vector<std::vector<int32_t>> out;
+        on_edges = 0;
+        const int32_t nv = original.num_vertices();
+        for (int32_t a = 0; a < nv; ++a)
+            for (int32_t b = a + 1; b < nv; ++b) {
+                EdgeContentView view;
+                if (!emb.content(a, b, view)) continue;
+                std::vector<int32_t> row{a, b, int32_t(view.vertices.size())};
+                row.insert(row.end(), view.vertices.begin(), view.vertices.end());
+                row.insert(row.end(), view.crossing_edges.begin(), view.crossing_edges.end());
+                out.push_back(row);
+                on_edges += view.vertices.size();
+            }
+        return out;
+    };
+    const auto contents_before = contents(e);
+    REQUIRE(!contents_before.empty());
+    const size_t on_edges_before = on_edges;
+    PlanningPool pool(1);
+    Parametrization before, after;
+    const double deviation_before = export_parametrization(original, state.mesh, e, state.sign, pool, before);
+    state.mesh.shrink_to_fit();
+    state.embedding.freeze();
+    REQUIRE(e.frozen());
+    CHECK(e.path.empty());
+    CHECK(e.edge_content.size() == 0);
+    for (int32_t k = 0; k < num_edges; ++k) {
+        const auto c = e.crossings(k);
+        REQUIRE(c.size() == paths_before[size_t(k)].size());
+        for (size_t j = 0; j < c.size(); ++j) {
+            CHECK(c[j].a == paths_before[size_t(k)][j].a);
+            CHECK(c[j].b == paths_before[size_t(k)][j].b);
+            CHECK(c[j].s == paths_before[size_t(k)][j].s);
+            CHECK(c[j].sigma == paths_before[size_t(k)][j].sigma);
+        }
+    }
+    CHECK(contents(e) == contents_before);
+    const double deviation_after = export_parametrization(original, state.mesh, e, state.sign, pool, after);
+    CHECK(deviation_after == deviation_before);
+    CHECK(after.coarse.triangles == before.coarse.triangles);
+    CHECK(after.node_offsets == before.node_offsets);
+    CHECK(after.node_barycentric == before.node_barycentric);
+    CHECK(after.node_image == before.node_image);
+    CHECK(after.node_kind == before.node_kind);
+    CHECK(after.node_original_vertex == before.node_original_vertex);
+    CHECK(after.node_original_edge == before.node_original_edge);
+    CHECK(after.piece_offsets == before.piece_offsets);
+    CHECK(after.pieces == before.pieces);
+    CHECK(after.piece_original_triangle == before.piece_original_triangle);
+    return on_edges_before;
+}
+
+}  // namespace
+
+TEST_CASE("export of phi: the same after the mesh and the embedding are compacted", "[internal][simplify]") {
+    // Before phi is exported the simplifier compacts the coarse mesh and stores the paths
+    // and the edge contents flat; the export reads them through crossings() and content().
+    // A torus (crossings only) and a cube whose crease vertices end up on coarse edges.
+    check_compacted_export(fixtures::torus(32, 20), 40, 7);
+    CHECK(check_compacted_export(fixtures::cube(6), 60, 3) > 0);
+}
