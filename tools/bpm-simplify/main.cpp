@@ -24,6 +24,7 @@ std::string with_flags(std::string text) {
         {"fold_limit_degrees", "--fold-limit"},
         {"distortion_weight", "--distortion-weight"},
         {"max_aspect_ratio", "--max-aspect"},
+        {"min_ridge_angle_degrees", "--min-ridge-angle"},
         {"flip_min_dihedral_degrees", "--flip-min-dihedral"},
         {"max_edge_length", "--max-edge-length"},
         {"queue_tolerance", "--queue-tolerance"},
@@ -148,6 +149,12 @@ int main(int argc, char** argv) {
     app.add_option("--max-normal-deviation", options.max_normal_deviation_degrees,
                    "Refuse coarse triangles whose piece of the original turns more than this (degrees; default 180 = off)")
         ->check(CLI::Range(0.0, 180.0))
+        ->group(quality);
+    app.add_option("--min-ridge-angle", options.min_ridge_angle_degrees,
+                   "Refuse removals that leave a coarse edge (not a feature line) folded sharper than this, or than "
+                   "the original's sharpest edge where it lies minus 5 (degrees: interior angle of a convex edge, "
+                   "exterior of a concave one; default 30, 0 = off)")
+        ->check(CLI::Range(0.0, 90.0))
         ->group(quality);
     app.add_option("--distortion-weight", options.distortion_weight,
                    "Make removals that turn pieces of the original past 45 degrees cost more (e.g. 0.3; default 0 = off)")

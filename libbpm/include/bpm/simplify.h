@@ -103,6 +103,23 @@ struct SimplifyOptions {
     // it folds back over it), phi has to squeeze it, and refining through phi samples
     // that part too coarsely to converge to it. 180 disables.
     double max_normal_deviation_degrees = 180.0;
+    // The ridge guard (issue 19, libbpm/src/simplify/ridge_guard.h): the smallest ridge
+    // angle (degrees) a removal may leave at a coarse edge that is not a feature edge. The
+    // ridge angle is 180 minus the angle between the two triangles' normals: the interior
+    // dihedral angle of a convex edge, the exterior one of a concave edge (180 flat, 0
+    // folded flat). A removal is refused when an edge it makes or changes gets a ridge
+    // angle below min(this, the sharpest ridge angle of the original edges at the original
+    // vertices it covers - 5): the coarse surface is then never much sharper than the
+    // original where it lies. Edges already below the limit may stay as they are but not
+    // get sharper; feature edges are exempt (they follow the original's feature lines, as
+    // before). Without it femur at 10 % had coarse folds of 2.5-20 degrees where the
+    // original's sharpest edge nearby was 35-78: a tetrahedron of 4.99 degrees bounded by
+    // the coarse surface (bpm-mesh), refined vertices held back there (bpm-refine
+    // --max-error). Measured on femur (bench/RESULTS.md, "Coarse ridges"): 30 met the
+    // adaptive target at T = 0.001 and the tets' 5 degrees at level 0, for a Hausdorff
+    // distance 1.02x; 20 left the adaptive rows unmet, 40 and 50 cost 1.13x. On fandisk,
+    // armadillo and mech-holes-shark it changes nothing (elephant at 10 %: 1.06x). 0 = off.
+    double min_ridge_angle_degrees = 30.0;
     // Longest edge a removal may create, relative to the diagonal.
     double max_edge_length = std::numeric_limits<double>::infinity();
     // Edges whose dihedral angle (between normals) exceeds this are creases, kept as

@@ -1,5 +1,6 @@
 #pragma once
-// The crease test: is the edge that two triangles share sharp? The one implementation
+// The crease test: is the edge that two triangles share sharp? And how sharp it is
+// (ridge_angle_degrees). The one implementation
 // behind every crease bpm finds: the simplifier's feature edges
 // (simplify/coarse_mesh.cpp, mark_feature_edges), the smoother's feature lines
 // (smooth/smooth.cpp) and bpm-info's feature summary (io/bpm_info_features.cpp).
@@ -51,5 +52,15 @@ private:
     double cos_limit_;
     bool finds_creases_;
 };
+
+// The ridge angle of the edge (u, w) that t0 and t1 share, in degrees: 180 minus the
+// angle between their normals, the normals compared as is_crease() compares them. 180
+// where the triangles lie flat, 0 where they fold onto each other: the interior dihedral
+// angle of a convex edge, the exterior one of a concave edge (the angle of the thinner
+// wedge the two triangles make, on whichever side it lies). Needs no consistent
+// orientation of the whole surface. 180 when either triangle is degenerate (no normal).
+// The simplifier's ridge guard (SimplifyOptions::min_ridge_angle_degrees) compares it.
+// \pre t0 and t1 both have u and w as corners.
+double ridge_angle_degrees(const std::vector<Vec3>& positions, const Tri& t0, const Tri& t1, int32_t u, int32_t w);
 
 }  // namespace bpm::detail

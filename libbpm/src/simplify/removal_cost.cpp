@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "simplify/distortion.h"
+#include "simplify/ridge_guard.h"
 
 namespace bpm::detail {
 
@@ -28,6 +29,10 @@ double removal_cost(const RemovalPlan& plan, const SimplifyOptions& options, dou
     }
     if (plan.longest_new_edge > options.max_edge_length * diagonal) {
         why = "edge length limit (max_edge_length)";
+        return kRefused;
+    }
+    if (plan.sharpest_new_ridge < std::min(options.min_ridge_angle_degrees, plan.sharpest_original_ridge - kRidgeMargin)) {
+        why = "ridge angle limit (min_ridge_angle_degrees)";
         return kRefused;
     }
     if (!estimate && plan.max_normal_deviation > options.max_normal_deviation_degrees) {

@@ -30,7 +30,7 @@ enum class CostBasis {
 // (a model and its scaled copy) does not reorder removals; +infinity if the plan is
 // invalid (without an estimate, for CostBasis::Estimate) or a limit of `options` refuses
 // it (max_error, max_aspect_ratio unless the removed triangles were worse,
-// max_edge_length, max_normal_deviation_degrees). `why` gets the reason for +infinity
+// max_edge_length, min_ridge_angle_degrees (simplify/ridge_guard.h), max_normal_deviation_degrees). `why` gets the reason for +infinity
 // and is cleared for a finite cost. `diagonal`: of the original's bounding box, > 0.
 double removal_cost(const RemovalPlan& plan, const SimplifyOptions& options, double diagonal, CostBasis basis,
                     std::string& why);

@@ -37,6 +37,7 @@
 #include "simplify/overlay.h"
 #include "simplify/planning_pool.h"
 #include "simplify/removal_cost.h"
+#include "simplify/ridge_guard.h"
 #include "simplify/vertex_removal.h"
 
 namespace bpm {
@@ -245,15 +246,17 @@ public:
                                                                        original.vertices[c[2]]);
         }
         embedding_.init_identity(original, mesh_.triangle_capacity());
-        remover_ = std::make_unique<VertexRemover>(mesh_, embedding_, sign_, oriented_normals_);
-        for (int i = 1; i < threads; ++i) removers_.push_back(std::make_unique<VertexRemover>(mesh_, embedding_, sign_, oriented_normals_));
+        // The ridge guard (simplify/ridge_guard.h), only when asked for.
+        if (options.min_ridge_angle_degrees > 0) vertex_ridges_ = vertex_ridge_angles(original, embedding_);
+        remover_ = std::make_unique<VertexRemover>(mesh_, embedding_, sign_, oriented_normals_, vertex_ridges_);
+        for (int i = 1; i < threads; ++i) removers_.push_back(std::make_unique<VertexRemover>(mesh_, embedding_, sign_, oriented_normals_, vertex_ridges_));
         // A pending plan keeps its validation in its planner: one planner per slot of a
         // step (slot 0 shares thread 0's, which ranks only after the step's commits).
         const int slots = std::max(1, options.removals_per_step);
         step_plans_.resize(size_t(slots));
         step_.candidates.resize(size_t(slots));
         for (int k = 0; k < slots; ++k) {
-            if (k > 0) candidate_removers_.push_back(std::make_unique<VertexRemover>(mesh_, embedding_, sign_, oriented_normals_));
+            if (k > 0) candidate_removers_.push_back(std::make_unique<VertexRemover>(mesh_, embedding_, sign_, oriented_normals_, vertex_ridges_));
             step_.candidates[size_t(k)].plan = &step_plans_[size_t(k)];
             step_.candidates[size_t(k)].remover = k == 0 ? remover_.get() : candidate_removers_.back().get();
         }
@@ -274,6 +277,7 @@ private:
     Embedding embedding_;
     std::vector<int8_t> sign_;
     std::vector<Vec3> oriented_normals_;  // unit normals of the original triangles, coarse orientation
+    std::vector<float> vertex_ridges_;    // the original's vertex_ridge_angles, or empty (ridge guard off)
     std::unique_ptr<VertexRemover> remover_;         // of thread 0 and of the first removal of a step
     std::vector<std::unique_ptr<VertexRemover>> candidate_removers_;  // of the step's removals 1..
     std::vector<std::unique_ptr<VertexRemover>> removers_;  // of threads 1..
@@ -804,6 +808,7 @@ void Simplifier::release_planning_state() {
     last_reason_.release();
     decltype(stamp_)().swap(stamp_);
     decltype(oriented_normals_)().swap(oriented_normals_);
+    decltype(vertex_ridges_)().swap(vertex_ridges_);
     decltype(rerank_costs_)().swap(rerank_costs_);
     decltype(grid_scratch_)().swap(grid_scratch_);
     decltype(cheap_plans_)().swap(cheap_plans_);
@@ -943,6 +948,8 @@ void check_options(const SimplifyOptions& options) {
         throw OptionError("the corner crease length must be between 0 and 1 (of the diagonal)");
     if (!(options.feature_angle_degrees >= 0 && options.feature_angle_degrees <= 180))
         throw OptionError("feature_angle_degrees must be between 0 and 180 degrees");
+    if (!(options.min_ridge_angle_degrees >= 0 && options.min_ridge_angle_degrees <= 90))
+        throw OptionError("min_ridge_angle_degrees must be between 0 and 90 degrees");
 }
 
 // simplify() after check_options(); `original` may be out.original.

@@ -13,6 +13,7 @@
 #include "simplify/phi_transfer.h"
 #include "simplify/polar_map.h"
 #include "simplify/removal_validation.h"
+#include "simplify/ridge_guard.h"
 #include "simplify/star_fans.h"
 #include "simplify/star_graph.h"
 
@@ -75,6 +76,17 @@ public:
     bool check_triangles(int32_t begin, int32_t end, TriangleCheck& check, double& min_cosine, std::string& why) const;
     bool end_finish(bool checks_passed, const std::string& reason, double min_cosine, std::string& why);
     int32_t num_new_triangles() const { return static_cast<int32_t>(tri.triangles.size()); }
+    // The smallest of `vertex_ridges` (simplify/ridge_guard.h) over the original vertices
+    // of the fan that cheap and full plans both gather: the corners, the free vertices,
+    // and those on the new edge of an open fan (not the fixed ones on the link edges, which
+    // only full plans gather). After estimate() got past gathering the nodes.
+    double sharpest_original_ridge(const std::vector<float>& vertex_ridges) const {
+        double sharpest = 180.0;
+        for (const StarNode& s : graph_.nodes)
+            if (s.vertex >= 0 && (s.free || s.poly_corner >= 0 || (!fan_->closed && s.poly_edge == n_ - 1)))
+                sharpest = std::min(sharpest, double(vertex_ridges[size_t(s.vertex)]));
+        return sharpest;
+    }
     bool run(std::string& why) {
         const Stage stage = estimate(why);
         return stage == Stage::Done || (stage == Stage::Estimated && finish(why));
@@ -289,6 +301,7 @@ struct RemovalScratch {
     };
     Part parts[VertexRemover::kMaxFinishParts];
     std::unordered_map<int32_t, double> new_edge_params;  // see plan_once
+    std::vector<int32_t> around;  // of measure_new_ridges
     RemovalScratch(const CoarseMesh& mesh, const Embedding& embedding, const std::vector<int8_t>& sign,
                    const std::vector<Vec3>& normals)
         : planner(mesh, embedding, sign, normals) {}
@@ -301,11 +314,13 @@ void finish_paths(const CoarseMesh& mesh, const Embedding& embedding, RemovalScr
 }  // namespace
 
 VertexRemover::VertexRemover(const CoarseMesh& mesh, const Embedding& embedding,
-                             const std::vector<int8_t>& orientation_sign, const std::vector<Vec3>& oriented_normals)
+                             const std::vector<int8_t>& orientation_sign, const std::vector<Vec3>& oriented_normals,
+                             const std::vector<float>& vertex_ridges)
     : mesh_(mesh),
       embedding_(embedding),
       orientation_sign_(orientation_sign),
       oriented_normals_(oriented_normals),
+      vertex_ridges_(vertex_ridges),
       scratch_(new RemovalScratch(mesh, embedding, orientation_sign, oriented_normals)) {}
 
 VertexRemover::~VertexRemover() { delete scratch_; }
@@ -414,6 +429,7 @@ void RemovalPlan::clear() {
     path_versions.clear();
     max_deviation = worst_old_aspect = worst_new_aspect = longest_new_edge = 0.0;
     max_normal_deviation = 0.0;
+    sharpest_new_ridge = sharpest_original_ridge = 180.0;
     estimated_deviation = 0.0;
     estimated = pending = false;
     used_floater = false;
@@ -523,6 +539,9 @@ void VertexRemover::plan_once(int32_t v, bool force_disk, bool validate, bool de
         // What judging the estimate needs: the deviation, shapes and edges of the new triangles.
         plan.estimated = true;
         plan.estimated_deviation = std::max(plan.estimated_deviation, planner.estimated_deviation);
+        if (!vertex_ridges_.empty())
+            plan.sharpest_original_ridge =
+                std::min(plan.sharpest_original_ridge, planner.sharpest_original_ridge(vertex_ridges_));
         for (double a : planner.tri.aspects) plan.worst_new_aspect = std::max(plan.worst_new_aspect, a);
         for (const auto& d : planner.tri.diagonals)
             plan.longest_new_edge = std::max(plan.longest_new_edge, distance(x[fan.link[d[0]]], x[fan.link[d[1]]]));
@@ -534,6 +553,7 @@ void VertexRemover::plan_once(int32_t v, bool force_disk, bool validate, bool de
                 // finish_part() validates (finish_parts_done() sets them again).
                 for (const auto& t : planner.tri.triangles)
                     plan.new_triangles.push_back({fan.link[t[0]], fan.link[t[1]], fan.link[t[2]]});
+                measure_new_ridges(plan);
                 return;
             }
             if (!planner.finish(why)) {
@@ -543,7 +563,15 @@ void VertexRemover::plan_once(int32_t v, bool force_disk, bool validate, bool de
         }
         add_fan(mesh_, *scratch_, fan, planner, plan);
     }
+    measure_new_ridges(plan);
     finish_paths(mesh_, embedding_, *scratch_, plan);
+}
+
+void VertexRemover::measure_new_ridges(RemovalPlan& plan) {
+    if (vertex_ridges_.empty()) return;
+    plan.sharpest_new_ridge = sharpest_changed_ridge(mesh_, plan.removed_triangles, plan.new_triangles,
+                                                     plan.feature_line ? plan.feature_a : -1,
+                                                     plan.feature_line ? plan.feature_b : -1, scratch_->around);
 }
 
 namespace {

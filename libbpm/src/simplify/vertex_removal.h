@@ -57,6 +57,13 @@ struct RemovalPlan {
     // over the faces of the validated overlays. Cheap plans: a lower bound, over the
     // triangles around the original vertices that move strictly inside a new triangle.
     double max_normal_deviation = 0.0;
+    // The ridge guard (simplify/ridge_guard.h), when the remover was given the original's
+    // vertex ridge angles (else both 180): the smallest ridge angle (degrees) the removal
+    // makes at a coarse edge that is not a feature edge (sharpest_changed_ridge), and the
+    // smallest ridge angle of the original edges at the original vertices in the star.
+    // Known for cheap, deferred (pending) and full plans alike, from the estimate on.
+    double sharpest_new_ridge = 180.0;
+    double sharpest_original_ridge = 180.0;
     bool used_floater = false;
     // The deviation of the first transfer that got a cost, before its validation and a
     // possible re-embedding with Floater's map (then max_deviation differs): full plans
@@ -81,9 +88,12 @@ class VertexRemover {
 public:
     // `oriented_normals[T]`: unit normal of original triangle T in the coarse orientation
     // (times its orientation sign), for RemovalPlan::max_normal_deviation; empty: that
-    // angle is not computed (left 0).
+    // angle is not computed (left 0). `vertex_ridges`: the original's vertex_ridge_angles
+    // (simplify/ridge_guard.h), for RemovalPlan::sharpest_new_ridge and
+    // sharpest_original_ridge; empty: those are not measured (left 180). The remover keeps
+    // references to both vectors.
     VertexRemover(const CoarseMesh& mesh, const Embedding& embedding, const std::vector<int8_t>& orientation_sign,
-                  const std::vector<Vec3>& oriented_normals);
+                  const std::vector<Vec3>& oriented_normals, const std::vector<float>& vertex_ridges);
     ~VertexRemover();
 
     // Plans the removal of v. Checks everything local: classification, the topology
@@ -108,10 +118,13 @@ public:
 
 private:
     void plan_once(int32_t v, bool force_disk, bool validate, bool defer, RemovalPlan& plan, bool& crease_line);
+    void measure_new_ridges(RemovalPlan& plan);  // RemovalPlan::sharpest_new_ridge
+
     const CoarseMesh& mesh_;
     const Embedding& embedding_;
     const std::vector<int8_t>& orientation_sign_;
     const std::vector<Vec3>& oriented_normals_;
+    const std::vector<float>& vertex_ridges_;
     RemovalScratch* scratch_;
 };
 

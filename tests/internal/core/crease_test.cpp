@@ -64,3 +64,18 @@ TEST_CASE("crease test: degenerate triangles and a feature angle of 180 degrees 
     CHECK_FALSE(none.is_crease(hinge(180), {0, 1, 2}, {1, 0, 3}, 0, 1));
     CHECK_FALSE(none.is_crease(hinge(179.9), {0, 1, 2}, {1, 0, 3}, 0, 1));
 }
+
+TEST_CASE("ridge angle: 180 minus the fold, either way, whichever way the triangles are stored",
+          "[internal][core][crease]") {
+    // hinge(f): the normals are f degrees apart, so the wedge the two triangles make is 180 - f.
+    CHECK(ridge_angle_degrees(hinge(0), {0, 1, 2}, {1, 0, 3}, 0, 1) == Approx(180.0));
+    CHECK(ridge_angle_degrees(hinge(90), {0, 1, 2}, {1, 0, 3}, 0, 1) == Approx(90.0));
+    CHECK(ridge_angle_degrees(hinge(163), {0, 1, 2}, {1, 0, 3}, 0, 1) == Approx(17.0));
+    // A concave fold is as sharp as the convex one (the thin wedge is then outside).
+    CHECK(ridge_angle_degrees(hinge(-163), {0, 1, 2}, {1, 0, 3}, 0, 1) == Approx(17.0));
+    for (const Tri t0 : {Tri{0, 1, 2}, Tri{1, 0, 2}})
+        for (const Tri t1 : {Tri{1, 0, 3}, Tri{0, 1, 3}})
+            CHECK(ridge_angle_degrees(hinge(150), t0, t1, 1, 0) == Approx(30.0));
+    // A degenerate triangle has no normal: no ridge.
+    CHECK(ridge_angle_degrees(hinge(150), {0, 1, 2}, {1, 0, 4}, 0, 1) == 180.0);
+}

@@ -90,6 +90,9 @@ TEST_CASE("a step's later removal is not committed when its new triangles meet a
     options.removals_per_step = 64;
     options.record_steps = true;
     options.threads = 1;
+    // The case needs the removal order found without the ridge guard (with it, the spikes'
+    // folds are refused and no later removal of a step meets an earlier one's here).
+    options.min_ridge_angle_degrees = 0.0;
     Parametrization p;
     const SimplifyResult r = simplify(s, options, Context{}, p);
     REQUIRE(r.steps);

@@ -22,6 +22,7 @@ struct HexagonWithInnerVertex {
     Embedding emb;
     std::vector<int8_t> sign;
     std::vector<Vec3> no_normals;  // VertexRemover keeps a reference
+    std::vector<float> no_ridges;
     static Surface make() {
         Surface s = removal_test::hexagon_fan();
         s.vertices.push_back((1.0 / 3.0) * (s.vertices[0] + s.vertices[1] + s.vertices[2]));
@@ -33,7 +34,7 @@ struct HexagonWithInnerVertex {
     }
     HexagonWithInnerVertex() : original(make()), mesh(original), sign(original.triangles.size(), 1) {
         emb.init_identity(original, mesh.triangle_capacity());
-        VertexRemover remover(mesh, emb, sign, no_normals);
+        VertexRemover remover(mesh, emb, sign, no_normals, no_ridges);
         RemovalPlan plan;
         remover.plan(7, true, plan);
         REQUIRE(plan.valid);

@@ -20,6 +20,7 @@ struct LiveState {
     Embedding embedding;
     std::vector<int8_t> sign;
     std::vector<Vec3> no_normals;  // VertexRemover keeps a reference: no normal deviation
+    std::vector<float> no_ridges;  // ... and no ridge guard
     explicit LiveState(const Surface& original) : mesh(original) {
         mesh.mark_feature_edges(60.0);
         sign.resize(original.triangles.size());
@@ -28,7 +29,7 @@ struct LiveState {
     }
     // Removes up to `count` vertices, every `stride`th one whose full plan is valid.
     int remove_some(int count, int stride) {
-        VertexRemover remover(mesh, embedding, sign, no_normals);
+        VertexRemover remover(mesh, embedding, sign, no_normals, no_ridges);
         RemovalPlan plan;
         int removed = 0;
         for (int32_t v = 0; v < int32_t(sign.size()) && removed < count; v += stride) {

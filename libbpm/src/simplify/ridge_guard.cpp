@@ -1,0 +1,114 @@
+// The ridge guard of the simplifier (simplify/ridge_guard.h).
+
+#include "simplify/ridge_guard.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/crease.h"
+#include "core/directed_edge.h"
+
+namespace bpm::detail {
+
+std::vector<float> vertex_ridge_angles(const Surface& original, const Embedding& embedding) {
+    std::vector<float> ridge(original.vertices.size(), 180.0f);
+    for (int32_t e = 0; e < int32_t(embedding.edges.size()); ++e) {
+        const int32_t first = embedding.edge_triangle_offsets[e];
+        if (embedding.edge_triangle_offsets[e + 1] - first != 2) continue;
+        const auto [u, w] = embedding.edges[e];
+        const float angle = float(ridge_angle_degrees(original.vertices,
+                                                      original.triangles[embedding.edge_triangles[first]],
+                                                      original.triangles[embedding.edge_triangles[first + 1]], u, w));
+        ridge[u] = std::min(ridge[u], angle);
+        ridge[w] = std::min(ridge[w], angle);
+    }
+    return ridge;
+}
+
+namespace {
+
+// The cosine between the normals `n0` of t0 and `n1` of t1 at their shared edge (u, w),
+// the second turned over when both run the edge the same way (as ridge_angle_degrees
+// compares them); 1 (flat) when either normal is zero (a degenerate triangle).
+double oriented_cosine(const Vec3& n0, const Tri& t0, const Vec3& n1, const Tri& t1, int32_t u, int32_t w) {
+    if (dot(n0, n0) == 0 || dot(n1, n1) == 0) return 1.0;
+    const double c = dot(n0, n1);
+    return runs_from(t0, u, w) == runs_from(t1, u, w) ? -c : c;
+}
+
+Vec3 normal_of(const std::vector<Vec3>& x, const Tri& t) {
+    return triangle_normal(x[size_t(t[0])], x[size_t(t[1])], x[size_t(t[2])]);
+}
+
+}  // namespace
+
+double sharpest_changed_ridge(const CoarseMesh& mesh, const std::vector<int32_t>& removed,
+                              const std::vector<Tri>& added, int32_t feature_a, int32_t feature_b,
+                              std::vector<int32_t>& scratch) {
+    // Compared as cosines (the ridge angle falls as the cosine does), one acos at the end:
+    // planning runs this for every plan, cheap ones included.
+    const auto& x = mesh.positions();
+    double lowest = 2.0;  // the smallest cosine of a counted edge; 2: none
+    const auto is_removed = [&](int32_t t) { return std::find(removed.begin(), removed.end(), t) != removed.end(); };
+    const auto has_edge = [](const Tri& t, int32_t u, int32_t w) {
+        return (t[0] == u || t[1] == u || t[2] == u) && (t[0] == w || t[1] == w || t[2] == w);
+    };
+    for (size_t i = 0; i < added.size(); ++i) {
+        const Tri& t = added[i];
+        const Vec3 n = normal_of(x, t);
+        for (int k = 0; k < 3; ++k) {
+            const int32_t u = t[k], w = t[(k + 1) % 3];
+            if ((u == feature_a && w == feature_b) || (u == feature_b && w == feature_a)) continue;
+            if (mesh.is_feature_edge(u, w)) continue;
+            // Another added triangle on the edge: a new diagonal, judged once (by the later one).
+            int32_t twins = 0, twin = -1;
+            for (size_t j = 0; j < added.size(); ++j)
+                if (j != i && has_edge(added[j], u, w)) {
+                    ++twins;
+                    twin = int32_t(j);
+                }
+            if (twins > 1) continue;
+            if (twins == 1) {
+                if (size_t(twin) > i) continue;
+                const Tri& o = added[size_t(twin)];
+                lowest = std::min(lowest, oriented_cosine(n, t, normal_of(x, o), o, u, w));
+                continue;
+            }
+            // A side of the hole: one triangle outside, one removed. The alive triangles on
+            // both u and w, by merging their sorted lists (no scattered reads of corners).
+            scratch.clear();
+            const auto lu = mesh.triangles_of(u), lw = mesh.triangles_of(w);
+            for (const int32_t *p = lu.begin(), *q = lw.begin(); p != lu.end() && q != lw.end();) {
+                if (*p < *q) ++p;
+                else if (*q < *p) ++q;
+                else {
+                    scratch.push_back(*p);
+                    ++p;
+                    ++q;
+                }
+            }
+            int32_t outside = -1, inside = -1, others = 0;
+            for (int32_t s : scratch) {
+                if (is_removed(s)) {
+                    if (inside < 0) inside = s;
+                    else ++others;
+                } else if (outside < 0) {
+                    outside = s;
+                } else {
+                    ++others;
+                }
+            }
+            if (outside < 0 || inside < 0 || others > 0) continue;
+            const Tri& o = mesh.triangle(outside);
+            const Vec3 no = normal_of(x, o);
+            const double after = oriented_cosine(no, o, n, t, u, w);
+            if (after >= lowest) continue;  // cannot be the sharpest: skip the one before
+            const Tri& r = mesh.triangle(inside);
+            if (after < oriented_cosine(no, o, normal_of(x, r), r, u, w)) lowest = after;
+        }
+    }
+    if (lowest > 1.0) return 180.0;
+    return 180.0 - std::acos(std::clamp(lowest, -1.0, 1.0)) * (180.0 / M_PI);
+}
+
+}  // namespace bpm::detail
