@@ -91,22 +91,26 @@ struct WaitingPlan {
 // Why each vertex could not be removed when last tried: per vertex an index into the
 // distinct texts (0: none). A std::string per vertex was 32 bytes each (3.3 MB for 104k
 // vertices) for a handful of different texts. set() runs on the planning threads, each
-// for its own vertices; a text is looked up behind a lock (only for refusals).
+// for its own vertices and with its own index of the texts it has met: a text is looked
+// up behind the lock only the first time a thread meets it (a handful of times per run),
+// not for every refused plan. The numbers are never shown: only the texts are.
 class ReasonTable {
 public:
-    void reset(size_t vertices) {
+    void reset(size_t vertices, int threads) {
         of_.assign(vertices, 0);
         texts_.assign(1, std::string());
         index_.clear();
+        known_.assign(size_t(std::max(threads, 1)), {});
     }
-    void set(int32_t v, const std::string& why) {
+    // On planning thread `thread` (of the pool's round, or 0 between rounds).
+    void set(int32_t v, const std::string& why, int thread) {
         if (why.empty()) {
             of_[size_t(v)] = 0;
             return;
         }
-        std::lock_guard<std::mutex> lock(mutex_);
-        auto [it, added] = index_.try_emplace(why, uint32_t(texts_.size()));
-        if (added) texts_.push_back(why);
+        auto& known = known_[size_t(thread)];
+        auto it = known.find(why);
+        if (it == known.end()) it = known.emplace(why, intern(why)).first;
         of_[size_t(v)] = it->second;
     }
     // Not while set() may run.
@@ -115,12 +119,20 @@ public:
         decltype(of_)().swap(of_);
         decltype(texts_)().swap(texts_);
         decltype(index_)().swap(index_);
+        decltype(known_)().swap(known_);
     }
 
 private:
+    uint32_t intern(const std::string& why) {
+        std::lock_guard<std::mutex> lock(mutex_);
+        auto [it, added] = index_.try_emplace(why, uint32_t(texts_.size()));
+        if (added) texts_.push_back(why);
+        return it->second;
+    }
     std::vector<uint32_t> of_;        // per vertex
     std::deque<std::string> texts_;   // [0] empty
-    std::unordered_map<std::string, uint32_t> index_;
+    std::unordered_map<std::string, uint32_t> index_;  // of texts_, behind mutex_
+    std::vector<std::unordered_map<std::string, uint32_t>> known_;  // per thread: the texts it has met
     std::mutex mutex_;
 };
 
@@ -301,6 +313,11 @@ private:
     std::atomic<int64_t> plans_[2] = {{0}, {0}};  // cheap, full
     int64_t commits_ = 0;
     int64_t reused_plans_ = 0;
+    // Per thread, of judge(); a cache line each (the threads write them for every plan).
+    struct alignas(64) Why {
+        std::string text;
+    };
+    std::vector<Why> why_;
     // What became of the candidates of the steps (debug log): taken, held back by their
     // estimate, waiting after validation, gone stale or intersecting after an earlier
     // commit of their step, meeting an earlier commit's new triangles.
@@ -339,10 +356,11 @@ private:
     // removal_cost() of the plan to remove v, the reason for +infinity recorded.
     // CostBasis::Estimate: the cost a full plan is ranked by first (the same for a plan
     // whose validation is pending and for a complete one).
-    double judge(int32_t v, const RemovalPlan& plan, CostBasis basis = CostBasis::Plan) {
-        thread_local std::string why;
+    // On planning thread `thread` (0 between rounds).
+    double judge(int32_t v, const RemovalPlan& plan, int thread, CostBasis basis = CostBasis::Plan) {
+        std::string& why = why_[size_t(thread)].text;
         const double cost = removal_cost(plan, options_, diagonal_, basis, why);
-        last_reason_.set(v, why);
+        last_reason_.set(v, why, thread);
         return cost;
     }
     // Whether candidate k, at cost `cost`, waits: its cost is above the next entry's (the
@@ -420,7 +438,8 @@ SimplifyResult Simplifier::describe_input() const {
 // First ranking of all vertices by cheap plans, in chunks.
 void Simplifier::rank_all(PlanningPool& pool) {
     const int32_t nv = original_.num_vertices();
-    last_reason_.reset(original_.vertices.size());
+    last_reason_.reset(original_.vertices.size(), pool.threads());
+    why_.assign(size_t(pool.threads()), Why());
     // 256 vertices per task; above 2^27 vertices more, so that a round has at most
     // 2^19 tasks (the pool takes fewer than 2^20). The costs do not depend on it.
     const int32_t chunk = std::max<int32_t>(256, int32_t((int64_t(nv) + (1 << 19) - 1) >> 19));
@@ -431,7 +450,7 @@ void Simplifier::rank_all(PlanningPool& pool) {
         const int32_t first = int32_t(int64_t(i) * chunk), last = int32_t(std::min<int64_t>(nv, int64_t(first) + chunk));
         for (int32_t v = first; v < last; ++v) {
             remover(thread).plan(v, false, cheap_plans_[thread]);
-            costs[v] = judge(v, cheap_plans_[thread]);
+            costs[v] = judge(v, cheap_plans_[thread], thread);
         }
         const int32_t done = ranked.fetch_add(last - first) + (last - first);
         if (thread == 0) context_.report(0.2 * done / std::max(nv, 1), "evaluating vertices");
@@ -526,7 +545,7 @@ void Simplifier::plan_round(PlanningPool& pool) {
         c.validated_early = false;
         c.replanned = false;
         if (!c.plan->pending) return;
-        const double estimate = judge(v, *c.plan, CostBasis::Estimate);
+        const double estimate = judge(v, *c.plan, thread, CostBasis::Estimate);
         if (!std::isfinite(estimate) || estimate > c.entry.cost + 1e-15) return;
         if (options_.prevent_intersections)
             c.intersects = intersections_.intersects_rest(c.plan->new_triangles, c.plan->removed_triangles,
@@ -551,7 +570,7 @@ void Simplifier::hold_back_by_estimate() {
         Candidate& c = step_.candidates[k];
         if (c.validated_early) continue;  // its estimate did not wait (plan_round)
         const int32_t v = c.entry.vertex;
-        const double estimate = judge(v, *c.plan, CostBasis::Estimate);
+        const double estimate = judge(v, *c.plan, 0, CostBasis::Estimate);
         if (!std::isfinite(estimate)) {
             c.live = false;
         } else if (waits(k, estimate)) {
@@ -650,7 +669,7 @@ bool Simplifier::ready_to_commit(int k, double& cost) {
     }
     // Floater's map or the normal limit may still raise the cost; then it waits with its
     // complete plan.
-    cost = judge(v, plan);
+    cost = judge(v, plan, 0);
     if (!std::isfinite(cost)) return false;
     if (waits(k, cost)) {
         ++waited_;
@@ -669,12 +688,12 @@ bool Simplifier::ready_to_commit(int k, double& cost) {
             for (int j = 0; j < k; ++j)
                 if (step_.candidates[j].committed &&
                     meet_improperly(original_.vertices, plan.new_triangles, step_.candidates[j].plan->new_triangles)) {
-                    last_reason_.set(v, kSelfIntersection);
+                    last_reason_.set(v, kSelfIntersection, 0);
                     ++met_;
                     return false;
                 }
     } else if (c.known_intersection >= 0 ? c.known_intersection == 1 : !admissible_globally(v, plan)) {
-        if (c.known_intersection == 1) last_reason_.set(v, kSelfIntersection);
+        if (c.known_intersection == 1) last_reason_.set(v, kSelfIntersection, 0);
         return false;
     }
     return true;
@@ -812,6 +831,7 @@ void Simplifier::release_planning_state() {
     decltype(rerank_costs_)().swap(rerank_costs_);
     decltype(grid_scratch_)().swap(grid_scratch_);
     decltype(cheap_plans_)().swap(cheap_plans_);
+    decltype(why_)().swap(why_);
     decltype(step_plans_)().swap(step_plans_);
     decltype(to_plan_)().swap(to_plan_);
     step_ = Step();
@@ -874,7 +894,7 @@ void Simplifier::summarize(const Parametrization& out, double max_deviation,
 double Simplifier::rank(int32_t v, RemovalPlan& plan, int thread) {
     remover(thread).plan(v, false, plan);
     plans_[0].fetch_add(1, std::memory_order_relaxed);
-    return judge(v, plan);
+    return judge(v, plan, thread);
 }
 
 bool Simplifier::still_current(const RemovalPlan& plan) const {
@@ -890,7 +910,7 @@ bool Simplifier::still_current(const RemovalPlan& plan) const {
 bool Simplifier::admissible_globally(int32_t v, const RemovalPlan& plan) {
     if (options_.prevent_intersections &&
         intersections_.intersects_rest(plan.new_triangles, plan.removed_triangles, grid_scratch_[0])) {
-        last_reason_.set(v, kSelfIntersection);
+        last_reason_.set(v, kSelfIntersection, 0);
         return false;
     }
     return true;
