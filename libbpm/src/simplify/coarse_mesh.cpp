@@ -180,6 +180,33 @@ void CoarseMesh::remove_triangle(int32_t t) {
     for (int32_t v : triangles_[t]) set_neighbour_bits(v);
 }
 
+void CoarseMesh::remove_triangles(const std::vector<int32_t>& ts) {
+    // The corners to recount: the first of each distinct one (a star has few).
+    int32_t corners[64];
+    size_t count = 0;
+    bool overflow = false;
+    for (int32_t t : ts) {
+        if (!alive_[t]) continue;
+        alive_[t] = 0;
+        --num_alive_;
+        for (int32_t v : triangles_[t]) {
+            vertex_triangles_.erase(v, t);
+            if (vertex_triangles_.empty(v)) --num_vertices_alive_;
+            if (std::find(corners, corners + count, v) != corners + count) continue;
+            if (count < 64)
+                corners[count++] = v;
+            else
+                overflow = true;
+        }
+    }
+    if (overflow) {  // a very large star: recount every corner of every triangle
+        for (int32_t t : ts)
+            for (int32_t v : triangles_[t]) set_neighbour_bits(v);
+        return;
+    }
+    for (size_t i = 0; i < count; ++i) set_neighbour_bits(corners[i]);
+}
+
 void CoarseMesh::set_neighbour_bits(int32_t v) {
     uint64_t bits = 0;
     for (int32_t u : vertex_triangles_.of(v))

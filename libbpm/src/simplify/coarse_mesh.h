@@ -84,6 +84,9 @@ public:
     // after it (triangle(), triangles_of(), alive() and to_surface() may).
     void shrink_to_fit();
     void remove_triangle(int32_t t);
+    // remove_triangle() of each, with the neighbour bits of their corners recounted once
+    // at the end rather than after every triangle (a star: each corner is in two or more).
+    void remove_triangles(const std::vector<int32_t>& ts);
 
     // Marks creases: a manifold edge whose two triangles' normals are more than
     // `feature_angle_degrees` apart (core/crease.h, CreaseTest) becomes a feature edge.

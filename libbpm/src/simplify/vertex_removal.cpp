@@ -649,7 +649,7 @@ void finish_paths(const CoarseMesh& mesh, const Embedding& embedding, RemovalScr
 void commit_removal(CoarseMesh& mesh, Embedding& embedding, const RemovalPlan& plan) {
     // Unregister moved vertices first: their old triangles are about to disappear.
     for (const auto& loc : plan.new_locations) embedding.clear_location(loc.first);
-    for (int32_t t : plan.removed_triangles) mesh.remove_triangle(t);
+    mesh.remove_triangles(plan.removed_triangles);
     std::vector<int32_t> ids;
     for (size_t i = 0; i < plan.new_triangles.size(); ++i)
         ids.push_back(mesh.add_triangle(plan.new_triangles[i], plan.new_patches[i]));
