@@ -101,6 +101,7 @@ MANUAL_SECTIONS = [
     "output-formats.md",
     "input-slivers-first.md",
     "tet-refinement-best-diagonal.md",
+    "coarse-ridges.md",
 ]
 RUN_RECORD = "all.json"  # in the results folder: what `all` ran, for --assemble
 QUICK_REFINE_MESHES = "femur"
