@@ -13,27 +13,8 @@ if [ ! -f "$elephant" ] || ! command -v tetgen >/dev/null; then
 fi
 py=/usr/bin/python3
 
-# Two unit cubes side by side, one OFF file per material (the shared square triangulated
-# alike in both), as in materials.sh.
-$py - "$work" <<'PY'
-import sys
-work = sys.argv[1]
-def cube(x0, name):
-    v = [(x0 + i, j, k) for k in (0, 1) for j in (0, 1) for i in (0, 1)]
-    idx = lambda i, j, k: i + 2 * j + 4 * k
-    quads = [(idx(0,0,0), idx(0,1,0), idx(1,1,0), idx(1,0,0)), (idx(0,0,1), idx(1,0,1), idx(1,1,1), idx(0,1,1)),
-             (idx(0,0,0), idx(1,0,0), idx(1,0,1), idx(0,0,1)), (idx(0,1,0), idx(0,1,1), idx(1,1,1), idx(1,1,0)),
-             (idx(0,0,0), idx(0,0,1), idx(0,1,1), idx(0,1,0)), (idx(1,0,0), idx(1,1,0), idx(1,1,1), idx(1,0,1))]
-    tris = []
-    for a, b, c, d in quads:
-        tris += [(a, b, c), (a, c, d)]
-    with open(f"{work}/{name}.off", "w") as f:
-        f.write(f"OFF\n{len(v)} {len(tris)} 0\n")
-        f.writelines(f"{x} {y} {z}\n" for x, y, z in v)
-        f.writelines(f"3 {a} {b} {c}\n" for a, b, c in tris)
-cube(0, "left")
-cube(1, "right")
-PY
+# Two unit cubes side by side, one OFF file per material (tests/cli/lib/two_cubes.py).
+$py "$(dirname "$0")/lib/two_cubes.py" "$work"
 
 expect 0 "simplify elephant" -- "$tools/bpm-simplify" "$elephant" -o "$work/e.bpm" --ratio 0.1 -q
 expect 0 "bpm-check on a file without a tet mesh: no tetmesh line" -- "$tools/bpm-check" "$work/e.bpm"

@@ -10,37 +10,8 @@ if ! command -v tetgen >/dev/null; then
 fi
 py=/usr/bin/python3
 
-# left.off = [0,1]^3, right.off = [1,2]x[0,1]^2, outward normals; the square x = 1 is in
-# both, triangulated alike, in opposite orientations.
-$py - "$work" <<'PY'
-import sys
-work = sys.argv[1]
-def cube(x0, name):
-    v = [(x0 + i, j, k) for k in (0, 1) for j in (0, 1) for i in (0, 1)]
-    idx = lambda i, j, k: i + 2 * j + 4 * k
-    quads = [  # outward, counter-clockwise seen from outside
-        (idx(0,0,0), idx(0,1,0), idx(1,1,0), idx(1,0,0)),  # z = 0
-        (idx(0,0,1), idx(1,0,1), idx(1,1,1), idx(0,1,1)),  # z = 1
-        (idx(0,0,0), idx(1,0,0), idx(1,0,1), idx(0,0,1)),  # y = 0
-        (idx(0,1,0), idx(0,1,1), idx(1,1,1), idx(1,1,0)),  # y = 1
-        (idx(0,0,0), idx(0,0,1), idx(0,1,1), idx(0,1,0)),  # x = x0
-        (idx(1,0,0), idx(1,1,0), idx(1,1,1), idx(1,0,1)),  # x = x0 + 1
-    ]
-    tris = []
-    for q in quads:
-        # split every square along the diagonal from its smallest to its largest corner
-        # position, so that the shared square is split alike in both files
-        pos = [v[c] for c in q]
-        s = min(range(4), key=lambda i: pos[i])
-        q = q[s:] + q[:s]
-        tris += [(q[0], q[1], q[2]), (q[0], q[2], q[3])]
-    with open(f"{work}/{name}.off", "w") as f:
-        f.write(f"OFF\n{len(v)} {len(tris)} 0\n")
-        for p in v: f.write("%g %g %g\n" % p)
-        for t in tris: f.write("3 %d %d %d\n" % t)
-cube(0, "left")
-cube(1, "right")
-PY
+# left.off = [0,1]^3 and right.off = [1,2]x[0,1]^2, sharing the square x = 1.
+$py "$(dirname "$0")/lib/two_cubes.py" "$work"
 
 expect 0 "simplify one file per material, interfaces fused" -- "$tools/bpm-simplify" "$work/left.off" "$work/right.off" \
     --merge-duplicate-vertices --merge-duplicate-triangles --ratio 1 -o "$work/cubes.bpm" -v
