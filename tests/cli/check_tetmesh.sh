@@ -19,6 +19,8 @@ $py "$(dirname "$0")/lib/two_cubes.py" "$work"
 expect 0 "simplify elephant" -- "$tools/bpm-simplify" "$elephant" -o "$work/e.bpm" --ratio 0.1 -q
 expect 0 "bpm-check on a file without a tet mesh: no tetmesh line" -- "$tools/bpm-check" "$work/e.bpm"
 ok "no tetmesh line without a tet mesh" -- bash -c "! grep -q tetmesh '$work/out'"
+expect 0 "--checks all on a file without a tet mesh passes" -- "$tools/bpm-check" "$work/e.bpm" --checks all
+ok "--checks all adds no tetmesh line without a tet mesh" -- bash -c "! grep -q tetmesh '$work/out'"
 expect 1 "--checks tetmesh on a file without one fails" -- "$tools/bpm-check" "$work/e.bpm" --checks tetmesh
 contains "$work/out" "no tetrahedral mesh" "the report says the file has no tet mesh"
 contains "$work/out" "bpm-mesh" "and which tool writes one"
