@@ -59,10 +59,11 @@ struct SimplifyOptions {
     // removal of about the same error folds less, not at any price. Refining through phi
     // converges slowly where phi folds (the folded part is squeezed and sampled too
     // coarsely). Off by default: measured (bench/RESULTS.md, "Folds of phi and
-    // convergence"), weight 1 lifts the K = 0 -> 4 reduction of the maximum distance on
-    // femur 1000 V from 1.9x to 2.9x and on armadillo 1000 V from 4.3x to 4.8x, but moves the
-    // K = 0 distance of femur 10 % and mech-holes-shark 1000 V up 1.12-1.13x (removal order).
-    // 0 = off.
+    // convergence"), weight 2 lifts the K = 0 -> 4 reduction of the maximum distance on the
+    // rows where it sat on a fold (femur 1000 V 1.9x -> 3.0x, elephant 10 % and armadillo
+    // 1000 V 4.3x -> 5.5x) and leaves the others as they were, but the changed removal order
+    // moves femur 10 %'s K = 0 distance up 1.10x (1.13x the bench reference); weights 0.25 and
+    // 1 did the same to mech-holes-shark 1000 V. 0 = off.
     double fold_weight = 0.0;
     // The queue orders candidates by a cheap lower bound of their cost; the candidate on
     // top is then planned in full. If its full cost is above the next candidate's bound

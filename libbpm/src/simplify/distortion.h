@@ -67,11 +67,11 @@ double distortion_cost(double max_normal_deviation_degrees, double weight, doubl
 // the folded part too coarsely (a spike of the femur squeezed 30-70x), and there the
 // refined surface stays far from S0 at K = 4; the maximum of the two-sided distance at
 // K = 4 sat on such folds on 4 of the 10 bench rows (femur both, elephant 10 %, armadillo
-// 1000 V). Measured (bench/results/manual/folds-and-convergence.md): weight 1 takes the
-// K = 0 -> 4 reduction of the maximum from 1.9x to 2.9x on femur 1000 V and from 4.3x to
-// 4.8x on armadillo 1000 V, but the changed removal order moves the K = 0 distance of
-// femur 10 % and mech-holes-shark 1000 V up 1.12-1.13x, above the 1.1x: off by
-// default. The alternatives were worse: a + 1 fold limit at 90 / 120 degrees cost femur
+// 1000 V). Measured (bench/results/manual/folds-and-convergence.md): weight 2 takes the
+// K = 0 -> 4 reduction of the maximum from 1.9x to 3.0x on femur 1000 V and from 4.3x to
+// 5.5x on elephant 10 % and armadillo 1000 V, at +10 % CPU, but the changed removal order
+// moves the K = 0 distance of femur 10 % to 1.13x the bench reference (weights 0.25 and 1:
+// mech-holes-shark 1000 V 1.12x), above the 1.1x: off by default. The alternatives were worse: a + 1 fold limit at 90 / 120 degrees cost femur
 // 10 % 5.9x / 1.38x at K = 0; keeping the tips of sharp cones (angle defect >= 90..180
 // degrees) as coarse vertices cost 1.10-1.30x and moved the K = 4 maximum to the next of
 // the femur's hundreds of noise spikes. Even without any fold (fold limit 90 at 1000
