@@ -102,6 +102,7 @@ MANUAL_SECTIONS = [
     "input-slivers-first.md",
     "tet-refinement-best-diagonal.md",
     "coarse-ridges.md",
+    "folds-and-convergence.md",
 ]
 RUN_RECORD = "all.json"  # in the results folder: what `all` ran, for --assemble
 QUICK_REFINE_MESHES = "femur"

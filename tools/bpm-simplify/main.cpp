@@ -22,6 +22,7 @@ std::string with_flags(std::string text) {
         {"max_normal_deviation_degrees", "--max-normal-deviation"},
         {"feature_angle_degrees", "--feature-angle"},
         {"fold_limit_degrees", "--fold-limit"},
+        {"fold_weight", "--fold-weight"},
         {"distortion_weight", "--distortion-weight"},
         {"max_aspect_ratio", "--max-aspect"},
         {"min_ridge_angle_degrees", "--min-ridge-angle"},
@@ -159,6 +160,12 @@ int main(int argc, char** argv) {
     app.add_option("--distortion-weight", options.distortion_weight,
                    "Make removals that turn pieces of the original past 45 degrees cost more (e.g. 0.3; default 0 = off)")
         ->check(CLI::NonNegativeNumber)
+        ->group(quality);
+    app.add_option("--fold-weight", options.fold_weight,
+                   "Weight of the fold term: removals that turn a piece of the original past 90 degrees against "
+                   "its coarse triangle (a fold of phi, where refining through phi converges slowly) cost "
+                   "W * 0.1 % of the diagonal * (angle - 90) / 90 more (default 0 = off)")
+        ->check(CLI::Range(0.0, 1000.0))
         ->group(quality);
     app.add_option("--fold-limit", options.fold_limit_degrees,
                    "Turn pieces past this (a fold of phi) only when the target needs it (degrees; default 180 = off)")

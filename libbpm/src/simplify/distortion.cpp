@@ -77,4 +77,9 @@ double distortion_cost(double deviation, double weight, double fold_limit) {
     return cost;
 }
 
+double fold_cost(double deviation, double weight) {
+    if (!(weight > 0) || !(deviation > 90)) return 0.0;
+    return weight * 1e-3 * (std::min(deviation, 180.0) - 90) / 90;
+}
+
 }  // namespace bpm::detail

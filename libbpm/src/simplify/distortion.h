@@ -54,4 +54,28 @@ std::vector<Vec3> unit_normals(const Surface& surface);
 // weight 0 turns the quadratic part off; fold_limit 180 the fold part. Either works alone.
 double distortion_cost(double max_normal_deviation_degrees, double weight, double fold_limit_degrees);
 
+// The simplifier's fold term (SimplifyOptions::fold_weight, issue 19 "Convergence"): a
+// removal that turns an original piece past 90 degrees against its new coarse triangle (a
+// fold seen from S) costs
+//   weight * 1e-3 * (deviation - 90) / 90       (0 up to 90 degrees; weight * 1e-3 at 180)
+// more, in units of the diagonal like the error. Graded and small, unlike the fold limit's
+// + 1: a fold is put off while a removal of about the same error that folds less is
+// available, but a removal of clearly smaller error still goes first, so the scan's folds
+// that cannot be avoided (femur: hundreds of CT-noise spikes) do not push the error up.
+//
+// Why: where phi folds the original over a coarse triangle, refining through phi samples
+// the folded part too coarsely (a spike of the femur squeezed 30-70x), and there the
+// refined surface stays far from S0 at K = 4; the maximum of the two-sided distance at
+// K = 4 sat on such folds on 4 of the 10 bench rows (femur both, elephant 10 %, armadillo
+// 1000 V). Measured (bench/results/manual/folds-and-convergence.md): weight 2 takes the
+// K = 0 -> 4 reduction of the maximum from 1.9x to 3.0x on femur 1000 V and from 4.3x to
+// 5.5x on elephant 10 % and armadillo 1000 V, at +10 % CPU, but the changed removal order
+// moves the K = 0 distance of femur 10 % to 1.13x the bench reference (weights 0.25 and 1:
+// mech-holes-shark 1000 V 1.12x), above the issue's 1.1x: off by default. The alternatives were worse: a + 1 fold limit at 90 / 120 degrees cost femur
+// 10 % 5.9x / 1.38x at K = 0; keeping the tips of sharp cones (angle defect >= 90..180
+// degrees) as coarse vertices cost 1.10-1.30x and moved the K = 4 maximum to the next of
+// the femur's hundreds of noise spikes. Even without any fold (fold limit 90 at 1000
+// vertices) femur's K = 4 maximum stays at 1.57e-3 of the diagonal, on its noise creases.
+double fold_cost(double max_normal_deviation_degrees, double weight);
+
 }  // namespace bpm::detail

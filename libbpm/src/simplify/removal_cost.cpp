@@ -57,7 +57,8 @@ double removal_cost(const RemovalPlan& plan, const SimplifyOptions& options, dou
     // The distortion term (simplify/distortion.h) is 0 unless SimplifyOptions::distortion_weight
     // or fold_limit_degrees ask for it: off by default (bench/RESULTS.md, issue 19 item 2).
     const double distortion =
-        distortion_cost(plan.max_normal_deviation, options.distortion_weight, options.fold_limit_degrees);
+        distortion_cost(plan.max_normal_deviation, options.distortion_weight, options.fold_limit_degrees) +
+        fold_cost(plan.max_normal_deviation, options.fold_weight);
     return std::round((error + options.aspect_weight * 1e-3 * aspect_term + distortion) * 1e10) * 1e-10;
 }
 

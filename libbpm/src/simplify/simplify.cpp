@@ -250,7 +250,7 @@ public:
         for (int32_t t = 0; t < original.num_triangles(); ++t) sign_[t] = mesh_.flipped_initially(t) ? -1 : 1;
         // Only with a limit: the angle costs about 5% of the planning time.
         if (options.max_normal_deviation_degrees < 180.0 || options.distortion_weight > 0 ||
-            options.fold_limit_degrees < 180.0)
+            options.fold_limit_degrees < 180.0 || options.fold_weight > 0)
             oriented_normals_.resize(original.triangles.size());
         for (int32_t t = 0; t < int32_t(oriented_normals_.size()); ++t) {
             const Tri& c = original.triangles[t];
@@ -959,6 +959,8 @@ void check_options(const SimplifyOptions& options) {
         throw OptionError("max_normal_deviation_degrees must be between 0 and 180 degrees");
     if (!(options.distortion_weight >= 0) || !(options.fold_limit_degrees >= 0 && options.fold_limit_degrees <= 180))
         throw OptionError("distortion_weight must be >= 0 and fold_limit_degrees between 0 and 180 degrees");
+    if (!(options.fold_weight >= 0) || !std::isfinite(options.fold_weight))
+        throw OptionError("fold_weight must be finite and >= 0");
     if (!(options.removals_per_step >= 1 && options.removals_per_step <= kMaxRemovalsPerStep))
         throw OptionError("removals_per_step must be between 1 and " + std::to_string(kMaxRemovalsPerStep) + ", got " +
                           std::to_string(options.removals_per_step));

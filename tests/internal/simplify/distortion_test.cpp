@@ -107,3 +107,14 @@ TEST_CASE("distortion: the cost term is 0 up to 45 degrees, grows, and sends fol
     CHECK(detail::distortion_cost(89, 0, 90) == 0);
     CHECK(detail::distortion_cost(179, 1, 180) < 0.01);  // no fold limit: the quadratic part only
 }
+
+TEST_CASE("distortion: the fold term is 0 up to 90 degrees and grows linearly to weight * 1e-3 at 180",
+          "[distortion]") {
+    CHECK(detail::fold_cost(45, 1) == 0);
+    CHECK(detail::fold_cost(90, 1) == 0);  // perpendicular is not a fold yet
+    CHECK(detail::fold_cost(135, 1) == Approx(0.5e-3));
+    CHECK(detail::fold_cost(180, 2) == Approx(2e-3));
+    CHECK(detail::fold_cost(179, 0) == 0);  // off
+    // Smaller than any fold limit's + 1: a removal of clearly smaller error still goes first.
+    CHECK(detail::fold_cost(180, 1) < 0.01);
+}
