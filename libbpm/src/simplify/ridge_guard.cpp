@@ -44,7 +44,7 @@ Vec3 normal_of(const std::vector<Vec3>& x, const Tri& t) {
 
 double sharpest_changed_ridge(const CoarseMesh& mesh, const std::vector<int32_t>& removed,
                               const std::vector<Tri>& added, int32_t feature_a, int32_t feature_b,
-                              std::vector<int32_t>& scratch) {
+                              RidgeScratch& scratch) {
     // Compared as cosines (the ridge angle falls as the cosine does), one acos at the end:
     // planning runs this for every plan, cheap ones included.
     const auto& x = mesh.positions();
@@ -53,9 +53,14 @@ double sharpest_changed_ridge(const CoarseMesh& mesh, const std::vector<int32_t>
     const auto has_edge = [](const Tri& t, int32_t u, int32_t w) {
         return (t[0] == u || t[1] == u || t[2] == u) && (t[0] == w || t[1] == w || t[2] == w);
     };
+    // Each added triangle's normal once: a diagonal's two triangles are both added.
+    auto& normals = scratch.normals;
+    normals.resize(added.size());
+    for (size_t i = 0; i < added.size(); ++i) normals[i] = normal_of(x, added[i]);
+    auto& around = scratch.around;
     for (size_t i = 0; i < added.size(); ++i) {
         const Tri& t = added[i];
-        const Vec3 n = normal_of(x, t);
+        const Vec3& n = normals[i];
         for (int k = 0; k < 3; ++k) {
             const int32_t u = t[k], w = t[(k + 1) % 3];
             if ((u == feature_a && w == feature_b) || (u == feature_b && w == feature_a)) continue;
@@ -70,25 +75,24 @@ double sharpest_changed_ridge(const CoarseMesh& mesh, const std::vector<int32_t>
             if (twins > 1) continue;
             if (twins == 1) {
                 if (size_t(twin) > i) continue;
-                const Tri& o = added[size_t(twin)];
-                lowest = std::min(lowest, oriented_cosine(n, t, normal_of(x, o), o, u, w));
+                lowest = std::min(lowest, oriented_cosine(n, t, normals[size_t(twin)], added[size_t(twin)], u, w));
                 continue;
             }
             // A side of the hole: one triangle outside, one removed. The alive triangles on
             // both u and w, by merging their sorted lists (no scattered reads of corners).
-            scratch.clear();
+            around.clear();
             const auto lu = mesh.triangles_of(u), lw = mesh.triangles_of(w);
             for (const int32_t *p = lu.begin(), *q = lw.begin(); p != lu.end() && q != lw.end();) {
                 if (*p < *q) ++p;
                 else if (*q < *p) ++q;
                 else {
-                    scratch.push_back(*p);
+                    around.push_back(*p);
                     ++p;
                     ++q;
                 }
             }
             int32_t outside = -1, inside = -1, others = 0;
-            for (int32_t s : scratch) {
+            for (int32_t s : around) {
                 if (is_removed(s)) {
                     if (inside < 0) inside = s;
                     else ++others;

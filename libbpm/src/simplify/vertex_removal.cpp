@@ -301,7 +301,7 @@ struct RemovalScratch {
     };
     Part parts[VertexRemover::kMaxFinishParts];
     std::unordered_map<int32_t, double> new_edge_params;  // see plan_once
-    std::vector<int32_t> around;  // of measure_new_ridges
+    RidgeScratch ridges;  // of measure_new_ridges
     RemovalScratch(const CoarseMesh& mesh, const Embedding& embedding, const std::vector<int8_t>& sign,
                    const std::vector<Vec3>& normals)
         : planner(mesh, embedding, sign, normals) {}
@@ -571,7 +571,7 @@ void VertexRemover::measure_new_ridges(RemovalPlan& plan) {
     if (vertex_ridges_.empty()) return;
     plan.sharpest_new_ridge = sharpest_changed_ridge(mesh_, plan.removed_triangles, plan.new_triangles,
                                                      plan.feature_line ? plan.feature_a : -1,
-                                                     plan.feature_line ? plan.feature_b : -1, scratch_->around);
+                                                     plan.feature_line ? plan.feature_b : -1, scratch_->ridges);
 }
 
 namespace {
