@@ -58,9 +58,15 @@ constexpr double kRidgeMargin = 5.0;
 std::vector<float> vertex_ridge_angles(const Surface& original, const Embedding& embedding);
 
 // The buffers of sharpest_changed_ridge (plans are made millions of times).
+struct HoleSide {
+    int32_t added;    // the added triangle on it
+    int32_t k;        // its edge added[k], added[(k + 1) % 3]
+    int32_t outside;  // the alive triangle on it outside the removed ones
+    int32_t inside;   // the removed triangle on it
+};
 struct RidgeScratch {
     std::vector<Vec3> normals;    // of the added triangles
-    std::vector<int32_t> around;  // the alive triangles on a side of the hole
+    std::vector<HoleSide> sides;  // the sides of the hole that are judged
 };
 
 // The smallest ridge angle (degrees) the change of `removed` (alive triangles of `mesh`)

@@ -446,6 +446,11 @@ void VertexRemover::plan_once(int32_t v, bool force_disk, bool validate, bool de
     const VertexClass cls = classify_star(mesh_, v, force_disk, fans, crease_line, plan.reason, scratch_->star);
     if (cls == VertexClass::Feature) return;
     const auto& x = mesh_.positions();
+    // The ridge guard walks the triangles around the link last (measure_new_ridges): ask
+    // for the link vertices' lists now, so that they arrive while the fans are planned.
+    if (!vertex_ridges_.empty())
+        for (const Fan& fan : fans)
+            for (int32_t l : fan.link) mesh_.prefetch_vertex(l);
 
     double radius = 0.0;
     int count = 0;
