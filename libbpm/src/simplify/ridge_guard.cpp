@@ -44,18 +44,30 @@ Vec3 normal_of(const std::vector<Vec3>& x, const Tri& t) {
 
 double sharpest_changed_ridge(const CoarseMesh& mesh, const std::vector<int32_t>& removed,
                               const std::vector<Tri>& added, int32_t feature_a, int32_t feature_b,
-                              std::vector<int32_t>& scratch) {
+                              RidgeScratch& scratch) {
     // Compared as cosines (the ridge angle falls as the cosine does), one acos at the end:
-    // planning runs this for every plan, cheap ones included.
+    // planning runs this for every plan, cheap ones included. The result is the smallest
+    // cosine over the counted edges, so the edges may be judged in any order: the sides of
+    // the hole are judged after the diagonals, in three passes whose loads are asked for
+    // (prefetch) one pass ahead. Walked one side at a time, the triangle lists of its ends,
+    // the triangle outside and that triangle's third corner were cache misses one after
+    // another (most of this function's time).
     const auto& x = mesh.positions();
+    for (const Tri& t : added)
+        for (int32_t u : t) mesh.prefetch_vertex(u);
     double lowest = 2.0;  // the smallest cosine of a counted edge; 2: none
     const auto is_removed = [&](int32_t t) { return std::find(removed.begin(), removed.end(), t) != removed.end(); };
     const auto has_edge = [](const Tri& t, int32_t u, int32_t w) {
         return (t[0] == u || t[1] == u || t[2] == u) && (t[0] == w || t[1] == w || t[2] == w);
     };
+    // Each added triangle's normal once: a diagonal's two triangles are both added.
+    auto& normals = scratch.normals;
+    normals.resize(added.size());
+    for (size_t i = 0; i < added.size(); ++i) normals[i] = normal_of(x, added[i]);
+    auto& sides = scratch.sides;
+    sides.clear();
     for (size_t i = 0; i < added.size(); ++i) {
         const Tri& t = added[i];
-        const Vec3 n = normal_of(x, t);
         for (int k = 0; k < 3; ++k) {
             const int32_t u = t[k], w = t[(k + 1) % 3];
             if ((u == feature_a && w == feature_b) || (u == feature_b && w == feature_a)) continue;
@@ -70,42 +82,49 @@ double sharpest_changed_ridge(const CoarseMesh& mesh, const std::vector<int32_t>
             if (twins > 1) continue;
             if (twins == 1) {
                 if (size_t(twin) > i) continue;
-                const Tri& o = added[size_t(twin)];
-                lowest = std::min(lowest, oriented_cosine(n, t, normal_of(x, o), o, u, w));
+                lowest = std::min(lowest, oriented_cosine(normals[i], t, normals[size_t(twin)], added[size_t(twin)], u, w));
                 continue;
             }
             // A side of the hole: one triangle outside, one removed. The alive triangles on
             // both u and w, by merging their sorted lists (no scattered reads of corners).
-            scratch.clear();
+            int32_t outside = -1, inside = -1, others = 0;
             const auto lu = mesh.triangles_of(u), lw = mesh.triangles_of(w);
             for (const int32_t *p = lu.begin(), *q = lw.begin(); p != lu.end() && q != lw.end();) {
-                if (*p < *q) ++p;
-                else if (*q < *p) ++q;
-                else {
-                    scratch.push_back(*p);
+                if (*p < *q) {
+                    ++p;
+                } else if (*q < *p) {
+                    ++q;
+                } else {
+                    if (is_removed(*p)) {
+                        if (inside < 0) inside = *p;
+                        else ++others;
+                    } else if (outside < 0) {
+                        outside = *p;
+                    } else {
+                        ++others;
+                    }
                     ++p;
                     ++q;
                 }
             }
-            int32_t outside = -1, inside = -1, others = 0;
-            for (int32_t s : scratch) {
-                if (is_removed(s)) {
-                    if (inside < 0) inside = s;
-                    else ++others;
-                } else if (outside < 0) {
-                    outside = s;
-                } else {
-                    ++others;
-                }
-            }
             if (outside < 0 || inside < 0 || others > 0) continue;
-            const Tri& o = mesh.triangle(outside);
-            const Vec3 no = normal_of(x, o);
-            const double after = oriented_cosine(no, o, n, t, u, w);
-            if (after >= lowest) continue;  // cannot be the sharpest: skip the one before
-            const Tri& r = mesh.triangle(inside);
-            if (after < oriented_cosine(no, o, normal_of(x, r), r, u, w)) lowest = after;
+            mesh.prefetch_triangle(outside);
+            sides.push_back({int32_t(i), k, outside, inside});
         }
+    }
+    // The outside triangles' corners are on their way: ask for their positions (two of
+    // them, on the link, are at hand already).
+    for (const HoleSide& side : sides)
+        for (int32_t c : mesh.triangle(side.outside)) __builtin_prefetch(x.data() + c);
+    for (const HoleSide& side : sides) {
+        const Tri& t = added[size_t(side.added)];
+        const int32_t u = t[side.k], w = t[(side.k + 1) % 3];
+        const Tri& o = mesh.triangle(side.outside);
+        const Vec3 no = normal_of(x, o);
+        const double after = oriented_cosine(no, o, normals[size_t(side.added)], t, u, w);
+        if (after >= lowest) continue;  // cannot be the sharpest: skip the one before
+        const Tri& r = mesh.triangle(side.inside);
+        if (after < oriented_cosine(no, o, normal_of(x, r), r, u, w)) lowest = after;
     }
     if (lowest > 1.0) return 180.0;
     return 180.0 - std::acos(std::clamp(lowest, -1.0, 1.0)) * (180.0 / M_PI);

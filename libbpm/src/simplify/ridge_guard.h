@@ -57,15 +57,27 @@ constexpr double kRidgeMargin = 5.0;
 // `original` (its edges and their triangles).
 std::vector<float> vertex_ridge_angles(const Surface& original, const Embedding& embedding);
 
+// The buffers of sharpest_changed_ridge (plans are made millions of times).
+struct HoleSide {
+    int32_t added;    // the added triangle on it
+    int32_t k;        // its edge added[k], added[(k + 1) % 3]
+    int32_t outside;  // the alive triangle on it outside the removed ones
+    int32_t inside;   // the removed triangle on it
+};
+struct RidgeScratch {
+    std::vector<Vec3> normals;    // of the added triangles
+    std::vector<HoleSide> sides;  // the sides of the hole that are judged
+};
+
 // The smallest ridge angle (degrees) the change of `removed` (alive triangles of `mesh`)
 // into `added` makes, over the edges of `added` that are not feature edges of `mesh`
 // and not (feature_a, feature_b) (the new feature edge, or -1, -1): the edges shared by
 // two added triangles, and the edges an added triangle shares with exactly one triangle
 // of `mesh` outside `removed` where the ridge gets sharper than it was with the one
 // triangle of `removed` there. Edges with another number of triangles are left out.
-// 180 if none. `scratch`: a buffer.
+// 180 if none.
 double sharpest_changed_ridge(const CoarseMesh& mesh, const std::vector<int32_t>& removed,
                               const std::vector<Tri>& added, int32_t feature_a, int32_t feature_b,
-                              std::vector<int32_t>& scratch);
+                              RidgeScratch& scratch);
 
 }  // namespace bpm::detail

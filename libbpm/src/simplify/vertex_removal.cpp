@@ -301,7 +301,7 @@ struct RemovalScratch {
     };
     Part parts[VertexRemover::kMaxFinishParts];
     std::unordered_map<int32_t, double> new_edge_params;  // see plan_once
-    std::vector<int32_t> around;  // of measure_new_ridges
+    RidgeScratch ridges;  // of measure_new_ridges
     RemovalScratch(const CoarseMesh& mesh, const Embedding& embedding, const std::vector<int8_t>& sign,
                    const std::vector<Vec3>& normals)
         : planner(mesh, embedding, sign, normals) {}
@@ -446,6 +446,11 @@ void VertexRemover::plan_once(int32_t v, bool force_disk, bool validate, bool de
     const VertexClass cls = classify_star(mesh_, v, force_disk, fans, crease_line, plan.reason, scratch_->star);
     if (cls == VertexClass::Feature) return;
     const auto& x = mesh_.positions();
+    // The ridge guard walks the triangles around the link last (measure_new_ridges): ask
+    // for the link vertices' lists now, so that they arrive while the fans are planned.
+    if (!vertex_ridges_.empty())
+        for (const Fan& fan : fans)
+            for (int32_t l : fan.link) mesh_.prefetch_vertex(l);
 
     double radius = 0.0;
     int count = 0;
@@ -571,7 +576,7 @@ void VertexRemover::measure_new_ridges(RemovalPlan& plan) {
     if (vertex_ridges_.empty()) return;
     plan.sharpest_new_ridge = sharpest_changed_ridge(mesh_, plan.removed_triangles, plan.new_triangles,
                                                      plan.feature_line ? plan.feature_a : -1,
-                                                     plan.feature_line ? plan.feature_b : -1, scratch_->around);
+                                                     plan.feature_line ? plan.feature_b : -1, scratch_->ridges);
 }
 
 namespace {

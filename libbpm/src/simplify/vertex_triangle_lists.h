@@ -39,6 +39,8 @@ public:
         const std::vector<int32_t>& list = spilled_[size_t(-1 - b.count)];
         return View(list.data(), list.data() + list.size());
     }
+    // A cache hint for of(v) (CoarseMesh::prefetch_vertex); not after compact().
+    void prefetch(int32_t v) const { __builtin_prefetch(blocks_.data() + v); }
     bool empty(int32_t v) const { return compact_ ? offsets_[v] == offsets_[v + 1] : blocks_[v].count == 0; }
 
     // Stores the lists in one array with offsets (CSR) and frees the blocks: once the

@@ -53,7 +53,7 @@ TEST_CASE("ridge guard: a new diagonal's ridge is measured, a flatter choice is 
     const Surface s = folded_star(5.0, 8.0);
     CoarseMesh mesh(s);
     mesh.mark_feature_edges(180.0);  // no creases: every edge is judged
-    std::vector<int32_t> scratch;
+    RidgeScratch scratch;
     const std::vector<int32_t> star = star_of_0(mesh);
     REQUIRE(star.size() == 4);
     // Diagonal 1-3: the V of opening 2 atan(1/5) = 22.6 degrees. The sides of the hole get
@@ -75,7 +75,7 @@ TEST_CASE("ridge guard: a side of the hole counts where the new triangle makes i
     s.vertices[0] = {0, 0, 8};
     s.vertices[5] = {0, 0, -0.2};
     const double wedge = std::atan(0.2 / std::sqrt(0.5)) * 180.0 / kPi;
-    std::vector<int32_t> scratch;
+    RidgeScratch scratch;
     {
         CoarseMesh mesh(s);
         mesh.mark_feature_edges(180.0);
