@@ -377,8 +377,20 @@ static Surface finish_reading(detail::ReaderOutput parsed, SurfaceFormat format,
     validate.max_problems = 100;
     const std::vector<SurfaceProblem> problems = validate_surface(surface, validate);
     const std::string polygons = options.triangulate_polygons ? std::string() : parsed.triangulated_polygons;
-    if (!problems.empty() || !polygons.empty())
-        throw_surface_problems(name, "", polygons, problems, surface, options, validate);
+    if (!problems.empty() || !polygons.empty()) {
+        // A volume mesh (gmsh -3, a VTK unstructured grid) read as a surface: its cells are
+        // skipped, and the vertices inside the volume are then "not used by any triangle".
+        // Without the why, that error read like a broken file.
+        std::string prefix;
+        const bool unreferenced = std::any_of(problems.begin(), problems.end(), [](const SurfaceProblem& p) {
+            return p.kind == SurfaceProblem::Kind::UnreferencedVertex;
+        });
+        if (unreferenced && r.skipped_elements > 0)
+            prefix = std::to_string(r.skipped_elements) + " element" + (r.skipped_elements == 1 ? " that is" : "s that are") +
+                     " not triangles skipped (the cells of a volume mesh?), so vertices only they use are used by no "
+                     "triangle: ";
+        throw_surface_problems(name, prefix, polygons, problems, surface, options, validate);
+    }
     return surface;
 }
 
