@@ -231,6 +231,11 @@ int main(int argc, char** argv) {
                                    "cat femur.off | bpm-simplify - --input-format off -o femur.bpm --max-error 0.005"});
 
     return bpm::tools::run(tool, argc, argv, app, [&]() {
+        {
+            std::string names;  // as the reader names several inputs together
+            for (const std::string& in : inputs) names += (names.empty() ? "" : " + ") + (in == "-" ? "<stdin>" : in);
+            bpm::tools::set_error_input(names);
+        }
         bpm::tools::require_output_directory(output);
         bpm::tools::require_bpm_output(output, tool);
         bpm::tools::refuse_binary_to_terminal(output, "binary .bpm (HDF5) data");
