@@ -257,6 +257,7 @@ int main(int argc, char** argv) {
         bpm::SurfaceReadReport report;
         bpm::Surface surface = bpm::read_surfaces(inputs, read_options, &report);
         for (const auto& note : report.notes) context.info(note);
+        for (const auto& warning : report.warnings) context.warn(warning);
         context.info("read " + std::to_string(surface.num_vertices()) + " vertices, " +
                      std::to_string(surface.num_triangles()) + " triangles");
         // A target the input already meets is a no-op: say so rather than "3897 -> 3897".
