@@ -195,6 +195,14 @@ std::string repair_words(SurfaceRepair r) {
         const std::vector<SurfaceRepair> more = repairs_needed(surface, problems, options, validate);
         repairs.insert(repairs.end(), more.begin(), more.end());
     }
+    // Degenerate triangles have no repair option (removing them could open the surface):
+    // say so, and what to do, instead of leaving the user to look for a flag.
+    const bool degenerate = std::any_of(problems.begin(), problems.end(), [](const SurfaceProblem& p) {
+        return p.kind == SurfaceProblem::Kind::RepeatedCorner || p.kind == SurfaceProblem::Kind::ZeroArea;
+    });
+    if (degenerate)
+        message += "; bpm has no repair option for degenerate triangles: remove them from the input (e.g. MeshLab's "
+                   "Remove Zero Area Faces), closing any hole that leaves";
     if (repairs.empty()) throw InputError(where, message);
     message += repairs.size() == 1 ? "; the repair it needs: " : "; the repairs it needs, all together: ";
     for (size_t i = 0; i < repairs.size(); ++i) message += (i ? ", " : "") + repair_words(repairs[i]);
