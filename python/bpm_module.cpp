@@ -14,6 +14,7 @@
 
 #include <cstdint>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <map>
 #include <memory>
@@ -106,8 +107,30 @@ std::vector<bpm::Vec3> query_vec3(const py::object& obj, const char* name, size_
     return out;
 }
 
+// Barycentric coordinates of points of a triangle: components >= 0 summing to 1, up to
+// kBarycentricSlack (what rounding in a caller's arithmetic gives). The C++ evaluators take
+// this as a precondition and extrapolate outside it: (0.2, 0.2, 0.2) gave a point off the
+// surface, with no error.
+constexpr double kBarycentricSlack = 1e-6;
+
+std::vector<bpm::Vec3> query_barycentrics(const py::object& obj, const char* name, size_t k, const char* match) {
+    std::vector<bpm::Vec3> out = query_vec3(obj, name, k, match);
+    for (size_t i = 0; i < out.size(); ++i) {
+        const bpm::Vec3& b = out[i];
+        if (b[0] >= -kBarycentricSlack && b[1] >= -kBarycentricSlack && b[2] >= -kBarycentricSlack &&
+            std::abs(b[0] + b[1] + b[2] - 1.0) <= kBarycentricSlack)
+            continue;
+        char text[160];
+        std::snprintf(text, sizeof text, "[%zu] = (%.9g, %.9g, %.9g), sum %.9g, is not a point of the triangle", i,
+                      b[0], b[1], b[2], b[0] + b[1] + b[2]);
+        throw py::value_error(std::string(name) + text +
+                              " (barycentric coordinates are >= 0 and sum to 1, up to 1e-6)");
+    }
+    return out;
+}
+
 std::vector<bpm::Vec3> query_barycentrics(const py::object& obj, size_t k) {
-    return query_vec3(obj, "barycentrics", k, "triangles");
+    return query_barycentrics(obj, "barycentrics", k, "triangles");
 }
 
 int thread_count(int threads) {
@@ -202,8 +225,8 @@ public:
                           int threads) {
         std::vector<int32_t> t = query_indices(original_triangles, "original_triangles", 0,
                                                file_->param.original.num_triangles(), "an original triangle");
-        std::vector<bpm::Vec3> b = query_vec3(original_barycentrics, "original_barycentrics", t.size(),
-                                              "original_triangles");
+        std::vector<bpm::Vec3> b = query_barycentrics(original_barycentrics, "original_barycentrics", t.size(),
+                                                      "original_triangles");
         threads = thread_count(threads);
         const bpm::PhiInverse& inv = inverse();
         std::vector<bpm::OriginalPoint> in(t.size());
@@ -417,8 +440,8 @@ PYBIND11_MODULE(_bpm, m) {
                                [](const File& f) { return f.array("tet_vertex_parameter_barycentric"); },
                                "(v, 3) float64 barycentric coordinates there (0 inside); or None")
         .def("phi", &File::phi, py::arg("triangles"), py::arg("barycentrics"), py::arg("threads") = 1,
-             "phi at points of S given by coarse triangle (k,) and barycentric coordinates (k, 3):\n"
-             "positions (k, 3) on S0. threads=0 uses all cores; the result does not depend on it.")
+             "phi at points of S given by coarse triangle (k,) and barycentric coordinates (k, 3),\n"
+             ">= 0 and summing to 1 (ValueError otherwise): positions (k, 3) on S0. threads=0 uses all cores; the result does not depend on it.")
         .def("phi_samples", &File::phi_samples, py::arg("triangles"), py::arg("barycentrics"),
              py::arg("threads") = 1,
              "Like phi, and also the unit normal of S0 and the original triangle and barycentric\n"

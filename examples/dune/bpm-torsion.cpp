@@ -43,6 +43,7 @@
 #include "bpm/predicates.h"
 #include "bpm/tetmesh.h"
 #include "bpm/tetmesh_smooth.h"
+#include "common/tool_main.h"
 
 namespace {
 
@@ -304,15 +305,18 @@ int main(int argc, char** argv) {
                    "(--levels stays the limit)")
         ->check(CLI::PositiveNumber)
         ->needs(reference_option);
-    CLI11_PARSE(app, argc, argv);
-    if (!adaptive && levels > 8) {
-        // Each uniform level has 8 times the tets of the one before.
-        std::cerr << "bpm-torsion: --levels " << levels << " without --adaptive: at most 8 uniform levels\n";
-        return 1;
-    }
-
+    // The tools' runner (tools/common): `bpm-torsion: error: FILE: message` and the exit
+    // codes of README.md (3 for a missing or unusable file, 2 for a bad command line).
+    // Before, a missing file said "bpm-torsion: cannot open: No such file or directory"
+    // (which file?) with exit 1, an unknown option exited 106, and --version was unknown.
+    const std::string tool = "bpm-torsion";
+    bpm::tools::add_version_flag(app, tool);
+    return bpm::tools::run(tool, argc, argv, app, [&]() -> int {
+    if (!adaptive && levels > 8)  // each uniform level has 8 times the tets of the one before
+        throw CLI::ValidationError("--levels", std::to_string(levels) + " without --adaptive: at most 8 uniform levels");
     try {
         const bpm::BpmFile file = bpm::read_bpm(input);
+        if (!file.tetmesh) throw bpm::InputError(input, "the .bpm file has no tet mesh (/tetmesh): run bpm-mesh on it first");
         auto phi = std::make_shared<const bpm::PhiEvaluator>(file.param);
         auto built = bpm::dune::make_uggrid(file, phi, flat ? bpm::dune::BoundaryGeometry::Flat
                                                              : bpm::dune::BoundaryGeometry::Phi);
@@ -425,12 +429,9 @@ int main(int argc, char** argv) {
             out << "\n]}\n";
             std::cout << out.str();
         }
-    } catch (const bpm::Error& e) {
-        std::cerr << "bpm-torsion: " << e.what() << "\n";
-        return 1;
     } catch (const Dune::Exception& e) {
-        std::cerr << "bpm-torsion: DUNE: " << e.what() << "\n";
-        return 1;
+        throw bpm::AlgorithmError(std::string("DUNE: ") + e.what());
     }
     return 0;
+    });
 }

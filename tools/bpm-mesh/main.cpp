@@ -132,6 +132,7 @@ int main(int argc, char** argv) {
                bpm::tools::error_json(error) + "}";
     });
     return bpm::tools::run(tool, argc, argv, app, [&]() {
+        bpm::tools::set_error_input(input);
         bpm::tools::require_output_directory(output);
         std::optional<bpm::TetMeshFormat> out_format =
             format.empty() ? (output == "-" ? std::optional(bpm::TetMeshFormat::Bpm) : bpm::tetmesh_format_from_path(output))

@@ -192,6 +192,7 @@ int main(int argc, char** argv) {
                bpm::tools::error_json(error) + "}";
     });
     return bpm::tools::run(tool, argc, argv, app, [&]() {
+        bpm::tools::set_error_input(input);
         bpm::tools::require_output_directory(output);
         if (json && output == "-") throw CLI::ValidationError("--json", "needs an output file (stdout carries the JSON)");
         if (json && volume) throw CLI::ValidationError("--json", "is not available with --volume yet");

@@ -238,6 +238,11 @@ int main(int argc, char** argv) {
                                    "cat femur.off | bpm-simplify - --input-format off -o femur.bpm --max-error 0.005"});
 
     return bpm::tools::run(tool, argc, argv, app, [&]() {
+        {
+            std::string names;  // as the reader names several inputs together
+            for (const std::string& in : inputs) names += (names.empty() ? "" : " + ") + (in == "-" ? "<stdin>" : in);
+            bpm::tools::set_error_input(names);
+        }
         bpm::tools::require_output_directory(output);
         bpm::tools::require_bpm_output(output, tool);
         bpm::tools::refuse_binary_to_terminal(output, "binary .bpm (HDF5) data");
@@ -259,6 +264,7 @@ int main(int argc, char** argv) {
         bpm::SurfaceReadReport report;
         bpm::Surface surface = bpm::read_surfaces(inputs, read_options, &report);
         for (const auto& note : report.notes) context.info(note);
+        for (const auto& warning : report.warnings) context.warn(warning);
         context.info("read " + std::to_string(surface.num_vertices()) + " vertices, " +
                      std::to_string(surface.num_triangles()) + " triangles");
         // A target the input already meets is a no-op: say so rather than "3897 -> 3897".

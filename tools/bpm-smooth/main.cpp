@@ -42,6 +42,7 @@ int main(int argc, char** argv) {
                                    "bpm-smooth coarse.bpm -o smooth.bpm --iterations 20 -v   (with the breakdown)"});
 
     return bpm::tools::run(tool, argc, argv, app, [&]() {
+        bpm::tools::set_error_input(input);
         bpm::tools::require_output_directory(output);
         bpm::tools::require_bpm_output(output, tool);
         bpm::tools::refuse_binary_to_terminal(output, "binary .bpm (HDF5) data");

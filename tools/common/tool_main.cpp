@@ -179,7 +179,10 @@ CLI::Validator decimal_range(double low, double high, bool low_open, bool high_o
 namespace {
 const bool* g_json = nullptr;
 std::function<std::string(const ErrorReport&)> g_render_error;
+std::string g_error_input;
 }  // namespace
+
+void set_error_input(const std::string& name) { g_error_input = name == "-" ? "<stdin>" : name; }  // as the readers say
 
 void set_json_error_report(const bool& json, std::function<std::string(const ErrorReport&)> render) {
     g_json = &json;
@@ -285,7 +288,7 @@ int run(const std::string& tool, int argc, char** argv, CLI::App& app, const std
     } catch (const CLI::ParseError& e) {
         return fail("", readable_parse_error(e.what()), kUsage);
     } catch (const AlgorithmError& e) {
-        return fail("", e.what(), kAlgorithm);
+        return fail(g_error_input, e.what(), kAlgorithm);
     } catch (const ExternalToolError& e) {
         return fail("", e.what(), kExternalTool);
     } catch (const Cancelled&) {

@@ -53,6 +53,11 @@ struct ErrorReport {
 // usual line on stderr. `json` must outlive run().
 void set_json_error_report(const bool& json, std::function<std::string(const ErrorReport&)> render);
 
+// The input an algorithm error (exit 5: "cannot proceed on this input") concerns, so that
+// it is reported as `tool: error: FILE: message` like the input errors: the library's
+// AlgorithmError names no file. Call it once the input is known ("-" for standard input).
+void set_error_input(const std::string& name);
+
 // `text` as a JSON string literal, quotes included (control characters escaped; UTF-8
 // passed through).
 std::string json_string(const std::string& text);

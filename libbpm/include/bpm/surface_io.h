@@ -112,6 +112,10 @@ struct SurfaceReadReport {
     int64_t fused_triangles = 0;       // removed by the requested repair (merge_duplicate_triangles)
     int64_t skipped_elements = 0;      // non-triangle elements of MSH files, non-surface cells of VTK files, that were ignored
     std::vector<std::string> notes;    // other human-readable remarks
+    // Remarks on what the input is likely to get wrong although it is accepted, e.g. a
+    // surface whose triangles are not consistently oriented (front sides, and so the
+    // materials of patch_info, differ between neighbours).
+    std::vector<std::string> warnings;
     // Names and materials of the patches (bpm/patch_info.h), sorted by patch id: from the
     // format (SURF regions, MSH $PhysicalNames), else, for read_surface of a path, the
     // file-per-material convention (material = the file name without directory and

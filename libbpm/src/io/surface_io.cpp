@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <limits>
 #include <map>
+#include <unordered_map>
 
 #include "bpm/errors.h"
 #include "core/file_util.h"
@@ -194,6 +195,14 @@ std::string repair_words(SurfaceRepair r) {
         const std::vector<SurfaceRepair> more = repairs_needed(surface, problems, options, validate);
         repairs.insert(repairs.end(), more.begin(), more.end());
     }
+    // Degenerate triangles have no repair option (removing them could open the surface):
+    // say so, and what to do, instead of leaving the user to look for a flag.
+    const bool degenerate = std::any_of(problems.begin(), problems.end(), [](const SurfaceProblem& p) {
+        return p.kind == SurfaceProblem::Kind::RepeatedCorner || p.kind == SurfaceProblem::Kind::ZeroArea;
+    });
+    if (degenerate)
+        message += "; bpm has no repair option for degenerate triangles: remove them from the input (e.g. MeshLab's "
+                   "Remove Zero Area Faces), closing any hole that leaves";
     if (repairs.empty()) throw InputError(where, message);
     message += repairs.size() == 1 ? "; the repair it needs: " : "; the repairs it needs, all together: ";
     for (size_t i = 0; i < repairs.size(); ++i) message += (i ? ", " : "") + repair_words(repairs[i]);
@@ -337,6 +346,49 @@ static detail::ReaderOutput read_parallel_vtk_xml(const std::string& path, const
     return all;
 }
 
+// Edges with exactly two triangles that run along them the same way: the two triangles
+// face opposite sides of the surface (e.g. triangles flipped in an STL export). Accepted
+// (bpm-simplify and bpm-check work on them), but the front side that patch_info's
+// materials refer to changes there, and phi's pieces turn by up to 180 degrees; before,
+// nothing said so. Empty when the orientation is consistent.
+static std::string orientation_warning(const Surface& surface) {
+    struct EdgeUse {
+        int32_t count = 0, first_triangle = -1, same_way_triangle = -1;
+        bool first_ascending = false;
+    };
+    std::unordered_map<uint64_t, EdgeUse> edges;
+    edges.reserve(surface.triangles.size() * 2);
+    for (int32_t t = 0; t < surface.num_triangles(); ++t) {
+        const Tri& x = surface.triangles[size_t(t)];
+        for (int k = 0; k < 3; ++k) {
+            const int32_t a = x[k], b = x[(k + 1) % 3];
+            const uint64_t key = uint64_t(uint32_t(std::min(a, b))) << 32 | uint32_t(std::max(a, b));
+            EdgeUse& e = edges[key];
+            if (e.count == 0) e.first_triangle = t, e.first_ascending = a < b;
+            else if (e.count == 1 && e.first_ascending == (a < b)) e.same_way_triangle = t;
+            ++e.count;
+        }
+    }
+    int64_t same_way = 0;
+    const EdgeUse* first = nullptr;  // the one with the smallest triangles, for a stable message
+    uint64_t first_key = 0;
+    for (const auto& [key, e] : edges) {
+        if (e.count != 2 || e.same_way_triangle < 0) continue;
+        ++same_way;
+        if (!first || std::pair(e.first_triangle, e.same_way_triangle) < std::pair(first->first_triangle, first->same_way_triangle))
+            first = &e, first_key = key;
+    }
+    if (same_way == 0) return {};
+    return "the triangles are not consistently oriented: at " + std::to_string(same_way) + " edge" +
+           (same_way == 1 ? "" : "s") + " two neighbours face opposite sides (first: triangles " +
+           std::to_string(first->first_triangle) + " and " + std::to_string(first->same_way_triangle) +
+           " at the edge of vertices " + std::to_string(first_key >> 32) + " and " +
+           std::to_string(first_key & 0xffffffffu) +
+           "); bpm keeps them as they are, so the materials of their front and back sides and phi's "
+           "normals flip there (phi turns such pieces by up to 180 degrees). Orient the input consistently "
+           "(e.g. MeshLab: Re-Orient all faces coherently)";
+}
+
 // After a reader: the repairs asked for, then the validation. `material`: the material
 // the file encloses if its format says nothing about its patches (apply_file_material).
 static Surface finish_reading(detail::ReaderOutput parsed, SurfaceFormat format, const std::string& name,
@@ -377,8 +429,21 @@ static Surface finish_reading(detail::ReaderOutput parsed, SurfaceFormat format,
     validate.max_problems = 100;
     const std::vector<SurfaceProblem> problems = validate_surface(surface, validate);
     const std::string polygons = options.triangulate_polygons ? std::string() : parsed.triangulated_polygons;
-    if (!problems.empty() || !polygons.empty())
-        throw_surface_problems(name, "", polygons, problems, surface, options, validate);
+    if (!problems.empty() || !polygons.empty()) {
+        // A volume mesh (gmsh -3, a VTK unstructured grid) read as a surface: its cells are
+        // skipped, and the vertices inside the volume are then "not used by any triangle".
+        // Without the why, that error read like a broken file.
+        std::string prefix;
+        const bool unreferenced = std::any_of(problems.begin(), problems.end(), [](const SurfaceProblem& p) {
+            return p.kind == SurfaceProblem::Kind::UnreferencedVertex;
+        });
+        if (unreferenced && r.skipped_elements > 0)
+            prefix = std::to_string(r.skipped_elements) + " element" + (r.skipped_elements == 1 ? " that is" : "s that are") +
+                     " not triangles skipped (the cells of a volume mesh?), so vertices only they use are used by no "
+                     "triangle: ";
+        throw_surface_problems(name, prefix, polygons, problems, surface, options, validate);
+    }
+    if (std::string w = orientation_warning(surface); !w.empty()) r.warnings.push_back(std::move(w));
     return surface;
 }
 
@@ -428,6 +493,7 @@ Surface read_surfaces(const std::vector<std::string>& paths, const SurfaceReadOp
         r.fused_triangles += one.fused_triangles;
         r.skipped_elements += one.skipped_elements;
         for (const std::string& note : one.notes) r.notes.push_back(name + ": " + note);
+        for (const std::string& warning : one.warnings) r.warnings.push_back(name + ": " + warning);
         part_infos.push_back(std::move(one.patch_info));
     }
     std::vector<std::pair<int, int32_t>> origin;

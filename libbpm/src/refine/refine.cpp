@@ -100,6 +100,19 @@ public:
         if (!(diagonal_ > 0)) diagonal_ = 1;
     }
 
+    // Progress, monotone over the whole call: within a pass, refining takes the first half
+    // and the intersection remedy (any number of rounds) the second; the adaptive passes
+    // (pass_ >= 1, at most PassHistory::kMaxPasses) share the whole range. Before, every
+    // pass restarted "refining" at 0 % and the remedy's rounds (minutes on polyhedral
+    // inputs, whose refined vertices fold in the faces' planes) reported nothing.
+    void progress(const Context& context, double within_pass, const std::string& what) const {
+        if (pass_ < 1) {
+            context.report(within_pass, what);
+            return;
+        }
+        context.report((pass_ - 1 + within_pass) / PassHistory::kMaxPasses, "pass " + std::to_string(pass_) + ": " + what);
+    }
+
     void init() {
         const Surface& c = p_.coarse;
         out_.surface.vertices = c.vertices;  // coarse vertices keep their positions exactly
@@ -311,7 +324,7 @@ public:
     // Uniform: every triangle below `max_level` is red-refined, level by level.
     void refine_uniform(int max_level, const Context& context) {
         for (int round = 0; round < max_level; ++round) {
-            context.report(double(round) / std::max(1, max_level), "refining");
+            progress(context, 0.5 * double(round) / std::max(1, max_level), "refining");
             std::vector<size_t> marked;
             for (size_t i = 0; i < tris_.size(); ++i)
                 if (tris_[i].level < max_level) marked.push_back(i);
@@ -337,7 +350,7 @@ public:
     void refine_adaptive(const RefineOptions& options, const Context& context) {
         const int max_level = options.max_level;
         for (int round = 0; round < max_level; ++round) {
-            context.report(double(round) / std::max(1, max_level), "refining");
+            progress(context, 0.5 * double(round) / std::max(1, max_level), "refining");
             const std::vector<size_t> marked = above_tolerance(options);
             if (marked.empty()) break;
             for (size_t i : marked) red(i);
@@ -428,6 +441,7 @@ public:
         RefineResult best;
         PassHistory history;
         for (;;) {
+            pass_ = history.passes() + 1;
             refine_adaptive(options, context);
             // Green closure, remembering which triangle of the 1-irregular mesh each comes from.
             const std::vector<RTri> irregular = tris_;
@@ -696,6 +710,9 @@ public:
         const int32_t moves = two_stages ? 22 : 11;  // after this many a vertex is on the coarse surface
         bool everywhere = true;  // adaptive: the first and the last check see every pair
         for (int32_t round = 0;; ++round) {
+            progress(context, 1.0 - 0.5 / (round + 1),
+                     round == 0 ? std::string("checking the refined surface for intersections")
+                                : "holding back intersecting vertices, round " + std::to_string(round));
             CheckResult r = intersections(two_stages && !everywhere ? &pl.at_phi : nullptr);
             if (r.passed && two_stages && !everywhere) r = intersections(nullptr);
             if (r.passed) break;
@@ -747,6 +764,7 @@ private:
     // Per new vertex (index - #coarse vertices): the edge it is the midpoint of.
     std::vector<std::pair<int32_t, int32_t>> parents_;
     std::vector<uint8_t> moved_;  // per vertex: not at phi (hold_back)
+    int32_t pass_ = 0;            // the adaptive pass running (1, 2, ...); 0 = uniform
 };
 
 }  // namespace

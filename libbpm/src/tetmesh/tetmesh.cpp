@@ -543,10 +543,21 @@ void check_meshable(const Surface& surface, const Context& context) {
             if (first < 0) first = e;
             ++boundary;
         }
-    if (boundary > 0)
-        throw AlgorithmError("surface has " + num(boundary) + " boundary edge" + (boundary == 1 ? "" : "s") +
-                             ", first at vertices " + num(c.edges[first][0]) + "-" + num(c.edges[first][1]) +
-                             " (it does not enclose a volume; TetGen needs a closed surface)");
+    if (boundary > 0) {
+        // Where, as positions: the vertex numbers of the coarse surface mean nothing to a
+        // user looking at the input. The coarse surface has the original's boundary
+        // (bpm-check's topology check), so the cause is in the input, e.g. an open seam.
+        const auto at = [&](int32_t v) {
+            const Vec3& p = surface.vertices[size_t(v)];
+            return "(" + format_double(p[0]) + ", " + format_double(p[1]) + ", " + format_double(p[2]) + ")";
+        };
+        const int32_t a = c.edges[first][0], b = c.edges[first][1];
+        throw AlgorithmError("the coarse surface has " + num(boundary) + " boundary edge" + (boundary == 1 ? "" : "s") +
+                             ", first from vertex " + num(a) + " " + at(a) + " to vertex " + num(b) + " " + at(b) +
+                             ": it does not enclose a volume, and TetGen needs a closed surface. The boundary is the "
+                             "input surface's (bpm-simplify keeps it): close the input there, e.g. an open seam "
+                             "whose two sides have vertices at slightly different positions");
+    }
     CheckOptions co;
     co.max_problems = 1;
     const CheckResult r = check_intersections(surface, co, context);

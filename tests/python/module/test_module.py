@@ -293,6 +293,16 @@ def test_bad_queries_are_value_errors(femur):
         f.phi(np.array([0, 1]), np.array([[np.nan, 0, 1], [1, 0, 0]]))
     with pytest.raises(ValueError, match="threads"):
         f.phi(np.array([0, 1]), b, threads=-1)
+    # Coordinates that are not a point of the triangle: phi extrapolated them to points off
+    # the surface ((0.2, 0.2, 0.2) did not sum to 1; (0.5, 0.6, -0.1) is outside).
+    with pytest.raises(ValueError, match=r"barycentrics\[1\] = \(0.2, 0.2, 0.2.*is not a point of the triangle"):
+        f.phi(np.array([0, 1]), np.array([[1.0, 0, 0], [0.2, 0.2, 0.2]]))
+    with pytest.raises(ValueError, match="is not a point of the triangle"):
+        f.phi_samples(np.array([0]), np.array([[0.5, 0.6, -0.1]]))
+    with pytest.raises(ValueError, match=r"original_barycentrics\[0\] = .* is not a point of the triangle"):
+        f.phi_inverse(np.array([0]), np.array([[2.0, 2.0, 2.0]]))
+    # Rounding is fine: a caller's 1 - a - b may be a few ulps off.
+    assert f.phi(np.array([0]), np.array([[1 + 1e-12, -1e-12, 0.0]])).shape == (1, 3)
     assert f.phi(np.zeros(0, dtype=np.int32), np.zeros((0, 3))).shape == (0, 3)
     # Lists are arrays too.
     assert np.array_equal(f.phi([0, 1], b.tolist()), f.phi(np.array([0, 1]), b))

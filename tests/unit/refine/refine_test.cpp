@@ -524,3 +524,47 @@ TEST_CASE("uniform refinement with held-back vertices reports a bound the sample
         CHECK(measured <= res.hausdorff_bound * (1 + 1e-9) + 1e-12);
     }
 }
+
+TEST_CASE("adaptive refinement reports progress that never goes back and names the pass and the remedy",
+          "[refine][remedy][real]") {
+    // bpm-refine --max-error on two boxes sharing a face (a polyhedral input) ran 220 s:
+    // the terminal showed "refining 0 % .. 87 %" and then 0 % again for every pass, and
+    // nothing during the intersection remedy's rounds, where the time went. The femur case
+    // of the remedy test above (10 %, no ridge guard, T = 0.003) holds vertices back (one
+    // pass: the fractions of later passes follow the same rule, (pass - 1 + within) / 12).
+    const std::string path = std::string(BPM_MESH_DIR) + "/femur.off";
+    if (!std::filesystem::exists(path)) {
+        WARN("missing femur.off");
+        return;
+    }
+    SimplifyOptions so;
+    so.target_ratio = 0.1;
+    so.min_ridge_angle_degrees = 0.0;
+    Parametrization femur;
+    simplify(read_surface(path), so, Context{}, femur);
+    std::vector<std::pair<double, std::string>> reports;
+    Context context;
+    context.progress = [&](double fraction, const std::string& stage) {
+        reports.emplace_back(fraction, stage);
+        return true;
+    };
+    RefinedSurface r;
+    RefineOptions o;
+    o.tolerance = 3e-3;
+    o.prevent_intersections = true;
+    const RefineResult res = refine(femur, o, context, r);
+    REQUIRE(res.held_back_vertices > 0);  // the remedy ran: what this is about
+    REQUIRE(!reports.empty());
+    bool pass = false, remedy = false;
+    for (size_t i = 0; i < reports.size(); ++i) {
+        INFO("report " << i << ": " << reports[i].first << " " << reports[i].second);
+        CHECK(reports[i].first >= 0.0);
+        CHECK(reports[i].first <= 1.0);
+        if (i > 0) CHECK(reports[i].first >= reports[i - 1].first);
+        pass = pass || reports[i].second.rfind("pass 1: ", 0) == 0;
+        remedy = remedy || reports[i].second.find("holding back intersecting vertices, round ") != std::string::npos;
+    }
+    CHECK(pass);
+    CHECK(remedy);
+    CHECK(reports.back().first == 1.0);
+}
