@@ -1,5 +1,6 @@
 #include "simplify/fan_retriangulation.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -25,6 +26,63 @@ bool clearly_in_circle(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& 
                              (std::abs(cdx * ady) + std::abs(adx * cdy)) * blift +
                              (std::abs(adx * bdy) + std::abs(bdx * ady)) * clift;
     return det > 1e-9 * permanent;
+}
+
+// The fallback of retriangulate_fan(): over all triangulations of the polygon (corners
+// 0..n-1, counter-clockwise) whose diagonals may be cut (`allowed`) and whose triangles
+// are not degenerate, the one with the smallest worst 3D aspect ratio (near-ties to the
+// smaller apex). Fills `out` and returns true, or false when there is none.
+template <class Allowed>
+bool min_max_aspect_triangulation(const std::vector<Vec3>& x, const Fan& fan, const Allowed& allowed,
+                                  FanTriangulation& out, EarScratch& scratch) {
+    const int32_t n = fan.corners();
+    constexpr double kNone = std::numeric_limits<double>::infinity();
+    auto& worst = scratch.worst;
+    auto& apex = scratch.apex;
+    worst.assign(size_t(n) * size_t(n), kNone);
+    apex.assign(size_t(n) * size_t(n), -1);
+    auto at = [n](int32_t i, int32_t k) { return size_t(i) * size_t(n) + size_t(k); };
+    for (int32_t i = 0; i + 1 < n; ++i) worst[at(i, i + 1)] = 0.0;  // a polygon side: nothing to triangulate
+    for (int32_t len = 2; len < n; ++len)
+        for (int32_t i = 0; i + len < n; ++i) {
+            const int32_t k = i + len;
+            // i -- k closes the sub-polygon: a diagonal, except the side n-1 -- 0.
+            if (!(i == 0 && k == n - 1) && !allowed(i, k)) continue;
+            double best = kNone;
+            int32_t best_j = -1;
+            for (int32_t j = i + 1; j < k; ++j) {
+                const double left = worst[at(i, j)], right = worst[at(j, k)];
+                if (!(left < kNone) || !(right < kNone)) continue;
+                const double aspect = aspect_ratio(x[fan.link[i]], x[fan.link[j]], x[fan.link[k]]);
+                if (!std::isfinite(aspect)) continue;  // degenerate
+                const double w = std::max({aspect, left, right});
+                if (w < best * (1.0 - 1e-9)) {
+                    best = w;
+                    best_j = j;
+                }
+            }
+            worst[at(i, k)] = best;
+            apex[at(i, k)] = best_j;
+        }
+    if (apex[at(0, n - 1)] < 0) return false;
+    out.triangles.clear();
+    out.aspects.clear();
+    out.diagonals.clear();
+    auto& stack = scratch.stack;
+    stack.assign(1, {0, n - 1});
+    while (!stack.empty()) {
+        const auto [i, k] = stack.back();
+        stack.pop_back();
+        if (k - i < 2) continue;
+        const int32_t j = apex[at(i, k)];
+        out.triangles.push_back({i, j, k});
+        out.aspects.push_back(aspect_ratio(x[fan.link[i]], x[fan.link[j]], x[fan.link[k]]));
+        if (j - i >= 2) out.diagonals.push_back({i, j});
+        if (k - j >= 2) out.diagonals.push_back({j, k});
+        stack.push_back({j, k});
+        stack.push_back({i, j});
+    }
+    return true;
 }
 
 }  // namespace
@@ -121,6 +179,10 @@ bool retriangulate_fan(const CoarseMesh& mesh, const Fan& fan, const PolarMap& m
             }
         }
         if (best < 0) {
+            // The greedy choice may have left a polygon whose diagonals all exist or are
+            // forbidden while another triangulation of the whole polygon avoids them.
+            auto allowed = [&](int32_t a, int32_t d) { return !mesh.has_edge(fan.link[a], fan.link[d]) && !is_forbidden(a, d); };
+            if (!map.cocircular && min_max_aspect_triangulation(x, fan, allowed, out, scratch)) return true;
             why = "no admissible retriangulation (topology condition)";
             return false;
         }

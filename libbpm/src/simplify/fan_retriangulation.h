@@ -31,6 +31,11 @@ struct EarScratch {
     std::vector<int8_t> blocked;    // -1 unknown, 0 free, 1 its diagonal exists or is forbidden
     std::vector<int8_t> delaunay;   // -1 unknown, 0 no, 1 yes
     std::vector<int32_t> witness;   // a corner clearly inside the circle of a non-admissible ear
+    // Of the fallback when no ear may be cut (n x n, row-major): the smallest worst aspect
+    // ratio of a triangulation of corners i..k closed by i -- k, and its apex.
+    std::vector<double> worst;
+    std::vector<int32_t> apex;
+    std::vector<std::array<int32_t, 2>> stack;
 };
 
 // Triangulates the polygon of `fan` laid out by `map` (a strictly convex polygon) into
@@ -38,8 +43,13 @@ struct EarScratch {
 // an edge of `mesh` and not in `forbidden` (pairs of corner indices, either order).
 // Among those: first ears of the polar map's own polygon (when map.cocircular), then
 // Delaunay-admissible ones (no other corner clearly inside their circumcircle), then the
-// smallest 3D aspect ratio, near-ties to the first. Fails with `why` when no ear may be
-// cut, or the last triangle is degenerate or already exists; `out` is then unspecified.
+// smallest 3D aspect ratio, near-ties to the first. When the ears left all have a
+// diagonal that exists or is forbidden (the greedy choice can lead there: after a retry
+// forbade both diagonals of the quadrilateral it left), and the map is not cocircular, the
+// triangulation of the whole polygon without such diagonals and degenerate triangles with
+// the smallest worst aspect ratio is taken instead (dynamic programming, O(n^3)). Fails
+// with `why` when there is none, or the last triangle is degenerate or already exists;
+// `out` is then unspecified.
 bool retriangulate_fan(const CoarseMesh& mesh, const Fan& fan, const PolarMap& map,
                        const std::vector<std::array<int32_t, 2>>& forbidden, FanTriangulation& out,
                        EarScratch& scratch, std::string& why);

@@ -51,6 +51,22 @@ bool assign_pieces(const Fan& fan, const FanTriangulation& tri, const StarGraph&
     pieces.pieces.clear();
     for (PathEdit& e : pieces.path_edits) pieces.recycle(e.middle);
     pieces.path_edits.clear();
+    // Whether items a and b (star nodes) both lie on one diagonal: free nodes put on it, or
+    // a polygon corner at its end.
+    auto along_one_diagonal = [&](int32_t a, int32_t b) {
+        if (a >= nnodes || b >= nnodes) return false;
+        const StarNode& sa = graph.nodes[a];
+        const StarNode& sb = graph.nodes[b];
+        auto on_diagonal = [](const StarNode& s) { return s.free && s.new_triangle < 0 ? s.diagonal : -1; };
+        auto ends = [&](int32_t d, const StarNode& s) {
+            return s.poly_corner >= 0 && (tri.diagonals[d][0] == s.poly_corner || tri.diagonals[d][1] == s.poly_corner);
+        };
+        const int32_t da = on_diagonal(sa), db = on_diagonal(sb);
+        if (da >= 0 && db >= 0) return da == db;
+        if (da >= 0) return ends(da, sb);
+        if (db >= 0) return ends(db, sa);
+        return false;
+    };
     int32_t ca[64], cb[64];
     for (size_t si = 0; si < graph.segments.size(); ++si) {
         const StraightSegment& seg = graph.segments[si];
@@ -68,6 +84,15 @@ bool assign_pieces(const Fan& fan, const FanTriangulation& tri, const StarGraph&
                         common = ca[p];
                         ++count;
                     }
+            if (count == 2 && along_one_diagonal(previous, item)) {
+                // The run lies along a diagonal (both ends on it, snapped there within
+                // rounding distance: on a regular lattice, e.g. a gmsh box face, every ear
+                // of some stars has original edges along it). Like a run along a feature
+                // edge it is no piece: the overlays of the two triangles have its ends on
+                // their common side, and the path keeps them as points of that edge.
+                previous = item;
+                continue;
+            }
             if (count != 1) {
                 why = count == 0 ? "re-cut lost track of an original edge" : "original edge along a new edge";
                 if (count > 1) {

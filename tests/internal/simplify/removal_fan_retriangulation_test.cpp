@@ -122,3 +122,32 @@ TEST_CASE("removal retriangulation: a half-disk gets its new feature edge as a s
     // The side from corner 4 back to corner 0 is the new edge, never a diagonal.
     CHECK_FALSE(has_diagonal(r.tri, 0, 4));
 }
+
+TEST_CASE("removal retriangulation: a dead end of the greedy ears falls back to another triangulation",
+          "[simplify][removal]") {
+    // After a retry forbade both diagonals of the quadrilateral the first two ears leave
+    // (seen on a regular lattice, where original edges run along both: a flat face of a
+    // gmsh box), the ear cutting had no ear left; other triangulations avoid both.
+    const Surface s = removal_test::hexagon_fan();
+    CoarseMesh mesh(s);
+    const Retriangulated r = retriangulate(mesh);
+    REQUIRE(r.ok);
+    const int32_t n = static_cast<int32_t>(r.map.q.size());
+    REQUIRE(n == 6);
+    std::vector<int32_t> left;
+    for (int32_t i = 0; i < n; ++i)
+        if (i != r.tri.triangles[0][1] && i != r.tri.triangles[1][1]) left.push_back(i);
+    REQUIRE(left.size() == 4);
+    const std::vector<std::array<int32_t, 2>> forbidden{{left[0], left[2]}, {left[1], left[3]}};
+    const Retriangulated other = retriangulate(mesh, forbidden);
+    REQUIRE(other.ok);
+    check_triangulates(other);
+    for (const auto& f : forbidden) CHECK_FALSE(has_diagonal(other.tri, f[0], f[1]));
+    for (double a : other.tri.aspects) CHECK(std::isfinite(a));
+    // Forbidding every diagonal leaves nothing.
+    std::vector<std::array<int32_t, 2>> all;
+    for (int32_t a = 0; a < n; ++a)
+        for (int32_t b = a + 2; b < n; ++b)
+            if (!(a == 0 && b == n - 1)) all.push_back({a, b});
+    CHECK_FALSE(retriangulate(mesh, all).ok);
+}
