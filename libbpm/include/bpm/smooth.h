@@ -20,7 +20,7 @@
 //
 // An update is rejected (the pair keeps its phi) if it would make either of its two coarse
 // triangles worse when refined check_levels times (a larger max aspect ratio of the
-// refined triangles or a larger max |flat - phi| at phi's nodes): the relaxation places
+// refined triangles or a larger max |flat - phi|): the relaxation places
 // the original vertices by the shape of S0 alone, blind to where the refinement samples
 // phi and to how far phi(x) lies from x, and on CAD-like shapes (flat faces, creases
 // inside a pair, saddles) its updates made the refined surface worse. Also rejected: an
@@ -59,7 +59,8 @@ struct SmoothOptions {
     int quality_levels = 3;       // refinement level of the quality measure
     // An update is kept only if it makes neither of its two coarse triangles worse when
     // refined this many times: neither the largest aspect ratio of its refined triangles
-    // nor its largest |flat - phi| (at phi's nodes) may grow. 0 keeps every valid update.
+    // nor its largest |flat - phi| (over the overlay with phi) may grow. 0 keeps every
+    // valid update. A guarantee for this level only: other levels may still get worse.
     int check_levels = 3;
 };
 

@@ -188,11 +188,11 @@ bool star_weights(const std::vector<StarWedge>& wedges, SmoothWeights mode, std:
 // coordinates, every grid point placed on S0 through phi). Used to accept a smoothing
 // update only if it makes no coarse triangle worse (see relax()).
 // - max_aspect: the largest aspect ratio of the refined triangles;
-// - max_error: the largest |flat - phi| at the nodes of phi, flat being the refined
-//   surface (linear over each sub-triangle). Over one piece of phi both flat and phi are
-//   affine per sub-triangle, so the maximum over the overlay lies at its vertices: the
-//   nodes (measured here), the grid points (0) and the crossings of grid edges with
-//   piece edges (not measured: the nodes are a proxy, exact in the limit of fine K).
+// - max_error: the largest |flat - phi|, flat being the refined surface (linear over
+//   each sub-triangle). Both are affine over each cell of the overlay of the pieces of
+//   phi with the sub-triangles, so the maximum lies at an overlay vertex: a node, a grid
+//   point (where it is 0) or a crossing of a piece edge with a grid line (the quantity
+//   bpm-refine reports, up to rounding, for this triangle).
 struct TriangleQuality {
     double max_aspect = 0;
     double max_error = 0;
@@ -242,22 +242,39 @@ TriangleQuality triangle_quality(const PhiTriangleData& t, int levels) {
             aspect(x[idx(i, j)], x[idx(i + 1, j)], x[idx(i, j + 1)]);
             if (i + j + 1 < n) aspect(x[idx(i + 1, j)], x[idx(i + 1, j + 1)], x[idx(i, j + 1)]);
         }
-    for (size_t k = 0; k < t.barycentric.size(); ++k) {
-        const Vec3& b = t.barycentric[k];
+    // The refined surface at barycentric point b (linear over the sub-triangle holding b).
+    auto flat_at = [&](const Vec3& b) -> Vec3 {
         const double u = b[1] * n, v = b[2] * n;
         int i = std::min(n - 1, std::max(0, int(std::floor(u)))), j = std::min(n - 1, std::max(0, int(std::floor(v))));
         if (i + j > n - 1) i = std::max(0, n - 1 - j);
         const double fu = u - i, fv = v - j;
-        Vec3 flat;
         if (fu + fv <= 1 || i + j + 1 >= n) {  // lower sub-triangle (i,j), (i+1,j), (i,j+1)
             const Vec3 &a = x[idx(i, j)], &c1 = x[idx(i + 1, j)], &c2 = x[idx(i, j + 1)];
-            flat = a + fu * (c1 - a) + fv * (c2 - a);
-        } else {  // upper sub-triangle (i+1,j+1), (i,j+1), (i+1,j)
-            const Vec3 &a = x[idx(i + 1, j + 1)], &c1 = x[idx(i, j + 1)], &c2 = x[idx(i + 1, j)];
-            flat = a + (1 - fu) * (c1 - a) + (1 - fv) * (c2 - a);
+            return a + fu * (c1 - a) + fv * (c2 - a);
         }
-        q.max_error = std::max(q.max_error, distance(flat, t.image[k]));
-    }
+        const Vec3 &a = x[idx(i + 1, j + 1)], &c1 = x[idx(i, j + 1)], &c2 = x[idx(i + 1, j)];  // upper
+        return a + (1 - fu) * (c1 - a) + (1 - fv) * (c2 - a);
+    };
+    // Overlay vertices: the nodes ...
+    for (size_t k = 0; k < t.barycentric.size(); ++k) q.max_error = std::max(q.max_error, distance(flat_at(t.barycentric[k]), t.image[k]));
+    // ... and the crossings of piece edges with the grid lines b_k = m / n.
+    for (const Tri& piece : t.pieces)
+        for (int e = 0; e < 3; ++e) {
+            const size_t ia = size_t(piece[size_t(e)]), ic = size_t(piece[size_t((e + 1) % 3)]);
+            const Vec3 &ba = t.barycentric[ia], &bc = t.barycentric[ic];
+            for (size_t k = 0; k < 3; ++k) {
+                const double va = ba[k] * n, vc = bc[k] * n;
+                if (va == vc) continue;
+                const int lo = int(std::floor(std::min(va, vc))) + 1, hi = int(std::ceil(std::max(va, vc))) - 1;
+                for (int m = lo; m <= hi; ++m) {
+                    const double s = (m - va) / (vc - va);
+                    if (!(s > 0 && s < 1)) continue;
+                    const Vec3 b = ba + s * (bc - ba);
+                    const Vec3 phi = t.image[ia] + s * (t.image[ic] - t.image[ia]);
+                    q.max_error = std::max(q.max_error, distance(flat_at(b), phi));
+                }
+            }
+        }
     return q;
 }
 
