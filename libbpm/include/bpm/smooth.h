@@ -18,9 +18,15 @@
 // edge has not exactly two consistently oriented triangles (boundaries, 3 or more
 // sheets), and pairs with nothing to move.
 //
-// An update is rejected (the pair keeps its phi) if a piece would flip or degenerate,
-// or if it would bring a node nearer to a corner of its coarse triangle than 1% of the
-// triangle unless one already was that near: at coarse vertices where the unfolded pairs
+// An update is rejected (the pair keeps its phi) if it would make either of its two coarse
+// triangles worse when refined check_levels times (a larger max aspect ratio of the
+// refined triangles or a larger max |flat - phi|): the relaxation places
+// the original vertices by the shape of S0 alone, blind to where the refinement samples
+// phi and to how far phi(x) lies from x, and on CAD-like shapes (flat faces, creases
+// inside a pair, saddles) its updates made the refined surface worse. Also rejected: an
+// update by which a piece would flip or degenerate, or one that would bring a node
+// nearer to a corner of its coarse triangle than 1% of the triangle unless one already
+// was that near: at coarse vertices where the unfolded pairs
 // are wider than the part of S0 they hold (saddles of S), the straight edges of the
 // chart otherwise contract the star of S0 around the vertex into the corner, sweep
 // after sweep.
@@ -51,6 +57,11 @@ struct SmoothOptions {
     SmoothWeights weights = SmoothWeights::MeanValue;
     bool measure_quality = true;  // compute the refined-triangle quality before and after
     int quality_levels = 3;       // refinement level of the quality measure
+    // An update is kept only if it makes neither of its two coarse triangles worse when
+    // refined this many times: neither the largest aspect ratio of its refined triangles
+    // nor its largest |flat - phi| (over the overlay with phi) may grow. 0 keeps every
+    // valid update. A guarantee for this level only: other levels may still get worse.
+    int check_levels = 3;
 };
 
 // Shape of the K-times refined surface through phi: how much phi distorts.

@@ -33,6 +33,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <map>
 #include <unordered_map>
 
@@ -180,6 +181,101 @@ bool star_weights(const std::vector<StarWedge>& wedges, SmoothWeights mode, std:
     for (size_t i = 0; i < d; ++i)
         if (weight[i] > 0) out.emplace_back(ring[i], weight[i] / sum);
     return true;
+}
+
+// What the K-times refined surface looks like over one coarse triangle with this phi
+// (the refinement of bpm/refine.h: the regular grid of 4^K sub-triangles in barycentric
+// coordinates, every grid point placed on S0 through phi). Used to accept a smoothing
+// update only if it makes no coarse triangle worse (see relax()).
+// - max_aspect: the largest aspect ratio of the refined triangles;
+// - max_error: the largest |flat - phi|, flat being the refined surface (linear over
+//   each sub-triangle). Both are affine over each cell of the overlay of the pieces of
+//   phi with the sub-triangles, so the maximum lies at an overlay vertex: a node, a grid
+//   point (where it is 0) or a crossing of a piece edge with a grid line (the quantity
+//   bpm-refine reports, up to rounding, for this triangle).
+struct TriangleQuality {
+    double max_aspect = 0;
+    double max_error = 0;
+};
+
+// phi at barycentric point b of the coarse triangle: the piece that holds b (the largest
+// smallest coordinate, so points on piece edges find one), affine over it.
+Vec3 phi_at(const PhiTriangleData& t, const Vec3& b) {
+    double best = -std::numeric_limits<double>::infinity();
+    Vec3 out = {0, 0, 0};
+    for (const Tri& piece : t.pieces) {
+        const Vec3& a = t.barycentric[size_t(piece[0])];
+        const Vec3& c1 = t.barycentric[size_t(piece[1])];
+        const Vec3& c2 = t.barycentric[size_t(piece[2])];
+        const double area = tri_area_b(a, c1, c2);
+        if (!(area > 0)) continue;
+        const double l0 = tri_area_b(b, c1, c2) / area, l1 = tri_area_b(a, b, c2) / area, l2 = tri_area_b(a, c1, b) / area;
+        const double m = std::min({l0, l1, l2});
+        if (m > best) {
+            best = m;
+            const Vec3& x0 = t.image[size_t(piece[0])];
+            const Vec3& x1 = t.image[size_t(piece[1])];
+            const Vec3& x2 = t.image[size_t(piece[2])];
+            out = {l0 * x0[0] + l1 * x1[0] + l2 * x2[0], l0 * x0[1] + l1 * x1[1] + l2 * x2[1],
+                   l0 * x0[2] + l1 * x1[2] + l2 * x2[2]};
+        }
+    }
+    return out;
+}
+
+TriangleQuality triangle_quality(const PhiTriangleData& t, int levels) {
+    const int n = 1 << std::max(0, levels);
+    auto idx = [n](int i, int j) { return size_t(j * (n + 1) + i); };  // grid point (i, j): b = (1 - (i+j)/n, i/n, j/n)
+    std::vector<Vec3> x(size_t((n + 1) * (n + 1)));
+    for (int j = 0; j <= n; ++j)
+        for (int i = 0; i + j <= n; ++i) {
+            const double b1 = double(i) / n, b2 = double(j) / n;
+            x[idx(i, j)] = phi_at(t, {1 - b1 - b2, b1, b2});
+        }
+    TriangleQuality q;
+    auto aspect = [&](const Vec3& a, const Vec3& b, const Vec3& c) {
+        const double r = aspect_ratio(a, b, c);
+        q.max_aspect = std::max(q.max_aspect, std::isfinite(r) ? r : std::numeric_limits<double>::infinity());
+    };
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i + j < n; ++i) {
+            aspect(x[idx(i, j)], x[idx(i + 1, j)], x[idx(i, j + 1)]);
+            if (i + j + 1 < n) aspect(x[idx(i + 1, j)], x[idx(i + 1, j + 1)], x[idx(i, j + 1)]);
+        }
+    // The refined surface at barycentric point b (linear over the sub-triangle holding b).
+    auto flat_at = [&](const Vec3& b) -> Vec3 {
+        const double u = b[1] * n, v = b[2] * n;
+        int i = std::min(n - 1, std::max(0, int(std::floor(u)))), j = std::min(n - 1, std::max(0, int(std::floor(v))));
+        if (i + j > n - 1) i = std::max(0, n - 1 - j);
+        const double fu = u - i, fv = v - j;
+        if (fu + fv <= 1 || i + j + 1 >= n) {  // lower sub-triangle (i,j), (i+1,j), (i,j+1)
+            const Vec3 &a = x[idx(i, j)], &c1 = x[idx(i + 1, j)], &c2 = x[idx(i, j + 1)];
+            return a + fu * (c1 - a) + fv * (c2 - a);
+        }
+        const Vec3 &a = x[idx(i + 1, j + 1)], &c1 = x[idx(i, j + 1)], &c2 = x[idx(i + 1, j)];  // upper
+        return a + (1 - fu) * (c1 - a) + (1 - fv) * (c2 - a);
+    };
+    // Overlay vertices: the nodes ...
+    for (size_t k = 0; k < t.barycentric.size(); ++k) q.max_error = std::max(q.max_error, distance(flat_at(t.barycentric[k]), t.image[k]));
+    // ... and the crossings of piece edges with the grid lines b_k = m / n.
+    for (const Tri& piece : t.pieces)
+        for (int e = 0; e < 3; ++e) {
+            const size_t ia = size_t(piece[size_t(e)]), ic = size_t(piece[size_t((e + 1) % 3)]);
+            const Vec3 &ba = t.barycentric[ia], &bc = t.barycentric[ic];
+            for (size_t k = 0; k < 3; ++k) {
+                const double va = ba[k] * n, vc = bc[k] * n;
+                if (va == vc) continue;
+                const int lo = int(std::floor(std::min(va, vc))) + 1, hi = int(std::ceil(std::max(va, vc))) - 1;
+                for (int m = lo; m <= hi; ++m) {
+                    const double s = (m - va) / (vc - va);
+                    if (!(s > 0 && s < 1)) continue;
+                    const Vec3 b = ba + s * (bc - ba);
+                    const Vec3 phi = t.image[ia] + s * (t.image[ic] - t.image[ia]);
+                    q.max_error = std::max(q.max_error, distance(flat_at(b), phi));
+                }
+            }
+        }
+    return q;
 }
 
 // Smoothing of phi by relaxing every pair of coarse triangles across their shared edge
@@ -763,6 +859,21 @@ private:
             if (std::find(used.begin(), used.end(), 0) != used.end()) return reject("pieces do not tile");
             if (std::abs(area - 0.5) > 1e-9) return reject("pieces do not tile");
         }
+        // Not worse than before, per coarse triangle: the relaxation places the original
+        // vertices by the shape of S0 alone and knows neither where the refinement samples
+        // phi nor how far phi(x) lies from x. On CAD-like shapes (flat faces meeting at
+        // creases inside a pair, saddles) it measurably made the K-times refined surface
+        // worse: larger max |flat - phi| and larger max aspect ratio. So an update is kept
+        // only if, for A and for B, neither the largest aspect ratio of its refined
+        // triangles nor its largest |flat - phi| at the nodes grows (triangle_quality).
+        if (o_.check_levels > 0) {
+            for (int s = 0; s < 2; ++s) {
+                const TriangleQuality before = triangle_quality(*X[s], o_.check_levels);
+                const TriangleQuality after = triangle_quality(out[s], o_.check_levels);
+                if (after.max_aspect > before.max_aspect * (1 + 1e-9)) return reject("refined aspect ratio would grow");
+                if (after.max_error > before.max_error * (1 + 1e-9) + 1e-15) return reject("distance |flat - phi| would grow");
+            }
+        }
         *X[0] = std::move(out[0]);
         *X[1] = std::move(out[1]);
         change = moved;
@@ -823,6 +934,7 @@ SmoothResult smooth(Parametrization& param, const SmoothOptions& options, const 
     if (!(options.tolerance >= 0)) throw OptionError("smooth: tolerance must be >= 0");
     if (options.measure_quality && (options.quality_levels < 0 || options.quality_levels > 6))
         throw OptionError("smooth: quality_levels must be in 0..6");
+    if (options.check_levels < 0 || options.check_levels > 6) throw OptionError("smooth: check_levels must be in 0..6");
     SmoothResult result;
     if (options.measure_quality) result.before = refined_quality(param, options.quality_levels);
     {
