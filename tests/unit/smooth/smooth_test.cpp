@@ -157,7 +157,8 @@ TEST_CASE("smoothing does not make the refined surface of CAD-like shapes worse"
                        << " -> " << after.max_estimated_error << ", max aspect ratio " << r.before.max_aspect_ratio
                        << " -> " << r.after.max_aspect_ratio);
         CHECK(r.after.max_aspect_ratio <= r.before.max_aspect_ratio * (1 + 1e-9));
-        CHECK(after.max_estimated_error <= before.max_estimated_error * (1 + 1e-6));
+        // 1e-12 of the diagonal: rounding (the simplifier now keeps the cubes exact, 1e-15).
+        CHECK(after.max_estimated_error <= before.max_estimated_error * (1 + 1e-6) + 1e-12);
         require_valid_parametrization(p);
     }
 }
