@@ -865,7 +865,7 @@ private:
         // creases inside a pair, saddles) it measurably made the K-times refined surface
         // worse: larger max |flat - phi| and larger max aspect ratio. So an update is kept
         // only if, for A and for B, neither the largest aspect ratio of its refined
-        // triangles nor its largest |flat - phi| at the nodes grows (triangle_quality).
+        // triangles nor its largest |flat - phi| over the overlay grows (triangle_quality).
         if (o_.check_levels > 0) {
             for (int s = 0; s < 2; ++s) {
                 const TriangleQuality before = triangle_quality(*X[s], o_.check_levels);
