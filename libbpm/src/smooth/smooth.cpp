@@ -35,6 +35,7 @@
 #include <cstring>
 #include <limits>
 #include <map>
+#include <optional>
 #include <unordered_map>
 
 #include "bpm/errors.h"
@@ -285,6 +286,7 @@ public:
     ParametrizationSmoother(Parametrization& p, const SmoothOptions& o) : p_(p), o_(o), crease_(o.feature_angle_degrees) {
         const int32_t nt = p.coarse.num_triangles();
         tris_.resize(size_t(nt));
+        quality_.resize(size_t(nt));
         for (int32_t t = 0; t < nt; ++t) tris_[size_t(t)] = detail::load_phi_triangle(p, t);
         // Original edges -> triangles, vertex -> triangles.
         vertex_tris_.resize(p.original.vertices.size());
@@ -866,19 +868,32 @@ private:
         // worse: larger max |flat - phi| and larger max aspect ratio. So an update is kept
         // only if, for A and for B, neither the largest aspect ratio of its refined
         // triangles nor its largest |flat - phi| over the overlay grows (triangle_quality).
+        TriangleQuality after[2];
         if (o_.check_levels > 0) {
+            const int32_t ids[2] = {pr.a, pr.b};
             for (int s = 0; s < 2; ++s) {
-                const TriangleQuality before = triangle_quality(*X[s], o_.check_levels);
-                const TriangleQuality after = triangle_quality(out[s], o_.check_levels);
-                if (after.max_aspect > before.max_aspect * (1 + 1e-9)) return reject("refined aspect ratio would grow");
-                if (after.max_error > before.max_error * (1 + 1e-9) + 1e-15) return reject("distance |flat - phi| would grow");
+                const TriangleQuality& before = quality_of(ids[s]);
+                after[s] = triangle_quality(out[s], o_.check_levels);
+                if (after[s].max_aspect > before.max_aspect * (1 + 1e-9)) return reject("refined aspect ratio would grow");
+                if (after[s].max_error > before.max_error * (1 + 1e-9) + 1e-15) return reject("distance |flat - phi| would grow");
             }
+            quality_[size_t(pr.a)] = after[0];
+            quality_[size_t(pr.b)] = after[1];
         }
         *X[0] = std::move(out[0]);
         *X[1] = std::move(out[1]);
         change = moved;
         if (sliding) ++slides_;
         return 1;
+    }
+
+    // triangle_quality of coarse triangle t's current phi, computed once and kept until an
+    // accepted update replaces that phi (most updates are rejected, and a triangle is in
+    // three pairs per sweep).
+    const TriangleQuality& quality_of(int32_t t) {
+        std::optional<TriangleQuality>& q = quality_[size_t(t)];
+        if (!q) q = triangle_quality(tris_[size_t(t)], o_.check_levels);
+        return *q;
     }
 
     void write_back() {
@@ -890,6 +905,7 @@ private:
     const SmoothOptions& o_;
     const detail::CreaseTest crease_;  // original edges sharper than o_.feature_angle_degrees
     std::vector<PhiTriangleData> tris_;
+    std::vector<std::optional<TriangleQuality>> quality_;  // per coarse triangle, see quality_of()
     std::vector<std::vector<int32_t>> vertex_tris_;
     std::unordered_map<uint64_t, std::vector<int32_t>> original_edges_;
     std::vector<Pair> pairs_;
