@@ -69,6 +69,7 @@ struct LevelReport {
     long held_back = 0;               // boundary vertices the repair kept short of phi
     long smoothed = 0;                // interior vertices the repair's smoothing moved
     long reset = 0;                   // earlier boundary vertices put back to midpoints (repair_uggrid)
+    long inverted_after_reset = 0;    // tets still inverted when the repair starts (after the reset): should be 0
     long rules_kept = 0;              // bpm::dune::uggrid_refinement_rules_kept() during this refinement
     long marked = 0;      // adaptive: elements marked for this level's refinement
     int adapts = 0;       // adaptive: UG adapt() calls of this step (one per level UG refines, bpm/dune/uggrid_adapt.h)
@@ -345,6 +346,7 @@ int main(int argc, char** argv) {
                 int64_t reset = 0;
                 const bpm::BoundaryRepairResult r = bpm::dune::repair_uggrid(grid, params, added, *phi, repair_options, &reset);
                 report.reset += reset;
+                report.inverted_after_reset += r.inverted_before;
                 report.held_back += r.held_back;
                 report.smoothed += r.smoothed_vertices;
             };
@@ -420,6 +422,7 @@ int main(int argc, char** argv) {
                     << ", \"max_boundary_offset\": " << json_number(r.max_boundary_offset)
                     << ", \"inverted_before_repair\": " << r.inverted_before_repair
                     << ", \"held_back\": " << r.held_back << ", \"smoothed\": " << r.smoothed << ", \"reset\": " << r.reset
+                    << ", \"inverted_after_reset\": " << r.inverted_after_reset
                     << ", \"rules_kept\": " << r.rules_kept << ", \"marked\": " << r.marked
                     << ", \"adapts\": " << r.adapts << ", \"superseded\": " << r.superseded
                     << ", \"cg_iterations\": " << r.cg_iterations

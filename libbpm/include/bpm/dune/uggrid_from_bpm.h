@@ -45,6 +45,7 @@
 #include "bpm/dune/boundary_segment.h"
 #include "bpm/dune/uggrid_refinement_rules.h"
 #include "bpm/errors.h"
+#include "bpm/geometry.h"
 #include "bpm/phi_evaluation.h"
 #include "bpm/surface_point.h"
 
@@ -62,6 +63,10 @@ struct UGGridFromBpm {
     // Parameter points of the level-0 vertices on S (boundary and interfaces), keyed by
     // global id.
     std::map<UGGrid3::GlobalIdSet::IdType, SurfacePoint> level0_parameter_points;
+    // Positions of the level-0 vertices as built (the tet mesh's), keyed by global id: a
+    // solver's repair may move interior ones later (smoothing), and repair_uggrid puts them
+    // back where refinement made moved fathers inverted children.
+    std::map<UGGrid3::GlobalIdSet::IdType, Vec3> level0_positions;
     // [level-0 element index][DUNE face number] = coarse triangle of that face if it is a
     // face of /tetmesh/faces shared by two tetrahedra (an interface), else -1.
     std::vector<std::array<int32_t, 4>> level0_interface_faces;
@@ -181,6 +186,8 @@ inline UGGridFromBpm make_uggrid(const BpmFile& file, std::shared_ptr<const PhiE
         const auto v = factory.insertionIndex(vertex);
         const SurfacePoint p = mesh.vertex_parameter_points.at(v);
         if (p.valid()) out.level0_parameter_points.emplace(ids.id(vertex), p);
+        const auto c = vertex.geometry().corner(0);
+        out.level0_positions.emplace(ids.id(vertex), Vec3{c[0], c[1], c[2]});
     }
     return out;
 }
@@ -256,6 +263,13 @@ public:
 
     // Interface faces found by update() so far (on every level).
     size_t interface_faces() const { return interface_faces_count_; }
+
+    // The position a level-0 vertex had when the grid was built, or nullptr for vertices
+    // refinement created (and unknown ids).
+    const Vec3* level0_position(IdType id) const {
+        const auto it = built_.level0_positions.find(id);
+        return it == built_.level0_positions.end() ? nullptr : &it->second;
+    }
 
     // The parameter point of a boundary vertex, or nullptr for interior or unknown ones.
     const SurfacePoint* find(IdType id) const {

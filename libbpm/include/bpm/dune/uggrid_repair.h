@@ -33,11 +33,13 @@
 // Such a child can be inverted before any new vertex moves (femur at 10 %, adaptive
 // bpm-torsion: 3-9 inverted tets after the repair at steps 3-4 with no reset, 0 when
 // refined flat). So, while the grid with the new vertices at their midpoints has inverted
-// tetrahedra, their corners that refinement created (any vertex but a level-0 one) go back
-// to the midpoints of the edges they split, coarser levels first; when every such corner of
-// an inverted tetrahedron is back, the ends of their edges follow, and so on (at most 16
-// rounds). Flat refinement of a positive grid is positive, so resetting far enough gives a
-// positive grid. The reset vertices then take part in the repair like the new ones; `reset`
+// tetrahedra, their corners that refinement created go back to where plain refinement puts
+// them (the midpoints of the edges they split, or the centre of the father for the centre
+// nodes of some green rules), coarser levels first, and level-0 corners that smoothing
+// moved go back to where the grid was built (UGGridFromBpm::level0_positions); when every
+// such corner of an inverted tetrahedron is back, the father corners they were made from
+// follow, and so on (at most 16 rounds). Flat refinement of a positive grid is positive,
+// so resetting far enough gives a positive grid. The reset vertices then take part in the repair like the new ones; `reset`
 // (if given) counts them. (Resetting only boundary vertices left 1-7 inverted tets at
 // adaptive steps 3-4 on the femur with interior smoothing; bench/RESULTS.md.)
 
@@ -72,12 +74,10 @@ inline BoundaryRepairResult repair_uggrid(UGGrid3& grid, const BoundaryParameter
     const size_t n = static_cast<size_t>(view.size(3));
     std::vector<Vec3> x(n);
     std::vector<SurfacePoint> points(n);
-    std::vector<int> vertex_level(n, 0);
     std::vector<BoundaryParameterPoints::IdType> id_of(n);
     std::map<BoundaryParameterPoints::IdType, size_t> by_id;
     for (const auto& vertex : vertices(view)) {
         const size_t i = index.index(vertex);
-        vertex_level[i] = vertex.level();
         const auto c = vertex.geometry().corner(0);
         x[i] = {c[0], c[1], c[2]};
         const auto id = ids.id(vertex);
@@ -102,40 +102,64 @@ inline BoundaryRepairResult repair_uggrid(UGGrid3& grid, const BoundaryParameter
                               static_cast<int32_t>(index.subIndex(element, 2, 3)),
                               static_cast<int32_t>(index.subIndex(element, 3, 3))});
 
-    // Vertices of inverted tetrahedra back to the midpoints of their edges (see above). The
-    // edge a vertex splits: the two corners of the father at whose midpoint the vertex is a
-    // corner of a child (UG refines tetrahedra only at edge midpoints), on the level where
-    // the vertex first appears.
-    std::map<BoundaryParameterPoints::IdType, std::array<BoundaryParameterPoints::IdType, 2>> ends;
+    // Vertices of inverted tetrahedra back to where plain refinement puts them (see above):
+    // for each vertex refinement created, the corners of the father it was made in and
+    // their weights, read off geometryInFather on the level where the vertex first appears.
+    // Mostly an edge midpoint (two corners at 1/2); some of UG's irregular (green) rules of
+    // a tetrahedron add a centre node (four corners at 1/4: elephant at 5 %, adaptive step
+    // 3), which smoothing moves like any interior vertex. (Taking only midpoints left those
+    // where they were, and their moved fathers' children inverted.)
+    // Also the level on which each vertex appears (0 for level-0 vertices): the order in
+    // which reset vertices are placed again, the father's corners first. (Not vertex.level()
+    // of the leaf view: that is the finest level the vertex is on, the same for a midpoint
+    // and its ends wherever both are corners of the same leaf elements. Sorting by it placed
+    // midpoints before their ends had moved back; at femur adaptive step 6 and elephant
+    // step 5, tets stayed inverted after the reset and 10 and 2 after the repair.)
+    using IdType = BoundaryParameterPoints::IdType;
+    struct MadeFrom {
+        std::array<IdType, 4> corner;
+        std::array<double, 4> weight;
+        int count = 0;
+    };
+    std::map<IdType, MadeFrom> made_from;
+    std::vector<int> created_on(n, 0);
     for (int level = 1; level <= grid.maxLevel(); ++level) {
         for (const auto& element : elements(grid.levelGridView(level))) {
             const auto in_father = element.geometryInFather();
             const auto father = element.father();
             for (int c = 0; c < 4; ++c) {
                 const auto id = ids.subId(element, c, 3);
-                if (ends.count(id)) continue;
+                if (made_from.count(id) || params.level0_position(id)) continue;
                 const auto local = in_father.corner(c);
                 const std::array<double, 4> w{1 - local[0] - local[1] - local[2], local[0], local[1], local[2]};
-                int halves = 0, zeros = 0;
-                std::array<int, 2> at{-1, -1};
+                MadeFrom m;
+                bool father_corner = false;
                 for (int k = 0; k < 4; ++k) {
-                    if (std::abs(w[k] - 0.5) < 1e-9) {
-                        if (halves < 2) at[static_cast<size_t>(halves)] = k;
-                        ++halves;
-                    } else if (std::abs(w[k]) < 1e-9) {
-                        ++zeros;
-                    }
+                    if (std::abs(w[k] - 1) < 1e-9) father_corner = true;
+                    if (std::abs(w[k]) < 1e-9) continue;
+                    m.corner[static_cast<size_t>(m.count)] = ids.subId(father, k, 3);
+                    m.weight[static_cast<size_t>(m.count)] = w[static_cast<size_t>(k)];
+                    ++m.count;
                 }
-                if (halves == 2 && zeros == 2)
-                    ends.emplace(id, std::array<BoundaryParameterPoints::IdType, 2>{ids.subId(father, at[0], 3),
-                                                                                    ids.subId(father, at[1], 3)});
+                if (father_corner) continue;  // on an earlier level already
+                made_from.emplace(id, m);
+                if (const auto it = by_id.find(id); it != by_id.end()) created_on[it->second] = level;
             }
         }
     }
-    auto ends_in_leaf = [&](size_t i) -> const std::array<BoundaryParameterPoints::IdType, 2>* {
-        const auto it = ends.find(id_of[i]);
-        if (it == ends.end() || !by_id.count(it->second[0]) || !by_id.count(it->second[1])) return nullptr;
+    // The father's corners a leaf vertex was made from, if they are all leaf vertices.
+    auto made_in_leaf = [&](size_t i) -> const MadeFrom* {
+        const auto it = made_from.find(id_of[i]);
+        if (it == made_from.end()) return nullptr;
+        for (int k = 0; k < it->second.count; ++k)
+            if (!by_id.count(it->second.corner[static_cast<size_t>(k)])) return nullptr;
         return &it->second;
+    };
+    // A level-0 vertex that an earlier call moved (interior smoothing) and that can go back
+    // to where the grid was built: its position then, else nullptr.
+    auto moved_level0 = [&](size_t i) -> const Vec3* {
+        const Vec3* built = params.level0_position(id_of[i]);
+        return built && *built != x[i] ? built : nullptr;
     };
     std::vector<char> is_reset(n, 0);
     std::vector<size_t> all_reset;  // the new vertices and those reset below
@@ -148,7 +172,7 @@ inline BoundaryRepairResult repair_uggrid(UGGrid3& grid, const BoundaryParameter
         std::vector<size_t> to_reset;
         std::vector<char> queued(n, 0);
         auto queue = [&](size_t i) {
-            if (!is_reset[i] && !queued[i] && ends_in_leaf(i)) {
+            if (!is_reset[i] && !queued[i] && (made_in_leaf(i) || moved_level0(i))) {
                 queued[i] = 1;
                 to_reset.push_back(i);
             }
@@ -160,26 +184,30 @@ inline BoundaryRepairResult repair_uggrid(UGGrid3& grid, const BoundaryParameter
             const size_t before = to_reset.size();
             for (int32_t c : t) queue(static_cast<size_t>(c));
             if (to_reset.size() > before) continue;
-            // Every corner is back already (or level 0): the ends of their edges follow.
+            // Every corner is back already (or level 0): the corners they were made from follow.
             for (int32_t c : t) {
-                const auto* e = ends_in_leaf(static_cast<size_t>(c));
-                if (!e) continue;
-                queue(by_id.at((*e)[0]));
-                queue(by_id.at((*e)[1]));
+                const MadeFrom* m = made_in_leaf(static_cast<size_t>(c));
+                if (!m) continue;
+                for (int k = 0; k < m->count; ++k) queue(by_id.at(m->corner[static_cast<size_t>(k)]));
             }
         }
         if (to_reset.empty()) break;
         for (size_t i : to_reset) is_reset[i] = 1;
         reset_count += static_cast<int64_t>(to_reset.size());
-        // Every vertex back so far is placed again, coarser levels first (the ends of an edge
-        // are on coarser levels than its midpoint): a vertex reset now may be the end of one
-        // reset in an earlier round.
+        // Every vertex back so far is placed again, coarser levels first (the corners a
+        // vertex was made from are on coarser levels than the vertex): a vertex reset now
+        // may be a corner of one reset in an earlier round.
         all_reset.insert(all_reset.end(), to_reset.begin(), to_reset.end());
         std::stable_sort(all_reset.begin(), all_reset.end(),
-                         [&](size_t a, size_t b) { return vertex_level[a] < vertex_level[b]; });
+                         [&](size_t a, size_t b) { return created_on[a] < created_on[b]; });
         for (size_t i : all_reset) {
-            const auto* e = ends_in_leaf(i);
-            if (e) x[i] = 0.5 * (x[by_id.at((*e)[0])] + x[by_id.at((*e)[1])]);
+            if (const MadeFrom* m = made_in_leaf(i)) {
+                Vec3 at{0, 0, 0};
+                for (int k = 0; k < m->count; ++k) at = at + m->weight[static_cast<size_t>(k)] * x[by_id.at(m->corner[static_cast<size_t>(k)])];
+                x[i] = at;
+            } else if (const Vec3* built = params.level0_position(id_of[i])) {
+                x[i] = *built;
+            }
         }
     }
     if (reset) *reset = reset_count;
