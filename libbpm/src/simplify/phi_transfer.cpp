@@ -11,6 +11,11 @@ namespace {
 // The margin (barycentric, or a fraction of a segment) within which a node or a cut is
 // too near a side or an end for double precision downstream.
 constexpr double kMargin = 1e-9;
+// An original triangle whose height is below this fraction of its longest edge (R/r above
+// ~1e11) is a sliver (original_sliver). Wider than kMargin: a node's barycentric distance
+// to a side of a new triangle is the sliver's thinness times the sliver's size over the
+// new triangle's, so a sliver somewhat thicker than the margin still puts it within it.
+constexpr double kSliverThinness = 1e-6;
 }  // namespace
 
 bool original_sliver(const Embedding& emb, int32_t u, int32_t w, int32_t c) {
@@ -23,7 +28,7 @@ bool original_sliver(const Embedding& emb, int32_t u, int32_t w, int32_t c) {
         const double longest2 = std::max({dot(x[u] - x[w], x[u] - x[w]), dot(x[w] - x[c], x[w] - x[c]), dot(x[c] - x[u], x[c] - x[u])});
         // |cross| = 2 area = height * longest edge.
         const double twice_area = norm(cross(x[w] - x[u], x[c] - x[u]));
-        return twice_area < kMargin * longest2;
+        return twice_area < kSliverThinness * longest2;
     }
     return false;
 }

@@ -50,9 +50,9 @@ bool locate_free_nodes(const Embedding& emb, const Fan& fan, const std::vector<V
 bool cut_segments(const Embedding& emb, const Fan& fan, const std::vector<Vec2>& q, const FanTriangulation& tri, const StarGraph& graph,
                   RecutEdges& cuts, std::string& why);
 
-// Whether the original vertices u, w, c form an original triangle that is itself thinner
-// than the transfer's rounding margin (height over longest edge below 1e-9): an input
-// sliver. Pieces of phi on such a triangle are as thin as the triangle whatever the
+// Whether the original vertices u, w, c form an original triangle that is itself about as
+// thin as the transfer's rounding margin or thinner (height over longest edge below 1e-6):
+// an input sliver. Pieces of phi on such a triangle are as thin as the triangle whatever the
 // removal does, so a node or a cut that comes (almost) onto a side only because of it
 // makes no piece thinner, relative to the original triangle it maps onto, than the
 // input already is; refusing it kept every sliver of the input in the coarse surface
