@@ -198,8 +198,12 @@ bool cut_segments(const Embedding& emb, const Fan& fan, const std::vector<Vec2>&
             // would make pieces too thin for double precision downstream (evaluation,
             // refinement); such a transfer is refused, and the shape-preserving map gets a
             // chance to move the nodes away.
-            // A cut near an end of the diagonal where the segment's original edge and
-            // that corner form an original sliver is as near as the sliver is thin.
+            // Exception, an input sliver (original_sliver): a cut near corner c of the
+            // diagonal where the segment's original edge and c form an original sliver is as
+            // near c as the sliver is thin. It must still be a point of the original edge
+            // other than the segment's ends: near those (lambda) it stays refused, since for a
+            // sliver at rounding level (1e-16) that made two nodes of phi one point of the
+            // original edge (a snapped vertex in a cube face; bpm-check's bijectivity failed).
             const bool mu_ok = (mu > kMargin && mu < 1.0 - kMargin) ||
                                (mu > 0.0 && mu < 1.0 &&
                                 original_sliver(emb, emb.edges[seg.edge][0], emb.edges[seg.edge][1],
@@ -216,7 +220,8 @@ bool cut_segments(const Embedding& emb, const Fan& fan, const std::vector<Vec2>&
         std::sort(cuts.crossings.begin() + static_cast<long>(first), cuts.crossings.end(),
                   [](const NewCrossing& p, const NewCrossing& q) { return p.lambda < q.lambda; });
         for (size_t i = first; i + 1 < cuts.crossings.size(); ++i)
-            if (!(cuts.crossings[i].lambda < cuts.crossings[i + 1].lambda)) {
+            if (!(cuts.crossings[i].lambda < cuts.crossings[i + 1].lambda) ||
+                cuts.crossings[i].sigma == cuts.crossings[i + 1].sigma) {
                 why = "two cuts of an original edge coincide";
                 return false;
             }

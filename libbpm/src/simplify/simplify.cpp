@@ -863,6 +863,7 @@ void Simplifier::report_slivers(SimplifyResult& result) {
                     why = text;
                 }
             }
+            if (why.empty()) why = "its removal is refused (no reason recorded)";
             s.kept[size_t(k)] = why;
         }
         result.worst_slivers.push_back(std::move(s));
