@@ -338,6 +338,24 @@ int main(int argc, char** argv) {
             if (result.target_reached) context.debug(kept);
             else context.info(kept);
         }
+        // Input slivers that stayed (issue 19 item 5): never silently, since bpm-mesh
+        // meshes them into flat tetrahedra.
+        if (result.slivers > 0) {
+            char head[200];
+            std::snprintf(head, sizeof head, "%lld coarse triangles have an aspect ratio above --max-aspect %g (input slivers that could not be removed); the worst:",
+                          (long long)result.slivers, options.max_aspect_ratio);
+            context.warn(head);
+            for (const bpm::SliverReport& s : result.worst_slivers) {
+                char where[200];
+                std::snprintf(where, sizeof where, "  R/r %.3g at (%.6g, %.6g, %.6g), input vertices %d %d %d:",
+                              s.aspect_ratio, s.centroid[0], s.centroid[1], s.centroid[2], s.vertices[0],
+                              s.vertices[1], s.vertices[2]);
+                std::string line = where;
+                for (int k = 0; k < 3; ++k)
+                    line += (k ? "; " : " ") + std::to_string(s.vertices[size_t(k)]) + " kept: " + with_flags(s.kept[size_t(k)]);
+                context.warn(line);
+            }
+        }
         if (!result.target_reached) {
             context.warn("stopped before the target: " + with_flags(result.stop_reason));
             for (const auto& [why, count] : result.blocked)

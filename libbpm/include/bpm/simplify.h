@@ -8,6 +8,7 @@
 // of a cost, keeping after every step a coarse surface S with the same topological
 // type and non-manifold structure as S0 and a piecewise-linear bijection phi: S -> S0.
 
+#include <array>
 #include <cstdint>
 #include <limits>
 #include <map>
@@ -191,6 +192,16 @@ struct SimplifyPhaseTime {
     double cpu_seconds = 0.0;   // CPU time of the whole process (all its threads) during the phase
 };
 
+// A coarse triangle worse than SimplifyOptions::max_aspect_ratio that the simplifier
+// left (no removal makes one: it is a sliver of the input, or made of one, that could
+// not be taken out), and why each of its corners stayed.
+struct SliverReport {
+    double aspect_ratio = 0.0;          // R/r (2 for equilateral; infinite if degenerate)
+    std::array<int32_t, 3> vertices{};  // input vertex ids of its corners
+    Vec3 centroid{};
+    std::array<std::string, 3> kept;    // per corner: why it could not be removed at the end
+};
+
 struct SimplifyResult {
     int64_t input_vertices = 0, input_triangles = 0;
     int64_t output_vertices = 0, output_triangles = 0;
@@ -201,6 +212,11 @@ struct SimplifyResult {
     int64_t needle_flips = 0, sliver_flips = 0;  // edge flips of the final phase (flip_edges)
     double max_error = 0.0;           // final max |phi(x) - x| / diagonal
     double worst_aspect_ratio = 0.0;  // of the coarse surface
+    // Coarse triangles worse than SimplifyOptions::max_aspect_ratio, and the worst of them
+    // (at most kListedSlivers, worst first) with what kept them.
+    int64_t slivers = 0;
+    static constexpr size_t kListedSlivers = 5;
+    std::vector<SliverReport> worst_slivers;
     double seconds = 0.0;  // wall time from the first ranking to the end of the export
     // Wall and CPU seconds of simplify()'s phases, in order; together they cover the call
     // (the option checks aside).

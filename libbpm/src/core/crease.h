@@ -24,7 +24,9 @@
 // triangles alone.
 //
 // Degenerate triangles: a triangle whose normal is zero (coincident or exactly collinear
-// corners in floating point) has no direction; its edges are not creases. (Inputs of the
+// corners in floating point), or whose height is below 1e-10 of its longest edge (an
+// input sliver, whose normal rounding decides), has no direction; its edges are not
+// creases. (Inputs of the
 // simplifier, and so the smoother's S0, pass validate_surface, which refuses zero-area
 // triangles; bpm-info reads coarse surfaces as stored.)
 
@@ -58,7 +60,8 @@ private:
 // where the triangles lie flat, 0 where they fold onto each other: the interior dihedral
 // angle of a convex edge, the exterior one of a concave edge (the angle of the thinner
 // wedge the two triangles make, on whichever side it lies). Needs no consistent
-// orientation of the whole surface. 180 when either triangle is degenerate (no normal).
+// orientation of the whole surface. 180 when either triangle is degenerate or has no
+// direction (see above).
 // The simplifier's ridge guard (SimplifyOptions::min_ridge_angle_degrees) compares it.
 // \pre t0 and t1 both have u and w as corners.
 double ridge_angle_degrees(const std::vector<Vec3>& positions, const Tri& t0, const Tri& t1, int32_t u, int32_t w);

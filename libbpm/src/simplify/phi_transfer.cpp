@@ -7,7 +7,33 @@
 
 namespace bpm::detail {
 
-bool locate_free_nodes(const Fan& fan, const std::vector<Vec2>& q, const FanTriangulation& tri, bool check_inside,
+namespace {
+// The margin (barycentric, or a fraction of a segment) within which a node or a cut is
+// too near a side or an end for double precision downstream.
+constexpr double kMargin = 1e-9;
+// An original triangle whose height is below this fraction of its longest edge (R/r above
+// ~1e11) is a sliver (original_sliver). Wider than kMargin: a node's barycentric distance
+// to a side of a new triangle is the sliver's thinness times the sliver's size over the
+// new triangle's, so a sliver somewhat thicker than the margin still puts it within it.
+constexpr double kSliverThinness = 1e-6;
+}  // namespace
+
+bool original_sliver(const Embedding& emb, int32_t u, int32_t w, int32_t c) {
+    const int32_t e = emb.find_edge(u, w);
+    if (e < 0 || c < 0) return false;
+    const auto& x = emb.original->vertices;
+    for (int32_t k = emb.edge_triangle_offsets[e]; k < emb.edge_triangle_offsets[e + 1]; ++k) {
+        const Tri& t = emb.original->triangles[emb.edge_triangles[k]];
+        if (t[0] != c && t[1] != c && t[2] != c) continue;
+        const double longest2 = std::max({dot(x[u] - x[w], x[u] - x[w]), dot(x[w] - x[c], x[w] - x[c]), dot(x[c] - x[u], x[c] - x[u])});
+        // |cross| = 2 area = height * longest edge.
+        const double twice_area = norm(cross(x[w] - x[u], x[c] - x[u]));
+        return twice_area < kSliverThinness * longest2;
+    }
+    return false;
+}
+
+bool locate_free_nodes(const Embedding& emb, const Fan& fan, const std::vector<Vec2>& q, const FanTriangulation& tri, bool check_inside,
                        StarGraph& graph, std::vector<std::array<double, 4>>& boxes, std::string& why) {
     const int32_t n = fan.corners();
     const int32_t ntris = static_cast<int32_t>(tri.triangles.size());
@@ -76,7 +102,6 @@ bool locate_free_nodes(const Fan& fan, const std::vector<Vec2>& q, const FanTria
             // double precision downstream. Near a new edge (diagonal) it is put on it
             // (symmetric stars put v exactly there); near a link edge, or a corner, the
             // transfer is refused.
-            constexpr double kMargin = 1e-9;
             int near = -1, count = 0;
             for (int k = 0; k < 3; ++k)
                 if (!(s.bary[k] > kMargin)) {
@@ -93,6 +118,9 @@ bool locate_free_nodes(const Fan& fan, const std::vector<Vec2>& q, const FanTria
                 for (int32_t d = 0; d < int32_t(tri.diagonals.size()); ++d)
                     if ((tri.diagonals[d][0] == a && tri.diagonals[d][1] == b) || (tri.diagonals[d][0] == b && tri.diagonals[d][1] == a))
                         on = d;
+                // An original sliver on the link edge (the node is as near the side as
+                // the original triangle it makes with it is thin): the node stays inside.
+                if (on < 0 && s.bary[near] > 0.0 && original_sliver(emb, fan.link[a], fan.link[b], s.vertex)) continue;
                 if (on < 0) {
                     why = "an original vertex would sit (almost) on a link edge";
                     return false;
@@ -118,7 +146,7 @@ bool locate_free_nodes(const Fan& fan, const std::vector<Vec2>& q, const FanTria
     return true;
 }
 
-bool cut_segments(const Fan& fan, const std::vector<Vec2>& q, const FanTriangulation& tri, const StarGraph& graph,
+bool cut_segments(const Embedding& emb, const Fan& fan, const std::vector<Vec2>& q, const FanTriangulation& tri, const StarGraph& graph,
                   RecutEdges& cuts, std::string& why) {
     const int32_t n = fan.corners();
     cuts.crossings.clear();
@@ -170,8 +198,17 @@ bool cut_segments(const Fan& fan, const std::vector<Vec2>& q, const FanTriangula
             // would make pieces too thin for double precision downstream (evaluation,
             // refinement); such a transfer is refused, and the shape-preserving map gets a
             // chance to move the nodes away.
-            constexpr double kMargin = 1e-9;
-            if (!(lambda > kMargin && lambda < 1.0 - kMargin) || !(mu > kMargin && mu < 1.0 - kMargin)) {
+            // Exception, an input sliver (original_sliver): a cut near corner c of the
+            // diagonal where the segment's original edge and c form an original sliver is as
+            // near c as the sliver is thin. It must still be a point of the original edge
+            // other than the segment's ends: near those (lambda) it stays refused, since for a
+            // sliver at rounding level (1e-16) that made two nodes of phi one point of the
+            // original edge (a snapped vertex in a cube face; bpm-check's bijectivity failed).
+            const bool mu_ok = (mu > kMargin && mu < 1.0 - kMargin) ||
+                               (mu > 0.0 && mu < 1.0 &&
+                                original_sliver(emb, emb.edges[seg.edge][0], emb.edges[seg.edge][1],
+                                                fan.link[tri.diagonals[d][mu < 0.5 ? 0 : 1]]));
+            if (!(lambda > kMargin && lambda < 1.0 - kMargin) || !mu_ok) {
                 why = "a cut of an original edge falls (almost) on a node";
                 return false;
             }
@@ -183,7 +220,8 @@ bool cut_segments(const Fan& fan, const std::vector<Vec2>& q, const FanTriangula
         std::sort(cuts.crossings.begin() + static_cast<long>(first), cuts.crossings.end(),
                   [](const NewCrossing& p, const NewCrossing& q) { return p.lambda < q.lambda; });
         for (size_t i = first; i + 1 < cuts.crossings.size(); ++i)
-            if (!(cuts.crossings[i].lambda < cuts.crossings[i + 1].lambda)) {
+            if (!(cuts.crossings[i].lambda < cuts.crossings[i + 1].lambda) ||
+                cuts.crossings[i].sigma == cuts.crossings[i + 1].sigma) {
                 why = "two cuts of an original edge coincide";
                 return false;
             }

@@ -342,6 +342,7 @@ private:
     void report_progress(const SimplifyResult& result);
     void state_stop_reason(SimplifyResult& result) const;
     void count_blocked(SimplifyResult& result);
+    void report_slivers(SimplifyResult& result);
     void flip_edges_phase(SimplifyResult& result);
     void release_planning_state();
     void summarize(const Parametrization& out, double max_deviation, std::chrono::steady_clock::time_point start,
@@ -414,6 +415,7 @@ SimplifyResult Simplifier::run(Parametrization& out) {
     count_blocked(result);
     if (options_.flip_edges) timer_.start("edge flips");
     flip_edges_phase(result);
+    report_slivers(result);
     timer_.start("export of phi");
     release_planning_state();
     context_.report(0.95, "writing the parametrization");
@@ -814,6 +816,57 @@ void Simplifier::count_blocked(SimplifyResult& result) {
         }
         ++result.blocked[why];
         if (options_.trace_removals) context_.debug("vertex " + std::to_string(v) + " kept: " + why);
+    }
+}
+
+// The coarse triangles worse than max_aspect_ratio at the end (no removal or flip makes
+// one, so they are input slivers that stayed), the worst with why each corner stays: a
+// full plan of its removal now, judged as the loop would. Only a report: the surface is
+// not changed. Without it a sliver of R/r 1e21 reached bpm-mesh silently.
+void Simplifier::report_slivers(SimplifyResult& result) {
+    std::vector<int32_t> alive;
+    mesh_.alive_triangles(alive);
+    const auto& x = mesh_.positions();
+    std::vector<std::pair<double, int32_t>> bad;
+    for (int32_t t : alive) {
+        const Tri& c = mesh_.triangle(t);
+        const double r = aspect_ratio(x[c[0]], x[c[1]], x[c[2]]);
+        if (!(r <= options_.max_aspect_ratio)) bad.push_back({r, t});
+    }
+    result.slivers = int64_t(bad.size());
+    // Worst first; ties (and NaN-free infinities) by triangle id: deterministic.
+    std::sort(bad.begin(), bad.end(), [](const auto& p, const auto& q) {
+        return p.first > q.first || (p.first == q.first && p.second < q.second);
+    });
+    if (bad.size() > SimplifyResult::kListedSlivers) bad.resize(SimplifyResult::kListedSlivers);
+    RemovalPlan& plan = step_plans_[0];
+    for (const auto& [r, t] : bad) {
+        const Tri& c = mesh_.triangle(t);
+        SliverReport s;
+        s.aspect_ratio = r;
+        s.centroid = (1.0 / 3.0) * (x[c[0]] + x[c[1]] + x[c[2]]);
+        for (int k = 0; k < 3; ++k) {
+            const int32_t v = c[k];
+            s.vertices[size_t(k)] = v;
+            remover_->plan(v, true, plan);
+            std::string why;
+            const double cost = removal_cost(plan, options_, diagonal_, CostBasis::Plan, why);
+            if (std::isfinite(cost)) {
+                if (options_.prevent_intersections &&
+                    intersections_.intersects_rest(plan.new_triangles, plan.removed_triangles, grid_scratch_[0]))
+                    why = kSelfIntersection;
+                else {
+                    char text[160];
+                    std::snprintf(text, sizeof text, "removable (new triangles up to R/r %.3g, error %.3g of diagonal), %s",
+                                  plan.worst_new_aspect, plan.max_deviation / diagonal_,
+                                  result.target_reached ? "but the target was reached first" : "after the last removals");
+                    why = text;
+                }
+            }
+            if (why.empty()) why = "its removal is refused (no reason recorded)";
+            s.kept[size_t(k)] = why;
+        }
+        result.worst_slivers.push_back(std::move(s));
     }
 }
 

@@ -149,8 +149,8 @@ private:
 };
 
 bool FanPlanner::transfer_cost(std::string& why) {
-    if (!locate_free_nodes(*fan_, map_.q, tri, validate_, graph_, triangle_boxes_, why)) return false;
-    if (!cut_segments(*fan_, map_.q, tri, graph_, cuts_, why)) return false;
+    if (!locate_free_nodes(emb_, *fan_, map_.q, tri, validate_, graph_, triangle_boxes_, why)) return false;
+    if (!cut_segments(emb_, *fan_, map_.q, tri, graph_, cuts_, why)) return false;
     max_deviation = transfer_deviation(mesh_.positions(), emb_, *fan_, tri, graph_, cuts_);
     return true;
 }
@@ -197,7 +197,7 @@ FanPlanner::Stage FanPlanner::estimate(std::string& why) {
     if (!validate_) {
         // For ranking only: the deviation at the original vertices that move, placed by
         // the flattening. The full plan adds the new edge crossings and validates.
-        if (!locate_free_nodes(*fan_, map_.q, tri, validate_, graph_, triangle_boxes_, why)) return Stage::Failed;
+        if (!locate_free_nodes(emb_, *fan_, map_.q, tri, validate_, graph_, triangle_boxes_, why)) return Stage::Failed;
         const auto& x = mesh_.positions();
         max_deviation = 0.0;
         for (const StarNode& s : graph_.nodes) {

@@ -79,3 +79,20 @@ TEST_CASE("ridge angle: 180 minus the fold, either way, whichever way the triang
     // A degenerate triangle has no normal: no ridge.
     CHECK(ridge_angle_degrees(hinge(150), {0, 1, 2}, {1, 0, 4}, 0, 1) == 180.0);
 }
+
+TEST_CASE("crease test: an input sliver thinner than 1e-10 has no direction, a thicker one keeps it",
+          "[internal][core][crease][sliver]") {
+    // Vertex 4 is 1e-13 off the line of edge 0-1, below it in z: triangle (1, 0, 4) has a
+    // normal that rounding of a snapped vertex decides (here it points along -y, 90 degrees
+    // from triangle (0, 1, 2)'s). Its edges made creases at random, its corners crease
+    // corners, and the simplifier kept the sliver (a gmsh cylinder: R/r 1.2e30).
+    std::vector<Vec3> p = hinge(0);
+    p[4] = {0.5, 0, -1e-13};
+    const CreaseTest test(60.0);
+    CHECK_FALSE(test.is_crease(p, {0, 1, 2}, {1, 0, 4}, 0, 1));
+    CHECK(ridge_angle_degrees(p, {0, 1, 2}, {1, 0, 4}, 0, 1) == 180.0);
+    // 1e-9 of the edge: a real (if thin) triangle, whose fold counts.
+    p[4] = {0.5, 0, -1e-9};
+    CHECK(test.is_crease(p, {0, 1, 2}, {1, 0, 4}, 0, 1));
+    CHECK(ridge_angle_degrees(p, {0, 1, 2}, {1, 0, 4}, 0, 1) == Approx(90.0));
+}

@@ -44,7 +44,7 @@ TEST_CASE("removal phi transfer: the centre of a lifted hexagon moves onto the n
           "[simplify][removal]") {
     Planned p(removal_test::fan_surface({0, 60, 120, 180, 240, 300}, {1, 1, 1, 1, 1, 1}, true, 0.5));
     std::string why;
-    REQUIRE(locate_free_nodes(p.fans[0], p.map.q, p.tri, true, p.graph, p.boxes, why));
+    REQUIRE(locate_free_nodes(p.emb, p.fans[0], p.map.q, p.tri, true, p.graph, p.boxes, why));
     const StarNode& v = p.graph.nodes[6];
     REQUIRE(v.free);
     REQUIRE(v.vertex == 0);
@@ -60,7 +60,7 @@ TEST_CASE("removal phi transfer: the centre of a lifted hexagon moves onto the n
     }
 
     RecutEdges cuts;
-    REQUIRE(cut_segments(p.fans[0], p.map.q, p.tri, p.graph, cuts, why));
+    REQUIRE(cut_segments(p.emb, p.fans[0], p.map.q, p.tri, p.graph, cuts, why));
     REQUIRE(cuts.cut_begin.size() == p.graph.segments.size() + 1);
     CHECK(cuts.cut_begin.back() == int32_t(cuts.crossings.size()));
     // Every cut is of its segment's edge, strictly inside it, in order along it.
@@ -82,15 +82,15 @@ TEST_CASE("removal phi transfer: a flat star keeps phi the identity", "[simplify
     Surface s = removal_test::dented_fan();  // non-convex: the layout goes onto the circle
     Planned p(std::move(s));
     std::string why;
-    REQUIRE(locate_free_nodes(p.fans[0], p.map.q, p.tri, true, p.graph, p.boxes, why));
+    REQUIRE(locate_free_nodes(p.emb, p.fans[0], p.map.q, p.tri, true, p.graph, p.boxes, why));
     RecutEdges cuts;
-    REQUIRE(cut_segments(p.fans[0], p.map.q, p.tri, p.graph, cuts, why));
+    REQUIRE(cut_segments(p.emb, p.fans[0], p.map.q, p.tri, p.graph, cuts, why));
     // On the circle the layout is not the star's own shape: the centre moves off.
     CHECK(transfer_deviation(p.mesh.positions(), p.emb, p.fans[0], p.tri, p.graph, cuts) > 0.0);
 
     Planned flat(removal_test::hexagon_fan());
-    REQUIRE(locate_free_nodes(flat.fans[0], flat.map.q, flat.tri, true, flat.graph, flat.boxes, why));
-    REQUIRE(cut_segments(flat.fans[0], flat.map.q, flat.tri, flat.graph, cuts, why));
+    REQUIRE(locate_free_nodes(flat.emb, flat.fans[0], flat.map.q, flat.tri, true, flat.graph, flat.boxes, why));
+    REQUIRE(cut_segments(flat.emb, flat.fans[0], flat.map.q, flat.tri, flat.graph, cuts, why));
     CHECK(transfer_deviation(flat.mesh.positions(), flat.emb, flat.fans[0], flat.tri, flat.graph, cuts) ==
           Approx(0.0).margin(1e-12));
 }
@@ -99,9 +99,9 @@ TEST_CASE("removal phi transfer: a free node outside the polygon is refused", "[
     Planned p(removal_test::hexagon_fan());
     p.graph.nodes[6].pos = {5.0, 5.0};
     std::string why;
-    CHECK_FALSE(locate_free_nodes(p.fans[0], p.map.q, p.tri, true, p.graph, p.boxes, why));
+    CHECK_FALSE(locate_free_nodes(p.emb, p.fans[0], p.map.q, p.tri, true, p.graph, p.boxes, why));
     CHECK(why == "an original vertex would leave the star");
     // Without the check it is still not in any new triangle.
-    CHECK_FALSE(locate_free_nodes(p.fans[0], p.map.q, p.tri, false, p.graph, p.boxes, why));
+    CHECK_FALSE(locate_free_nodes(p.emb, p.fans[0], p.map.q, p.tri, false, p.graph, p.boxes, why));
     CHECK(why == "cannot locate an original vertex in the new triangles");
 }

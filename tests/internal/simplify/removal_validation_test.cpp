@@ -43,8 +43,8 @@ struct Transferred {
         graph.clear(s.vertices.size());
         REQUIRE(gather_star_nodes(mesh, emb, 0, fans[0], map.q, true, nullptr, graph, scratch, why));
         REQUIRE(gather_straight_segments(emb, 0, fans[0], graph, scratch, why));
-        REQUIRE(locate_free_nodes(fans[0], map.q, tri, true, graph, boxes, why));
-        REQUIRE(cut_segments(fans[0], map.q, tri, graph, cuts, why));
+        REQUIRE(locate_free_nodes(emb, fans[0], map.q, tri, true, graph, boxes, why));
+        REQUIRE(cut_segments(emb, fans[0], map.q, tri, graph, cuts, why));
     }
     FanTransfer view(const TransferPieces& pieces) const {
         return {emb, sign, normals, fans[0], tri, new_normals, graph, cuts, pieces};
