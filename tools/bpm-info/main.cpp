@@ -134,7 +134,13 @@ std::string to_text(const bpm::BpmInfo& info) {
         o << "  " << p.id << ":";
         if (p.info && !p.info->name.empty()) o << " \"" << p.info->name << "\"";
         if (p.info && !materials_text(*p.info).empty()) o << " (" << materials_text(*p.info) << ")";
-        o << " " << p.original_triangles << " original, " << p.coarse_triangles << " coarse triangles\n";
+        o << " " << p.original_triangles << " original, " << p.coarse_triangles << " coarse triangles";
+        // Only /patch_info names it: files written before the reader dropped the row of a
+        // patch whose triangles --merge-duplicate-triangles all fused into another have one.
+        if (p.original_triangles == 0 && p.coarse_triangles == 0)
+            o << " (empty: the file names this patch but has no triangles in it, e.g. all were fused into an "
+                 "interface patch)";
+        o << "\n";
     }
     const bpm::BpmFeatureSummary& f = info.features;
     o << "features    " << f.feature_lines << (f.feature_lines == 1 ? " line" : " lines");

@@ -106,6 +106,33 @@ void fuse_triangles(Surface& surface, SurfaceReadReport& r, const std::string& p
         r.notes.push_back(prefix + "patch " + std::to_string(f.patch) + " = the " + std::to_string(f.triangles) +
                           " triangles that patches " + joins + " had in common (fused)");
     }
+    // A patch whose triangles were all in common with another's (a sphere inside a box,
+    // one file per material: every triangle of the sphere's file is the box's too) has
+    // none left: its name and materials would describe a patch that is not there (a
+    // ball|exterior with 0 triangles, and the ball touches no exterior). Its triangles
+    // are the interface patch's, which names both materials, so its row goes.
+    std::vector<char> used;
+    for (const int32_t p : surface.patches)
+        if (p >= 0) {
+            if (size_t(p) >= used.size()) used.resize(size_t(p) + 1, 0);
+            used[size_t(p)] = 1;
+        }
+    std::map<int32_t, std::vector<int32_t>> emptied;  // patch -> the fused patches it went into
+    for (const FusedPatch& f : fused)
+        for (const int32_t j : f.joins)
+            if (j >= 0 && (size_t(j) >= used.size() || !used[size_t(j)])) emptied[j].push_back(f.patch);
+    for (const auto& [patch, into] : emptied) {
+        const auto row = std::find_if(r.patch_info.begin(), r.patch_info.end(),
+                                      [patch = patch](const PatchInfo& i) { return i.patch == patch; });
+        std::string where;
+        for (size_t i = 0; i < into.size(); ++i)
+            where += (i == 0 ? "" : i + 1 == into.size() ? " and " : ", ") + std::to_string(into[i]);
+        r.notes.push_back(prefix + "patch " + std::to_string(patch) +
+                          (row != r.patch_info.end() && !row->name.empty() ? " (\"" + row->name + "\")" : std::string()) +
+                          " has no triangles left: all of them were in common with other patches, fused into patch" +
+                          (into.size() == 1 ? " " : "es ") + where);
+        if (row != r.patch_info.end()) r.patch_info.erase(row);
+    }
 }
 
 // Why a surface that parsed is still unusable, with the repair that would help.
