@@ -81,7 +81,7 @@ contains "$work/err" "removed 32 duplicate triangles" "the fused triangles are r
 contains "$work/err" "patch 2 = the 32 triangles that patches 0 and 1 had in common" "the interface patch is named"
 expect 0 "the two materials pass bpm-check" -- "$check" "$work/ab.bpm"
 contains "$work/out" "non-manifold" "the interface is a sheet"
-contains "$work/out" "1 feature lines" "its rim is a feature line of three sheets"
+contains "$work/out" "1 topological feature lines" "its rim is a (topological) feature line of three sheets"
 # The same two materials as an Amira HyperSurface (BINARY): one vertex list, the patches
 # Exterior|A, Exterior|B and A|B; no repairs needed, the interface is stored once.
 /usr/bin/python3 - "$work/cube_a.off" "$work/cube_b.off" "$work/ab.surf" <<'PY'

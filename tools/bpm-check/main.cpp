@@ -63,7 +63,9 @@ int main(int argc, char** argv) {
         "  intersections  the coarse surface does not intersect itself\n"
         "  topology       coarse and original surface have the same shape: per connected part the same\n"
         "                 genus, orientability, boundary loops, non-manifold edges and vertices, and\n"
-        "                 the same feature vertices and lines\n"
+        "                 the same topological feature vertices and lines: the feature lines of\n"
+        "                 boundaries, patch borders and non-manifold edges (not creases, which are\n"
+        "                 geometry; bpm-info counts both)\n"
         "  bijectivity    phi is one-to-one and onto: its pieces exactly cover every coarse and every\n"
         "                 original triangle\n"
         "  replay         (with --replay) the removals stored by bpm-simplify --record-steps are each a\n"
@@ -144,6 +146,7 @@ int main(int argc, char** argv) {
     // The other repairs of bpm-simplify, so that the flags an error names work here too.
     app.add_flag("--merge-duplicate-vertices", read_options.merge_duplicate_vertices,
                  "Merge vertices with identical coordinates first");
+    bpm::tools::add_merge_vertices_within_option(app, read_options);
     app.add_flag("--merge-duplicate-triangles", read_options.merge_duplicate_triangles,
                  "Fuse triangles with the same three vertices first");
     app.add_flag("--drop-unreferenced-vertices", read_options.drop_unreferenced_vertices,
@@ -160,7 +163,7 @@ int main(int argc, char** argv) {
                               {"--max-aspect", "--min-angle", "--max-distance", "--sample-spacing"});
     bpm::tools::group_options(app, "Input repairs (with --surface)",
                               {"--input-format", "--triangulate-polygons", "--merge-duplicate-vertices",
-                               "--merge-duplicate-triangles", "--drop-unreferenced-vertices"});
+                               "--merge-vertices-within", "--merge-duplicate-triangles", "--drop-unreferenced-vertices"});
     bpm::tools::group_options(app, "Output", {"--json", "--max-problems", "--verbose", "--quiet"});
     bpm::tools::group_options(app, "Advanced", {"--replay-interval", "--threads"});
     bpm::tools::add_examples(app, {"bpm-check femur.bpm", "bpm-check femur.bpm --max-distance 0.005 --json",
@@ -229,7 +232,11 @@ int main(int argc, char** argv) {
             }
             if (want_distance) throw CLI::ValidationError("--checks", "distance needs a .bpm file, not --surface");
             bpm::tools::require_input_format_for_stdin({input}, surface_format);
-            const bpm::Surface surface = bpm::read_surface(input, read_options);
+            bpm::SurfaceReadReport read_report;
+            const bpm::Surface surface = bpm::read_surface(input, read_options, &read_report);
+            for (const auto& note : read_report.notes) context.info(note);
+            for (const auto& warning : read_report.warnings) context.warn(warning);
+            if (std::string seam = bpm::tools::open_seam_warning(read_report); !seam.empty()) context.warn(seam);
             report = bpm::run_surface_checks(surface, sel, options, context);
             if (want_quality && !report.find("quality")) add_in_order(report, bpm::check_quality(surface, options, context));
         } else {

@@ -80,7 +80,9 @@ std::string to_json(const bpm::BpmInfo& info) {
       << ", \"boundary_edges\": " << f.boundary_edges << ", \"non_manifold_edges\": " << f.non_manifold_edges
       << ", \"interface_edges\": " << f.interface_edges << ", \"crease_edges\": " << f.crease_edges
       << ", \"feature_edges\": " << f.feature_edges << ", \"feature_vertices\": " << f.feature_vertices
-      << ", \"feature_lines\": " << f.feature_lines << ", \"feature_loops\": " << f.feature_loops << "},\n"
+      << ", \"feature_lines\": " << f.feature_lines << ", \"feature_loops\": " << f.feature_loops
+      << ", \"topological_feature_vertices\": " << f.topological_feature_vertices
+      << ", \"topological_feature_lines\": " << f.topological_feature_lines << "},\n"
       << " \"distortion\": ";
     if (!info.distortion) {
         o << "null";
@@ -134,15 +136,27 @@ std::string to_text(const bpm::BpmInfo& info) {
         o << "  " << p.id << ":";
         if (p.info && !p.info->name.empty()) o << " \"" << p.info->name << "\"";
         if (p.info && !materials_text(*p.info).empty()) o << " (" << materials_text(*p.info) << ")";
-        o << " " << p.original_triangles << " original, " << p.coarse_triangles << " coarse triangles\n";
+        o << " " << p.original_triangles << " original, " << p.coarse_triangles << " coarse triangles";
+        // Only /patch_info names it: files written before the reader dropped the row of a
+        // patch whose triangles --merge-duplicate-triangles all fused into another have one.
+        if (p.original_triangles == 0 && p.coarse_triangles == 0)
+            o << " (empty: the file names this patch but has no triangles in it, e.g. all were fused into an "
+                 "interface patch)";
+        o << "\n";
     }
     const bpm::BpmFeatureSummary& f = info.features;
+    // Every feature line, creases included, and of them the topological ones, the numbers
+    // bpm-check's topology line gives (its "topological feature lines"), so that the two
+    // tools' outputs can be read side by side.
     o << "features    " << f.feature_lines << (f.feature_lines == 1 ? " line" : " lines");
     if (f.feature_loops > 0) o << " (" << f.feature_loops << " closed)";
     o << ", " << f.feature_vertices << (f.feature_vertices == 1 ? " vertex" : " vertices") << " of the coarse surface; "
       << f.feature_edges << " feature edges: " << f.crease_edges << " creases over "
       << text_number(f.feature_angle_degrees) << " degrees, " << f.interface_edges << " on patch borders, "
-      << f.boundary_edges << " boundary, " << f.non_manifold_edges << " non-manifold\n";
+      << f.boundary_edges << " boundary, " << f.non_manifold_edges << " non-manifold; without the creases "
+      << f.topological_feature_lines << " topological feature " << (f.topological_feature_lines == 1 ? "line" : "lines")
+      << " and " << f.topological_feature_vertices << " topological feature "
+      << (f.topological_feature_vertices == 1 ? "vertex" : "vertices") << " (bpm-check's)\n";
     o << "materials   ";
     if (info.materials.empty()) o << "none recorded";
     for (size_t i = 0; i < info.materials.size(); ++i) o << (i ? ", " : "") << info.materials[i];
@@ -196,6 +210,8 @@ int main(int argc, char** argv) {
         "recorded simplification steps and the provenance (which tool made it, with which command line, when),\n"
         "the feature lines and vertices of the coarse surface and, with --distortion, how far phi is from an\n"
         "isometry. Reads only what it reports; bpm-check validates.\n"
+        "Feature lines are chains of feature edges: boundary, non-manifold and patch-border edges (the\n"
+        "topological ones, which bpm-check's topology check compares) and creases over --feature-angle.\n"
         "Its feature vertices are the coarse surface's (bpm-check's irregular vertices and every end or junction\n"
         "of a crease), not the vertices bpm-simplify kept as corners: it decides those once, on the original\n"
         "surface, and counts a crease only where it runs 2.5 % of the diagonal from the vertex and ends at a\n"

@@ -193,6 +193,7 @@ int main(int argc, char** argv) {
     app.add_flag("--merge-duplicate-vertices", read_options.merge_duplicate_vertices,
                  "Merge input vertices with identical coordinates")
         ->group(repairs);
+    bpm::tools::add_merge_vertices_within_option(app, read_options)->group(repairs);
     app.add_flag("--merge-duplicate-triangles", read_options.merge_duplicate_triangles,
                  "Fuse triangles with the same three vertices (shared interfaces of per-material files become patches)")
         ->group(repairs);
@@ -265,6 +266,7 @@ int main(int argc, char** argv) {
         bpm::Surface surface = bpm::read_surfaces(inputs, read_options, &report);
         for (const auto& note : report.notes) context.info(note);
         for (const auto& warning : report.warnings) context.warn(warning);
+        if (std::string seam = bpm::tools::open_seam_warning(report); !seam.empty()) context.warn(seam);
         context.info("read " + std::to_string(surface.num_vertices()) + " vertices, " +
                      std::to_string(surface.num_triangles()) + " triangles");
         // A target the input already meets is a no-op: say so rather than "3897 -> 3897".

@@ -287,6 +287,11 @@ int run(const std::string& tool, int argc, char** argv, CLI::App& app, const std
         return fail("", e.what(), kUsage);
     } catch (const CLI::ParseError& e) {
         return fail("", readable_parse_error(e.what()), kUsage);
+    } catch (const OpenSeamError& e) {
+        // Found by a tool that reads a .bpm (bpm-mesh): the repair is bpm-simplify's.
+        return fail(g_error_input, std::string(e.what()) + ". Rerun bpm-simplify on the input with " +
+                                       merge_vertices_within_flag(e.merge_tolerance()),
+                    kAlgorithm);
     } catch (const AlgorithmError& e) {
         return fail(g_error_input, e.what(), kAlgorithm);
     } catch (const ExternalToolError& e) {
@@ -380,6 +385,40 @@ void require_bpm_output(const std::string& path, const std::string& tool) {
         throw CLI::ValidationError("--output", tool + " writes .bpm files only, and '" + name +
                                                    "' does not end in .bpm (bpm-refine writes surfaces, bpm-mesh "
                                                    "volume meshes)");
+}
+
+CLI::Option* add_merge_vertices_within_option(CLI::App& app, SurfaceReadOptions& options) {
+    return app
+        .add_option("--merge-vertices-within", options.merge_vertices_within,
+                    "Merge input vertices closer than TOL (fraction of the bounding-box diagonal, e.g. 1e-8) to "
+                    "close seams an export left open by rounding; exact duplicates too")
+        ->type_name("TOL")
+        ->check(decimal_range(0.0, 1.0, false, true, "1e-8"));
+}
+
+std::string merge_vertices_within_flag(double tolerance) {
+    char buffer[32];
+    std::snprintf(buffer, sizeof buffer, "%.3g", tolerance);
+    return std::string("--merge-vertices-within ") + buffer;
+}
+
+std::string open_seam_warning(const SurfaceReadReport& report) {
+    if (!report.open_seam) return {};
+    const OpenSeam& seam = *report.open_seam;
+    char gap[32];
+    std::snprintf(gap, sizeof gap, "%.3g", seam.gap);
+    std::string edges = seam.paired_edges == seam.boundary_edges
+                            ? "its " + std::to_string(seam.boundary_edges) + " boundary edges"
+                            : std::to_string(seam.paired_edges) + " of its " + std::to_string(seam.boundary_edges) +
+                                  " boundary edges";
+    std::string w = "the surface is open, and " + edges + " pair up with other boundary edges within " + gap +
+                    " of the bounding-box diagonal (first: the edge of vertices " + std::to_string(seam.first_edge[0]) +
+                    " and " + std::to_string(seam.first_edge[1]) +
+                    "): an open seam, whose two sides have vertices at slightly different positions. Open surfaces "
+                    "are accepted, but they enclose no volume (bpm-mesh refuses them)";
+    if (report.seam_merge_tolerance > 0)
+        w += "; " + merge_vertices_within_flag(report.seam_merge_tolerance) + " closes it";
+    return w;
 }
 
 std::string repair_flag(SurfaceRepair repair) {

@@ -148,6 +148,18 @@ MeshEncoding output_encoding(const EncodingFlags& flags, const std::string& form
 // InputNeedsRepair error as "Rerun with: --flag --flag".
 std::string repair_flag(SurfaceRepair repair);
 
+// --merge-vertices-within TOL (SurfaceReadOptions::merge_vertices_within), the same in
+// every tool that reads surfaces.
+CLI::Option* add_merge_vertices_within_option(CLI::App& app, SurfaceReadOptions& options);
+
+// "--merge-vertices-within 1e-08": the repair for a seam open by rounding, with the
+// tolerance that closes it (SurfaceReadReport::seam_merge_tolerance, OpenSeamError).
+std::string merge_vertices_within_flag(double tolerance);
+
+// The warning for the open seam a read found (SurfaceReadReport::open_seam), naming the
+// flag that closes it when there is one; empty when the read found none.
+std::string open_seam_warning(const SurfaceReadReport& report);
+
 // Throws CLI::ValidationError (exit 2) naming --input-format when one of `inputs` is "-"
 // and `format` is empty: standard input has no extension to tell the format from.
 void require_input_format_for_stdin(const std::vector<std::string>& inputs, const std::string& format);

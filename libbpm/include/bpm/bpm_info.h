@@ -75,6 +75,11 @@ struct BpmFeatureSummary {
     int64_t feature_vertices = 0;
     int64_t feature_lines = 0;
     int64_t feature_loops = 0;  // closed feature lines (included in feature_lines)
+    // The topological ones: feature vertices and lines of the boundary, non-manifold and
+    // patch-border edges alone (no creases), what bpm-check's topology check counts and
+    // compares (bpm/surface_topology.h). Equal to the original's for a file that passes it.
+    int64_t topological_feature_vertices = 0;
+    int64_t topological_feature_lines = 0;
 };
 
 // The feature structure of `surface` (see BpmFeatureSummary; 180 degrees = no creases).

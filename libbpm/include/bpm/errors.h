@@ -49,6 +49,20 @@ public:
     using Error::Error;
 };
 
+// A surface that must be closed (to enclose a volume) is open along a seam whose two
+// sides are apart by rounding only: merging the input's vertices within
+// merge_tolerance of its bounding-box diagonal closes it (SurfaceReadOptions::
+// merge_vertices_within). The tool names the option that does.
+class OpenSeamError : public AlgorithmError {
+public:
+    OpenSeamError(const std::string& message, double merge_tolerance)
+        : AlgorithmError(message), merge_tolerance_(merge_tolerance) {}
+    double merge_tolerance() const { return merge_tolerance_; }
+
+private:
+    double merge_tolerance_;
+};
+
 // An external program (tetgen) is missing or failed.
 class ExternalToolError : public Error {
 public:

@@ -5,7 +5,9 @@
 // triangles, components, boundary loops, feature lines) is derived on demand by
 // bpm/surface_topology.h. Nothing here assumes a manifold.
 
+#include <array>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -100,6 +102,43 @@ Surface combine_surfaces(const std::vector<Surface>& parts,
                          std::vector<std::string>* dropped_arrays = nullptr);
 
 int64_t merge_duplicate_vertices(Surface& surface);   // exact position equality
+
+// Repair (merge vertices within a distance) for seams left open by rounding: a CAD
+// export or a conversion that writes both sides of a seam with positions a few ulps or
+// 1e-9 of the model apart. In index order, every vertex either joins the first
+// (smallest index) vertex kept so far that is within `distance` of it, taking its
+// position, or is kept itself; so vertices move by at most `distance`, and the result
+// depends only on the input. Exact duplicates merge at any distance >= 0; vertices with
+// a NaN or infinite coordinate never merge. If the merge would give a triangle two equal
+// corners (the distance is not small against the triangles), nothing is changed and
+// collapsed_triangle names the first such triangle, with the two corners.
+struct CloseVertexMerge {
+    int64_t merged = 0;             // vertices removed
+    double largest_move = 0.0;      // the largest distance a merged vertex moved
+    int32_t collapsed_triangle = -1;
+    std::array<int32_t, 2> collapsed_corners{-1, -1};  // its two vertices that would be merged
+};
+CloseVertexMerge merge_close_vertices(Surface& surface, double distance);
+
+// An open seam: boundary edges (edges of one triangle) whose two ends are each within
+// `max_gap` of the ends of another boundary edge, so that merging vertices within a
+// little more than `gap` would join them (merge_close_vertices). Empty if no boundary
+// edge pairs up that way.
+struct OpenSeam {
+    int64_t boundary_edges = 0;  // of the whole surface
+    int64_t paired_edges = 0;    // those that pair up with another
+    double gap = 0.0;            // the largest distance between paired ends
+    std::array<int32_t, 2> first_edge{-1, -1};  // the paired edge with the smallest vertices
+};
+std::optional<OpenSeam> find_open_seam(const Surface& surface, double max_gap);
+// Boundary edges closer than this fraction of the bounding-box diagonal to another one
+// are taken for an open seam: far below any modelled gap, far above rounding (binary
+// STL's float32 coordinates round at 6e-8 of their magnitude).
+constexpr double kOpenSeamMaxGap = 1e-6;
+// The merge tolerance, as a fraction of `diagonal`, that closes `seam` (found on
+// `surface`): the smallest power of 10 at least twice its gap, if merging within it
+// closes some of the seam's edges and collapses no triangle (tried on a copy); else 0.
+double seam_merge_tolerance(const Surface& surface, const OpenSeam& seam, double diagonal);
 int64_t drop_unreferenced_vertices(Surface& surface);
 
 // Repair (--merge-duplicate-triangles) for one closed surface per material read together:

@@ -93,6 +93,12 @@ std::optional<SurfaceFormat> surface_format_from_path(const std::string& path);
 struct SurfaceReadOptions {
     std::optional<SurfaceFormat> format;      // overrides the extension; required for "-"
     bool merge_duplicate_vertices = false;    // repair: merge vertices at identical positions
+    // Repair: merge vertices within this fraction of the bounding-box diagonal (0 = off;
+    // merge_close_vertices in bpm/surface.h, duplicates included), for a seam that an
+    // export left open by rounding. With several inputs, each file is merged with its own
+    // diagonal, then the files together with theirs (so files that touch are joined too).
+    // A tolerance that would give a triangle two equal corners is refused (InputError).
+    double merge_vertices_within = 0.0;
     bool drop_unreferenced_vertices = false;  // repair: remove vertices no triangle uses
     // Repair: fuse triangles with the same three vertices into one (fuse_duplicate_triangles
     // in bpm/surface.h; after merge_duplicate_vertices): the shared interfaces of one closed
@@ -122,6 +128,17 @@ struct SurfaceReadReport {
     // extension); fused interfaces get theirs from the patches they join. Empty when
     // nothing is known (standard input or memory in a format without names).
     std::vector<PatchInfo> patch_info;
+    // The largest distance a vertex moved in merge_vertices_within, as a fraction of the
+    // bounding-box diagonal.
+    double largest_merge_move = 0.0;
+    // An open seam the surface (all inputs together) still has: boundary edges that pair
+    // up with others within 1e-6 of the diagonal (find_open_seam; its gap here as a
+    // fraction of the diagonal). Open surfaces are accepted, but they do not enclose a
+    // volume (bpm-mesh), and the seam is usually an export's rounding.
+    std::optional<OpenSeam> open_seam;
+    // A merge_vertices_within (a power of 10) that closes those edges without collapsing
+    // a triangle; 0 if there is none.
+    double seam_merge_tolerance = 0.0;
 };
 
 // The repairs of SurfaceReadOptions, named for InputNeedsRepair.

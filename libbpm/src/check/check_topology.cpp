@@ -20,6 +20,12 @@ void add_topology_counts(CheckResult& r, const std::string& prefix, const Surfac
     r.add_count(prefix + "boundary_loops", t.boundary_loops);
     r.add_count(prefix + "orientable", t.orientable ? 1 : 0);
     r.add_count(prefix + "manifold", t.manifold ? 1 : 0);
+    // Topological feature vertices and lines: of boundary, non-manifold and patch-border
+    // edges, no creases (spec/check-report.md, "topology"). The 0.1 names feature_vertices
+    // and feature_lines, which bpm-info uses for all feature lines, creases included, stay
+    // until 0.2 with the same values.
+    r.add_count(prefix + "topological_feature_vertices", static_cast<int64_t>(t.feature_vertices.size()));
+    r.add_count(prefix + "topological_feature_lines", static_cast<int64_t>(t.feature_lines.size()));
     r.add_count(prefix + "feature_vertices", static_cast<int64_t>(t.feature_vertices.size()));
     r.add_count(prefix + "feature_lines", static_cast<int64_t>(t.feature_lines.size()));
     r.add_count(prefix + "contact_vertices", static_cast<int64_t>(t.contact_vertices.size()));

@@ -8,6 +8,7 @@
 #include <map>
 #include <numeric>
 #include <string>
+#include <unordered_map>
 
 #include "bpm/predicates.h"
 
@@ -360,6 +361,184 @@ int64_t merge_duplicate_vertices(Surface& surface) {
     }
     if (merged > 0) compact_vertices(surface, keep, first);
     return merged;
+}
+
+namespace {
+
+// Finite points bucketed in cubes of side `cell` from `origin`: the points within `cell`
+// of a point are in its cube or the 26 around it.
+class PointGrid {
+public:
+    PointGrid(const Vec3& origin, double cell) : origin_(origin), cell_(cell) {}
+    using Key = std::array<int64_t, 3>;
+    Key key(const Vec3& p) const {
+        Key k;
+        for (int i = 0; i < 3; ++i) k[size_t(i)] = static_cast<int64_t>(std::floor((p[i] - origin_[i]) / cell_));
+        return k;
+    }
+    void insert(const Vec3& p, int32_t id) { cells_[key(p)].push_back(id); }
+    template <class Visit>
+    void for_each_near(const Vec3& p, Visit&& visit) const {
+        const Key k = key(p);
+        for (int64_t dx = -1; dx <= 1; ++dx)
+            for (int64_t dy = -1; dy <= 1; ++dy)
+                for (int64_t dz = -1; dz <= 1; ++dz) {
+                    const auto it = cells_.find({k[0] + dx, k[1] + dy, k[2] + dz});
+                    if (it == cells_.end()) continue;
+                    for (int32_t id : it->second) visit(id);
+                }
+    }
+
+private:
+    struct Hash {
+        size_t operator()(const Key& k) const {
+            uint64_t h = 1469598103934665603ull;
+            for (int64_t x : k) h = (h ^ static_cast<uint64_t>(x)) * 1099511628211ull;
+            return static_cast<size_t>(h);
+        }
+    };
+    Vec3 origin_;
+    double cell_;
+    std::unordered_map<Key, std::vector<int32_t>, Hash> cells_;
+};
+
+// The grid for points within `distance` of each other on `points`: cubes no smaller than
+// 1e-12 of the extent, so that cube indices stay far from overflow.
+PointGrid grid_for(const std::vector<Vec3>& points, double distance) {
+    Vec3 lo{0, 0, 0};
+    bool any = false;
+    for (const Vec3& p : points)
+        if (finite(p)) {
+            for (int k = 0; k < 3; ++k) lo[k] = any ? std::min(lo[k], p[k]) : p[k];
+            any = true;
+        }
+    double extent = 0;
+    for (const Vec3& p : points)
+        if (finite(p)) extent = std::max({extent, p[0] - lo[0], p[1] - lo[1], p[2] - lo[2]});
+    const double cell = std::max({distance, 1e-12 * extent, std::numeric_limits<double>::min()});
+    return PointGrid(lo, cell);
+}
+
+}  // namespace
+
+CloseVertexMerge merge_close_vertices(Surface& surface, double distance) {
+    CloseVertexMerge result;
+    const std::vector<Vec3>& V = surface.vertices;
+    if (!(distance >= 0)) return result;
+    PointGrid grid = grid_for(V, distance);
+    std::vector<int32_t> target(V.size());
+    std::iota(target.begin(), target.end(), 0);
+    for (size_t v = 0; v < V.size(); ++v) {
+        if (!finite(V[v])) continue;
+        int32_t joined = -1;
+        double moved = 0;
+        grid.for_each_near(V[v], [&](int32_t kept) {
+            const double d = bpm::distance(V[v], V[size_t(kept)]);
+            if (d <= distance && (joined < 0 || kept < joined)) joined = kept, moved = d;
+        });
+        if (joined >= 0) {
+            target[v] = joined;
+            ++result.merged;
+            result.largest_move = std::max(result.largest_move, moved);
+        } else {
+            grid.insert(V[v], static_cast<int32_t>(v));
+        }
+    }
+    if (result.merged == 0) return result;
+    const int32_t nv = static_cast<int32_t>(V.size());
+    for (size_t t = 0; t < surface.triangles.size(); ++t) {
+        const Tri& tri = surface.triangles[t];
+        for (int k = 0; k < 3; ++k) {
+            const int32_t a = tri[size_t(k)], b = tri[size_t((k + 1) % 3)];
+            if (a < 0 || b < 0 || a >= nv || b >= nv || a == b) continue;  // left for validate_surface()
+            if (target[size_t(a)] == target[size_t(b)]) {
+                result.collapsed_triangle = static_cast<int32_t>(t);
+                result.collapsed_corners = {a, b};
+                result.merged = 0;
+                result.largest_move = 0;
+                return result;
+            }
+        }
+    }
+    std::vector<char> keep(V.size());
+    for (size_t v = 0; v < V.size(); ++v) keep[v] = target[v] == static_cast<int32_t>(v);
+    compact_vertices(surface, keep, target);
+    return result;
+}
+
+std::optional<OpenSeam> find_open_seam(const Surface& surface, double max_gap) {
+    const std::vector<Vec3>& V = surface.vertices;
+    const int32_t nv = static_cast<int32_t>(V.size());
+    // The edges by their sorted ends (a sorted list: this runs on every surface read);
+    // boundary edges are those that occur once.
+    std::vector<uint64_t> edges;
+    edges.reserve(surface.triangles.size() * 3);
+    const auto key = [](int32_t a, int32_t b) {
+        return uint64_t(uint32_t(std::min(a, b))) << 32 | uint32_t(std::max(a, b));
+    };
+    for (const Tri& tri : surface.triangles)
+        for (int k = 0; k < 3; ++k) {
+            const int32_t a = tri[size_t(k)], b = tri[size_t((k + 1) % 3)];
+            if (a < 0 || b < 0 || a >= nv || b >= nv || a == b) continue;
+            edges.push_back(key(a, b));
+        }
+    std::sort(edges.begin(), edges.end());
+    std::vector<std::pair<int32_t, int32_t>> boundary;
+    for (size_t i = 0; i < edges.size();) {
+        size_t j = i + 1;
+        while (j < edges.size() && edges[j] == edges[i]) ++j;
+        if (j - i == 1) boundary.emplace_back(int32_t(edges[i] >> 32), int32_t(edges[i] & 0xffffffffu));
+        i = j;
+    }
+    if (boundary.empty() || !(max_gap > 0)) return std::nullopt;
+    const auto is_boundary = [&](int32_t a, int32_t b) {
+        return std::binary_search(boundary.begin(), boundary.end(), std::pair(std::min(a, b), std::max(a, b)));
+    };
+    // Each boundary vertex's nearest other boundary vertex within max_gap (the smaller
+    // index on ties), then the boundary edges whose ends' nearest ones are a boundary edge.
+    std::vector<char> on_boundary(V.size(), 0);
+    for (const auto& [a, b] : boundary) on_boundary[size_t(a)] = on_boundary[size_t(b)] = 1;
+    std::vector<Vec3> points;
+    for (int32_t v = 0; v < nv; ++v)
+        if (on_boundary[size_t(v)]) points.push_back(V[size_t(v)]);
+    PointGrid grid = grid_for(points, max_gap);
+    for (int32_t v = 0; v < nv; ++v)
+        if (on_boundary[size_t(v)] && finite(V[size_t(v)])) grid.insert(V[size_t(v)], v);
+    std::unordered_map<int32_t, std::pair<int32_t, double>> nearest;
+    for (int32_t v = 0; v < nv; ++v) {
+        if (!on_boundary[size_t(v)] || !finite(V[size_t(v)])) continue;
+        int32_t best = -1;
+        double best_d = 0;
+        grid.for_each_near(V[size_t(v)], [&](int32_t w) {
+            if (w == v) return;
+            const double d = distance(V[size_t(v)], V[size_t(w)]);
+            if (d <= max_gap && (best < 0 || d < best_d || (d == best_d && w < best))) best = w, best_d = d;
+        });
+        if (best >= 0) nearest[v] = {best, best_d};
+    }
+    OpenSeam seam;
+    seam.boundary_edges = static_cast<int64_t>(boundary.size());
+    for (const auto& [a, b] : boundary) {
+        const auto na = nearest.find(a), nb = nearest.find(b);
+        if (na == nearest.end() || nb == nearest.end()) continue;
+        const int32_t c = na->second.first, d = nb->second.first;
+        if (c == d || (c == b && d == a)) continue;
+        if (!is_boundary(c, d)) continue;
+        if (seam.paired_edges == 0) seam.first_edge = {a, b};
+        ++seam.paired_edges;
+        seam.gap = std::max({seam.gap, na->second.second, nb->second.second});
+    }
+    if (seam.paired_edges == 0) return std::nullopt;
+    return seam;
+}
+
+double seam_merge_tolerance(const Surface& surface, const OpenSeam& seam, double diagonal) {
+    if (!(diagonal > 0) || !std::isfinite(diagonal)) return 0.0;
+    const double tolerance = std::pow(10.0, std::ceil(std::log10(std::max(2 * seam.gap / diagonal, 1e-15))));
+    Surface trial = surface;
+    if (merge_close_vertices(trial, tolerance * diagonal).collapsed_triangle >= 0) return 0.0;
+    const std::optional<OpenSeam> left = find_open_seam(trial, kOpenSeamMaxGap * diagonal);
+    return left && left->paired_edges >= seam.paired_edges ? 0.0 : tolerance;
 }
 
 int64_t drop_unreferenced_vertices(Surface& surface) {

@@ -747,8 +747,9 @@ std::string describe_topology(const SurfaceTopology& t) {
     o << t.components.size() << (t.components.size() == 1 ? " component" : " components") << ", chi "
       << t.euler_characteristic << ", b=(" << t.betti0 << "," << t.betti1 << "," << t.betti2 << "), "
       << (t.orientable ? "orientable" : "non-orientable") << ", " << (t.manifold ? "manifold" : "non-manifold") << ", "
-      << t.boundary_loops << " boundary loops, " << t.feature_vertices.size() << " feature vertices, "
-      << t.feature_lines.size() << " feature lines";
+      << t.boundary_loops << " boundary loops, " << t.feature_vertices.size() << " topological feature vertices, "
+      << t.feature_lines.size() << " topological feature lines (of boundaries, patch borders, non-manifold edges; "
+         "creases are geometry, not counted)";
     return o.str();
 }
 

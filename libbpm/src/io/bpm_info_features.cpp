@@ -25,6 +25,8 @@ BpmFeatureSummary summarize_features(const Surface& surface, double feature_angl
     BpmFeatureSummary out;
     out.feature_angle_degrees = feature_angle_degrees;
     const SurfaceTopology topology = compute_topology(surface);
+    out.topological_feature_vertices = static_cast<int64_t>(topology.feature_vertices.size());
+    out.topological_feature_lines = static_cast<int64_t>(topology.feature_lines.size());
     const SurfaceConnectivity& c = topology.connectivity;
     const int32_t ne = c.num_edges();
     const detail::CreaseTest crease_test(feature_angle_degrees);

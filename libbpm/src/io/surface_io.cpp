@@ -106,6 +106,33 @@ void fuse_triangles(Surface& surface, SurfaceReadReport& r, const std::string& p
         r.notes.push_back(prefix + "patch " + std::to_string(f.patch) + " = the " + std::to_string(f.triangles) +
                           " triangles that patches " + joins + " had in common (fused)");
     }
+    // A patch whose triangles were all in common with another's (a sphere inside a box,
+    // one file per material: every triangle of the sphere's file is the box's too) has
+    // none left: its name and materials would describe a patch that is not there (a
+    // ball|exterior with 0 triangles, and the ball touches no exterior). Its triangles
+    // are the interface patch's, which names both materials, so its row goes.
+    std::vector<char> used;
+    for (const int32_t p : surface.patches)
+        if (p >= 0) {
+            if (size_t(p) >= used.size()) used.resize(size_t(p) + 1, 0);
+            used[size_t(p)] = 1;
+        }
+    std::map<int32_t, std::vector<int32_t>> emptied;  // patch -> the fused patches it went into
+    for (const FusedPatch& f : fused)
+        for (const int32_t j : f.joins)
+            if (j >= 0 && (size_t(j) >= used.size() || !used[size_t(j)])) emptied[j].push_back(f.patch);
+    for (const auto& [patch, into] : emptied) {
+        const auto row = std::find_if(r.patch_info.begin(), r.patch_info.end(),
+                                      [patch = patch](const PatchInfo& i) { return i.patch == patch; });
+        std::string where;
+        for (size_t i = 0; i < into.size(); ++i)
+            where += (i == 0 ? "" : i + 1 == into.size() ? " and " : ", ") + std::to_string(into[i]);
+        r.notes.push_back(prefix + "patch " + std::to_string(patch) +
+                          (row != r.patch_info.end() && !row->name.empty() ? " (\"" + row->name + "\")" : std::string()) +
+                          " has no triangles left: all of them were in common with other patches, fused into patch" +
+                          (into.size() == 1 ? " " : "es ") + where);
+        if (row != r.patch_info.end()) r.patch_info.erase(row);
+    }
 }
 
 // Why a surface that parsed is still unusable, with the repair that would help.
@@ -389,6 +416,53 @@ static std::string orientation_warning(const Surface& surface) {
            "(e.g. MeshLab: Re-Orient all faces coherently)";
 }
 
+static std::string short_number(double x) {
+    char b[32];
+    std::snprintf(b, sizeof b, "%.3g", x);
+    return b;
+}
+
+// The merge_vertices_within repair on `surface` (a file, or several together), refused
+// when it would collapse a triangle: a tolerance that large merges the model's own
+// vertices, not a seam's.
+static void merge_within(Surface& surface, double tolerance, const std::string& name, SurfaceReadReport& r) {
+    if (!(tolerance >= 0 && tolerance < 1))
+        throw OptionError("the vertex merge tolerance must be a fraction of the bounding-box diagonal, >= 0 and < 1 "
+                          "(got " + short_number(tolerance) + ")");
+    const double diagonal = bounding_box_diagonal(surface.vertices);
+    if (!(diagonal > 0) || !std::isfinite(diagonal)) return;  // validate_surface() says why
+    const CloseVertexMerge m = merge_close_vertices(surface, tolerance * diagonal);
+    if (m.collapsed_triangle >= 0) {
+        const auto [a, b] = m.collapsed_corners;
+        const double apart = distance(surface.vertices[size_t(a)], surface.vertices[size_t(b)]) / diagonal;
+        throw InputError(name, "merging vertices within " + short_number(tolerance) +
+                                   " of the bounding-box diagonal would join vertices " + std::to_string(a) + " and " +
+                                   std::to_string(b) + " of triangle " + std::to_string(m.collapsed_triangle) +
+                                   ", which are " + short_number(apart) +
+                                   " of the diagonal apart: the tolerance must be well below the length of the "
+                                   "triangles' edges (seams left open by rounding are about 1e-9 of the diagonal)");
+    }
+    r.merged_vertices += m.merged;
+    r.largest_merge_move = std::max(r.largest_merge_move, m.largest_move / diagonal);
+    if (m.merged > 0)
+        r.notes.push_back("merged " + std::to_string(m.merged) + " vertices within " + short_number(tolerance) +
+                          " of the bounding-box diagonal (the largest move: " +
+                          short_number(m.largest_move / diagonal) + " of the diagonal)");
+}
+
+// The open seam of a valid surface, if any, and the merge tolerance that closes it.
+static void find_seam(const Surface& surface, SurfaceReadReport& r) {
+    r.open_seam.reset();
+    r.seam_merge_tolerance = 0.0;
+    const double diagonal = bounding_box_diagonal(surface.vertices);
+    if (!(diagonal > 0) || !std::isfinite(diagonal)) return;
+    std::optional<OpenSeam> seam = find_open_seam(surface, kOpenSeamMaxGap * diagonal);
+    if (!seam) return;
+    r.seam_merge_tolerance = seam_merge_tolerance(surface, *seam, diagonal);
+    seam->gap /= diagonal;
+    r.open_seam = seam;
+}
+
 // After a reader: the repairs asked for, then the validation. `material`: the material
 // the file encloses if its format says nothing about its patches (apply_file_material).
 static Surface finish_reading(detail::ReaderOutput parsed, SurfaceFormat format, const std::string& name,
@@ -410,6 +484,7 @@ static Surface finish_reading(detail::ReaderOutput parsed, SurfaceFormat format,
     r.patch_info = std::move(parsed.patch_info);
     apply_file_material(r.patch_info, surface, material);
     if (options.merge_duplicate_vertices) r.merged_vertices = merge_duplicate_vertices(surface);
+    if (options.merge_vertices_within != 0) merge_within(surface, options.merge_vertices_within, name, r);
     if (options.drop_unreferenced_vertices) r.dropped_vertices = drop_unreferenced_vertices(surface);
     if (options.merge_duplicate_triangles) fuse_triangles(surface, r, "");
 
@@ -444,6 +519,7 @@ static Surface finish_reading(detail::ReaderOutput parsed, SurfaceFormat format,
         throw_surface_problems(name, prefix, polygons, problems, surface, options, validate);
     }
     if (std::string w = orientation_warning(surface); !w.empty()) r.warnings.push_back(std::move(w));
+    find_seam(surface, r);
     return surface;
 }
 
@@ -491,6 +567,7 @@ Surface read_surfaces(const std::vector<std::string>& paths, const SurfaceReadOp
         r.merged_vertices += one.merged_vertices;
         r.dropped_vertices += one.dropped_vertices;
         r.fused_triangles += one.fused_triangles;
+        r.largest_merge_move = std::max(r.largest_merge_move, one.largest_merge_move);
         r.skipped_elements += one.skipped_elements;
         for (const std::string& note : one.notes) r.notes.push_back(name + ": " + note);
         for (const std::string& warning : one.warnings) r.warnings.push_back(name + ": " + warning);
@@ -511,6 +588,7 @@ Surface read_surfaces(const std::vector<std::string>& paths, const SurfaceReadOp
         r.notes.push_back("vertex data '" + name + "' left out: not every input has it (with the same components)");
     // Inputs that touch share positions, not vertices, until the repair merges them.
     if (options.merge_duplicate_vertices) r.merged_vertices += merge_duplicate_vertices(surface);
+    if (options.merge_vertices_within != 0) merge_within(surface, options.merge_vertices_within, names, r);
     // Then the interfaces that two files both have are the same triangles.
     if (options.merge_duplicate_triangles) fuse_triangles(surface, r, "the inputs together: ");
     ValidateOptions validate;
@@ -520,6 +598,7 @@ Surface read_surfaces(const std::vector<std::string>& paths, const SurfaceReadOp
     if (!problems.empty())
         throw_surface_problems(names, "the inputs together (vertices and triangles numbered across the files in order): ", "",
                                problems, surface, options, validate);
+    find_seam(surface, r);  // of all inputs together: files that touch close each other's boundaries
     return surface;
 }
 

@@ -552,11 +552,31 @@ void check_meshable(const Surface& surface, const Context& context) {
             return "(" + format_double(p[0]) + ", " + format_double(p[1]) + ", " + format_double(p[2]) + ")";
         };
         const int32_t a = c.edges[first][0], b = c.edges[first][1];
-        throw AlgorithmError("the coarse surface has " + num(boundary) + " boundary edge" + (boundary == 1 ? "" : "s") +
-                             ", first from vertex " + num(a) + " " + at(a) + " to vertex " + num(b) + " " + at(b) +
-                             ": it does not enclose a volume, and TetGen needs a closed surface. The boundary is the "
-                             "input surface's (bpm-simplify keeps it): close the input there, e.g. an open seam "
-                             "whose two sides have vertices at slightly different positions");
+        const std::string message =
+            "the coarse surface has " + num(boundary) + " boundary edge" + (boundary == 1 ? "" : "s") +
+            ", first from vertex " + num(a) + " " + at(a) + " to vertex " + num(b) + " " + at(b) +
+            ": it does not enclose a volume, and TetGen needs a closed surface. The boundary is the "
+            "input surface's (bpm-simplify keeps it): close the input there, e.g. an open seam "
+            "whose two sides have vertices at slightly different positions";
+        // A seam open by rounding (the coarse surface keeps the input's boundary vertices):
+        // say so, and how far apart, so that the tool can name the repair.
+        const double diagonal = bounding_box_diagonal(surface.vertices);
+        if (const std::optional<OpenSeam> seam = find_open_seam(surface, kOpenSeamMaxGap * diagonal)) {
+            const double tolerance = seam_merge_tolerance(surface, *seam, diagonal);
+            const auto format_double = [](double v) {
+                char buffer[32];
+                std::snprintf(buffer, sizeof buffer, "%.3g", v);
+                return std::string(buffer);
+            };
+            if (tolerance > 0)
+                throw OpenSeamError(message + ": here " + num(seam->paired_edges) + " of the " + num(boundary) +
+                                        " boundary edges pair up with others within " +
+                                        format_double(seam->gap / diagonal) +
+                                        " of the diagonal, so it is such a seam, which merging the input's vertices "
+                                        "within " + format_double(tolerance) + " of its diagonal closes",
+                                    tolerance);
+        }
+        throw AlgorithmError(message);
     }
     CheckOptions co;
     co.max_problems = 1;

@@ -765,6 +765,34 @@ TEST_CASE("distance: sampled estimates respect the exact bound and are determini
     }
 }
 
+TEST_CASE("distance: a flat face whose coarse triangles cover many original ones needs few closest-point queries",
+          "[check][distance]") {
+    // A CAD face as gmsh and OpenCASCADE write it: flat up to ~1e-11 (rounding of the
+    // geometry kernel, above the checker's rounding floor), simplified to a few large
+    // coarse triangles. Each coarse triangle here covers 2048 original ones, more than the
+    // local candidates the checker tries, and every one of its 33 153 samples asked the
+    // AABB tree (33 187 queries before, 60 now; a gmsh L-block at 1 %: 980 000 queries, 6.7 s of
+    // bpm-check --max-distance). The original triangle phi maps a sample into bounds its
+    // distance first; only samples that could raise the maximum are queried.
+    const double amplitude = 3e-11;
+    const Parametrization p = test::make_height_field(
+        32, 1, [amplitude](double x, double y) { return amplitude * std::sin(40 * x) * std::cos(37 * y); });
+    CheckOptions o;
+    o.max_error = 0.01;
+    const CheckResult r = check_distance(p, o);
+    INFO(problems_text(r));
+    CHECK(r.passed);
+    INFO("samples " << r.count("samples") << ", closest-point queries " << r.count("closest_point_queries"));
+    CHECK(r.count("samples") > 60000);
+    CHECK(r.count("closest_point_queries") < r.count("samples") / 100);
+    // The same distance as before (3.53807e-11): S -> S0 is attained at a node, where
+    // the exact bound max |phi(x) - x| is (the surfaces are flat up to 1e-11).
+    REQUIRE(measure(r, "coarse_to_original"));
+    const double bound = measure(r, "coarse_to_original_bound")->value;
+    CHECK(measure(r, "coarse_to_original")->value <= bound * (1 + 1e-9));
+    CHECK(measure(r, "coarse_to_original")->value == Approx(bound).epsilon(1e-6));
+}
+
 TEST_CASE("distance check of a file in run_checks and the JSON report", "[check][distance]") {
     BpmFile written;
     written.param = tent(0.1);

@@ -285,3 +285,58 @@ TEST_CASE("fuse_duplicate_triangles: one closed cube per material becomes two cu
     CHECK(s.num_vertices() == reference.num_vertices());
     CHECK(s.num_triangles() == reference.num_triangles());
 }
+
+TEST_CASE("merge_close_vertices joins each vertex to the first kept one within the distance", "[validate]") {
+    // The tetrahedron of merge_duplicate_vertices' test with its copies moved by 1e-9
+    // (a seam open by rounding), and vertex 7 1.5e-9 beyond copy 3: 2.5e-9 from vertex 1,
+    // which is kept, it stays, although it is within the distance of copy 3 (no chains:
+    // nothing moves by more than the distance).
+    Surface s;
+    const double e = 1e-9;
+    s.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1 + e, 0, 0}, {0, 0, 1}, {0, e, 0}, {0, 1, e}, {1 + 2.5 * e, 0, 0}};
+    s.triangles = {{0, 2, 1}, {5, 3, 4}, {0, 4, 6}, {3, 6, 4}, {7, 2, 4}};
+    s.patches = {0, 1, 2, 3, 4};
+    const CloseVertexMerge m = merge_close_vertices(s, 2 * e);
+    CHECK(m.merged == 3);
+    CHECK(m.largest_move == Approx(e).epsilon(1e-6));
+    CHECK(m.collapsed_triangle == -1);
+    CHECK(s.vertices == std::vector<Vec3>{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1 + 2.5 * e, 0, 0}});
+    CHECK(s.triangles == std::vector<Tri>{{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}, {4, 2, 3}});
+    CHECK(s.patches == std::vector<int32_t>{0, 1, 2, 3, 4});
+    // Exact duplicates merge at distance 0, as merge_duplicate_vertices does.
+    Surface d;
+    d.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 0, 0}};
+    d.triangles = {{0, 1, 2}, {3, 2, 0}};
+    d.patches = {0, 0};
+    CHECK(merge_close_vertices(d, 0.0).merged == 1);
+    CHECK(d.triangles == std::vector<Tri>{{0, 1, 2}, {1, 2, 0}});
+}
+
+TEST_CASE("merge_close_vertices refuses a distance that collapses a triangle and changes nothing", "[validate]") {
+    Surface s = tetrahedron();
+    const Surface before = s;
+    const CloseVertexMerge m = merge_close_vertices(s, 10.0);
+    CHECK(m.merged == 0);
+    CHECK(m.collapsed_triangle == 0);
+    CHECK(m.collapsed_corners[0] != m.collapsed_corners[1]);
+    CHECK(s.vertices == before.vertices);
+    CHECK(s.triangles == before.triangles);
+}
+
+TEST_CASE("find_open_seam pairs boundary edges whose ends are within the gap", "[validate]") {
+    // Two triangles that should share the edge (1, 2), written with a copy of it 1e-9 away.
+    Surface s;
+    const double e = 1e-9;
+    s.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}, {1, e, 0}, {e, 1, 0}};
+    s.triangles = {{0, 1, 2}, {4, 3, 5}};
+    s.patches = {0, 0};
+    const std::optional<OpenSeam> seam = find_open_seam(s, 1e-6);
+    REQUIRE(seam);
+    CHECK(seam->boundary_edges == 6);
+    CHECK(seam->paired_edges == 2);
+    CHECK(seam->gap == Approx(e).epsilon(1e-6));
+    CHECK(seam->first_edge == std::array<int32_t, 2>{1, 2});
+    CHECK_FALSE(find_open_seam(s, 1e-10));  // the gap is larger
+    CHECK(seam_merge_tolerance(s, *seam, 1.0) == Approx(1e-8));
+    CHECK_FALSE(find_open_seam(tetrahedron(), 1e-6));  // closed
+}
