@@ -54,7 +54,8 @@ PlanarRegions planar_regions(const Parametrization& p, double diagonal) {
     std::unordered_map<uint64_t, std::vector<std::pair<int32_t, int>>> edges;
     for (int32_t t = 0; t < nt; ++t)
         for (int k = 0; k < 3; ++k)
-            edges[edge_key(c.triangles[size_t(t)][size_t(k)], c.triangles[size_t(t)][size_t((k + 1) % 3)])].push_back({t, k});
+            edges[edge_key(c.triangles[size_t(t)][size_t(k)], c.triangles[size_t(t)][size_t((k + 1) % 3)])]
+                .push_back({t, k});
     auto from = [&](int32_t t, int k) { return c.triangles[size_t(t)][size_t(k)]; };
     auto to = [&](int32_t t, int k) { return c.triangles[size_t(t)][size_t((k + 1) % 3)]; };
 
@@ -75,7 +76,8 @@ PlanarRegions planar_regions(const Parametrization& p, double diagonal) {
         for (int64_t q = p.piece_offsets[ts]; q < p.piece_offsets[ts + 1]; ++q) {
             const Tri& pc = p.pieces[size_t(q)];
             const size_t a = size_t(n0 + pc[0]), b = size_t(n0 + pc[1]), d = size_t(n0 + pc[2]);
-            const int s = orient2d(PlanarRegions::project(r, p.node_image[a]), PlanarRegions::project(r, p.node_image[b]),
+            const int s = orient2d(PlanarRegions::project(r, p.node_image[a]),
+                                   PlanarRegions::project(r, p.node_image[b]),
                                    PlanarRegions::project(r, p.node_image[d])) *
                           orient_barycentric(p.node_barycentric[a], p.node_barycentric[b], p.node_barycentric[d]);
             if (s == 0 || (sign != 0 && s != sign)) return false;
@@ -139,7 +141,8 @@ PlanarRegions planar_regions(const Parametrization& p, double diagonal) {
             const Vec3& ea = c.vertices[size_t(from(t, k))];
             const Vec3& eb = c.vertices[size_t(to(t, k))];
             for (int64_t m = n0; m < n1; ++m)
-                if (p.node_barycentric[size_t(m)][z] == 0) out.phi_line[size_t(t)][size_t(k)].add(ea, eb, p.node_image[size_t(m)]);
+                if (p.node_barycentric[size_t(m)][z] == 0)
+                    out.phi_line[size_t(t)][size_t(k)].add(ea, eb, p.node_image[size_t(m)]);
         }
     }
     return out;

@@ -447,10 +447,12 @@ public:
             const int32_t g = planar_.region[size_t(r.coarse)];
             if (g < 0 || failed[size_t(g)]) continue;
             const detail::PlanarRegion& region = planar_.regions[size_t(g)];
+            using Regions = detail::PlanarRegions;
             const Vec3 X[3] = {x[size_t(r.v[0])], x[size_t(r.v[1])], x[size_t(r.v[2])]};
-            for (const Vec3& v : X) offset[size_t(g)] = std::max(offset[size_t(g)], std::abs(detail::PlanarRegions::vertical_offset(region, v)));
-            const int s = orient2d(detail::PlanarRegions::project(region, X[0]), detail::PlanarRegions::project(region, X[1]),
-                                   detail::PlanarRegions::project(region, X[2])) *
+            for (const Vec3& v : X)
+                offset[size_t(g)] = std::max(offset[size_t(g)], std::abs(Regions::vertical_offset(region, v)));
+            const int s = orient2d(Regions::project(region, X[0]), Regions::project(region, X[1]),
+                                   Regions::project(region, X[2])) *
                           detail::orient_barycentric(r.b[0], r.b[1], r.b[2]);
             if (s == 0 || (sign[size_t(g)] != 0 && s != sign[size_t(g)])) {
                 failed[size_t(g)] = 1;

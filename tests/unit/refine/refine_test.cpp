@@ -625,8 +625,8 @@ Parametrization drifted(Parametrization p, double fraction) {
             std::vector<int> o;
             for (int64_t q = p.piece_offsets[size_t(t)]; q < p.piece_offsets[size_t(t) + 1]; ++q) {
                 const Tri& pc = p.pieces[size_t(q)];
-                o.push_back(orient3d({0, 0, 0}, p.node_barycentric[size_t(n0 + pc[0])], p.node_barycentric[size_t(n0 + pc[1])],
-                                     p.node_barycentric[size_t(n0 + pc[2])]));
+                const auto& b = p.node_barycentric;
+                o.push_back(orient3d({0, 0, 0}, b[size_t(n0 + pc[0])], b[size_t(n0 + pc[1])], b[size_t(n0 + pc[2])]));
             }
             return o;
         };
