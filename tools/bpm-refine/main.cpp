@@ -146,7 +146,8 @@ int main(int argc, char** argv) {
     // stopping threshold).
     auto* tol = app.add_option("--max-error", max_error,
                                "Adaptive refinement: split triangles until max |phi(x) - x| is at most this fraction "
-                               "of the bounding-box diagonal (e.g. 0.001)")
+                               "of the bounding-box diagonal (e.g. 0.001); on planar faces phi's drift within the "
+                               "face is no error and does not count")
                     ->check(CLI::PositiveNumber);
     lv->excludes(tol);
     bpm::tools::add_deprecated_alias(app, "--tolerance", max_error, tol,

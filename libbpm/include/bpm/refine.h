@@ -32,8 +32,9 @@ struct RefineOptions {
     // Adaptive: split triangles whose phi-image deviates from the flat triangle by more
     // than this fraction of the bounding-box diagonal of S0 (> 0), measured exactly (max
     // over the overlay of the triangle with phi's pieces, held-back vertices where they
-    // end up): every triangle that is not at max_level ends within it, a proven two-sided
-    // Hausdorff bound (RefineResult).
+    // end up; on a planar region only what its bound depends on, the region's boundary and
+    // offsets from the plane, not phi's drift within the plane): every triangle that is
+    // not at max_level ends within it, a proven two-sided Hausdorff bound (RefineResult).
     double tolerance = 0.0;
     // Adaptive: never refine a coarse triangle more than this many times.
     int max_level = 8;
@@ -78,10 +79,15 @@ struct RefinedSurface {
     // 1 to 1/2 towards the midpoint of the vertex's parent edge (its ends at phi), from 1/2
     // to 0 on to the coarse surface.
     std::vector<double> vertex_phi_fraction;
-    // Per triangle (#T): max |x - phi(x)| over the triangle as returned (held-back vertices
-    // where they are), relative to the diagonal of S0, computed exactly over its overlay
-    // with phi's pieces: a proven bound of the two-sided Hausdorff distance between the
-    // triangle and its image phi(triangle) on S0.
+    // Per triangle (#T): a proven bound, relative to the diagonal of S0, of the distance
+    // from every point of the triangle as returned (held-back vertices where they are) to
+    // S0 and from every point of its image phi(triangle) to the refined surface: max
+    // |x - phi(x)| over the triangle, computed exactly over its overlay with phi's pieces
+    // (then also a bound of the two-sided Hausdorff distance between the triangle and
+    // phi(triangle)), or, where that is smaller, the bound of the planar region it lies in:
+    // on coarse triangles that lie with their image in one plane, the region's boundary
+    // and offsets from the plane bound the distance, and phi moving points within the
+    // plane (tangential drift, no geometric error) does not count.
     std::vector<double> triangle_bound;
 };
 
@@ -98,7 +104,8 @@ struct RefineResult {
     // (as returned, held-back vertices included) and S0, relative to the diagonal of S0:
     // the largest RefinedSurface::triangle_bound (at most max_estimated_error +
     // max_held_back; it was that sum). phi pairs every point of the refined surface with a
-    // point of S0 no farther than that, and maps onto all of S0.
+    // point of S0 no farther than that, and maps onto all of S0; on planar regions the
+    // region's bound holds for both directions (refine.cpp, "PLANAR REGIONS").
     double hausdorff_bound = 0.0;
     // Adaptive: triangles whose triangle_bound is above the tolerance, and those of them at
     // max_level (refining was stopped there; the others only if the passes ran out). The

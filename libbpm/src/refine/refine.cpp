@@ -26,7 +26,10 @@
 #include "bpm/check.h"
 #include "bpm/errors.h"
 #include "bpm/phi_evaluation.h"
+#include "bpm/predicates.h"
+#include "core/barycentric_orientation.h"
 #include "core/edge_key.h"
+#include "refine/planar_regions.h"
 
 namespace bpm {
 
@@ -39,7 +42,10 @@ struct RTri {
     std::array<int32_t, 3> v;
     std::array<Vec3, 3> b;
     int32_t level;
-    double error = -1;  // sampled deviation, -1 = not yet computed
+    double error = -1;  // max |flat - phi| over the triangle (Refiner::error), -1 = not yet computed
+    // What adaptive refinement splits by (Refiner::need): error, or less on a planar
+    // region; -1 = not yet computed, +infinity = split in any case.
+    double need = -1;
 };
 
 inline Vec3 mid(const Vec3& a, const Vec3& b) { return {0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1]), 0.5 * (a[2] + b[2])}; }
@@ -98,6 +104,7 @@ public:
         : p_(p), phi_(phi), out_(out) {
         diagonal_ = bounding_box_diagonal(p.original);
         if (!(diagonal_ > 0)) diagonal_ = 1;
+        planar_ = detail::planar_regions(p, diagonal_);
     }
 
     // Progress, monotone over the whole call: within a pass, refining takes the first half
@@ -217,18 +224,20 @@ public:
             const RTri r = tris_[i];
             RTri a, b;
             green_halves(r, k, midpoint(r, k, false), a, b);
-            a.error = b.error = -1;
+            a.error = b.error = a.need = b.need = -1;
             tris_[i] = a;
             tris_.push_back(b);
             if (origin) origin->push_back((*origin)[i]);
         }
     }
 
-    // Largest sampled deviation of the two green halves of r split at edge k.
+    // Largest need (what adaptive refinement splits by) of the two green halves of r
+    // split at edge k.
     double green_error(const RTri& r, int k) const {
         RTri a, b;
         green_halves(r, k, mids_.at(edge_key(r.v[size_t(k)], r.v[size_t((k + 1) % 3)])), a, b);
-        return std::max(error(a), error(b));
+        a.error = b.error = a.need = b.need = -1;
+        return std::max(need(a), need(b));
     }
 
     // The two halves of r split at the midpoint m (vertex id) of its local edge k.
@@ -251,7 +260,11 @@ public:
     // edge crosses an edge of r. All of them are visited (nodes and crossings within
     // rounding of r too, which can only raise the value). Not sampled: no feature of S0
     // between sample points is missed.
-    double error(const RTri& r) const {
+    // With `only_edge` (0..2, an edge of r on an edge of its coarse triangle): the same
+    // maximum over that edge alone. Along a coarse edge phi's breakpoints are its nodes
+    // on the edge (exactly 0 at the opposite coarse corner), so its two corners and those
+    // nodes are visited.
+    double error(const RTri& r, int only_edge = -1) const {
         const auto& x = out_.surface.vertices;
         const Vec3 X[3] = {x[size_t(r.v[0])], x[size_t(r.v[1])], x[size_t(r.v[2])]};
         // Barycentric coordinates in r of a point given in the coarse triangle, in the (b1, b2) plane.
@@ -268,8 +281,22 @@ public:
             const Vec3 l = in_r(b);
             worst = std::max(worst, distance(l[0] * X[0] + l[1] * X[1] + l[2] * X[2], image));
         };
-        for (int k = 0; k < 3; ++k) visit(r.b[size_t(k)], phi_.evaluate(r.coarse, r.b[size_t(k)]).position);
         constexpr double kSlack = 1e-12;  // barycentric units: rounding of stored node positions
+        if (only_edge >= 0) {
+            const size_t k0 = size_t(only_edge), k1 = size_t((only_edge + 1) % 3);
+            const int z = coarse_zero(r, only_edge);
+            visit(r.b[k0], phi_.evaluate(r.coarse, r.b[k0]).position);
+            visit(r.b[k1], phi_.evaluate(r.coarse, r.b[k1]).position);
+            const size_t t = size_t(r.coarse);
+            for (int64_t g = p_.node_offsets[t]; g < p_.node_offsets[t + 1]; ++g) {
+                const Vec3& b = p_.node_barycentric[size_t(g)];
+                if (b[size_t(z)] != 0) continue;
+                const Vec3 l = in_r(b);
+                if (l[0] >= -kSlack && l[1] >= -kSlack && l[2] >= -kSlack) visit(b, p_.node_image[size_t(g)]);
+            }
+            return worst / diagonal_;
+        }
+        for (int k = 0; k < 3; ++k) visit(r.b[size_t(k)], phi_.evaluate(r.coarse, r.b[size_t(k)]).position);
         const double lo1 = std::min({r.b[0][1], r.b[1][1], r.b[2][1]}) - kSlack;
         const double hi1 = std::max({r.b[0][1], r.b[1][1], r.b[2][1]}) + kSlack;
         const double lo2 = std::min({r.b[0][2], r.b[1][2], r.b[2][2]}) - kSlack;
@@ -330,6 +357,141 @@ public:
         return r.error;
     }
 
+    // The barycentric coordinate of the coarse triangle that is 0 at both corners of edge
+    // i of r (the edge then lies on the coarse edge opposite that corner), or -1. Exact:
+    // parameter positions are dyadic fractions, 0 on a coarse edge.
+    static int coarse_zero(const RTri& r, int i) {
+        const Vec3& a = r.b[size_t(i)];
+        const Vec3& b = r.b[size_t((i + 1) % 3)];
+        for (int z = 0; z < 3; ++z)
+            if (a[size_t(z)] == 0 && b[size_t(z)] == 0) return z;
+        return -1;
+    }
+    // The local edge of the coarse triangle (corners k, k + 1) that edge i of r lies on, or -1.
+    static int coarse_edge(const RTri& r, int i) {
+        const int z = coarse_zero(r, i);
+        return z < 0 ? -1 : (z + 1) % 3;
+    }
+
+    // PLANAR REGIONS. On a planar region M (detail::planar_regions: coarse triangles that
+    // lie, with phi's image of them, in one plane P) phi may move points within P, and
+    // max |flat - phi| counts that drift although the refined surface and S0 coincide
+    // there. What the Hausdorff distance needs is less: R = union of the refined triangles
+    // f(rho), S0 = union of phi(rho) (phi is onto), so H(R, S0) <= max over parts of the
+    // parameter surface of max(sup d(f(x), S0), sup d(phi(x), R)), and M may be one part.
+    // Its value, beta_M (region_bounds), relative to the diagonal:
+    //   beta_M = e_f + e_phi + max(e_f, e_phi) + max over boundary edges e of M of c_e,
+    // e_f / e_phi the largest offset (along the dropped axis, vertical_offset) of the
+    // refined vertices / phi's node images from P, c_e as below. Proof. Project along the
+    // axis P is least steep in (psi drops a coordinate: exact); F = psi o f and G = psi o
+    // phi are piecewise linear maps of M into the plane. If every refined triangle of M
+    // projects with one sign s (exact orient2d) and every piece of phi with one sign t,
+    // then for u off the images of edges deg(F, u) = s * #(triangles covering u), nonzero
+    // exactly on F(M), and deg(G, u) = t * #(pieces covering u), nonzero exactly on G(M).
+    // Both degrees are winding numbers of the images of the boundary chain of M (the sum
+    // of the coarse triangles' boundaries: an edge shared by two consistently oriented
+    // triangles of M cancels; the refinement is conforming and phi continuous, so the
+    // maps agree on each edge from both sides). (a) A point a of f(M) whose projection u
+    // is in G(M) has a point b of phi(M) above or below it: |a - b| <= e_f + e_phi.
+    // Otherwise deg(F, u) != 0 = deg(G, u), so the straight homotopy (1 - l) F + l G of
+    // the boundary chain passes through u: u = psi(q), q = (1 - l) f(x) + l phi(x) for a
+    // boundary point x, and |a - q| <= e_f + max(e_f, e_phi) (the offset is affine), so
+    // d(a, S0) <= e_f + max(e_f, e_phi) + d(q, S0). (b) Symmetrically for b in phi(M)
+    // with d(q, R). d(q, S0) and d(q, R) are at most c_e, the smaller of: max |f - phi|
+    // over e (q lies between f(x) and phi(x)); and 2 eta + o, eta the largest distance of
+    // phi's nodes and the refined vertices on e from the line through e's corners, o how
+    // far they overshoot the segment (phi(e) and f(e), paths between the same corners,
+    // pass within eta of every point of the segment, and q is within eta and o of it).
+    // Non-generic points follow by continuity. So no tangential drift counts, only the
+    // offsets from P and the boundary; on a box face (straight edges on the box's edges)
+    // beta is rounding. If a sign condition fails, M gets no bound (plain error(r)).
+    // The bound of a triangle of M is min(error(r), beta_M): both are proven.
+
+    // What adaptive refinement splits by: error(r) with every vertex at phi, or on a
+    // planar region the part of beta_M that r can lower (its offsets from the plane and
+    // c_e on its edges on the region's boundary), whichever is smaller. Cached in r.need.
+    double need(RTri& r) const {
+        if (r.need >= 0) return r.need;
+        double e = phi_error(r);
+        const int32_t g = planar_.region[size_t(r.coarse)];
+        if (g >= 0) {
+            double planar = 3 * planar_.regions[size_t(g)].phi_offset / diagonal_;
+            for (int i = 0; i < 3; ++i) {
+                const int k = coarse_edge(r, i);
+                if (k < 0 || !planar_.boundary[size_t(r.coarse)][size_t(k)]) continue;
+                const detail::LineDeviation& line = planar_.phi_line[size_t(r.coarse)][size_t(k)];
+                planar = std::max(planar, std::min(error(r, i), (2 * line.off + line.overshoot) / diagonal_));
+            }
+            e = std::min(e, planar);
+        }
+        return r.need = e;
+    }
+
+    // beta_M of every planar region with the vertices where they are (see PLANAR
+    // REGIONS), relative to the diagonal; +infinity where a sign condition fails.
+    std::vector<double> region_bounds() const {
+        const size_t nr = planar_.regions.size();
+        std::vector<double> beta(nr, std::numeric_limits<double>::infinity());
+        if (nr == 0) return beta;
+        const auto& x = out_.surface.vertices;
+        const auto& cv = p_.coarse.vertices;
+        std::vector<double> offset(nr, 0.0);
+        std::vector<int> sign(nr, 0);
+        std::vector<uint8_t> failed(nr, 0);
+        struct EdgeBound {
+            double flat_phi = 0;  // max |f - phi| over the edge (absolute)
+            detail::LineDeviation line;  // the refined vertices on it
+        };
+        std::vector<std::array<EdgeBound, 3>> edges(p_.coarse.triangles.size());
+        for (const RTri& r : tris_) {
+            const int32_t g = planar_.region[size_t(r.coarse)];
+            if (g < 0 || failed[size_t(g)]) continue;
+            const detail::PlanarRegion& region = planar_.regions[size_t(g)];
+            using Regions = detail::PlanarRegions;
+            const Vec3 X[3] = {x[size_t(r.v[0])], x[size_t(r.v[1])], x[size_t(r.v[2])]};
+            for (const Vec3& v : X)
+                offset[size_t(g)] = std::max(offset[size_t(g)], std::abs(Regions::vertical_offset(region, v)));
+            const int s = orient2d(Regions::project(region, X[0]), Regions::project(region, X[1]),
+                                   Regions::project(region, X[2])) *
+                          detail::orient_barycentric(r.b[0], r.b[1], r.b[2]);
+            if (s == 0 || (sign[size_t(g)] != 0 && s != sign[size_t(g)])) {
+                failed[size_t(g)] = 1;
+                continue;
+            }
+            sign[size_t(g)] = s;
+            for (int i = 0; i < 3; ++i) {
+                const int k = coarse_edge(r, i);
+                if (k < 0 || !planar_.boundary[size_t(r.coarse)][size_t(k)]) continue;
+                EdgeBound& e = edges[size_t(r.coarse)][size_t(k)];
+                e.flat_phi = std::max(e.flat_phi, error(r, i) * diagonal_);
+                const Tri& c = p_.coarse.triangles[size_t(r.coarse)];
+                const Vec3& a = cv[size_t(c[size_t(k)])];
+                const Vec3& b = cv[size_t(c[size_t((k + 1) % 3)])];
+                e.line.add(a, b, X[i]);
+                e.line.add(a, b, X[(i + 1) % 3]);
+            }
+        }
+        std::vector<double> chain(nr, 0.0);  // max c_e over the boundary edges
+        for (size_t t = 0; t < p_.coarse.triangles.size(); ++t) {
+            const int32_t g = planar_.region[t];
+            if (g < 0) continue;
+            for (size_t k = 0; k < 3; ++k) {
+                if (!planar_.boundary[t][k]) continue;
+                const EdgeBound& e = edges[t][k];
+                const detail::LineDeviation& phi_line = planar_.phi_line[t][k];
+                const double eta = std::max(e.line.off, phi_line.off);
+                const double along = 2 * eta + std::max(e.line.overshoot, phi_line.overshoot);
+                chain[size_t(g)] = std::max(chain[size_t(g)], std::min(e.flat_phi, along));
+            }
+        }
+        for (size_t g = 0; g < nr; ++g) {
+            if (failed[g]) continue;
+            const double ef = offset[g], ep = planar_.regions[g].phi_offset;
+            beta[g] = (ef + ep + std::max(ef, ep) + chain[g]) / diagonal_;
+        }
+        return beta;
+    }
+
     // Uniform: every triangle below `max_level` is red-refined, level by level.
     void refine_uniform(int max_level, const Context& context) {
         for (int round = 0; round < max_level; ++round) {
@@ -344,11 +506,12 @@ public:
         }
     }
 
-    // The triangles below max_level whose deviation at phi (phi_error) exceeds the tolerance.
+    // The triangles below max_level whose need (error at phi, less on planar regions)
+    // exceeds the tolerance.
     std::vector<size_t> above_tolerance(const RefineOptions& options) {
         std::vector<size_t> marked;
         for (size_t i = 0; i < tris_.size(); ++i)
-            if (tris_[i].level < options.max_level && !(phi_error(tris_[i]) <= options.tolerance)) marked.push_back(i);
+            if (tris_[i].level < options.max_level && !(need(tris_[i]) <= options.tolerance)) marked.push_back(i);
         return marked;
     }
 
@@ -481,7 +644,7 @@ public:
                           std::to_string(result.hausdorff_bound) + "), refined further");
             tris_ = irregular;
             out_.surface.vertices = at_phi;
-            for (size_t i : split) tris_[i].error = std::numeric_limits<double>::infinity();
+            for (size_t i : split) tris_[i].need = std::numeric_limits<double>::infinity();
         }
         if (history.best_is_earlier()) {
             out_ = std::move(best_out);
@@ -501,12 +664,15 @@ public:
         result.hausdorff_bound = 0;
         result.triangles_above_tolerance = 0;
         result.triangles_at_max_level_above_tolerance = 0;
+        const std::vector<double> beta = region_bounds();
         for (size_t i = 0; i < tris_.size(); ++i) {
             const RTri& r = tris_[i];
             // Unchanged vertices: the error at phi (cached for red triangles) is the bound.
             bool moved = false;
             for (int32_t v : r.v) moved = moved || moved_[size_t(v)];
-            const double e = moved ? error(r) : r.error;
+            double e = moved ? error(r) : r.error;
+            const int32_t g = planar_.region[size_t(r.coarse)];
+            if (g >= 0) e = std::min(e, beta[size_t(g)]);
             out_.triangle_bound[i] = e;
             result.hausdorff_bound = std::max(result.hausdorff_bound, e);
             if (!options || e <= options->tolerance) continue;
@@ -773,6 +939,7 @@ private:
     // Per new vertex (index - #coarse vertices): the edge it is the midpoint of.
     std::vector<std::pair<int32_t, int32_t>> parents_;
     std::vector<uint8_t> moved_;  // per vertex: not at phi (hold_back)
+    detail::PlanarRegions planar_;  // see PLANAR REGIONS
     int32_t pass_ = 0;            // the adaptive pass running (1, 2, ...); 0 = uniform
 };
 
