@@ -10,22 +10,13 @@ source "$(dirname "$0")/lib/harness.bash"
 
 # The unit cube, each face a 4 x 4 grid of squares split in two (OFF), closed; and the same
 # without its top face (x = 1), open along a square loop.
-/usr/bin/python3 - "$work" <<'PY'
-import sys, itertools
+/usr/bin/python3 - "$work" "$(dirname "$0")/lib" <<'PY'
+import sys
+sys.path.insert(0, sys.argv[2])
+from grid_cube import cube_triangles
 work, n = sys.argv[1], 4
 def cube(skip_top):
-    tris = []
-    for axis in range(3):
-        for side in (0, 1):
-            if skip_top and axis == 0 and side == 1: continue
-            for i, j in itertools.product(range(n), range(n)):
-                def p(a, b):
-                    q = [0.0, 0.0, 0.0]
-                    q[axis] = float(side); q[(axis + 1) % 3] = a / n; q[(axis + 2) % 3] = b / n
-                    return tuple(q)
-                quad = [p(i, j), p(i + 1, j), p(i + 1, j + 1), p(i, j + 1)]
-                if side == 0: quad.reverse()
-                tris += [(quad[0], quad[1], quad[2]), (quad[0], quad[2], quad[3])]
+    tris = cube_triangles(n, (0, 1) if skip_top else None)
     index = {}
     for t in tris:
         for v in t: index.setdefault(v, len(index))

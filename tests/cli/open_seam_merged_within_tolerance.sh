@@ -13,21 +13,13 @@ source "$(dirname "$0")/lib/harness.bash"
 # The unit cube, each face a 4 x 4 grid of squares split in two, as STL and OBJ, with the
 # triangles whose centroid has x > 0.5 moved by 1e-9 of the diagonal: the seam is the
 # ring of vertices at x = 0.5, written once per side. Also the closed cube (OBJ).
-/usr/bin/python3 - "$work" <<'PY'
-import sys, itertools, math
+/usr/bin/python3 - "$work" "$(dirname "$0")/lib" <<'PY'
+import sys, math
+sys.path.insert(0, sys.argv[2])
+from grid_cube import cube_triangles
 work = sys.argv[1]
 n = 4
-tris = []
-for axis in range(3):
-    for side in (0, 1):
-        for i, j in itertools.product(range(n), range(n)):
-            def p(a, b):
-                q = [0.0, 0.0, 0.0]
-                q[axis] = float(side); q[(axis + 1) % 3] = a / n; q[(axis + 2) % 3] = b / n
-                return tuple(q)
-            quad = [p(i, j), p(i + 1, j), p(i + 1, j + 1), p(i, j + 1)]
-            if side == 0: quad.reverse()
-            tris += [(quad[0], quad[1], quad[2]), (quad[0], quad[2], quad[3])]
+tris = cube_triangles(n)
 delta = 1e-9 * math.sqrt(3)
 def moved(t):
     if sum(v[0] for v in t) / 3 <= 0.5: return t
