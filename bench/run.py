@@ -103,6 +103,8 @@ MANUAL_SECTIONS = [
     "tet-refinement-best-diagonal.md",
     "coarse-ridges.md",
     "folds-and-convergence.md",
+    "input-slivers-d2.md",
+    "planar-regions-drift.md",
 ]
 RUN_RECORD = "all.json"  # in the results folder: what `all` ran, for --assemble
 QUICK_REFINE_MESHES = "femur"
