@@ -377,8 +377,9 @@ static detail::ReaderOutput read_parallel_vtk_xml(const std::string& path, const
 // face opposite sides of the surface (e.g. triangles flipped in an STL export). Accepted
 // (bpm-simplify and bpm-check work on them), but the front side that patch_info's
 // materials refer to changes there, and phi's pieces turn by up to 180 degrees; before,
-// nothing said so. Empty when the orientation is consistent.
-static std::string orientation_warning(const Surface& surface) {
+// nothing said so. Empty when the orientation is consistent. `open`: whether some edge
+// has one triangle only (a boundary edge).
+static std::string orientation_warning(const Surface& surface, bool& open) {
     struct EdgeUse {
         int32_t count = 0, first_triangle = -1, same_way_triangle = -1;
         bool first_ascending = false;
@@ -399,7 +400,9 @@ static std::string orientation_warning(const Surface& surface) {
     int64_t same_way = 0;
     const EdgeUse* first = nullptr;  // the one with the smallest triangles, for a stable message
     uint64_t first_key = 0;
+    open = false;
     for (const auto& [key, e] : edges) {
+        open = open || e.count == 1;
         if (e.count != 2 || e.same_way_triangle < 0) continue;
         ++same_way;
         if (!first || std::pair(e.first_triangle, e.same_way_triangle) < std::pair(first->first_triangle, first->same_way_triangle))
@@ -518,8 +521,11 @@ static Surface finish_reading(detail::ReaderOutput parsed, SurfaceFormat format,
                      "triangle: ";
         throw_surface_problems(name, prefix, polygons, problems, surface, options, validate);
     }
-    if (std::string w = orientation_warning(surface); !w.empty()) r.warnings.push_back(std::move(w));
-    find_seam(surface, r);
+    // The edges are counted once, for both: a closed surface (the usual case) has no seam,
+    // and find_open_seam's own pass over the edges is skipped.
+    bool open = false;
+    if (std::string w = orientation_warning(surface, open); !w.empty()) r.warnings.push_back(std::move(w));
+    if (open) find_seam(surface, r);
     return surface;
 }
 

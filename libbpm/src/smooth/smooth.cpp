@@ -192,8 +192,9 @@ bool star_weights(const std::vector<StarWedge>& wedges, SmoothWeights mode, std:
 // - max_error: the largest |flat - phi|, flat being the refined surface (linear over
 //   each sub-triangle). Both are affine over each cell of the overlay of the pieces of
 //   phi with the sub-triangles, so the maximum lies at an overlay vertex: a node, a grid
-//   point (where it is 0) or a crossing of a piece edge with a grid line (the quantity
-//   bpm-refine reports, up to rounding, for this triangle).
+//   point (where it is 0) or a crossing of a piece edge with a grid line (bpm-refine's
+//   max |flat - phi| for this triangle, up to rounding; its proven bound can be lower on
+//   planar regions, see refine.cpp PLANAR REGIONS).
 struct TriangleQuality {
     double max_aspect = 0;
     double max_error = 0;

@@ -563,7 +563,8 @@ void check_meshable(const Surface& surface, const Context& context) {
         const double diagonal = bounding_box_diagonal(surface.vertices);
         if (const std::optional<OpenSeam> seam = find_open_seam(surface, kOpenSeamMaxGap * diagonal)) {
             const double tolerance = seam_merge_tolerance(surface, *seam, diagonal);
-            const auto format_double = [](double v) {
+            // Three digits, not the file's format_double (full precision): these are ratios.
+            const auto three_digits = [](double v) {
                 char buffer[32];
                 std::snprintf(buffer, sizeof buffer, "%.3g", v);
                 return std::string(buffer);
@@ -571,9 +572,9 @@ void check_meshable(const Surface& surface, const Context& context) {
             if (tolerance > 0)
                 throw OpenSeamError(message + ": here " + num(seam->paired_edges) + " of the " + num(boundary) +
                                         " boundary edges pair up with others within " +
-                                        format_double(seam->gap / diagonal) +
+                                        three_digits(seam->gap / diagonal) +
                                         " of the diagonal, so it is such a seam, which merging the input's vertices "
-                                        "within " + format_double(tolerance) + " of its diagonal closes",
+                                        "within " + three_digits(tolerance) + " of its diagonal closes",
                                     tolerance);
         }
         throw AlgorithmError(message);
