@@ -734,23 +734,53 @@ public:
                     hi[k] = std::max(hi[k], s.vertices[size_t(v)][k]);
                 }
         };
+        std::vector<uint8_t> vertex_moved(s.vertices.size());
+        for (size_t v = 0; v < s.vertices.size(); ++v) vertex_moved[v] = s.vertices[v] != (*reference)[v];
         std::vector<int32_t> changed;
-        Vec3 origin{0, 0, 0};
+        Vec3 origin{0, 0, 0}, far{0, 0, 0};  // the bounding box of the changed triangles
         double h = 0;
         for (size_t t = 0; t < nt; ++t) {
-            bool moved = false;
-            for (int32_t v : s.triangles[t]) moved = moved || s.vertices[size_t(v)] != (*reference)[size_t(v)];
-            if (!moved) continue;
+            const Tri& c = s.triangles[t];
+            if (!vertex_moved[size_t(c[0])] && !vertex_moved[size_t(c[1])] && !vertex_moved[size_t(c[2])]) continue;
             Vec3 lo, hi;
             box(t, lo, hi);
-            if (changed.empty()) origin = lo;
-            for (size_t k = 0; k < 3; ++k) origin[k] = std::min(origin[k], lo[k]), h = std::max(h, hi[k] - lo[k]);
+            if (changed.empty()) origin = lo, far = hi;
+            for (size_t k = 0; k < 3; ++k)
+                origin[k] = std::min(origin[k], lo[k]), far[k] = std::max(far[k], hi[k]), h = std::max(h, hi[k] - lo[k]);
             changed.push_back(int32_t(t));
         }
         CheckResult none;
         none.name = "refined intersections";
         if (changed.empty()) return none;
         if (!(h > 0)) h = diagonal_ * 1e-9;
+        // Coarse occupancy of the changed boxes, G^3 cells over their bounding box: the scan
+        // below visits every triangle each round, and most are far from every moved one, so
+        // they are rejected here with a few comparisons instead of hash lookups. Exact: the
+        // cell index is monotone in x, so overlapping boxes cover a common cell.
+        constexpr int64_t G = 32;
+        double coarse_size[3];
+        for (size_t k = 0; k < 3; ++k) coarse_size[k] = std::max((far[k] - origin[k]) / double(G), diagonal_ * 1e-12);
+        auto coarse = [&](double x, size_t k) {
+            return std::min(G - 1, std::max<int64_t>(0, int64_t(std::floor((x - origin[k]) / coarse_size[k]))));
+        };
+        std::vector<uint8_t> occupied(size_t(G * G * G), 0);
+        for (int32_t t : changed) {
+            Vec3 lo, hi;
+            box(size_t(t), lo, hi);
+            for (int64_t i = coarse(lo[0], 0); i <= coarse(hi[0], 0); ++i)
+                for (int64_t j = coarse(lo[1], 1); j <= coarse(hi[1], 1); ++j)
+                    for (int64_t k = coarse(lo[2], 2); k <= coarse(hi[2], 2); ++k) occupied[size_t((i * G + j) * G + k)] = 1;
+        }
+        auto maybe_near = [&](const Vec3& lo, const Vec3& hi) {
+            for (size_t k = 0; k < 3; ++k)
+                if (hi[k] < origin[k] || lo[k] > far[k]) return false;
+            const int64_t i1 = coarse(hi[0], 0), j1 = coarse(hi[1], 1), k1 = coarse(hi[2], 2);
+            for (int64_t i = coarse(lo[0], 0); i <= i1; ++i)
+                for (int64_t j = coarse(lo[1], 1); j <= j1; ++j)
+                    for (int64_t k = coarse(lo[2], 2); k <= k1; ++k)
+                        if (occupied[size_t((i * G + j) * G + k)]) return true;
+            return false;
+        };
         // A hash grid of cell size h: each changed box covers at most 2 cells per axis.
         auto cell = [&](double x, size_t k) { return int64_t(std::floor((x - origin[k]) / h)); };
         auto key = [](int64_t i, int64_t j, int64_t k) {
@@ -770,6 +800,7 @@ public:
         for (size_t t = 0; t < nt; ++t) {
             Vec3 lo, hi;
             box(t, lo, hi);
+            if (!maybe_near(lo, hi)) continue;
             const int64_t i0 = cell(lo[0], 0), i1 = cell(hi[0], 0), j0 = cell(lo[1], 1), j1 = cell(hi[1], 1),
                           k0 = cell(lo[2], 2), k1 = cell(hi[2], 2);
             bool near = (i1 - i0 + 1) * (j1 - j0 + 1) * (k1 - k0 + 1) > 64;  // large: take it
