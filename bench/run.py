@@ -105,6 +105,7 @@ MANUAL_SECTIONS = [
     "folds-and-convergence.md",
     "input-slivers-d2.md",
     "planar-regions-drift.md",
+    "feature-angle-and-convergence.md",
 ]
 RUN_RECORD = "all.json"  # in the results folder: what `all` ran, for --assemble
 QUICK_REFINE_MESHES = "femur"
