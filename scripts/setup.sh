@@ -68,9 +68,10 @@ if ! locale -a 2>/dev/null | grep -qix 'de_DE\.utf-\{0,1\}8'; then
     echo "setup: generating the locale de_DE.UTF-8" >&2
     localedef -i de_DE -f UTF-8 de_DE.UTF-8
   else
-    echo "setup: missing locale de_DE.UTF-8" >&2
-    echo "setup: generate it with:  sudo localedef -i de_DE -f UTF-8 de_DE.UTF-8" >&2
-    exit 1
+    # Only the test suite needs it (its locale test fails with this same advice), so the
+    # demo goes on without it.
+    echo "setup: warning: the locale de_DE.UTF-8 is missing; the test suite needs it:" >&2
+    echo "setup:   sudo localedef -i de_DE -f UTF-8 de_DE.UTF-8" >&2
   fi
 fi
 
