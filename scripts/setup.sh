@@ -39,6 +39,8 @@ declare -A NEED=(
   # deal.II 9.4 for examples/dealii (-DBPM_WITH_DEALII=ON, scripts/test-dealii.sh); the
   # proof is its CMake config, which find_package(deal.II) reads.
   [libdeal.ii-dev]=/usr/share/cmake/deal.II/deal.IIConfig.cmake
+  # The locale sources for de_DE.UTF-8 (generated below).
+  [locales]=/usr/sbin/locale-gen
 )
 missing=()
 for pkg in "${!NEED[@]}"; do
@@ -55,6 +57,21 @@ if [ ${#missing[@]} -gt 0 ]; then
     echo "setup: missing Debian packages: ${missing[*]}" >&2
     echo "setup: install them with:  sudo apt-get install ${missing[*]}" >&2
     exit 1
+  fi
+fi
+
+# A locale with a decimal comma, which the unit test "... does not depend on the C
+# locale" switches to (libbpm's files must read and write '.' under it). Debian
+# compiles only C and POSIX; localedef adds this one.
+if ! locale -a 2>/dev/null | grep -qix 'de_DE\.utf-\{0,1\}8'; then
+  if [ "$(id -u)" = 0 ]; then
+    echo "setup: generating the locale de_DE.UTF-8" >&2
+    localedef -i de_DE -f UTF-8 de_DE.UTF-8
+  else
+    # Only the test suite needs it (its locale test fails with this same advice), so the
+    # demo goes on without it.
+    echo "setup: warning: the locale de_DE.UTF-8 is missing; the test suite needs it:" >&2
+    echo "setup:   sudo localedef -i de_DE -f UTF-8 de_DE.UTF-8" >&2
   fi
 fi
 

@@ -12,17 +12,9 @@ using bpm::tools::json_string;
 
 std::string json_or_null(const std::string& text) { return text.empty() ? "null" : json_string(text); }
 
-// Doubles: round-trip precision in JSON, six digits for people.
-std::string json_number(double value) {
-    char buffer[32];
-    std::snprintf(buffer, sizeof buffer, "%.17g", value);
-    return buffer;
-}
-std::string text_number(double value) {
-    char buffer[32];
-    std::snprintf(buffer, sizeof buffer, "%.3g", value);
-    return buffer;
-}
+// Doubles: round-trip precision in JSON, three digits for people.
+using bpm::tools::round_trip_text;
+using bpm::tools::three_digit_text;
 
 std::string json_strings(const std::vector<std::string>& items) {
     std::string out = "[";
@@ -76,7 +68,7 @@ std::string to_json(const bpm::BpmInfo& info) {
           << ", \"timestamp\": " << json_or_null(s.timestamp) << "}";
     }
     const bpm::BpmFeatureSummary& f = info.features;
-    o << "],\n \"features\": {\"feature_angle_degrees\": " << json_number(f.feature_angle_degrees)
+    o << "],\n \"features\": {\"feature_angle_degrees\": " << round_trip_text(f.feature_angle_degrees)
       << ", \"boundary_edges\": " << f.boundary_edges << ", \"non_manifold_edges\": " << f.non_manifold_edges
       << ", \"interface_edges\": " << f.interface_edges << ", \"crease_edges\": " << f.crease_edges
       << ", \"feature_edges\": " << f.feature_edges << ", \"feature_vertices\": " << f.feature_vertices
@@ -89,12 +81,12 @@ std::string to_json(const bpm::BpmInfo& info) {
     } else {
         const bpm::BpmDistortionSummary& d = *info.distortion;
         o << "{\"pieces\": " << d.pieces << ", \"degenerate_pieces\": " << d.degenerate_pieces
-          << ",\n  \"area_squeeze_p50\": " << json_number(d.area_squeeze_p50)
-          << ", \"area_squeeze_p99\": " << json_number(d.area_squeeze_p99)
-          << ", \"area_squeeze_max\": " << json_number(d.area_squeeze_max)
-          << ",\n  \"normal_deviation_degrees_p50\": " << json_number(d.normal_deviation_degrees_p50)
-          << ", \"normal_deviation_degrees_p99\": " << json_number(d.normal_deviation_degrees_p99)
-          << ", \"normal_deviation_degrees_max\": " << json_number(d.normal_deviation_degrees_max)
+          << ",\n  \"area_squeeze_p50\": " << round_trip_text(d.area_squeeze_p50)
+          << ", \"area_squeeze_p99\": " << round_trip_text(d.area_squeeze_p99)
+          << ", \"area_squeeze_max\": " << round_trip_text(d.area_squeeze_max)
+          << ",\n  \"normal_deviation_degrees_p50\": " << round_trip_text(d.normal_deviation_degrees_p50)
+          << ", \"normal_deviation_degrees_p99\": " << round_trip_text(d.normal_deviation_degrees_p99)
+          << ", \"normal_deviation_degrees_max\": " << round_trip_text(d.normal_deviation_degrees_max)
           << ",\n  \"pieces_turned_over_60_degrees\": " << d.pieces_turned_over_60_degrees
           << ", \"pieces_turned_over_90_degrees\": " << d.pieces_turned_over_90_degrees
           << ", \"coarse_triangles_with_pieces_over_60_degrees\": " << d.coarse_triangles_with_pieces_over_60_degrees
@@ -152,7 +144,7 @@ std::string to_text(const bpm::BpmInfo& info) {
     if (f.feature_loops > 0) o << " (" << f.feature_loops << " closed)";
     o << ", " << f.feature_vertices << (f.feature_vertices == 1 ? " vertex" : " vertices") << " of the coarse surface; "
       << f.feature_edges << " feature edges: " << f.crease_edges << " creases over "
-      << text_number(f.feature_angle_degrees) << " degrees, " << f.interface_edges << " on patch borders, "
+      << three_digit_text(f.feature_angle_degrees) << " degrees, " << f.interface_edges << " on patch borders, "
       << f.boundary_edges << " boundary, " << f.non_manifold_edges << " non-manifold; without the creases "
       << f.topological_feature_lines << " topological feature " << (f.topological_feature_lines == 1 ? "line" : "lines")
       << " and " << f.topological_feature_vertices << " topological feature "
@@ -183,10 +175,11 @@ std::string to_text(const bpm::BpmInfo& info) {
         o << "not measured (bpm-info --distortion)\n";
     } else {
         const bpm::BpmDistortionSummary& d = *info.distortion;
-        o << d.pieces << " pieces, area squeeze p50 " << text_number(d.area_squeeze_p50) << " p99 "
-          << text_number(d.area_squeeze_p99) << " max " << text_number(d.area_squeeze_max)
-          << ", normal deviation p50 " << text_number(d.normal_deviation_degrees_p50) << " p99 "
-          << text_number(d.normal_deviation_degrees_p99) << " max " << text_number(d.normal_deviation_degrees_max)
+        o << d.pieces << " pieces, area squeeze p50 " << three_digit_text(d.area_squeeze_p50) << " p99 "
+          << three_digit_text(d.area_squeeze_p99) << " max " << three_digit_text(d.area_squeeze_max)
+          << ", normal deviation p50 " << three_digit_text(d.normal_deviation_degrees_p50) << " p99 "
+          << three_digit_text(d.normal_deviation_degrees_p99) << " max "
+          << three_digit_text(d.normal_deviation_degrees_max)
           << " degrees\n            " << d.pieces_turned_over_60_degrees << " pieces turned over 60 degrees, "
           << d.pieces_turned_over_90_degrees << " over 90 (on " << d.coarse_triangles_with_pieces_over_60_degrees
           << " and " << d.coarse_triangles_with_pieces_over_90_degrees << " coarse triangles)\n";

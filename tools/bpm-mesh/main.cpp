@@ -17,9 +17,7 @@ namespace {
 
 std::string json_double(double v) {
     if (!std::isfinite(v)) return "null";
-    char buffer[40];
-    std::snprintf(buffer, sizeof buffer, "%.10g", v);
-    return buffer;
+    return bpm::tools::significant_text(v, 10);
 }
 
 std::string json_escape(const std::string& s) {

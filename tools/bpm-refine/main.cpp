@@ -32,9 +32,7 @@ std::string extension_of(const std::string& path) {
 // A number as JSON (17 significant digits; null for NaN / infinity, which JSON lacks).
 std::string json_double(double v) {
     if (!std::isfinite(v)) return "null";
-    char buf[64];
-    std::snprintf(buf, sizeof buf, "%.17g", v);
-    return buf;
+    return bpm::tools::round_trip_text(v);
 }
 
 // A refined triangle whose proven bound is above --max-error, and where it is.

@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <cctype>
+#include <charconv>
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
@@ -187,6 +188,13 @@ void set_error_input(const std::string& name) { g_error_input = name == "-" ? "<
 void set_json_error_report(const bool& json, std::function<std::string(const ErrorReport&)> render) {
     g_json = &json;
     g_render_error = std::move(render);
+}
+
+std::string significant_text(double value, int digits) {
+    char buffer[64];
+    const std::to_chars_result r =
+        std::to_chars(buffer, buffer + sizeof buffer, value, std::chars_format::general, digits);
+    return std::string(buffer, r.ptr);
 }
 
 std::string json_string(const std::string& text) {
@@ -397,16 +405,13 @@ CLI::Option* add_merge_vertices_within_option(CLI::App& app, SurfaceReadOptions&
 }
 
 std::string merge_vertices_within_flag(double tolerance) {
-    char buffer[32];
-    std::snprintf(buffer, sizeof buffer, "%.3g", tolerance);
-    return std::string("--merge-vertices-within ") + buffer;
+    return "--merge-vertices-within " + three_digit_text(tolerance);
 }
 
 std::string open_seam_warning(const SurfaceReadReport& report) {
     if (!report.open_seam) return {};
     const OpenSeam& seam = *report.open_seam;
-    char gap[32];
-    std::snprintf(gap, sizeof gap, "%.3g", seam.gap);
+    const std::string gap = three_digit_text(seam.gap);
     std::string edges = seam.paired_edges == seam.boundary_edges
                             ? "its " + std::to_string(seam.boundary_edges) + " boundary edges"
                             : std::to_string(seam.paired_edges) + " of its " + std::to_string(seam.boundary_edges) +

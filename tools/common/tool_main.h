@@ -62,6 +62,14 @@ void set_error_input(const std::string& name);
 // passed through).
 std::string json_string(const std::string& text);
 
+// `value` with `digits` (1..17) significant digits: what printf's "%.<digits>g" writes in
+// the "C" locale, whatever locale is set (std::to_chars). The tools' one number formatter
+// (libbpm's, core/number_text.h, is internal): 17 digits read back to the same double
+// (JSON), 3 are for ratios and tolerances in messages.
+std::string significant_text(double value, int digits);
+inline std::string round_trip_text(double value) { return significant_text(value, 17); }
+inline std::string three_digit_text(double value) { return significant_text(value, 3); }
+
 // {"file": "..." or null, "message": "...", "exit_code": N}
 std::string error_json(const ErrorReport& error);
 

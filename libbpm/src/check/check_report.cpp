@@ -11,6 +11,7 @@
 
 #include "bpm/check.h"
 #include "check/check_internal.h"
+#include "core/number_text.h"
 
 namespace bpm {
 
@@ -52,9 +53,7 @@ void json_number(std::string& out, double v) {
         out += "null";  // JSON has no NaN or infinity
         return;
     }
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%.17g", v);
-    out += buf;
+    detail::append_round_trip_text(out, v);  // '.' whatever the C locale: JSON has no decimal comma
 }
 
 void json_ids(std::string& out, const std::vector<std::pair<std::string, int64_t>>& ids) {
@@ -88,11 +87,7 @@ void refuse(CheckResult& result, const std::string& reason) {
     result.summary = "not checked: " + reason;
 }
 
-std::string format_number(double value) {
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%.6g", value);
-    return buf;
-}
+std::string format_number(double value) { return significant_text(value, 6); }
 
 }  // namespace detail
 

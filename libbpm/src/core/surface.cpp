@@ -11,6 +11,7 @@
 #include <unordered_map>
 
 #include "bpm/predicates.h"
+#include "core/number_text.h"
 
 namespace bpm {
 
@@ -89,9 +90,8 @@ std::string describe_problem(const SurfaceProblem& problem, const Surface& surfa
         return " (vertices " + std::to_string(t[0]) + ", " + std::to_string(t[1]) + ", " + std::to_string(t[2]) + ")";
     };
     auto position = [](const Vec3& p) {
-        char buffer[96];
-        std::snprintf(buffer, sizeof buffer, "(%.17g, %.17g, %.17g)", p[0], p[1], p[2]);
-        return std::string(buffer);
+        return "(" + detail::round_trip_text(p[0]) + ", " + detail::round_trip_text(p[1]) + ", " +
+               detail::round_trip_text(p[2]) + ")";
     };
     switch (problem.kind) {
         case Kind::NonFiniteCoordinate:

@@ -39,6 +39,7 @@
 #include <unordered_map>
 #include <unordered_set>
 
+#include "core/number_text.h"
 #include "io/surface_readers.h"
 #include "io/vtk_types.h"
 
@@ -361,14 +362,9 @@ void VtkReader::data_values(VtkType type, int64_t count, std::vector<double>* ou
             // nan / inf / -nan as VTK writes them are numbers here; `finite` reports them.
             std::string_view t = token;
             if (t.size() > 1 && t[0] == '+' && t[1] != '-' && t[1] != '+') t.remove_prefix(1);
-            const auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), v);
-            if (t.empty() || end != t.data() + t.size() ||
-                (ec != std::errc() && ec != std::errc::result_out_of_range)) {
+            const auto [end, ec] = detail::parse_double(t.data(), t.data() + t.size(), v);  // out of range: +-inf, +-0
+            if (t.empty() || end != t.data() + t.size() || ec != std::errc()) {
                 in_.fail_token(token, what.str() + " (a number)");
-            }
-            if (ec == std::errc::result_out_of_range) {
-                const std::string copy(t);
-                v = std::strtod(copy.c_str(), nullptr);
             }
         }
         finite &= std::isfinite(v);

@@ -30,6 +30,7 @@
 #include <map>
 #include <string>
 
+#include "core/number_text.h"
 #include "io/surface_readers.h"
 #include "io/vtk_types.h"
 
@@ -665,11 +666,10 @@ void VtkXmlReader::read_ascii(const XmlElement& e, const std::string& what, Arra
                 }
                 if (value < lo || value > hi) in_.fail_line(t0, what + ": " + quote_token(token) + " does not fit its type");
             } else {
-                auto [p, ec] = std::from_chars(t.data(), t.data() + t.size(), value);
-                if (p != t.data() + t.size() || (ec != std::errc() && ec != std::errc::result_out_of_range)) {
+                auto [p, ec] = detail::parse_double(t.data(), t.data() + t.size(), value);  // out of range: +-inf, +-0
+                if (p != t.data() + t.size() || ec != std::errc()) {
                     in_.fail_line(t0, what + ": expected a number, found " + quote_token(token));
                 }
-                if (ec == std::errc::result_out_of_range) value = std::strtod(std::string(t).c_str(), nullptr);
                 if (!std::isfinite(value)) {
                     if (finite) in_.fail_line(t0, what + ": " + quote_token(token) + " is not a finite number");
                     value = std::nan("");
@@ -742,10 +742,9 @@ void VtkXmlReader::check_indices(const XmlElement& e, const std::string& what, c
                                  double limit, const char* limit_what) const {
     for (size_t i = 0; i < v.size(); ++i) {
         if (!(v[i] >= 0 && v[i] < limit && v[i] == std::floor(v[i]))) {
-            char number[64];
-            std::snprintf(number, sizeof number, "%.17g", v[i]);
-            fail_at(e, what + ": entry " + std::to_string(i) + " (" + number + ") is out of range (the piece has " +
-                           std::to_string(static_cast<int64_t>(limit)) + " " + limit_what + ")");
+            fail_at(e, what + ": entry " + std::to_string(i) + " (" + detail::round_trip_text(v[i]) +
+                           ") is out of range (the piece has " + std::to_string(static_cast<int64_t>(limit)) + " " +
+                           limit_what + ")");
         }
     }
 }

@@ -17,6 +17,7 @@
 #include "bpm/errors.h"
 #include "core/file_util.h"
 #include "core/gzip.h"
+#include "core/number_text.h"
 #include "io/surface_readers.h"
 
 namespace bpm {
@@ -419,11 +420,7 @@ static std::string orientation_warning(const Surface& surface, bool& open) {
            "(e.g. MeshLab: Re-Orient all faces coherently)";
 }
 
-static std::string short_number(double x) {
-    char b[32];
-    std::snprintf(b, sizeof b, "%.3g", x);
-    return b;
-}
+static std::string short_number(double x) { return detail::three_digit_text(x); }
 
 // The merge_vertices_within repair on `surface` (a file, or several together), refused
 // when it would collapse a triangle: a tolerance that large merges the model's own

@@ -39,6 +39,7 @@
 #include "bpm/patch_info.h"
 #include "bpm/surface.h"
 #include "bpm/surface_io.h"
+#include "core/number_text.h"
 
 namespace bpm::detail {
 
@@ -242,15 +243,9 @@ public:
         std::string_view t = token;
         if (t.size() > 1 && t[0] == '+' && t[1] != '-' && t[1] != '+') t.remove_prefix(1);
         double value = 0;
-        const auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), value);
-        if (end != t.data() + t.size() || (ec != std::errc() && ec != std::errc::result_out_of_range)) {
-            fail_token(token, what.str() + " (a number)");
-        }
-        if (ec == std::errc::result_out_of_range) {
-            // Underflow becomes a tiny number or zero like strtod does; overflow is refused.
-            const std::string copy(t);
-            value = std::strtod(copy.c_str(), nullptr);
-        }
+        // Underflow becomes a tiny number or zero like strtod does; overflow (+-inf) is refused below.
+        const auto [end, ec] = detail::parse_double(t.data(), t.data() + t.size(), value);
+        if (end != t.data() + t.size() || ec != std::errc()) fail_token(token, what.str() + " (a number)");
         if (!std::isfinite(value)) {
             fail_line(offset_of(token), what.str() + " " + quote_token(token) + " is not a finite number");
         }

@@ -2,26 +2,21 @@
 // 17 significant digits.
 
 #include <algorithm>
-#include <cstdio>
 
 #include "bpm/tetmesh_materials.h"
+#include "core/number_text.h"
 #include "io/mesh_writers.h"
 
 namespace bpm::detail {
 
 namespace {
 
-void append_double(std::string& out, double v) {
-    char buffer[40];
-    std::snprintf(buffer, sizeof buffer, "%.17g", v);
-    out += buffer;
-}
 void append_point(std::string& out, const Vec3& p) {
-    append_double(out, p[0]);
+    append_round_trip_text(out, p[0]);
     out += ' ';
-    append_double(out, p[1]);
+    append_round_trip_text(out, p[1]);
     out += ' ';
-    append_double(out, p[2]);
+    append_round_trip_text(out, p[2]);
 }
 std::string num(int64_t v) { return std::to_string(v); }
 

@@ -5,12 +5,12 @@
 // independent of the C locale; binary little endian, as Gmsh writes it on the usual hosts.
 
 #include <algorithm>
-#include <charconv>
 #include <cstdint>
 #include <map>
 
 #include "bpm/errors.h"
 #include "bpm/tetmesh_materials.h"
+#include "core/number_text.h"
 #include "io/mesh_writers.h"
 
 namespace bpm::detail {
@@ -53,16 +53,10 @@ struct MshModel {
 
 std::string num(int64_t v) { return std::to_string(v); }
 
-void append_double(std::string& out, double x) {
-    char buffer[40];
-    const auto result = std::to_chars(buffer, buffer + sizeof buffer, x, std::chars_format::general, 17);
-    out.append(buffer, result.ptr);
-}
-
 void append_point(std::string& out, const Vec3& p) {
     for (int k = 0; k < 3; ++k) {
         if (k > 0) out += ' ';
-        append_double(out, p[k]);
+        append_round_trip_text(out, p[k]);
     }
 }
 

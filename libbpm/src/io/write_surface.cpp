@@ -2,7 +2,6 @@
 // writers of the formats that hold only surfaces (OFF, OBJ, binary STL, binary PLY). MSH
 // is written by write_msh.cpp, which also writes tetrahedral meshes.
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <cstdarg>
 #include <cstdio>
@@ -12,6 +11,7 @@
 #include "bpm/errors.h"
 #include "bpm/surface_io.h"
 #include "core/file_util.h"
+#include "core/number_text.h"
 #include "io/mesh_writers.h"
 #include "io/surface_readers.h"
 
@@ -30,20 +30,13 @@ void appendf(std::string& out, const char* format, ...) {
     if (n > 0) out.append(buffer, std::min(static_cast<size_t>(n), sizeof buffer - 1));
 }
 
-// A double with 17 significant digits (like "%.17g", so it reads back to the same
+// "x y z\n" after `prefix`, each with 17 significant digits (reads back to the same
 // bits) and, unlike printf, independent of the C locale's decimal separator.
-void append_double(std::string& out, double x) {
-    char buffer[40];
-    const auto result = std::to_chars(buffer, buffer + sizeof buffer, x, std::chars_format::general, 17);
-    out.append(buffer, result.ptr);
-}
-
-// "x y z\n" after `prefix`.
 void append_point(std::string& out, const char* prefix, const Vec3& p) {
     out += prefix;
     for (int k = 0; k < 3; ++k) {
         if (k > 0) out += ' ';
-        append_double(out, p[k]);
+        detail::append_round_trip_text(out, p[k]);
     }
     out += '\n';
 }

@@ -8,13 +8,13 @@
 #include <zlib.h>
 
 #include <algorithm>
-#include <charconv>
 #include <cstdint>
 #include <cstring>
 #include <limits>
 
 #include "bpm/errors.h"
 #include "bpm/tetmesh_materials.h"
+#include "core/number_text.h"
 #include "core/file_util.h"
 #include "io/mesh_writers.h"
 
@@ -47,12 +47,6 @@ struct VtuGrid {
 };
 
 std::string num(int64_t v) { return std::to_string(v); }
-
-void append_double(std::string& out, double x) {
-    char buffer[40];
-    const auto result = std::to_chars(buffer, buffer + sizeof buffer, x, std::chars_format::general, 17);
-    out.append(buffer, result.ptr);
-}
 
 // The appended data of a binary file: every array's block, in the order of the XML.
 struct VtuAppended {
@@ -142,7 +136,7 @@ void write_array(std::string& out, const VtuDataArray& a, const std::string& ind
         if (a.reals.empty())
             out += num(a.integers[i]);
         else
-            append_double(out, a.reals[i]);
+            append_round_trip_text(out, a.reals[i]);
         if (i % a.per_line == a.per_line - 1 || i + 1 == n) out += '\n';
     }
     out += "        </DataArray>\n";

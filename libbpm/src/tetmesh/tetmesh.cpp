@@ -40,6 +40,7 @@
 #include "bpm/errors.h"
 #include "bpm/predicates.h"
 #include "bpm/surface_topology.h"
+#include "core/number_text.h"
 #include "core/tetrahedron_quality.h"
 #include "tetmesh/tet_flips.h"
 #include "tetmesh/tet_insert.h"
@@ -106,6 +107,9 @@ double signed_volume(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d)
 }  // namespace detail
 
 using detail::FaceKey;
+using detail::round_trip_text;
+using detail::significant_text;
+using detail::three_digit_text;
 
 namespace {
 
@@ -324,7 +328,9 @@ std::string run_tetgen(const std::string& exe, const std::vector<std::string>& a
                             "; its last output lines:" + tail_lines(output, 12));
 }
 
-// Whitespace-separated numbers of a TetGen output file, '#' comments skipped.
+// Whitespace-separated numbers of a TetGen output file, '#' comments skipped. TetGen
+// writes them with printf in the "C" locale (it never calls setlocale), whatever locale
+// the program that links libbpm has set; parse_double reads them so.
 class Tokens {
 public:
     Tokens(std::string text, std::string name) : text_(std::move(text)), name_(std::move(name)) {}
@@ -340,10 +346,11 @@ public:
             }
         }
         if (pos_ >= text_.size()) throw ExternalToolError("TetGen output " + name_ + " ends early");
-        char* end = nullptr;
-        const double v = std::strtod(text_.c_str() + pos_, &end);
-        if (end == text_.c_str() + pos_) throw ExternalToolError("TetGen output " + name_ + ": unexpected text");
-        pos_ = static_cast<size_t>(end - text_.c_str());
+        double v = 0;
+        const char* start = text_.data() + pos_;
+        const std::from_chars_result r = detail::parse_double(start, text_.data() + text_.size(), v);
+        if (r.ptr == start) throw ExternalToolError("TetGen output " + name_ + ": unexpected text");
+        pos_ = static_cast<size_t>(r.ptr - text_.data());
         return v;
     }
     int64_t next_int() {
@@ -509,18 +516,8 @@ std::vector<Vec3> interior_points(const std::vector<Vec3>& nodes, const std::vec
     return points;
 }
 
-std::string format_double(double v) {
-    char buffer[40];
-    std::snprintf(buffer, sizeof buffer, "%.17g", v);
-    return buffer;
-}
-
 // A number for a TetGen switch: short, but exact for the values people type.
-std::string format_switch(double v) {
-    char buffer[40];
-    std::snprintf(buffer, sizeof buffer, "%.12g", v);
-    return buffer;
-}
+std::string format_switch(double v) { return significant_text(v, 12); }
 
 }  // namespace
 
@@ -549,7 +546,7 @@ void check_meshable(const Surface& surface, const Context& context) {
         // (bpm-check's topology check), so the cause is in the input, e.g. an open seam.
         const auto at = [&](int32_t v) {
             const Vec3& p = surface.vertices[size_t(v)];
-            return "(" + format_double(p[0]) + ", " + format_double(p[1]) + ", " + format_double(p[2]) + ")";
+            return "(" + round_trip_text(p[0]) + ", " + round_trip_text(p[1]) + ", " + round_trip_text(p[2]) + ")";
         };
         const int32_t a = c.edges[first][0], b = c.edges[first][1];
         const std::string message =
@@ -563,18 +560,13 @@ void check_meshable(const Surface& surface, const Context& context) {
         const double diagonal = bounding_box_diagonal(surface.vertices);
         if (const std::optional<OpenSeam> seam = find_open_seam(surface, kOpenSeamMaxGap * diagonal)) {
             const double tolerance = seam_merge_tolerance(surface, *seam, diagonal);
-            // Three digits, not the file's format_double (full precision): these are ratios.
-            const auto three_digits = [](double v) {
-                char buffer[32];
-                std::snprintf(buffer, sizeof buffer, "%.3g", v);
-                return std::string(buffer);
-            };
+            // Three digits, not the positions' full precision: these are ratios.
             if (tolerance > 0)
                 throw OpenSeamError(message + ": here " + num(seam->paired_edges) + " of the " + num(boundary) +
                                         " boundary edges pair up with others within " +
-                                        three_digits(seam->gap / diagonal) +
+                                        three_digit_text(seam->gap / diagonal) +
                                         " of the diagonal, so it is such a seam, which merging the input's vertices "
-                                        "within " + three_digits(tolerance) + " of its diagonal closes",
+                                        "within " + three_digit_text(tolerance) + " of its diagonal closes",
                                     tolerance);
         }
         throw AlgorithmError(message);
@@ -594,8 +586,8 @@ std::string tetgen_poly(const Surface& s, const std::vector<Vec3>& region_points
     out += "# bpm coarse surface: part 1 nodes (0-based)\n";
     out += num(s.num_vertices()) + " 3 0 0\n";
     for (int32_t v = 0; v < s.num_vertices(); ++v)
-        out += num(v) + " " + format_double(s.vertices[v][0]) + " " + format_double(s.vertices[v][1]) + " " +
-               format_double(s.vertices[v][2]) + "\n";
+        out += num(v) + " " + round_trip_text(s.vertices[v][0]) + " " + round_trip_text(s.vertices[v][1]) + " " +
+               round_trip_text(s.vertices[v][2]) + "\n";
     out += "# part 2 facets: one per coarse triangle, boundary marker = patch id\n";
     out += num(s.num_triangles()) + " 1\n";
     for (int32_t t = 0; t < s.num_triangles(); ++t) {
@@ -605,8 +597,8 @@ std::string tetgen_poly(const Surface& s, const std::vector<Vec3>& region_points
     out += "# part 3 holes\n0\n# part 4 regions: index x y z attribute (region id) max-volume (unused)\n";
     out += num(static_cast<int64_t>(region_points.size())) + "\n";
     for (size_t r = 0; r < region_points.size(); ++r)
-        out += num(static_cast<int64_t>(r)) + " " + format_double(region_points[r][0]) + " " +
-               format_double(region_points[r][1]) + " " + format_double(region_points[r][2]) + " " +
+        out += num(static_cast<int64_t>(r)) + " " + round_trip_text(region_points[r][0]) + " " +
+               round_trip_text(region_points[r][1]) + " " + round_trip_text(region_points[r][2]) + " " +
                num(static_cast<int64_t>(r + 1)) + " 0\n";
     return out;
 }
@@ -655,11 +647,7 @@ TetMeshResult generate_tetmesh(const Parametrization& param, const TetMeshOption
             if (!(a <= worst_aspect)) worst_aspect = a, worst = t;
         }
         if (worst >= 0 && !(worst_aspect <= kSliverAspectRatio))
-            context.warn("coarse triangle " + num(worst) + " has aspect ratio " + [&] {
-                char b[32];
-                std::snprintf(b, sizeof b, "%.3g", worst_aspect);
-                return std::string(b);
-            }() +
+            context.warn("coarse triangle " + num(worst) + " has aspect ratio " + three_digit_text(worst_aspect) +
                          " (above " + format_switch(kSliverAspectRatio) +
                          "): the tetrahedra on it will have small dihedral angles");
     }
