@@ -284,7 +284,7 @@ struct Embedding {
     // Bookkeeping helpers used when a star is replaced.
     void set_location(int32_t vertex, const SurfacePoint& p);   // maintains inside / edge_content lists
     void clear_location(int32_t vertex);                          // removes from lists (location kept)
-    void set_path(int32_t e, std::vector<Crossing> crossings);   // maintains edge_content lists
+    void set_path(int32_t e, const std::vector<Crossing>& crossings);  // maintains edge_content lists
     void ensure_triangle_capacity(int32_t n) { inside.ensure_triangle_capacity(n); }
     // Once the embedding no longer changes (before phi is exported): stores the paths and
     // the edge contents in a few flat arrays and frees the changing form (path,
@@ -304,6 +304,7 @@ private:
     std::vector<uint64_t> frozen_keys_;          // edge keys with content, increasing
     std::vector<uint32_t> frozen_content_offsets_;  // per key i: vertices [2i, 2i + 1), crossing edges [2i + 1, 2i + 2)
     std::vector<int32_t> frozen_ids_;
+    std::vector<uint8_t> kept_crossings_;  // of set_path: per new crossing, whether an old one matched it
 };
 
 }  // namespace bpm::detail
