@@ -78,6 +78,7 @@ public:
         vertex_triangles_.prefetch(v);
     }
     void prefetch_triangle(int32_t t) const { __builtin_prefetch(triangles_.data() + t); }
+    void prefetch_aspect(int32_t t) const { __builtin_prefetch(aspects_.data() + t); }
     void set_feature_edge(int32_t a, int32_t b, Feature kind);
 
     int32_t add_triangle(const Tri& corners, int32_t patch);

@@ -267,16 +267,36 @@ void Embedding::set_location(int32_t vertex, const SurfacePoint& p) {
     }
 }
 
-void Embedding::set_path(int32_t e, std::vector<Crossing> crossings) {
-    for (const Crossing& c : path[e]) {
+void Embedding::set_path(int32_t e, const std::vector<Crossing>& crossings) {
+    // A removal re-cuts a path only inside its star: its crossings elsewhere stay, on the
+    // same coarse edges. So only the coarse edges the path leaves or newly crosses get e
+    // taken off or put on (taking e off every old edge and putting it back on every new
+    // one was a hash lookup and a list search per crossing, most of a commit's time). The
+    // lists end up with the same ids; only their order differs, which no reader depends
+    // on (every reader sorts them). Quadratic matching: paths are short; a long pair
+    // (never seen in a removal) matches nothing.
+    std::vector<Crossing>& old = path[e];
+    auto& kept = kept_crossings_;
+    kept.assign(crossings.size(), 0);
+    const bool match = old.size() * crossings.size() <= 4096;
+    for (const Crossing& c : old) {
+        if (match) {
+            size_t j = 0;
+            while (j < crossings.size() && (kept[j] || crossings[j].a != c.a || crossings[j].b != c.b)) ++j;
+            if (j < crossings.size()) {
+                kept[j] = 1;
+                continue;
+            }
+        }
         auto it = edge_content.find(edge_key(c.a, c.b));
         if (it == edge_content.end()) continue;
         erase_one(it->second.crossing_edges, e);
         if (it->second.vertices.empty() && it->second.crossing_edges.empty()) edge_content.erase(it);
     }
-    path[e] = std::move(crossings);
+    old.assign(crossings.begin(), crossings.end());
     ++path_version[e];
-    for (const Crossing& c : path[e]) edge_content[edge_key(c.a, c.b)].crossing_edges.push_back(e);
+    for (size_t j = 0; j < crossings.size(); ++j)
+        if (!kept[j]) edge_content[edge_key(crossings[j].a, crossings[j].b)].crossing_edges.push_back(e);
 }
 
 }  // namespace bpm::detail

@@ -217,6 +217,12 @@ bool check_new_triangles(const FanTransfer& transfer, int32_t begin, int32_t end
             graph.segments.push_back({i0, i1, p.edge});
         }
         for (int32_t item : touched_) local_[item] = -1;
+        // The faces' checks look up the original edges of the segments and crossings
+        // (which triangles they bound, where they end), scattered: ask for them together.
+        for (const GraphSegment& sg : graph.segments) {
+            __builtin_prefetch(transfer.emb.edge_triangle_offsets.data() + sg.edge);
+            __builtin_prefetch(transfer.emb.edges.data() + sg.edge);
+        }
         std::string& reason = check.reason;
         size_t face_count = 0;
         if (!check_faces(graph, transfer.emb, transfer.sign, check.faces, face_count, &reason)) {

@@ -99,6 +99,24 @@ bool Gatherer::gather_nodes(std::string& why) {
     const int32_t sides = n_;  // open fans: side n-1 is the new edge (end -> start)
     if (graph_.side_nodes.size() < size_t(sides)) graph_.side_nodes.resize(sides);
     for (auto& list : graph_.side_nodes) list.clear();
+    // What lies on the spokes and (full plans) on the link edges, looked up all at once
+    // before it is read: each lookup ends in a scattered entry, and asked for together
+    // (prefetch) those misses overlap instead of following one another.
+    auto& spoke = graph_.spoke_content;
+    auto& side = scratch_.side_content;
+    spoke.resize(size_t(n_));
+    side.resize(size_t(n_));
+    auto look_up = [&](int32_t a, int32_t b) {
+        const auto* it = emb_.edge_content.find(edge_key(a, b));
+        if (it == emb_.edge_content.end()) return static_cast<const EdgeContent*>(nullptr);
+        const EdgeContent* c = &it->second;
+        __builtin_prefetch(c);
+        __builtin_prefetch(reinterpret_cast<const char*>(c) + sizeof(EdgeContent) - 1);
+        return c;
+    };
+    for (int32_t i = 0; i < n_; ++i) spoke[size_t(i)] = look_up(v_, fan_->link[i]);
+    for (int32_t i = 0; validate_ && i < (fan_->closed ? n_ : n_ - 1); ++i)
+        side[size_t(i)] = look_up(fan_->link[i], fan_->link[mod(i + 1, n_)]);
     // Polygon corners.
     for (int32_t i = 0; i < n_; ++i) {
         StarNode c;
@@ -112,12 +130,13 @@ bool Gatherer::gather_nodes(std::string& why) {
     // deviation do not change).
     for (int32_t i = 0; validate_ && i < (fan_->closed ? n_ : n_ - 1); ++i) {
         const int32_t a = fan_->link[i], b = fan_->link[mod(i + 1, n_)];
-        auto it = emb_.edge_content.find(edge_key(a, b));
-        if (it == emb_.edge_content.end()) continue;
+        const EdgeContent* content = side[size_t(i)];
+        if (!content) continue;
         auto t_of = [&](double s) { return a < b ? s : 1.0 - s; };  // from q_i to q_i+1
         auto& vs = scratch_.sorted;
-        vs.assign(it->second.vertices.begin(), it->second.vertices.end());
+        vs.assign(content->vertices.begin(), content->vertices.end());
         std::sort(vs.begin(), vs.end());
+        for (int32_t u : vs) __builtin_prefetch(&emb_.location[size_t(u)]);
         for (int32_t u : vs) {
             StarNode s;
             s.vertex = u;
@@ -132,11 +151,15 @@ bool Gatherer::gather_nodes(std::string& why) {
             graph_.side_nodes[i].push_back(id);
         }
         auto& es = scratch_.sorted;
-        es.assign(it->second.crossing_edges.begin(), it->second.crossing_edges.end());
+        es.assign(content->crossing_edges.begin(), content->crossing_edges.end());
         std::sort(es.begin(), es.end());
         es.erase(std::unique(es.begin(), es.end()), es.end());
+        for (int32_t e : es) __builtin_prefetch(&emb_.path[size_t(e)]);
         const int64_t key = edge_key(a, b);
-        for (int32_t e : es) {
+        for (size_t k = 0; k < es.size(); ++k) {
+            const int32_t e = es[k];
+            // The next path's crossings, while this one is scanned (its header is here).
+            if (k + 1 < es.size()) __builtin_prefetch(emb_.path[size_t(es[k + 1])].data());
             const auto& path = emb_.path[e];
             for (int32_t j = 0; j < int32_t(path.size()); ++j) {
                 if (edge_key(path[j].a, path[j].b) != uint64_t(key)) continue;
@@ -181,14 +204,14 @@ bool Gatherer::gather_nodes(std::string& why) {
         }
         for (int32_t end : {0, n_ - 1}) {
             const int32_t w = fan_->link[end];
-            auto it = emb_.edge_content.find(edge_key(v_, w));
-            if (it == emb_.edge_content.end()) continue;
-            if (!it->second.crossing_edges.empty()) {
+            const EdgeContent* content = spoke[size_t(end)];
+            if (!content) continue;
+            if (!content->crossing_edges.empty()) {
                 why = "an original edge crosses a feature line";
                 return false;
             }
             auto& vs = scratch_.sorted;
-            vs.assign(it->second.vertices.begin(), it->second.vertices.end());
+            vs.assign(content->vertices.begin(), content->vertices.end());
             std::sort(vs.begin(), vs.end());
             for (int32_t u : vs) {
                 const double from_v = v_ < w ? emb_.location[u].s : 1.0 - emb_.location[u].s;
@@ -202,14 +225,20 @@ bool Gatherer::gather_nodes(std::string& why) {
     // Free nodes: vertices inside the fan's triangles, on its interior spokes, and v of a disk.
     auto& free_vertices = graph_.free_vertices;
     free_vertices.clear();
-    for (int32_t t : fan_->triangles) emb_.inside.append_to(t, free_vertices);
+    emb_.inside.append_all(fan_->triangles, free_vertices);
     for (int32_t i = 0; i < n_; ++i) {
-        if (!fan_->is_interior_spoke(i)) continue;
-        auto it = emb_.edge_content.find(edge_key(v_, fan_->link[i]));
-        if (it == emb_.edge_content.end()) continue;
-        free_vertices.insert(free_vertices.end(), it->second.vertices.begin(), it->second.vertices.end());
+        if (!fan_->is_interior_spoke(i) || !spoke[size_t(i)]) continue;
+        const auto& vs = spoke[size_t(i)]->vertices;
+        free_vertices.insert(free_vertices.end(), vs.begin(), vs.end());
     }
     if (fan_->closed) free_vertices.push_back(v_);
+    // Their locations and positions (which the plan's deviation reads next) are
+    // scattered: asked for together, before the sort.
+    const Vec3* positions = mesh_->positions().data();
+    for (int32_t u : free_vertices) {
+        __builtin_prefetch(&emb_.location[size_t(u)]);
+        __builtin_prefetch(positions + u);
+    }
     std::sort(free_vertices.begin(), free_vertices.end());
     for (int32_t u : free_vertices) {
         StarNode s;
@@ -245,17 +274,29 @@ bool Gatherer::gather_segments(std::string& why) {
         for (int32_t id : graph_.side_nodes[n_ - 1])
             if (graph_.nodes[id].vertex >= 0) add_incident(graph_.nodes[id].vertex);
     for (int32_t i = 0; i < n_; ++i) {
-        if (!fan_->is_interior_spoke(i)) continue;
-        auto it = emb_.edge_content.find(edge_key(v_, fan_->link[i]));
-        if (it != emb_.edge_content.end())
-            candidates.insert(candidates.end(), it->second.crossing_edges.begin(), it->second.crossing_edges.end());
+        if (!fan_->is_interior_spoke(i) || !graph_.spoke_content[size_t(i)]) continue;
+        const auto& es = graph_.spoke_content[size_t(i)]->crossing_edges;
+        candidates.insert(candidates.end(), es.begin(), es.end());
     }
     std::sort(candidates.begin(), candidates.end());
     candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
+    // Their paths and ends are scattered: asked for together, then each edge's crossings
+    // and end locations one edge ahead.
+    for (int32_t e : candidates) {
+        __builtin_prefetch(&emb_.path[size_t(e)]);
+        __builtin_prefetch(&emb_.edges[size_t(e)]);
+    }
 
     auto& roles = scratch_.roles;
     auto& node_of = scratch_.node_of;
-    for (int32_t e : candidates) {
+    for (size_t ci = 0; ci < candidates.size(); ++ci) {
+        const int32_t e = candidates[ci];
+        if (ci + 1 < candidates.size()) {
+            const int32_t next = candidates[ci + 1];
+            __builtin_prefetch(emb_.path[size_t(next)].data());
+            __builtin_prefetch(&emb_.location[size_t(emb_.edges[size_t(next)][0])]);
+            __builtin_prefetch(&emb_.location[size_t(emb_.edges[size_t(next)][1])]);
+        }
         // The point sequence of Embedding::path_points, read in place: the two
         // locations with the crossings in between.
         const auto& path = emb_.path[e];

@@ -73,6 +73,10 @@ struct StarGraph {
     std::vector<std::pair<int64_t, int32_t>> crossing_node;  // ((edge << 20) | index in its path, node)
     std::vector<std::vector<int32_t>> side_nodes;            // per polygon side: its fixed nodes (not corners)
     std::vector<int32_t> free_vertices;                      // the free nodes' original vertices, sorted
+    // Per polygon corner i: what lies on the spoke v -- link[i] (Embedding::edge_content),
+    // or null; found by gather_star_nodes() for gather_straight_segments(). Valid while
+    // the embedding does not change.
+    std::vector<const EdgeContent*> spoke_content;
     std::vector<StraightSegment> segments;
 
     // Empty, for an embedding of `num_original_vertices` vertices; keeps the buffers.
@@ -102,6 +106,7 @@ struct StarGraphScratch {
     std::vector<int32_t> candidates;  // original edges that may pass through the fan
     std::vector<PointRole> roles;     // of each point of an edge's path
     std::vector<int32_t> node_of;     // its node, or -1
+    std::vector<const EdgeContent*> side_content;  // per polygon side: what lies on it, or null
 };
 
 // Adds the nodes of the fan of v, laid out at polygon corners q (polar_map.h), to a

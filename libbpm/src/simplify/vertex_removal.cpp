@@ -55,6 +55,9 @@ public:
     // retriangulation after a transfer failed because an original edge runs exactly
     // along a diagonal (on a regular grid both diagonals of a square star pass through
     // original vertices, one of them along original edges; aspect ratios tie).
+    // The original's vertex ridge angles (simplify/ridge_guard.h), or empty: only asked
+    // for ahead of sharpest_original_ridge() (a cache hint).
+    void set_vertex_ridges(const std::vector<float>& ridges) { ridges_ = &ridges; }
     void clear_forbidden() { forbidden_.clear(); }
     void forbid(const std::array<int32_t, 2>& d) { forbidden_.push_back(d); }
     // The diagonal of the last failed transfer that had an original edge along it, or {-1, -1}.
@@ -110,6 +113,7 @@ private:
     const Embedding& emb_;
     const std::vector<int8_t>& sign_;
     const std::vector<Vec3>& normals_;  // oriented unit normals of the original triangles
+    const std::vector<float>* ridges_ = nullptr;
     int32_t v_ = -1;
     const Fan* fan_ = nullptr;
     double scale_ = 1.0;
@@ -194,6 +198,9 @@ FanPlanner::Stage FanPlanner::estimate(std::string& why) {
     compute_new_normals();
     if (!gather_star_nodes(mesh_, emb_, v_, *fan_, map_.q, validate_, new_edge_params_, graph_, graph_scratch_, why))
         return Stage::Failed;
+    // sharpest_original_ridge() reads the nodes' ridge angles, scattered: ask for them now.
+    if (ridges_ && !ridges_->empty())
+        for (const StarNode& s : graph_.nodes) __builtin_prefetch(ridges_->data() + std::max(s.vertex, 0));
     if (!validate_) {
         // For ranking only: the deviation at the original vertices that move, placed by
         // the flattening. The full plan adds the new edge crossings and validates.
@@ -321,7 +328,9 @@ VertexRemover::VertexRemover(const CoarseMesh& mesh, const Embedding& embedding,
       orientation_sign_(orientation_sign),
       oriented_normals_(oriented_normals),
       vertex_ridges_(vertex_ridges),
-      scratch_(new RemovalScratch(mesh, embedding, orientation_sign, oriented_normals)) {}
+      scratch_(new RemovalScratch(mesh, embedding, orientation_sign, oriented_normals)) {
+    scratch_->planner.set_vertex_ridges(vertex_ridges_);
+}
 
 VertexRemover::~VertexRemover() { delete scratch_; }
 
@@ -446,8 +455,23 @@ void VertexRemover::plan_once(int32_t v, bool force_disk, bool validate, bool de
     const VertexClass cls = classify_star(mesh_, v, force_disk, fans, crease_line, plan.reason, scratch_->star);
     if (cls == VertexClass::Feature) return;
     const auto& x = mesh_.positions();
-    // The ridge guard walks the triangles around the link last (measure_new_ridges): ask
-    // for the link vertices' lists now, so that they arrive while the fans are planned.
+    // What the fans' planning reads scattered in memory, one load after another: the
+    // removed triangles' aspect ratios, the heads of their inside lists, the contents of
+    // the spokes (and of the link edges, for a full plan). Asked for together, these
+    // misses overlap, and they arrive while the fans are flattened and triangulated.
+    for (const Fan& fan : fans) {
+        for (int32_t t : fan.triangles) {
+            mesh_.prefetch_aspect(t);
+            embedding_.inside.prefetch(t);
+        }
+        const int32_t n = fan.corners();
+        for (int32_t i = 0; i < n; ++i) {
+            embedding_.edge_content.prefetch(edge_key(v, fan.link[i]));
+            if (validate) embedding_.edge_content.prefetch(edge_key(fan.link[i], fan.link[mod(i + 1, n)]));
+        }
+    }
+    // Then for the ridge guard, which walks the triangles around the link last
+    // (measure_new_ridges): the link vertices' lists.
     if (!vertex_ridges_.empty())
         for (const Fan& fan : fans)
             for (int32_t l : fan.link) mesh_.prefetch_vertex(l);
