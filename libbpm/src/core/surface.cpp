@@ -11,6 +11,7 @@
 #include <unordered_map>
 
 #include "bpm/predicates.h"
+#include "core/edge_uses.h"
 #include "core/number_text.h"
 
 namespace bpm {
@@ -467,29 +468,14 @@ CloseVertexMerge merge_close_vertices(Surface& surface, double distance) {
 }
 
 std::optional<OpenSeam> find_open_seam(const Surface& surface, double max_gap) {
+    return detail::find_open_seam(surface, detail::EdgeUses(surface).boundary_edges(), max_gap);
+}
+
+std::optional<OpenSeam> detail::find_open_seam(const Surface& surface,
+                                               const std::vector<std::pair<int32_t, int32_t>>& boundary,
+                                               double max_gap) {
     const std::vector<Vec3>& V = surface.vertices;
     const int32_t nv = static_cast<int32_t>(V.size());
-    // The edges by their sorted ends (a sorted list: this runs on every surface read);
-    // boundary edges are those that occur once.
-    std::vector<uint64_t> edges;
-    edges.reserve(surface.triangles.size() * 3);
-    const auto key = [](int32_t a, int32_t b) {
-        return uint64_t(uint32_t(std::min(a, b))) << 32 | uint32_t(std::max(a, b));
-    };
-    for (const Tri& tri : surface.triangles)
-        for (int k = 0; k < 3; ++k) {
-            const int32_t a = tri[size_t(k)], b = tri[size_t((k + 1) % 3)];
-            if (a < 0 || b < 0 || a >= nv || b >= nv || a == b) continue;
-            edges.push_back(key(a, b));
-        }
-    std::sort(edges.begin(), edges.end());
-    std::vector<std::pair<int32_t, int32_t>> boundary;
-    for (size_t i = 0; i < edges.size();) {
-        size_t j = i + 1;
-        while (j < edges.size() && edges[j] == edges[i]) ++j;
-        if (j - i == 1) boundary.emplace_back(int32_t(edges[i] >> 32), int32_t(edges[i] & 0xffffffffu));
-        i = j;
-    }
     if (boundary.empty() || !(max_gap > 0)) return std::nullopt;
     const auto is_boundary = [&](int32_t a, int32_t b) {
         return std::binary_search(boundary.begin(), boundary.end(), std::pair(std::min(a, b), std::max(a, b)));

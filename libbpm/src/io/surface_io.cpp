@@ -15,6 +15,7 @@
 #include <unordered_map>
 
 #include "bpm/errors.h"
+#include "core/edge_uses.h"
 #include "core/file_util.h"
 #include "core/gzip.h"
 #include "core/number_text.h"
@@ -378,43 +379,22 @@ static detail::ReaderOutput read_parallel_vtk_xml(const std::string& path, const
 // face opposite sides of the surface (e.g. triangles flipped in an STL export). Accepted
 // (bpm-simplify and bpm-check work on them), but the front side that patch_info's
 // materials refer to changes there, and phi's pieces turn by up to 180 degrees; before,
-// nothing said so. Empty when the orientation is consistent. `open`: whether some edge
-// has one triangle only (a boundary edge).
-static std::string orientation_warning(const Surface& surface, bool& open) {
-    struct EdgeUse {
-        int32_t count = 0, first_triangle = -1, same_way_triangle = -1;
-        bool first_ascending = false;
-    };
-    std::unordered_map<uint64_t, EdgeUse> edges;
-    edges.reserve(surface.triangles.size() * 2);
-    for (int32_t t = 0; t < surface.num_triangles(); ++t) {
-        const Tri& x = surface.triangles[size_t(t)];
-        for (int k = 0; k < 3; ++k) {
-            const int32_t a = x[k], b = x[(k + 1) % 3];
-            const uint64_t key = uint64_t(uint32_t(std::min(a, b))) << 32 | uint32_t(std::max(a, b));
-            EdgeUse& e = edges[key];
-            if (e.count == 0) e.first_triangle = t, e.first_ascending = a < b;
-            else if (e.count == 1 && e.first_ascending == (a < b)) e.same_way_triangle = t;
-            ++e.count;
-        }
-    }
+// nothing said so. Empty when the orientation is consistent.
+static std::string orientation_warning(const detail::EdgeUses& edges) {
     int64_t same_way = 0;
-    const EdgeUse* first = nullptr;  // the one with the smallest triangles, for a stable message
-    uint64_t first_key = 0;
-    open = false;
-    for (const auto& [key, e] : edges) {
-        open = open || e.count == 1;
-        if (e.count != 2 || e.same_way_triangle < 0) continue;
-        ++same_way;
-        if (!first || std::pair(e.first_triangle, e.same_way_triangle) < std::pair(first->first_triangle, first->same_way_triangle))
-            first = &e, first_key = key;
-    }
+    std::pair<int32_t, int32_t> first_triangles{-1, -1};  // the smallest pair, for a stable message
+    std::pair<int32_t, int32_t> first_edge{-1, -1};
+    edges.for_each_edge([&](int32_t a, int32_t b, const detail::EdgeUses::Use* uses, size_t count) {
+        if (count != 2 || uses[0].ascending() != uses[1].ascending()) return;
+        const std::pair<int32_t, int32_t> triangles{uses[0].triangle(), uses[1].triangle()};
+        if (same_way++ == 0 || triangles < first_triangles) first_triangles = triangles, first_edge = {a, b};
+    });
     if (same_way == 0) return {};
     return "the triangles are not consistently oriented: at " + std::to_string(same_way) + " edge" +
            (same_way == 1 ? "" : "s") + " two neighbours face opposite sides (first: triangles " +
-           std::to_string(first->first_triangle) + " and " + std::to_string(first->same_way_triangle) +
-           " at the edge of vertices " + std::to_string(first_key >> 32) + " and " +
-           std::to_string(first_key & 0xffffffffu) +
+           std::to_string(first_triangles.first) + " and " + std::to_string(first_triangles.second) +
+           " at the edge of vertices " + std::to_string(first_edge.first) + " and " +
+           std::to_string(first_edge.second) +
            "); bpm keeps them as they are, so the materials of their front and back sides and phi's "
            "normals flip there (phi turns such pieces by up to 180 degrees). Orient the input consistently "
            "(e.g. MeshLab: Re-Orient all faces coherently)";
@@ -451,12 +431,15 @@ static void merge_within(Surface& surface, double tolerance, const std::string& 
 }
 
 // The open seam of a valid surface, if any, and the merge tolerance that closes it.
-static void find_seam(const Surface& surface, SurfaceReadReport& r) {
+// `boundary`: the surface's boundary edges (EdgeUses::boundary_edges()).
+static void find_seam(const Surface& surface, const std::vector<std::pair<int32_t, int32_t>>& boundary,
+                      SurfaceReadReport& r) {
     r.open_seam.reset();
     r.seam_merge_tolerance = 0.0;
+    if (boundary.empty()) return;  // closed: no seam
     const double diagonal = bounding_box_diagonal(surface.vertices);
     if (!(diagonal > 0) || !std::isfinite(diagonal)) return;
-    std::optional<OpenSeam> seam = find_open_seam(surface, kOpenSeamMaxGap * diagonal);
+    std::optional<OpenSeam> seam = detail::find_open_seam(surface, boundary, kOpenSeamMaxGap * diagonal);
     if (!seam) return;
     r.seam_merge_tolerance = seam_merge_tolerance(surface, *seam, diagonal);
     seam->gap /= diagonal;
@@ -518,11 +501,10 @@ static Surface finish_reading(detail::ReaderOutput parsed, SurfaceFormat format,
                      "triangle: ";
         throw_surface_problems(name, prefix, polygons, problems, surface, options, validate);
     }
-    // The edges are counted once, for both: a closed surface (the usual case) has no seam,
-    // and find_open_seam's own pass over the edges is skipped.
-    bool open = false;
-    if (std::string w = orientation_warning(surface, open); !w.empty()) r.warnings.push_back(std::move(w));
-    if (open) find_seam(surface, r);
+    // The edges are grouped once, for both the orientation and the seam.
+    const detail::EdgeUses edges(surface);
+    if (std::string w = orientation_warning(edges); !w.empty()) r.warnings.push_back(std::move(w));
+    find_seam(surface, edges.boundary_edges(), r);
     return surface;
 }
 
@@ -601,7 +583,8 @@ Surface read_surfaces(const std::vector<std::string>& paths, const SurfaceReadOp
     if (!problems.empty())
         throw_surface_problems(names, "the inputs together (vertices and triangles numbered across the files in order): ", "",
                                problems, surface, options, validate);
-    find_seam(surface, r);  // of all inputs together: files that touch close each other's boundaries
+    // Of all inputs together: files that touch close each other's boundaries.
+    find_seam(surface, detail::EdgeUses(surface).boundary_edges(), r);
     return surface;
 }
 
