@@ -14,6 +14,7 @@
 #include "bpm/check.h"
 #include "bpm/predicates.h"
 #include "check/check_internal.h"
+#include "core/triangle_intersection.h"
 
 namespace bpm {
 
@@ -215,7 +216,8 @@ CheckResult check_intersections(const Surface& surface, const CheckOptions& opti
         const int fast = count == 1 ? one_shared_vertex(a, shared_a, b, shared_b)
                          : count == 2 ? shared_edge(a, b, shared)
                                       : -1;
-        if (fast == 0 || (fast < 0 && !triangles_intersect_improperly(a, b, shared))) return;
+        // Degenerate triangles have no box (above).
+        if (fast == 0 || (fast < 0 && !detail::nondegenerate_triangles_intersect_improperly(a, b, shared))) return;
         ++intersecting;
         first_pairs.insert({ta, tb});
         if (first_pairs.size() > keep) first_pairs.erase(std::prev(first_pairs.end()));

@@ -1,6 +1,7 @@
 // Exact predicates over CGAL's filtered kernel. This is one of the few translation
 // units that include CGAL, to keep build times low.
 #include "bpm/predicates.h"
+#include "core/triangle_intersection.h"
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/intersections.h>
@@ -32,13 +33,17 @@ int in_circle_exact(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d) 
 bool collinear3d(const Vec3& a, const Vec3& b, const Vec3& c) { return CGAL::collinear(p3(a), p3(b), p3(c)); }
 
 bool triangles_intersect_improperly(const Vec3 a[3], const Vec3 b[3], const int shared[3]) {
+    // A degenerate triangle is never acceptable; report it as an intersection so that
+    // callers that forgot to reject it do not pass it on.
+    if (collinear3d(a[0], a[1], a[2]) || collinear3d(b[0], b[1], b[2])) return true;
+    return detail::nondegenerate_triangles_intersect_improperly(a, b, shared);
+}
+
+bool detail::nondegenerate_triangles_intersect_improperly(const Vec3 a[3], const Vec3 b[3], const int shared[3]) {
     int count = 0;
     for (int i = 0; i < 3; ++i) count += shared[i] >= 0 ? 1 : 0;
     const K::Triangle_3 ta(p3(a[0]), p3(a[1]), p3(a[2]));
     const K::Triangle_3 tb(p3(b[0]), p3(b[1]), p3(b[2]));
-    // A degenerate triangle is never acceptable; report it as an intersection so that
-    // callers that forgot to reject it do not pass it on.
-    if (ta.is_degenerate() || tb.is_degenerate()) return true;
     if (count == 0) return CGAL::do_intersect(ta, tb);
     if (count == 3) return true;  // the same triangle twice
     if (count == 2) {
