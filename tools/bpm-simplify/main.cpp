@@ -180,7 +180,7 @@ int main(int argc, char** argv) {
         ->group(quality);
     app.add_option("--feature-angle", options.feature_angle_degrees,
                    "Keep edges whose normals differ by more than this as feature lines (degrees; default 60, 180 = off; "
-                   "CAD parts with shallow creases refine better at e.g. 20)")
+                   "a CAD part whose creases are shallower may refine better lower, e.g. 20)")
         ->check(CLI::Range(0.0, 180.0))
         ->group(features);
     bool no_keep_corners = false;
