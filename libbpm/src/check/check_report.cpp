@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <future>
+#include <locale>
 #include <mutex>
 #include <sstream>
 #include <thread>
@@ -257,6 +258,7 @@ std::string check_report_to_json(const CheckReport& report) {
 
 std::string check_report_to_text(const CheckReport& report) {
     std::ostringstream o;
+    o.imbue(std::locale::classic());  // not a host's global locale: no "12.345", no "0,5"
     for (const CheckResult& c : report.checks) {
         o << (c.passed ? "PASS " : "FAIL ") << c.name << "  ";
         if (c.passed) {

@@ -9,6 +9,7 @@
 #include "bpm/surface_topology.h"
 
 #include <algorithm>
+#include <locale>
 #include <map>
 #include <numeric>
 #include <sstream>
@@ -581,6 +582,7 @@ std::string join(const std::vector<int32_t>& v) {
 
 std::string describe_component(const ComponentSummary& c) {
     std::ostringstream o;
+    o.imbue(std::locale::classic());  // not a host's global locale: no "12.345", no "0,5"
     o << "chi " << c.euler_characteristic << ", b=(" << c.betti0 << "," << c.betti1 << "," << c.betti2 << "), "
       << (c.orientable ? "orientable" : "non-orientable") << ", " << (c.manifold ? "manifold" : "non-manifold") << ", "
       << c.boundary_loops << " boundary loops, " << c.sheets << " sheets, " << c.feature_vertices
@@ -597,6 +599,7 @@ ComponentKey key_of(const ComponentSummary& c) {
 
 std::string line_name(const FeatureLine& l) {
     std::ostringstream o;
+    o.imbue(std::locale::classic());  // not a host's global locale: no "12.345", no "0,5"
     if (l.closed) o << "closed feature line through vertex " << l.first_vertex;
     else o << "feature line " << l.first_vertex << "-" << l.last_vertex;
     o << " (" << l.sheets << " sheets, patches {" << join(l.patches) << "})";
@@ -744,6 +747,7 @@ std::vector<std::string> compare_topology(const SurfaceTopology& a, const Surfac
 
 std::string describe_topology(const SurfaceTopology& t) {
     std::ostringstream o;
+    o.imbue(std::locale::classic());  // not a host's global locale: no "12.345", no "0,5"
     o << t.components.size() << (t.components.size() == 1 ? " component" : " components") << ", chi "
       << t.euler_characteristic << ", b=(" << t.betti0 << "," << t.betti1 << "," << t.betti2 << "), "
       << (t.orientable ? "orientable" : "non-orientable") << ", " << (t.manifold ? "manifold" : "non-manifold") << ", "

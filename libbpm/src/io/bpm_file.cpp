@@ -25,6 +25,7 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <locale>
 #include <memory>
 #include <optional>
 #include <sstream>
@@ -380,6 +381,7 @@ private:
 template <typename T>
 std::string num(T v) {
     std::ostringstream s;
+    s.imbue(std::locale::classic());  // not a host's global locale: no "12.345", no "0,5"
     s.precision(17);
     s << v;
     return s.str();

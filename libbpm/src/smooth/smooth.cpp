@@ -45,6 +45,7 @@
 #include "core/convex_ear_clipping.h"
 #include "core/crease.h"
 #include "core/edge_key.h"
+#include "core/number_text.h"
 #include "phi/phi_triangle_data.h"
 
 namespace bpm {
@@ -349,7 +350,7 @@ public:
             result.skipped = skipped;
             result.sweeps = sweep + 1;
             result.last_change = change;
-            context.debug("sweep " + std::to_string(sweep + 1) + ": largest move " + std::to_string(change) +
+            context.debug("sweep " + std::to_string(sweep + 1) + ": largest move " + detail::three_digit_text(change) +
                          " of the edge length, " + std::to_string(result.rejected) + " updates rejected so far");
             if (change < o_.tolerance) break;
         }

@@ -13,6 +13,7 @@
 
 #include "bpm/errors.h"
 #include "bpm/predicates.h"
+#include "core/number_text.h"
 #include "core/tetrahedron_quality.h"
 #include "tetmesh/boundary_repair_internal.h"
 #include "tetmesh/tetmesh_internal.h"
@@ -140,8 +141,8 @@ double repair_boundary_vertices(std::vector<Vec3>& x, const std::vector<Tet>& te
         smoothing_seconds += r.seconds;
         context.debug("smoothing: " + std::to_string(r.visits) + " visits, " + std::to_string(r.moves) + " moves, " +
                       std::to_string(r.moved_vertices) + " vertices, min dihedral " +
-                      std::to_string(r.min_dihedral_before_degrees) + " -> " +
-                      std::to_string(r.min_dihedral_after_degrees) + " degrees, " + std::to_string(r.seconds) + " s");
+                      detail::three_digit_text(r.min_dihedral_before_degrees) + " -> " +
+                      detail::three_digit_text(r.min_dihedral_after_degrees) + " degrees, " + detail::three_digit_text(r.seconds) + " s");
     };
     const int steps = options.boundary_steps;
     const int passes = movers.empty() ? 0 : steps + options.retry_passes;

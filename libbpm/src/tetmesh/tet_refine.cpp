@@ -15,6 +15,7 @@
 #include "bpm/errors.h"
 #include "bpm/phi_evaluation.h"
 #include "bpm/predicates.h"
+#include "core/number_text.h"
 #include "core/tetrahedron_quality.h"
 #include "tetmesh/boundary_repair_internal.h"
 #include "tetmesh/tet_flips.h"
@@ -363,7 +364,7 @@ TetRefineResult refine_tetmesh(const Parametrization& param, const TetMesh& coar
                       std::to_string(info.new_boundary_vertices) + " new boundary vertices, " +
                       std::to_string(info.off_surface_vertices) + " kept off the surface, " +
                       std::to_string(info.flips) + " flips, min dihedral angle " +
-                      std::to_string(info.min_dihedral_degrees) + " degrees");
+                      detail::three_digit_text(info.min_dihedral_degrees) + " degrees");
     }
 
     // Vertices off S0 at the end (this call's remedies, and the input's that stayed).

@@ -741,8 +741,8 @@ TetMeshResult generate_tetmesh(const Parametrization& param, const TetMeshOption
         result.flip_seconds = fr.seconds;
         context.debug("level-0 flips: " + num(fr.flips_23) + " 2-3 flips and " + num(fr.edge_removals) +
                       " edge removals (" + num(fr.visited) + " tetrahedra below 15 degrees, " + num(fr.sweeps) +
-                      " sweeps), min dihedral " + std::to_string(fr.min_dihedral_before_degrees) + " -> " +
-                      std::to_string(fr.min_dihedral_after_degrees) + " degrees, " + std::to_string(fr.seconds) + " s");
+                      " sweeps), min dihedral " + detail::three_digit_text(fr.min_dihedral_before_degrees) + " -> " +
+                      detail::three_digit_text(fr.min_dihedral_after_degrees) + " degrees, " + detail::three_digit_text(fr.seconds) + " s");
         // The slivers no flip improves: a new interior vertex in each (and flips around it).
         const detail::TetInsertResult ir =
             detail::insert_vertices(out.vertices, out.tetrahedra, out.regions, out.faces, {});
@@ -752,8 +752,8 @@ TetMeshResult generate_tetmesh(const Parametrization& param, const TetMeshOption
         out.vertex_parameter_points.resize(out.vertices.size(), SurfacePoint{});
         context.debug("level-0 vertex insertion: " + num(ir.inserted) + " vertices inserted (" + num(ir.tried) +
                       " tetrahedra below 15 degrees, " + num(ir.rounds) + " rounds), min dihedral " +
-                      std::to_string(ir.min_dihedral_before_degrees) + " -> " +
-                      std::to_string(ir.min_dihedral_after_degrees) + " degrees, " + std::to_string(ir.seconds) + " s");
+                      detail::three_digit_text(ir.min_dihedral_before_degrees) + " -> " +
+                      detail::three_digit_text(ir.min_dihedral_after_degrees) + " degrees, " + detail::three_digit_text(ir.seconds) + " s");
         if (ir.inserted > 0) {
             const detail::TetFlipResult again =
                 detail::flip_tetrahedra(out.vertices, out.tetrahedra, nullptr, out.regions, nullptr, out.faces, {});
@@ -761,15 +761,15 @@ TetMeshResult generate_tetmesh(const Parametrization& param, const TetMeshOption
             result.flip_seconds += again.seconds;
             context.debug("level-0 flips after insertion: " + num(again.flips_23) + " 2-3 flips and " +
                           num(again.edge_removals) + " edge removals, min dihedral " +
-                          std::to_string(again.min_dihedral_before_degrees) + " -> " +
-                          std::to_string(again.min_dihedral_after_degrees) + " degrees");
+                          detail::three_digit_text(again.min_dihedral_before_degrees) + " -> " +
+                          detail::three_digit_text(again.min_dihedral_after_degrees) + " degrees");
         }
     }
     if (options.smooth) {
         const TetSmoothResult sm = smooth_tetmesh(out, options.smoothing);
         context.debug("level-0 smoothing: " + num(sm.moved_vertices) + " vertices moved, min dihedral " +
-                      std::to_string(sm.min_dihedral_before_degrees) + " -> " +
-                      std::to_string(sm.min_dihedral_after_degrees) + " degrees");
+                      detail::three_digit_text(sm.min_dihedral_before_degrees) + " -> " +
+                      detail::three_digit_text(sm.min_dihedral_after_degrees) + " degrees");
     }
 
     result.vertices = out.num_vertices();

@@ -13,6 +13,7 @@
 
 #include "bpm/check.h"
 #include "bpm/surface_io.h"
+#include "bpm/surface_topology.h"
 #include "bpm/tetmesh.h"
 #include "bpm/write_tetmesh.h"
 #include "comma_locale.h"
@@ -90,4 +91,36 @@ TEST_CASE("locale: surface files and check reports do not depend on a decimal-co
 
     const test_support::CommaLocale comma;
     CHECK(outputs() == in_c);
+}
+
+TEST_CASE("locale: messages and text reports do not group digits or use a decimal comma under a host's locale",
+          "[io][locale]") {
+    // A host that calls std::locale::global(std::locale("")) makes every stream created
+    // afterwards write 12345 as "12.345" and 0.25 as "0,25" (de_DE): libbpm's text reports
+    // and its error messages must read the same as under "C".
+    CheckReport report;
+    report.input = "x.bpm";
+    CheckResult r;
+    r.name = "intersections";
+    r.passed = false;
+    r.problem_count = 12345;
+    CheckProblem first;
+    first.message = "triangles intersect";
+    first.ids = {{"triangle", 23456}, {"other_triangle", 34567}};
+    r.problems.push_back(first);
+    report.checks.push_back(r);
+    Surface scattered;  // 1234 separate triangles: 1234 components
+    for (int32_t i = 0; i < 1234; ++i) {
+        const double x = 0.25 * i;
+        scattered.vertices.insert(scattered.vertices.end(), {Vec3{x, 0, 0}, Vec3{x + 0.125, 0, 0}, Vec3{x, 0.125, 0}});
+        scattered.triangles.push_back(Tri{3 * i, 3 * i + 1, 3 * i + 2});
+    }
+    const std::string topology_in_c = describe_topology(compute_topology(scattered));
+    REQUIRE(topology_in_c.find("1234 components") != std::string::npos);
+    const std::string text_in_c = check_report_to_text(report);
+    REQUIRE(text_in_c.find("12345 problems") != std::string::npos);
+
+    const test_support::CommaLocale comma;
+    CHECK(check_report_to_text(report) == text_in_c);
+    CHECK(describe_topology(compute_topology(scattered)) == topology_in_c);
 }
