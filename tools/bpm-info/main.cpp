@@ -233,12 +233,12 @@ int main(int argc, char** argv) {
         ->default_val(60.0)
         ->check(CLI::Range(0.0, 180.0));
     app.add_option("--crease-chain-angle", options.crease_chain_angle_degrees,
-                   "... and edges sharper than this that line up into one long, smooth, even crease (degrees; "
-                   "default 20, 180 = off; bpm-simplify's rule)")
+                   "Also count edges sharper than this that line up into one long, smooth, even crease, in degrees "
+                   "(180: none; bpm-simplify's rule)")
         ->default_val(20.0)
         ->check(CLI::Range(0.0, 180.0));
     app.add_option("--crease-chain-length", options.crease_chain_length,
-                   "How long such a line must be, as a fraction of the bounding-box diagonal (default 0.1)")
+                   "How long such a line must be, as a fraction of the bounding-box diagonal")
         ->default_val(0.1)
         ->check(CLI::Range(0.0, 1.0));
     app.add_flag("--json", json, "Print the summary as JSON on standard output (format: spec/info-report.md)");
