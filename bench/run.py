@@ -106,6 +106,7 @@ MANUAL_SECTIONS = [
     "input-slivers-d2.md",
     "planar-regions-drift.md",
     "feature-angle-and-convergence.md",
+    "crease-chains.md",
 ]
 RUN_RECORD = "all.json"  # in the results folder: what `all` ran, for --assemble
 QUICK_REFINE_MESHES = "femur"

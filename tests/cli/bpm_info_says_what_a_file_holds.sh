@@ -102,7 +102,8 @@ j = json.load(open(sys.argv[1]))
 f = j["features"]
 assert f == {"feature_angle_degrees": 60, "boundary_edges": 0, "non_manifold_edges": 0, "interface_edges": 0,
              "crease_edges": 12, "feature_edges": 12, "feature_vertices": 8, "feature_lines": 12,
-             "feature_loops": 0, "topological_feature_vertices": 0, "topological_feature_lines": 0}, f
+             "feature_loops": 0, "topological_feature_vertices": 0, "topological_feature_lines": 0,
+             "crease_chain_angle_degrees": 20, "crease_chain_length": 0.1, "chain_crease_edges": 0}, f
 assert j["distortion"] is None, j["distortion"]
 assert list(j)[-2:] == ["features", "distortion"], list(j)' "$work/out"
 expect 0 "bpm-info --feature-angle 95: no creases on a cube" -- "$info" "$work/cube.bpm" --json --feature-angle 95

@@ -202,6 +202,45 @@ Surface moebius(int n) {
     return s;
 }
 
+Surface ridged_lens(int segments, int rings, double crease_degrees, double noise) {
+    Surface s;
+    // The upper cap: a sphere of radius R about (0, 0, -c) through the unit circle, its
+    // normal there beta from the vertical (the lower cap mirrored).
+    const double beta = (90.0 - 0.5 * crease_degrees) * kPi / 180.0;
+    const double R = 1.0 / std::sin(beta), c = R * std::cos(beta);
+    // Latitudes from the top pole (k = 0) over the circle (k = rings) to the bottom pole.
+    auto ring_point = [&](int k, int j) -> Vec3 {
+        const double phi = beta * (k <= rings ? k : 2 * rings - k) / rings;
+        const double th = 2 * kPi * j / segments;
+        const double z = -c + R * std::cos(phi);
+        return {R * std::sin(phi) * std::cos(th), R * std::sin(phi) * std::sin(th), k <= rings ? z : -z};
+    };
+    s.vertices.push_back(ring_point(0, 0));
+    for (int k = 1; k < 2 * rings; ++k)
+        for (int j = 0; j < segments; ++j) s.vertices.push_back(ring_point(k, j));
+    s.vertices.push_back(ring_point(2 * rings, 0));
+    const int32_t bottom = static_cast<int32_t>(s.vertices.size()) - 1;
+    auto id = [&](int k, int j) { return static_cast<int32_t>(1 + (k - 1) * segments + j % segments); };
+    for (int j = 0; j < segments; ++j) {
+        add(s, 0, id(1, j), id(1, j + 1), 0);
+        add(s, bottom, id(2 * rings - 1, j + 1), id(2 * rings - 1, j), 0);
+        for (int k = 1; k + 1 < 2 * rings; ++k) {
+            add(s, id(k, j), id(k + 1, j), id(k + 1, j + 1), 0);
+            add(s, id(k, j), id(k + 1, j + 1), id(k, j + 1), 0);
+        }
+    }
+    if (noise > 0) {
+        uint64_t state = 0x9e3779b97f4a7c15ull;  // a fixed 64-bit LCG (Knuth's MMIX constants)
+        for (Vec3& v : s.vertices) {
+            state = state * 6364136223846793005ull + 1442695040888963407ull;
+            const double u = double(state >> 11) / double(1ull << 53);  // [0, 1)
+            const double f = 1.0 + noise * (2.0 * u - 1.0);
+            v = {v[0] * f, v[1] * f, v[2] * f};
+        }
+    }
+    return s;
+}
+
 Surface subdivide(const Surface& in) {
     Surface s;
     s.vertices = in.vertices;

@@ -49,6 +49,15 @@ Surface hourglass(int segments = 8);
 // Moebius strip of n x 2 quads: chi 0, b=(1,1,0), 1 boundary loop, non-orientable.
 Surface moebius(int n = 16);
 
+// Two spherical caps meeting along the unit circle in z = 0 at a crease: the caps' normals
+// there are `crease_degrees` apart (0: the unit sphere). Latitude-longitude grid of
+// `segments` around and `rings` per cap (a pole vertex on each), patch 0, outward:
+// chi 2, b=(1,0,1). The facets next to the circle are a few degrees steeper than the caps'
+// tangents (+ 90 / rings degrees at the crease). `noise` > 0 moves every vertex radially by
+// up to that fraction of its distance from the origin (a fixed pseudo-random sequence):
+// a scan-like surface whose edges kink every way.
+Surface ridged_lens(int segments, int rings, double crease_degrees, double noise = 0.0);
+
 // Each triangle split into four at its edge midpoints (midpoints appended after the
 // original vertices, one per edge), patches kept.
 Surface subdivide(const Surface& surface);

@@ -74,7 +74,10 @@ std::string to_json(const bpm::BpmInfo& info) {
       << ", \"feature_edges\": " << f.feature_edges << ", \"feature_vertices\": " << f.feature_vertices
       << ", \"feature_lines\": " << f.feature_lines << ", \"feature_loops\": " << f.feature_loops
       << ", \"topological_feature_vertices\": " << f.topological_feature_vertices
-      << ", \"topological_feature_lines\": " << f.topological_feature_lines << "},\n"
+      << ", \"topological_feature_lines\": " << f.topological_feature_lines
+      << ", \"crease_chain_angle_degrees\": " << round_trip_text(f.crease_chain_angle_degrees)
+      << ", \"crease_chain_length\": " << round_trip_text(f.crease_chain_length)
+      << ", \"chain_crease_edges\": " << f.chain_crease_edges << "},\n"
       << " \"distortion\": ";
     if (!info.distortion) {
         o << "null";
@@ -143,8 +146,14 @@ std::string to_text(const bpm::BpmInfo& info) {
     o << "features    " << f.feature_lines << (f.feature_lines == 1 ? " line" : " lines");
     if (f.feature_loops > 0) o << " (" << f.feature_loops << " closed)";
     o << ", " << f.feature_vertices << (f.feature_vertices == 1 ? " vertex" : " vertices") << " of the coarse surface; "
-      << f.feature_edges << " feature edges: " << f.crease_edges << " creases over "
-      << three_digit_text(f.feature_angle_degrees) << " degrees, " << f.interface_edges << " on patch borders, "
+      << f.feature_edges << " feature edges: " << f.crease_edges << " creases ";
+    if (f.chain_crease_edges > 0)  // some below the feature angle, on long lines (--crease-chain-angle)
+        o << "(" << f.crease_edges - f.chain_crease_edges << " over " << three_digit_text(f.feature_angle_degrees)
+          << " degrees, " << f.chain_crease_edges << " over " << three_digit_text(f.crease_chain_angle_degrees)
+          << " on long lines)";
+    else
+        o << "over " << three_digit_text(f.feature_angle_degrees) << " degrees";
+    o << ", " << f.interface_edges << " on patch borders, "
       << f.boundary_edges << " boundary, " << f.non_manifold_edges << " non-manifold; without the creases "
       << f.topological_feature_lines << " topological feature " << (f.topological_feature_lines == 1 ? "line" : "lines")
       << " and " << f.topological_feature_vertices << " topological feature "
@@ -204,7 +213,8 @@ int main(int argc, char** argv) {
         "the feature lines and vertices of the coarse surface and, with --distortion, how far phi is from an\n"
         "isometry. Reads only what it reports; bpm-check validates.\n"
         "Feature lines are chains of feature edges: boundary, non-manifold and patch-border edges (the\n"
-        "topological ones, which bpm-check's topology check compares) and creases over --feature-angle.\n"
+        "topological ones, which bpm-check's topology check compares) and creases over --feature-angle\n"
+        "(or over --crease-chain-angle on long, even lines, bpm-simplify's rule applied to the coarse surface).\n"
         "Its feature vertices are the coarse surface's (bpm-check's irregular vertices and every end or junction\n"
         "of a crease), not the vertices bpm-simplify kept as corners: it decides those once, on the original\n"
         "surface, and counts a crease only where it runs 2.5 % of the diagonal from the vertex and ends at a\n"
@@ -222,11 +232,21 @@ int main(int argc, char** argv) {
                    "Edges of the coarse surface sharper than this count as creases, in degrees (180: none)")
         ->default_val(60.0)
         ->check(CLI::Range(0.0, 180.0));
+    app.add_option("--crease-chain-angle", options.crease_chain_angle_degrees,
+                   "Also count edges sharper than this that line up into one long, smooth, even crease, in degrees "
+                   "(180: none; bpm-simplify's rule)")
+        ->default_val(20.0)
+        ->check(CLI::Range(0.0, 180.0));
+    app.add_option("--crease-chain-length", options.crease_chain_length,
+                   "How long such a line must be, as a fraction of the bounding-box diagonal")
+        ->default_val(0.1)
+        ->check(CLI::Range(0.0, 1.0));
     app.add_flag("--json", json, "Print the summary as JSON on standard output (format: spec/info-report.md)");
     app.add_flag("-v,--verbose", verbose, "More detail on standard error (none so far)");
     app.add_flag("-q,--quiet", quiet, "Only errors on standard error (the summary still goes to standard output)");
     bpm::tools::add_version_flag(app, tool);
-    bpm::tools::group_options(app, "Measures", {"--distortion", "--feature-angle"});
+    bpm::tools::group_options(app, "Measures",
+                              {"--distortion", "--feature-angle", "--crease-chain-angle", "--crease-chain-length"});
     bpm::tools::group_options(app, "Output", {"--json", "--verbose", "--quiet"});
     bpm::tools::add_examples(app, {"bpm-info femur.bpm", "bpm-info femur.tet.bpm --json | jq .tetmesh.regions",
                                    "bpm-info femur.bpm --distortion --json | jq .distortion"});

@@ -21,6 +21,8 @@ std::string with_flags(std::string text) {
         {"set reject_self_intersecting_input = false", "use --allow-self-intersecting-input"},
         {"max_normal_deviation_degrees", "--max-normal-deviation"},
         {"feature_angle_degrees", "--feature-angle"},
+        {"crease_chain_angle_degrees", "--crease-chain-angle"},
+        {"crease_chain_length", "--crease-chain-length"},
         {"fold_limit_degrees", "--fold-limit"},
         {"fold_weight", "--fold-weight"},
         {"distortion_weight", "--distortion-weight"},
@@ -180,8 +182,18 @@ int main(int argc, char** argv) {
         ->group(quality);
     app.add_option("--feature-angle", options.feature_angle_degrees,
                    "Keep edges whose normals differ by more than this as feature lines (degrees; default 60, 180 = off; "
-                   "a CAD part whose creases are shallower may refine better lower, e.g. 20)")
+                   "shallower creases that run as long lines are kept too, see --crease-chain-angle)")
         ->check(CLI::Range(0.0, 180.0))
+        ->group(features);
+    app.add_option("--crease-chain-angle", options.crease_chain_angle_degrees,
+                   "Also keep shallower edges (normals more than this many degrees apart) where they line up into one "
+                   "long, smooth, even crease (8 or more edges in a row), like a CAD part's gently curved edge; the kinks "
+                   "of a scan do not (default 20, 180 = off)")
+        ->check(CLI::Range(0.0, 180.0))
+        ->group(features);
+    app.add_option("--crease-chain-length", options.crease_chain_length,
+                   "How long such a line must be to count, as a fraction of the bounding-box diagonal (default 0.1)")
+        ->check(CLI::Range(0.0, 1.0))
         ->group(features);
     bool no_keep_corners = false;
     app.add_flag("--no-keep-corners", no_keep_corners,

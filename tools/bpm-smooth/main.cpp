@@ -27,6 +27,14 @@ int main(int argc, char** argv) {
     app.add_option("--feature-angle", options.feature_angle_degrees,
                    "Leave coarse edges along original edges sharper than this many degrees alone (default 60)")
         ->check(CLI::Range(0.0, 180.0));
+    app.add_option("--crease-chain-angle", options.crease_chain_angle_degrees,
+                   "Also leave alone those sharper than this many degrees that line up into one long, smooth, even "
+                   "crease (default 20, 180 = off; give the value bpm-simplify had)")
+        ->check(CLI::Range(0.0, 180.0));
+    app.add_option("--crease-chain-length", options.crease_chain_length,
+                   "How long such a line must be, as a fraction of the bounding-box diagonal (default 0.1; as "
+                   "bpm-simplify)")
+        ->check(CLI::Range(0.0, 1.0));
     std::string weights = "mean-value";
     app.add_option("--weights", weights,
                    "Placement of original vertices among their neighbours: mean-value (default) or "
@@ -36,7 +44,7 @@ int main(int argc, char** argv) {
     bpm::tools::add_output_tool_flags(app, tool, deterministic, verbose, quiet);
     bpm::tools::group_options(app, "Output", {"--output"});
     bpm::tools::group_options(app, "Stopping", {"--iterations", "--tolerance"});
-    bpm::tools::group_options(app, "Features", {"--feature-angle"});
+    bpm::tools::group_options(app, "Features", {"--feature-angle", "--crease-chain-angle", "--crease-chain-length"});
     bpm::tools::group_options(app, "Advanced", {"--weights", "--no-quality"});
     bpm::tools::add_examples(app, {"bpm-smooth coarse.bpm -o smooth.bpm",
                                    "bpm-smooth coarse.bpm -o smooth.bpm --iterations 20 -v   (with the breakdown)"});

@@ -56,7 +56,10 @@ struct BpmTetMeshSummary {
 //   interface     2 triangles of different patches (a patch border)
 //   crease        2 triangles of one patch whose normals (as oriented, the second turned
 //                 over if the two run the edge the same way) are more than
-//                 feature_angle_degrees apart
+//                 feature_angle_degrees apart, or more than crease_chain_angle_degrees
+//                 apart on a long, even line of such edges (the rule bpm-simplify and
+//                 bpm-smooth use, SimplifyOptions::crease_chain_angle_degrees: the same
+//                 code, here applied to the coarse surface)
 // The first three are what bpm-check's topology check compares with S0 (feature vertices
 // by original id): phi keeps them. Creases are geometry; bpm-simplify keeps the corners of
 // creases (its --feature-angle, also 60 by default) as coarse vertices.
@@ -70,7 +73,10 @@ struct BpmTetMeshSummary {
 // vertices; closed ones (without any feature vertex) are also counted as loops.
 struct BpmFeatureSummary {
     double feature_angle_degrees = 60.0;
+    double crease_chain_angle_degrees = 20.0;
+    double crease_chain_length = 0.10;  // fraction of the coarse surface's bounding-box diagonal
     int64_t boundary_edges = 0, non_manifold_edges = 0, interface_edges = 0, crease_edges = 0;
+    int64_t chain_crease_edges = 0;  // of crease_edges, those not over feature_angle_degrees (on long lines)
     int64_t feature_edges = 0;  // the sum of the four
     int64_t feature_vertices = 0;
     int64_t feature_lines = 0;
@@ -82,9 +88,11 @@ struct BpmFeatureSummary {
     int64_t topological_feature_lines = 0;
 };
 
-// The feature structure of `surface` (see BpmFeatureSummary; 180 degrees = no creases).
+// The feature structure of `surface` (see BpmFeatureSummary; 180 degrees = no creases;
+// crease_chain_angle_degrees 180 = no creases on long lines below the feature angle).
 // \pre triangle indices in range.
-BpmFeatureSummary summarize_features(const Surface& surface, double feature_angle_degrees = 60.0);
+BpmFeatureSummary summarize_features(const Surface& surface, double feature_angle_degrees = 60.0,
+                                     double crease_chain_angle_degrees = 20.0, double crease_chain_length = 0.10);
 
 // phi's distortion, as bpm-check's distortion check reports it (spec/check-report.md,
 // "distortion"): per piece the area squeeze (max(s, 1/s) >= 1) and the normal deviation in
@@ -100,6 +108,8 @@ struct BpmDistortionSummary {
 
 struct BpmInfoOptions {
     double feature_angle_degrees = 60.0;  // creases of the coarse surface (BpmFeatureSummary)
+    double crease_chain_angle_degrees = 20.0;  // ... and on long lines (BpmFeatureSummary)
+    double crease_chain_length = 0.10;
     bool distortion = false;              // also measure phi's distortion (reads the whole file)
 };
 

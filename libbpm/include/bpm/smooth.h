@@ -11,8 +11,9 @@
 // the images of all nodes never move: only where in S the original vertices sit changes.
 // Sweeps over all pairs repeat until the largest move is below a tolerance.
 //
-// Feature lines of S0 (E runs along original edges, no edge crossings on it, and a
-// dihedral angle of S0 along it above feature_angle_degrees) and patch borders: the
+// Feature lines of S0 (E runs along original edges, no edge crossings on it, and one of
+// them a crease of S0: sharper than feature_angle_degrees, or on a long shallow crease
+// line, crease_chain_angle_degrees) and patch borders: the
 // original vertices on E only slide along E, to where the arc length of S0 along E puts
 // them; the rest of both triangles is relaxed with them fixed. Left alone: pairs whose
 // edge has not exactly two consistently oriented triangles (boundaries, 3 or more
@@ -54,6 +55,11 @@ struct SmoothOptions {
     double tolerance = 1e-3;      // stop when the largest move in a sweep is below this
                                   // fraction of the length of the pair's shared edge
     double feature_angle_degrees = 60.0;  // leave edges of S0 sharper than this alone
+    // ... and the long shallow creases of S0 as bpm-simplify finds them (the same rule and
+    // defaults as SimplifyOptions::crease_chain_angle_degrees and crease_chain_length), so
+    // that the smoother leaves alone the feature lines the simplifier kept.
+    double crease_chain_angle_degrees = 20.0;
+    double crease_chain_length = 0.10;
     SmoothWeights weights = SmoothWeights::MeanValue;
     bool measure_quality = true;  // compute the refined-triangle quality before and after
     int quality_levels = 3;       // refinement level of the quality measure

@@ -44,7 +44,8 @@ BpmInfo summarize(const detail::BpmOutline& file, const BpmInfoOptions& options)
         info.patches.push_back(summary);
     }
     info.materials.assign(materials.begin(), materials.end());
-    info.features = summarize_features(file.coarse, options.feature_angle_degrees);
+    info.features = summarize_features(file.coarse, options.feature_angle_degrees, options.crease_chain_angle_degrees,
+                                       options.crease_chain_length);
 
     if (file.tetmesh) {
         const detail::BpmTetMeshOutline& m = *file.tetmesh;

@@ -9,6 +9,7 @@
 #include "bpm/geometry.h"
 #include "bpm/surface_topology.h"
 #include "core/crease.h"
+#include "core/crease_chains.h"
 
 namespace bpm {
 
@@ -21,17 +22,24 @@ int32_t find_root(std::vector<int32_t>& parent, int32_t x) {
 
 }  // namespace
 
-BpmFeatureSummary summarize_features(const Surface& surface, double feature_angle_degrees) {
+BpmFeatureSummary summarize_features(const Surface& surface, double feature_angle_degrees,
+                                     double crease_chain_angle_degrees, double crease_chain_length) {
     BpmFeatureSummary out;
     out.feature_angle_degrees = feature_angle_degrees;
+    out.crease_chain_angle_degrees = crease_chain_angle_degrees;
+    out.crease_chain_length = crease_chain_length;
     const SurfaceTopology topology = compute_topology(surface);
     out.topological_feature_vertices = static_cast<int64_t>(topology.feature_vertices.size());
     out.topological_feature_lines = static_cast<int64_t>(topology.feature_lines.size());
     const SurfaceConnectivity& c = topology.connectivity;
     const int32_t ne = c.num_edges();
-    const detail::CreaseTest crease_test(feature_angle_degrees);
+    const detail::CreaseTest sharp_test(feature_angle_degrees);
 
+    // The creases: core/crease_chains.h over the edges of two triangles of one patch, as
+    // the simplifier decides them on the original surface.
     std::vector<char> feature(static_cast<size_t>(ne), 0), crease(static_cast<size_t>(ne), 0);
+    std::vector<detail::SheetEdge> sheet;
+    std::vector<int32_t> sheet_edge;  // per sheet edge: its edge id
     for (int32_t e = 0; e < ne; ++e) {
         switch (topology.edge_class[e]) {
             case EdgeClass::Boundary: ++out.boundary_edges; feature[e] = 1; continue;
@@ -41,12 +49,22 @@ BpmFeatureSummary summarize_features(const Surface& surface, double feature_angl
         }
         if (c.edge_degree(e) != 2) continue;
         const auto [u, w] = c.edges[e];
-        const Tri& t0 = surface.triangles[c.edge_triangles[c.edge_triangle_offsets[e]]];
-        const Tri& t1 = surface.triangles[c.edge_triangles[c.edge_triangle_offsets[e] + 1]];
-        if (crease_test.is_crease(surface.vertices, t0, t1, u, w)) {
-            ++out.crease_edges;
-            feature[e] = crease[e] = 1;
-        }
+        sheet.push_back({u, w, surface.triangles[c.edge_triangles[c.edge_triangle_offsets[e]]],
+                         surface.triangles[c.edge_triangles[c.edge_triangle_offsets[e] + 1]]});
+        sheet_edge.push_back(e);
+    }
+    detail::CreaseRule rule;
+    rule.feature_angle_degrees = feature_angle_degrees;
+    rule.chain_angle_degrees = crease_chain_angle_degrees;
+    rule.min_chain_length = crease_chain_length * bounding_box_diagonal(surface);
+    const std::vector<uint8_t> is_crease = detail::find_creases(surface.vertices, sheet, rule);
+    for (size_t i = 0; i < sheet.size(); ++i) {
+        if (!is_crease[i]) continue;
+        const int32_t e = sheet_edge[i];
+        ++out.crease_edges;
+        if (!sharp_test.is_crease(surface.vertices, sheet[i].t0, sheet[i].t1, sheet[i].u, sheet[i].w))
+            ++out.chain_crease_edges;
+        feature[e] = crease[e] = 1;
     }
     out.feature_edges = out.boundary_edges + out.non_manifold_edges + out.interface_edges + out.crease_edges;
 

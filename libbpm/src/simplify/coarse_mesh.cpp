@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "core/crease.h"
+#include "core/crease_chains.h"
 #include "core/directed_edge.h"
 
 namespace bpm::detail {
@@ -214,8 +214,12 @@ void CoarseMesh::set_neighbour_bits(int32_t v) {
     neighbour_bits_[v] = bits;
 }
 
-void CoarseMesh::mark_feature_edges(double feature_angle_degrees) {
-    const CreaseTest crease(feature_angle_degrees);
+void CoarseMesh::mark_feature_edges(const CreaseRule& rule) {
+    // First every edge in the order of the walk, then the marks in that order (the order
+    // the feature edges went into feature_edges_ before the chains: the same map).
+    std::vector<std::pair<int32_t, int32_t>> walk;  // per edge: (index into hard, -1) or (index into sheet, 0)
+    std::vector<SheetEdge> sheet;
+    std::vector<std::pair<int32_t, int32_t>> hard;
     std::vector<int32_t> around;
     for (int32_t t = 0; t < int32_t(triangles_.size()); ++t) {
         if (!alive_[t]) continue;
@@ -227,15 +231,21 @@ void CoarseMesh::mark_feature_edges(double feature_angle_degrees) {
             // idempotent.)
             edge_triangles(a, b, around);
             if (around.empty() || around[0] != t) continue;
-            bool feature = around.size() != 2;
-            if (!feature && patch(around[0]) != patch(around[1])) feature = true;
-            if (feature) {
-                mark(a, b, Feature::Hard);
+            if (around.size() != 2 || patch(around[0]) != patch(around[1])) {
+                walk.emplace_back(int32_t(hard.size()), -1);
+                hard.emplace_back(a, b);
                 continue;
             }
-            if (crease.is_crease(*positions_, triangles_[around[0]], triangles_[around[1]], a, b))
-                mark(a, b, Feature::Crease);
+            walk.emplace_back(int32_t(sheet.size()), 0);
+            sheet.push_back({a, b, triangles_[around[0]], triangles_[around[1]]});
         }
+    }
+    const std::vector<uint8_t> crease = find_creases(*positions_, sheet, rule);
+    for (const auto& [i, kind] : walk) {
+        if (kind < 0)
+            mark(hard[size_t(i)].first, hard[size_t(i)].second, Feature::Hard);
+        else if (crease[size_t(i)])
+            mark(sheet[size_t(i)].u, sheet[size_t(i)].w, Feature::Crease);
     }
 }
 

@@ -12,6 +12,7 @@
 
 #include "bpm/geometry.h"
 #include "bpm/surface.h"
+#include "core/crease_chains.h"
 #include "core/edge_key.h"
 #include "simplify/vertex_triangle_lists.h"
 
@@ -100,10 +101,17 @@ public:
     // at the end rather than after every triangle (a star: each corner is in two or more).
     void remove_triangles(const std::vector<int32_t>& ts);
 
-    // Marks creases: a manifold edge whose two triangles' normals are more than
-    // `feature_angle_degrees` apart (core/crease.h, CreaseTest) becomes a feature edge.
-    // Boundary edges, non-manifold edges and patch borders are always feature edges.
-    void mark_feature_edges(double feature_angle_degrees);
+    // Marks creases: a manifold edge that `rule` finds a crease (core/crease_chains.h:
+    // normals more than the feature angle apart, or a long chain of shallower edges)
+    // becomes a feature edge. Boundary edges, non-manifold edges and patch borders are
+    // always feature edges.
+    void mark_feature_edges(const CreaseRule& rule);
+    // The feature angle alone, no chains (the internal tests' fans).
+    void mark_feature_edges(double feature_angle_degrees) {
+        CreaseRule rule;
+        rule.feature_angle_degrees = feature_angle_degrees;
+        mark_feature_edges(rule);
+    }
 
     // Corners: vertices point removal never removes although they lie on creases
     // (Krause & Sander keep the vertices where feature lines of a non-manifold surface

@@ -243,7 +243,11 @@ public:
             mesh_.reserve_triangles(size_t(double(original.num_triangles()) +
                                            made * double(original.num_vertices() - target_) * 1.01) + 1024);
         }
-        mesh_.mark_feature_edges(options.feature_angle_degrees);
+        CreaseRule crease_rule;
+        crease_rule.feature_angle_degrees = options.feature_angle_degrees;
+        crease_rule.chain_angle_degrees = options.crease_chain_angle_degrees;
+        crease_rule.min_chain_length = options.crease_chain_length * diagonal_;
+        mesh_.mark_feature_edges(crease_rule);
         mesh_.mark_corners(options.feature_angle_degrees, options.corner_crease_length * diagonal_,
                            options.keep_corners);
         sign_.resize(original.triangles.size());
@@ -1023,6 +1027,10 @@ void check_options(const SimplifyOptions& options) {
         throw OptionError("the corner crease length must be between 0 and 1 (of the diagonal)");
     if (!(options.feature_angle_degrees >= 0 && options.feature_angle_degrees <= 180))
         throw OptionError("feature_angle_degrees must be between 0 and 180 degrees");
+    if (!(options.crease_chain_angle_degrees >= 0 && options.crease_chain_angle_degrees <= 180))
+        throw OptionError("crease_chain_angle_degrees must be between 0 and 180 degrees");
+    if (!(options.crease_chain_length >= 0 && options.crease_chain_length <= 1))
+        throw OptionError("crease_chain_length must be between 0 and 1 (of the diagonal)");
     if (!(options.min_ridge_angle_degrees >= 0 && options.min_ridge_angle_degrees <= 90))
         throw OptionError("min_ridge_angle_degrees must be between 0 and 90 degrees");
 }

@@ -37,6 +37,7 @@
 #include <map>
 #include <optional>
 #include <unordered_map>
+#include <unordered_set>
 
 #include "bpm/errors.h"
 #include "bpm/predicates.h"
@@ -44,6 +45,7 @@
 #include "core/barycentric_orientation.h"
 #include "core/convex_ear_clipping.h"
 #include "core/crease.h"
+#include "core/crease_chains.h"
 #include "core/edge_key.h"
 #include "core/number_text.h"
 #include "phi/phi_triangle_data.h"
@@ -285,7 +287,7 @@ TriangleQuality triangle_quality(const PhiTriangleData& t, int levels) {
 // (see the file comment); the tet-mesh smoother is tetmesh/tetmesh_smooth.cpp.
 class ParametrizationSmoother {
 public:
-    ParametrizationSmoother(Parametrization& p, const SmoothOptions& o) : p_(p), o_(o), crease_(o.feature_angle_degrees) {
+    ParametrizationSmoother(Parametrization& p, const SmoothOptions& o) : p_(p), o_(o) {
         const int32_t nt = p.coarse.num_triangles();
         tris_.resize(size_t(nt));
         quality_.resize(size_t(nt));
@@ -299,6 +301,7 @@ public:
                 original_edges_[detail::edge_key(tri[size_t(k)], tri[size_t((k + 1) % 3)])].push_back(t);
             }
         }
+        find_original_creases();
         // Coarse edges with exactly two triangles.
         std::map<uint64_t, std::vector<std::pair<int32_t, int>>> ce;
         for (int32_t t = 0; t < nt; ++t) {
@@ -460,9 +463,7 @@ private:
                 auto it = original_edges_.find(detail::edge_key(u, w));
                 if (it == original_edges_.end()) continue;
                 if (it->second.size() != 2) return skip("feature line with 3 or more sheets");
-                const auto& t = p_.original.triangles;
-                if (crease_.is_crease(p_.original.vertices, t[size_t(it->second[0])], t[size_t(it->second[1])], u, w))
-                    sliding = true;
+                if (original_creases_.count(it->first)) sliding = true;
             }
         }
         if (sliding) {
@@ -898,6 +899,39 @@ private:
         return *q;
     }
 
+    // The creases of S0 as the simplifier found them (core/crease_chains.h, the same rule
+    // over the same edges: two triangles of one patch); an edge of two triangles of
+    // different patches is a crease where CreaseTest says so (a patch border slides anyway).
+    void find_original_creases() {
+        const Surface& s = p_.original;
+        auto patch = [&](int32_t t) { return s.patches.empty() ? 0 : s.patches[size_t(t)]; };
+        std::vector<uint64_t> keys;
+        for (const auto& [key, ts] : original_edges_)
+            if (ts.size() == 2) keys.push_back(key);
+        std::sort(keys.begin(), keys.end());  // one order, whatever the hash map's
+        const detail::CreaseTest border_test(o_.feature_angle_degrees);
+        std::vector<detail::SheetEdge> sheet;
+        std::vector<uint64_t> sheet_keys;
+        for (const uint64_t key : keys) {
+            const auto& ts = original_edges_.at(key);
+            const int32_t u = detail::edge_key_first(key), w = detail::edge_key_second(key);
+            const Tri &t0 = s.triangles[size_t(ts[0])], &t1 = s.triangles[size_t(ts[1])];
+            if (patch(ts[0]) != patch(ts[1])) {
+                if (border_test.is_crease(s.vertices, t0, t1, u, w)) original_creases_.insert(key);
+                continue;
+            }
+            sheet.push_back({u, w, t0, t1});
+            sheet_keys.push_back(key);
+        }
+        detail::CreaseRule rule;
+        rule.feature_angle_degrees = o_.feature_angle_degrees;
+        rule.chain_angle_degrees = o_.crease_chain_angle_degrees;
+        rule.min_chain_length = o_.crease_chain_length * bounding_box_diagonal(s);
+        const std::vector<uint8_t> crease = detail::find_creases(s.vertices, sheet, rule);
+        for (size_t i = 0; i < sheet.size(); ++i)
+            if (crease[i]) original_creases_.insert(sheet_keys[i]);
+    }
+
     void write_back() {
         detail::clear_phi(p_);
         for (const PhiTriangleData& t : tris_) detail::append_phi_triangle(p_, t);
@@ -905,11 +939,11 @@ private:
 
     Parametrization& p_;
     const SmoothOptions& o_;
-    const detail::CreaseTest crease_;  // original edges sharper than o_.feature_angle_degrees
     std::vector<PhiTriangleData> tris_;
     std::vector<std::optional<TriangleQuality>> quality_;  // per coarse triangle, see quality_of()
     std::vector<std::vector<int32_t>> vertex_tris_;
     std::unordered_map<uint64_t, std::vector<int32_t>> original_edges_;
+    std::unordered_set<uint64_t> original_creases_;  // edge keys of S0 (find_original_creases)
     std::vector<Pair> pairs_;
     int64_t skipped_static_ = 0;
 
@@ -949,6 +983,10 @@ RefinedQuality refined_quality(const Parametrization& param, int levels) {
 SmoothResult smooth(Parametrization& param, const SmoothOptions& options, const Context& context) {
     const auto start = std::chrono::steady_clock::now();
     if (options.iterations < 0) throw OptionError("smooth: iterations must be >= 0");
+    if (!(options.crease_chain_angle_degrees >= 0 && options.crease_chain_angle_degrees <= 180))
+        throw OptionError("smooth: crease_chain_angle_degrees must be between 0 and 180 degrees");
+    if (!(options.crease_chain_length >= 0 && options.crease_chain_length <= 1))
+        throw OptionError("smooth: crease_chain_length must be between 0 and 1 (of the diagonal)");
     if (!(options.tolerance >= 0)) throw OptionError("smooth: tolerance must be >= 0");
     if (options.measure_quality && (options.quality_levels < 0 || options.quality_levels > 6))
         throw OptionError("smooth: quality_levels must be in 0..6");

@@ -91,6 +91,21 @@ TEST_CASE("bpm-info: the cube simplified to 8 vertices has 8 feature vertices an
     CHECK(none.feature_lines == 0);
 }
 
+TEST_CASE("bpm-info: a long shallow crease counts as the simplifier counts it", "[info][features][chains]") {
+    // The lens's rim: 48 edges 27.5 degrees sharp, below the feature angle, one long even
+    // line: a crease by the chain rule bpm-simplify uses (its default), one closed line.
+    const Surface lens = fixtures::ridged_lens(48, 12, 20.0);
+    const BpmFeatureSummary f = summarize_features(lens);
+    CHECK(f.crease_chain_angle_degrees == 20.0);
+    CHECK(f.crease_edges == 48);
+    CHECK(f.chain_crease_edges == 48);
+    CHECK(f.feature_lines == 1);
+    CHECK(f.feature_loops == 1);
+    const BpmFeatureSummary off = summarize_features(lens, 60.0, 180.0);
+    CHECK(off.crease_edges == 0);
+    CHECK(off.chain_crease_edges == 0);
+}
+
 TEST_CASE("bpm-info: feature edges of every kind, lines and loops on fixtures", "[info][features]") {
     SECTION("a flat disk: its boundary is one closed line without feature vertices") {
         const BpmFeatureSummary f = summarize_features(fixtures::disk(4));

@@ -163,10 +163,32 @@ TEST_CASE("smoothing does not make the refined surface of CAD-like shapes worse"
     }
 }
 
+TEST_CASE("smoothing slides along the long shallow creases the simplifier kept", "[smooth][chains]") {
+    // The lens's rim, 27.5 degrees (below the feature angle), is a crease of the simplifier
+    // by its chain rule (SimplifyOptions::crease_chain_angle_degrees): coarse edges run
+    // along it. The smoother must take it for a feature line too (the same rule, the same
+    // defaults), so its original vertices only slide along those edges. Before, the
+    // smoother judged by the feature angle alone and relaxed across the rim (0 slides).
+    const Parametrization simplified_lens = simplified(fixtures::ridged_lens(48, 12, 20.0), 0.1);
+    SmoothOptions o;
+    o.quality_levels = 1;
+    o.check_levels = 0;  // the sliding itself
+    Parametrization p = simplified_lens;
+    const SmoothResult r = smooth(p, o, Context{});
+    CHECK(r.slides > 0);
+    require_valid_parametrization(p);
+    o.crease_chain_angle_degrees = 180.0;  // off: no feature line on the lens at all
+    Parametrization q = simplified_lens;
+    CHECK(smooth(q, o, Context{}).slides == 0);
+}
+
 TEST_CASE("smoothing rejects bad options", "[smooth]") {
     Parametrization p = test::make_subdivided_octahedron(1);
     SmoothOptions o;
     o.iterations = -1;
+    CHECK_THROWS_AS(smooth(p, o, Context{}), OptionError);
+    o = SmoothOptions{};
+    o.crease_chain_angle_degrees = 200.0;
     CHECK_THROWS_AS(smooth(p, o, Context{}), OptionError);
 }
 
