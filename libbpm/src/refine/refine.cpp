@@ -692,7 +692,7 @@ public:
     // is not held back is where it was). A vertex that still intersects at f = 0 does not
     // move on towards its point on the coarse surface: its parents are held back instead
     // (recursively, up to the coarse vertices, which never move), and it follows them.
-    // Why: at a sharp fold of S0 (femur: neighbouring original triangles 175 deg apart) the
+    // Why: at a sharp fold of S0 (femur: 497 edges turn by more than 90 deg, up to 155) the
     // chords across the fold cross their neighbours at every level, and moving such a
     // vertex on to the coarse surface moved it by about its coarse triangle's deviation:
     // femur 10 % at T = 0.0003 held back 2530 vertices up to 4.0e-3 of the diagonal, and
