@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Refined .bpm files pass bpm-check: new vertices whose phi would make the refined surface
-# intersect itself are held back towards the coarse surface; multi-material surfaces
+# intersect itself are held back (towards their parent edges); multi-material surfaces
 # refine. Usage: refine_valid.sh TOOL_DIR SOURCE_DIR WORK_DIR
 source "$(dirname "$0")/lib/harness.bash"
 simplify=$tools/bpm-simplify

@@ -238,7 +238,7 @@ int main(int argc, char** argv) {
         context.info(line);
         if (result.held_back_vertices > 0) {
             std::snprintf(line, sizeof line,
-                          "%lld vertices held back from phi towards the coarse surface so that the refined surface "
+                          "%lld vertices held back from phi (towards their parent edges) so that the refined surface "
                           "does not intersect itself (at most %.3g of diagonal from phi; %d rounds)",
                           (long long)result.held_back_vertices, result.max_held_back, result.remedy_rounds);
             context.info(line);

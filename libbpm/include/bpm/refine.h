@@ -39,21 +39,22 @@ struct RefineOptions {
     // Adaptive: never refine a coarse triangle more than this many times.
     int max_level = 8;
     // Hold new vertices back from phi where the refined surface would intersect itself
-    // (the lambda remedy of Krause & Sander §3.3, on the surface): a vertex of an
-    // intersecting pair of triangles (exact test, bpm::check_intersections) moves to
-    // flat + f (phi - flat), flat being its point on the coarse surface, with f halved
-    // per round (bisection towards the coarse surface) and 0 after 10 halvings, until no
-    // pair intersects. The coarse surface does not intersect itself, so this ends. Then
+    // (the lambda remedy of Krause & Sander §3.3, on the surface, made hierarchical): a
+    // vertex of an intersecting pair of triangles (exact test, bpm::check_intersections)
+    // moves to m + f (phi - m), m the current midpoint of its parent edge's ends (the
+    // vertices it is the midpoint of in parameter space), with f halved per round and 0
+    // after 10 halvings; a vertex that still intersects at m holds back its parents
+    // instead (recursively up to the coarse vertices, which never move) and follows them.
+    // So a held-back vertex is off phi by at most its ancestors' chord deviations (halved
+    // per level), not by the distance to the coarse surface. With every fraction 0 every
+    // vertex is on the coarse surface, which does not intersect itself, so this ends. Then
     // five bisection steps between each vertex's free and last intersecting fraction bring
-    // the held-back vertices back towards phi as far as they stay free of intersections.
-    // Adaptive refinement holds back in two stages instead: first towards the midpoint of
-    // the vertex's parent edge (its ends at phi), so a deep vertex moves by at most about its
-    // parent's deviation, not towards the far coarse triangle; then on to the coarse
-    // surface (RefinedSurface::vertex_phi_fraction). It measures the deviation again with
-    // the vertices where they end up, refines the triangles still above the tolerance and
-    // runs the remedy again (RefineResult::adaptive_passes). Off by default in the library
-    // so that a measure of phi (bpm::refined_quality) sees the vertices at phi; bpm-refine
-    // turns it on.
+    // the held-back vertices back towards phi as far as they stay free of intersections
+    // (RefinedSurface::vertex_phi_fraction). Adaptive refinement measures the deviation
+    // again with the vertices where they end up, refines the triangles still above the
+    // tolerance and runs the remedy again (RefineResult::adaptive_passes). Off by default
+    // in the library so that a measure of phi (bpm::refined_quality) sees the vertices at
+    // phi; bpm-refine turns it on.
     bool prevent_intersections = false;
 };
 
@@ -73,11 +74,11 @@ struct RefinedSurface {
     std::vector<int32_t> triangle_coarse;
     std::vector<std::array<Vec3, 3>> triangle_barycentric;
     std::vector<int32_t> triangle_level;
-    // Per vertex (#V): where it is between its point on the coarse surface (0) and phi of
-    // its parameter position (1); below 1 only where RefineOptions::prevent_intersections
-    // held it back. Coarse vertices 1. Adaptive refinement holds back in two stages: from
-    // 1 to 1/2 towards the midpoint of the vertex's parent edge (its ends at phi), from 1/2
-    // to 0 on to the coarse surface.
+    // Per vertex (#V): where it is between the current midpoint of its parent edge's ends
+    // (0; RefineOptions::prevent_intersections) and phi of its parameter position (1):
+    // below 1 only where the remedy held it back, and exactly 1 (the vertex at phi) for
+    // every other vertex. Coarse vertices 1. A vertex at 0 lies where its parents are
+    // held back to, and on the coarse surface only if they all are.
     std::vector<double> vertex_phi_fraction;
     // Per triangle (#T): a proven bound, relative to the diagonal of S0, of the distance
     // from every point of the triangle as returned (held-back vertices where they are) to

@@ -627,7 +627,7 @@ public:
             result.held_back_vertices = 0;
             result.max_held_back = 0;
             result.remedy_rounds = 0;
-            if (options.prevent_intersections) hold_back(result, context, true);
+            if (options.prevent_intersections) hold_back(result, context);
             std::vector<size_t> split;
             bound(result, &split, &options, &origin);
             context.debug("refine: pass " + std::to_string(history.passes() + 1) + ": bound " +
@@ -685,32 +685,75 @@ public:
             split->erase(std::unique(split->begin(), split->end()), split->end());
         }
     }
-    // Where held-back vertices go, by their fraction f (RefinedSurface::vertex_phi_fraction).
-    // One stage (uniform refinement): flat + f (phi - flat), flat being the vertex's point
-    // on the coarse surface. Two stages (adaptive): first towards the midpoint m of its
-    // parent edge's ends at phi, m + (2 f - 1) (phi - m) for f >= 1/2, then towards the
-    // coarse surface, flat + 2 f (m - flat): a deep vertex's first steps move it by at most
-    // |phi - m|, about its parent triangle's deviation, not towards the coarse triangle far
-    // away. f = 0 is on the coarse surface in both, so the remedy still ends.
+    // HELD-BACK VERTICES (RefineOptions::prevent_intersections). A new vertex v is the
+    // midpoint of its parent edge (a, b) in parameter space. Held back, it lies between its
+    // parents' CURRENT midpoint m = (x_a + x_b) / 2 and phi: x_v = m + f (phi_v - m), f its
+    // fraction (RefinedSurface::vertex_phi_fraction; f = 1 is phi exactly, so a vertex that
+    // is not held back is where it was). A vertex that still intersects at f = 0 does not
+    // move on towards its point on the coarse surface: its parents are held back instead
+    // (recursively, up to the coarse vertices, which never move), and it follows them.
+    // Why: at a sharp fold of S0 (femur: 497 edges turn by more than 90 deg, up to 155) the
+    // chords across the fold cross their neighbours at every level, and moving such a
+    // vertex on to the coarse surface moved it by about its coarse triangle's deviation:
+    // femur 10 % at T = 0.0003 held back 2530 vertices up to 4.0e-3 of the diagonal, and
+    // they set the bound, 4.0e-3, in 405 remedy rounds. Holding back the parents instead
+    // moves a branch of the hierarchy together by its chords' deviations: 326 vertices up
+    // to 5.0e-4 in 4 rounds, and the bound, 1.37e-3, is that of the triangles at
+    // max_level at phi (the fold itself). At level 1 the parents are coarse vertices, m is
+    // the flat point, and this is the one-stage flat + f (phi - flat) it replaces.
+    // How far: with d the distance from phi and c_v = |mid(phi_a, phi_b) - phi_v| (the
+    // deviation of v's parent chord), d_v <= (1 - f_v) (c_v + (d_a + d_b) / 2), so a
+    // held-back vertex is bounded by its ancestors' chord deviations, halved per level.
+    // It ends: a round of the remedy only lowers fractions, each reaches 0 after 11 moves,
+    // and with every fraction 0 every new vertex is at its flat point (by induction in
+    // creation order: the flat map is affine on the coarse triangle holding v and both
+    // parents, so the midpoint of their flat points is v's), where the refined triangles
+    // lie in their coarse triangles, which do not intersect. (The flat point is taken as
+    // computed from the coarse corners once both parents are on it, so that end state is
+    // the coarse surface exactly as before.)
     struct Placement {
-        std::vector<Vec3> at_phi, flat, parent_mid;
-        bool two_stages = false;
+        std::vector<Vec3> at_phi, flat;
+        std::vector<uint8_t> on_coarse;  // at its flat point: coarse vertices, and f = 0 with both parents on it
     };
 
-    Vec3 position(const Placement& pl, size_t v, double f) const {
-        if (!pl.two_stages) return pl.flat[v] + f * (pl.at_phi[v] - pl.flat[v]);
-        if (f >= 1.0) return pl.at_phi[v];
-        if (f >= 0.5) return pl.parent_mid[v] + (2.0 * f - 1.0) * (pl.at_phi[v] - pl.parent_mid[v]);
-        return pl.flat[v] + (2.0 * f) * (pl.parent_mid[v] - pl.flat[v]);
+    // Places every new vertex by its fraction, parents before children (a midpoint is
+    // created after the ends of its edge, so it has the larger id).
+    void place(Placement& pl) {
+        Surface& s = out_.surface;
+        const std::vector<double>& f = out_.vertex_phi_fraction;
+        for (size_t v = p_.coarse.vertices.size(); v < s.vertices.size(); ++v) {
+            if (f[v] >= 1.0) {
+                s.vertices[v] = pl.at_phi[v];
+                pl.on_coarse[v] = 0;
+                continue;
+            }
+            const auto [a, b] = parents_[v - p_.coarse.vertices.size()];
+            const bool parents_flat = pl.on_coarse[size_t(a)] && pl.on_coarse[size_t(b)];
+            const Vec3 m = parents_flat ? pl.flat[v] : mid(s.vertices[size_t(a)], s.vertices[size_t(b)]);
+            s.vertices[v] = f[v] > 0 ? m + f[v] * (pl.at_phi[v] - m) : m;
+            pl.on_coarse[v] = parents_flat && f[v] == 0;
+        }
     }
 
-    // The fraction after `halvings` moves of the remedy: one stage 2^-h, 0 after 10;
-    // two stages 1/2 + 2^-h / 2 up to m (h = 11), then 2^-(h-11) / 2, 0 after 21.
-    static double fraction_after(int32_t halvings, bool two_stages) {
-        if (!two_stages) return halvings > 10 ? 0.0 : std::ldexp(1.0, -halvings);
-        if (halvings <= 10) return 0.5 + std::ldexp(0.5, -halvings);
-        return halvings > 21 ? 0.0 : std::ldexp(0.5, -(halvings - 11));
+    // The vertices a remedy round moves for vertex v of an intersecting pair (appended to
+    // `moving`): v itself while it is above its parents' midpoint (f > 0), else what its
+    // parents would move; none once v and its ancestors are on the coarse surface. `seen`
+    // marks the vertices visited in this round (each moves once per round).
+    void to_move(int32_t v, std::vector<uint8_t>& seen, std::vector<int32_t>& moving) const {
+        if (size_t(v) < p_.coarse.vertices.size() || seen[size_t(v)]) return;
+        seen[size_t(v)] = 1;
+        if (out_.vertex_phi_fraction[size_t(v)] > 0) {
+            moving.push_back(v);
+            return;
+        }
+        const auto [a, b] = parents_[size_t(v) - p_.coarse.vertices.size()];
+        to_move(a, seen, moving);
+        to_move(b, seen, moving);
     }
+
+    // The fraction after `halvings` moves of the remedy: 2^-h, 0 (the parents' midpoint)
+    // after 10.
+    static double fraction_after(int32_t halvings) { return halvings > 10 ? 0.0 : std::ldexp(1.0, -halvings); }
 
     // Intersecting pairs of the refined surface (every one: CheckResult::problems), with
     // triangle ids of the whole surface. With `reference` (positions of every vertex in
@@ -834,54 +877,62 @@ public:
     // After hold_back's halvings every held-back vertex has a fraction f that is free of
     // intersections and one (its value before the last move) that was not: bisect between
     // them, all vertices at once, five times. A trial that makes a pair intersect is undone
-    // for the vertices of that pair (the others keep theirs), until the surface is free of
-    // intersections again, so every step ends in a valid state.
-    void grow_back(const std::vector<int32_t>& halvings, const Placement& pl, const Context& context) {
-        Surface& s = out_.surface;
+    // (undo_nearest) for the vertices of that pair, or where they have none, for the
+    // nearest trials they follow (a held-back vertex moves with its parents); the others
+    // keep theirs, until the surface is free of intersections again, so every step ends in
+    // a valid state.
+    void grow_back(const std::vector<int32_t>& halvings, Placement& pl, const Context& context) {
         std::vector<double>& f = out_.vertex_phi_fraction;
-        const size_t nv = s.vertices.size();
+        const size_t nv = out_.surface.vertices.size();
         std::vector<double> lo(nv, 1.0), hi(nv, 1.0);
         std::vector<int32_t> held;
         for (size_t v = 0; v < nv; ++v) {
             if (f[v] >= 1.0) continue;
             held.push_back(int32_t(v));
             lo[v] = f[v];
-            hi[v] = pl.two_stages ? fraction_after(halvings[v] - 1, true)
-                                  : halvings[v] > 10 ? std::ldexp(1.0, -10) : 2.0 * f[v];
+            hi[v] = fraction_after(halvings[v] - 1);
         }
         if (held.empty()) return;
-        auto place = [&](int32_t v, double fraction) {
-            f[size_t(v)] = fraction;
-            s.vertices[size_t(v)] = position(pl, size_t(v), fraction);
-        };
         for (int step = 0; step < 5; ++step) {
             std::vector<uint8_t> trying(nv, 0);
-            const std::vector<Vec3> valid = s.vertices;  // free of intersections
+            const std::vector<Vec3> valid = out_.surface.vertices;  // free of intersections
             for (int32_t v : held) {
-                place(v, 0.5 * (lo[size_t(v)] + hi[size_t(v)]));
+                f[size_t(v)] = 0.5 * (lo[size_t(v)] + hi[size_t(v)]);
                 trying[size_t(v)] = 1;
             }
+            place(pl);
             int64_t undone = 0;
             while (true) {
                 // Only the pairs of moved triangles: the state before was valid.
                 const CheckResult r = intersections(&valid);
                 if (r.passed) break;
+                std::vector<uint8_t> seen(nv, 0);
                 int64_t undone_now = 0;
+                auto undo_nearest = [&](auto&& self, int32_t v) -> void {
+                    if (size_t(v) < p_.coarse.vertices.size() || seen[size_t(v)]) return;
+                    seen[size_t(v)] = 1;
+                    if (trying[size_t(v)]) {
+                        trying[size_t(v)] = 0;
+                        hi[size_t(v)] = f[size_t(v)];
+                        f[size_t(v)] = lo[size_t(v)];
+                        ++undone_now;
+                        return;
+                    }
+                    if (f[size_t(v)] >= 1.0) return;  // at phi: follows no one
+                    const auto [a, b] = parents_[size_t(v) - p_.coarse.vertices.size()];
+                    self(self, a);
+                    self(self, b);
+                };
                 for (const CheckProblem& problem : r.problems)
                     for (const char* kind : {"triangle", "other_triangle"}) {
                         const int64_t t = problem.id(kind);
-                        if (t < 0) continue;
-                        for (int32_t v : s.triangles[size_t(t)]) {
-                            if (!trying[size_t(v)]) continue;
-                            trying[size_t(v)] = 0;
-                            hi[size_t(v)] = f[size_t(v)];
-                            place(v, lo[size_t(v)]);
-                            ++undone_now;
-                        }
+                        if (t >= 0)
+                            for (int32_t v : out_.surface.triangles[size_t(t)]) undo_nearest(undo_nearest, v);
                     }
                 // Only trials moved since the last valid state: undoing them all is that state.
                 if (undone_now == 0) throw std::logic_error("refine: intersections after undoing every trial");
                 undone += undone_now;
+                place(pl);
             }
             for (int32_t v : held)
                 if (trying[size_t(v)]) lo[size_t(v)] = f[size_t(v)];
@@ -891,29 +942,24 @@ public:
         }
     }
 
-    // RefineOptions::prevent_intersections. `two_stages`: see Placement.
-    void hold_back(RefineResult& result, const Context& context, bool two_stages = false) {
+    // RefineOptions::prevent_intersections: holds back the vertices of intersecting pairs
+    // (see HELD-BACK VERTICES), then grows them back towards phi as far as they stay free.
+    void hold_back(RefineResult& result, const Context& context) {
         Surface& s = out_.surface;
         const size_t nv = s.vertices.size(), coarse_vertices = p_.coarse.vertices.size();
         Placement pl;
-        pl.two_stages = two_stages;
         pl.at_phi = s.vertices;
         pl.flat.resize(nv);
+        pl.on_coarse.assign(nv, 0);
+        std::fill(pl.on_coarse.begin(), pl.on_coarse.begin() + ptrdiff_t(coarse_vertices), uint8_t(1));
         for (size_t v = coarse_vertices; v < nv; ++v) {
             const Tri& c = p_.coarse.triangles[size_t(out_.vertex_coarse_triangle[v])];
             const auto& x = p_.coarse.vertices;
             pl.flat[v] = barycentric_point(x[size_t(c[0])], x[size_t(c[1])], x[size_t(c[2])], out_.vertex_barycentric[v]);
         }
-        if (two_stages) {
-            pl.parent_mid.resize(nv);
-            for (size_t v = coarse_vertices; v < nv; ++v) {
-                const auto [a, b] = parents_[v - coarse_vertices];
-                pl.parent_mid[v] = mid(pl.at_phi[size_t(a)], pl.at_phi[size_t(b)]);
-            }
-        }
         std::vector<int32_t> halvings(nv, 0);
         std::vector<double>& f = out_.vertex_phi_fraction;
-        const int32_t moves = two_stages ? 22 : 11;  // after this many a vertex is on the coarse surface
+        constexpr int32_t kMoves = 11;  // after this many a vertex is at its parents' midpoint
         // The first and the last check see every pair; the rounds between look only at the
         // pairs with a triangle moved in the round before (`last_checked`). That misses
         // none: a pair that intersected in the round before had a vertex moved in it (a
@@ -931,33 +977,36 @@ public:
             if (r.passed && round > 0) r = intersections(nullptr);
             if (r.passed) break;
             last_checked = s.vertices;
-            // Every round moves at least one vertex closer to the coarse surface and after
-            // `moves` moves a vertex is on it, so this ends after at most that many rounds per vertex.
-            if (round > moves * int32_t(nv)) throw std::logic_error("refine: the intersection remedy does not end");
+            // Every round lowers at least one fraction and a fraction is 0 after kMoves
+            // moves, so this ends after at most that many rounds per vertex.
+            if (round > kMoves * int32_t(nv)) throw std::logic_error("refine: the intersection remedy does not end");
             result.remedy_rounds = round + 1;
-            std::vector<int32_t> involved;
+            std::vector<uint8_t> seen(nv, 0), in_pair(nv, 0);
+            std::vector<int32_t> moving;
             for (const CheckProblem& problem : r.problems)
                 for (const char* kind : {"triangle", "other_triangle"}) {
                     const int64_t t = problem.id(kind);
                     if (t < 0) continue;
-                    for (int32_t v : s.triangles[size_t(t)])
-                        if (size_t(v) >= coarse_vertices && f[size_t(v)] > 0) involved.push_back(v);
+                    for (int32_t v : s.triangles[size_t(t)]) {
+                        in_pair[size_t(v)] = 1;
+                        to_move(v, seen, moving);
+                    }
                 }
-            std::sort(involved.begin(), involved.end());
-            involved.erase(std::unique(involved.begin(), involved.end()), involved.end());
             // Triangles with all their new vertices on the coarse surface lie in their coarse
             // triangles, which do not intersect: a pair of them is a bug, not the input.
-            if (involved.empty())
+            if (moving.empty())
                 throw std::logic_error("refine: refined triangles on the coarse surface intersect (" +
                                        (r.problems.empty() ? std::string("?") : r.problems[0].describe()) + ")");
-            for (int32_t v : involved) {
-                f[size_t(v)] = two_stages ? fraction_after(++halvings[size_t(v)], true)
-                                          : ++halvings[size_t(v)] > 10 ? 0.0 : 0.5 * f[size_t(v)];
-                s.vertices[size_t(v)] = position(pl, size_t(v), f[size_t(v)]);
+            int64_t ancestors = 0;  // moved for a descendant at its parents' midpoint only
+            for (int32_t v : moving) {
+                f[size_t(v)] = fraction_after(++halvings[size_t(v)]);
+                ancestors += !in_pair[size_t(v)];
             }
+            place(pl);
             context.debug("refine: intersection remedy round " + std::to_string(round + 1) + ": " +
-                          std::to_string(r.problem_count) + " intersecting pairs, " + std::to_string(involved.size()) +
-                          " vertices moved towards the coarse surface");
+                          std::to_string(r.problem_count) + " intersecting pairs, " + std::to_string(moving.size()) +
+                          " vertices moved towards their parents' midpoints (" + std::to_string(ancestors) +
+                          " of them in no intersecting pair: ancestors of a vertex at its parents' midpoint)");
         }
         grow_back(halvings, pl, context);
         for (size_t v = coarse_vertices; v < nv; ++v) {
