@@ -29,6 +29,7 @@
 #include "bpm/predicates.h"
 #include "core/barycentric_orientation.h"
 #include "core/edge_key.h"
+#include "core/number_text.h"
 #include "refine/planar_regions.h"
 
 namespace bpm {
@@ -631,17 +632,17 @@ public:
             std::vector<size_t> split;
             bound(result, &split, &options, &origin);
             context.debug("refine: pass " + std::to_string(history.passes() + 1) + ": bound " +
-                          std::to_string(result.hausdorff_bound) + ", " +
+                          detail::three_digit_text(result.hausdorff_bound) + ", " +
                           std::to_string(result.triangles_above_tolerance) + " triangles above the tolerance (" +
                           std::to_string(result.triangles_at_max_level_above_tolerance) + " at max_level), " +
                           std::to_string(result.held_back_vertices) + " vertices held back up to " +
-                          std::to_string(result.max_held_back) + ", " + std::to_string(result.triangles) + " triangles");
+                          detail::three_digit_text(result.max_held_back) + ", " + std::to_string(result.triangles) + " triangles");
             const bool better = history.record(result.hausdorff_bound, result.triangles_above_tolerance);
             if (split.empty() || history.stop()) break;
             if (better) best_out = out_, best = result;
             context.debug("refine: pass " + std::to_string(history.passes()) + ": " + std::to_string(split.size()) +
                           " triangles above the tolerance next to held-back vertices (bound " +
-                          std::to_string(result.hausdorff_bound) + "), refined further");
+                          detail::three_digit_text(result.hausdorff_bound) + "), refined further");
             tris_ = irregular;
             out_.surface.vertices = at_phi;
             for (size_t i : split) tris_[i].need = std::numeric_limits<double>::infinity();

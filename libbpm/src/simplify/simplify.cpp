@@ -29,6 +29,7 @@
 #include "bpm/check.h"
 #include "bpm/errors.h"
 #include "core/free_memory.h"
+#include "core/number_text.h"
 #include "simplify/coarse_mesh.h"
 #include "simplify/edge_flip.h"
 #include "simplify/embedding.h"
@@ -1005,7 +1006,7 @@ namespace {
 // \throw OptionError for contradictory options.
 void check_options(const SimplifyOptions& options) {
     if (options.target_ratio < 0 || options.target_ratio > 1)
-        throw OptionError("target_ratio must be between 0 and 1, got " + std::to_string(options.target_ratio));
+        throw OptionError("target_ratio must be between 0 and 1, got " + detail::significant_text(options.target_ratio, 6));
     if (options.target_vertices < 0) throw OptionError("target_vertices must not be negative");
     if (!(options.max_error >= 0)) throw OptionError("max_error must not be negative");
     if (!(options.max_edge_length > 0)) throw OptionError("max_edge_length must be positive");
