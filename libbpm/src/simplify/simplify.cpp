@@ -28,6 +28,7 @@
 
 #include "bpm/check.h"
 #include "bpm/errors.h"
+#include "core/edge_uses.h"
 #include "core/free_memory.h"
 #include "simplify/coarse_mesh.h"
 #include "simplify/edge_flip.h"
@@ -224,11 +225,20 @@ class Simplifier {
 public:
     Simplifier(const Surface& original, const SimplifyOptions& options, const Context& context, int threads,
                PhaseTimer& timer)
+        : Simplifier(original, options, context, threads, timer, EdgeUses(original)) {}
+
+    SimplifyResult run(Parametrization& out);
+
+private:
+    // `uses`: the original's sides grouped by edge, counted once for the coarse mesh's
+    // orientation walk and the embedding's edges (each used to collect its own).
+    Simplifier(const Surface& original, const SimplifyOptions& options, const Context& context, int threads,
+               PhaseTimer& timer, const EdgeUses& uses)
         : original_(original),
           options_(options),
           context_(context),
           timer_(timer),
-          mesh_(original),
+          mesh_(original, uses),
           diagonal_(bounding_box_diagonal(original)),
           target_(target_vertex_count(options, original.num_vertices())),
           intersections_(mesh_) {
@@ -257,7 +267,7 @@ public:
             oriented_normals_[t] = double(sign_[t]) * triangle_normal(original.vertices[c[0]], original.vertices[c[1]],
                                                                        original.vertices[c[2]]);
         }
-        embedding_.init_identity(original, mesh_.triangle_capacity());
+        embedding_.init_identity(original, mesh_.triangle_capacity(), uses);
         // The ridge guard (simplify/ridge_guard.h), only when asked for.
         if (options.min_ridge_angle_degrees > 0) vertex_ridges_ = vertex_ridge_angles(original, embedding_);
         remover_ = std::make_unique<VertexRemover>(mesh_, embedding_, sign_, oriented_normals_, vertex_ridges_);
@@ -278,9 +288,6 @@ public:
         stamp_.assign(original.vertices.size(), 0);
     }
 
-    SimplifyResult run(Parametrization& out);
-
-private:
     const Surface& original_;
     const SimplifyOptions& options_;
     const Context& context_;
