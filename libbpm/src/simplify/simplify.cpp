@@ -34,6 +34,7 @@
 #include "simplify/edge_flip.h"
 #include "simplify/embedding.h"
 #include "simplify/export_phi.h"
+#include "simplify/input_intersections.h"
 #include "simplify/intersection_test.h"
 #include "simplify/overlay.h"
 #include "simplify/planning_pool.h"
@@ -228,6 +229,13 @@ public:
         : Simplifier(original, options, context, threads, timer, EdgeUses(original)) {}
 
     SimplifyResult run(Parametrization& out);
+
+    // True when check_intersections(original) passes, decided on the grid of the set-up
+    // (simplify/input_intersections.h); false: run the check for its verdict and report.
+    // Before run().
+    bool input_surely_passes_intersection_check() const {
+        return surely_passes_intersection_check(original_, intersections_.grid());
+    }
 
 private:
     // `uses`: the original's sides grouped by edge, counted once for the coarse mesh's
@@ -1047,17 +1055,26 @@ SimplifyResult simplify_checked(const Surface& original, const SimplifyOptions& 
         CheckOptions check_options;
         check_options.max_problems = 1;
         CheckResult r;
-        timer.start(threads > 1 ? "input intersection check with set-up" : "input intersection check");
         if (threads > 1) {
             // The check and the set-up of the simplification (coarse mesh, features,
             // embedding, grid) only read the input: side by side.
+            timer.start("input intersection check with set-up");
             auto check = std::async(std::launch::async, [&] {
                 return check_intersections(original, check_options, Context{}, "input intersections");
             });
             simplifier = std::make_unique<Simplifier>(original, options, context, threads, timer);
             r = check.get();
         } else {
-            r = check_intersections(original, check_options, context, "input intersections");
+            // One thread: the set-up first, then the check walks the set-up's grid
+            // instead of building a structure of its own; the check itself runs only
+            // when that walk cannot prove that it passes (for its report).
+            timer.start("set-up");
+            simplifier = std::make_unique<Simplifier>(original, options, context, threads, timer);
+            timer.start("input intersection check");
+            if (simplifier->input_surely_passes_intersection_check())
+                r.passed = true;
+            else
+                r = check_intersections(original, check_options, context, "input intersections");
         }
         if (!r.passed)
             throw AlgorithmError("the input surface intersects itself (" + std::to_string(r.problem_count) +

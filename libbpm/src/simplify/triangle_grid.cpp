@@ -7,14 +7,6 @@
 
 namespace bpm::detail {
 
-namespace {
-inline uint64_t cell_key(int64_t x, int64_t y, int64_t z) {
-    // 21 bits per axis, wrapped: collisions only cost extra candidates.
-    const uint64_t m = (1u << 21) - 1;
-    return (uint64_t(x) & m) | ((uint64_t(y) & m) << 21) | ((uint64_t(z) & m) << 42);
-}
-}  // namespace
-
 void TriangleGrid::CellTable::rehash(size_t capacity) {
     std::vector<uint64_t> old_keys = std::move(keys_);
     std::vector<std::vector<Entry>> old_lists = std::move(lists_);
@@ -51,11 +43,7 @@ std::vector<TriangleGrid::Entry>& TriangleGrid::CellTable::operator[](uint64_t k
 
 template <class F>
 void TriangleGrid::for_cells(const Vec3& lo, const Vec3& hi, F&& f) const {
-    int64_t a[3], b[3];
-    for (int k = 0; k < 3; ++k) {
-        a[k] = static_cast<int64_t>(std::floor(lo[k] / cell_));
-        b[k] = static_cast<int64_t>(std::floor(hi[k] / cell_));
-    }
+    const std::array<int64_t, 3> a = cell_of(lo), b = cell_of(hi);
     for (int64_t x = a[0]; x <= b[0]; ++x)
         for (int64_t y = a[1]; y <= b[1]; ++y)
             for (int64_t z = a[2]; z <= b[2]; ++z) f(cell_key(x, y, z));

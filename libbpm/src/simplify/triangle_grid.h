@@ -3,6 +3,7 @@
 // one while the surface changes. Internal to libbpm.
 
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -61,6 +62,27 @@ public:
         big_.clear();
     }
 
+    // For a walk over all stored pairs (simplify/input_intersections.h): the cell of a
+    // point (per axis floor(x / cell), as insert() places a box's corners), the key of a
+    // cell, f(key, entries) for every cell, and the entries of the oversized triangles,
+    // which are in no cell. A stored box lies in exactly the cells from the cell of its
+    // low corner to that of its high corner (keys wrap: one list may hold several cells).
+    std::array<int64_t, 3> cell_of(const Vec3& p) const {
+        std::array<int64_t, 3> c;
+        for (int k = 0; k < 3; ++k) c[size_t(k)] = static_cast<int64_t>(std::floor(p[k] / cell_));
+        return c;
+    }
+    static uint64_t cell_key(int64_t x, int64_t y, int64_t z) {
+        // 21 bits per axis, wrapped: collisions only cost extra candidates.
+        const uint64_t m = (1u << 21) - 1;
+        return (uint64_t(x) & m) | ((uint64_t(y) & m) << 21) | ((uint64_t(z) & m) << 42);
+    }
+    template <class F>
+    void for_each_cell(F&& f) const {
+        cells_.for_each_keyed(f);
+    }
+    const std::vector<Entry>& oversized_entries() const { return big_; }
+
 private:
     // Cell key -> the entries of that cell, open addressing with linear probing over a
     // dense array of keys: a query looks up every cell its box meets, and the buckets and
@@ -86,6 +108,11 @@ private:
         void for_each(F&& f) const {  // f(list) for every cell
             for (size_t i = 0; i < keys_.size(); ++i)
                 if (keys_[i] != kEmpty) f(lists_[i]);
+        }
+        template <class F>
+        void for_each_keyed(F&& f) const {  // f(key, list) for every cell
+            for (size_t i = 0; i < keys_.size(); ++i)
+                if (keys_[i] != kEmpty) f(keys_[i], lists_[i]);
         }
         void clear() {
             keys_.clear();
