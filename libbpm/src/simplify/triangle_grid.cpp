@@ -3,15 +3,16 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <unordered_map>
 
 namespace bpm::detail {
 
 void TriangleGrid::CellTable::rehash(size_t capacity) {
     std::vector<uint64_t> old_keys = std::move(keys_);
     std::vector<std::vector<Entry>> old_lists = std::move(lists_);
+    std::vector<uint32_t> old_counts = std::move(counts_);
     keys_.assign(capacity, kEmpty);
     lists_ = std::vector<std::vector<Entry>>(capacity);
+    counts_.assign(old_counts.empty() ? 0 : capacity, 0);
     shift_ = 64;
     for (size_t c = capacity; c > 1; c >>= 1) --shift_;
     const size_t mask = capacity - 1;
@@ -21,7 +22,20 @@ void TriangleGrid::CellTable::rehash(size_t capacity) {
         while (keys_[i] != kEmpty) i = (i + 1) & mask;
         keys_[i] = old_keys[j];
         lists_[i] = std::move(old_lists[j]);
+        if (!old_counts.empty()) counts_[i] = old_counts[j];
     }
+}
+
+void TriangleGrid::CellTable::count(uint64_t key) {
+    std::vector<Entry>& list = (*this)[key];  // may rehash, which moves the counts along
+    if (counts_.size() != keys_.size()) counts_.resize(keys_.size(), 0);
+    ++counts_[size_t(&list - lists_.data())];
+}
+
+void TriangleGrid::CellTable::reserve_counted() {
+    for (size_t i = 0; i < counts_.size(); ++i)
+        if (counts_[i] != 0) lists_[i].reserve(lists_[i].size() + counts_[i]);
+    decltype(counts_)().swap(counts_);
 }
 
 void TriangleGrid::CellTable::reserve(size_t cells) {
@@ -110,19 +124,12 @@ void TriangleGrid::insert(int32_t id, const Vec3& a, const Vec3& b, const Vec3& 
 
 void TriangleGrid::insert_all(const std::vector<int32_t>& ids, const std::vector<Tri>& corners,
                               const std::vector<Vec3>& x) {
-    std::unordered_map<uint64_t, uint32_t> counts;
-    counts.reserve(ids.size());
     for (size_t i = 0; i < ids.size(); ++i) {
         Vec3 lo, hi;
         box_of(x[corners[i][0]], x[corners[i][1]], x[corners[i][2]], lo, hi);
-        if (!oversized(lo, hi)) for_cells(lo, hi, [&](uint64_t key) { ++counts[key]; });
+        if (!oversized(lo, hi)) for_cells(lo, hi, [&](uint64_t key) { cells_.count(key); });
     }
-    cells_.reserve(counts.size());
-    for (const auto& [key, count] : counts) {
-        auto& list = cells_[key];
-        list.reserve(list.size() + count);
-    }
-    counts = {};
+    cells_.reserve_counted();
     for (size_t i = 0; i < ids.size(); ++i) {
         const Tri& c = corners[i];
         insert(ids[i], x[c[0]], x[c[1]], x[c[2]]);

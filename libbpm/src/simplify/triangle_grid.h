@@ -104,6 +104,12 @@ private:
         }
         std::vector<Entry>& operator[](uint64_t key);  // inserts an empty list if absent
         void reserve(size_t cells);                      // room for that many cells without rehashing
+        // For a bulk insertion (insert_all): count(key) once per entry to come, then
+        // reserve_counted() gives each list room for its count (and forgets the counts).
+        // The counts sit beside the keys: a std::unordered_map of them, a node per cell,
+        // was most of insert_all's first pass.
+        void count(uint64_t key);
+        void reserve_counted();
         template <class F>
         void for_each(F&& f) const {  // f(list) for every cell
             for (size_t i = 0; i < keys_.size(); ++i)
@@ -117,6 +123,7 @@ private:
         void clear() {
             keys_.clear();
             lists_.clear();
+            counts_.clear();
             size_ = 0;
             shift_ = 64;
         }
@@ -125,6 +132,7 @@ private:
         static constexpr uint64_t kEmpty = ~uint64_t(0);  // cell keys use 63 bits
         std::vector<uint64_t> keys_;  // power-of-two size, at most half full
         std::vector<std::vector<Entry>> lists_;
+        std::vector<uint32_t> counts_;  // per slot, between count() and reserve_counted(); else empty
         size_t size_ = 0;
         int shift_ = 64;  // 64 - log2(keys_.size())
         size_t home(uint64_t key) const { return size_t((key * 0x9E3779B97F4A7C15ull) >> shift_); }
