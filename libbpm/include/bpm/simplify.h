@@ -197,9 +197,10 @@ struct SimplifyOptions {
 
 // Time spent in one phase of simplify(), measured by the library.
 struct SimplifyPhaseTime {
-    // One of, in this order: "input intersection check" (one thread; with more threads
-    // the check runs beside the set-up and the phase is "input intersection check with
-    // set-up"), "set-up" (coarse mesh, features, embedding, grid), "first ranking" (cheap
+    // One of, in this order: "set-up" (coarse mesh, features, embedding, grid), "input
+    // intersection check" (one thread: on the set-up's grid; with more threads the check
+    // runs beside the set-up and the two are one phase, "input intersection check with
+    // set-up", first), "first ranking" (cheap
     // plans of every vertex), "removals" (the loop of steps, and why vertices were kept),
     // "edge flips" (SimplifyOptions::flip_edges), "export of phi" (freeing the planning
     // state, the export of the parametrization, the summary), "freeing the simplifier's

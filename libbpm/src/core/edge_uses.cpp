@@ -34,14 +34,15 @@ EdgeUses::EdgeUses(const Surface& surface) {
         Use* last = uses_.data() + offsets_[v + 1];
         if (last - first > 32) {
             std::stable_sort(first, last, by_larger);
-            continue;
+        } else {
+            for (Use* i = first + 1; i < last; ++i) {
+                const Use x = *i;
+                Use* j = i;
+                for (; j > first && by_larger(x, j[-1]); --j) *j = j[-1];
+                *j = x;
+            }
         }
-        for (Use* i = first + 1; i < last; ++i) {
-            const Use x = *i;
-            Use* j = i;
-            for (; j > first && by_larger(x, j[-1]); --j) *j = j[-1];
-            *j = x;
-        }
+        for (Use* i = first; i < last; ++i) num_edges_ += i == first || i->larger != i[-1].larger;
     }
 }
 

@@ -43,12 +43,18 @@ public:
             }
     }
 
+    // The number of distinct edges (calls of for_each_edge's visit).
+    size_t num_edges() const { return num_edges_; }
+    // The number of uses (sides kept), over all edges.
+    size_t num_uses() const { return uses_.size(); }
+
     // The edges with one use, (smaller, larger) in increasing order.
     std::vector<std::pair<int32_t, int32_t>> boundary_edges() const;
 
 private:
     std::vector<size_t> offsets_;  // per smaller vertex, into uses_ (CSR)
     std::vector<Use> uses_;        // by smaller vertex, larger vertex, triangle
+    size_t num_edges_ = 0;
 };
 
 // find_open_seam(surface, max_gap) with the surface's boundary edges given

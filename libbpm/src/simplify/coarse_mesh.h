@@ -14,6 +14,7 @@
 #include "bpm/surface.h"
 #include "core/crease_chains.h"
 #include "core/edge_key.h"
+#include "core/edge_uses.h"
 #include "simplify/vertex_triangle_lists.h"
 
 namespace bpm::detail {
@@ -25,6 +26,9 @@ public:
     // triangles can inherit a well-defined orientation; `flipped(t)` tells which
     // initial triangles were reversed relative to the original.
     explicit CoarseMesh(const Surface& original);
+    // The same with the original's sides already grouped by edge (`uses` of `original`):
+    // the orientation walk reads its neighbours off them.
+    CoarseMesh(const Surface& original, const EdgeUses& uses);
 
     const std::vector<Vec3>& positions() const { return *positions_; }
     const Tri& triangle(int32_t t) const { return triangles_[slot(t)]; }

@@ -78,21 +78,30 @@ void EdgeContentMap::erase(const value_type* entry) {
 }
 
 void Embedding::init_identity(const Surface& s, int32_t triangle_capacity) {
+    init_identity(s, triangle_capacity, EdgeUses(s));
+}
+
+void Embedding::init_identity(const Surface& s, int32_t triangle_capacity, const EdgeUses& uses) {
     original = &s;
     const int32_t nv = s.num_vertices();
+    // for_each_edge visits the edges in increasing (u, w) order, each edge's triangles in
+    // increasing order: the sorted edges and the edge -> triangles CSR as they are read.
+    // (A sort of all 3 T sides and a find_edge per side twice were ~7 % of the floor.)
     edges.clear();
-    edges.reserve(s.triangles.size() * 3);
-    for (const Tri& t : s.triangles)
-        for (int k = 0; k < 3; ++k) {
-            int32_t u = t[k], w = t[(k + 1) % 3];
-            if (u > w) std::swap(u, w);
-            edges.push_back({u, w});
-        }
-    std::sort(edges.begin(), edges.end());
-    edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
-    // Reserved for every triangle's three edges, about twice as many as there are: the
-    // other half (2.5 MB at 208k triangles) would stay resident through the whole run.
-    edges.shrink_to_fit();
+    edges.reserve(uses.num_edges());
+    smaller_vertex_edges.assign(nv + 1, 0);
+    edge_triangle_offsets.assign(1, 0);
+    edge_triangle_offsets.reserve(uses.num_edges() + 1);
+    edge_triangles.clear();
+    edge_triangles.reserve(uses.num_uses());
+    uses.for_each_edge([&](int32_t u, int32_t w, const EdgeUses::Use* at, size_t count) {
+        edges.push_back({u, w});
+        ++smaller_vertex_edges[u + 1];
+        for (size_t i = 0; i < count; ++i) edge_triangles.push_back(at[i].triangle());
+        edge_triangle_offsets.push_back(int32_t(edge_triangles.size()));
+    });
+    // The edges (u, w > u) are sorted, so those whose smaller vertex is u form one range.
+    for (int32_t v = 0; v < nv; ++v) smaller_vertex_edges[v + 1] += smaller_vertex_edges[v];
 
     vertex_edge_offsets.assign(nv + 1, 0);
     for (const auto& e : edges) {
@@ -106,23 +115,6 @@ void Embedding::init_identity(const Surface& s, int32_t triangle_capacity) {
         vertex_edges[fill[edges[e][0]]++] = e;
         vertex_edges[fill[edges[e][1]]++] = e;
     }
-
-    // The edges are sorted, so those whose smaller vertex is u form one range.
-    smaller_vertex_edges.assign(nv + 1, 0);
-    for (const auto& e : edges) ++smaller_vertex_edges[e[0] + 1];
-    for (int32_t v = 0; v < nv; ++v) smaller_vertex_edges[v + 1] += smaller_vertex_edges[v];
-
-    edge_triangle_offsets.assign(edges.size() + 1, 0);
-    for (const Tri& t : s.triangles)
-        for (int k = 0; k < 3; ++k) ++edge_triangle_offsets[find_edge(t[k], t[(k + 1) % 3]) + 1];
-    for (size_t e = 0; e < edges.size(); ++e) edge_triangle_offsets[e + 1] += edge_triangle_offsets[e];
-    edge_triangles.assign(edge_triangle_offsets.back(), 0);
-    fill.assign(edge_triangle_offsets.begin(), edge_triangle_offsets.end() - 1);
-    for (int32_t t = 0; t < s.num_triangles(); ++t)
-        for (int k = 0; k < 3; ++k) {
-            const int32_t e = find_edge(s.triangles[t][k], s.triangles[t][(k + 1) % 3]);
-            edge_triangles[fill[e]++] = t;
-        }
 
     location.assign(nv, SurfacePoint());
     for (int32_t v = 0; v < nv; ++v) location[v] = SurfacePoint::corner(v);

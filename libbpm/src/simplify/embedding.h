@@ -16,6 +16,7 @@
 
 #include "bpm/geometry.h"
 #include "bpm/surface.h"
+#include "core/edge_uses.h"
 #include "simplify/coarse_mesh.h"
 
 namespace bpm::detail {
@@ -262,6 +263,9 @@ struct Embedding {
 
     // Identity embedding: every original vertex at its own corner, no crossings.
     void init_identity(const Surface& original_surface, int32_t triangle_capacity);
+    // The same with the surface's sides already grouped by edge (`uses` of
+    // original_surface): the edges and their triangles are read off it in order.
+    void init_identity(const Surface& original_surface, int32_t triangle_capacity, const EdgeUses& uses);
 
     // Id of original edge (u,w), or -1.
     int32_t find_edge(int32_t u, int32_t w) const;

@@ -50,6 +50,10 @@ public:
     // queries would visit many cells.
     void rebuild_if_sparse();
 
+    // The grid of the alive triangles' boxes (for surely_passes_intersection_check,
+    // simplify/input_intersections.h, before the mesh changes).
+    const TriangleGrid& grid() const { return grid_; }
+
     // Frees the grid once no more tests will be asked (before the export of phi, so that
     // the memory is reused by it). intersects_rest() must not be called afterwards.
     void release() { grid_ = TriangleGrid(1.0); }

@@ -28,12 +28,14 @@
 
 #include "bpm/check.h"
 #include "bpm/errors.h"
+#include "core/edge_uses.h"
 #include "core/free_memory.h"
 #include "core/number_text.h"
 #include "simplify/coarse_mesh.h"
 #include "simplify/edge_flip.h"
 #include "simplify/embedding.h"
 #include "simplify/export_phi.h"
+#include "simplify/input_intersections.h"
 #include "simplify/intersection_test.h"
 #include "simplify/overlay.h"
 #include "simplify/planning_pool.h"
@@ -225,11 +227,27 @@ class Simplifier {
 public:
     Simplifier(const Surface& original, const SimplifyOptions& options, const Context& context, int threads,
                PhaseTimer& timer)
+        : Simplifier(original, options, context, threads, timer, EdgeUses(original)) {}
+
+    SimplifyResult run(Parametrization& out);
+
+    // True when check_intersections(original) passes, decided on the grid of the set-up
+    // (simplify/input_intersections.h); false: run the check for its verdict and report.
+    // Before run().
+    bool input_surely_passes_intersection_check() const {
+        return surely_passes_intersection_check(original_, intersections_.grid());
+    }
+
+private:
+    // `uses`: the original's sides grouped by edge, counted once for the coarse mesh's
+    // orientation walk and the embedding's edges (each used to collect its own).
+    Simplifier(const Surface& original, const SimplifyOptions& options, const Context& context, int threads,
+               PhaseTimer& timer, const EdgeUses& uses)
         : original_(original),
           options_(options),
           context_(context),
           timer_(timer),
-          mesh_(original),
+          mesh_(original, uses),
           diagonal_(bounding_box_diagonal(original)),
           target_(target_vertex_count(options, original.num_vertices())),
           intersections_(mesh_) {
@@ -262,7 +280,7 @@ public:
             oriented_normals_[t] = double(sign_[t]) * triangle_normal(original.vertices[c[0]], original.vertices[c[1]],
                                                                        original.vertices[c[2]]);
         }
-        embedding_.init_identity(original, mesh_.triangle_capacity());
+        embedding_.init_identity(original, mesh_.triangle_capacity(), uses);
         // The ridge guard (simplify/ridge_guard.h), only when asked for.
         if (options.min_ridge_angle_degrees > 0) vertex_ridges_ = vertex_ridge_angles(original, embedding_);
         remover_ = std::make_unique<VertexRemover>(mesh_, embedding_, sign_, oriented_normals_, vertex_ridges_);
@@ -283,9 +301,6 @@ public:
         stamp_.assign(original.vertices.size(), 0);
     }
 
-    SimplifyResult run(Parametrization& out);
-
-private:
     const Surface& original_;
     const SimplifyOptions& options_;
     const Context& context_;
@@ -1049,17 +1064,26 @@ SimplifyResult simplify_checked(const Surface& original, const SimplifyOptions& 
         CheckOptions check_options;
         check_options.max_problems = 1;
         CheckResult r;
-        timer.start(threads > 1 ? "input intersection check with set-up" : "input intersection check");
         if (threads > 1) {
             // The check and the set-up of the simplification (coarse mesh, features,
             // embedding, grid) only read the input: side by side.
+            timer.start("input intersection check with set-up");
             auto check = std::async(std::launch::async, [&] {
                 return check_intersections(original, check_options, Context{}, "input intersections");
             });
             simplifier = std::make_unique<Simplifier>(original, options, context, threads, timer);
             r = check.get();
         } else {
-            r = check_intersections(original, check_options, context, "input intersections");
+            // One thread: the set-up first, then the check walks the set-up's grid
+            // instead of building a structure of its own; the check itself runs only
+            // when that walk cannot prove that it passes (for its report).
+            timer.start("set-up");
+            simplifier = std::make_unique<Simplifier>(original, options, context, threads, timer);
+            timer.start("input intersection check");
+            if (simplifier->input_surely_passes_intersection_check())
+                r.passed = true;
+            else
+                r = check_intersections(original, check_options, context, "input intersections");
         }
         if (!r.passed)
             throw AlgorithmError("the input surface intersects itself (" + std::to_string(r.problem_count) +

@@ -3,23 +3,16 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <unordered_map>
 
 namespace bpm::detail {
-
-namespace {
-inline uint64_t cell_key(int64_t x, int64_t y, int64_t z) {
-    // 21 bits per axis, wrapped: collisions only cost extra candidates.
-    const uint64_t m = (1u << 21) - 1;
-    return (uint64_t(x) & m) | ((uint64_t(y) & m) << 21) | ((uint64_t(z) & m) << 42);
-}
-}  // namespace
 
 void TriangleGrid::CellTable::rehash(size_t capacity) {
     std::vector<uint64_t> old_keys = std::move(keys_);
     std::vector<std::vector<Entry>> old_lists = std::move(lists_);
+    std::vector<uint32_t> old_counts = std::move(counts_);
     keys_.assign(capacity, kEmpty);
     lists_ = std::vector<std::vector<Entry>>(capacity);
+    counts_.assign(old_counts.empty() ? 0 : capacity, 0);
     shift_ = 64;
     for (size_t c = capacity; c > 1; c >>= 1) --shift_;
     const size_t mask = capacity - 1;
@@ -29,7 +22,20 @@ void TriangleGrid::CellTable::rehash(size_t capacity) {
         while (keys_[i] != kEmpty) i = (i + 1) & mask;
         keys_[i] = old_keys[j];
         lists_[i] = std::move(old_lists[j]);
+        if (!old_counts.empty()) counts_[i] = old_counts[j];
     }
+}
+
+void TriangleGrid::CellTable::count(uint64_t key) {
+    std::vector<Entry>& list = (*this)[key];  // may rehash, which moves the counts along
+    if (counts_.size() != keys_.size()) counts_.resize(keys_.size(), 0);
+    ++counts_[size_t(&list - lists_.data())];
+}
+
+void TriangleGrid::CellTable::reserve_counted() {
+    for (size_t i = 0; i < counts_.size(); ++i)
+        if (counts_[i] != 0) lists_[i].reserve(lists_[i].size() + counts_[i]);
+    decltype(counts_)().swap(counts_);
 }
 
 void TriangleGrid::CellTable::reserve(size_t cells) {
@@ -51,11 +57,7 @@ std::vector<TriangleGrid::Entry>& TriangleGrid::CellTable::operator[](uint64_t k
 
 template <class F>
 void TriangleGrid::for_cells(const Vec3& lo, const Vec3& hi, F&& f) const {
-    int64_t a[3], b[3];
-    for (int k = 0; k < 3; ++k) {
-        a[k] = static_cast<int64_t>(std::floor(lo[k] / cell_));
-        b[k] = static_cast<int64_t>(std::floor(hi[k] / cell_));
-    }
+    const std::array<int64_t, 3> a = cell_of(lo), b = cell_of(hi);
     for (int64_t x = a[0]; x <= b[0]; ++x)
         for (int64_t y = a[1]; y <= b[1]; ++y)
             for (int64_t z = a[2]; z <= b[2]; ++z) f(cell_key(x, y, z));
@@ -122,19 +124,12 @@ void TriangleGrid::insert(int32_t id, const Vec3& a, const Vec3& b, const Vec3& 
 
 void TriangleGrid::insert_all(const std::vector<int32_t>& ids, const std::vector<Tri>& corners,
                               const std::vector<Vec3>& x) {
-    std::unordered_map<uint64_t, uint32_t> counts;
-    counts.reserve(ids.size());
     for (size_t i = 0; i < ids.size(); ++i) {
         Vec3 lo, hi;
         box_of(x[corners[i][0]], x[corners[i][1]], x[corners[i][2]], lo, hi);
-        if (!oversized(lo, hi)) for_cells(lo, hi, [&](uint64_t key) { ++counts[key]; });
+        if (!oversized(lo, hi)) for_cells(lo, hi, [&](uint64_t key) { cells_.count(key); });
     }
-    cells_.reserve(counts.size());
-    for (const auto& [key, count] : counts) {
-        auto& list = cells_[key];
-        list.reserve(list.size() + count);
-    }
-    counts = {};
+    cells_.reserve_counted();
     for (size_t i = 0; i < ids.size(); ++i) {
         const Tri& c = corners[i];
         insert(ids[i], x[c[0]], x[c[1]], x[c[2]]);

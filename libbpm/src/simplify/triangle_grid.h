@@ -3,6 +3,7 @@
 // one while the surface changes. Internal to libbpm.
 
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -61,6 +62,27 @@ public:
         big_.clear();
     }
 
+    // For a walk over all stored pairs (simplify/input_intersections.h): the cell of a
+    // point (per axis floor(x / cell), as insert() places a box's corners), the key of a
+    // cell, f(key, entries) for every cell, and the entries of the oversized triangles,
+    // which are in no cell. A stored box lies in exactly the cells from the cell of its
+    // low corner to that of its high corner (keys wrap: one list may hold several cells).
+    std::array<int64_t, 3> cell_of(const Vec3& p) const {
+        std::array<int64_t, 3> c;
+        for (int k = 0; k < 3; ++k) c[size_t(k)] = static_cast<int64_t>(std::floor(p[k] / cell_));
+        return c;
+    }
+    static uint64_t cell_key(int64_t x, int64_t y, int64_t z) {
+        // 21 bits per axis, wrapped: collisions only cost extra candidates.
+        const uint64_t m = (1u << 21) - 1;
+        return (uint64_t(x) & m) | ((uint64_t(y) & m) << 21) | ((uint64_t(z) & m) << 42);
+    }
+    template <class F>
+    void for_each_cell(F&& f) const {
+        cells_.for_each_keyed(f);
+    }
+    const std::vector<Entry>& oversized_entries() const { return big_; }
+
 private:
     // Cell key -> the entries of that cell, open addressing with linear probing over a
     // dense array of keys: a query looks up every cell its box meets, and the buckets and
@@ -82,14 +104,26 @@ private:
         }
         std::vector<Entry>& operator[](uint64_t key);  // inserts an empty list if absent
         void reserve(size_t cells);                      // room for that many cells without rehashing
+        // For a bulk insertion (insert_all): count(key) once per entry to come, then
+        // reserve_counted() gives each list room for its count (and forgets the counts).
+        // The counts sit beside the keys: a std::unordered_map of them, a node per cell,
+        // was most of insert_all's first pass.
+        void count(uint64_t key);
+        void reserve_counted();
         template <class F>
         void for_each(F&& f) const {  // f(list) for every cell
             for (size_t i = 0; i < keys_.size(); ++i)
                 if (keys_[i] != kEmpty) f(lists_[i]);
         }
+        template <class F>
+        void for_each_keyed(F&& f) const {  // f(key, list) for every cell
+            for (size_t i = 0; i < keys_.size(); ++i)
+                if (keys_[i] != kEmpty) f(keys_[i], lists_[i]);
+        }
         void clear() {
             keys_.clear();
             lists_.clear();
+            counts_.clear();
             size_ = 0;
             shift_ = 64;
         }
@@ -98,6 +132,7 @@ private:
         static constexpr uint64_t kEmpty = ~uint64_t(0);  // cell keys use 63 bits
         std::vector<uint64_t> keys_;  // power-of-two size, at most half full
         std::vector<std::vector<Entry>> lists_;
+        std::vector<uint32_t> counts_;  // per slot, between count() and reserve_counted(); else empty
         size_t size_ = 0;
         int shift_ = 64;  // 64 - log2(keys_.size())
         size_t home(uint64_t key) const { return size_t((key * 0x9E3779B97F4A7C15ull) >> shift_); }
