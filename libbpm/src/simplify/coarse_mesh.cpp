@@ -91,20 +91,10 @@ CoarseMesh::CoarseMesh(const Surface& original, const EdgeUses& uses)
 // ~5 % of the floor on 832k triangles, most of it waiting for the corners).
 void CoarseMesh::edge_triangles(int32_t a, int32_t b, std::vector<int32_t>& out) const {
     out.clear();
-    const auto la = vertex_triangles_.of(a);
-    const auto lb = vertex_triangles_.of(b);
-    auto i = la.begin(), j = lb.begin();
-    while (i != la.end() && j != lb.end()) {
-        if (*i < *j)
-            ++i;
-        else if (*j < *i)
-            ++j;
-        else {
-            out.push_back(*i);
-            ++i;
-            ++j;
-        }
-    }
+    for_each_common(vertex_triangles_.of(a), vertex_triangles_.of(b), [&](int32_t t) {
+        out.push_back(t);
+        return true;
+    });
 }
 
 // The triangle lists are sorted by id (ids only grow: a new triangle goes to the end,
@@ -113,18 +103,12 @@ void CoarseMesh::edge_triangles(int32_t a, int32_t b, std::vector<int32_t>& out)
 // these lookups run for every ear a planner considers).
 bool CoarseMesh::has_edge(int32_t a, int32_t b) const {
     if (!(neighbour_bits_[a] & vertex_bit(b))) return false;
-    const auto la = vertex_triangles_.of(a);
-    const auto lb = vertex_triangles_.of(b);
-    auto i = la.begin(), j = lb.begin();
-    while (i != la.end() && j != lb.end()) {
-        if (*i < *j)
-            ++i;
-        else if (*j < *i)
-            ++j;
-        else
-            return true;
-    }
-    return false;
+    bool found = false;
+    for_each_common(vertex_triangles_.of(a), vertex_triangles_.of(b), [&](int32_t) {
+        found = true;
+        return false;  // one is enough
+    });
+    return found;
 }
 
 int32_t CoarseMesh::find_triangle(int32_t a, int32_t b, int32_t c) const {

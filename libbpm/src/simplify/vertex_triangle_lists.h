@@ -121,4 +121,23 @@ private:
     std::vector<int32_t> flat_;
 };
 
+// Calls visit(t) for every triangle id on both sorted lists `a` and `b` (the triangles on
+// an edge, when they are the lists of its two ends), in increasing order, until visit
+// returns false. Merging the two short lists needs no triangle's corners, which are
+// scattered in memory (CoarseMesh::has_edge runs for every ear a planner considers).
+template <class Visit>
+void for_each_common(VertexTriangleLists::View a, VertexTriangleLists::View b, Visit&& visit) {
+    for (const int32_t *i = a.begin(), *j = b.begin(); i != a.end() && j != b.end();) {
+        if (*i < *j) {
+            ++i;
+        } else if (*j < *i) {
+            ++j;
+        } else {
+            if (!visit(*i)) return;
+            ++i;
+            ++j;
+        }
+    }
+}
+
 }  // namespace bpm::detail
