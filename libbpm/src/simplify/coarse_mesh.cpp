@@ -231,9 +231,12 @@ void CoarseMesh::set_neighbour_bits(int32_t v) {
 void CoarseMesh::mark_feature_edges(const CreaseRule& rule) {
     // First every edge in the order of the walk, then the marks in that order (the order
     // the feature edges went into feature_edges_ before the chains: the same map).
-    std::vector<std::pair<int32_t, int32_t>> walk;  // per edge: (index into hard, -1) or (index into sheet, 0)
+    struct WalkedEdge {
+        int32_t a, b;
+        int32_t sheet;  // index into `sheet`; -1: a hard edge (not two triangles of one patch)
+    };
+    std::vector<WalkedEdge> walk;
     std::vector<SheetEdge> sheet;
-    std::vector<std::pair<int32_t, int32_t>> hard;
     std::vector<int32_t> around;
     for (int32_t t = 0; t < int32_t(triangles_.size()); ++t) {
         if (!alive_[t]) continue;
@@ -246,20 +249,19 @@ void CoarseMesh::mark_feature_edges(const CreaseRule& rule) {
             edge_triangles(a, b, around);
             if (around.empty() || around[0] != t) continue;
             if (around.size() != 2 || patch(around[0]) != patch(around[1])) {
-                walk.emplace_back(int32_t(hard.size()), -1);
-                hard.emplace_back(a, b);
+                walk.push_back({a, b, -1});
                 continue;
             }
-            walk.emplace_back(int32_t(sheet.size()), 0);
+            walk.push_back({a, b, int32_t(sheet.size())});
             sheet.push_back({a, b, triangles_[around[0]], triangles_[around[1]]});
         }
     }
     const std::vector<uint8_t> crease = find_creases(*positions_, sheet, rule);
-    for (const auto& [i, kind] : walk) {
-        if (kind < 0)
-            mark(hard[size_t(i)].first, hard[size_t(i)].second, Feature::Hard);
-        else if (crease[size_t(i)])
-            mark(sheet[size_t(i)].u, sheet[size_t(i)].w, Feature::Crease);
+    for (const WalkedEdge& e : walk) {
+        if (e.sheet < 0)
+            mark(e.a, e.b, Feature::Hard);
+        else if (crease[size_t(e.sheet)])
+            mark(e.a, e.b, Feature::Crease);
     }
 }
 
