@@ -91,6 +91,7 @@ struct BpmFeatureSummary {
 // The feature structure of `surface` (see BpmFeatureSummary; 180 degrees = no creases;
 // crease_chain_angle_degrees 180 = no creases on long lines below the feature angle).
 // \pre triangle indices in range.
+// \throw bpm::OptionError for an angle outside [0, 180] or a length outside [0, 1] (NaN too).
 BpmFeatureSummary summarize_features(const Surface& surface, double feature_angle_degrees = 60.0,
                                      double crease_chain_angle_degrees = 20.0, double crease_chain_length = 0.10);
 
@@ -135,7 +136,8 @@ struct BpmInfo {
 // Reads `path` ("-" = standard input; gzip-compressed files are read too), only what is
 // reported unless options.distortion asks for the whole file (read_bpm).
 // \throw bpm::InputError as read_bpm does (missing file, not HDF5, truncated, ...); with
-// options.distortion also when phi cannot be measured safely (indices out of range).
+// options.distortion also when phi cannot be measured safely (indices out of range);
+// bpm::OptionError (before reading) for options out of range, as summarize_features.
 BpmInfo read_bpm_info(const std::string& path, const BpmInfoOptions& options = {});
 
 // The summary of a file already in memory (file and file_bytes left as given).

@@ -61,4 +61,10 @@ struct CreaseRule {
 std::vector<uint8_t> find_creases(const std::vector<Vec3>& positions, const std::vector<SheetEdge>& edges,
                                   const CreaseRule& rule);
 
+// Throws bpm::OptionError unless both angles are in [0, 180] degrees and the chain length
+// (a fraction of the diagonal) in [0, 1]; NaN is refused. For the library calls that take
+// the rule's numbers directly (bpm-info's summary); SimplifyOptions and SmoothOptions check
+// the same ranges with their own messages.
+void check_crease_rule_numbers(double feature_angle_degrees, double chain_angle_degrees, double chain_length);
+
 }  // namespace bpm::detail

@@ -10,6 +10,7 @@
 
 #include "bpm/check.h"
 #include "bpm/errors.h"
+#include "core/crease_chains.h"
 #include "core/file_util.h"
 #include "io/bpm_outline.h"
 
@@ -106,6 +107,9 @@ BpmInfo summarize_bpm(const BpmFile& file, const BpmInfoOptions& options) {
 }
 
 BpmInfo read_bpm_info(const std::string& path, const BpmInfoOptions& options) {
+    // Before the file is read: a bad option is the caller's error whatever the file holds.
+    detail::check_crease_rule_numbers(options.feature_angle_degrees, options.crease_chain_angle_degrees,
+                                      options.crease_chain_length);
     BpmInfo info;
     if (options.distortion) {
         const BpmFile file = read_bpm(path);

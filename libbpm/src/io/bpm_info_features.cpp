@@ -24,6 +24,7 @@ int32_t find_root(std::vector<int32_t>& parent, int32_t x) {
 
 BpmFeatureSummary summarize_features(const Surface& surface, double feature_angle_degrees,
                                      double crease_chain_angle_degrees, double crease_chain_length) {
+    detail::check_crease_rule_numbers(feature_angle_degrees, crease_chain_angle_degrees, crease_chain_length);
     BpmFeatureSummary out;
     out.feature_angle_degrees = feature_angle_degrees;
     out.crease_chain_angle_degrees = crease_chain_angle_degrees;

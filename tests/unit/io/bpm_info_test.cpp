@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <filesystem>
+#include <limits>
 #include <string>
 
 #include "bpm/bpm_file.h"
@@ -104,6 +105,27 @@ TEST_CASE("bpm-info: a long shallow crease counts as the simplifier counts it", 
     const BpmFeatureSummary off = summarize_features(lens, 60.0, 180.0);
     CHECK(off.crease_edges == 0);
     CHECK(off.chain_crease_edges == 0);
+}
+
+TEST_CASE("bpm-info: angles and lengths out of range are refused as the simplifier refuses them", "[info][features]") {
+    // A negative or NaN angle made every sheet edge a crease (or none) without a word; the
+    // library call names the option, as SimplifyOptions' checks do.
+    const Surface lens = fixtures::ridged_lens(48, 12, 20.0);
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    CHECK_THROWS_AS(summarize_features(lens, -1.0), OptionError);
+    CHECK_THROWS_AS(summarize_features(lens, 181.0), OptionError);
+    CHECK_THROWS_AS(summarize_features(lens, nan), OptionError);
+    CHECK_THROWS_AS(summarize_features(lens, 60.0, -5.0), OptionError);
+    CHECK_THROWS_AS(summarize_features(lens, 60.0, nan), OptionError);
+    CHECK_THROWS_AS(summarize_features(lens, 60.0, 20.0, 1.5), OptionError);
+    CHECK_THROWS_AS(summarize_features(lens, 60.0, 20.0, -0.1), OptionError);
+    CHECK_THROWS_WITH(summarize_features(lens, 60.0, 20.0, 1.5), Catch::Contains("crease_chain_length"));
+    CHECK_NOTHROW(summarize_features(lens, 180.0, 180.0, 1.0));
+    CHECK_NOTHROW(summarize_features(lens, 0.0, 0.0, 0.0));
+    // read_bpm_info refuses them before it opens the file (this one does not exist).
+    BpmInfoOptions bad;
+    bad.crease_chain_angle_degrees = -1;
+    CHECK_THROWS_AS(read_bpm_info("/nonexistent/bpm-info-options.bpm", bad), OptionError);
 }
 
 TEST_CASE("bpm-info: feature edges of every kind, lines and loops on fixtures", "[info][features]") {
