@@ -55,7 +55,9 @@ struct RefineOptions {
     // vertex is on the coarse surface, which does not intersect itself, so this ends. Then
     // five bisection steps between each vertex's free and last intersecting fraction bring
     // the held-back vertices back towards phi as far as they stay free of intersections
-    // (RefinedSurface::vertex_phi_fraction). Adaptive refinement measures the deviation
+    // (RefinedSurface::vertex_phi_fraction); adaptive refinement then tries each vertex
+    // still held back farther than the tolerance alone at phi, and bisects it alone four
+    // times where that intersects. Adaptive refinement measures the deviation
     // again with the vertices where they end up, refines the triangles still above the
     // tolerance and runs the remedy again (RefineResult::adaptive_passes). Off by default
     // in the library so that a measure of phi (bpm::refined_quality) sees the vertices at
