@@ -483,7 +483,7 @@ PYBIND11_MODULE(_bpm, m) {
              "parameter_barycentrics (n, 3)), holding a vertex back where phi would invert or flatten\n"
              "a tetrahedron, and smooths the interior. Returns (new vertices (n, 3), dict of counts:\n"
              "boundary_vertices, at_phi, held_back, max_distance, inverted_before/after, ...).")
-        .def("refine", &File::refine, py::arg("levels") = -1, py::arg("tolerance") = 0.0, py::arg("max_level") = 8,
+        .def("refine", &File::refine, py::arg("levels") = -1, py::arg("tolerance") = 0.0, py::arg("max_level") = 10,
              "The coarse surface refined through phi (bpm/refine.h): levels=K splits each coarse\n"
              "triangle into 4**K (0 <= K <= 10); or adaptive with tolerance > 0 (fraction of the\n"
              "bounding-box diagonal of S0). Returns (vertices (n, 3) float64, triangles (m, 3) int32).")

@@ -631,6 +631,13 @@ public:
             if (options.prevent_intersections) hold_back(result, context);
             std::vector<size_t> split;
             bound(result, &split, &options, &origin);
+            // The next pass splits what the remedy left above the tolerance (`split`, as
+            // before release): releasing first and splitting less made femur 10 % at
+            // T = 0.0003 worse in pass 2 (bound 2.3e-3 -> 3.3e-3) and stopped the passes.
+            if (options.prevent_intersections && release(options.tolerance * diagonal_, context) > 0) {
+                count_held_back(result);
+                bound(result, nullptr, &options, &origin);
+            }
             context.debug("refine: pass " + std::to_string(history.passes() + 1) + ": bound " +
                           detail::three_digit_text(result.hausdorff_bound) + ", " +
                           std::to_string(result.triangles_above_tolerance) + " triangles above the tolerance (" +
@@ -943,12 +950,152 @@ public:
         }
     }
 
+    // After grow_back, each vertex held back farther than `above` (absolute) from phi,
+    // farthest first, is tried alone at phi and, where that intersects, bisected alone four
+    // times between its fraction and 1; a trial that intersects is undone. Why: grow_back
+    // moves all vertices at once and only within the last halving (f to 2 f), so a vertex
+    // whose intersections were resolved by later moves of others (its parents, its
+    // neighbours) stays held back: femur 10 % at T = 0.001, pass 1, the farthest one (1.04e-3
+    // from phi, f = 0.625) intersected nothing when put back at phi alone. Only the
+    // vertices that put their triangles above the tolerance are tried (each trial checks
+    // the triangles around it), and every kept state is free of intersections.
+    int64_t release(double above, const Context& context) {
+        Placement& pl = placement_;
+        Surface& s = out_.surface;
+        std::vector<double>& f = out_.vertex_phi_fraction;
+        const size_t nv = s.vertices.size(), nc = p_.coarse.vertices.size(), nt = s.triangles.size();
+        std::vector<std::pair<double, int32_t>> far;
+        for (size_t v = nc; v < nv; ++v) {
+            if (f[v] >= 1.0) continue;
+            const double d = distance(s.vertices[v], pl.at_phi[v]);
+            if (d > above) far.emplace_back(d, int32_t(v));
+        }
+        if (far.empty()) return 0;
+        std::sort(far.begin(), far.end(), [](const auto& a, const auto& b) {
+            return a.first > b.first || (a.first == b.first && a.second < b.second);
+        });
+        // Held-back children of every vertex (they follow their parents), incident triangles.
+        std::vector<std::vector<int32_t>> followers(nv), incident(nv);
+        for (size_t w = nc; w < nv; ++w) {
+            if (f[w] >= 1.0) continue;
+            const auto [a, b] = parents_[w - nc];
+            followers[size_t(a)].push_back(int32_t(w));
+            followers[size_t(b)].push_back(int32_t(w));
+        }
+        for (size_t t = 0; t < nt; ++t)
+            for (int32_t v : s.triangles[t]) incident[size_t(v)].push_back(int32_t(t));
+        // Places the vertices of `moving` (ascending ids: parents first) as place() does.
+        auto place_moving = [&](const std::vector<int32_t>& moving) {
+            for (int32_t w : moving) {
+                const auto [a, b] = parents_[size_t(w) - nc];
+                const bool parents_flat = pl.on_coarse[size_t(a)] && pl.on_coarse[size_t(b)];
+                const Vec3 m = parents_flat ? pl.flat[size_t(w)] : mid(s.vertices[size_t(a)], s.vertices[size_t(b)]);
+                const double fw = f[size_t(w)];
+                s.vertices[size_t(w)] = fw >= 1.0 ? pl.at_phi[size_t(w)] : fw > 0 ? m + fw * (pl.at_phi[size_t(w)] - m) : m;
+                pl.on_coarse[size_t(w)] = fw < 1.0 && parents_flat && fw == 0;
+            }
+        };
+        CheckOptions all;
+        all.max_problems = 1;
+        int64_t moved = 0;
+        std::vector<uint8_t> in_moving(nv, 0);
+        for (const auto& [d, v] : far) {
+            if (f[size_t(v)] >= 1.0) continue;
+            // v and the held-back vertices that follow it: their positions are affine in f_v.
+            std::vector<int32_t> moving{v};
+            in_moving[size_t(v)] = 1;
+            for (size_t k = 0; k < moving.size(); ++k)
+                for (int32_t w : followers[size_t(moving[k])])
+                    if (!in_moving[size_t(w)] && f[size_t(w)] < 1.0) in_moving[size_t(w)] = 1, moving.push_back(w);
+            std::sort(moving.begin(), moving.end());
+            // Every triangle a trial can meet: the box of the moving triangles at f_v and at
+            // f_v = 1 holds them at every fraction between (positions affine in f_v).
+            std::vector<int32_t> moving_tris;
+            for (int32_t w : moving)
+                for (int32_t t : incident[size_t(w)]) moving_tris.push_back(t);
+            std::sort(moving_tris.begin(), moving_tris.end());
+            moving_tris.erase(std::unique(moving_tris.begin(), moving_tris.end()), moving_tris.end());
+            const double start = f[size_t(v)];
+            const std::vector<Vec3> before = [&] {
+                std::vector<Vec3> x;
+                for (int32_t w : moving) x.push_back(s.vertices[size_t(w)]);
+                return x;
+            }();
+            Vec3 lo = s.vertices[size_t(v)], hi = lo;
+            auto grow = [&]() {
+                for (int32_t t : moving_tris)
+                    for (int32_t w : s.triangles[size_t(t)])
+                        for (size_t k = 0; k < 3; ++k)
+                            lo[k] = std::min(lo[k], s.vertices[size_t(w)][k]), hi[k] = std::max(hi[k], s.vertices[size_t(w)][k]);
+            };
+            grow();
+            f[size_t(v)] = 1.0;
+            place_moving(moving);
+            grow();
+            // Slack for rounding: at f_v = 0 a follower may sit at its flat point, computed
+            // from the coarse corners instead of as its parents' midpoint.
+            for (size_t k = 0; k < 3; ++k) lo[k] -= 1e-9 * diagonal_, hi[k] += 1e-9 * diagonal_;
+            // The sub-surface: every triangle whose box meets that box (the others cannot
+            // meet a moving triangle), with its own vertex numbering.
+            Surface sub;
+            std::unordered_map<int32_t, int32_t> local;
+            std::vector<int32_t> global;
+            for (size_t t = 0; t < nt; ++t) {
+                const Tri& c = s.triangles[t];
+                bool out = false;
+                for (size_t k = 0; k < 3 && !out; ++k) {
+                    const double a = s.vertices[size_t(c[0])][k], b = s.vertices[size_t(c[1])][k], e = s.vertices[size_t(c[2])][k];
+                    out = std::max({a, b, e}) < lo[k] || std::min({a, b, e}) > hi[k];
+                }
+                if (out) continue;
+                Tri l;
+                for (size_t k = 0; k < 3; ++k) {
+                    const auto [it, added] = local.emplace(c[k], int32_t(global.size()));
+                    if (added) global.push_back(c[k]);
+                    l[k] = it->second;
+                }
+                sub.triangles.push_back(l);
+                if (!s.patches.empty()) sub.patches.push_back(s.patches[t]);
+            }
+            auto free_of_intersections = [&]() {
+                sub.vertices.resize(global.size());
+                for (size_t i = 0; i < global.size(); ++i) sub.vertices[i] = s.vertices[size_t(global[i])];
+                return check_intersections(sub, all, Context{}, "refined intersections").passed;
+            };
+            double lo_f = start, hi_f = 1.0;
+            for (int step = 0; step < 5; ++step) {
+                const double trial = step == 0 ? 1.0 : 0.5 * (lo_f + hi_f);
+                f[size_t(v)] = trial;
+                place_moving(moving);
+                if (free_of_intersections()) {
+                    lo_f = trial;
+                    if (step == 0) break;
+                    continue;
+                }
+                hi_f = trial;
+            }
+            f[size_t(v)] = lo_f;
+            if (lo_f == start) {
+                for (size_t i = 0; i < moving.size(); ++i) s.vertices[size_t(moving[i])] = before[i];
+                place_moving(moving);  // on_coarse as before
+            } else {
+                place_moving(moving);
+                ++moved;
+            }
+            for (int32_t w : moving) in_moving[size_t(w)] = 0;
+        }
+        context.debug("refine: intersection remedy: " + std::to_string(moved) + " of " + std::to_string(far.size()) +
+                      " vertices held back farther than the tolerance moved closer to phi alone");
+        return moved;
+    }
+
     // RefineOptions::prevent_intersections: holds back the vertices of intersecting pairs
     // (see HELD-BACK VERTICES), then grows them back towards phi as far as they stay free.
     void hold_back(RefineResult& result, const Context& context) {
         Surface& s = out_.surface;
         const size_t nv = s.vertices.size(), coarse_vertices = p_.coarse.vertices.size();
-        Placement pl;
+        placement_ = Placement{};
+        Placement& pl = placement_;
         pl.at_phi = s.vertices;
         pl.flat.resize(nv);
         pl.on_coarse.assign(nv, 0);
@@ -1010,11 +1157,20 @@ public:
                           " of them in no intersecting pair: ancestors of a vertex at its parents' midpoint)");
         }
         grow_back(halvings, pl, context);
-        for (size_t v = coarse_vertices; v < nv; ++v) {
+        count_held_back(result);
+    }
+
+    // RefineResult::held_back_vertices and max_held_back, and moved_, from the fractions.
+    void count_held_back(RefineResult& result) {
+        const Surface& s = out_.surface;
+        const std::vector<double>& f = out_.vertex_phi_fraction;
+        result.held_back_vertices = 0;
+        result.max_held_back = 0;
+        for (size_t v = p_.coarse.vertices.size(); v < s.vertices.size(); ++v) {
+            moved_[v] = f[v] < 1.0;
             if (f[v] >= 1.0) continue;
-            moved_[v] = 1;
             ++result.held_back_vertices;
-            result.max_held_back = std::max(result.max_held_back, distance(s.vertices[v], pl.at_phi[v]) / diagonal_);
+            result.max_held_back = std::max(result.max_held_back, distance(s.vertices[v], placement_.at_phi[v]) / diagonal_);
         }
     }
 
@@ -1028,6 +1184,7 @@ private:
     // Per new vertex (index - #coarse vertices): the edge it is the midpoint of.
     std::vector<std::pair<int32_t, int32_t>> parents_;
     std::vector<uint8_t> moved_;  // per vertex: not at phi (hold_back)
+    Placement placement_;         // of the last hold_back (release continues it)
     detail::PlanarRegions planar_;  // see PLANAR REGIONS
     int32_t pass_ = 0;            // the adaptive pass running (1, 2, ...); 0 = uniform
 };
