@@ -107,6 +107,7 @@ MANUAL_SECTIONS = [
     "planar-regions-drift.md",
     "feature-angle-and-convergence.md",
     "crease-chains.md",
+    "loop4.md",
 ]
 RUN_RECORD = "all.json"  # in the results folder: what `all` ran, for --assemble
 QUICK_REFINE_MESHES = "femur"
