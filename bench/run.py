@@ -110,6 +110,7 @@ MANUAL_SECTIONS = [
     "feature-angle-and-convergence.md",
     "crease-chains.md",
     "adaptive-fold-splitting.md",
+    "loop4.md",
 ]
 RUN_RECORD = "all.json"  # in the results folder: what `all` ran, for --assemble
 QUICK_REFINE_MESHES = "femur"

@@ -44,7 +44,7 @@ Vec3 normal_of(const std::vector<Vec3>& x, const Tri& t) {
 
 double sharpest_changed_ridge(const CoarseMesh& mesh, const std::vector<int32_t>& removed,
                               const std::vector<Tri>& added, int32_t feature_a, int32_t feature_b,
-                              RidgeScratch& scratch) {
+                              RidgeScratch& scratch, const std::vector<int32_t>& hole_sides) {
     // Compared as cosines (the ridge angle falls as the cosine does), one acos at the end:
     // planning runs this for every plan, cheap ones included. The result is the smallest
     // cosine over the counted edges, so the edges may be judged in any order: the sides of
@@ -72,6 +72,37 @@ double sharpest_changed_ridge(const CoarseMesh& mesh, const std::vector<int32_t>
             const int32_t u = t[k], w = t[(k + 1) % 3];
             if ((u == feature_a && w == feature_b) || (u == feature_b && w == feature_a)) continue;
             if (mesh.is_feature_edge(u, w)) continue;
+            const int32_t known = hole_sides.empty() ? -1 : hole_sides[3 * i + size_t(k)];
+            if (known < -1) {
+                // A diagonal the caller named with its other triangle.
+                const size_t twin = size_t(-2 - known);
+                if (twin > i) continue;
+                lowest = std::min(lowest, oriented_cosine(normals[i], t, normals[twin], added[twin], u, w));
+                continue;
+            }
+            const int32_t known_inside = known;
+            if (known_inside >= 0) {
+                // A side the caller named, with its removed triangle: the other triangle on
+                // it is the one the two lists share besides that one (exactly one, and not
+                // removed, as below).
+                // Each of u's few triangles tested against all of w's (no data-dependent
+                // branch in the inner loop, unlike a merge of the sorted lists).
+                int32_t outside = -1, common = 0;
+                bool has_inside = false;
+                const auto lu = mesh.triangles_of(u), lw = mesh.triangles_of(w);
+                for (const int32_t p : lu) {
+                    bool on_w = false;
+                    for (const int32_t q : lw) on_w |= q == p;
+                    if (!on_w) continue;
+                    ++common;
+                    if (p == known_inside) has_inside = true;
+                    else outside = p;
+                }
+                if (common != 2 || !has_inside || is_removed(outside)) continue;
+                mesh.prefetch_triangle(outside);
+                sides.push_back({int32_t(i), k, outside, known_inside});
+                continue;
+            }
             // Another added triangle on the edge: a new diagonal, judged once (by the later one).
             int32_t twins = 0, twin = -1;
             for (size_t j = 0; j < added.size(); ++j)

@@ -76,8 +76,16 @@ struct RidgeScratch {
 // of `mesh` outside `removed` where the ridge gets sharper than it was with the one
 // triangle of `removed` there. Edges with another number of triangles are left out.
 // 180 if none.
+// `hole_sides` (optional, 3 entries per added triangle: edge k of added[i] at 3 i + k):
+// the removed triangle on that edge where the caller knows it to be a side of the hole
+// (the planner does: side j of a fan is the edge of its triangle j), -2 - j where it knows
+// the edge to be a diagonal whose only other added triangle is added[j], else -1; the
+// edges marked -1 and all edges without it are found by searching `added` and the two
+// corners' triangle lists. The result is the same either way: a side has no other added
+// triangle on it (a diagonal is never an existing edge: the topology condition), and its
+// triangles outside `removed` are found from the lists alone.
 double sharpest_changed_ridge(const CoarseMesh& mesh, const std::vector<int32_t>& removed,
                               const std::vector<Tri>& added, int32_t feature_a, int32_t feature_b,
-                              RidgeScratch& scratch);
+                              RidgeScratch& scratch, const std::vector<int32_t>& hole_sides = {});
 
 }  // namespace bpm::detail

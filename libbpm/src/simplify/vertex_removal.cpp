@@ -309,12 +309,38 @@ struct RemovalScratch {
     Part parts[VertexRemover::kMaxFinishParts];
     std::unordered_map<int32_t, double> new_edge_params;  // see plan_once
     RidgeScratch ridges;  // of measure_new_ridges
+    // Per edge of the plan's new triangles (3 i + k), what the fan knows of it:
+    // sharpest_changed_ridge's `hole_sides`, appended with the new triangles
+    // (append_hole_sides).
+    std::vector<int32_t> hole_sides;
     RemovalScratch(const CoarseMesh& mesh, const Embedding& embedding, const std::vector<int8_t>& sign,
                    const std::vector<Vec3>& normals)
         : planner(mesh, embedding, sign, normals) {}
 };
 
 namespace {
+// The hole sides and diagonals of `fan`'s new triangles `tri` (RemovalScratch::hole_sides),
+// in their order: the edge from local corner j to j + 1 is side j of the polygon, whose
+// removed triangle is fan.triangles[j] (an open fan's side n - 1 is its new edge: -1); a
+// diagonal is -2 - the index (in the plan's new triangles) of the fan's other triangle on
+// it. The fan's first triangle is new triangle `base`.
+void append_hole_sides(const Fan& fan, const FanTriangulation& tri, int32_t base, std::vector<int32_t>& out) {
+    const int32_t n = fan.corners();
+    const auto& ts = tri.triangles;
+    for (size_t i = 0; i < ts.size(); ++i)
+        for (int k = 0; k < 3; ++k) {
+            const int32_t a = ts[i][k], b = ts[i][(k + 1) % 3];
+            if (b == mod(a + 1, n)) {
+                out.push_back(fan.closed || a != n - 1 ? fan.triangles[size_t(a)] : -1);
+                continue;
+            }
+            int32_t twin = -1;  // the triangle that runs the diagonal the other way
+            for (size_t j = 0; j < ts.size() && twin < 0; ++j)
+                for (int m = 0; m < 3; ++m)
+                    if (j != i && ts[j][m] == b && ts[j][(m + 1) % 3] == a) twin = base + int32_t(j);
+            out.push_back(twin < 0 ? -1 : -2 - twin);
+        }
+}
 // The parts of a plan taken from a planned fan, and the rewritten paths at the end.
 void add_fan(const CoarseMesh& mesh, RemovalScratch& scratch, const Fan& fan, FanPlanner& planner, RemovalPlan& plan);
 void finish_paths(const CoarseMesh& mesh, const Embedding& embedding, RemovalScratch& scratch, RemovalPlan& plan);
@@ -417,6 +443,7 @@ bool VertexRemover::finish_parts_done(RemovalPlan& plan, int parts) {
     }
     plan.max_deviation = 0.0;  // Floater's map may have changed it: add_fan sets it again
     plan.new_triangles.clear();
+    scratch_->hole_sides.clear();
     add_fan(mesh_, *scratch_, scratch_->fans[0], planner, plan);
     finish_paths(mesh_, embedding_, *scratch_, plan);
     return false;
@@ -451,6 +478,7 @@ void VertexRemover::plan_once(int32_t v, bool force_disk, bool validate, bool de
     for (auto& p : plan.new_paths) spare.recycle(p.second);
     plan.clear();
     plan.vertex = v;
+    scratch_->hole_sides.clear();
     auto& fans = scratch_->fans;
     const VertexClass cls = classify_star(mesh_, v, force_disk, fans, crease_line, plan.reason, scratch_->star);
     if (cls == VertexClass::Feature) return;
@@ -582,6 +610,7 @@ void VertexRemover::plan_once(int32_t v, bool force_disk, bool validate, bool de
                 // finish_part() validates (finish_parts_done() sets them again).
                 for (const auto& t : planner.tri.triangles)
                     plan.new_triangles.push_back({fan.link[t[0]], fan.link[t[1]], fan.link[t[2]]});
+                append_hole_sides(fan, planner.tri, 0, scratch_->hole_sides);
                 measure_new_ridges(plan);
                 return;
             }
@@ -598,9 +627,14 @@ void VertexRemover::plan_once(int32_t v, bool force_disk, bool validate, bool de
 
 void VertexRemover::measure_new_ridges(RemovalPlan& plan) {
     if (vertex_ridges_.empty()) return;
+    // The fans of a vertex on a feature line are planned apart: an edge of one might be
+    // an edge of another too where the star is not a plain disk (a link vertex in two
+    // half-disks), which the search over all new triangles sees. Rare: searched then.
+    if (scratch_->fans.size() > 1) scratch_->hole_sides.clear();
     plan.sharpest_new_ridge = sharpest_changed_ridge(mesh_, plan.removed_triangles, plan.new_triangles,
                                                      plan.feature_line ? plan.feature_a : -1,
-                                                     plan.feature_line ? plan.feature_b : -1, scratch_->ridges);
+                                                     plan.feature_line ? plan.feature_b : -1, scratch_->ridges,
+                                                     scratch_->hole_sides);
 }
 
 namespace {
@@ -619,6 +653,7 @@ void add_fan(const CoarseMesh& mesh_, RemovalScratch& scratch, const Fan& fan, F
         // The triangulation computed it already, for the same corners in the same order.
         plan.worst_new_aspect = std::max(plan.worst_new_aspect, planner.tri.aspects[i]);
     }
+    append_hole_sides(fan, planner.tri, base, scratch.hole_sides);
     for (const auto& d : planner.tri.diagonals) {
         const int32_t a = fan.link[d[0]], b = fan.link[d[1]];
         plan.new_edges.push_back({std::min(a, b), std::max(a, b)});

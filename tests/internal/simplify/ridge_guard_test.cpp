@@ -146,3 +146,36 @@ TEST_CASE("ridge guard: removal_cost refuses a ridge sharper than min(floor, ori
     plan.sharpest_new_ridge = 1.0;
     CHECK(std::isfinite(removal_cost(plan, options, 1.0, CostBasis::Plan, why)));
 }
+
+TEST_CASE("ridge guard: the planner's hole sides give the same angle as the search",
+          "[internal][simplify][ridge]") {
+    // The sides named with their removed triangles and the diagonal with its other
+    // triangle (as the planner hands them over), or the diagonal left to the search (-1):
+    // every case above measures the same with them as without.
+    auto side_of = [](const CoarseMesh& mesh, const std::vector<Tri>& added, bool name_diagonal) {
+        std::vector<int32_t> sides;
+        for (size_t i = 0; i < added.size(); ++i)
+            for (int k = 0; k < 3; ++k) {
+                const int32_t inside = mesh.find_triangle(0, added[i][k], added[i][(k + 1) % 3]);
+                sides.push_back(inside >= 0 || !name_diagonal ? inside : -2 - int32_t(1 - i));
+            }
+        return sides;
+    };
+    const std::vector<Tri> v_diagonal{{1, 2, 3}, {3, 4, 1}}, tent_diagonal{{1, 2, 4}, {2, 3, 4}};
+    Surface folded = folded_star(5.0, 8.0), wedged = folded_star(0.0, 1.0);
+    wedged.vertices[0] = {0, 0, 8};
+    wedged.vertices[5] = {0, 0, -0.2};
+    RidgeScratch scratch;
+    for (const Surface* s : {&folded, &wedged})
+        for (double feature_angle : {180.0, 60.0})
+            for (const auto* added : {&v_diagonal, &tent_diagonal}) {
+                CoarseMesh mesh(*s);
+                mesh.mark_feature_edges(feature_angle);
+                const double searched = sharpest_changed_ridge(mesh, star_of_0(mesh), *added, -1, -1, scratch);
+                for (bool name_diagonal : {false, true}) {
+                    const std::vector<int32_t> sides = side_of(mesh, *added, name_diagonal);
+                    REQUIRE(std::count_if(sides.begin(), sides.end(), [](int32_t h) { return h >= 0; }) == 4);
+                    CHECK(sharpest_changed_ridge(mesh, star_of_0(mesh), *added, -1, -1, scratch, sides) == searched);
+                }
+            }
+}
