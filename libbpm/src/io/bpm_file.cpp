@@ -40,6 +40,7 @@
 #include "io/bpm_outline.h"
 #include "io/hdf5_fd_driver.h"
 #include "phi/phi_layout.h"
+#include "core/huge_pages.h"
 
 namespace bpm {
 
@@ -798,7 +799,7 @@ void write_contents(const Writer& w, hid_t f, const BpmFile& file) {
         const double* xyz = flat(s.vertices);
         w.write_dataset(g, "Points", xyz, s.vertices.size(), 3, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE);
         std::vector<int64_t> connectivity;
-        connectivity.reserve(3 * s.triangles.size());
+        detail::reserve_huge_pages(connectivity, 3 * s.triangles.size());
         for (const auto& t : s.triangles) connectivity.insert(connectivity.end(), t.begin(), t.end());
         w.write_dataset(g, "Connectivity", connectivity.data(), connectivity.size(), 0, H5T_STD_I64LE,
                         H5T_NATIVE_INT64);

@@ -10,6 +10,7 @@
 #include "bpm/predicates.h"
 #include "phi/phi_triangle_data.h"
 #include "core/free_memory.h"
+#include "core/huge_pages.h"
 #include "simplify/overlay.h"
 
 namespace bpm::detail {
@@ -169,16 +170,16 @@ void reserve_phi(Parametrization& p, const CoarseMesh& mesh, const Embedding& em
         nodes += n;
         pieces += n + inside - 2;
     }
-    p.node_offsets.reserve(alive.size() + 1);
-    p.node_barycentric.reserve(nodes);
-    p.node_image.reserve(nodes);
-    p.node_kind.reserve(nodes);
-    p.node_original_vertex.reserve(nodes);
-    p.node_original_edge.reserve(nodes);
-    p.node_edge_parameter.reserve(nodes);
-    p.piece_offsets.reserve(alive.size() + 1);
-    p.pieces.reserve(pieces);
-    p.piece_original_triangle.reserve(pieces);
+    reserve_huge_pages(p.node_offsets, alive.size() + 1);
+    reserve_huge_pages(p.node_barycentric, nodes);
+    reserve_huge_pages(p.node_image, nodes);
+    reserve_huge_pages(p.node_kind, nodes);
+    reserve_huge_pages(p.node_original_vertex, nodes);
+    reserve_huge_pages(p.node_original_edge, nodes);
+    reserve_huge_pages(p.node_edge_parameter, nodes);
+    reserve_huge_pages(p.piece_offsets, alive.size() + 1);
+    reserve_huge_pages(p.pieces, pieces);
+    reserve_huge_pages(p.piece_original_triangle, pieces);
 }
 
 AlgorithmError invalid_triangle(const ExportChunk& chunk) {
