@@ -1,7 +1,8 @@
 #include "core/edge_uses.h"
-#include "core/huge_pages.h"
 
 #include <algorithm>
+
+#include "core/huge_pages.h"
 
 namespace bpm::detail {
 

@@ -12,8 +12,8 @@
 
 #include "bpm/predicates.h"
 #include "core/edge_uses.h"
-#include "core/number_text.h"
 #include "core/huge_pages.h"
+#include "core/number_text.h"
 
 namespace bpm {
 

@@ -37,10 +37,10 @@
 #include "bpm/version.h"
 #include "core/file_util.h"
 #include "core/gzip.h"
+#include "core/huge_pages.h"
 #include "io/bpm_outline.h"
 #include "io/hdf5_fd_driver.h"
 #include "phi/phi_layout.h"
-#include "core/huge_pages.h"
 
 namespace bpm {
 

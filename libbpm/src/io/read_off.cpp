@@ -17,8 +17,8 @@
 #include <string>
 #include <vector>
 
-#include "io/surface_readers.h"
 #include "core/huge_pages.h"
+#include "io/surface_readers.h"
 
 namespace bpm::detail {
 

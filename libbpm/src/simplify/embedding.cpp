@@ -1,7 +1,8 @@
 #include "simplify/embedding.h"
-#include "core/huge_pages.h"
 
 #include <algorithm>
+
+#include "core/huge_pages.h"
 
 namespace bpm::detail {
 

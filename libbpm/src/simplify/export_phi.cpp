@@ -8,9 +8,9 @@
 
 #include "bpm/errors.h"
 #include "bpm/predicates.h"
-#include "phi/phi_triangle_data.h"
 #include "core/free_memory.h"
 #include "core/huge_pages.h"
+#include "phi/phi_triangle_data.h"
 #include "simplify/overlay.h"
 
 namespace bpm::detail {

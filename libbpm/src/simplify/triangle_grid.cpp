@@ -1,9 +1,10 @@
 #include "simplify/triangle_grid.h"
-#include "core/huge_pages.h"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
+
+#include "core/huge_pages.h"
 
 namespace bpm::detail {
 
