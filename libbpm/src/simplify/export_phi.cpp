@@ -47,7 +47,7 @@ bool is_bare_triangle(const CoarseMesh& mesh, const Embedding& embedding, int32_
 // general path (build_triangle_graph, compute_faces, triangulate_faces) makes of it
 // without its graph, maps and face walk. The three corner nodes in corner order, one
 // piece (0, 1, 2) in the original triangle with these corners, found as faces_into finds
-// it (the edges of the two smallest-to-others vertex pairs). Returns false, appending
+// it (the original edges from the smallest corner to the two others). Returns false, appending
 // nothing, where that triangle is not found or its image has the wrong orientation: the
 // general path then reports the error. The export of the 832k-triangle floor (--ratio 1
 // --threads 1) spent ~1.9 us a triangle in the general path.
@@ -66,7 +66,7 @@ bool append_bare_triangle(const Surface& original, const CoarseMesh& mesh, const
     // summed as faces_into sums it, and the piece too (triangulate_faces).
     Vec2 image[3];
     for (int k = 0; k < 3; ++k) {
-        GraphNode g = corner_node(k, c[k]);
+        const GraphNode g = corner_node(k, c[k]);
         Vec3 beta;
         if (!image_barycentric(g, embedding, tri, beta)) return false;
         image[k] = {beta[1], beta[2]};
