@@ -96,6 +96,7 @@ MANUAL_SECTIONS = [
     "solvers-adaptive-ug-one-adapt-per-level.md",
     "inverse-phi-throughput.md",
     "floor-bpm-size-and-memory.md",
+    "floor4.md",
     "simplifier-structure-perf.md",
     "tets-without-slivers-and-phi-distortion.md",
     "convergence-limits-and-distortion-weight.md",

@@ -25,9 +25,8 @@ bool has_direction(const std::vector<Vec3>& p, const Tri& t) {
     return norm(cross(b - a, c - a)) >= kNoDirectionThinness * longest2;  // |cross| = height * longest
 }
 
-// The cosine of the angle between the normals of t0 and t1, the second turned over when
-// the two run the edge (u, w) in the same direction; false for a degenerate triangle or
-// one without a direction (has_direction).
+}  // namespace
+
 bool oriented_normal_cosine(const std::vector<Vec3>& p, const Tri& t0, const Tri& t1, int32_t u, int32_t w,
                             double& cosine) {
     // The normals from the corners in stored order, so that they are the same bits as
@@ -41,21 +40,21 @@ bool oriented_normal_cosine(const std::vector<Vec3>& p, const Tri& t0, const Tri
     return true;
 }
 
-}  // namespace
-
 CreaseTest::CreaseTest(double feature_angle_degrees)
     : cos_limit_(std::cos(feature_angle_degrees * M_PI / 180.0)), finds_creases_(feature_angle_degrees < 180.0) {}
 
 bool CreaseTest::is_crease(const std::vector<Vec3>& p, const Tri& t0, const Tri& t1, int32_t u, int32_t w) const {
     if (!finds_creases_) return false;
     double cosine;
-    return oriented_normal_cosine(p, t0, t1, u, w, cosine) && cosine < cos_limit_;
+    return oriented_normal_cosine(p, t0, t1, u, w, cosine) && is_crease(cosine);
 }
 
 double ridge_angle_degrees(const std::vector<Vec3>& p, const Tri& t0, const Tri& t1, int32_t u, int32_t w) {
     double cosine;
     if (!oriented_normal_cosine(p, t0, t1, u, w, cosine)) return 180.0;
-    return 180.0 - std::acos(std::clamp(cosine, -1.0, 1.0)) * (180.0 / M_PI);
+    return ridge_angle_degrees(cosine);
 }
+
+double ridge_angle_degrees(double cosine) { return 180.0 - std::acos(std::clamp(cosine, -1.0, 1.0)) * (180.0 / M_PI); }
 
 }  // namespace bpm::detail

@@ -49,6 +49,10 @@ public:
     // \pre t0 and t1 both have u and w as corners.
     bool is_crease(const std::vector<Vec3>& positions, const Tri& t0, const Tri& t1, int32_t u,
                    int32_t w) const;
+    // The same from the edge's oriented_normal_cosine() (which returned true), for a
+    // caller that asks several tests about one edge (find_creases: the sharp test, the
+    // shallow one and the angle), computing the normals once.
+    bool is_crease(double cosine) const { return finds_creases_ && cosine < cos_limit_; }
 
 private:
     double cos_limit_;
@@ -65,5 +69,15 @@ private:
 // The simplifier's ridge guard (SimplifyOptions::min_ridge_angle_degrees) compares it.
 // \pre t0 and t1 both have u and w as corners.
 double ridge_angle_degrees(const std::vector<Vec3>& positions, const Tri& t0, const Tri& t1, int32_t u, int32_t w);
+// The same from the edge's oriented_normal_cosine() (which returned true).
+double ridge_angle_degrees(double cosine);
+
+// The cosine of the angle between the normals of t0 and t1 (triangle_normal, corners in
+// stored order), the second turned over when the two run the edge (u, w) in the same
+// direction: what is_crease() and ridge_angle_degrees() compare. False for a degenerate
+// triangle or one without a direction (see above): then the edge is no crease and its
+// ridge angle 180.
+bool oriented_normal_cosine(const std::vector<Vec3>& positions, const Tri& t0, const Tri& t1, int32_t u, int32_t w,
+                            double& cosine);
 
 }  // namespace bpm::detail

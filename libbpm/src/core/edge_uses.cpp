@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "core/huge_pages.h"
+
 namespace bpm::detail {
 
 EdgeUses::EdgeUses(const Surface& surface) {
@@ -17,6 +19,7 @@ EdgeUses::EdgeUses(const Surface& surface) {
             if (valid(a, b)) ++offsets_[size_t(std::min(a, b)) + 1];
         }
     for (size_t v = 1; v < offsets_.size(); ++v) offsets_[v] += offsets_[v - 1];
+    reserve_huge_pages(uses_, offsets_.back());
     uses_.resize(offsets_.back());
     for (size_t t = 0; t < T.size(); ++t)
         for (int k = 0; k < 3; ++k) {

@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "bpm/errors.h"
+#include "core/huge_pages.h"
 
 namespace bpm::detail {
 
@@ -187,6 +188,7 @@ std::string read_whole_input(const std::string& path, size_t max_bytes) {
     struct stat st {};
     if (fd != STDIN_FILENO && ::fstat(fd, &st) == 0 && S_ISREG(st.st_mode) && st.st_size > 0)
         bytes.reserve(std::min(static_cast<size_t>(st.st_size) + 1, max_bytes + 1));
+    advise_huge_pages(bytes.data(), bytes.capacity());
     char buffer[1 << 16];
     for (;;) {
         ssize_t n = ::read(fd, buffer, sizeof buffer);

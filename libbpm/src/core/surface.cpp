@@ -12,6 +12,7 @@
 
 #include "bpm/predicates.h"
 #include "core/edge_uses.h"
+#include "core/huge_pages.h"
 #include "core/number_text.h"
 
 namespace bpm {
@@ -194,7 +195,7 @@ std::vector<SurfaceProblem> validate_surface(const Surface& surface, const Valid
     // Duplicate triangles: the same vertex set in any order and orientation.
     {
         std::vector<std::pair<Tri, int32_t>> keys;
-        keys.reserve(T.size());
+        detail::reserve_huge_pages(keys, T.size());
         for (size_t t = 0; t < T.size(); ++t) {
             if (!usable[t]) continue;
             Tri k = T[t];

@@ -37,6 +37,7 @@
 #include "bpm/version.h"
 #include "core/file_util.h"
 #include "core/gzip.h"
+#include "core/huge_pages.h"
 #include "io/bpm_outline.h"
 #include "io/hdf5_fd_driver.h"
 #include "phi/phi_layout.h"
@@ -197,8 +198,15 @@ public:
         if (shuffle) {
             unsigned char* shuffled = shuffled_.room(bytes);
             const size_t elements = bytes / element_size;
-            for (size_t i = 0; i < elements; ++i)
-                for (size_t b = 0; b < element_size; ++b) shuffled[b * elements + i] = data[i * element_size + b];
+            // The common sizes with the size known to the compiler, which then unrolls the
+            // byte loop (the generic loop was ~2 % of the 832k floor).
+            switch (element_size) {
+                case 4: shuffle_bytes<4>(data, elements, shuffled); break;
+                case 8: shuffle_bytes<8>(data, elements, shuffled); break;
+                default:
+                    for (size_t i = 0; i < elements; ++i)
+                        for (size_t b = 0; b < element_size; ++b) shuffled[b * elements + i] = data[i * element_size + b];
+            }
             in = shuffled;
         }
         // A chunk that deflate does not make smaller is stored without deflate (the
@@ -215,6 +223,12 @@ public:
     }
 
 private:
+    // HDF5's shuffle: byte b of element i goes to b * elements + i.
+    template <size_t E>
+    static void shuffle_bytes(const unsigned char* data, size_t elements, unsigned char* out) {
+        for (size_t i = 0; i < elements; ++i)
+            for (size_t b = 0; b < E; ++b) out[b * elements + i] = data[i * E + b];
+    }
     libdeflate_compressor* deflate_;
     Buffer shuffled_;
 };
@@ -798,7 +812,7 @@ void write_contents(const Writer& w, hid_t f, const BpmFile& file) {
         const double* xyz = flat(s.vertices);
         w.write_dataset(g, "Points", xyz, s.vertices.size(), 3, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE);
         std::vector<int64_t> connectivity;
-        connectivity.reserve(3 * s.triangles.size());
+        detail::reserve_huge_pages(connectivity, 3 * s.triangles.size());
         for (const auto& t : s.triangles) connectivity.insert(connectivity.end(), t.begin(), t.end());
         w.write_dataset(g, "Connectivity", connectivity.data(), connectivity.size(), 0, H5T_STD_I64LE,
                         H5T_NATIVE_INT64);

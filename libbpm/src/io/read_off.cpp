@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "core/huge_pages.h"
 #include "io/surface_readers.h"
 
 namespace bpm::detail {
@@ -63,7 +64,7 @@ ReaderOutput read_off(std::string_view bytes, const std::string& name, bool acce
                                     std::to_string(in.remaining()) + " bytes (truncated, or wrong counts?)");
     }
 
-    s.vertices.reserve(static_cast<size_t>(nv));
+    reserve_huge_pages(s.vertices, static_cast<size_t>(nv));
     // Vertex data after the coordinates: normals (3), colour (3 or 4), texture (2).
     const bool with_data = has_n || has_c || has_st;
     std::vector<double> normals, colors, texture;
@@ -118,7 +119,7 @@ ReaderOutput read_off(std::string_view bytes, const std::string& name, bool acce
         out.notes.push_back("vertex data of the " + std::string(keyword) + " file left out: " + data_problem);
     }
 
-    s.triangles.reserve(static_cast<size_t>(nf));
+    reserve_huge_pages(s.triangles, static_cast<size_t>(nf));
     for (int64_t f = 0; f < nf; ++f) {
         in.skip_space();
         if (in.at_end()) {

@@ -5,6 +5,7 @@
 
 #include "core/crease_chains.h"
 #include "core/directed_edge.h"
+#include "core/huge_pages.h"
 
 namespace bpm::detail {
 
@@ -12,13 +13,14 @@ CoarseMesh::CoarseMesh(const Surface& original) : CoarseMesh(original, EdgeUses(
 
 CoarseMesh::CoarseMesh(const Surface& original, const EdgeUses& uses)
     : positions_(&original.vertices),
-      triangles_(original.triangles),
       patches_(original.patches),
       alive_(original.triangles.size(), 1),
       initially_flipped_(original.triangles.size(), 0),
       vertex_triangles_(original.vertices.size()),
       neighbour_bits_(original.vertices.size(), 0),
       feature_degree_(original.vertices.size(), 0) {
+    reserve_huge_pages(triangles_, original.triangles.size());
+    triangles_.assign(original.triangles.begin(), original.triangles.end());
     if (patches_.size() != triangles_.size()) patches_.assign(triangles_.size(), 0);
     // One patch (the common case): no per-triangle patch until a triangle with another.
     if (std::all_of(patches_.begin(), patches_.end(), [&](int32_t p) { return p == patches_[0]; })) {
@@ -43,7 +45,9 @@ CoarseMesh::CoarseMesh(const Surface& original, const EdgeUses& uses)
     // (corners k, k + 1) when that edge has exactly two, else -1. Read off the grouped
     // sides: the walk used to collect each side's triangles from a corner's triangle
     // list (edge_triangles), ~4 % of the floor on 832k triangles.
-    std::vector<int32_t> across(3 * triangles_.size(), -1);
+    std::vector<int32_t>& across = across_;
+    reserve_huge_pages(across, 3 * triangles_.size());
+    across.assign(3 * triangles_.size(), -1);
     uses.for_each_edge([&](int32_t a, int32_t b, const EdgeUses::Use* at, size_t count) {
         if (count != 2) return;
         for (int i = 0; i < 2; ++i) {
@@ -78,6 +82,7 @@ CoarseMesh::CoarseMesh(const Surface& original, const EdgeUses& uses)
         }
     }
     // After the orientation: the corners in their stored order.
+    reserve_huge_pages(aspects_, triangles_.size());
     aspects_.resize(triangles_.size());
     for (size_t t = 0; t < triangles_.size(); ++t) {
         const Tri& c = triangles_[t];
@@ -238,10 +243,31 @@ void CoarseMesh::mark_feature_edges(const CreaseRule& rule) {
     std::vector<WalkedEdge> walk;
     std::vector<SheetEdge> sheet;
     std::vector<int32_t> around;
+    // An edge per side and a half (closed surfaces), reserved: grown by doubling, `sheet`
+    // was ~3 % of the 832k-triangle floor (--ratio 1), most of it page faults in the copies.
+    reserve_huge_pages(walk, 3 * size_t(num_alive_) / 2 + 16);
+    reserve_huge_pages(sheet, 3 * size_t(num_alive_) / 2 + 16);
+    // Nothing added or removed since the constructor: across_ still tells each side's
+    // other triangle, so the edges with two triangles (nearly all) need no merge of the
+    // corners' triangle lists (edge_triangles, ~2 % of that floor).
+    const bool fresh = across_.size() == 3 * triangles_.size() && size_t(num_alive_) == triangles_.size();
     for (int32_t t = 0; t < int32_t(triangles_.size()); ++t) {
         if (!alive_[t]) continue;
         for (int k = 0; k < 3; ++k) {
             const int32_t a = triangles_[t][k], b = triangles_[t][(k + 1) % 3];
+            // Stored side k of a flipped triangle (c0, c2, c1) is original side 2 - k.
+            const int32_t n = fresh ? across_[3 * size_t(t) + size_t(initially_flipped_[t] ? 2 - k : k)] : -1;
+            if (n >= 0 && n != t) {
+                // Its two triangles are t and n, the first of them the smaller.
+                if (n < t) continue;
+                if (patch(t) != patch(n)) {
+                    walk.push_back({a, b, -1});
+                    continue;
+                }
+                walk.push_back({a, b, int32_t(sheet.size())});
+                sheet.push_back({a, b, triangles_[t], triangles_[n]});
+                continue;
+            }
             // Each edge once, from the first triangle that has it: the triangle lists
             // are in increasing id (nothing was removed yet), so that is around[0].
             // (A triangle with a repeated corner may meet an edge twice; marking is
@@ -256,6 +282,7 @@ void CoarseMesh::mark_feature_edges(const CreaseRule& rule) {
             sheet.push_back({a, b, triangles_[around[0]], triangles_[around[1]]});
         }
     }
+    decltype(across_)().swap(across_);
     const std::vector<uint8_t> crease = find_creases(*positions_, sheet, rule);
     for (const WalkedEdge& e : walk) {
         if (e.sheet < 0)
@@ -349,8 +376,8 @@ Surface CoarseMesh::to_surface(std::vector<int32_t>& vertex_origin) const {
     std::vector<int32_t> index(vertex_triangles_.num_vertices(), -1);
     vertex_origin.clear();
     vertex_origin.reserve(size_t(num_vertices_alive_));
-    s.vertices.reserve(size_t(num_vertices_alive_));
-    s.triangles.reserve(size_t(num_alive_));
+    reserve_huge_pages(s.vertices, size_t(num_vertices_alive_));
+    reserve_huge_pages(s.triangles, size_t(num_alive_));
     s.patches.reserve(size_t(num_alive_));
     // Vertices in increasing original id, so that the output is deterministic.
     for (int32_t v = 0; v < int32_t(vertex_triangles_.num_vertices()); ++v) {
@@ -379,6 +406,7 @@ void CoarseMesh::alive_triangles(std::vector<int32_t>& out) const {
 }
 
 void CoarseMesh::shrink_to_fit() {
+    decltype(across_)().swap(across_);
     vertex_triangles_.compact();
     if (compacted_) return;
     std::vector<int32_t> kept;

@@ -162,6 +162,10 @@ private:
     void grow_triangle_arrays();  // before add_triangle() fills the capacity
     std::vector<uint8_t> alive_;
     std::vector<uint8_t> initially_flipped_;
+    // Per original side (3 t + k, corners k and k + 1 as the input has them): the other
+    // triangle of its edge where that edge has exactly two, else -1. Made for the
+    // orientation walk and kept for mark_feature_edges, which frees it.
+    std::vector<int32_t> across_;
     std::vector<double> aspects_;
     bool keep_aspects_ = true;
     VertexTriangleLists vertex_triangles_;

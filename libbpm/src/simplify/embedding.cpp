@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "core/huge_pages.h"
+
 namespace bpm::detail {
 
 namespace {
@@ -88,12 +90,12 @@ void Embedding::init_identity(const Surface& s, int32_t triangle_capacity, const
     // increasing order: the sorted edges and the edge -> triangles CSR as they are read.
     // (A sort of all 3 T sides and a find_edge per side twice were ~7 % of the floor.)
     edges.clear();
-    edges.reserve(uses.num_edges());
+    reserve_huge_pages(edges, uses.num_edges());
     smaller_vertex_edges.assign(nv + 1, 0);
     edge_triangle_offsets.assign(1, 0);
-    edge_triangle_offsets.reserve(uses.num_edges() + 1);
+    reserve_huge_pages(edge_triangle_offsets, uses.num_edges() + 1);
     edge_triangles.clear();
-    edge_triangles.reserve(uses.num_uses());
+    reserve_huge_pages(edge_triangles, uses.num_uses());
     uses.for_each_edge([&](int32_t u, int32_t w, const EdgeUses::Use* at, size_t count) {
         edges.push_back({u, w});
         ++smaller_vertex_edges[u + 1];
@@ -109,6 +111,7 @@ void Embedding::init_identity(const Surface& s, int32_t triangle_capacity, const
         ++vertex_edge_offsets[e[1] + 1];
     }
     for (int32_t v = 0; v < nv; ++v) vertex_edge_offsets[v + 1] += vertex_edge_offsets[v];
+    reserve_huge_pages(vertex_edges, size_t(vertex_edge_offsets[nv]));
     vertex_edges.assign(vertex_edge_offsets[nv], 0);
     std::vector<int32_t> fill(vertex_edge_offsets.begin(), vertex_edge_offsets.end() - 1);
     for (int32_t e = 0; e < int32_t(edges.size()); ++e) {
@@ -116,8 +119,10 @@ void Embedding::init_identity(const Surface& s, int32_t triangle_capacity, const
         vertex_edges[fill[edges[e][1]]++] = e;
     }
 
+    reserve_huge_pages(location, size_t(nv));
     location.assign(nv, SurfacePoint());
     for (int32_t v = 0; v < nv; ++v) location[v] = SurfacePoint::corner(v);
+    reserve_huge_pages(path, edges.size());
     path.assign(edges.size(), {});
     path_version.assign(edges.size(), 0);
     inside.reset(nv, triangle_capacity);

@@ -7,8 +7,10 @@
 #include <string>
 
 #include "bpm/errors.h"
-#include "phi/phi_triangle_data.h"
+#include "bpm/predicates.h"
 #include "core/free_memory.h"
+#include "core/huge_pages.h"
+#include "phi/phi_triangle_data.h"
 #include "simplify/overlay.h"
 
 namespace bpm::detail {
@@ -25,6 +27,71 @@ struct ExportChunk {
     std::string why;
 };
 
+// Whether coarse triangle t is still one original triangle: nothing on its sides and
+// nothing inside, so that its overlay (build_triangle_graph) is its three corners and no
+// segment. Every triangle of a run that removed nothing is one (--ratio 1, the floor of
+// issue 21), and many triangles far from the removals are.
+bool is_bare_triangle(const CoarseMesh& mesh, const Embedding& embedding, int32_t t) {
+    if (!embedding.inside.empty(t)) return false;
+    const Tri& c = mesh.triangle(t);
+    for (int k = 0; k < 3; ++k) {
+        EdgeContentView content;
+        if (embedding.content(c[k], c[(k + 1) % 3], content) &&
+            (!content.vertices.empty() || !content.crossing_edges.empty()))
+            return false;
+    }
+    return true;
+}
+
+// phi of a bare coarse triangle t (is_bare_triangle), appended to `into`: what the
+// general path (build_triangle_graph, compute_faces, triangulate_faces) makes of it
+// without its graph, maps and face walk. The three corner nodes in corner order, one
+// piece (0, 1, 2) in the original triangle with these corners, found as faces_into finds
+// it (the original edges from the smallest corner to the two others). Returns false, appending
+// nothing, where that triangle is not found or its image has the wrong orientation: the
+// general path then reports the error. The export of the 832k-triangle floor (--ratio 1
+// --threads 1) spent ~1.9 us a triangle in the general path.
+bool append_bare_triangle(const Surface& original, const CoarseMesh& mesh, const Embedding& embedding,
+                          const std::vector<int8_t>& sign, int32_t t, double& max_deviation, Parametrization& into) {
+    const Tri& c = mesh.triangle(t);
+    std::array<int32_t, 3> vs = c;
+    std::sort(vs.begin(), vs.end());
+    if (vs[0] == vs[1] || vs[1] == vs[2]) return false;
+    const int32_t e0 = embedding.find_edge(vs[0], vs[1]), e1 = embedding.find_edge(vs[0], vs[2]);
+    if (e0 < 0 || e1 < 0) return false;
+    const int32_t tri = embedding.triangle_of_edges(e0, e1);
+    if (tri < 0) return false;
+    // The image of corner k in `tri`: its barycentric unit vector there (image_barycentric);
+    // the face's image must have the coarse surface's orientation relative to `tri`,
+    // summed as faces_into sums it, and the piece too (triangulate_faces).
+    Vec2 image[3];
+    for (int k = 0; k < 3; ++k) {
+        const GraphNode g = corner_node(k, c[k]);
+        Vec3 beta;
+        if (!image_barycentric(g, embedding, tri, beta)) return false;
+        image[k] = {beta[1], beta[2]};
+    }
+    const double image_area2 = cross(image[0], image[1]) + cross(image[1], image[2]) + cross(image[2], image[0]);
+    if (!(image_area2 * sign[tri] > 0.0) || !(orient2d(image[0], image[1], image[2]) * sign[tri] > 0)) return false;
+    const auto& x = original.vertices;
+    for (int k = 0; k < 3; ++k) {
+        const GraphNode g = corner_node(k, c[k]);
+        const Vec3& p = x[c[k]];
+        max_deviation = std::max(max_deviation, distance(p, barycentric_point(x[c[0]], x[c[1]], x[c[2]], g.bary)));
+        into.node_barycentric.push_back(g.bary);
+        into.node_image.push_back(p);
+        into.node_kind.push_back(NodeKind::CoarseCorner);
+        into.node_original_vertex.push_back(c[k]);
+        into.node_original_edge.push_back({-1, -1});
+        into.node_edge_parameter.push_back(std::nan(""));
+    }
+    into.pieces.push_back({0, 1, 2});
+    into.piece_original_triangle.push_back(tri);
+    into.node_offsets.push_back(static_cast<int64_t>(into.node_kind.size()));
+    into.piece_offsets.push_back(static_cast<int64_t>(into.pieces.size()));
+    return true;
+}
+
 // Appends phi of the chunk's triangles to `into` (chunk.part, or the output itself when
 // one thread exports everything).
 void export_chunk(const Surface& original, const CoarseMesh& mesh, const Embedding& embedding,
@@ -38,6 +105,9 @@ void export_chunk(const Surface& original, const CoarseMesh& mesh, const Embeddi
     const auto& x = original.vertices;
     for (size_t i = chunk.begin; i < chunk.end; ++i) {
         const int32_t t = alive[i];
+        if (is_bare_triangle(mesh, embedding, t) &&
+            append_bare_triangle(original, mesh, embedding, sign, t, chunk.max_deviation, into))
+            continue;
         build_triangle_graph(mesh, embedding, t, graph);
         if (!compute_faces(graph, embedding, sign, faces, &chunk.why) ||
             !triangulate_faces(graph, embedding, sign, faces, pieces, piece_triangle, &chunk.why)) {
@@ -100,16 +170,16 @@ void reserve_phi(Parametrization& p, const CoarseMesh& mesh, const Embedding& em
         nodes += n;
         pieces += n + inside - 2;
     }
-    p.node_offsets.reserve(alive.size() + 1);
-    p.node_barycentric.reserve(nodes);
-    p.node_image.reserve(nodes);
-    p.node_kind.reserve(nodes);
-    p.node_original_vertex.reserve(nodes);
-    p.node_original_edge.reserve(nodes);
-    p.node_edge_parameter.reserve(nodes);
-    p.piece_offsets.reserve(alive.size() + 1);
-    p.pieces.reserve(pieces);
-    p.piece_original_triangle.reserve(pieces);
+    reserve_huge_pages(p.node_offsets, alive.size() + 1);
+    reserve_huge_pages(p.node_barycentric, nodes);
+    reserve_huge_pages(p.node_image, nodes);
+    reserve_huge_pages(p.node_kind, nodes);
+    reserve_huge_pages(p.node_original_vertex, nodes);
+    reserve_huge_pages(p.node_original_edge, nodes);
+    reserve_huge_pages(p.node_edge_parameter, nodes);
+    reserve_huge_pages(p.piece_offsets, alive.size() + 1);
+    reserve_huge_pages(p.pieces, pieces);
+    reserve_huge_pages(p.piece_original_triangle, pieces);
 }
 
 AlgorithmError invalid_triangle(const ExportChunk& chunk) {

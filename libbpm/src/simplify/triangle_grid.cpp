@@ -4,14 +4,19 @@
 #include <cmath>
 #include <limits>
 
+#include "core/huge_pages.h"
+
 namespace bpm::detail {
 
 void TriangleGrid::CellTable::rehash(size_t capacity) {
     std::vector<uint64_t> old_keys = std::move(keys_);
     std::vector<std::vector<Entry>> old_lists = std::move(lists_);
     std::vector<uint32_t> old_counts = std::move(counts_);
+    reserve_huge_pages(keys_, capacity);
     keys_.assign(capacity, kEmpty);
-    lists_ = std::vector<std::vector<Entry>>(capacity);
+    reserve_huge_pages(lists_, capacity);
+    lists_.resize(capacity);
+    if (!old_counts.empty()) reserve_huge_pages(counts_, capacity);
     counts_.assign(old_counts.empty() ? 0 : capacity, 0);
     shift_ = 64;
     for (size_t c = capacity; c > 1; c >>= 1) --shift_;

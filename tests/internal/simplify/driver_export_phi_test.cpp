@@ -1,6 +1,7 @@
 // The export of the simplifier's phi (simplify/export_phi.h), tested directly: before any
 // removal it is the identity; after removals it passes the format and bijectivity checks,
 // over several chunks, and is the same with one thread and with two.
+#include <algorithm>
 #include <vector>
 
 #include <catch2/catch.hpp>
@@ -10,6 +11,7 @@
 #include "simplify/coarse_mesh.h"
 #include "simplify/embedding.h"
 #include "simplify/export_phi.h"
+#include "simplify/overlay.h"
 #include "simplify/planning_pool.h"
 #include "simplify/vertex_removal.h"
 #include "simplifier_state_fixture.h"
@@ -145,4 +147,77 @@ TEST_CASE("export of phi: the same after the mesh and the embedding are compacte
     // A torus (crossings only) and a cube whose crease vertices end up on coarse edges.
     check_compacted_export(fixtures::torus(32, 20), 40, 7);
     CHECK(check_compacted_export(fixtures::cube(6), 60, 3) > 0);
+}
+
+namespace {
+
+// phi of coarse triangle t as the overlay makes it (build_triangle_graph, compute_faces,
+// triangulate_faces), in the export's form: nodes in graph order, pieces as triangulated.
+void overlay_phi(const LiveState& state, int32_t t, std::vector<Vec3>& bary,
+                 std::vector<Vec3>& image, std::vector<NodeKind>& kind, std::vector<int32_t>& vertex,
+                 std::vector<Tri>& pieces, std::vector<int32_t>& piece_triangle) {
+    TriangleGraph graph;
+    build_triangle_graph(state.mesh, state.embedding, t, graph);
+    std::vector<OverlayFace> faces;
+    REQUIRE(compute_faces(graph, state.embedding, state.sign, faces));
+    REQUIRE(triangulate_faces(graph, state.embedding, state.sign, faces, pieces, piece_triangle));
+    bary.clear();
+    image.clear();
+    kind.clear();
+    vertex.clear();
+    for (const GraphNode& g : graph.nodes) {
+        bary.push_back(g.bary);
+        image.push_back(node_image(g, state.embedding));
+        kind.push_back(g.kind);
+        vertex.push_back(g.kind == NodeKind::EdgeCrossing ? -1 : g.vertex);
+    }
+}
+
+}  // namespace
+
+TEST_CASE("export of phi: triangles with nothing on them are exported as the overlay makes them",
+          "[internal][simplify]") {
+    // The export appends a coarse triangle with nothing on its sides and nothing inside
+    // (every triangle before any removal, those away from the removals after) directly as
+    // its corners and one piece. That must be what the overlay makes of it, also where the
+    // input's orientation is reversed (orientation sign -1): a torus with every third
+    // triangle stored the other way round, after a few removals.
+    Surface original = fixtures::torus(32, 20);
+    for (size_t t = 0; t < original.triangles.size(); t += 3) std::swap(original.triangles[t][1], original.triangles[t][2]);
+    LiveState state(original);
+    REQUIRE(std::count(state.sign.begin(), state.sign.end(), int8_t(-1)) > 0);
+    REQUIRE(state.remove_some(40, 7) >= 20);
+    const Parametrization out = state.exported(original);
+    std::vector<int32_t> alive;
+    state.mesh.alive_triangles(alive);
+    REQUIRE(int64_t(alive.size()) == out.num_coarse_triangles());
+    std::vector<Vec3> bary, image;
+    std::vector<NodeKind> kind;
+    std::vector<int32_t> vertex, piece_triangle;
+    std::vector<Tri> pieces;
+    size_t bare = 0, flipped_bare = 0;
+    for (size_t i = 0; i < alive.size(); ++i) {
+        overlay_phi(state, alive[i], bary, image, kind, vertex, pieces, piece_triangle);
+        const int64_t n0 = out.node_offsets[i], n1 = out.node_offsets[i + 1];
+        const int64_t p0 = out.piece_offsets[i], p1 = out.piece_offsets[i + 1];
+        REQUIRE(size_t(n1 - n0) == bary.size());
+        REQUIRE(size_t(p1 - p0) == pieces.size());
+        for (size_t k = 0; k < bary.size(); ++k) {
+            CHECK(out.node_barycentric[size_t(n0) + k] == bary[k]);
+            CHECK(out.node_image[size_t(n0) + k] == image[k]);
+            CHECK(out.node_kind[size_t(n0) + k] == kind[k]);
+            CHECK(out.node_original_vertex[size_t(n0) + k] == vertex[k]);
+        }
+        for (size_t k = 0; k < pieces.size(); ++k) {
+            CHECK(out.pieces[size_t(p0) + k] == pieces[k]);
+            CHECK(out.piece_original_triangle[size_t(p0) + k] == piece_triangle[k]);
+        }
+        if (bary.size() == 3) {
+            ++bare;
+            flipped_bare += state.sign[size_t(piece_triangle[0])] < 0;
+        }
+    }
+    CHECK(bare > 100);
+    CHECK(flipped_bare > 10);
+    CHECK(bare < alive.size());  // and triangles that went through the overlay
 }
