@@ -20,6 +20,8 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <numeric>
+#include <optional>
 #include <stdexcept>
 #include <unordered_map>
 
@@ -1002,9 +1004,14 @@ public:
         std::vector<uint8_t> in_moving(nv, 0);
         // The triangles' boxes, kept current below: each trial's sub-surface is found among
         // the triangles filed near its box instead of by a scan of all (see the grid's
-        // header for the numbers).
-        detail::TriangleBoxGrid grid(s);
-        std::vector<int32_t> near;
+        // header for the numbers). Both cost about the same per triangle, a filing about as
+        // much as 30-60 scans (mostly page faults for its arrays: femur 10 % at T = 0.001,
+        // 1-12 vertices per call on 55k triangles, spent 4-10 ms more per call with it), so
+        // few vertices are scanned for.
+        constexpr size_t kGridFrom = 32;
+        std::optional<detail::TriangleBoxGrid> grid;
+        if (far.size() >= kGridFrom) grid.emplace(s);
+        std::vector<int32_t> candidates;  // of a trial's sub-surface
         int64_t box_tests = 0, queries = 0;
         for (const auto& [d, v] : far) {
             if (f[size_t(v)] >= 1.0) continue;
@@ -1049,10 +1056,15 @@ public:
             Surface sub;
             std::unordered_map<int32_t, int32_t> local;
             std::vector<int32_t> global;
-            grid.candidates(lo, hi, near);
-            box_tests += int64_t(near.size());
+            if (grid) {
+                grid->candidates(lo, hi, candidates);
+            } else {
+                candidates.resize(nt);
+                std::iota(candidates.begin(), candidates.end(), 0);
+            }
+            box_tests += int64_t(candidates.size());
             ++queries;
-            for (int32_t t : near) {
+            for (int32_t t : candidates) {
                 const Tri& c = s.triangles[size_t(t)];
                 bool out = false;
                 for (size_t k = 0; k < 3 && !out; ++k) {
@@ -1095,13 +1107,16 @@ public:
                 ++moved;
             }
             for (int32_t w : moving) in_moving[size_t(w)] = 0;
-            for (int32_t t : moving_tris) grid.update(s, t);
+            if (grid)
+                for (int32_t t : moving_tris) grid->update(s, t);
         }
         context.debug("refine: intersection remedy: " + std::to_string(moved) + " of " + std::to_string(far.size()) +
                       " vertices held back farther than the tolerance moved closer to phi alone (" +
-                      std::to_string(box_tests) + " triangle boxes tested for their sub-surfaces, " +
-                      std::to_string(grid.visited()) + " grid entries visited; a scan tests " +
-                      std::to_string(queries * int64_t(nt)) + ")");
+                      std::to_string(box_tests) + " triangle boxes tested for their sub-surfaces" +
+                      (grid ? ", " + std::to_string(grid->visited()) + " grid entries visited; a scan tests " +
+                                  std::to_string(queries * int64_t(nt))
+                            : std::string(", a scan")) +
+                      ")");
         return moved;
     }
 

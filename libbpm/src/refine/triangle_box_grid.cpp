@@ -28,12 +28,13 @@ TriangleBoxGrid::TriangleBoxGrid(const Surface& surface) {
     filed_.resize(nt);
     stamp_.assign(nt, 0);
     if (nt == 0) {
-        cells_.resize(1);
+        start_.assign(2, 0);
         return;
     }
     // Cell edge: the mean of the triangles' largest box extents, so a typical triangle is
-    // filed under at most 2 cells per axis; larger where that would make more than about
-    // two cells per triangle (a surface of a few large triangles in a big box).
+    // filed under at most 2 cells per axis; larger where that would make more cells than
+    // triangles (a surface of a few large triangles in a big box; a surface's triangles
+    // fill few of the cells of its box).
     Vec3 lo, hi, all_lo, all_hi;
     triangle_box(surface, 0, all_lo, all_hi);
     double sum = 0;
@@ -52,7 +53,7 @@ TriangleBoxGrid::TriangleBoxGrid(const Surface& surface) {
     for (size_t k = 0; k < 3; ++k) largest = std::max(largest, all_hi[k] - all_lo[k]);
     double size = sum / double(nt);
     if (!(size > 0)) size = largest > 0 ? largest : 1.0;
-    const double max_cells = 2.0 * double(nt) + 1.0;
+    const double max_cells = double(nt) + 1.0;
     for (;;) {
         double cells = 1;
         for (size_t k = 0; k < 3; ++k) cells *= std::floor((all_hi[k] - all_lo[k]) / size) + 1;
@@ -61,11 +62,24 @@ TriangleBoxGrid::TriangleBoxGrid(const Surface& surface) {
     }
     inverse_size_ = 1.0 / size;
     for (size_t k = 0; k < 3; ++k) n_[k] = int32_t(std::floor((all_hi[k] - all_lo[k]) * inverse_size_)) + 1;
-    cells_.resize(size_t(n_[0]) * size_t(n_[1]) * size_t(n_[2]));
+    const size_t cells = size_t(n_[0]) * size_t(n_[1]) * size_t(n_[2]);
+    // Two passes over the triangles: count per cell, then place (ascending in each cell).
+    start_.assign(cells + 1, 0);
+    auto each_cell = [&](const CellRange& r, auto&& visit) {
+        for (int32_t i = r[0]; i <= r[1]; ++i)
+            for (int32_t j = r[2]; j <= r[3]; ++j)
+                for (int32_t k = r[4]; k <= r[5]; ++k) visit(cell(i, j, k));
+    };
     for (size_t t = 0; t < nt; ++t) {
         filed_[t] = range_of(surface, int32_t(t));
-        file(int32_t(t), filed_[t]);
+        if (large(filed_[t])) large_.push_back(int32_t(t));
+        else each_cell(filed_[t], [&](size_t c) { ++start_[c + 1]; });
     }
+    for (size_t c = 0; c < cells; ++c) start_[c + 1] += start_[c];
+    filed_at_start_.resize(size_t(start_[cells]));
+    std::vector<int64_t> next(start_.begin(), start_.end() - 1);
+    for (size_t t = 0; t < nt; ++t)
+        if (!large(filed_[t])) each_cell(filed_[t], [&](size_t c) { filed_at_start_[size_t(next[c]++)] = int32_t(t); });
 }
 
 TriangleBoxGrid::CellRange TriangleBoxGrid::range(const Vec3& lo, const Vec3& hi) const {
@@ -96,15 +110,16 @@ void TriangleBoxGrid::file(int32_t t, const CellRange& r) {
     }
     for (int32_t i = r[0]; i <= r[1]; ++i)
         for (int32_t j = r[2]; j <= r[3]; ++j)
-            for (int32_t k = r[4]; k <= r[5]; ++k) cells_[cell(i, j, k)].push_back(t);
+            for (int32_t k = r[4]; k <= r[5]; ++k) moved_[cell(i, j, k)].push_back(t);
 }
 
 void TriangleBoxGrid::unfile(int32_t t, const CellRange& r) {
     auto remove = [t](std::vector<int32_t>& list) {
         const auto it = std::find(list.begin(), list.end(), t);
-        if (it == list.end()) return;
+        if (it == list.end()) return false;
         *it = list.back();
         list.pop_back();
+        return true;
     };
     if (large(r)) {
         remove(large_);
@@ -112,7 +127,14 @@ void TriangleBoxGrid::unfile(int32_t t, const CellRange& r) {
     }
     for (int32_t i = r[0]; i <= r[1]; ++i)
         for (int32_t j = r[2]; j <= r[3]; ++j)
-            for (int32_t k = r[4]; k <= r[5]; ++k) remove(cells_[cell(i, j, k)]);
+            for (int32_t k = r[4]; k <= r[5]; ++k) {
+                const size_t c = cell(i, j, k);
+                const auto moved = moved_.find(c);
+                if (moved != moved_.end() && remove(moved->second)) continue;
+                const auto first = filed_at_start_.begin() + start_[c], last = filed_at_start_.begin() + start_[c + 1];
+                const auto it = std::find(first, last, t);
+                if (it != last) *it = -1;
+            }
 }
 
 void TriangleBoxGrid::update(const Surface& surface, int32_t t) {
@@ -138,8 +160,15 @@ void TriangleBoxGrid::candidates(const Vec3& lo, const Vec3& hi, std::vector<int
     const CellRange r = range(lo, hi);
     for (int32_t i = r[0]; i <= r[1]; ++i)
         for (int32_t j = r[2]; j <= r[3]; ++j)
-            for (int32_t k = r[4]; k <= r[5]; ++k)
-                for (int32_t t : cells_[cell(i, j, k)]) take(t);
+            for (int32_t k = r[4]; k <= r[5]; ++k) {
+                const size_t c = cell(i, j, k);
+                for (int64_t e = start_[c]; e < start_[c + 1]; ++e)
+                    if (filed_at_start_[size_t(e)] >= 0) take(filed_at_start_[size_t(e)]);
+                if (moved_.empty()) continue;
+                const auto moved = moved_.find(c);
+                if (moved != moved_.end())
+                    for (int32_t t : moved->second) take(t);
+            }
     for (int32_t t : large_) take(t);
     std::sort(out.begin(), out.end());
 }
