@@ -3,9 +3,10 @@
 // remedy's release step (Refiner::release, refine.cpp): which triangles may meet a box,
 // without scanning every triangle per query. Why: release asks once per vertex held back
 // farther than the tolerance, and a scan made that (held-back vertices x triangles):
-// femur 10 % at T = 0.0003, 397 x 323k box tests in pass 1. The grid is built once per
-// release and kept current where vertices move (update: only the moved vertices'
-// incident triangles change their boxes).
+// femur 10 % at T = 0.0003, 397 x 323k = 128M box tests in pass 1, 1.05M with the grid
+// (T = 0.0002: 762 x 563k = 429M, 3.5M). The grid is built once per release and kept
+// current where vertices move (update: only the moved vertices' incident triangles
+// change their boxes).
 //
 // Candidates are a superset of the triangles whose current box meets the query box
 // (closed boxes, as `lo <= hi` comparisons): cell indices are clamped to the grid, and
