@@ -29,11 +29,11 @@
 #include "bpm/errors.h"
 #include "bpm/phi_evaluation.h"
 #include "bpm/predicates.h"
+#include "core/triangle_grid.h"
 #include "core/barycentric_orientation.h"
 #include "core/edge_key.h"
 #include "core/number_text.h"
 #include "refine/planar_regions.h"
-#include "refine/triangle_box_grid.h"
 
 namespace bpm {
 
@@ -101,6 +101,45 @@ private:
     int64_t best_above_ = 0, first_above_ = 0, previous_above_ = 0;
     bool diverging_ = false, exploding_ = false;
 };
+
+// The refined surface's triangles in a grid (core/triangle_grid.h) for the release step:
+// cells of the triangles' mean box extent, the lattice over the box of the vertices now
+// and at phi (a held-back vertex only moves between its place and phi; the grid clamps
+// what lies outside, so any box is safe to ask for).
+detail::TriangleGrid triangle_grid_of(const Surface& s, const std::vector<Vec3>& at_phi) {
+    Vec3 lo = s.vertices.empty() ? Vec3{0, 0, 0} : s.vertices[0], hi = lo;
+    for (const std::vector<Vec3>* points : {&s.vertices, &at_phi})
+        for (const Vec3& p : *points)
+            for (size_t k = 0; k < 3; ++k) lo[k] = std::min(lo[k], p[k]), hi[k] = std::max(hi[k], p[k]);
+    double extents = 0;
+    for (const Tri& c : s.triangles) {
+        double extent = 0;
+        for (size_t k = 0; k < 3; ++k) {
+            const double a = s.vertices[size_t(c[0])][k], b = s.vertices[size_t(c[1])][k], e = s.vertices[size_t(c[2])][k];
+            extent = std::max(extent, std::max({a, b, e}) - std::min({a, b, e}));
+        }
+        extents += extent;
+    }
+    const double cell = s.triangles.empty() ? 0.0 : extents / double(s.triangles.size());
+    detail::TriangleGrid grid(cell > 0 ? cell : 1.0, detail::TriangleGrid::Frame::of_box(lo, hi));
+    std::vector<int32_t> ids(s.triangles.size());
+    std::iota(ids.begin(), ids.end(), 0);
+    grid.insert_all(ids, s.triangles, s.vertices);
+    return grid;
+}
+
+// Takes triangle t out of `grid`, filed with its corners where they were when it went in:
+// those in `moving` at `before` (same order), the others where they are.
+void grid_remove(detail::TriangleGrid& grid, const Surface& s, int32_t t, const std::vector<int32_t>& moving,
+                 const std::vector<Vec3>& before) {
+    Vec3 x[3];
+    for (size_t k = 0; k < 3; ++k) {
+        const int32_t v = s.triangles[size_t(t)][k];
+        const auto it = std::lower_bound(moving.begin(), moving.end(), v);
+        x[k] = it != moving.end() && *it == v ? before[size_t(it - moving.begin())] : s.vertices[size_t(v)];
+    }
+    grid.remove(t, x[0], x[1], x[2]);
+}
 
 class Refiner {
 public:
@@ -1002,15 +1041,16 @@ public:
         all.max_problems = 1;
         int64_t moved = 0;
         std::vector<uint8_t> in_moving(nv, 0);
-        // The triangles' boxes, kept current below: each trial's sub-surface is found among
-        // the triangles filed near its box instead of by a scan of all (see the grid's
-        // header for the numbers). Both cost about the same per triangle, a filing about as
-        // much as 30-60 scans (mostly page faults for its arrays: femur 10 % at T = 0.001,
-        // 1-12 vertices per call on 55k triangles, spent 4-10 ms more per call with it), so
-        // few vertices are scanned for.
+        // The triangles' boxes, kept current below (core/triangle_grid.h, the simplifier's
+        // grid): each trial's sub-surface is found among the triangles near its box instead
+        // of by a scan of all, which made a call (vertices x triangles): femur 10 % at
+        // T = 0.0003, pass 1, 397 x 323k = 128M box tests. A build costs about as much as
+        // 30-60 scans (femur 10 % at T = 0.001, 1-12 vertices per call on 55k triangles,
+        // spent 4-10 ms more per call with a grid), so few vertices are scanned for.
         constexpr size_t kGridFrom = 32;
-        std::optional<detail::TriangleBoxGrid> grid;
-        if (far.size() >= kGridFrom) grid.emplace(s);
+        std::optional<detail::TriangleGrid> grid;
+        if (far.size() >= kGridFrom) grid = triangle_grid_of(s, pl.at_phi);
+        std::vector<detail::TriangleGrid::Entry> near;
         std::vector<int32_t> candidates;  // of a trial's sub-surface
         int64_t box_tests = 0, queries = 0;
         for (const auto& [d, v] : far) {
@@ -1057,7 +1097,14 @@ public:
             std::unordered_map<int32_t, int32_t> local;
             std::vector<int32_t> global;
             if (grid) {
-                grid->candidates(lo, hi, candidates);
+                // The moving triangles are out of the grid until they have moved (below):
+                // their boxes change with every trial, and they all meet [lo, hi].
+                for (int32_t t : moving_tris) grid_remove(*grid, s, t, moving, before);
+                grid->query_boxes(lo, hi, near);
+                candidates = moving_tris;
+                for (const auto& e : near) candidates.push_back(e.id);
+                std::sort(candidates.begin(), candidates.end());
+                candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
             } else {
                 candidates.resize(nt);
                 std::iota(candidates.begin(), candidates.end(), 0);
@@ -1108,14 +1155,15 @@ public:
             }
             for (int32_t w : moving) in_moving[size_t(w)] = 0;
             if (grid)
-                for (int32_t t : moving_tris) grid->update(s, t);
+                for (int32_t t : moving_tris) {
+                    const Tri& c = s.triangles[size_t(t)];
+                    grid->insert(t, s.vertices[size_t(c[0])], s.vertices[size_t(c[1])], s.vertices[size_t(c[2])]);
+                }
         }
         context.debug("refine: intersection remedy: " + std::to_string(moved) + " of " + std::to_string(far.size()) +
                       " vertices held back farther than the tolerance moved closer to phi alone (" +
                       std::to_string(box_tests) + " triangle boxes tested for their sub-surfaces" +
-                      (grid ? ", " + std::to_string(grid->visited()) + " grid entries visited; a scan tests " +
-                                  std::to_string(queries * int64_t(nt))
-                            : std::string(", a scan")) +
+                      (grid ? "; a scan tests " + std::to_string(queries * int64_t(nt)) : std::string(", a scan")) +
                       ")");
         return moved;
     }

@@ -14,7 +14,7 @@
 // left to check_intersections itself, for its report.
 
 #include "bpm/surface.h"
-#include "simplify/triangle_grid.h"
+#include "core/triangle_grid.h"
 
 namespace bpm::detail {
 

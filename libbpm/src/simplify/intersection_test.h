@@ -15,7 +15,7 @@
 
 #include "bpm/geometry.h"
 #include "simplify/coarse_mesh.h"
-#include "simplify/triangle_grid.h"
+#include "core/triangle_grid.h"
 
 namespace bpm::detail {
 

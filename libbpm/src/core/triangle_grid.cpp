@@ -1,4 +1,4 @@
-#include "simplify/triangle_grid.h"
+#include "core/triangle_grid.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,7 +1,8 @@
-// The release step's triangle grid (refine/triangle_box_grid.h): for any query box its
-// candidates hold every triangle whose box meets it (what release's scan of all triangles
-// found), also after vertices move and the moved triangles are re-filed, including moves
-// out of the box the grid was built on and a triangle stretched across the whole grid.
+// The triangle grid as bpm-refine's release step uses it (core/triangle_grid.h, built on
+// the surface, a moved triangle taken out with its old corners and put back with its new
+// ones): for any query box the candidates hold every triangle whose box meets it (what
+// release's scan of all triangles found), also after vertices move, including moves out
+// of the box the grid's lattice was made for and a triangle stretched across the whole grid.
 #include <algorithm>
 #include <cstdint>
 #include <random>
@@ -10,13 +11,54 @@
 #include <catch2/catch.hpp>
 
 #include "fixtures_surfaces.h"
-#include "refine/triangle_box_grid.h"
+#include "core/triangle_grid.h"
 
 using namespace bpm;
 using namespace bpm::detail;
 using bpm::fixtures::torus;
 
 namespace {
+
+// The grid kept current as release keeps it: remove with the corners it was filed with,
+// insert with the new ones. `visited` counts the candidates returned (the grid's work,
+// against the triangles x queries of a scan).
+class MovingGrid {
+public:
+    explicit MovingGrid(const Surface& s) : filed_(s.vertices) {
+        Vec3 lo = s.vertices[0], hi = lo;
+        for (const Vec3& p : s.vertices)
+            for (size_t k = 0; k < 3; ++k) lo[k] = std::min(lo[k], p[k]), hi[k] = std::max(hi[k], p[k]);
+        grid_ = TriangleGrid(1.0, TriangleGrid::Frame::of_box(lo, hi));
+        std::vector<int32_t> ids(s.triangles.size());
+        for (size_t t = 0; t < ids.size(); ++t) ids[t] = int32_t(t);
+        grid_.insert_all(ids, s.triangles, s.vertices);
+    }
+    // Vertex v of `s` moved (s already holds its new place): its triangles re-filed.
+    void moved(const Surface& s, int32_t v, const std::vector<int32_t>& triangles) {
+        for (int32_t t : triangles) {
+            const Tri& c = s.triangles[size_t(t)];
+            grid_.remove(t, filed_[size_t(c[0])], filed_[size_t(c[1])], filed_[size_t(c[2])]);
+        }
+        filed_[size_t(v)] = s.vertices[size_t(v)];
+        for (int32_t t : triangles) {
+            const Tri& c = s.triangles[size_t(t)];
+            grid_.insert(t, filed_[size_t(c[0])], filed_[size_t(c[1])], filed_[size_t(c[2])]);
+        }
+    }
+    void candidates(const Vec3& lo, const Vec3& hi, std::vector<int32_t>& out) {
+        grid_.query_boxes(lo, hi, entries_);
+        out.clear();
+        for (const auto& e : entries_) out.push_back(e.id);
+        visited_ += int64_t(out.size());
+    }
+    int64_t visited() const { return visited_; }
+
+private:
+    TriangleGrid grid_{1.0};
+    std::vector<Vec3> filed_;  // the positions the triangles are filed with
+    std::vector<TriangleGrid::Entry> entries_;
+    int64_t visited_ = 0;
+};
 
 bool box_meets(const Surface& s, int32_t t, const Vec3& lo, const Vec3& hi) {
     // As Refiner::release tests it.
@@ -37,7 +79,7 @@ std::vector<int32_t> scan(const Surface& s, const Vec3& lo, const Vec3& hi) {
 
 // The grid's candidates for [lo, hi], checked (ascending, each once), filtered as release
 // filters them.
-std::vector<int32_t> found(TriangleBoxGrid& grid, const Surface& s, const Vec3& lo, const Vec3& hi) {
+std::vector<int32_t> found(MovingGrid& grid, const Surface& s, const Vec3& lo, const Vec3& hi) {
     std::vector<int32_t> candidates, out;
     grid.candidates(lo, hi, candidates);
     CHECK(std::is_sorted(candidates.begin(), candidates.end()));
@@ -49,7 +91,7 @@ std::vector<int32_t> found(TriangleBoxGrid& grid, const Surface& s, const Vec3& 
 
 // Random query boxes, from points to a third of the surface's width, some reaching outside it;
 // also boxes around triangles (shared corners: boxes that only touch).
-void check_queries(TriangleBoxGrid& grid, const Surface& s, std::mt19937& rng, int count) {
+void check_queries(MovingGrid& grid, const Surface& s, std::mt19937& rng, int count) {
     std::uniform_real_distribution<double> at(-4.6, 4.6), size(0.0, 2.5);
     for (int q = 0; q < count; ++q) {
         Vec3 lo, hi;
@@ -68,11 +110,11 @@ void check_queries(TriangleBoxGrid& grid, const Surface& s, std::mt19937& rng, i
 
 }  // namespace
 
-TEST_CASE("triangle box grid: the candidates hold every triangle whose box meets the query, before and after moves",
+TEST_CASE("release triangle grid: the candidates hold every triangle whose box meets the query, before and after moves",
           "[internal][refine][release]") {
     Surface s = torus(40, 24);  // 1920 triangles in [-4, 4] x [-4, 4] x [-1, 1]
     std::mt19937 rng(7);
-    TriangleBoxGrid grid(s);
+    MovingGrid grid(s);
     check_queries(grid, s, rng, 400);
     const int64_t visited = grid.visited();
     CHECK(visited < 400 * int64_t(s.triangles.size()) / 4);  // the grid's point: far fewer than a scan
@@ -82,7 +124,7 @@ TEST_CASE("triangle box grid: the candidates hold every triangle whose box meets
         for (int32_t v : s.triangles[size_t(t)]) incident[size_t(v)].push_back(t);
     auto move = [&](int32_t v, const Vec3& to) {
         s.vertices[size_t(v)] = to;
-        for (int32_t t : incident[size_t(v)]) grid.update(s, t);
+        grid.moved(s, v, incident[size_t(v)]);
     };
     // Small moves (as release's trials: within a cell or to the next), moves far outside
     // the box the grid was built on (clamped cells), and one triangle stretched across it
@@ -105,12 +147,12 @@ TEST_CASE("triangle box grid: the candidates hold every triangle whose box meets
     check_queries(grid, s, rng, 400);
 }
 
-TEST_CASE("triangle box grid: degenerate surfaces (one triangle, all corners in a plane or a point)",
+TEST_CASE("release triangle grid: degenerate surfaces (one triangle, all corners in a plane or a point)",
           "[internal][refine][release]") {
     Surface s;
     s.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}};
     s.triangles = {{0, 1, 2}, {1, 3, 2}};
-    TriangleBoxGrid grid(s);
+    MovingGrid grid(s);
     CHECK(found(grid, s, {0.5, 0.5, 0}, {0.5, 0.5, 0}) == std::vector<int32_t>{0, 1});
     CHECK(found(grid, s, {1, 1, 0}, {2, 2, 2}) == std::vector<int32_t>{0, 1});  // boxes that touch meet
     CHECK(found(grid, s, {1.5, 0, 0}, {2, 2, 0}).empty());
@@ -118,9 +160,9 @@ TEST_CASE("triangle box grid: degenerate surfaces (one triangle, all corners in 
     Surface point;
     point.vertices = {{2, 2, 2}, {2, 2, 2}, {2, 2, 2}};
     point.triangles = {{0, 1, 2}};
-    TriangleBoxGrid tiny(point);
+    MovingGrid tiny(point);
     CHECK(found(tiny, point, {2, 2, 2}, {3, 3, 3}) == std::vector<int32_t>{0});
     point.vertices[1] = {-5, 2, 2};
-    tiny.update(point, 0);
+    tiny.moved(point, 1, {0});
     CHECK(found(tiny, point, {-6, 1, 1}, {-4, 3, 3}) == std::vector<int32_t>{0});
 }
