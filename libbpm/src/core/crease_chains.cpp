@@ -101,13 +101,14 @@ std::vector<uint8_t> find_creases(const std::vector<Vec3>& p, const std::vector<
     return crease;
 }
 
-void check_crease_rule_numbers(double feature_angle_degrees, double chain_angle_degrees, double chain_length) {
+void check_crease_rule_numbers(double feature_angle_degrees, double chain_angle_degrees, double chain_length,
+                               const std::string& who) {
     if (!(feature_angle_degrees >= 0 && feature_angle_degrees <= 180))
-        throw OptionError("feature_angle_degrees must be between 0 and 180 degrees");
+        throw OptionError(who + "feature_angle_degrees must be between 0 and 180 degrees");
     if (!(chain_angle_degrees >= 0 && chain_angle_degrees <= 180))
-        throw OptionError("crease_chain_angle_degrees must be between 0 and 180 degrees");
+        throw OptionError(who + "crease_chain_angle_degrees must be between 0 and 180 degrees");
     if (!(chain_length >= 0 && chain_length <= 1))
-        throw OptionError("crease_chain_length must be between 0 and 1 (of the diagonal)");
+        throw OptionError(who + "crease_chain_length must be between 0 and 1 (of the diagonal)");
 }
 
 }  // namespace bpm::detail

@@ -24,6 +24,7 @@
 // ones. The result does not depend on the order of the edges.
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "bpm/geometry.h"
@@ -62,9 +63,10 @@ std::vector<uint8_t> find_creases(const std::vector<Vec3>& positions, const std:
                                   const CreaseRule& rule);
 
 // Throws bpm::OptionError unless both angles are in [0, 180] degrees and the chain length
-// (a fraction of the diagonal) in [0, 1]; NaN is refused. For the library calls that take
-// the rule's numbers directly (bpm-info's summary); SimplifyOptions and SmoothOptions check
-// the same ranges with their own messages.
-void check_crease_rule_numbers(double feature_angle_degrees, double chain_angle_degrees, double chain_length);
+// (a fraction of the diagonal) in [0, 1]; NaN is refused. The one check of the rule's
+// numbers for every call that takes them (simplify, smooth, bpm-info's summary); the
+// message starts with `who` ("smooth: ") and names the option's field.
+void check_crease_rule_numbers(double feature_angle_degrees, double chain_angle_degrees, double chain_length,
+                               const std::string& who = "");
 
 }  // namespace bpm::detail

@@ -28,6 +28,7 @@
 
 #include "bpm/check.h"
 #include "bpm/errors.h"
+#include "core/crease_chains.h"
 #include "core/edge_uses.h"
 #include "core/free_memory.h"
 #include "core/number_text.h"
@@ -1041,12 +1042,8 @@ void check_options(const SimplifyOptions& options) {
         throw OptionError("queue_tolerance must be between 0 and 10");
     if (!(options.corner_crease_length >= 0 && options.corner_crease_length <= 1))
         throw OptionError("the corner crease length must be between 0 and 1 (of the diagonal)");
-    if (!(options.feature_angle_degrees >= 0 && options.feature_angle_degrees <= 180))
-        throw OptionError("feature_angle_degrees must be between 0 and 180 degrees");
-    if (!(options.crease_chain_angle_degrees >= 0 && options.crease_chain_angle_degrees <= 180))
-        throw OptionError("crease_chain_angle_degrees must be between 0 and 180 degrees");
-    if (!(options.crease_chain_length >= 0 && options.crease_chain_length <= 1))
-        throw OptionError("crease_chain_length must be between 0 and 1 (of the diagonal)");
+    detail::check_crease_rule_numbers(options.feature_angle_degrees, options.crease_chain_angle_degrees,
+                                      options.crease_chain_length);
     if (!(options.min_ridge_angle_degrees >= 0 && options.min_ridge_angle_degrees <= 90))
         throw OptionError("min_ridge_angle_degrees must be between 0 and 90 degrees");
 }

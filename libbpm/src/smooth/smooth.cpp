@@ -983,10 +983,8 @@ RefinedQuality refined_quality(const Parametrization& param, int levels) {
 SmoothResult smooth(Parametrization& param, const SmoothOptions& options, const Context& context) {
     const auto start = std::chrono::steady_clock::now();
     if (options.iterations < 0) throw OptionError("smooth: iterations must be >= 0");
-    if (!(options.crease_chain_angle_degrees >= 0 && options.crease_chain_angle_degrees <= 180))
-        throw OptionError("smooth: crease_chain_angle_degrees must be between 0 and 180 degrees");
-    if (!(options.crease_chain_length >= 0 && options.crease_chain_length <= 1))
-        throw OptionError("smooth: crease_chain_length must be between 0 and 1 (of the diagonal)");
+    detail::check_crease_rule_numbers(options.feature_angle_degrees, options.crease_chain_angle_degrees,
+                                      options.crease_chain_length, "smooth: ");
     if (!(options.tolerance >= 0)) throw OptionError("smooth: tolerance must be >= 0");
     if (options.measure_quality && (options.quality_levels < 0 || options.quality_levels > 6))
         throw OptionError("smooth: quality_levels must be in 0..6");

@@ -5,6 +5,7 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <map>
 
@@ -190,6 +191,12 @@ TEST_CASE("smoothing rejects bad options", "[smooth]") {
     o = SmoothOptions{};
     o.crease_chain_angle_degrees = 200.0;
     CHECK_THROWS_AS(smooth(p, o, Context{}), OptionError);
+    // The feature angle too (a negative one made nearly every edge of S0 a crease, NaN none).
+    o = SmoothOptions{};
+    o.feature_angle_degrees = -5.0;
+    CHECK_THROWS_AS(smooth(p, o, Context{}), OptionError);
+    o.feature_angle_degrees = std::nan("");
+    CHECK_THROWS_WITH(smooth(p, o, Context{}), Catch::Contains("smooth: feature_angle_degrees"));
 }
 
 TEST_CASE("smoothing improves the refined femur and keeps phi valid", "[smooth][real]") {
