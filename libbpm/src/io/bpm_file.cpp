@@ -203,9 +203,7 @@ public:
             switch (element_size) {
                 case 4: shuffle_bytes<4>(data, elements, shuffled); break;
                 case 8: shuffle_bytes<8>(data, elements, shuffled); break;
-                default:
-                    for (size_t i = 0; i < elements; ++i)
-                        for (size_t b = 0; b < element_size; ++b) shuffled[b * elements + i] = data[i * element_size + b];
+                default: shuffle_bytes(data, elements, element_size, shuffled);
             }
             in = shuffled;
         }
@@ -224,10 +222,13 @@ public:
 
 private:
     // HDF5's shuffle: byte b of element i goes to b * elements + i.
+    static void shuffle_bytes(const unsigned char* data, size_t elements, size_t element_size, unsigned char* out) {
+        for (size_t i = 0; i < elements; ++i)
+            for (size_t b = 0; b < element_size; ++b) out[b * elements + i] = data[i * element_size + b];
+    }
     template <size_t E>
     static void shuffle_bytes(const unsigned char* data, size_t elements, unsigned char* out) {
-        for (size_t i = 0; i < elements; ++i)
-            for (size_t b = 0; b < E; ++b) out[b * elements + i] = data[i * E + b];
+        shuffle_bytes(data, elements, E, out);  // inlined with E known: the byte loop unrolled
     }
     libdeflate_compressor* deflate_;
     Buffer shuffled_;

@@ -251,6 +251,15 @@ void CoarseMesh::mark_feature_edges(const CreaseRule& rule) {
     // other triangle, so the edges with two triangles (nearly all) need no merge of the
     // corners' triangle lists (edge_triangles, ~2 % of that floor).
     const bool fresh = across_.size() == 3 * triangles_.size() && size_t(num_alive_) == triangles_.size();
+    // Edge (a, b) with its triangles t0 and t1 (-1: not exactly two): hard unless two of one patch.
+    auto walk_edge = [&](int32_t a, int32_t b, int32_t t0, int32_t t1) {
+        if (t1 < 0 || patch(t0) != patch(t1)) {
+            walk.push_back({a, b, -1});
+            return;
+        }
+        walk.push_back({a, b, int32_t(sheet.size())});
+        sheet.push_back({a, b, triangles_[t0], triangles_[t1]});
+    };
     for (int32_t t = 0; t < int32_t(triangles_.size()); ++t) {
         if (!alive_[t]) continue;
         for (int k = 0; k < 3; ++k) {
@@ -259,13 +268,7 @@ void CoarseMesh::mark_feature_edges(const CreaseRule& rule) {
             const int32_t n = fresh ? across_[3 * size_t(t) + size_t(initially_flipped_[t] ? 2 - k : k)] : -1;
             if (n >= 0 && n != t) {
                 // Its two triangles are t and n, the first of them the smaller.
-                if (n < t) continue;
-                if (patch(t) != patch(n)) {
-                    walk.push_back({a, b, -1});
-                    continue;
-                }
-                walk.push_back({a, b, int32_t(sheet.size())});
-                sheet.push_back({a, b, triangles_[t], triangles_[n]});
+                if (n > t) walk_edge(a, b, t, n);
                 continue;
             }
             // Each edge once, from the first triangle that has it: the triangle lists
@@ -274,12 +277,7 @@ void CoarseMesh::mark_feature_edges(const CreaseRule& rule) {
             // idempotent.)
             edge_triangles(a, b, around);
             if (around.empty() || around[0] != t) continue;
-            if (around.size() != 2 || patch(around[0]) != patch(around[1])) {
-                walk.push_back({a, b, -1});
-                continue;
-            }
-            walk.push_back({a, b, int32_t(sheet.size())});
-            sheet.push_back({a, b, triangles_[around[0]], triangles_[around[1]]});
+            walk_edge(a, b, around[0], around.size() == 2 ? around[1] : -1);
         }
     }
     decltype(across_)().swap(across_);

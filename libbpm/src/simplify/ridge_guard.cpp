@@ -80,8 +80,7 @@ double sharpest_changed_ridge(const CoarseMesh& mesh, const std::vector<int32_t>
                 lowest = std::min(lowest, oriented_cosine(normals[i], t, normals[twin], added[twin], u, w));
                 continue;
             }
-            const int32_t known_inside = known;
-            if (known_inside >= 0) {
+            if (known >= 0) {
                 // A side the caller named, with its removed triangle: the other triangle on
                 // it is the one the two lists share besides that one (exactly one, and not
                 // removed, as below).
@@ -95,12 +94,12 @@ double sharpest_changed_ridge(const CoarseMesh& mesh, const std::vector<int32_t>
                     for (const int32_t q : lw) on_w |= q == p;
                     if (!on_w) continue;
                     ++common;
-                    if (p == known_inside) has_inside = true;
+                    if (p == known) has_inside = true;
                     else outside = p;
                 }
                 if (common != 2 || !has_inside || is_removed(outside)) continue;
                 mesh.prefetch_triangle(outside);
-                sides.push_back({int32_t(i), k, outside, known_inside});
+                sides.push_back({int32_t(i), k, outside, known});
                 continue;
             }
             // Another added triangle on the edge: a new diagonal, judged once (by the later one).
