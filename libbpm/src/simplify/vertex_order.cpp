@@ -67,6 +67,12 @@ void scatter(std::vector<T>& values, const std::vector<int32_t>& to, size_t stri
     }
 }
 
+std::vector<int32_t> inverse(const std::vector<int32_t>& permutation) {
+    std::vector<int32_t> inv(permutation.size());
+    for (size_t i = 0; i < permutation.size(); ++i) inv[size_t(permutation[i])] = int32_t(i);
+    return inv;
+}
+
 void rename_corners(std::vector<Tri>& triangles, const std::vector<int32_t>& id) {
     for (Tri& t : triangles)
         for (int32_t& v : t) v = id[size_t(v)];
@@ -102,16 +108,13 @@ InputOrder morton_order(const Surface& surface) {
     std::sort(keyed.begin(), keyed.end());
     InputOrder order;
     order.user_vertex.resize(nv);
-    order.internal_vertex.resize(nv);
-    for (size_t i = 0; i < nv; ++i) {
-        order.user_vertex[i] = keyed[i].second;
-        order.internal_vertex[size_t(keyed[i].second)] = int32_t(i);
-    }
+    for (size_t i = 0; i < nv; ++i) order.user_vertex[i] = keyed[i].second;
+    const std::vector<int32_t> internal_vertex = inverse(order.user_vertex);
     std::vector<std::pair<int32_t, int32_t>> by_corner(nt);
     for (size_t t = 0; t < nt; ++t) {
         int32_t first = std::numeric_limits<int32_t>::max();
         for (int32_t v : surface.triangles[t])
-            if (v >= 0 && size_t(v) < nv) first = std::min(first, order.internal_vertex[size_t(v)]);
+            if (v >= 0 && size_t(v) < nv) first = std::min(first, internal_vertex[size_t(v)]);
         by_corner[t] = {first, int32_t(t)};
     }
     std::sort(by_corner.begin(), by_corner.end());
@@ -125,7 +128,7 @@ void to_internal_order(Surface& surface, const InputOrder& order) {
     for (VertexArray& a : surface.vertex_data) gather(a.values, order.user_vertex, size_t(a.components));
     gather(surface.triangles, order.user_triangle);
     if (surface.patches.size() == surface.triangles.size()) gather(surface.patches, order.user_triangle);
-    rename_corners(surface.triangles, order.internal_vertex);
+    rename_corners(surface.triangles, inverse(order.user_vertex));
 }
 
 void to_user_order(Surface& surface, const InputOrder& order) {

@@ -33,10 +33,11 @@
 
 namespace bpm::detail {
 
+// Held through the run: 4 bytes per vertex and per triangle (the inverse of user_vertex
+// is made only where needed, so that it is not held too).
 struct InputOrder {
-    std::vector<int32_t> user_vertex;      // internal vertex id -> the caller's
-    std::vector<int32_t> internal_vertex;  // the caller's vertex id -> internal
-    std::vector<int32_t> user_triangle;    // internal triangle id -> the caller's
+    std::vector<int32_t> user_vertex;    // internal vertex id -> the caller's
+    std::vector<int32_t> user_triangle;  // internal triangle id -> the caller's
 };
 
 // The Morton order of `surface`'s vertices (positions quantised to 21 bits per axis in
