@@ -262,7 +262,10 @@ struct SimplifyResult {
 // \pre `original` passed validate_surface (finite, no degenerate or duplicate triangles).
 // \throw bpm::OptionError for contradictory options, bpm::AlgorithmError for a
 //        self-intersecting input (see SimplifyOptions), bpm::Cancelled via the context.
-// Fills `out` (original, coarse, phi) and returns what was achieved.
+// Fills `out` (original, coarse, phi) and returns what was achieved. The run itself
+// works on its own numbering of the input (Morton order of the vertices, for memory
+// locality: libbpm/src/simplify/vertex_order.h); `out.original` is the input exactly as
+// given, and every id in `out`, the result and the messages is the caller's.
 SimplifyResult simplify(const Surface& original, const SimplifyOptions& options, const Context& context,
                         Parametrization& out);
 // The same, taking the input over: it becomes out.original without a copy, so that the
