@@ -237,7 +237,8 @@ struct SimplifyResult {
     std::vector<SliverReport> worst_slivers;
     double seconds = 0.0;  // wall time from the first ranking to the end of the export
     // Wall and CPU seconds of simplify()'s phases, in order; together they cover the call
-    // (the option checks aside).
+    // (the option checks and the renumbering of the input into Morton order and back
+    // aside: at most 0.5 % of the samples of a 208k-triangle run).
     std::vector<SimplifyPhaseTime> phases;
     int threads = 1;  // threads used (SimplifyOptions::threads, or what 0 chose)
     bool target_reached = false;
