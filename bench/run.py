@@ -112,6 +112,7 @@ MANUAL_SECTIONS = [
     "crease-chains.md",
     "adaptive-fold-splitting.md",
     "loop4.md",
+    "morton.md",
 ]
 RUN_RECORD = "all.json"  # in the results folder: what `all` ran, for --assemble
 QUICK_REFINE_MESHES = "femur"

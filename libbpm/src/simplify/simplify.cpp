@@ -42,6 +42,7 @@
 #include "simplify/planning_pool.h"
 #include "simplify/removal_cost.h"
 #include "simplify/ridge_guard.h"
+#include "simplify/vertex_order.h"
 #include "simplify/vertex_removal.h"
 
 namespace bpm {
@@ -239,6 +240,10 @@ public:
         return surely_passes_intersection_check(original_, intersections_.grid());
     }
 
+    // Messages (trace_removals, self_check) name vertices by the caller's ids: `user_vertex`
+    // maps the ids of `original` (simplify/vertex_order.h) to them; must outlive run().
+    void name_vertices_by(const std::vector<int32_t>& user_vertex) { user_vertex_ = &user_vertex; }
+
 private:
     // `uses`: the original's sides grouped by edge, counted once for the coarse mesh's
     // orientation walk and the embedding's edges (each used to collect its own).
@@ -302,7 +307,11 @@ private:
         stamp_.assign(original.vertices.size(), 0);
     }
 
+    // The caller's id of vertex v, for messages.
+    int32_t user_id(int32_t v) const { return user_vertex_ ? (*user_vertex_)[size_t(v)] : v; }
+
     const Surface& original_;
+    const std::vector<int32_t>* user_vertex_ = nullptr;  // name_vertices_by
     const SimplifyOptions& options_;
     const Context& context_;
     PhaseTimer& timer_;
@@ -730,7 +739,7 @@ void Simplifier::commit(int k, double cost, SimplifyResult& result) {
         char line[200];
         std::snprintf(line, sizeof line,
                       "remove vertex %d: cost %.10g, error %.6g, worst aspect %.4g (was %.4g), normal deviation %.3g deg",
-                      v, cost, plan.max_deviation / diagonal_, plan.worst_new_aspect, plan.worst_old_aspect,
+                      user_id(v), cost, plan.max_deviation / diagonal_, plan.worst_new_aspect, plan.worst_old_aspect,
                       plan.max_normal_deviation);
         context_.debug(line);
     }
@@ -836,7 +845,7 @@ void Simplifier::count_blocked(SimplifyResult& result) {
             why = plan.valid ? "not reached" : plan.reason;
         }
         ++result.blocked[why];
-        if (options_.trace_removals) context_.debug("vertex " + std::to_string(v) + " kept: " + why);
+        if (options_.trace_removals) context_.debug("vertex " + std::to_string(user_id(v)) + " kept: " + why);
     }
 }
 
@@ -1006,8 +1015,9 @@ void Simplifier::self_check(int32_t removed_vertex, const std::vector<int32_t>& 
             !triangulate_faces(graph, embedding_, sign_, faces, pieces, piece_triangle, &why)) {
             const Tri& c = mesh_.triangle(t);
             throw AlgorithmError("self-check after removal " + std::to_string(step) + " of vertex " +
-                                 std::to_string(removed_vertex) + ": triangle " + std::to_string(t) + " (" +
-                                 std::to_string(c[0]) + "," + std::to_string(c[1]) + "," + std::to_string(c[2]) +
+                                 std::to_string(user_id(removed_vertex)) + ": coarse triangle " + std::to_string(t) +
+                                 " (" + std::to_string(user_id(c[0])) + "," + std::to_string(user_id(c[1])) + "," +
+                                 std::to_string(user_id(c[2])) +
                                  ", " + std::to_string(graph.nodes.size()) + " nodes, " +
                                  std::to_string(graph.segments.size()) + " segments" +
                                  (t >= first_new_ ? ", new" : ", old") + "): " + why);
@@ -1048,9 +1058,20 @@ void check_options(const SimplifyOptions& options) {
         throw OptionError("min_ridge_angle_degrees must be between 0 and 90 degrees");
 }
 
-// simplify() after check_options(); `original` may be out.original.
-SimplifyResult simplify_checked(const Surface& original, const SimplifyOptions& options, const Context& context,
-                                Parametrization& out) {
+// The input check's verdict and first problem named by the caller's ids: on a failure
+// found in the simplifier's numbering, the check again on a copy in the caller's order
+// (only for the message: the first problem in that order, as the caller numbers it).
+CheckResult check_intersections_in_user_order(const Surface& original, const InputOrder& order,
+                                              const CheckOptions& options, const Context& context) {
+    Surface user = original;
+    to_user_order(user, order);
+    return check_intersections(user, options, context, "input intersections");
+}
+
+// simplify() after check_options(), on `original` (out.original) in the simplifier's
+// numbering `order` (simplify/vertex_order.h); the results still in that numbering.
+SimplifyResult simplify_checked(const Surface& original, const InputOrder& order, const SimplifyOptions& options,
+                                const Context& context, Parametrization& out) {
     const int threads = planning_threads(options.threads);
     context.debug(std::to_string(threads) + (threads == 1 ? " thread" : " threads") +
                   (options.threads == 0 ? " (automatic: threads = 0)" : ""));
@@ -1070,6 +1091,7 @@ SimplifyResult simplify_checked(const Surface& original, const SimplifyOptions& 
             });
             simplifier = std::make_unique<Simplifier>(original, options, context, threads, timer);
             r = check.get();
+            if (!r.passed) r = check_intersections_in_user_order(original, order, check_options, Context{});
         } else {
             // One thread: the set-up first, then the check walks the set-up's grid
             // instead of building a structure of its own; the check itself runs only
@@ -1080,7 +1102,7 @@ SimplifyResult simplify_checked(const Surface& original, const SimplifyOptions& 
             if (simplifier->input_surely_passes_intersection_check())
                 r.passed = true;
             else
-                r = check_intersections(original, check_options, context, "input intersections");
+                r = check_intersections_in_user_order(original, order, check_options, context);
         }
         if (!r.passed)
             throw AlgorithmError("the input surface intersects itself (" + std::to_string(r.problem_count) +
@@ -1092,6 +1114,7 @@ SimplifyResult simplify_checked(const Surface& original, const SimplifyOptions& 
         timer.start("set-up");
         simplifier = std::make_unique<Simplifier>(original, options, context, threads, timer);
     }
+    simplifier->name_vertices_by(order.user_vertex);
     SimplifyResult result = simplifier->run(out);
     result.threads = threads;
     timer.start("freeing the simplifier's state");
@@ -1101,12 +1124,41 @@ SimplifyResult simplify_checked(const Surface& original, const SimplifyOptions& 
     return result;
 }
 
+// simplify() after check_options() on out.original (the input as the caller gave it, the
+// rest of `out` empty): renumbered in Morton order for the run and given back as it came,
+// every id of the results mapped back to the caller's (simplify/vertex_order.h: why).
+SimplifyResult simplify_in_morton_order(const SimplifyOptions& options, const Context& context, Parametrization& out) {
+    const InputOrder order = morton_order(out.original);
+    to_internal_order(out.original, order);
+    SimplifyResult result;
+    try {
+        result = simplify_checked(out.original, order, options, context, out);
+    } catch (...) {
+        to_user_order(out.original, order);
+        throw;
+    }
+    to_user_order(out.original, order);
+    phi_to_user_order(out, order);
+    if (result.steps) steps_to_user_order(*result.steps, order);
+    for (SliverReport& s : result.worst_slivers)
+        for (int32_t& v : s.vertices) v = order.user_vertex[size_t(v)];
+    return result;
+}
+
 }  // namespace
 
 SimplifyResult simplify(const Surface& original, const SimplifyOptions& options, const Context& context,
                         Parametrization& out) {
     check_options(options);
-    return simplify_checked(original, options, context, out);
+    if (&original == &out.original) {  // simplify(p.original, ..., p): keep it, drop the rest
+        Surface kept = std::move(out.original);
+        out = Parametrization();
+        out.original = std::move(kept);
+    } else {
+        out = Parametrization();
+        out.original = original;
+    }
+    return simplify_in_morton_order(options, context, out);
 }
 
 SimplifyResult simplify(Surface&& original, const SimplifyOptions& options, const Context& context,
@@ -1114,7 +1166,7 @@ SimplifyResult simplify(Surface&& original, const SimplifyOptions& options, cons
     check_options(options);
     out = Parametrization();
     out.original = std::move(original);
-    return simplify_checked(out.original, options, context, out);
+    return simplify_in_morton_order(options, context, out);
 }
 
 }  // namespace bpm
