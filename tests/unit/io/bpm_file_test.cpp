@@ -328,7 +328,7 @@ std::vector<Vec3> stored_images(const std::string& bytes) {
 
 }  // namespace
 
-TEST_CASE("format 2.0 stores no node images; the reader recomputes the simplifier's to the bit", "[format]") {
+TEST_CASE("format 2.0 stores no node images, the reader recomputes the simplifier's to the bit", "[format]") {
     // Issue 21: /phi/node_image was a third of a simplified file; every image is what its
     // node names (spec 6.2), so the reader recomputes it. The simplifier's output, with
     // edge crossings whose ends the caller's vertex order swapped (vertex_order.cpp).
