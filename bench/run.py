@@ -639,7 +639,7 @@ def median_of(runs, key):
     return statistics.median(values) if values else None
 
 
-def ratio(a, b):
+def quotient(a, b):
     return a / b if a is not None and b else None
 
 
@@ -684,11 +684,11 @@ def scaling_markdown(header, rows):
         out.append(f"| {r['input']} | {r['triangles']} | {r['load_before']:.1f} / {r['load_after']:.1f} "
                    f"| {cell(b, 'seconds', '.1f')} | {cell(b, 'cpu_seconds', '.1f')} | {cell(b1, 'seconds', '.1f')} "
                    f"| {cell(b1, 'cpu_seconds', '.1f')} | {cell(c, 'cpu_seconds', '.1f')} "
-                   f"| {fmt(ratio(b1['cpu_seconds'], c['cpu_seconds']), '.2f')} "
-                   f"| {fmt(ratio(b['seconds'], b1['seconds']), '.2f')} "
-                   f"| {fmt(ratio(b['cpu_seconds'], b1['cpu_seconds']), '.2f')} "
+                   f"| {fmt(quotient(b1['cpu_seconds'], c['cpu_seconds']), '.2f')} "
+                   f"| {fmt(quotient(b['seconds'], b1['seconds']), '.2f')} "
+                   f"| {fmt(quotient(b['cpu_seconds'], b1['cpu_seconds']), '.2f')} "
                    f"| {cell(b1, 'peak_mb', '.0f')} | {cell(c, 'peak_mb', '.0f')} "
-                   f"| {fmt(ratio(b1['peak_mb'], c['peak_mb']), '.2f')} | {fmt(norm, '.2f')} |")
+                   f"| {fmt(quotient(b1['peak_mb'], c['peak_mb']), '.2f')} | {fmt(norm, '.2f')} |")
     notes = []
     for r in rows:
         b, b1 = r["bpm"], r["bpm1"]

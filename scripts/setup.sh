@@ -27,6 +27,7 @@ declare -A NEED=(
   [python3-pybind11]=/usr/lib/python3/dist-packages/pybind11/__init__.py
   [python3-dev]=/usr/bin/python3-config
   [python3-pytest]=/usr/lib/python3/dist-packages/pytest/__init__.py
+  [python3-pyflakes]=/usr/lib/python3/dist-packages/pyflakes/__init__.py
   [pkg-config]=/usr/bin/pkg-config
   [clang]=/usr/bin/clang++
   [libclang-rt-14-dev]=/usr/lib/llvm-14/lib/clang/14.0.6/lib/linux/libclang_rt.fuzzer-x86_64.a
