@@ -194,11 +194,22 @@ public:
         check(H5Awrite(attr, mem_type, values.data()), std::string("cannot write attribute ") + name);
     }
 
+    // Whether the array given to write_dataset stays in memory, unchanged, until the file
+    // is written (the BpmFile's own arrays), or may be gone after the call (a buffer
+    // made for it).
+    enum class Source { Temporary, Lasting };
+
     // A 1-D (cols == 0) or 2-D (rows x cols) dataset: chunked and deflated from
     // kCompressMinBytes on (one chunk up to kChunkRows rows), shuffled where that pays;
-    // smaller ones contiguous.
+    // smaller ones contiguous. A Lasting dataset with the same type, shape and bytes as a
+    // Lasting one written before is stored as a copy of that one's chunks, read back as
+    // stored instead of compressed again: /VTKHDF/Points and /VTKHDF/CellData/patch are
+    // /coarse/vertices and /coarse/patches, and at --ratio 1 the coarse surface is the
+    // original (bpm-simplify armadillo + 1x Loop --ratio 1: three deflates of 2.5 MB of
+    // vertices, ~30 ms each, became one). The bytes of the file are those of compressing
+    // them again: the same chunks, filters and order.
     void write_dataset(hid_t group, const char* name, const void* data, hsize_t rows, hsize_t cols,
-                       hid_t file_type, hid_t mem_type) const {
+                       hid_t file_type, hid_t mem_type, Source source = Source::Temporary) const {
         const int rank = cols == 0 ? 1 : 2;
         hsize_t dims[2] = {rows, cols};
         Handle space(check_id(H5Screate_simple(rank, dims, nullptr), "cannot create a dataspace"), H5Sclose);
@@ -223,11 +234,21 @@ public:
         ChunkCompressor::Stored& first = first_;
         ChunkCompressor::Stored& other = other_;
         bool shuffle = false;
+        const Written* same = nullptr;  // a Lasting dataset with these bytes, if any
+        if (direct && source == Source::Lasting)
+            for (const Written& w : lasting_)
+                if (w.bytes == bytes && w.rows == rows && w.cols == cols && H5Tequal(w.file_type, file_type) > 0 &&
+                    std::memcmp(w.data, data, bytes) == 0) {
+                    same = &w;
+                    break;
+                }
         if (compressed) {
             check(H5Pset_chunk(dcpl, rank, chunk), std::string("cannot set chunking of ") + name);
             // The first chunk is always full (chunk rows = min(rows, kChunkRows)).
-            shuffle = compressor_.compress_first_chunk(static_cast<const unsigned char*>(data), chunk_bytes,
-                                                       element_size, first);
+            if (same) shuffle = same->shuffle;
+            else
+                shuffle = compressor_.compress_first_chunk(static_cast<const unsigned char*>(data), chunk_bytes,
+                                                           element_size, first);
             if (shuffle) check(H5Pset_shuffle(dcpl), std::string("cannot set shuffle filter of ") + name);
             check(H5Pset_deflate(dcpl, kDeflateLevel), std::string("cannot set deflate filter of ") + name);
         }
@@ -241,6 +262,15 @@ public:
             return;
         }
 #if H5_VERSION_GE(1, 10, 3)
+        if (same) {
+            copy_chunks(same->path, ds, rows, chunk[0], name);
+            return;
+        }
+        if (source == Source::Lasting) {
+            std::string path(size_t(std::max<ssize_t>(H5Iget_name(ds, nullptr, 0), 0)), '\0');
+            H5Iget_name(ds, path.data(), path.size() + 1);
+            lasting_.push_back({data, bytes, rows, cols, file_type, shuffle, std::move(path)});
+        }
         // The last chunk of several is padded with zeros to a whole chunk, as HDF5 pads it
         // with the (default, zero) fill value before filtering.
         std::vector<unsigned char> padded;
@@ -263,6 +293,23 @@ public:
 #endif
     }
 
+#if H5_VERSION_GE(1, 10, 3)
+    // Writes the stored chunks of the dataset at `path` into `ds` as they are.
+    void copy_chunks(const std::string& path, hid_t ds, hsize_t rows, hsize_t chunk_rows, const char* name) const {
+        Handle from(check_id(H5Dopen2(ds, path.c_str(), H5P_DEFAULT), std::string("cannot reopen ") + path), H5Dclose);
+        for (hsize_t row = 0; row < rows; row += chunk_rows) {
+            const hsize_t offset[2] = {row, 0};
+            hsize_t size = 0;
+            check(H5Dget_chunk_storage_size(from, offset, &size), std::string("cannot read back ") + path);
+            uint32_t mask = 0;
+            unsigned char* buffer = other_.buffer.room(size_t(size));
+            check(H5Dread_chunk(from, H5P_DEFAULT, offset, &mask, buffer), std::string("cannot read back ") + path);
+            check(H5Dwrite_chunk(ds, H5P_DEFAULT, mask, offset, size_t(size), buffer),
+                  std::string("cannot write dataset ") + name);
+        }
+    }
+#endif
+
     void write_strings(hid_t group, const char* name, const std::vector<std::string>& values) const {
         size_t width = 1;
         for (const auto& s : values) width = std::max(width, s.size() + 1);
@@ -276,6 +323,16 @@ private:
     std::string where_;
     mutable ChunkCompressor compressor_;  // its buffers and deflate state serve every dataset
     mutable ChunkCompressor::Stored first_, other_;  // write_dataset's: a dataset's first chunk, the others
+    // The Lasting datasets written so far (a handful per file: the surfaces').
+    struct Written {
+        const void* data;
+        size_t bytes;
+        hsize_t rows, cols;
+        hid_t file_type;  // a predefined type: valid as long as the library
+        bool shuffle;
+        std::string path;
+    };
+    mutable std::vector<Written> lasting_;
 };
 
 // ---------------------------------------------------------------------------
@@ -442,9 +499,11 @@ const T* flat(const std::vector<std::array<T, N>>& v) {
 void write_surface(const Writer& w, hid_t group, const Surface& s) {
     const double* xyz = flat(s.vertices);
     const int32_t* tri = flat(s.triangles);
-    w.write_dataset(group, "vertices", xyz, s.vertices.size(), 3, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE);
-    w.write_dataset(group, "triangles", tri, s.triangles.size(), 3, H5T_STD_I32LE, H5T_NATIVE_INT32);
-    w.write_dataset(group, "patches", s.patches.data(), s.patches.size(), 0, H5T_STD_I32LE, H5T_NATIVE_INT32);
+    constexpr auto lasting = Writer::Source::Lasting;  // the BpmFile's arrays
+    w.write_dataset(group, "vertices", xyz, s.vertices.size(), 3, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, lasting);
+    w.write_dataset(group, "triangles", tri, s.triangles.size(), 3, H5T_STD_I32LE, H5T_NATIVE_INT32, lasting);
+    w.write_dataset(group, "patches", s.patches.data(), s.patches.size(), 0, H5T_STD_I32LE, H5T_NATIVE_INT32,
+                    lasting);
 }
 
 std::atomic<unsigned> g_image_counter{0};
@@ -700,7 +759,8 @@ void write_contents(const Writer& w, hid_t f, const BpmFile& file) {
         w.write_dataset(g, "NumberOfCells", ncells.data(), 1, 0, H5T_STD_I64LE, H5T_NATIVE_INT64);
         w.write_dataset(g, "NumberOfConnectivityIds", nconn.data(), 1, 0, H5T_STD_I64LE, H5T_NATIVE_INT64);
         const double* xyz = flat(s.vertices);
-        w.write_dataset(g, "Points", xyz, s.vertices.size(), 3, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE);
+        w.write_dataset(g, "Points", xyz, s.vertices.size(), 3, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE,
+                        Writer::Source::Lasting);
         std::vector<int64_t> connectivity;
         detail::reserve_huge_pages(connectivity, 3 * s.triangles.size());
         for (const auto& t : s.triangles) connectivity.insert(connectivity.end(), t.begin(), t.end());
@@ -712,7 +772,8 @@ void write_contents(const Writer& w, hid_t f, const BpmFile& file) {
         const std::vector<uint8_t> types(s.triangles.size(), 5);  // VTK_TRIANGLE
         w.write_dataset(g, "Types", types.data(), types.size(), 0, H5T_STD_U8LE, H5T_NATIVE_UINT8);
         Handle cd = w.create_group(g, "CellData");
-        w.write_dataset(cd, "patch", s.patches.data(), s.patches.size(), 0, H5T_STD_I32LE, H5T_NATIVE_INT32);
+        w.write_dataset(cd, "patch", s.patches.data(), s.patches.size(), 0, H5T_STD_I32LE, H5T_NATIVE_INT32,
+                        Writer::Source::Lasting);
         Handle pd = w.create_group(g, "PointData");
         Handle fd = w.create_group(g, "FieldData");
     }

@@ -64,14 +64,19 @@ void ChunkCompressor::compress(const unsigned char* data, size_t bytes, size_t e
 // dataset (node_image: shuffled 12 % smaller on elephant, 16 % larger on fandisk;
 // original/vertices, node_edge_parameter, node_original_vertex likewise), so the data
 // decide. Earlier writers deflated the whole first chunk both ways and kept the smaller:
-// every dataset of a small file is one chunk, so a small file was compressed twice (the
-// second deflate was about 5 % of bpm-simplify elephant --vertices 1000 --threads 1).
-// A sample of 16 kB in 8 blocks spread over the chunk chooses as the whole chunk does on
-// nearly every dataset of the benchmark outputs, and where not the two ways are within a
-// few percent: see the sizes in compress_first_chunk's history (git log).
+// every dataset of a small file is one chunk, so a small file was compressed twice
+// (bpm-simplify elephant --vertices 1000 --threads 1: 0.226 -> 0.213 s CPU without the
+// second deflate, median of 7 alternated runs on a busy machine). A sample of 16 kB in 8
+// blocks spread over the chunk chooses as the whole chunk on nearly every dataset of the
+// 18 reference outputs (scripts/reference-outputs.sh); where not, the two ways are within
+// a few percent, and the files grew by at most 0.18 % (armadillo --vertices 1000);
+// armadillo's 1x and 2x Loop subdivisions kept their sizes. A prefix of the chunk as the
+// sample chose worse (4-16 kB: up to 5-10 % larger files): the arrays are ordered by
+// coarse triangle or vertex, and their start is not typical of the rest.
 bool ChunkCompressor::shuffle_pays(const unsigned char* data, size_t bytes, size_t element_size) {
     const size_t elements = bytes / element_size;
-    const size_t per_block = std::min(elements, std::max<size_t>(1, kShuffleSampleBytes / kShuffleSampleBlocks / element_size));
+    const size_t per_block =
+        std::min(elements, std::max<size_t>(1, kShuffleSampleBytes / kShuffleSampleBlocks / element_size));
     const size_t blocks = per_block * kShuffleSampleBlocks >= elements ? 1 : kShuffleSampleBlocks;
     const size_t block_bytes = (blocks == 1 ? elements : per_block) * element_size;
     unsigned char* sample = sample_.room(blocks * block_bytes);
