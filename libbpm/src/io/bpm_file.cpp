@@ -11,11 +11,14 @@
 //
 // The chunks of compressed datasets are shuffled (or not) and deflated here, not by HDF5's
 // filters (io/chunk_compressor.h); whether a dataset is shuffled is decided on a sample of
-// its first chunk, or on the whole chunk when it is small.
+// its first chunk, or on the whole chunk when it is small. A surface dataset that repeats
+// one written before (/VTKHDF's copy of the coarse surface; the coarse surface at
+// --ratio 1) gets that one's stored chunks, read back, instead of a second compression.
 //
 // Writing is deterministic: no object timestamps, chunk sizes and filters that depend on
-// the data only (ChunkCompressor::compress_first_chunk), and nothing that depends on the
-// time or the file name, so the same BpmFile always gives the same bytes.
+// the data only (ChunkCompressor::compress_first_chunk; a copied dataset has the bytes its
+// own compression would give), and nothing that depends on the time or the file name, so
+// the same BpmFile always gives the same bytes.
 
 #include "bpm/bpm_file.h"
 
