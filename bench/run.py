@@ -113,6 +113,7 @@ MANUAL_SECTIONS = [
     "adaptive-fold-splitting.md",
     "loop4.md",
     "morton.md",
+    "nodeimage.md",
 ]
 RUN_RECORD = "all.json"  # in the results folder: what `all` ran, for --assemble
 QUICK_REFINE_MESHES = "femur"

@@ -19,7 +19,7 @@ fi
 expect 0 "simplify eight.off" -- "$tools/bpm-simplify" "$eight" -o "$work/eight.bpm" --ratio 0.5 --units mm \
     --record-steps --deterministic -q
 expect 0 "bpm-info" -- "$info" "$work/eight.bpm"
-contains "$work/out" "eight.bpm: bpm format 1." "the format version"
+contains "$work/out" "eight.bpm: bpm format 2." "the format version"
 contains "$work/out" "units mm" "the units"
 contains "$work/out" "original    315 vertices" "the original's vertices"
 contains "$work/out" "removals recorded" "the recorded steps"
@@ -32,7 +32,7 @@ import json, os, sys
 j = json.load(open(sys.argv[1]))
 assert j["bpm_info"] == 1 and j["ok"] is True and "error" not in j, j
 assert j["file_bytes"] == os.path.getsize(sys.argv[2]), j["file_bytes"]
-assert j["format_version"][0] == 1 and j["units"] == "mm", j
+assert j["format_version"][0] == 2 and j["units"] == "mm", j
 o, c = j["original"], j["coarse"]
 assert o["vertices"] == 315 and o["triangles"] == 634, o  # genus 2: T = 2V + 4g - 4
 assert 0 < c["vertices"] < 315 and c["triangles"] == 2 * c["vertices"] + 4, c

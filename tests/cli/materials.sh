@@ -25,10 +25,10 @@ names = sorted(r["material_name"] for r in j["regions"])
 assert len(j["regions"]) == 2 and names == ["left", "right"], j["regions"]
 assert [m["name"] for m in j["materials"]] == ["left", "right"] and j["material_problems"] == 0, j
 ' "$work/out"
-ok "the .bpm holds /patch_info and the region materials (format 1.3)" -- $py -c '
+ok "the .bpm holds /patch_info and the region materials (since format 1.3)" -- $py -c '
 import h5py, sys
 f = h5py.File(sys.argv[1], "r")
-assert list(f.attrs["format_version"]) == [1, 3]
+assert list(f.attrs["format_version"]) == [2, 0]
 pi = f["patch_info"]
 assert [n.decode() for n in pi["name"][()]] == ["left|exterior", "right|exterior", "left|right"], pi["name"][()]
 assert [n.decode() for n in pi["front_material"][()]] == ["exterior", "exterior", "right"]

@@ -150,6 +150,6 @@ expect 0 "the triangulated cube passes bpm-check" -- "$check" "$work/q.bpm"
 expect 0 "bpm-check --surface --triangulate-polygons" -- "$check" --surface --triangulate-polygons "$work/quads.off"
 expect 0 "--help" -- "$simplify" --help
 expect 0 "--version" -- "$simplify" --version
-ok "--version names the format version" -- grep -q "bpm format 1" "$work/out"
+ok "--version names the format version" -- grep -q "bpm format 2" "$work/out"
 
 finish

@@ -4,7 +4,7 @@ spec/bpm-format.md using only h5py and numpy (no libbpm). Shared by the Python t
 import h5py
 import numpy as np
 
-SUPPORTED_MAJOR = 1
+SUPPORTED_MAJORS = (1, 2)  # 2.0 dropped /phi/node_image: the reader recomputes it (spec 6.2)
 
 
 class SpecError(Exception):
@@ -25,7 +25,7 @@ def read(path):
         if _string(f.attrs.get("format", b"")) != "bpm":
             raise SpecError("root attribute 'format' is not 'bpm'")
         version = [int(v) for v in f.attrs["format_version"]]
-        if version[0] != SUPPORTED_MAJOR:
+        if version[0] not in SUPPORTED_MAJORS:
             raise SpecError("unsupported major version %d" % version[0])
         d = {"format_version": version, "units": _string(f.attrs.get("units", b""))}
         for group in ("original", "coarse"):
@@ -44,8 +44,10 @@ def read(path):
         for name in ("node_offsets", "node_kind", "node_original_vertex", "node_original_edge",
                      "piece_offsets", "pieces", "piece_original_triangle"):
             d["phi/" + name] = f["phi/" + name][()].astype(np.int64)
-        for name in ("node_barycentric", "node_image", "node_edge_parameter"):
+        for name in ("node_barycentric", "node_edge_parameter"):
             d["phi/" + name] = f["phi/" + name][()].astype(np.float64)
+        if version[0] == 1:  # stored in 1.x (and equal to the recomputation); kept for comparing
+            d["phi/stored_node_image"] = f["phi/node_image"][()].astype(np.float64)
         # Optional since 1.3 (spec 5.2): per patch a name and the materials on its two sides.
         d["patch_info"] = {}
         if "patch_info" in f:
@@ -67,7 +69,23 @@ def read(path):
             raise SpecError("bad CSR offsets in /phi/" + name)
     if d["phi/node_offsets"][-1] != len(d["phi/node_kind"]) or d["phi/piece_offsets"][-1] != len(d["phi/pieces"]):
         raise SpecError("CSR offsets do not end at the dataset length")
+    d["phi/node_image"] = node_images(d)
     return d
+
+
+def node_images(d):
+    """phi(node) for every node, from what the node is (spec 6.2): x_v for an original vertex
+    or coarse corner, (1-s)*x_u + s*x_w for an edge crossing, computed with exactly that
+    expression in float64."""
+    x = d["original/vertices"]
+    kind = d["phi/node_kind"]
+    crossing = kind == 1
+    image = np.empty((len(kind), 3))
+    image[~crossing] = x[d["phi/node_original_vertex"][~crossing]]
+    e = d["phi/node_original_edge"][crossing]
+    s = d["phi/node_edge_parameter"][crossing][:, None]
+    image[crossing] = (1 - s) * x[e[:, 0]] + s * x[e[:, 1]]
+    return image
 
 
 def node_in_original(d, node, tri):

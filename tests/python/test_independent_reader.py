@@ -36,6 +36,14 @@ def random_queries(rng, num_coarse, count):
 
 def compare(path, tools, work, rng, count):
     d = spec.read(path)
+    problems = []
+    # A 1.x file stores the images: the spec's recomputation must give them to the bit.
+    if "phi/stored_node_image" in d:
+        stored, image = d["phi/stored_node_image"], d["phi/node_image"]
+        if stored.shape != image.shape or stored.tobytes() != image.tobytes():
+            problems.append("recomputed node images differ from the stored ones (format 1.x) in %d rows"
+                            % int(np.any(stored != image, axis=1).sum()) if stored.shape == image.shape else
+                            "stored node images have shape %s" % (stored.shape,))
     tq, bq = random_queries(rng, len(d["coarse/triangles"]), count)
     queries = np.zeros(count, dtype=QUERY)
     queries["t"], queries["b"] = tq, bq
@@ -50,7 +58,6 @@ def compare(path, tools, work, rng, count):
     X = d["original/vertices"]
     scale = max(1.0, float(np.linalg.norm(X.max(axis=0) - X.min(axis=0))))
     tol = 1e-12 * scale
-    problems = []
     dpos = np.abs(got["x"] - pos).max(axis=1)
     for i in np.nonzero(dpos > tol)[0][:5]:
         problems.append("query %d (t=%d b=%s): position %s vs %s" % (i, tq[i], bq[i], got["x"][i], pos[i]))
@@ -89,6 +96,9 @@ def main():
     os.makedirs(work, exist_ok=True)
     make = os.path.join(args.tools, "bpm-make-example")
     files = [os.path.join(args.source, "spec", "examples", "two_triangles.bpm")]
+    # Files of format 1.3, which stored /phi/node_image (2.0 readers recompute it).
+    old = os.path.join(args.source, "tests", "data", "format-1")
+    files += [os.path.join(old, name) for name in sorted(os.listdir(old)) if name.endswith(".bpm")]
     for kind in (["height_field", "24", "4"], ["height_field", "90", "6"], ["octahedron", "4"], ["identity", "2"]):
         out = os.path.join(work, "_".join(kind) + ".bpm")
         subprocess.run([make] + kind + [out], check=True)

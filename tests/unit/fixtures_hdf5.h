@@ -48,6 +48,10 @@ struct Hdf5Image {
     // allocate = false leaves it unwritten.
     void replace(const char* path, hid_t type, std::vector<hsize_t> dims, const void* data, bool allocate = true) {
         remove(path);
+        create(path, type, dims, data, allocate);
+    }
+    // Adds a dataset (contiguous, uncompressed) where there was none.
+    void create(const char* path, hid_t type, std::vector<hsize_t> dims, const void* data, bool allocate = true) {
         hid_t space = H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr);
         hid_t ds = H5Dcreate2(file, path, type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
         REQUIRE(ds >= 0);

@@ -1,5 +1,5 @@
 #pragma once
-// The bpm file format v1.3 (spec/bpm-format.md is normative): one HDF5 file holding a
+// The bpm file format v2.0 (spec/bpm-format.md is normative): one HDF5 file holding a
 // parametrized surface, its provenance, and room for later groups.
 
 #include <optional>
@@ -45,6 +45,11 @@ struct BpmFile {
     // The format version the file was written in, as read_bpm found it ({0, 0} for a
     // BpmFile made in memory); write_bpm ignores it and writes bpm_format_version().
     BpmFormatVersion format_version;
+    // Files of format 1.x only: /phi/node_image as the file stored it, one row per node.
+    // param.node_image is always the images recomputed from the node kinds (format 2.0
+    // no longer stores them); bpm-check's format check compares the two. Empty for 2.x
+    // files and files made in memory; write_bpm ignores it.
+    std::vector<Vec3> stored_node_image;
 };
 
 BpmFormatVersion bpm_format_version();  // what this build writes
@@ -66,8 +71,10 @@ std::string write_bpm_to_memory(const BpmFile& file);
 // finite values, version). Throws bpm::InputError with the dataset and element at fault.
 // "-" reads standard input. gzip-compressed input (a .bpm.gz, or gzip data on standard
 // input or in memory, told by its magic bytes) is decompressed first; a truncated or
-// corrupt one is an InputError. Accepts any minor version of major version 1 and ignores
-// groups and attributes it does not know (spec §2, §10); the /VTKHDF group is not read.
+// corrupt one is an InputError. Accepts any minor version of major versions 1 and 2 and
+// ignores groups and attributes it does not know (spec §2, §10); the /VTKHDF group is not
+// read. The node images are recomputed from the node kinds (node_images_from_kinds), also
+// for 1.x files, whose stored ones go to BpmFile::stored_node_image.
 // Does not check the geometry of phi (tiling, orientation, bijectivity): bpm-check does.
 // Memory use is bounded by a small multiple of the input size (dataset extents are
 // checked against the file size before anything is allocated).

@@ -95,6 +95,8 @@ struct CheckOptions {
 // original edges exist), images equal to what the node is within 1e-9 of the bounding
 // box diagonal of S0, coarse vertices at their original positions (same tolerance).
 // The other parametrization checks rely on this one and report "not checked" when it fails.
+// For a file of format 1.x, the images it stored (BpmFile::stored_node_image) are the ones
+// compared with what each node is; read_bpm recomputed param.node_image from the kinds.
 CheckResult check_format(const Parametrization& param, const CheckOptions& options = {}, const Context& context = {});
 CheckResult check_format(const BpmFile& file, const CheckOptions& options = {}, const Context& context = {});
 

@@ -62,7 +62,13 @@ struct Parametrization {
 Parametrization make_identity_parametrization(const Surface& original);
 
 // The image of a node recomputed from what the node is (vertex position, or the point
-// at the edge parameter on the original edge). Writers use it; readers may check it.
+// at the edge parameter on the original edge), with the expression of spec/bpm-format.md
+// §6.2 so that every reader gets the same bits. Throws std::out_of_range for a node or
+// vertex index out of range.
 Vec3 node_image_from_kind(const Parametrization& p, int64_t node);
+
+// node_image_from_kind of every node: what Parametrization::node_image holds. Format 2.0
+// files do not store the images; read_bpm fills node_image with this.
+std::vector<Vec3> node_images_from_kinds(const Parametrization& p);
 
 }  // namespace bpm

@@ -136,7 +136,12 @@ std::optional<std::string> surface_unsafe(const Surface& surface) {
 
 }  // namespace detail
 
-CheckResult check_format(const Parametrization& p, const CheckOptions& options, const Context& context) {
+namespace {
+
+// `stored`: the images a format 1.x file stored (BpmFile::stored_node_image), compared
+// with the recomputation instead of p.node_image; null for p.node_image itself.
+CheckResult check_format_of(const Parametrization& p, const std::vector<Vec3>* stored, const CheckOptions& options,
+                            const Context& context) {
     CheckResult r;
     r.name = "format";
     const size_t maxp = options.max_problems;
@@ -262,10 +267,12 @@ CheckResult check_format(const Parametrization& p, const CheckOptions& options, 
             if (identity_ok) {
                 // Indices were range-checked by structure(); the writer uses the same function.
                 expected = node_image_from_kind(p, n);
-                const double d = distance(expected, phi.image(i));
+                const Vec3& image = stored ? (*stored)[static_cast<size_t>(n)] : phi.image(i);
+                const double d = distance(expected, image);
                 deviation(d, ids);
                 if (!(d <= tolerance))
-                    add(ids, "image " + vec_text(phi.image(i)) + " differs from the point the node names " +
+                    add(ids, std::string(stored ? "stored image " : "image ") + vec_text(image) +
+                                 " differs from the point the node names " +
                                  vec_text(expected) + " by " + detail::format_number(d) + " (tolerance " +
                                  detail::format_number(tolerance) + ")");
             }
@@ -288,8 +295,17 @@ CheckResult check_format(const Parametrization& p, const CheckOptions& options, 
     return r;
 }
 
+}  // namespace
+
+CheckResult check_format(const Parametrization& p, const CheckOptions& options, const Context& context) {
+    return check_format_of(p, nullptr, options, context);
+}
+
 CheckResult check_format(const BpmFile& file, const CheckOptions& options, const Context& context) {
-    return check_format(file.param, options, context);
+    // A 1.x file's stored images must be the points their nodes name (spec §6.2 of 1.x);
+    // param.node_image is that recomputation already.
+    const bool stored = file.stored_node_image.size() == file.param.node_image.size() && !file.stored_node_image.empty();
+    return check_format_of(file.param, stored ? &file.stored_node_image : nullptr, options, context);
 }
 
 }  // namespace bpm

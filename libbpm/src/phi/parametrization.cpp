@@ -64,4 +64,10 @@ Vec3 node_image_from_kind(const Parametrization& p, int64_t node) {
     throw std::invalid_argument("node_image_from_kind: invalid node kind");
 }
 
+std::vector<Vec3> node_images_from_kinds(const Parametrization& p) {
+    std::vector<Vec3> images(static_cast<size_t>(p.num_nodes()));
+    for (int64_t n = 0; n < p.num_nodes(); ++n) images[static_cast<size_t>(n)] = node_image_from_kind(p, n);
+    return images;
+}
+
 }  // namespace bpm

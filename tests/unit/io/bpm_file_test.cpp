@@ -15,10 +15,13 @@
 
 #include "bpm/bpm_file.h"
 #include "bpm/errors.h"
+#include "bpm/check.h"
 #include "bpm/phi_evaluation.h"
+#include "bpm/simplify.h"
 #include "bpm/version.h"
 #include "fixtures_hdf5.h"
 #include "fixtures_phi.h"
+#include "fixtures_surfaces.h"
 #include "test_support.h"
 
 using namespace bpm;
@@ -99,7 +102,7 @@ std::string valid_file() { return write_bpm_to_memory(with_provenance(test::make
 TEST_CASE("format version comes from the build", "[format]") {
     CHECK(bpm_format_version().major == BPM_FORMAT_VERSION_MAJOR);
     CHECK(bpm_format_version().minor == BPM_FORMAT_VERSION_MINOR);
-    CHECK(bpm_format_version().major == 1);
+    CHECK(bpm_format_version().major == 2);
 }
 
 TEST_CASE("identity parametrization round-trips exactly", "[format]") {
@@ -201,7 +204,7 @@ TEST_CASE("datasets of small files are compressed too, and tiny ones stay contig
     // bpm_file.cpp compresses every dataset of at least 512 bytes (spec §3.2).
     const BpmFile f = with_provenance(test::make_subdivided_octahedron(3));
     REQUIRE(f.param.num_nodes() < 16384);
-    REQUIRE(f.param.num_nodes() * 24 >= 512);
+    REQUIRE(f.param.num_nodes() * 8 >= 512);
     Image image(write_bpm_to_memory(f));
     const auto filters = [&](const char* path) {
         const hid_t ds = H5Dopen2(image.file, path, H5P_DEFAULT);
@@ -219,7 +222,7 @@ TEST_CASE("datasets of small files are compressed too, and tiny ones stay contig
         H5Dclose(ds);
         return std::make_pair(layout, out);
     };
-    for (const char* path : {"/phi/node_image", "/phi/node_barycentric", "/phi/pieces", "/original/vertices",
+    for (const char* path : {"/phi/node_edge_parameter", "/phi/node_barycentric", "/phi/pieces", "/original/vertices",
                              "/original/triangles"}) {
         INFO(path);
         const auto [layout, list] = filters(path);
@@ -345,6 +348,82 @@ TEST_CASE("write_bpm into a missing directory is an OutputError", "[format]") {
     CHECK_THROWS_AS(write_bpm("/nonexistent-dir-bpm/x.bpm", f), OutputError);
 }
 
+namespace {
+
+bool same_bits(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
+    return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(Vec3)) == 0);
+}
+
+// /phi/node_image as a file stores it, read with HDF5 directly (not through read_bpm).
+std::vector<Vec3> stored_images(const std::string& bytes) {
+    Image im(bytes);
+    std::vector<Vec3> out;
+    im.edit<double>("/phi/node_image", H5T_NATIVE_DOUBLE, [&](auto& v) {
+        out.resize(v.size() / 3);
+        std::memcpy(out.data(), v.data(), v.size() * sizeof(double));
+    });
+    return out;
+}
+
+}  // namespace
+
+TEST_CASE("format 2.0 stores no node images, the reader recomputes the simplifier's to the bit", "[format]") {
+    // Issue 21: /phi/node_image was a third of a simplified file; every image is what its
+    // node names (spec 6.2), so the reader recomputes it. The simplifier's output, with
+    // edge crossings whose ends the caller's vertex order swapped (vertex_order.cpp).
+    SimplifyOptions options;
+    options.target_ratio = 0.1;
+    Parametrization p;
+    simplify(fixtures::torus(24, 16), options, Context{}, p);
+    int64_t crossings = 0;
+    for (const NodeKind k : p.node_kind) crossings += k == NodeKind::EdgeCrossing;
+    REQUIRE(crossings > 100);
+    const BpmFile f = with_provenance(p);
+    const std::string bytes = write_bpm_to_memory(f);
+    Image im(bytes);
+    CHECK_FALSE(im.exists("/phi/node_image"));
+    const BpmFile g = read_bpm_from_memory(bytes, "torus.bpm");
+    CHECK(g.format_version.major == 2);
+    CHECK(g.stored_node_image.empty());
+    CHECK(same_bits(g.param.node_image, p.node_image));
+    require_equal(f, g);
+}
+
+TEST_CASE("format 1.x files still read, with the images they stored", "[format]") {
+    for (const char* name : {"two_triangles-1.3.bpm", "two_cubes-1.3.bpm"}) {
+        INFO(name);
+        const std::string bytes = read_file(std::string(BPM_SOURCE_DIR) + "/tests/data/format-1/" + name);
+        REQUIRE(!bytes.empty());
+        const std::vector<Vec3> stored = stored_images(bytes);
+        const BpmFile f = read_bpm_from_memory(bytes, name);
+        CHECK(f.format_version.major == 1);
+        CHECK(f.format_version.minor == 3);
+        REQUIRE(stored.size() == size_t(f.param.num_nodes()));
+        CHECK(same_bits(f.stored_node_image, stored));
+        CHECK(same_bits(f.param.node_image, stored));  // the recomputation, equal to the bit
+        CHECK(check_format(f).passed);
+        // Rewritten, it is a 2.0 file with the same images.
+        const BpmFile g = read_bpm_from_memory(write_bpm_to_memory(f), name);
+        CHECK(g.format_version.major == 2);
+        CHECK(same_bits(g.param.node_image, stored));
+    }
+}
+
+TEST_CASE("a 1.x file whose stored image is not its node's point fails the format check", "[format]") {
+    Image im(read_file(std::string(BPM_SOURCE_DIR) + "/tests/data/format-1/two_cubes-1.3.bpm"));
+    const BpmFile good = read_bpm_from_memory(im.bytes(), "good.bpm");
+    im.edit<double>("/phi/node_image", H5T_NATIVE_DOUBLE, [](auto& v) { v[3 * 5 + 2] += 0.5; });
+    const BpmFile bad = read_bpm_from_memory(im.bytes(), "bad.bpm");
+    // Everything else in libbpm sees the images the nodes name, not the corrupt copy.
+    CHECK(same_bits(bad.param.node_image, good.param.node_image));
+    const CheckResult r = check_format(bad);
+    CHECK_FALSE(r.passed);
+    REQUIRE(!r.problems.empty());
+    CHECK(r.problems[0].describe().find("stored image") != std::string::npos);
+    CHECK(r.problems[0].id("node") == 5);
+    CHECK(check_format(bad.param).passed);  // the recomputed images are right
+}
+
 TEST_CASE("the spec example is the golden file and reads", "[format]") {
     const std::string path = std::string(BPM_SOURCE_DIR) + "/spec/examples/two_triangles.bpm";
     const std::string committed = read_file(path);
@@ -446,10 +525,17 @@ TEST_CASE("malformed files give an InputError naming the dataset", "[format]") {
         im.edit<double>("/original/vertices", H5T_NATIVE_DOUBLE, [](auto& v) { v[5] = std::nan(""); });
         require_input_error(im.bytes(), {"/original/vertices", "not finite"});
     }
-    SECTION("infinite image") {
-        Image im(good);
+    SECTION("infinite stored image (format 1.x)") {
+        Image im(read_file(std::string(BPM_SOURCE_DIR) + "/tests/data/format-1/two_cubes-1.3.bpm"));
         im.edit<double>("/phi/node_image", H5T_NATIVE_DOUBLE, [](auto& v) { v[0] = HUGE_VAL; });
         require_input_error(im.bytes(), {"/phi/node_image", "not finite"});
+    }
+    SECTION("too few stored images (format 1.x)") {
+        Image im(read_file(std::string(BPM_SOURCE_DIR) + "/tests/data/format-1/two_cubes-1.3.bpm"));
+        const BpmFile f = read_bpm_from_memory(im.bytes(), "x");
+        const std::vector<double> rows(3 * (f.stored_node_image.size() - 1), 0.0);
+        im.replace("/phi/node_image", H5T_NATIVE_DOUBLE, {f.stored_node_image.size() - 1, 3}, rows.data());
+        require_input_error(im.bytes(), {"/phi/node_image", "rows"});
     }
     SECTION("edge parameter outside [0, 1] for a crossing") {
         const BpmFile f = read_bpm_from_memory(good, "x");
@@ -461,13 +547,20 @@ TEST_CASE("malformed files give an InputError naming the dataset", "[format]") {
     }
     SECTION("unknown major version") {
         Image im(good);
-        im.set_root_ints("format_version", {2, 0});
-        require_input_error(im.bytes(), {"format_version", "2.0", "newer"});
+        im.set_root_ints("format_version", {3, 0});
+        require_input_error(im.bytes(), {"format_version", "3.0", "supports major versions 1 to 2 only", "newer"});
+        im.set_root_ints("format_version", {0, 9});
+        require_input_error(im.bytes(), {"format_version", "0.9", "supports major versions 1 to 2 only"});
     }
     SECTION("newer minor version is accepted") {
         Image im(good);
-        im.set_root_ints("format_version", {1, 7});
+        im.set_root_ints("format_version", {BPM_FORMAT_VERSION_MAJOR, 7});
         CHECK_NOTHROW(read_bpm_from_memory(im.bytes(), "newer-minor.bpm"));
+    }
+    SECTION("a 1.x file without /phi/node_image (required there)") {
+        Image im(good);
+        im.set_root_ints("format_version", {1, 3});
+        require_input_error(im.bytes(), {"/phi/node_image", "missing"});
     }
     SECTION("wrong format attribute") {
         Image im(good);
@@ -478,7 +571,7 @@ TEST_CASE("malformed files give an InputError naming the dataset", "[format]") {
         Image im(good);
         hid_t g = H5Gcreate2(im.file, "/tetmesh_future_thing", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
         H5Gclose(g);
-        im.set_root_ints("format_version", {1, 0});
+        im.set_root_ints("format_version", {BPM_FORMAT_VERSION_MAJOR, 0});
         hsize_t n = 1;
         hid_t space = H5Screate_simple(1, &n, nullptr);
         hid_t a = H5Acreate2(im.file, "some_future_attribute", H5T_STD_I32LE, space, H5P_DEFAULT, H5P_DEFAULT);

@@ -87,6 +87,9 @@ TEST_CASE("the record round-trips through the file, and files without one are un
     SECTION("a format 1.0 file (no record) still reads") {
         Image old(plain_bytes);
         old.set_root_ints("format_version", {1, 0});
+        // 1.x files stored the node images (format 2.0 dropped them).
+        old.create("/phi/node_image", H5T_NATIVE_DOUBLE, {plain.param.node_image.size(), 3},
+                   plain.param.node_image.data());
         const BpmFile r = read_bpm_from_memory(old.bytes(), "old.bpm");
         CHECK_FALSE(r.simplification_steps);
         CHECK(r.param.coarse.triangles == plain.param.coarse.triangles);

@@ -188,6 +188,22 @@ def with_steps(m):
     m["items"]["/simplification_steps/triangle_patches"] = np.array([1], dtype=np.int32)
 
 
+def node_images(m):
+    """The node images as spec/bpm-format.md §6.2 computes them (not stored since 2.0)."""
+    items = m["items"]
+    x = items["/original/vertices"]
+    s = items["/phi/node_edge_parameter"][:, None]
+    u, w = items["/phi/node_original_edge"].T
+    return np.where(items["/phi/node_kind"][:, None] == 1, (1 - s) * x[u] + s * x[w],
+                    x[items["/phi/node_original_vertex"]])
+
+
+def as_version_1(m):
+    """The same content as a format 1.3 file, which stores /phi/node_image (§6.2.1)."""
+    m["attrs"]["format_version"] = np.array([1, 3], dtype=np.int32)
+    m["items"]["/phi/node_image"] = node_images(m)
+
+
 NV0 = len(N["/original/vertices"])
 NT0 = len(N["/original/triangles"])
 NVC = len(N["/coarse/vertices"])
@@ -209,6 +225,7 @@ add_model("valid_base.bpm", lambda m: None, 0, "0,5", "*")
 # over an open square do not fill a region: bpm-check's tetmesh check finds the holes.
 add_model("valid_with_tetmesh.bpm", with_tetmesh, 1, "0,5", "FAIL tetmesh")
 add_model("valid_with_steps.bpm", with_steps, 0, "0,5", "*")
+add_model("valid_version_1.bpm", as_version_1, 0, "0,5", "*")
 
 # Identification and version (§2).
 def not_bpm(m):
@@ -222,8 +239,8 @@ add_model("format_not_bpm.bpm", with_attr("format", np.bytes_("vtk")), 3, "3", "
 add_model("format_wrong_type.bpm", with_attr("format", np.array([1, 2], dtype=np.int32)), 3, "3",
           "root attribute 'format': wrong datatype")
 add_model("version_missing.bpm", with_attr("format_version", None), 3, "3", "root attribute 'format_version': missing")
-add_model("version_major_2.bpm", with_attr("format_version", np.array([2, 0], dtype=np.int32)), 3, "3",
-          "file has format version 2.0, this reader supports major version 1 only; a newer bpm is needed")
+add_model("version_major_3.bpm", with_attr("format_version", np.array([3, 0], dtype=np.int32)), 3, "3",
+          "file has format version 3.0, this reader supports major versions 1 to 2 only; a newer bpm is needed")
 add_model("version_major_0.bpm", with_attr("format_version", np.array([0, 9], dtype=np.int32)), 3, "3",
           "file has format version 0.9")
 add_model("version_one_int.bpm", with_attr("format_version", np.array([1], dtype=np.int32)), 3, "3",
@@ -262,8 +279,11 @@ add_model("patches_two_dimensional.bpm", setitem("/coarse/patches", N["/coarse/p
 add_model("scalar_dataset.bpm", setitem("/phi/node_offsets", np.int64(0)), 3, "3", "/phi/node_offsets: expected shape")
 add_model("patches_too_few.bpm", setitem("/original/patches", N["/original/patches"][:1].copy()), 3, "3",
           "/original/patches: has 1 rows, expected 2")
-add_model("node_image_too_few_rows.bpm", setitem("/phi/node_image", N["/phi/node_image"][:-1].copy()), 3, "3",
-          "/phi/node_image: has %d rows, expected %d" % (NN - 1, NN))
+add_model("node_image_too_few_rows.bpm",
+          chain(as_version_1, lambda m: m["items"].__setitem__("/phi/node_image", m["items"]["/phi/node_image"][:-1])),
+          3, "3", "/phi/node_image: has %d rows, expected %d" % (NN - 1, NN))
+add_model("version_1_without_node_image.bpm", with_attr("format_version", np.array([1, 3], dtype=np.int32)), 3, "3",
+          "/phi/node_image: missing dataset")
 
 # Indices out of range, negative, beyond int32 (§11.4).
 add_model("triangle_index_out_of_range.bpm", change("/original/triangles", set_at((1, 2), NV0)), 3, "3",
@@ -304,7 +324,7 @@ add_model("vertices_nan.bpm", change("/original/vertices", set_at((2, 1), np.nan
           "/original/vertices: entry [2, 1] is not finite (nan)")
 add_model("coarse_vertices_inf.bpm", change("/coarse/vertices", set_at((0, 0), -np.inf)), 3, "3",
           "/coarse/vertices: entry [0, 0] is not finite (-inf)")
-add_model("node_image_inf.bpm", change("/phi/node_image", set_at((3, 2), np.inf)), 3, "3",
+add_model("node_image_inf.bpm", chain(as_version_1, change("/phi/node_image", set_at((3, 2), np.inf))), 3, "3",
           "/phi/node_image: entry [3, 2] is not finite")
 add_model("barycentric_nan.bpm", change("/phi/node_barycentric", set_at((0, 0), np.nan)), 3, "3",
           "/phi/node_barycentric: entry [0, 0] is not finite")
@@ -340,7 +360,8 @@ add_model("steps_vertex_out_of_range.bpm",
           "/simplification_steps/vertex: entry 0 = %d is out of range" % (NV0 + 5))
 
 # Readable but invalid: the structure is right, a check of bpm-check fails (exit 1).
-add_model("image_off_the_original.bpm", change("/phi/node_image", lambda a: a.__setitem__((4, 2), a[4, 2] + 0.5)),
+add_model("image_off_the_original.bpm",
+          chain(as_version_1, change("/phi/node_image", lambda a: a.__setitem__((4, 2), a[4, 2] + 0.5))),
           1, "0,5", "FAIL format")
 add_model("coarse_vertex_moved.bpm", change("/coarse/vertices", lambda a: a.__setitem__((1, 0), a[1, 0] + 0.25)),
           1, "0,5", "FAIL format")
