@@ -9,14 +9,20 @@
 // driver); both ways give the same bytes. Reading goes through a file image, which makes
 // standard input and memory buffers the same case as files.
 //
+// The chunks of compressed datasets are shuffled (or not) and deflated here, not by HDF5's
+// filters (io/chunk_compressor.h); whether a dataset is shuffled is decided on a sample of
+// its first chunk, or on the whole chunk when it is small. A surface dataset that repeats
+// one written before (/VTKHDF's copy of the coarse surface; the coarse surface at
+// --ratio 1) gets that one's stored chunks, read back, instead of a second compression.
+//
 // Writing is deterministic: no object timestamps, chunk sizes and filters that depend on
-// the data only (shuffle_pays), and nothing that depends on the time or the file name, so
+// the data only (ChunkCompressor::compress_first_chunk; a copied dataset has the bytes its
+// own compression would give), and nothing that depends on the time or the file name, so
 // the same BpmFile always gives the same bytes.
 
 #include "bpm/bpm_file.h"
 
 #include <hdf5.h>
-#include <libdeflate.h>
 
 #include <algorithm>
 #include <atomic>
@@ -39,6 +45,7 @@
 #include "core/gzip.h"
 #include "core/huge_pages.h"
 #include "io/bpm_outline.h"
+#include "io/chunk_compressor.h"
 #include "io/hdf5_fd_driver.h"
 #include "phi/phi_layout.h"
 
@@ -47,6 +54,9 @@ namespace bpm {
 BpmFormatVersion bpm_format_version() { return {BPM_FORMAT_VERSION_MAJOR, BPM_FORMAT_VERSION_MINOR}; }
 
 namespace {
+
+using detail::ChunkCompressor;
+using detail::kDeflateLevel;
 
 // ---------------------------------------------------------------------------
 // Small HDF5 helpers
@@ -123,116 +133,6 @@ constexpr hsize_t kChunkRows = 65536;  // rows per chunk of a compressed dataset
 // 512 bytes the chunk index and filter message cost more than deflate saves (two_cubes:
 // 1024 -> 512 bytes made the file 7 % smaller, 256 no smaller again).
 constexpr size_t kCompressMinBytes = 512;
-// libdeflate's level (HDF5's filter message records it; inflating costs the same at every
-// level). With zlib, level 1 was the choice (4/6 made armadillo + 1x Loop 1.9/2.4 %
-// smaller for 0.5/0.8 s more of bpm-simplify's 11 s). libdeflate at level 2 writes files
-// 1-3 % smaller than zlib at level 1, in about 60 % of the time (elephant --vertices
-// 1000: writer 0.060 -> 0.038 s CPU, 661 -> 647 kB; armadillo + 2x Loop, 832k triangles,
-// --ratio 1: 2.9 -> 1.8-2.2 s, 95.5 -> 94.3 MB); its level 1 is as fast on small files
-// but 1-4 % larger than level 2, level 4 as fast on large files and slower on small ones.
-constexpr unsigned kDeflateLevel = 2;
-
-// Whether the shuffle filter (bytes regrouped by significance) before deflate makes the
-// first chunk of a dataset smaller. It pays on index arrays (phi/pieces: 6x smaller
-// shuffled, 3.8x unshuffled) but not on most float64 arrays: coordinates read from text
-// with few digits and barycentric coordinates with exact 0 and 1 deflate better as they
-// are (fandisk's original/vertices: 61 kB unshuffled, 128 kB shuffled). Which way wins
-// differs between meshes for the same dataset (node_image: shuffled 12 % smaller on
-// elephant, 16 % larger on fandisk), so the data decide; the choice depends on the bytes
-// only, so writing stays deterministic.
-//
-// The writer compresses the chunks itself and hands them to HDF5 as they are stored
-// (H5Dwrite_chunk, "direct chunk write"): the first chunk both ways, keeping the smaller,
-// the others the way the first chose. The chunks are ordinary shuffle + deflate chunks
-// (zlib streams, made by libdeflate, which is about twice as fast as zlib), so every
-// HDF5 reads them with its own filters. Through
-// HDF5's filters the choice cost a separate trial: two compressions of up to 256 kB
-// before the real one, which on a small file compressed every byte three times (the
-// trial was two thirds of the writer's time on elephant --vertices 1000); now a file
-// whose datasets are one chunk each is compressed twice, and a dataset of several chunks
-// once plus its first chunk again.
-class ChunkCompressor {
-public:
-    ChunkCompressor() : deflate_(libdeflate_alloc_compressor(int(kDeflateLevel))) {
-        if (!deflate_) throw std::bad_alloc();
-    }
-    ChunkCompressor(const ChunkCompressor&) = delete;
-    ChunkCompressor& operator=(const ChunkCompressor&) = delete;
-    ~ChunkCompressor() { libdeflate_free_compressor(deflate_); }
-
-    // Room for bytes that are all written before they are read: unlike a
-    // std::vector<unsigned char>, growing it does not zero the new bytes first.
-    class Buffer {
-    public:
-        unsigned char* room(size_t bytes) {
-            if (bytes > capacity_) {
-                data_.reset(new unsigned char[bytes]);
-                capacity_ = bytes;
-            }
-            return data_.get();
-        }
-        const unsigned char* data() const { return data_.get(); }
-
-    private:
-        std::unique_ptr<unsigned char[]> data_;
-        size_t capacity_ = 0;
-    };
-
-    // The stored bytes of one chunk and the HDF5 filter mask that says which filters of
-    // the pipeline (shuffle, deflate) were skipped. The buffers are reused from chunk to
-    // chunk and from dataset to dataset (the Writer's): a fresh 1.5 MB buffer per chunk
-    // cost page faults, and fresh zeroed buffers per dataset were 2.5 % of
-    // bpm-simplify elephant --vertices 1000 --threads 1.
-    struct Stored {
-        Buffer buffer;
-        size_t size = 0;
-        uint32_t filter_mask = 0;
-    };
-
-    // Compresses one chunk of `bytes` bytes of elements of `element_size` bytes into
-    // `out`, shuffled or not; the pipeline of the dataset has the shuffle filter when
-    // `shuffle_in_pipeline`.
-    void compress(const unsigned char* data, size_t bytes, size_t element_size, bool shuffle, bool shuffle_in_pipeline,
-                  Stored& out) {
-        const unsigned char* in = data;
-        if (shuffle) {
-            unsigned char* shuffled = shuffled_.room(bytes);
-            const size_t elements = bytes / element_size;
-            // The common sizes with the size known to the compiler, which then unrolls the
-            // byte loop (the generic loop was ~2 % of the 832k floor).
-            switch (element_size) {
-                case 4: shuffle_bytes<4>(data, elements, shuffled); break;
-                case 8: shuffle_bytes<8>(data, elements, shuffled); break;
-                default: shuffle_bytes(data, elements, element_size, shuffled);
-            }
-            in = shuffled;
-        }
-        // A chunk that deflate does not make smaller is stored without deflate (the
-        // optional filter skipped), as HDF5's own deflate filter does when zlib's output
-        // does not fit in about the input's size.
-        unsigned char* to = out.buffer.room(bytes);
-        out.filter_mask = shuffle_in_pipeline && !shuffle ? 1u : 0u;
-        out.size = libdeflate_zlib_compress(deflate_, in, bytes, to, bytes);
-        if (out.size == 0) {
-            std::memcpy(to, in, bytes);
-            out.size = bytes;
-            out.filter_mask |= shuffle_in_pipeline ? 2u : 1u;
-        }
-    }
-
-private:
-    // HDF5's shuffle: byte b of element i goes to b * elements + i.
-    static void shuffle_bytes(const unsigned char* data, size_t elements, size_t element_size, unsigned char* out) {
-        for (size_t i = 0; i < elements; ++i)
-            for (size_t b = 0; b < element_size; ++b) out[b * elements + i] = data[i * element_size + b];
-    }
-    template <size_t E>
-    static void shuffle_bytes(const unsigned char* data, size_t elements, unsigned char* out) {
-        shuffle_bytes(data, elements, E, out);  // inlined with E known: the byte loop unrolled
-    }
-    libdeflate_compressor* deflate_;
-    Buffer shuffled_;
-};
 
 class Writer {
 public:
@@ -297,11 +197,22 @@ public:
         check(H5Awrite(attr, mem_type, values.data()), std::string("cannot write attribute ") + name);
     }
 
+    // Whether the array given to write_dataset stays in memory, unchanged, until the file
+    // is written (the BpmFile's own arrays), or may be gone after the call (a buffer
+    // made for it).
+    enum class Source { Temporary, Lasting };
+
     // A 1-D (cols == 0) or 2-D (rows x cols) dataset: chunked and deflated from
     // kCompressMinBytes on (one chunk up to kChunkRows rows), shuffled where that pays;
-    // smaller ones contiguous.
+    // smaller ones contiguous. A Lasting dataset with the same type, shape and bytes as a
+    // Lasting one written before is stored as a copy of that one's chunks, read back as
+    // stored instead of compressed again: /VTKHDF/Points and /VTKHDF/CellData/patch are
+    // /coarse/vertices and /coarse/patches, and at --ratio 1 the coarse surface is the
+    // original (bpm-simplify armadillo + 1x Loop --ratio 1: three deflates of 2.5 MB of
+    // vertices, ~30 ms each, became one). The bytes of the file are those of compressing
+    // them again: the same chunks, filters and order.
     void write_dataset(hid_t group, const char* name, const void* data, hsize_t rows, hsize_t cols,
-                       hid_t file_type, hid_t mem_type) const {
+                       hid_t file_type, hid_t mem_type, Source source = Source::Temporary) const {
         const int rank = cols == 0 ? 1 : 2;
         hsize_t dims[2] = {rows, cols};
         Handle space(check_id(H5Screate_simple(rank, dims, nullptr), "cannot create a dataspace"), H5Sclose);
@@ -326,20 +237,22 @@ public:
         ChunkCompressor::Stored& first = first_;
         ChunkCompressor::Stored& other = other_;
         bool shuffle = false;
+        const Written* same = nullptr;  // a Lasting dataset with these bytes, if any
+        if (direct && source == Source::Lasting)
+            for (const Written& w : lasting_)
+                if (w.bytes == bytes && w.rows == rows && w.cols == cols && H5Tequal(w.file_type, file_type) > 0 &&
+                    std::memcmp(w.data, data, bytes) == 0) {
+                    same = &w;
+                    break;
+                }
         if (compressed) {
             check(H5Pset_chunk(dcpl, rank, chunk), std::string("cannot set chunking of ") + name);
             // The first chunk is always full (chunk rows = min(rows, kChunkRows)).
-            const auto* in = static_cast<const unsigned char*>(data);
-            if (element_size >= 2) {
-                compressor_.compress(in, chunk_bytes, element_size, false, true, first);
-                compressor_.compress(in, chunk_bytes, element_size, true, true, other);
-                shuffle = other.size < first.size;
-                if (shuffle) std::swap(first, other);
-            } else {
-                compressor_.compress(in, chunk_bytes, element_size, false, false, first);
-            }
+            if (same) shuffle = same->shuffle;
+            else
+                shuffle = compressor_.compress_first_chunk(static_cast<const unsigned char*>(data), chunk_bytes,
+                                                           element_size, first);
             if (shuffle) check(H5Pset_shuffle(dcpl), std::string("cannot set shuffle filter of ") + name);
-            else if (element_size >= 2) first.filter_mask >>= 1;  // no shuffle in the pipeline: deflate is filter 0
             check(H5Pset_deflate(dcpl, kDeflateLevel), std::string("cannot set deflate filter of ") + name);
         }
         Handle ds(check_id(H5Dcreate2(group, name, file_type, space, H5P_DEFAULT, dcpl, H5P_DEFAULT),
@@ -352,6 +265,15 @@ public:
             return;
         }
 #if H5_VERSION_GE(1, 10, 3)
+        if (same) {
+            copy_chunks(same->path, ds, rows, chunk[0], name);
+            return;
+        }
+        if (source == Source::Lasting) {
+            std::string path(size_t(std::max<ssize_t>(H5Iget_name(ds, nullptr, 0), 0)), '\0');
+            H5Iget_name(ds, path.data(), path.size() + 1);
+            lasting_.push_back({data, bytes, rows, cols, file_type, shuffle, std::move(path)});
+        }
         // The last chunk of several is padded with zeros to a whole chunk, as HDF5 pads it
         // with the (default, zero) fill value before filtering.
         std::vector<unsigned char> padded;
@@ -374,6 +296,23 @@ public:
 #endif
     }
 
+#if H5_VERSION_GE(1, 10, 3)
+    // Writes the stored chunks of the dataset at `path` into `ds` as they are.
+    void copy_chunks(const std::string& path, hid_t ds, hsize_t rows, hsize_t chunk_rows, const char* name) const {
+        Handle from(check_id(H5Dopen2(ds, path.c_str(), H5P_DEFAULT), std::string("cannot reopen ") + path), H5Dclose);
+        for (hsize_t row = 0; row < rows; row += chunk_rows) {
+            const hsize_t offset[2] = {row, 0};
+            hsize_t size = 0;
+            check(H5Dget_chunk_storage_size(from, offset, &size), std::string("cannot read back ") + path);
+            uint32_t mask = 0;
+            unsigned char* buffer = other_.buffer.room(size_t(size));
+            check(H5Dread_chunk(from, H5P_DEFAULT, offset, &mask, buffer), std::string("cannot read back ") + path);
+            check(H5Dwrite_chunk(ds, H5P_DEFAULT, mask, offset, size_t(size), buffer),
+                  std::string("cannot write dataset ") + name);
+        }
+    }
+#endif
+
     void write_strings(hid_t group, const char* name, const std::vector<std::string>& values) const {
         size_t width = 1;
         for (const auto& s : values) width = std::max(width, s.size() + 1);
@@ -386,7 +325,17 @@ public:
 private:
     std::string where_;
     mutable ChunkCompressor compressor_;  // its buffers and deflate state serve every dataset
-    mutable ChunkCompressor::Stored first_, other_;  // write_dataset's: a dataset's first chunk both ways
+    mutable ChunkCompressor::Stored first_, other_;  // write_dataset's: a dataset's first chunk, the others
+    // The Lasting datasets written so far (a handful per file: the surfaces').
+    struct Written {
+        const void* data;
+        size_t bytes;
+        hsize_t rows, cols;
+        hid_t file_type;  // a predefined type: valid as long as the library
+        bool shuffle;
+        std::string path;
+    };
+    mutable std::vector<Written> lasting_;
 };
 
 // ---------------------------------------------------------------------------
@@ -553,9 +502,11 @@ const T* flat(const std::vector<std::array<T, N>>& v) {
 void write_surface(const Writer& w, hid_t group, const Surface& s) {
     const double* xyz = flat(s.vertices);
     const int32_t* tri = flat(s.triangles);
-    w.write_dataset(group, "vertices", xyz, s.vertices.size(), 3, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE);
-    w.write_dataset(group, "triangles", tri, s.triangles.size(), 3, H5T_STD_I32LE, H5T_NATIVE_INT32);
-    w.write_dataset(group, "patches", s.patches.data(), s.patches.size(), 0, H5T_STD_I32LE, H5T_NATIVE_INT32);
+    constexpr auto lasting = Writer::Source::Lasting;  // the BpmFile's arrays
+    w.write_dataset(group, "vertices", xyz, s.vertices.size(), 3, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, lasting);
+    w.write_dataset(group, "triangles", tri, s.triangles.size(), 3, H5T_STD_I32LE, H5T_NATIVE_INT32, lasting);
+    w.write_dataset(group, "patches", s.patches.data(), s.patches.size(), 0, H5T_STD_I32LE, H5T_NATIVE_INT32,
+                    lasting);
 }
 
 std::atomic<unsigned> g_image_counter{0};
@@ -812,7 +763,8 @@ void write_contents(const Writer& w, hid_t f, const BpmFile& file) {
         w.write_dataset(g, "NumberOfCells", ncells.data(), 1, 0, H5T_STD_I64LE, H5T_NATIVE_INT64);
         w.write_dataset(g, "NumberOfConnectivityIds", nconn.data(), 1, 0, H5T_STD_I64LE, H5T_NATIVE_INT64);
         const double* xyz = flat(s.vertices);
-        w.write_dataset(g, "Points", xyz, s.vertices.size(), 3, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE);
+        w.write_dataset(g, "Points", xyz, s.vertices.size(), 3, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE,
+                        Writer::Source::Lasting);
         std::vector<int64_t> connectivity;
         detail::reserve_huge_pages(connectivity, 3 * s.triangles.size());
         for (const auto& t : s.triangles) connectivity.insert(connectivity.end(), t.begin(), t.end());
@@ -824,7 +776,8 @@ void write_contents(const Writer& w, hid_t f, const BpmFile& file) {
         const std::vector<uint8_t> types(s.triangles.size(), 5);  // VTK_TRIANGLE
         w.write_dataset(g, "Types", types.data(), types.size(), 0, H5T_STD_U8LE, H5T_NATIVE_UINT8);
         Handle cd = w.create_group(g, "CellData");
-        w.write_dataset(cd, "patch", s.patches.data(), s.patches.size(), 0, H5T_STD_I32LE, H5T_NATIVE_INT32);
+        w.write_dataset(cd, "patch", s.patches.data(), s.patches.size(), 0, H5T_STD_I32LE, H5T_NATIVE_INT32,
+                        Writer::Source::Lasting);
         Handle pd = w.create_group(g, "PointData");
         Handle fd = w.create_group(g, "FieldData");
     }

@@ -276,6 +276,45 @@ TEST_CASE("a chunk deflate cannot shrink is stored unfiltered, and chunked datas
     require_equal(f, read_bpm_from_memory(bytes, "mem"));
 }
 
+TEST_CASE("datasets with the bytes of an earlier surface dataset store its chunks and read back exactly", "[format]") {
+    // bpm_file.cpp writes a surface dataset whose type, shape and bytes are those of one
+    // written before (the coarse surface of an identity phi is the original; /VTKHDF
+    // repeats the coarse surface) as a copy of that one's stored chunks, read back raw. The
+    // copies must be the chunks compressing them would give, several chunks included.
+    const Parametrization hf = test::make_height_field(300, 150, test::default_height);
+    const BpmFile f = with_provenance(make_identity_parametrization(hf.original));
+    REQUIRE(f.param.coarse.triangles.size() > 65536);  // several chunks
+    const std::string bytes = write_bpm_to_memory(f);
+    require_equal(f, read_bpm_from_memory(bytes, "mem"));
+    Image image(bytes);
+    const auto chunks = [&](const char* path) {
+        const hid_t ds = H5Dopen2(image.file, path, H5P_DEFAULT);
+        REQUIRE(ds >= 0);
+        std::vector<std::string> out;
+        hsize_t n = 0;
+        const hid_t space = H5Dget_space(ds);
+        REQUIRE(H5Dget_num_chunks(ds, space, &n) >= 0);
+        for (hsize_t i = 0; i < n; ++i) {
+            hsize_t offset[2] = {0, 0}, size = 0;
+            unsigned mask = 0;
+            haddr_t addr = 0;
+            REQUIRE(H5Dget_chunk_info(ds, space, i, offset, &mask, &addr, &size) >= 0);
+            std::string chunk(size_t(size), '\0');
+            uint32_t read_mask = 0;
+            REQUIRE(H5Dread_chunk(ds, H5P_DEFAULT, offset, &read_mask, chunk.data()) >= 0);
+            out.push_back(std::to_string(read_mask) + ":" + chunk);
+        }
+        H5Sclose(space);
+        H5Dclose(ds);
+        return out;
+    };
+    CHECK(chunks("/original/triangles").size() > 1);
+    CHECK(chunks("/coarse/triangles") == chunks("/original/triangles"));
+    CHECK(chunks("/coarse/vertices") == chunks("/original/vertices"));
+    CHECK(chunks("/VTKHDF/Points") == chunks("/original/vertices"));
+    CHECK(chunks("/VTKHDF/CellData/patch") == chunks("/original/patches"));
+}
+
 TEST_CASE("identity phi read from a file evaluates to the input exactly", "[format][phi]") {
     const Surface s = two_triangle_surface();
     const BpmFile g = read_bpm_from_memory(write_bpm_to_memory(with_provenance(make_identity_parametrization(s))), "m");
