@@ -630,9 +630,32 @@ void write_simplification_steps_group(const Writer& w, hid_t f, const Simplifica
                     H5T_NATIVE_INT32);
 }
 
+// The first node whose image (Parametrization::node_image) is not the point the node names,
+// or "". Files store no images since format 2.0 and readers compute each from its node
+// (spec §6.2), so a caller's image that is not that point would be replaced silently when
+// the file is read; within bpm-check's tolerance (1e-9 of the diagonal) it is the same
+// point. Only for a parametrization find_inconsistency accepts (every index is safe).
+std::string image_problem(const Parametrization& p) {
+    const double tolerance = 1e-9 * bounding_box_diagonal(p.original);
+    for (int64_t i = 0; i < p.num_nodes(); ++i) {
+        const Vec3 named = node_image_from_kind(p, i);
+        const Vec3& image = p.node_image[static_cast<size_t>(i)];
+        if (const double d = distance(named, image); !(d <= tolerance)) {
+            const auto point = [](const Vec3& x) { return "(" + num(x[0]) + ", " + num(x[1]) + ", " + num(x[2]) + ")"; };
+            return "node_image[" + num(i) + "] = " + point(image) + " is not the point its node names, " + point(named) +
+                   " (distance " + num(d) +
+                   "): files store no images since format 2.0, readers compute them from the node kinds "
+                   "(bpm::node_images_from_kinds)";
+        }
+    }
+    return {};
+}
+
 // Throws OutputError if `file` breaks a rule of the format: nothing inconsistent is written.
 void check_writable(const BpmFile& file, const std::string& where) {
     if (auto problem = find_inconsistency(file); !problem.empty())
+        throw OutputError(where, "refusing to write an inconsistent parametrization: " + problem);
+    if (auto problem = image_problem(file.param); !problem.empty())
         throw OutputError(where, "refusing to write an inconsistent parametrization: " + problem);
     if (auto problem = patch_info_problem(file.patch_info); !problem.empty())
         throw OutputError(where, "refusing to write inconsistent patch information: /patch_info: " + problem);

@@ -343,6 +343,25 @@ TEST_CASE("writer refuses an inconsistent parametrization", "[format]") {
     }
 }
 
+TEST_CASE("writer refuses node images that are not the points their nodes name", "[format]") {
+    // Files store no images since format 2.0 and readers recompute them, so a caller's
+    // image that differs from its node's point would be replaced silently on reading.
+    BpmFile f = with_provenance(make_identity_parametrization(two_triangle_surface()));
+    const Vec3 named = node_image_from_kind(f.param, 4);
+    f.param.node_image[4] = named + Vec3{0, 1e-3, 0};
+    try {
+        write_bpm_to_memory(f);
+        FAIL("written");
+    } catch (const OutputError& e) {
+        CHECK(std::string(e.what()).find("node_image[4]") != std::string::npos);
+        CHECK(std::string(e.what()).find("node_images_from_kinds") != std::string::npos);
+    }
+    // Within bpm-check's tolerance (1e-9 of the diagonal) it is the same point: written,
+    // and read back as the recomputed one.
+    f.param.node_image[4] = named + Vec3{0, 1e-12, 0};
+    CHECK(read_bpm_from_memory(write_bpm_to_memory(f), "m").param.node_image[4] == named);
+}
+
 TEST_CASE("write_bpm into a missing directory is an OutputError", "[format]") {
     const BpmFile f = with_provenance(make_identity_parametrization(two_triangle_surface()));
     CHECK_THROWS_AS(write_bpm("/nonexistent-dir-bpm/x.bpm", f), OutputError);
