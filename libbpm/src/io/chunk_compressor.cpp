@@ -69,7 +69,7 @@ void ChunkCompressor::compress(const unsigned char* data, size_t bytes, size_t e
 // second deflate, median of 7 alternated runs on a busy machine). A sample of 16 kB in 8
 // blocks spread over the chunk chooses as the whole chunk on nearly every dataset of the
 // 18 reference outputs (scripts/reference-outputs.sh); where not, the two ways are within
-// a few percent, and the files grew by at most 0.18 % (armadillo --vertices 1000);
+// a few percent, and the files grew by at most 0.27 % (armadillo --vertices 1000, format 2.0);
 // armadillo's 1x and 2x Loop subdivisions kept their sizes. A prefix of the chunk as the
 // sample chose worse (4-16 kB: up to 5-10 % larger files): the arrays are ordered by
 // coarse triangle or vertex, and their start is not typical of the rest.

@@ -61,15 +61,15 @@ inline Vec3 mid(const Vec3& a, const Vec3& b) { return {0.5 * (a[0] + b[0]), 0.5
 // surface from held-back vertices (femur 1000 V at T = 0.0003: bound 0.006754 in passes
 // 1-3 from triangles at level 8; 707, 295, 289 triangles above T, held back up to 0.0036,
 // 0.0004, 0.0004; pass 1 was returned and the sampled distance was 0.0016). The passes
-// stop after kMaxPasses, at the first pass that lowers neither the bound nor the number of
-// triangles above the tolerance, or when that number passes 8x the first pass's (at least
-// 64): refining is then not helping. Why: femur 10 % at T = 0.001 had 813, 2247, 6059
-// above T in passes 1-3, the bound rising; at T = 0.0003 a pass took minutes, 238 remedy
-// rounds in the first. (With the input needle bpm-simplify now removes, femur at T = 0.003
-// went 1, 1, 1, 1, 2, 2, 4, 2 above T with bounds barely moving and met T after 9 passes;
-// this rule stops such a case after the third pass. Stopping after two passes without a
-// smaller bound instead stopped it at 0.00313.) A pass that is not better gets one more
-// pass before the count of triangles above T counts as diverging: a pass refines around the
+// stop after kMaxPasses, at the second pass in a row that is not better when it does not
+// lower the number of triangles above the tolerance either, or when that number passes 8x
+// the first pass's (at least 64): refining is then not helping. Why: femur 10 % at
+// T = 0.001 had 813, 2247, 6059 above T in passes 1-3, the bound rising; at T = 0.0003 a
+// pass took minutes, 238 remedy rounds in the first. (With the input needle bpm-simplify
+// now removes, femur at T = 0.003 went 1, 1, 1, 1, 2, 2, 4, 2 above T with bounds barely
+// moving and met T after 9 passes; stopping at the first pass that was not better stopped
+// it after the second. Stopping after two passes without a smaller bound instead stopped
+// it at 0.00313.) Why the second pass in a row, not the first: a pass refines around the
 // held-back vertices and the remedy may then hold back more, which the next pass undoes
 // (femur 10 %, Morton-ordered coarse surface, T = 0.003: bound 0.00374, 0.00376, then
 // 0.003 met, with 4, 7, 0 triangles above T; stopping at the second pass returned the
