@@ -199,7 +199,10 @@ int main(int argc, char** argv) {
                           (long long)mesh_result.tetrahedra, (long long)mesh_result.regions, mesh_result.seconds);
             context.info(line);
         }
-        const bpm::TetMeshStats coarse_stats = bpm::tetmesh_stats(*file.tetmesh);
+        // The region volumes before --refine, for --json's coarse_volume only (a pass over every
+        // tetrahedron; without --refine they are those of `stats` below).
+        const bpm::TetMeshStats coarse_stats =
+            json && refine_levels > 0 ? bpm::tetmesh_stats(*file.tetmesh) : bpm::TetMeshStats{};
         bpm::TetRefineResult refine_result;
         if (refine_levels > 0) {
             bpm::TetRefineOptions ro;
@@ -240,7 +243,8 @@ int main(int argc, char** argv) {
                              "as unordered pairs");
             for (const std::string& p : materials.problems) context.warn(p);
         }
-        const bpm::TetMeshStats stats = bpm::tetmesh_stats(*file.tetmesh);
+        // For the warning (which -q hides) and --json only.
+        const bpm::TetMeshStats stats = json || !quiet ? bpm::tetmesh_stats(*file.tetmesh) : bpm::TetMeshStats{};
         if (stats.inverted > 0) context.warn(std::to_string(stats.inverted) + " inverted tetrahedra");
 
         if (*out_format == bpm::TetMeshFormat::Bpm) {
@@ -292,7 +296,8 @@ int main(int argc, char** argv) {
                      json_escape(m.material_names[size_t(mat - 1)]) + "\"" +
                      ", \"volume\": " + json_double(stats.region_volumes[r]) +
                      ", \"coarse_volume\": " +
-                     json_double(r < coarse_stats.region_volumes.size() ? coarse_stats.region_volumes[r] : NAN) +
+                     json_double(refine_levels == 0 ? stats.region_volumes[r]
+                                 : r < coarse_stats.region_volumes.size() ? coarse_stats.region_volumes[r] : NAN) +
                      ", \"original_volume\": " + json_double(r < original.size() ? original[r] : NAN) + "}";
             }
             j += "], \"materials\": [";

@@ -54,7 +54,9 @@ int main(int argc, char** argv) {
         bpm::tools::require_output_directory(output);
         bpm::tools::require_bpm_output(output, tool);
         bpm::tools::refuse_binary_to_terminal(output, "binary .bpm (HDF5) data");
-        options.measure_quality = !no_quality;
+        // The quality line is an info line, which -q never shows: refining the surface before and
+        // after (4^3 triangles per coarse triangle, each placed through phi) would be for nothing.
+        options.measure_quality = !no_quality && !quiet;
         options.weights = weights == "shape-preserving" ? bpm::SmoothWeights::ShapePreserving : bpm::SmoothWeights::MeanValue;
         const bpm::Context context = bpm::tools::make_context(tool, verbose, quiet);
         bpm::BpmFile file = bpm::tools::read_bpm_input(input);
