@@ -10,6 +10,7 @@
 #include "bpm/check.h"
 #include "bpm/phi_triangle.h"
 #include "check/check_internal.h"
+#include "check/image_tolerance.h"
 #include "core/edge_key.h"
 #include "phi/phi_layout.h"
 
@@ -165,7 +166,7 @@ CheckResult check_format_of(const Parametrization& p, const std::vector<Vec3>* s
     }
 
     const double diagonal = bounding_box_diagonal(p.original);
-    const double tolerance = 1e-9 * diagonal;
+    const double tolerance = detail::kImageToleranceRelativeToDiagonal * diagonal;
     const double bary_tolerance = 1e-12;  // dimensionless
     double worst = 0.0;
     std::vector<std::pair<std::string, int64_t>> worst_ids;

@@ -41,6 +41,7 @@
 #include "bpm/errors.h"
 #include "bpm/tetmesh_materials.h"
 #include "bpm/version.h"
+#include "check/image_tolerance.h"
 #include "core/file_util.h"
 #include "core/gzip.h"
 #include "core/huge_pages.h"
@@ -633,10 +634,10 @@ void write_simplification_steps_group(const Writer& w, hid_t f, const Simplifica
 // The first node whose image (Parametrization::node_image) is not the point the node names,
 // or "". Files store no images since format 2.0 and readers compute each from its node
 // (spec §6.2), so a caller's image that is not that point would be replaced silently when
-// the file is read; within bpm-check's tolerance (1e-9 of the diagonal) it is the same
+// the file is read; within bpm-check's tolerance (check/image_tolerance.h) it is the same
 // point. Only for a parametrization find_inconsistency accepts (every index is safe).
 std::string image_problem(const Parametrization& p) {
-    const double tolerance = 1e-9 * bounding_box_diagonal(p.original);
+    const double tolerance = detail::kImageToleranceRelativeToDiagonal * bounding_box_diagonal(p.original);
     for (int64_t i = 0; i < p.num_nodes(); ++i) {
         const Vec3 named = node_image_from_kind(p, i);
         const Vec3& image = p.node_image[static_cast<size_t>(i)];
