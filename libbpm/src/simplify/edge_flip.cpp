@@ -410,7 +410,10 @@ FlipStats flip_edges(CoarseMesh& mesh, Embedding& embedding, const std::vector<i
             if (p.kind == SurfacePoint::Inside) p.a = p.a == flip.removed[0] ? -1 : -2;
             undo.new_locations.push_back({loc.first, p});
         }
-        for (const auto& path : flip.new_paths) undo.new_paths.push_back({path.first, embedding.path[path.first]});
+        for (const auto& path : flip.new_paths) {
+            const ConstRange<Crossing> old = embedding.path[size_t(path.first)];
+            undo.new_paths.push_back({path.first, std::vector<Crossing>(old.begin(), old.end())});
+        }
         const std::array<int32_t, 2> ids = commit_edge_flip(mesh, embedding, flip);
         double deviation = 0.0;
         if (!validate_flipped(mesh, embedding, orientation_sign, ids, deviation, why) ||

@@ -122,8 +122,7 @@ void Embedding::init_identity(const Surface& s, int32_t triangle_capacity, const
     reserve_huge_pages(location, size_t(nv));
     location.assign(nv, SurfacePoint());
     for (int32_t v = 0; v < nv; ++v) location[v] = SurfacePoint::corner(v);
-    reserve_huge_pages(path, edges.size());
-    path.assign(edges.size(), {});
+    path.reset(edges.size());
     path_version.assign(edges.size(), 0);
     inside.reset(nv, triangle_capacity);
     edge_content.clear();
@@ -158,18 +157,17 @@ void Embedding::freeze() {
     inside.shrink_to_fit();
     // Paths: one array of crossings with an offset per edge. uint32 offsets: 2^32
     // crossings would be 96 GB.
-    size_t total = 0;
-    for (const auto& p : path) total += p.size();
     std::vector<uint32_t> path_offsets;
     path_offsets.reserve(path.size() + 1);
     std::vector<Crossing> all;
-    all.reserve(total);
+    all.reserve(path.total_crossings());
     path_offsets.push_back(0);
-    for (const auto& p : path) {
+    for (size_t e = 0; e < path.size(); ++e) {
+        const ConstRange<Crossing> p = path[e];
         all.insert(all.end(), p.begin(), p.end());
         path_offsets.push_back(static_cast<uint32_t>(all.size()));
     }
-    decltype(path)().swap(path);
+    path.release();
     decltype(path_version)().swap(path_version);
     // Edge contents: the keys sorted, each key's vertices and crossing edges in one array
     // of ids, in the order of the changing form.
@@ -272,7 +270,7 @@ void Embedding::set_path(int32_t e, const std::vector<Crossing>& crossings) {
     // lists end up with the same ids; only their order differs, which no reader depends
     // on (every reader sorts them). Quadratic matching: paths are short; a long pair
     // (never seen in a removal) matches nothing.
-    std::vector<Crossing>& old = path[e];
+    const ConstRange<Crossing> old = path[size_t(e)];
     auto& kept = kept_crossings_;
     kept.assign(crossings.size(), 0);
     const bool match = old.size() * crossings.size() <= 4096;
@@ -290,7 +288,7 @@ void Embedding::set_path(int32_t e, const std::vector<Crossing>& crossings) {
         erase_one(it->second.crossing_edges, e);
         if (it->second.vertices.empty() && it->second.crossing_edges.empty()) edge_content.erase(it);
     }
-    old.assign(crossings.begin(), crossings.end());
+    path.assign(size_t(e), crossings.data(), crossings.size());
     ++path_version[e];
     for (size_t j = 0; j < crossings.size(); ++j)
         if (!kept[j]) edge_content[edge_key(crossings[j].a, crossings[j].b)].crossing_edges.push_back(e);

@@ -17,7 +17,9 @@
 #include "bpm/geometry.h"
 #include "bpm/surface.h"
 #include "core/edge_uses.h"
+#include "core/const_range.h"
 #include "simplify/coarse_mesh.h"
+#include "simplify/path_store.h"
 
 namespace bpm::detail {
 
@@ -37,36 +39,10 @@ struct SurfacePoint {
     static SurfacePoint inside(int32_t t, const Vec3& b) { return {Inside, t, -1, 0.0, b}; }
 };
 
-// Where an original edge crosses a coarse edge.
-struct Crossing {
-    int32_t a, b;  // the coarse edge, a < b
-    double s;      // position on the coarse edge, from a to b, in (0,1)
-    double sigma;  // position on the original edge, from its smaller vertex to its larger, in (0,1)
-};
-
 // What lies on a coarse edge: original vertices on it and original edges crossing it.
 struct EdgeContent {
     std::vector<int32_t> vertices;        // original vertices located OnEdge here
     std::vector<int32_t> crossing_edges;  // original edge ids with a Crossing here (once per edge)
-};
-
-// A read-only range of consecutive elements (a path's crossings, an edge's vertices),
-// in either form of the embedding (Embedding::freeze).
-template <class T>
-class ConstRange {
-public:
-    ConstRange() = default;
-    ConstRange(const T* b, const T* e) : b_(b), e_(e) {}
-    explicit ConstRange(const std::vector<T>& v) : b_(v.data()), e_(v.data() + v.size()) {}
-    const T* begin() const { return b_; }
-    const T* end() const { return e_; }
-    size_t size() const { return size_t(e_ - b_); }
-    bool empty() const { return b_ == e_; }
-    const T& operator[](size_t i) const { return b_[i]; }
-
-private:
-    const T* b_ = nullptr;
-    const T* e_ = nullptr;
 };
 
 // What lies on a coarse edge, read-only (Embedding::content).
@@ -256,7 +232,7 @@ struct Embedding {
     std::vector<SurfacePoint> location;          // per original vertex
     // path, path_version and edge_content are the changing form, until freeze(); read
     // through crossings() and content() where the frozen form may be current (overlay).
-    std::vector<std::vector<Crossing>> path;     // per original edge, ordered from u to w
+    PathStore path;                              // per original edge, ordered from u to w
     std::vector<uint32_t> path_version;          // per original edge, bumped by set_path
     InsideLists inside;                          // per coarse triangle id: vertices located Inside
     EdgeContentMap edge_content;
@@ -274,7 +250,7 @@ struct Embedding {
 
     // The crossings of edge e, ordered from its smaller vertex to its larger (path[e]).
     ConstRange<Crossing> crossings(int32_t e) const {
-        if (!frozen_) return ConstRange<Crossing>(path[size_t(e)]);
+        if (!frozen_) return path[size_t(e)];
         const Crossing* base = frozen_crossings_.data();
         return {base + frozen_path_offsets_[size_t(e)], base + frozen_path_offsets_[size_t(e) + 1]};
     }

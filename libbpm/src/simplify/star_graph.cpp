@@ -154,13 +154,13 @@ bool Gatherer::gather_nodes(std::string& why) {
         es.assign(content->crossing_edges.begin(), content->crossing_edges.end());
         std::sort(es.begin(), es.end());
         es.erase(std::unique(es.begin(), es.end()), es.end());
-        for (int32_t e : es) __builtin_prefetch(&emb_.path[size_t(e)]);
+        for (int32_t e : es) emb_.path.prefetch_slot(size_t(e));
         const int64_t key = edge_key(a, b);
         for (size_t k = 0; k < es.size(); ++k) {
             const int32_t e = es[k];
             // The next path's crossings, while this one is scanned (its header is here).
-            if (k + 1 < es.size()) __builtin_prefetch(emb_.path[size_t(es[k + 1])].data());
-            const auto& path = emb_.path[e];
+            if (k + 1 < es.size()) emb_.path.prefetch_crossings(size_t(es[k + 1]));
+            const ConstRange<Crossing> path = emb_.path[size_t(e)];
             for (int32_t j = 0; j < int32_t(path.size()); ++j) {
                 if (edge_key(path[j].a, path[j].b) != uint64_t(key)) continue;
                 StarNode s;
@@ -283,7 +283,7 @@ bool Gatherer::gather_segments(std::string& why) {
     // Their paths and ends are scattered: asked for together, then each edge's crossings
     // and end locations one edge ahead.
     for (int32_t e : candidates) {
-        __builtin_prefetch(&emb_.path[size_t(e)]);
+        emb_.path.prefetch_slot(size_t(e));
         __builtin_prefetch(&emb_.edges[size_t(e)]);
     }
 
@@ -293,13 +293,13 @@ bool Gatherer::gather_segments(std::string& why) {
         const int32_t e = candidates[ci];
         if (ci + 1 < candidates.size()) {
             const int32_t next = candidates[ci + 1];
-            __builtin_prefetch(emb_.path[size_t(next)].data());
+            emb_.path.prefetch_crossings(size_t(next));
             __builtin_prefetch(&emb_.location[size_t(emb_.edges[size_t(next)][0])]);
             __builtin_prefetch(&emb_.location[size_t(emb_.edges[size_t(next)][1])]);
         }
         // The point sequence of Embedding::path_points, read in place: the two
         // locations with the crossings in between.
-        const auto& path = emb_.path[e];
+        const ConstRange<Crossing> path = emb_.path[size_t(e)];
         const int32_t last = static_cast<int32_t>(path.size()) + 1;
         auto sigma_at = [&](int32_t j) { return j == 0 ? 0.0 : (j == last ? 1.0 : path[j - 1].sigma); };
         roles.resize(last + 1);

@@ -151,7 +151,10 @@ TEST_CASE("edge flip: phi stays bijective through flips of edges that carry phi"
             if (p.kind == detail::SurfacePoint::Inside) p.a = p.a == flip.removed[0] ? -1 : -2;
             undo.new_locations.push_back({loc.first, p});
         }
-        for (const auto& path : flip.new_paths) undo.new_paths.push_back({path.first, state.embedding.path[path.first]});
+        for (const auto& path : flip.new_paths) {
+            const auto old = state.embedding.path[size_t(path.first)];
+            undo.new_paths.push_back({path.first, std::vector<detail::Crossing>(old.begin(), old.end())});
+        }
         const auto ids = commit_edge_flip(state.mesh, state.embedding, flip);
         double deviation = 0.0;
         if (validate_flipped(state.mesh, state.embedding, state.sign, ids, deviation, why)) {

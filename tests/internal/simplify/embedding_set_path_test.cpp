@@ -71,7 +71,7 @@ TEST_CASE("embedding: set_path keeps the coarse edges' crossing lists equal to t
     };
     for (int step = 0; step < 300; ++step) {
         const int32_t e = int32_t(random() % num_paths);
-        std::vector<Crossing> path = emb.path[size_t(e)];
+        std::vector<Crossing> path(emb.path[size_t(e)].begin(), emb.path[size_t(e)].end());
         // Keep a random run of the old crossings (as a removal does), replace the rest.
         const size_t keep = path.empty() ? 0 : random() % (path.size() + 1);
         path.resize(keep);
