@@ -156,7 +156,10 @@ bool plan_edge_flip(const CoarseMesh& mesh, const Embedding& embedding, int32_t 
     std::vector<int32_t> moved;
     for (int r = 0; r < 2; ++r) embedding.inside.append_to(flip.removed[r], moved);
     const auto* on_ab = embedding.edge_content.find(edge_key(a, b));
-    if (on_ab) moved.insert(moved.end(), on_ab->second.vertices.begin(), on_ab->second.vertices.end());
+    if (on_ab) {
+        const EdgeContentView content = embedding.edge_content.view(*on_ab);
+        moved.insert(moved.end(), content.vertices.begin(), content.vertices.end());
+    }
     std::sort(moved.begin(), moved.end());
     const Vec2 new_corners[2][3] = {{pa, pd, pc}, {pd, pb, pc}};
     for (int32_t v : moved) {
@@ -190,10 +193,11 @@ bool plan_edge_flip(const CoarseMesh& mesh, const Embedding& embedding, int32_t 
     for (int32_t v : moved) add_vertex_edges(v);
     const int32_t sides[5][2] = {{a, b}, {b, c}, {c, a}, {a, d}, {d, b}};
     for (const auto& s : sides) {
-        const auto* content = embedding.edge_content.find(edge_key(s[0], s[1]));
-        if (!content) continue;
-        for (int32_t v : content->second.vertices) add_vertex_edges(v);
-        edges.insert(edges.end(), content->second.crossing_edges.begin(), content->second.crossing_edges.end());
+        const auto* entry = embedding.edge_content.find(edge_key(s[0], s[1]));
+        if (!entry) continue;
+        const EdgeContentView content = embedding.edge_content.view(*entry);
+        for (int32_t v : content.vertices) add_vertex_edges(v);
+        edges.insert(edges.end(), content.crossing_edges.begin(), content.crossing_edges.end());
     }
     std::sort(edges.begin(), edges.end());
     edges.erase(std::unique(edges.begin(), edges.end()), edges.end());

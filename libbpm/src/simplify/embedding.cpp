@@ -6,79 +6,6 @@
 
 namespace bpm::detail {
 
-namespace {
-void erase_one(std::vector<int32_t>& list, int32_t value) {
-    auto it = std::find(list.begin(), list.end(), value);
-    if (it != list.end()) {
-        *it = list.back();
-        list.pop_back();
-    }
-}
-}  // namespace
-
-void EdgeContentMap::rehash(size_t capacity) {
-    std::vector<uint64_t> old_keys(capacity, kEmpty);
-    std::vector<uint32_t> old_index(capacity);
-    old_keys.swap(keys_);
-    old_index.swap(index_);
-    shift_ = 64;
-    for (size_t c = capacity; c > 1; c >>= 1) --shift_;
-    const size_t mask = capacity - 1;
-    for (size_t j = 0; j < old_keys.size(); ++j) {
-        if (old_keys[j] == kEmpty) continue;
-        size_t i = home(old_keys[j]);
-        while (keys_[i] != kEmpty) i = (i + 1) & mask;
-        keys_[i] = old_keys[j];
-        index_[i] = old_index[j];
-    }
-}
-
-size_t EdgeContentMap::slot_of(uint64_t key) const {
-    const size_t mask = keys_.size() - 1;
-    size_t i = home(key);
-    while (keys_[i] != key) i = (i + 1) & mask;
-    return i;
-}
-
-EdgeContent& EdgeContentMap::operator[](uint64_t key) {
-    if (value_type* entry = find(key)) return entry->second;
-    if (2 * (size_ + 1) > keys_.size()) rehash(std::max<size_t>(64, 2 * keys_.size()));
-    const size_t mask = keys_.size() - 1;
-    size_t i = home(key);
-    while (keys_[i] != kEmpty) i = (i + 1) & mask;
-    keys_[i] = key;
-    index_[i] = static_cast<uint32_t>(size_);
-    if (size_ == entries_.size()) entries_.emplace_back();
-    entries_[size_].first = key;
-    return entries_[size_++].second;
-}
-
-void EdgeContentMap::erase(const value_type* entry) {
-    const size_t removed = static_cast<size_t>(entry - entries_.data());
-    // Backward-shift deletion: move later keys of the probe run into the hole when
-    // their home slot does not lie after it, so that lookups need no tombstones.
-    const size_t mask = keys_.size() - 1;
-    size_t hole = slot_of(entry->first);
-    for (size_t j = (hole + 1) & mask; keys_[j] != kEmpty; j = (j + 1) & mask) {
-        const size_t h = home(keys_[j]);
-        if (((j - h) & mask) >= ((j - hole) & mask)) {
-            keys_[hole] = keys_[j];
-            index_[hole] = index_[j];
-            hole = j;
-        }
-    }
-    keys_[hole] = kEmpty;
-    // The last live entry takes the erased one's place; the erased one's buffers stay
-    // behind the live ones, emptied, for the next insertion.
-    const size_t last = --size_;
-    if (removed != last) {
-        std::swap(entries_[removed], entries_[last]);
-        index_[slot_of(entries_[removed].first)] = static_cast<uint32_t>(removed);
-    }
-    entries_[last].second.vertices.clear();
-    entries_[last].second.crossing_edges.clear();
-}
-
 void Embedding::init_identity(const Surface& s, int32_t triangle_capacity) {
     init_identity(s, triangle_capacity, EdgeUses(s));
 }
@@ -137,10 +64,9 @@ void Embedding::init_identity(const Surface& s, int32_t triangle_capacity, const
 bool Embedding::content(int32_t a, int32_t b, EdgeContentView& out) const {
     const uint64_t key = edge_key(a, b);
     if (!frozen_) {
-        const auto* it = edge_content.find(key);
-        if (it == edge_content.end()) return false;
-        out.vertices = ConstRange<int32_t>(it->second.vertices);
-        out.crossing_edges = ConstRange<int32_t>(it->second.crossing_edges);
+        const EdgeContentMap::Entry* entry = edge_content.find(key);
+        if (!entry) return false;
+        out = edge_content.view(*entry);
         return true;
     }
     const auto it = std::lower_bound(frozen_keys_.begin(), frozen_keys_.end(), key);
@@ -171,11 +97,11 @@ void Embedding::freeze() {
     decltype(path_version)().swap(path_version);
     // Edge contents: the keys sorted, each key's vertices and crossing edges in one array
     // of ids, in the order of the changing form.
-    std::vector<std::pair<uint64_t, const EdgeContent*>> entries;
+    std::vector<std::pair<uint64_t, EdgeContentView>> entries;
     entries.reserve(edge_content.size());
     size_t ids = 0;
-    edge_content.for_each([&](uint64_t key, const EdgeContent& c) {
-        entries.emplace_back(key, &c);
+    edge_content.for_each([&](uint64_t key, const EdgeContentView& c) {
+        entries.emplace_back(key, c);
         ids += c.vertices.size() + c.crossing_edges.size();
     });
     std::sort(entries.begin(), entries.end(),
@@ -189,9 +115,9 @@ void Embedding::freeze() {
     offsets.push_back(0);
     for (const auto& [key, c] : entries) {
         keys.push_back(key);
-        flat.insert(flat.end(), c->vertices.begin(), c->vertices.end());
+        flat.insert(flat.end(), c.vertices.begin(), c.vertices.end());
         offsets.push_back(static_cast<uint32_t>(flat.size()));
-        flat.insert(flat.end(), c->crossing_edges.begin(), c->crossing_edges.end());
+        flat.insert(flat.end(), c.crossing_edges.begin(), c.crossing_edges.end());
         offsets.push_back(static_cast<uint32_t>(flat.size()));
     }
     decltype(entries)().swap(entries);
@@ -244,11 +170,7 @@ void Embedding::clear_location(int32_t vertex) {
     if (p.kind == SurfacePoint::Inside) {
         inside.remove(p.a, vertex);
     } else if (p.kind == SurfacePoint::OnEdge) {
-        auto it = edge_content.find(edge_key(p.a, p.b));
-        if (it != edge_content.end()) {
-            erase_one(it->second.vertices, vertex);
-            if (it->second.vertices.empty() && it->second.crossing_edges.empty()) edge_content.erase(it);
-        }
+        edge_content.remove_vertex(edge_key(p.a, p.b), vertex);
     }
 }
 
@@ -258,7 +180,7 @@ void Embedding::set_location(int32_t vertex, const SurfacePoint& p) {
     if (p.kind == SurfacePoint::Inside) {
         inside.add(p.a, vertex);
     } else if (p.kind == SurfacePoint::OnEdge) {
-        edge_content[edge_key(p.a, p.b)].vertices.push_back(vertex);
+        edge_content.add_vertex(edge_key(p.a, p.b), vertex);
     }
 }
 
@@ -283,15 +205,12 @@ void Embedding::set_path(int32_t e, const std::vector<Crossing>& crossings) {
                 continue;
             }
         }
-        auto it = edge_content.find(edge_key(c.a, c.b));
-        if (it == edge_content.end()) continue;
-        erase_one(it->second.crossing_edges, e);
-        if (it->second.vertices.empty() && it->second.crossing_edges.empty()) edge_content.erase(it);
+        edge_content.remove_crossing_edge(edge_key(c.a, c.b), e);
     }
     path.assign(size_t(e), crossings.data(), crossings.size());
     ++path_version[e];
     for (size_t j = 0; j < crossings.size(); ++j)
-        if (!kept[j]) edge_content[edge_key(crossings[j].a, crossings[j].b)].crossing_edges.push_back(e);
+        if (!kept[j]) edge_content.add_crossing_edge(edge_key(crossings[j].a, crossings[j].b), e);
 }
 
 }  // namespace bpm::detail

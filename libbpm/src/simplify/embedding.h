@@ -19,6 +19,7 @@
 #include "core/edge_uses.h"
 #include "core/const_range.h"
 #include "simplify/coarse_mesh.h"
+#include "simplify/edge_content_map.h"
 #include "simplify/path_store.h"
 
 namespace bpm::detail {
@@ -37,88 +38,6 @@ struct SurfacePoint {
         return x < y ? SurfacePoint{OnEdge, x, y, s_from_x, {}} : SurfacePoint{OnEdge, y, x, 1.0 - s_from_x, {}};
     }
     static SurfacePoint inside(int32_t t, const Vec3& b) { return {Inside, t, -1, 0.0, b}; }
-};
-
-// What lies on a coarse edge: original vertices on it and original edges crossing it.
-struct EdgeContent {
-    std::vector<int32_t> vertices;        // original vertices located OnEdge here
-    std::vector<int32_t> crossing_edges;  // original edge ids with a Crossing here (once per edge)
-};
-
-// What lies on a coarse edge, read-only (Embedding::content).
-struct EdgeContentView {
-    ConstRange<int32_t> vertices;        // EdgeContent::vertices
-    ConstRange<int32_t> crossing_edges;  // EdgeContent::crossing_edges
-};
-
-// Edge key -> EdgeContent, open addressing with linear probing and backward-shift
-// deletion. The planner looks coarse edges up several times per plan, millions of
-// times per run; std::unordered_map's prime-modulo buckets and separate nodes made
-// those lookups cost a few percent of the run time. The probed table holds only the
-// keys (8 bytes a slot, 8 to a cache line) and an index into a dense array of the
-// entries: a probe that misses reads no content, and a rehash moves no vectors. Erased
-// entries keep their vectors' capacity for the next insertion. Interface as far as it
-// is used: find() gives a pointer to the (key, content) pair, or end() (nullptr);
-// pointers are valid until the next operator[] or erase().
-class EdgeContentMap {
-public:
-    using value_type = std::pair<uint64_t, EdgeContent>;
-    value_type* find(uint64_t key) { return const_cast<value_type*>(std::as_const(*this).find(key)); }
-    const value_type* find(uint64_t key) const {
-        if (keys_.empty()) return nullptr;
-        const size_t mask = keys_.size() - 1;
-        for (size_t i = home(key);; i = (i + 1) & mask) {
-            if (keys_[i] == key) return &entries_[index_[i]];
-            if (keys_[i] == kEmpty) return nullptr;
-        }
-    }
-    const value_type* end() const { return nullptr; }
-    // A cache hint, no effect on any result: ask for the slot find(key) reads first (the
-    // planners look up every spoke of a star; asked for together, the misses overlap).
-    void prefetch(uint64_t key) const {
-        const size_t i = keys_.empty() ? 0 : home(key);  // no branch around the prefetches
-        __builtin_prefetch(keys_.data() + i);
-        __builtin_prefetch(index_.data() + i);
-    }
-    EdgeContent& operator[](uint64_t key);  // inserts an empty content if absent
-    void erase(const value_type* entry);
-    // Frees the erased entries kept for their buffers, and the room the entries grew into.
-    void shrink_to_fit() {
-        entries_.resize(size_);
-        entries_.shrink_to_fit();
-    }
-    size_t size() const { return size_; }
-    // Calls f(key, content) for every entry, in no particular order.
-    template <class F>
-    void for_each(F f) const {
-        for (size_t i = 0; i < size_; ++i) f(entries_[i].first, entries_[i].second);
-    }
-    // Frees everything (the table's room too).
-    void release() {
-        decltype(keys_)().swap(keys_);
-        decltype(index_)().swap(index_);
-        decltype(entries_)().swap(entries_);
-        size_ = 0;
-        shift_ = 64;
-    }
-    void clear() {
-        keys_.clear();
-        index_.clear();
-        entries_.clear();
-        size_ = 0;
-        shift_ = 64;
-    }
-
-private:
-    static constexpr uint64_t kEmpty = ~uint64_t(0);  // no edge_key(): both halves are < 2^31
-    std::vector<uint64_t> keys_;     // power-of-two size, at most half full
-    std::vector<uint32_t> index_;    // per slot: its entry in entries_
-    std::vector<value_type> entries_;  // [0, size_) live; the rest erased, kept for their buffers
-    size_t size_ = 0;
-    int shift_ = 64;  // 64 - log2(keys_.size())
-    size_t home(uint64_t key) const { return size_t((key * 0x9E3779B97F4A7C15ull) >> shift_); }
-    size_t slot_of(uint64_t key) const;  // the slot of a present key
-    void rehash(size_t capacity);
 };
 
 // The original vertices located Inside each coarse triangle, as intrusive doubly linked

@@ -4,13 +4,10 @@
 // smaller vertex to its larger. Internal to libbpm.
 //
 // Why not a std::vector<Crossing> per edge: most paths are short (none to a few
-// crossings), and a vector is a 24-byte header per original edge plus a heap block per
-// non-empty path (a malloc header, the capacity it once grew to, kept when the path
-// shrinks or empties). At the end of the removals, the peak of a run, that was 7.5 MB of
-// headers for 3.4 MB of crossings (208k-triangle input to 10k vertices). Here an edge
-// has 8 bytes (where its crossings start, how many), and the crossings live in blocks of
-// power-of-two capacity cut from large chunks; a block a path gives up goes onto the free
-// list of its capacity and is the next block of that capacity handed out.
+// crossings); at the end of the removals, the peak of a run, vectors were 7.5 MB of
+// headers for 3.4 MB of crossings (208k-triangle input to 10k vertices). Here an edge has
+// 8 bytes (where its crossings start, how many) and the crossings live in a BlockPool
+// (core/block_pool.h), a block of the smallest power-of-two capacity per path.
 //
 // Contract: a path's crossings stay where they are until that path is assigned again
 // (assigning one path moves no other), as with a vector per edge, so a reader may hold
@@ -18,11 +15,10 @@
 // (deterministic); no result ever depends on it. assign() must not run while another
 // thread reads (the simplifier writes paths only between its planning rounds).
 
-#include <array>
 #include <cstdint>
-#include <memory>
 #include <vector>
 
+#include "core/block_pool.h"
 #include "core/const_range.h"
 
 namespace bpm::detail {
@@ -54,9 +50,9 @@ public:
     void assign(size_t e, const Crossing* crossings, size_t n);
     // The number of crossings over all paths.
     size_t total_crossings() const;
-    // Room for crossings in the chunks, in use or free (what the store costs beside its
+    // Room for crossings in the pool, in use or free (what the store costs beside its
     // 8 bytes per path).
-    size_t reserved_crossings() const { return reserved_; }
+    size_t reserved_crossings() const { return pool_.reserved(); }
 
     // Cache hints, no effect on any result: the slot of path e, and its crossings (the
     // slot must have been read or asked for first, or this waits for it).
@@ -67,30 +63,14 @@ public:
     }
 
 private:
-    // A block's address: chunk index << kChunkBits | position in the chunk. A chunk holds
-    // 2^kChunkBits crossings (384 KB); a block larger than that gets a chunk of its own
-    // (position 0). 32 bits address 2^32 crossings (96 GB) in all.
-    static constexpr uint32_t kChunkBits = 14;
-    static constexpr uint32_t kChunkSize = uint32_t(1) << kChunkBits;
     struct Slot {
-        uint32_t block = 0;  // address of the first crossing, when size > 0
+        uint32_t block = 0;  // in pool_, when size > 0
         uint32_t size = 0;
     };
-    const Crossing* address(uint32_t block) const {
-        return chunks_[block >> kChunkBits].get() + (block & (kChunkSize - 1));
-    }
-    Crossing* address(uint32_t block) { return chunks_[block >> kChunkBits].get() + (block & (kChunkSize - 1)); }
-    // A block of 2^capacity_bits crossings, from its free list or cut anew.
-    uint32_t take_block(int capacity_bits);
-    // Opens a chunk of `size` crossings; returns its address.
-    uint32_t add_chunk(size_t size);
+    const Crossing* address(uint32_t block) const { return pool_.at(block); }
 
-    std::vector<Slot> slots_;                      // per original edge
-    std::vector<std::unique_ptr<Crossing[]>> chunks_;
-    uint32_t filled_ = kChunkSize;                 // of the last shared chunk: positions handed out
-    uint32_t shared_chunk_ = 0;                    // index of the chunk blocks are cut from
-    std::array<std::vector<uint32_t>, 33> free_;   // per capacity bits: blocks given up
-    size_t reserved_ = 0;                          // crossings in all chunks
+    std::vector<Slot> slots_;  // per original edge
+    BlockPool<Crossing> pool_;
 };
 
 }  // namespace bpm::detail

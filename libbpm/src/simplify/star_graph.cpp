@@ -107,11 +107,11 @@ bool Gatherer::gather_nodes(std::string& why) {
     spoke.resize(size_t(n_));
     side.resize(size_t(n_));
     auto look_up = [&](int32_t a, int32_t b) {
-        const auto* it = emb_.edge_content.find(edge_key(a, b));
-        if (it == emb_.edge_content.end()) return static_cast<const EdgeContent*>(nullptr);
-        const EdgeContent* c = &it->second;
-        __builtin_prefetch(c);
-        __builtin_prefetch(reinterpret_cast<const char*>(c) + sizeof(EdgeContent) - 1);
+        const EdgeContentMap::Entry* c = emb_.edge_content.find(edge_key(a, b));
+        if (c) {
+            __builtin_prefetch(c);
+            __builtin_prefetch(reinterpret_cast<const char*>(c) + sizeof(*c) - 1);
+        }
         return c;
     };
     for (int32_t i = 0; i < n_; ++i) spoke[size_t(i)] = look_up(v_, fan_->link[i]);
@@ -130,11 +130,11 @@ bool Gatherer::gather_nodes(std::string& why) {
     // deviation do not change).
     for (int32_t i = 0; validate_ && i < (fan_->closed ? n_ : n_ - 1); ++i) {
         const int32_t a = fan_->link[i], b = fan_->link[mod(i + 1, n_)];
-        const EdgeContent* content = side[size_t(i)];
-        if (!content) continue;
+        if (!side[size_t(i)]) continue;
+        const EdgeContentView content = emb_.edge_content.view(*side[size_t(i)]);
         auto t_of = [&](double s) { return a < b ? s : 1.0 - s; };  // from q_i to q_i+1
         auto& vs = scratch_.sorted;
-        vs.assign(content->vertices.begin(), content->vertices.end());
+        vs.assign(content.vertices.begin(), content.vertices.end());
         std::sort(vs.begin(), vs.end());
         for (int32_t u : vs) __builtin_prefetch(&emb_.location[size_t(u)]);
         for (int32_t u : vs) {
@@ -151,7 +151,7 @@ bool Gatherer::gather_nodes(std::string& why) {
             graph_.side_nodes[i].push_back(id);
         }
         auto& es = scratch_.sorted;
-        es.assign(content->crossing_edges.begin(), content->crossing_edges.end());
+        es.assign(content.crossing_edges.begin(), content.crossing_edges.end());
         std::sort(es.begin(), es.end());
         es.erase(std::unique(es.begin(), es.end()), es.end());
         for (int32_t e : es) emb_.path.prefetch_slot(size_t(e));
@@ -204,14 +204,14 @@ bool Gatherer::gather_nodes(std::string& why) {
         }
         for (int32_t end : {0, n_ - 1}) {
             const int32_t w = fan_->link[end];
-            const EdgeContent* content = spoke[size_t(end)];
-            if (!content) continue;
-            if (!content->crossing_edges.empty()) {
+            if (!spoke[size_t(end)]) continue;
+            const EdgeContentView content = emb_.edge_content.view(*spoke[size_t(end)]);
+            if (!content.crossing_edges.empty()) {
                 why = "an original edge crosses a feature line";
                 return false;
             }
             auto& vs = scratch_.sorted;
-            vs.assign(content->vertices.begin(), content->vertices.end());
+            vs.assign(content.vertices.begin(), content.vertices.end());
             std::sort(vs.begin(), vs.end());
             for (int32_t u : vs) {
                 const double from_v = v_ < w ? emb_.location[u].s : 1.0 - emb_.location[u].s;
@@ -228,7 +228,7 @@ bool Gatherer::gather_nodes(std::string& why) {
     emb_.inside.append_all(fan_->triangles, free_vertices);
     for (int32_t i = 0; i < n_; ++i) {
         if (!fan_->is_interior_spoke(i) || !spoke[size_t(i)]) continue;
-        const auto& vs = spoke[size_t(i)]->vertices;
+        const ConstRange<int32_t> vs = emb_.edge_content.view(*spoke[size_t(i)]).vertices;
         free_vertices.insert(free_vertices.end(), vs.begin(), vs.end());
     }
     if (fan_->closed) free_vertices.push_back(v_);
@@ -275,7 +275,7 @@ bool Gatherer::gather_segments(std::string& why) {
             if (graph_.nodes[id].vertex >= 0) add_incident(graph_.nodes[id].vertex);
     for (int32_t i = 0; i < n_; ++i) {
         if (!fan_->is_interior_spoke(i) || !graph_.spoke_content[size_t(i)]) continue;
-        const auto& es = graph_.spoke_content[size_t(i)]->crossing_edges;
+        const ConstRange<int32_t> es = emb_.edge_content.view(*graph_.spoke_content[size_t(i)]).crossing_edges;
         candidates.insert(candidates.end(), es.begin(), es.end());
     }
     std::sort(candidates.begin(), candidates.end());

@@ -76,7 +76,7 @@ struct StarGraph {
     // Per polygon corner i: what lies on the spoke v -- link[i] (Embedding::edge_content),
     // or null; found by gather_star_nodes() for gather_straight_segments(). Valid while
     // the embedding does not change.
-    std::vector<const EdgeContent*> spoke_content;
+    std::vector<const EdgeContentMap::Entry*> spoke_content;
     std::vector<StraightSegment> segments;
 
     // Empty, for an embedding of `num_original_vertices` vertices; keeps the buffers.
@@ -106,7 +106,7 @@ struct StarGraphScratch {
     std::vector<int32_t> candidates;  // original edges that may pass through the fan
     std::vector<PointRole> roles;     // of each point of an edge's path
     std::vector<int32_t> node_of;     // its node, or -1
-    std::vector<const EdgeContent*> side_content;  // per polygon side: what lies on it, or null
+    std::vector<const EdgeContentMap::Entry*> side_content;  // per polygon side: what lies on it, or null
 };
 
 // Adds the nodes of the fan of v, laid out at polygon corners q (polar_map.h), to a

@@ -555,9 +555,9 @@ void VertexRemover::plan_once(int32_t v, bool force_disk, bool validate, bool de
         };
         put(v, v_from_a);
         for (int32_t end : {a, b}) {
-            auto it = embedding_.edge_content.find(edge_key(v, end));
-            if (it == embedding_.edge_content.end()) continue;
-            for (int32_t u : it->second.vertices) {
+            const auto* entry = embedding_.edge_content.find(edge_key(v, end));
+            if (!entry) continue;
+            for (int32_t u : embedding_.edge_content.view(*entry).vertices) {
                 const double from_v = v < end ? embedding_.location[u].s : 1.0 - embedding_.location[u].s;
                 put(u, end == a ? v_from_a * (1.0 - from_v) : v_from_a + (1.0 - v_from_a) * from_v);
             }

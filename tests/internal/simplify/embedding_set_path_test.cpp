@@ -31,7 +31,7 @@ std::map<uint64_t, std::vector<int32_t>> expected_crossing_edges(const Embedding
 // The same from the embedding's lists (sorted: their order is unspecified).
 std::map<uint64_t, std::vector<int32_t>> listed_crossing_edges(const Embedding& emb) {
     std::map<uint64_t, std::vector<int32_t>> out;
-    emb.edge_content.for_each([&](uint64_t key, const EdgeContent& content) {
+    emb.edge_content.for_each([&](uint64_t key, const EdgeContentView& content) {
         CHECK(!(content.vertices.empty() && content.crossing_edges.empty()));  // no empty entry stays
         if (content.crossing_edges.empty()) return;
         auto& list = out[key];
@@ -57,7 +57,7 @@ TEST_CASE("embedding: set_path keeps the coarse edges' crossing lists equal to t
     CHECK(listed_crossing_edges(emb) == expected_crossing_edges(emb));
     emb.set_path(0, {crossing(2, 3), crossing(3, 4)});  // leaves 1-2, crosses 2-3 once less, adds 3-4
     CHECK(listed_crossing_edges(emb) == expected_crossing_edges(emb));
-    CHECK(emb.edge_content.find(edge_key(1, 2)) == emb.edge_content.end());
+    CHECK(emb.edge_content.find(edge_key(1, 2)) == nullptr);
     emb.set_path(0, {});
     emb.set_path(1, {});
     CHECK(emb.edge_content.size() == 0);
