@@ -11,14 +11,17 @@ namespace bpm::detail {
 
 namespace {
 
-// HDF5's shuffle: byte b of element i goes to b * elements + i.
-void shuffle_bytes(const unsigned char* data, size_t elements, size_t element_size, unsigned char* out) {
-    for (size_t i = 0; i < elements; ++i)
+// HDF5's shuffle of a chunk of `elements` elements whose first `given` are at `data` and
+// the rest zero: byte b of element i goes to b * elements + i.
+void shuffle_bytes(const unsigned char* data, size_t given, size_t elements, size_t element_size, unsigned char* out) {
+    for (size_t i = 0; i < given; ++i)
         for (size_t b = 0; b < element_size; ++b) out[b * elements + i] = data[i * element_size + b];
+    if (given < elements)
+        for (size_t b = 0; b < element_size; ++b) std::memset(out + b * elements + given, 0, elements - given);
 }
 template <size_t E>
-void shuffle_bytes(const unsigned char* data, size_t elements, unsigned char* out) {
-    shuffle_bytes(data, elements, E, out);  // inlined with E known: the byte loop unrolled
+void shuffle_bytes(const unsigned char* data, size_t given, size_t elements, unsigned char* out) {
+    shuffle_bytes(data, given, elements, E, out);  // inlined with E known: the byte loop unrolled
 }
 
 }  // namespace
@@ -31,18 +34,30 @@ ChunkCompressor::~ChunkCompressor() { libdeflate_free_compressor(deflate_); }
 
 void ChunkCompressor::compress(const unsigned char* data, size_t bytes, size_t element_size, bool shuffle,
                                bool shuffle_in_pipeline, Stored& out) {
+    compress(data, bytes, bytes, element_size, shuffle, shuffle_in_pipeline, out);
+}
+
+void ChunkCompressor::compress(const unsigned char* data, size_t given, size_t bytes, size_t element_size,
+                               bool shuffle, bool shuffle_in_pipeline, Stored& out) {
     const unsigned char* in = data;
     if (shuffle) {
         unsigned char* shuffled = shuffled_.room(bytes);
-        const size_t elements = bytes / element_size;
+        const size_t elements = bytes / element_size, given_elements = given / element_size;
         // The common sizes with the size known to the compiler, which then unrolls the
         // byte loop (the generic loop was ~2 % of the 832k floor).
         switch (element_size) {
-            case 4: shuffle_bytes<4>(data, elements, shuffled); break;
-            case 8: shuffle_bytes<8>(data, elements, shuffled); break;
-            default: shuffle_bytes(data, elements, element_size, shuffled);
+            case 4: shuffle_bytes<4>(data, given_elements, elements, shuffled); break;
+            case 8: shuffle_bytes<8>(data, given_elements, elements, shuffled); break;
+            default: shuffle_bytes(data, given_elements, elements, element_size, shuffled);
         }
         in = shuffled;
+    } else if (given < bytes) {
+        // The zeros after the given bytes, in the shuffle's buffer (deflate wants the chunk
+        // in one piece; a buffer of the writer's own held another chunk's worth).
+        unsigned char* padded = shuffled_.room(bytes);
+        std::memcpy(padded, data, given);
+        std::memset(padded + given, 0, bytes - given);
+        in = padded;
     }
     // A chunk that deflate does not make smaller is stored without deflate (the optional
     // filter skipped), as HDF5's own deflate filter does when zlib's output does not fit

@@ -72,6 +72,11 @@ public:
     // `shuffle_in_pipeline`.
     void compress(const unsigned char* data, size_t bytes, size_t element_size, bool shuffle, bool shuffle_in_pipeline,
                   Stored& out);
+    // The same for a chunk of `bytes` bytes whose first `given` bytes are at `data` and the
+    // rest zero (the last chunk of a dataset, which HDF5 pads with the zero fill value):
+    // the same stored bytes as compressing the padded chunk, without the caller's copy.
+    void compress(const unsigned char* data, size_t given, size_t bytes, size_t element_size, bool shuffle,
+                  bool shuffle_in_pipeline, Stored& out);
 
     // Compresses the first chunk of a dataset into `out` and returns whether the
     // dataset's pipeline has the shuffle filter (then its other chunks are shuffled too).
@@ -88,7 +93,7 @@ public:
 
 private:
     libdeflate_compressor* deflate_;
-    Buffer shuffled_;  // a chunk's (or sample's) bytes shuffled
+    Buffer shuffled_;  // a chunk's (or sample's) bytes shuffled, or a last chunk padded
     Buffer sample_;    // shuffle_pays's sample
     Stored trial_;     // the way not taken, or a sample deflated
 };

@@ -115,3 +115,30 @@ TEST_CASE("compress_first_chunk keeps the smaller way for small chunks and sets 
     CHECK(out.size == noise.size());
     CHECK(out.filter_mask == 1u);
 }
+
+TEST_CASE("a last chunk given in part compresses as the chunk padded with zeros", "[internal][io]") {
+    // The writer hands the last chunk of a dataset without its zero padding; the stored
+    // bytes must be those of the padded chunk, shuffled or not, for every element size.
+    std::mt19937 rng(9);
+    for (size_t element_size : {size_t(1), size_t(4), size_t(8), size_t(12)}) {
+        const size_t elements = 3000, given_elements = 1234;
+        std::vector<unsigned char> padded(elements * element_size, 0);
+        std::uniform_int_distribution<int> byte(0, 40);  // compressible
+        for (size_t i = 0; i < given_elements * element_size; ++i) padded[i] = static_cast<unsigned char>(byte(rng));
+        // The given part alone, in a buffer that ends where it ends.
+        const std::vector<unsigned char> given(padded.begin(), padded.begin() + long(given_elements * element_size));
+        for (bool shuffle : {false, true}) {
+            ChunkCompressor c;
+            ChunkCompressor::Stored whole, part;
+            c.compress(padded.data(), padded.size(), element_size, shuffle, shuffle, whole);
+            // Its buffers hold other bytes before the part (as after an earlier dataset).
+            const std::vector<unsigned char> other(padded.size(), 0xA5);
+            ChunkCompressor::Stored scratch;
+            c.compress(other.data(), other.size(), element_size, true, true, scratch);
+            c.compress(given.data(), given.size(), padded.size(), element_size, shuffle, shuffle, part);
+            REQUIRE(part.size == whole.size);
+            CHECK(part.filter_mask == whole.filter_mask);
+            CHECK(std::memcmp(part.buffer.data(), whole.buffer.data(), whole.size) == 0);
+        }
+    }
+}
