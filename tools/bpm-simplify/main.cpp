@@ -319,11 +319,11 @@ int main(int argc, char** argv) {
         file.provenance.push_back({tool, bpm::tools::version_line(tool), bpm::tools::command_line(argc, argv),
                                    deterministic ? std::string() : bpm::tools::utc_timestamp()});
         clock.add(result.phases);
-        clock.start("writing the .bpm");
-        bpm::write_bpm(output, file);
-
         // The summary line is an info line, which -q never shows: its distortion figures (phi's
         // worst turn, bpm-check's distortion check over every piece) would be measured for nothing.
+        // Measured before writing, so that the check's memory is free again when the writer
+        // takes its buffers (on small inputs the writing is the peak of a run).
+        std::string summary;
         if (!quiet) {
             clock.start("distortion of phi (report)");
             const bpm::CheckResult distortion = bpm::check_distortion(file.param);
@@ -337,8 +337,11 @@ int main(int argc, char** argv) {
                           (long long)result.output_triangles, result.max_error, result.worst_aspect_ratio, turn,
                           (long long)std::max<int64_t>(folds, 0), result.seconds, result.threads,
                           result.threads == 1 ? "thread" : "threads");
-            context.info(line);
+            summary = line;
         }
+        clock.start("writing the .bpm");
+        bpm::write_bpm(output, file);
+        if (!quiet) context.info(summary);
         if (verbose)
             for (const std::string& l : clock.lines()) context.debug(l);
         // The kept feature vertices matter when they stopped the simplifier (said next to
