@@ -148,6 +148,10 @@ bool retriangulate_fan(const CoarseMesh& mesh, const Fan& fan, const PolarMap& m
             if (!std::isfinite(aspect)) continue;  // degenerate
             const bool polar = polar_ear(a, b, d);
             if (best_polar && !polar) continue;
+            // Once the best is Delaunay-admissible, an ear that is not better shaped
+            // cannot win whether it is admissible or not: its test is left for when it
+            // matters (the answer is the same then: see ear_delaunay and ear_witness).
+            if (best_delaunay && !(polar && !best_polar) && !(aspect < best_aspect * (1.0 - 1e-9))) continue;
             if (ear_delaunay[b] < 0) {
                 bool admissible = true;
                 for (int32_t o = 0; o < m && admissible; ++o) {
