@@ -335,23 +335,30 @@ void append_hole_sides(const Fan& fan, const FanTriangulation& tri, int32_t base
     // the triangles per diagonal was quadratic, and mispredicted).
     if (owner.size() < size_t(n) * size_t(n)) owner.assign(size_t(n) * size_t(n), -1);
     const auto at = [n](int32_t a, int32_t b) { return size_t(a) * size_t(n) + size_t(b); };
+    const auto is_side = [n](int32_t a, int32_t b) { return b == (a + 1 == n ? 0 : a + 1); };
     for (size_t i = 0; i < ts.size(); ++i)
         for (int k = 0; k < 3; ++k) {
-            const int32_t a = ts[i][k], b = ts[i][(k + 1) % 3];
-            if (b != mod(a + 1, n) && owner[at(a, b)] < 0) owner[at(a, b)] = int32_t(i);
+            const int32_t a = ts[i][k], b = ts[i][k == 2 ? 0 : k + 1];
+            if (!is_side(a, b) && owner[at(a, b)] < 0) owner[at(a, b)] = int32_t(i);
         }
+    const size_t first = out.size();
+    out.resize(first + 3 * ts.size());
     for (size_t i = 0; i < ts.size(); ++i)
         for (int k = 0; k < 3; ++k) {
-            const int32_t a = ts[i][k], b = ts[i][(k + 1) % 3];
-            if (b == mod(a + 1, n)) {
-                out.push_back(fan.closed || a != n - 1 ? fan.triangles[size_t(a)] : -1);
+            const int32_t a = ts[i][k], b = ts[i][k == 2 ? 0 : k + 1];
+            int32_t& known = out[first + 3 * i + size_t(k)];
+            if (is_side(a, b)) {
+                known = fan.closed || a != n - 1 ? fan.triangles[size_t(a)] : -1;
                 continue;
             }
             const int32_t twin = owner[at(b, a)];  // the triangle that runs the diagonal the other way
-            out.push_back(twin < 0 ? -1 : -2 - (base + twin));
+            known = twin < 0 ? -1 : -2 - (base + twin);
         }
-    for (const auto& t : ts)
-        for (int k = 0; k < 3; ++k) owner[at(t[k], t[(k + 1) % 3])] = -1;
+    for (const auto& t : ts) {
+        owner[at(t[0], t[1])] = -1;
+        owner[at(t[1], t[2])] = -1;
+        owner[at(t[2], t[0])] = -1;
+    }
 }
 // The parts of a plan taken from a planned fan, and the rewritten paths at the end.
 void add_fan(const CoarseMesh& mesh, RemovalScratch& scratch, const Fan& fan, FanPlanner& planner, RemovalPlan& plan);
