@@ -176,12 +176,14 @@ bool faces_into(const TriangleGraph& graph, const Embedding& embedding, const st
         const Link* li = &flat[offset[i]];
         const size_t m = static_cast<size_t>(offset[i + 1] - offset[i]);
         for (size_t j = 0; m > 1 && j < m; ++j) {
-            const int32_t a = li[j].to, b = li[j + 1 == m ? 0 : j + 1].to;
+            const Link& la = li[j];
+            const Link& lb = li[j + 1 == m ? 0 : j + 1];
+            const int32_t a = la.to, b = lb.to;
             if (a == b) {
                 set_reason(why, "duplicate edge");
                 return false;
             }
-            const Vec2 pa = param_point(nodes[a]), pb = param_point(nodes[b]);
+            const Vec2 &pa = la.far, &pb = lb.far;  // param_point of a and b
             // The cheap tests first: the two links along a side of the coarse triangle are
             // collinear, and on a slanted side only the exact predicate can tell.
             if (dot(pa - p, pb - p) > 0 && !three_on_one_side(i, a, b) && orient2d(p, pa, pb) == 0) {
