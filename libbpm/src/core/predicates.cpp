@@ -21,7 +21,7 @@ int sign_of(CGAL::Sign s) { return s == CGAL::POSITIVE ? 1 : (s == CGAL::NEGATIV
 
 int orient2d_exact(const Vec2& a, const Vec2& b, const Vec2& c) { return sign_of(CGAL::orientation(p2(a), p2(b), p2(c))); }
 
-int orient3d(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
+int orient3d_exact(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
     return sign_of(CGAL::orientation(p3(a), p3(b), p3(c), p3(d)));
 }
 

@@ -72,6 +72,8 @@ public:
         return it == feature_edges_.end() ? Feature::None : it->second;
     }
     bool is_feature_edge(int32_t a, int32_t b) const { return feature(a, b) != Feature::None; }
+    // Whether any feature edge ends at v (else feature(v, x) is None for every x).
+    bool on_feature_line(int32_t v) const { return feature_degree_[v] != 0; }
 
     // Cache hints, no effect on any result: ask for what triangles_of(v) and feature()
     // read at v, and for the corners of triangle t, ahead of a walk whose loads would

@@ -124,15 +124,29 @@ bool retriangulate_fan(const CoarseMesh& mesh, const Fan& fan, const PolarMap& m
     // ear at a reflex corner of the polar map's polygon folds over the rest of the star
     // in space (on a flat face it overlaps it: a self-intersection). Ears of the polar
     // map's polygon, convex and holding no other corner, come first.
+    // Cached per corner like the Delaunay test, and for the same reason: a cut only
+    // removes a corner, so an ear of the polar map's polygon stays one, and an ear with
+    // a corner inside (its witness) stays none until that corner is cut off, unless it is
+    // one of the two ears next to the cut.
+    auto& ear_polar = scratch.polar;
+    auto& ear_polar_witness = scratch.polar_witness;
+    ear_polar.assign(n, map.cocircular ? -1 : 1);
+    ear_polar_witness.assign(n, -1);
     auto polar_ear = [&](int32_t a, int32_t b, int32_t d) {
-        if (!map.cocircular) return true;
+        if (ear_polar[b] >= 0) return ear_polar[b] != 0;
+        ear_polar[b] = 0;
+        ear_polar_witness[b] = -1;
         const Vec2 &pa = map.q_polar[a], &pb = map.q_polar[b], &pd = map.q_polar[d];
         if (orient2d(pa, pb, pd) <= 0) return false;
         for (int32_t p : poly) {
             if (p == a || p == b || p == d) continue;
             const Vec2& pp = map.q_polar[p];
-            if (orient2d(pa, pb, pp) >= 0 && orient2d(pb, pd, pp) >= 0 && orient2d(pd, pa, pp) >= 0) return false;
+            if (orient2d(pa, pb, pp) >= 0 && orient2d(pb, pd, pp) >= 0 && orient2d(pd, pa, pp) >= 0) {
+                ear_polar_witness[b] = p;
+                return false;
+            }
         }
+        ear_polar[b] = 1;
         return true;
     };
     while (poly.size() > 3) {
@@ -148,6 +162,10 @@ bool retriangulate_fan(const CoarseMesh& mesh, const Fan& fan, const PolarMap& m
             if (!std::isfinite(aspect)) continue;  // degenerate
             const bool polar = polar_ear(a, b, d);
             if (best_polar && !polar) continue;
+            // Once the best is Delaunay-admissible, an ear that is not better shaped
+            // cannot win whether it is admissible or not: its test is left for when it
+            // matters (the answer is the same then: see ear_delaunay and ear_witness).
+            if (best_delaunay && !(polar && !best_polar) && !(aspect < best_aspect * (1.0 - 1e-9))) continue;
             if (ear_delaunay[b] < 0) {
                 bool admissible = true;
                 for (int32_t o = 0; o < m && admissible; ++o) {
@@ -194,8 +212,11 @@ bool retriangulate_fan(const CoarseMesh& mesh, const Fan& fan, const PolarMap& m
         ear_blocked[a] = ear_blocked[d] = -1;
         ear_aspect[a] = ear_aspect[d] = std::nan("");
         ear_delaunay[a] = ear_delaunay[d] = map.cocircular ? 1 : -1;
-        for (int32_t p : poly)
+        ear_polar[a] = ear_polar[d] = map.cocircular ? -1 : 1;
+        for (int32_t p : poly) {
             if (ear_delaunay[p] == 0 && ear_witness[p] == b) ear_delaunay[p] = -1;
+            if (ear_polar[p] == 0 && ear_polar_witness[p] == b) ear_polar[p] = -1;
+        }
     }
     const Vec3& p0 = x[fan.link[poly[0]]];
     const Vec3& p1 = x[fan.link[poly[1]]];

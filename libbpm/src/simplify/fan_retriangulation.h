@@ -31,6 +31,8 @@ struct EarScratch {
     std::vector<int8_t> blocked;    // -1 unknown, 0 free, 1 its diagonal exists or is forbidden
     std::vector<int8_t> delaunay;   // -1 unknown, 0 no, 1 yes
     std::vector<int32_t> witness;   // a corner clearly inside the circle of a non-admissible ear
+    std::vector<int8_t> polar;      // -1 unknown, 0 no, 1 an ear of the polar map's polygon (map.cocircular)
+    std::vector<int32_t> polar_witness;  // a corner in the polar map's triangle of a non-polar ear, or -1
     // Of the fallback when no ear may be cut (n x n, row-major): the smallest worst aspect
     // ratio of a triangulation of corners i..k closed by i -- k, and its apex.
     std::vector<double> worst;

@@ -2,8 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
-#include <map>
-#include <unordered_map>
+#include <iterator>
 
 #include "bpm/predicates.h"
 
@@ -177,12 +176,14 @@ bool faces_into(const TriangleGraph& graph, const Embedding& embedding, const st
         const Link* li = &flat[offset[i]];
         const size_t m = static_cast<size_t>(offset[i + 1] - offset[i]);
         for (size_t j = 0; m > 1 && j < m; ++j) {
-            const int32_t a = li[j].to, b = li[j + 1 == m ? 0 : j + 1].to;
+            const Link& la = li[j];
+            const Link& lb = li[j + 1 == m ? 0 : j + 1];
+            const int32_t a = la.to, b = lb.to;
             if (a == b) {
                 set_reason(why, "duplicate edge");
                 return false;
             }
-            const Vec2 pa = param_point(nodes[a]), pb = param_point(nodes[b]);
+            const Vec2 &pa = la.far, &pb = lb.far;  // param_point of a and b
             // The cheap tests first: the two links along a side of the coarse triangle are
             // collinear, and on a slanted side only the exact predicate can tell.
             if (dot(pa - p, pb - p) > 0 && !three_on_one_side(i, a, b) && orient2d(p, pa, pb) == 0) {
@@ -403,38 +404,48 @@ void build_triangle_graph(const CoarseMesh& mesh, const Embedding& embedding, in
     graph.nodes.clear();
     graph.segments.clear();
     const Tri& c = mesh.triangle(t);
-    std::unordered_map<int32_t, int32_t> vertex_node;           // original vertex -> node
-    std::map<std::pair<int32_t, int32_t>, int32_t> crossing_node;  // (edge, crossing index) -> node
+    // Node of an original vertex and of a crossing (edge, index along its path): pairs
+    // sorted once all nodes are made, then searched (a hash map and a tree allocated a
+    // node per entry, for every triangle of the export). Were a key made twice, the later
+    // node would count, as it did when the maps were assigned in turn.
+    auto& b = graph.buffers;
+    auto& vertex_node = b.vertex_node;
+    auto& crossing_node = b.crossing_node;
+    vertex_node.clear();
+    crossing_node.clear();
+    auto crossing_key = [](int32_t e, int32_t j) { return (uint64_t(uint32_t(e)) << 32) | uint32_t(j); };
 
     for (int k = 0; k < 3; ++k) {
-        vertex_node[c[k]] = static_cast<int32_t>(graph.nodes.size());
+        vertex_node.push_back({c[k], static_cast<int32_t>(graph.nodes.size())});
         graph.nodes.push_back(corner_node(k, c[k]));
     }
-    std::vector<int32_t> candidates;
+    auto& candidates = b.candidates;
+    auto& list = b.list;
+    candidates.clear();
     for (int k = 0; k < 3; ++k) {
-        const int32_t a = c[k], b = c[(k + 1) % 3];
+        const int32_t a = c[k], b_ = c[(k + 1) % 3];
         EdgeContentView content;
-        if (!embedding.content(a, b, content)) continue;
-        const int32_t lo = std::min(a, b);
+        if (!embedding.content(a, b_, content)) continue;
+        const int32_t lo = std::min(a, b_);
         auto bary_on_edge = [&](double s) { return bary_on_side(c, k, lo, s); };
-        std::vector<int32_t> on_edge(content.vertices.begin(), content.vertices.end());
-        std::sort(on_edge.begin(), on_edge.end());
-        for (int32_t v : on_edge) {
+        list.assign(content.vertices.begin(), content.vertices.end());
+        std::sort(list.begin(), list.end());
+        for (int32_t v : list) {
             GraphNode g;
             g.on_edge = static_cast<int8_t>(k);
             g.kind = NodeKind::OriginalVertex;
             g.vertex = v;
             g.bary = bary_on_edge(embedding.location[v].s);
-            vertex_node[v] = static_cast<int32_t>(graph.nodes.size());
+            vertex_node.push_back({v, static_cast<int32_t>(graph.nodes.size())});
             graph.nodes.push_back(g);
             for (int32_t i = embedding.vertex_edge_offsets[v]; i < embedding.vertex_edge_offsets[v + 1]; ++i)
                 candidates.push_back(embedding.vertex_edges[i]);
         }
-        std::vector<int32_t> crossing(content.crossing_edges.begin(), content.crossing_edges.end());
-        std::sort(crossing.begin(), crossing.end());
-        crossing.erase(std::unique(crossing.begin(), crossing.end()), crossing.end());
-        const int32_t hi = std::max(a, b);
-        for (int32_t e : crossing) {
+        list.assign(content.crossing_edges.begin(), content.crossing_edges.end());
+        std::sort(list.begin(), list.end());
+        list.erase(std::unique(list.begin(), list.end()), list.end());
+        const int32_t hi = std::max(a, b_);
+        for (int32_t e : list) {
             const auto p = embedding.crossings(e);
             for (int32_t j = 0; j < int32_t(p.size()); ++j) {
                 if (p[j].a != lo || p[j].b != hi) continue;
@@ -444,22 +455,22 @@ void build_triangle_graph(const CoarseMesh& mesh, const Embedding& embedding, in
                 g.edge = e;
                 g.sigma = p[j].sigma;
                 g.bary = bary_on_edge(p[j].s);
-                crossing_node[{e, j}] = static_cast<int32_t>(graph.nodes.size());
+                crossing_node.push_back({crossing_key(e, j), static_cast<int32_t>(graph.nodes.size())});
                 graph.nodes.push_back(g);
             }
             candidates.push_back(e);
         }
     }
     if (!embedding.inside.empty(t)) {
-        std::vector<int32_t> in;
-        embedding.inside.append_to(t, in);
-        std::sort(in.begin(), in.end());
-        for (int32_t v : in) {
+        list.clear();
+        embedding.inside.append_to(t, list);
+        std::sort(list.begin(), list.end());
+        for (int32_t v : list) {
             GraphNode g;
             g.kind = NodeKind::OriginalVertex;
             g.vertex = v;
             g.bary = embedding.location[v].bary;
-            vertex_node[v] = static_cast<int32_t>(graph.nodes.size());
+            vertex_node.push_back({v, static_cast<int32_t>(graph.nodes.size())});
             graph.nodes.push_back(g);
             for (int32_t i = embedding.vertex_edge_offsets[v]; i < embedding.vertex_edge_offsets[v + 1]; ++i)
                 candidates.push_back(embedding.vertex_edges[i]);
@@ -467,6 +478,14 @@ void build_triangle_graph(const CoarseMesh& mesh, const Embedding& embedding, in
     }
     std::sort(candidates.begin(), candidates.end());
     candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
+    // Nodes grow with the order of making: among equal keys the later node sorts last.
+    std::sort(vertex_node.begin(), vertex_node.end());
+    std::sort(crossing_node.begin(), crossing_node.end());
+    auto node_with = [](const auto& pairs, auto key) -> int32_t {
+        auto it = std::upper_bound(pairs.begin(), pairs.end(), key,
+                                   [](const auto& k, const auto& pair) { return k < pair.first; });
+        return it == pairs.begin() || std::prev(it)->first != key ? -1 : std::prev(it)->second;
+    };
 
     // Local edges a point lies on (bit k for local edge k), or -1 if not in the triangle.
     auto edges_of = [&](const SurfacePoint& p) -> int {
@@ -484,18 +503,14 @@ void build_triangle_graph(const CoarseMesh& mesh, const Embedding& embedding, in
         }
         return -1;
     };
-    std::vector<SurfacePoint> points;
-    std::vector<double> sigmas;
+    auto& points = b.points;
+    auto& sigmas = b.sigmas;
     for (int32_t e : candidates) {
         embedding.path_points(e, points, sigmas);
         const int32_t last = static_cast<int32_t>(points.size()) - 1;
         auto node_of = [&](int32_t j) -> int32_t {
-            if (j == 0 || j == last) {
-                auto it = vertex_node.find(embedding.edges[e][j == 0 ? 0 : 1]);
-                return it == vertex_node.end() ? -1 : it->second;
-            }
-            auto it = crossing_node.find({e, j - 1});
-            return it == crossing_node.end() ? -1 : it->second;
+            if (j == 0 || j == last) return node_with(vertex_node, embedding.edges[e][j == 0 ? 0 : 1]);
+            return node_with(crossing_node, crossing_key(e, j - 1));
         };
         for (int32_t j = 0; j < last; ++j) {
             const int m0 = edges_of(points[j]), m1 = edges_of(points[j + 1]);

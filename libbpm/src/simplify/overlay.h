@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "bpm/geometry.h"
@@ -46,6 +47,15 @@ struct GraphSegment {
 struct TriangleGraph {
     std::vector<GraphNode> nodes;
     std::vector<GraphSegment> segments;
+    // Buffers of build_triangle_graph(), kept with the graph so that a graph reused for
+    // many triangles (the export of phi, the edge flips) does not allocate for each.
+    struct Buffers {
+        std::vector<std::pair<int32_t, int32_t>> vertex_node;    // (original vertex, node)
+        std::vector<std::pair<uint64_t, int32_t>> crossing_node;  // (edge << 32 | crossing index, node)
+        std::vector<int32_t> list, candidates;
+        std::vector<SurfacePoint> points;
+        std::vector<double> sigmas;
+    } buffers;
 };
 
 struct OverlayFace {

@@ -7,8 +7,9 @@
 
 namespace bpm::detail {
 
-int planning_threads(int requested) {
+int planning_threads(int requested, int64_t triangles) {
     if (requested > 0) return std::min(requested, 64);
+    if (triangles < kSmallInputTriangles) return 1;
     const unsigned cores = std::thread::hardware_concurrency();
     if (cores < 2) return 1;
     double load = 0.0;

@@ -33,11 +33,21 @@
 
 namespace bpm::detail {
 
-// Threads for a simplification asked for `requested` (SimplifyOptions::threads): that,
-// at most 64, or for 0 two unless the machine has one core or every core is busy (the
-// 1-minute load average; the second thread spins between rounds, so bpm's own earlier
-// runs count in the load too).
-int planning_threads(int requested);
+// Inputs with fewer triangles than this simplify on one thread when the thread count is
+// automatic: a second thread saved them no wall time and cost 1.5-1.7x the CPU time
+// (elephant 5.6k triangles, femur 7.8k; at 10k mech-holes-shark saved 11 % of the wall
+// time for 1.5x the CPU, fandisk at 13k 28 % for 1.3x; --vertices 1000, loaded machine).
+// The parts that two threads share well (the first ranking, the input check beside
+// the set-up, the export) are too small there to pay for the second thread's spinning
+// between the removals' short rounds.
+constexpr int64_t kSmallInputTriangles = 10000;
+
+// Threads for a simplification of an input of `triangles` triangles asked for
+// `requested` (SimplifyOptions::threads): that, at most 64, or for 0 one for a small
+// input (kSmallInputTriangles), else two unless the machine has one core or every core
+// is busy (the 1-minute load average; the second thread spins between rounds, so bpm's
+// own earlier runs count in the load too).
+int planning_threads(int requested, int64_t triangles);
 
 class PlanningPool {
 public:

@@ -84,18 +84,20 @@ double sharpest_changed_ridge(const CoarseMesh& mesh, const std::vector<int32_t>
                 // A side the caller named, with its removed triangle: the other triangle on
                 // it is the one the two lists share besides that one (exactly one, and not
                 // removed, as below).
-                // Each of u's few triangles tested against all of w's (no data-dependent
-                // branch in the inner loop, unlike a merge of the sorted lists).
+                // A merge of the two sorted lists whose steps are selects, not branches
+                // (which list moves on depends on the data: a branch there is mispredicted
+                // about every other step); the common triangles come in increasing order.
                 int32_t outside = -1, common = 0;
                 bool has_inside = false;
                 const auto lu = mesh.triangles_of(u), lw = mesh.triangles_of(w);
-                for (const int32_t p : lu) {
-                    bool on_w = false;
-                    for (const int32_t q : lw) on_w |= q == p;
-                    if (!on_w) continue;
-                    ++common;
-                    if (p == known) has_inside = true;
-                    else outside = p;
+                for (const int32_t *p = lu.begin(), *q = lw.begin(); p != lu.end() && q != lw.end();) {
+                    const int32_t a = *p, b = *q;
+                    const bool same = a == b;
+                    common += same;
+                    has_inside |= same && a == known;
+                    outside = same && a != known ? a : outside;
+                    p += a <= b;
+                    q += b <= a;
                 }
                 if (common != 2 || !has_inside || is_removed(outside)) continue;
                 mesh.prefetch_triangle(outside);

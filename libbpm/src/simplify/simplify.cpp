@@ -1072,7 +1072,7 @@ CheckResult check_intersections_in_user_order(const Surface& original, const Inp
 // numbering `order` (simplify/vertex_order.h); the results still in that numbering.
 SimplifyResult simplify_checked(const Surface& original, const InputOrder& order, const SimplifyOptions& options,
                                 const Context& context, Parametrization& out) {
-    const int threads = planning_threads(options.threads);
+    const int threads = planning_threads(options.threads, original.num_triangles());
     context.debug(std::to_string(threads) + (threads == 1 ? " thread" : " threads") +
                   (options.threads == 0 ? " (automatic: threads = 0)" : ""));
     std::unique_ptr<Simplifier> simplifier;

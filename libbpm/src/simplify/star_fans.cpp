@@ -172,16 +172,19 @@ VertexClass classify_star(const CoarseMesh& mesh, int32_t v, bool force_disk, st
     starts.clear();
     corners.clear();
     for (int32_t t : tris) corners.push_back(mesh.triangle(t));
-    for (const Tri& c : corners)
-        for (int32_t x : c) {
-            if (x == v) continue;
-            const auto kind = mesh.feature(v, x);
-            if (kind == CoarseMesh::Feature::Hard) hard.push_back(x);
-            if (kind == CoarseMesh::Feature::Crease) crease.push_back(x);
+    // Most vertices have no feature edge at all: nothing to look up then.
+    if (mesh.on_feature_line(v)) {
+        for (const Tri& c : corners)
+            for (int32_t x : c) {
+                if (x == v) continue;
+                const auto kind = mesh.feature(v, x);
+                if (kind == CoarseMesh::Feature::Hard) hard.push_back(x);
+                if (kind == CoarseMesh::Feature::Crease) crease.push_back(x);
+            }
+        for (auto* list : {&hard, &crease}) {
+            std::sort(list->begin(), list->end());
+            list->erase(std::unique(list->begin(), list->end()), list->end());
         }
-    for (auto* list : {&hard, &crease}) {
-        std::sort(list->begin(), list->end());
-        list->erase(std::unique(list->begin(), list->end()), list->end());
     }
     // Hard feature lines are always kept. Creases are followed when exactly two meet
     // here; otherwise (a crease ending, a junction of creases) the vertex is removed as

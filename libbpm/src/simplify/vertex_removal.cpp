@@ -313,6 +313,7 @@ struct RemovalScratch {
     // sharpest_changed_ridge's `hole_sides`, appended with the new triangles
     // (append_hole_sides).
     std::vector<int32_t> hole_sides;
+    std::vector<int32_t> diagonal_owner;  // of append_hole_sides
     RemovalScratch(const CoarseMesh& mesh, const Embedding& embedding, const std::vector<int8_t>& sign,
                    const std::vector<Vec3>& normals)
         : planner(mesh, embedding, sign, normals) {}
@@ -323,23 +324,41 @@ namespace {
 // in their order: the edge from local corner j to j + 1 is side j of the polygon, whose
 // removed triangle is fan.triangles[j] (an open fan's side n - 1 is its new edge: -1); a
 // diagonal is -2 - the index (in the plan's new triangles) of the fan's other triangle on
-// it. The fan's first triangle is new triangle `base`.
-void append_hole_sides(const Fan& fan, const FanTriangulation& tri, int32_t base, std::vector<int32_t>& out) {
+// it. The fan's first triangle is new triangle `base`. `owner`: a buffer, all -1 between
+// calls (n x n entries once grown).
+void append_hole_sides(const Fan& fan, const FanTriangulation& tri, int32_t base, std::vector<int32_t>& owner,
+                       std::vector<int32_t>& out) {
     const int32_t n = fan.corners();
     const auto& ts = tri.triangles;
+    // The first triangle that runs each diagonal from corner a to corner b, at a * n + b,
+    // so that the triangle that runs it the other way is one load away (a search of all
+    // the triangles per diagonal was quadratic, and mispredicted).
+    if (owner.size() < size_t(n) * size_t(n)) owner.assign(size_t(n) * size_t(n), -1);
+    const auto at = [n](int32_t a, int32_t b) { return size_t(a) * size_t(n) + size_t(b); };
+    const auto is_side = [n](int32_t a, int32_t b) { return b == (a + 1 == n ? 0 : a + 1); };
     for (size_t i = 0; i < ts.size(); ++i)
         for (int k = 0; k < 3; ++k) {
-            const int32_t a = ts[i][k], b = ts[i][(k + 1) % 3];
-            if (b == mod(a + 1, n)) {
-                out.push_back(fan.closed || a != n - 1 ? fan.triangles[size_t(a)] : -1);
+            const int32_t a = ts[i][k], b = ts[i][k == 2 ? 0 : k + 1];
+            if (!is_side(a, b) && owner[at(a, b)] < 0) owner[at(a, b)] = int32_t(i);
+        }
+    const size_t first = out.size();
+    out.resize(first + 3 * ts.size());
+    for (size_t i = 0; i < ts.size(); ++i)
+        for (int k = 0; k < 3; ++k) {
+            const int32_t a = ts[i][k], b = ts[i][k == 2 ? 0 : k + 1];
+            int32_t& known = out[first + 3 * i + size_t(k)];
+            if (is_side(a, b)) {
+                known = fan.closed || a != n - 1 ? fan.triangles[size_t(a)] : -1;
                 continue;
             }
-            int32_t twin = -1;  // the triangle that runs the diagonal the other way
-            for (size_t j = 0; j < ts.size() && twin < 0; ++j)
-                for (int m = 0; m < 3; ++m)
-                    if (j != i && ts[j][m] == b && ts[j][(m + 1) % 3] == a) twin = base + int32_t(j);
-            out.push_back(twin < 0 ? -1 : -2 - twin);
+            const int32_t twin = owner[at(b, a)];  // the triangle that runs the diagonal the other way
+            known = twin < 0 ? -1 : -2 - (base + twin);
         }
+    for (const auto& t : ts) {
+        owner[at(t[0], t[1])] = -1;
+        owner[at(t[1], t[2])] = -1;
+        owner[at(t[2], t[0])] = -1;
+    }
 }
 // The parts of a plan taken from a planned fan, and the rewritten paths at the end.
 void add_fan(const CoarseMesh& mesh, RemovalScratch& scratch, const Fan& fan, FanPlanner& planner, RemovalPlan& plan);
@@ -610,7 +629,7 @@ void VertexRemover::plan_once(int32_t v, bool force_disk, bool validate, bool de
                 // finish_part() validates (finish_parts_done() sets them again).
                 for (const auto& t : planner.tri.triangles)
                     plan.new_triangles.push_back({fan.link[t[0]], fan.link[t[1]], fan.link[t[2]]});
-                append_hole_sides(fan, planner.tri, 0, scratch_->hole_sides);
+                append_hole_sides(fan, planner.tri, 0, scratch_->diagonal_owner, scratch_->hole_sides);
                 measure_new_ridges(plan);
                 return;
             }
@@ -653,7 +672,7 @@ void add_fan(const CoarseMesh& mesh_, RemovalScratch& scratch, const Fan& fan, F
         // The triangulation computed it already, for the same corners in the same order.
         plan.worst_new_aspect = std::max(plan.worst_new_aspect, planner.tri.aspects[i]);
     }
-    append_hole_sides(fan, planner.tri, base, scratch.hole_sides);
+    append_hole_sides(fan, planner.tri, base, scratch.diagonal_owner, scratch.hole_sides);
     for (const auto& d : planner.tri.diagonals) {
         const int32_t a = fan.link[d[0]], b = fan.link[d[1]];
         plan.new_edges.push_back({std::min(a, b), std::max(a, b)});

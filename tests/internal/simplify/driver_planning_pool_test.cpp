@@ -112,3 +112,17 @@ TEST_CASE("planning pool: too many tasks for one round are refused", "[internal]
     PlanningPool pool(2);
     CHECK_THROWS_AS(pool.run_round(size_t(1) << 20, [](int, size_t) {}), std::length_error);
 }
+
+TEST_CASE("planning threads: automatic is one thread for a small input, else what was asked",
+          "[internal][simplify]") {
+    using bpm::detail::kSmallInputTriangles;
+    using bpm::detail::planning_threads;
+    // elephant (5558 triangles): a second thread saved no wall time and cost 1.7x the CPU.
+    CHECK(planning_threads(0, 5558) == 1);
+    CHECK(planning_threads(0, kSmallInputTriangles - 1) == 1);
+    const int large = planning_threads(0, kSmallInputTriangles);
+    CHECK((large == 1 || large == 2));  // 1 on a one-core or busy machine
+    CHECK(planning_threads(2, 5558) == 2);  // asked for: as asked
+    CHECK(planning_threads(3, 100) == 3);
+    CHECK(planning_threads(100, 1000000) == 64);
+}

@@ -107,3 +107,36 @@ TEST_CASE("identical and degenerate triangles", "[predicates]") {
     CHECK(improper(a, {{{5, 5, 5}, {6, 6, 6}, {7, 7, 7}}}));  // degenerate, far away: still reported
     (void)kNone;
 }
+
+TEST_CASE("orient3d's filter agrees with the exact predicate", "[predicates]") {
+    // Random points, points on a plane (rounded, so nearly coplanar: the filter must
+    // pass those to the exact predicate), tiny and huge coordinates, and exact ties.
+    uint64_t state = 12345;
+    auto next = [&] {
+        state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+        return double(state >> 11) * 0x1.0p-53 - 0.5;
+    };
+    int disagreements = 0, zeros = 0;
+    for (int i = 0; i < 20000; ++i) {
+        const double scale = i % 4 == 0 ? 1e-150 : (i % 4 == 1 ? 1e150 : (i % 4 == 2 ? 1.0 : 1e-300));
+        Vec3 p[4];
+        for (auto& q : p) q = {scale * next(), scale * next(), scale * next()};
+        if (i % 3 == 0) {
+            // d on the plane of a, b, c (up to rounding): a + s (b - a) + t (c - a)
+            const double s = next(), t = next();
+            for (int k = 0; k < 3; ++k) p[3][k] = p[0][k] + s * (p[1][k] - p[0][k]) + t * (p[2][k] - p[0][k]);
+        }
+        if (i % 7 == 0) p[3] = p[i % 3];  // a repeated point: exactly coplanar
+        const int filtered = orient3d(p[0], p[1], p[2], p[3]);
+        const int exact = orient3d_exact(p[0], p[1], p[2], p[3]);
+        disagreements += filtered != exact;
+        zeros += exact == 0;
+    }
+    CHECK(disagreements == 0);
+    CHECK(zeros > 0);
+    // d on the side the normal (b - a) x (c - a) = +z points to: +1, as CGAL::orientation.
+    CHECK(orient3d({0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}) == 1);
+    CHECK(orient3d({0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, -1}) == -1);
+    CHECK(orient3d_exact({0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}) == 1);
+    CHECK(orient3d_exact({0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, -1}) == -1);
+}
