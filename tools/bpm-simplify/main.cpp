@@ -240,7 +240,8 @@ int main(int argc, char** argv) {
         ->excludes(one_per_step)
         ->group(advanced);
     app.add_option("--threads", options.threads,
-                   "Threads (default 0 = 2, or 1 when every core is busy); the output does not depend on it")
+                   "Threads (default 0 = 2, or 1 for inputs under 10000 triangles or when every core is busy); "
+                   "the output does not depend on it")
         ->check(CLI::Range(0, 64))
         ->group(advanced);
     app.add_flag("--trace", options.trace_removals, "With -v: one line per removed vertex (cost, error, aspect ratio)")
