@@ -9,31 +9,23 @@
 namespace bpm::detail {
 
 void TriangleGrid::CellTable::rehash(size_t capacity) {
-    std::vector<uint64_t> old_keys = std::move(keys_);
     std::vector<std::vector<Entry>> old_lists = std::move(lists_);
     std::vector<uint32_t> old_counts = std::move(counts_);
-    reserve_huge_pages(keys_, capacity);
-    keys_.assign(capacity, kEmpty);
+    lists_ = {};
     reserve_huge_pages(lists_, capacity);
     lists_.resize(capacity);
+    counts_ = {};
     if (!old_counts.empty()) reserve_huge_pages(counts_, capacity);
     counts_.assign(old_counts.empty() ? 0 : capacity, 0);
-    shift_ = 64;
-    for (size_t c = capacity; c > 1; c >>= 1) --shift_;
-    const size_t mask = capacity - 1;
-    for (size_t j = 0; j < old_keys.size(); ++j) {
-        if (old_keys[j] == kEmpty) continue;
-        size_t i = home(old_keys[j]);
-        while (keys_[i] != kEmpty) i = (i + 1) & mask;
-        keys_[i] = old_keys[j];
-        lists_[i] = std::move(old_lists[j]);
-        if (!old_counts.empty()) counts_[i] = old_counts[j];
-    }
+    keys_.rehash(capacity, [&](size_t from, size_t to) {
+        lists_[to] = std::move(old_lists[from]);
+        if (!old_counts.empty()) counts_[to] = old_counts[from];
+    });
 }
 
 void TriangleGrid::CellTable::count(uint64_t key) {
     std::vector<Entry>& list = (*this)[key];  // may rehash, which moves the counts along
-    if (counts_.size() != keys_.size()) counts_.resize(keys_.size(), 0);
+    if (counts_.size() != keys_.slots()) counts_.resize(keys_.slots(), 0);
     ++counts_[size_t(&list - lists_.data())];
 }
 
@@ -44,20 +36,15 @@ void TriangleGrid::CellTable::reserve_counted() {
 }
 
 void TriangleGrid::CellTable::reserve(size_t cells) {
-    size_t capacity = std::max<size_t>(64, keys_.size());
+    size_t capacity = std::max<size_t>(64, keys_.slots());
     while (capacity < 2 * cells) capacity *= 2;
-    if (capacity > keys_.size()) rehash(capacity);
+    if (capacity > keys_.slots()) rehash(capacity);
 }
 
 std::vector<TriangleGrid::Entry>& TriangleGrid::CellTable::operator[](uint64_t key) {
     if (std::vector<Entry>* list = find(key)) return *list;
-    if (2 * (size_ + 1) > keys_.size()) rehash(std::max<size_t>(64, 2 * keys_.size()));
-    const size_t mask = keys_.size() - 1;
-    size_t i = home(key);
-    while (keys_[i] != kEmpty) i = (i + 1) & mask;
-    keys_[i] = key;
-    ++size_;
-    return lists_[i];
+    if (keys_.needs_room_for(keys_.size() + 1)) rehash(std::max<size_t>(64, 2 * keys_.slots()));
+    return lists_[keys_.insert(key)];
 }
 
 template <class F>

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "bpm/geometry.h"
+#include "core/probed_keys.h"
 
 namespace bpm::detail {
 
@@ -92,12 +93,8 @@ private:
     class CellTable {
     public:
         const std::vector<Entry>* find(uint64_t key) const {
-            if (keys_.empty()) return nullptr;
-            const size_t mask = keys_.size() - 1;
-            for (size_t i = home(key);; i = (i + 1) & mask) {
-                if (keys_[i] == key) return &lists_[i];
-                if (keys_[i] == kEmpty) return nullptr;
-            }
+            const size_t slot = keys_.find(key);
+            return slot == ProbedKeys::kNone ? nullptr : &lists_[slot];
         }
         std::vector<Entry>* find(uint64_t key) {
             return const_cast<std::vector<Entry>*>(static_cast<const CellTable&>(*this).find(key));
@@ -112,30 +109,24 @@ private:
         void reserve_counted();
         template <class F>
         void for_each(F&& f) const {  // f(list) for every cell
-            for (size_t i = 0; i < keys_.size(); ++i)
-                if (keys_[i] != kEmpty) f(lists_[i]);
+            for (size_t i = 0; i < keys_.slots(); ++i)
+                if (keys_.occupied(i)) f(lists_[i]);
         }
         template <class F>
         void for_each_keyed(F&& f) const {  // f(key, list) for every cell
-            for (size_t i = 0; i < keys_.size(); ++i)
-                if (keys_[i] != kEmpty) f(keys_[i], lists_[i]);
+            for (size_t i = 0; i < keys_.slots(); ++i)
+                if (keys_.occupied(i)) f(keys_.key(i), lists_[i]);
         }
         void clear() {
             keys_.clear();
             lists_.clear();
             counts_.clear();
-            size_ = 0;
-            shift_ = 64;
         }
 
     private:
-        static constexpr uint64_t kEmpty = ~uint64_t(0);  // cell keys use 63 bits
-        std::vector<uint64_t> keys_;  // power-of-two size, at most half full
-        std::vector<std::vector<Entry>> lists_;
+        ProbedKeys keys_{true};  // cell keys use 63 bits (never ProbedKeys::kEmpty)
+        std::vector<std::vector<Entry>> lists_;  // per slot of keys_
         std::vector<uint32_t> counts_;  // per slot, between count() and reserve_counted(); else empty
-        size_t size_ = 0;
-        int shift_ = 64;  // 64 - log2(keys_.size())
-        size_t home(uint64_t key) const { return size_t((key * 0x9E3779B97F4A7C15ull) >> shift_); }
         void rehash(size_t capacity);
     };
 

@@ -7,73 +7,38 @@
 namespace bpm::detail {
 
 void EdgeContentMap::release() {
-    decltype(keys_)().swap(keys_);
+    keys_.release();
     decltype(index_)().swap(index_);
     decltype(entries_)().swap(entries_);
     ids_.release();
-    shift_ = 64;
 }
 
 void EdgeContentMap::rehash(size_t capacity) {
-    std::vector<uint64_t> old_keys(capacity, kEmpty);
     std::vector<uint32_t> old_index(capacity);
-    old_keys.swap(keys_);
     old_index.swap(index_);
-    shift_ = 64;
-    for (size_t c = capacity; c > 1; c >>= 1) --shift_;
-    const size_t mask = capacity - 1;
-    for (size_t j = 0; j < old_keys.size(); ++j) {
-        if (old_keys[j] == kEmpty) continue;
-        size_t i = home(old_keys[j]);
-        while (keys_[i] != kEmpty) i = (i + 1) & mask;
-        keys_[i] = old_keys[j];
-        index_[i] = old_index[j];
-    }
-}
-
-size_t EdgeContentMap::slot_of(uint64_t key) const {
-    const size_t mask = keys_.size() - 1;
-    size_t i = home(key);
-    while (keys_[i] != key) i = (i + 1) & mask;
-    return i;
+    keys_.rehash(capacity, [&](size_t from, size_t to) { index_[to] = old_index[from]; });
 }
 
 EdgeContentMap::Entry& EdgeContentMap::find_or_add(uint64_t key) {
     if (const Entry* e = find(key)) return entries_[size_t(e - entries_.data())];
-    if (2 * (entries_.size() + 1) > keys_.size()) rehash(std::max<size_t>(64, 2 * keys_.size()));
-    const size_t mask = keys_.size() - 1;
-    size_t i = home(key);
-    while (keys_[i] != kEmpty) i = (i + 1) & mask;
-    keys_[i] = key;
-    index_[i] = static_cast<uint32_t>(entries_.size());
+    if (keys_.needs_room_for(entries_.size() + 1)) rehash(std::max<size_t>(64, 2 * keys_.slots()));
+    index_[keys_.insert(key)] = static_cast<uint32_t>(entries_.size());
     entries_.push_back({key, 0, 0, 0});
     return entries_.back();
 }
 
 void EdgeContentMap::erase(size_t removed) {
-    // Backward-shift deletion: move later keys of the probe run into the hole when
-    // their home slot does not lie after it, so that lookups need no tombstones.
-    const size_t mask = keys_.size() - 1;
-    size_t hole = slot_of(entries_[removed].key);
-    for (size_t j = (hole + 1) & mask; keys_[j] != kEmpty; j = (j + 1) & mask) {
-        const size_t h = home(keys_[j]);
-        if (((j - h) & mask) >= ((j - hole) & mask)) {
-            keys_[hole] = keys_[j];
-            index_[hole] = index_[j];
-            hole = j;
-        }
-    }
-    keys_[hole] = kEmpty;
+    keys_.erase(keys_.find(entries_[removed].key), [&](size_t from, size_t to) { index_[to] = index_[from]; });
     // The last entry takes the erased one's place.
     const size_t last = entries_.size() - 1;
     if (removed != last) {
         entries_[removed] = entries_[last];
-        index_[slot_of(entries_[removed].key)] = static_cast<uint32_t>(removed);
+        index_[keys_.find(entries_[removed].key)] = static_cast<uint32_t>(removed);
     }
     entries_.pop_back();
     // Less than an eighth full: half the room (a quarter full then), so that the table
     // follows the entries down as the coarse surface shrinks.
-    if (keys_.size() > 64 && 8 * entries_.size() < keys_.size()) rehash(keys_.size() / 2);
+    if (keys_.slots() > 64 && 8 * entries_.size() < keys_.slots()) rehash(keys_.slots() / 2);
 }
 
 void EdgeContentMap::resize_block(Entry& e, size_t new_size) {

@@ -3,11 +3,9 @@
 // the original vertices located on it and the original edges crossing it, by coarse edge
 // key (core/edge_key.h). Internal to libbpm.
 //
-// Open addressing with linear probing and backward-shift deletion: the planners look
-// coarse edges up several times per plan, millions of times per run, and
-// std::unordered_map's prime-modulo buckets and separate nodes cost a few percent of the
-// run time. The probed table holds only the keys (8 bytes a slot, 8 to a cache line) and
-// an index into a dense array of entries, so a probe that misses reads no content. An
+// Keys in a ProbedKeys table (core/probed_keys.h: the planners look coarse edges up
+// several times per plan, millions of times per run), with per slot an index into a dense
+// array of entries, so a probe that misses reads no content. An
 // entry's ids are one block of a BlockPool (core/block_pool.h), its vertices first, then
 // its crossing edges: a pair of std::vectors per entry was 56 bytes, two heap blocks and
 // the capacity they once grew to, and erased entries kept theirs for reuse (208k-triangle
@@ -24,6 +22,7 @@
 
 #include "core/block_pool.h"
 #include "core/const_range.h"
+#include "core/probed_keys.h"
 
 namespace bpm::detail {
 
@@ -44,12 +43,8 @@ public:
 
     // The entry of `key`, or nullptr (valid until the next change of the map).
     const Entry* find(uint64_t key) const {
-        if (keys_.empty()) return nullptr;
-        const size_t mask = keys_.size() - 1;
-        for (size_t i = home(key);; i = (i + 1) & mask) {
-            if (keys_[i] == key) return &entries_[index_[i]];
-            if (keys_[i] == kEmpty) return nullptr;
-        }
+        const size_t slot = keys_.find(key);
+        return slot == ProbedKeys::kNone ? nullptr : &entries_[index_[slot]];
     }
     EdgeContentView view(const Entry& e) const {
         const int32_t* ids = ids_.at(e.block);
@@ -58,7 +53,7 @@ public:
     // A cache hint, no effect on any result: ask for the slot find(key) reads first (the
     // planners look up every spoke of a star; asked for together, the misses overlap).
     void prefetch(uint64_t key) const {
-        const size_t i = keys_.empty() ? 0 : home(key);  // no branch around the prefetches
+        const size_t i = keys_.first_probe(key);  // no branch around the prefetches
         __builtin_prefetch(keys_.data() + i);
         __builtin_prefetch(index_.data() + i);
     }
@@ -84,14 +79,10 @@ public:
     void clear() { release(); }
 
 private:
-    static constexpr uint64_t kEmpty = ~uint64_t(0);  // no edge_key(): both halves are < 2^31
-    std::vector<uint64_t> keys_;   // power-of-two size, at most half full
-    std::vector<uint32_t> index_;  // per slot: its entry in entries_
+    ProbedKeys keys_;              // edge keys (never ProbedKeys::kEmpty: both halves are < 2^31)
+    std::vector<uint32_t> index_;  // per slot of keys_: its entry in entries_
     std::vector<Entry> entries_;
     BlockPool<int32_t> ids_;
-    int shift_ = 64;  // 64 - log2(keys_.size())
-    size_t home(uint64_t key) const { return size_t((key * 0x9E3779B97F4A7C15ull) >> shift_); }
-    size_t slot_of(uint64_t key) const;  // the slot of a present key
     void rehash(size_t capacity);
     Entry& find_or_add(uint64_t key);
     void erase(size_t entry);
