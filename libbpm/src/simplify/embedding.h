@@ -188,10 +188,12 @@ struct Embedding {
     // Once the embedding no longer changes (before phi is exported): stores the paths and
     // the edge contents in a few flat arrays and frees the changing form (path,
     // path_version, edge_content; the inside lists keep only their non-empty heads). At
-    // the end of a run the changing form was most of the embedding (208k-triangle input
-    // to 10k vertices: 7.5 MB of path headers for 3.4 MB of crossings, a block per
-    // non-empty path, and 4.8 MB of hash table and entries for 0.1 MB of ids), alive
-    // beside phi while it is exported, the peak of a run. Read-only after it: only
+    // the end of a run the changing form was most of the embedding, alive beside phi
+    // while it is exported (208k-triangle input to 10k vertices, when paths and contents
+    // were vectors: 7.5 MB of path headers for 3.4 MB of crossings and 4.8 MB of hash
+    // table and entries for 0.1 MB of ids; their block pools, path_store.h and
+    // edge_content_map.h, hold less, but the flat form is still the smallest and frees
+    // the pools' free blocks and the table's room). Read-only after it: only
     // crossings(), content(), path_points() and the inside lists read the moved parts.
     void freeze();
     bool frozen() const { return frozen_; }
