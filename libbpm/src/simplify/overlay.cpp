@@ -408,9 +408,9 @@ void build_triangle_graph(const CoarseMesh& mesh, const Embedding& embedding, in
     // sorted once all nodes are made, then searched (a hash map and a tree allocated a
     // node per entry, for every triangle of the export). Were a key made twice, the later
     // node would count, as it did when the maps were assigned in turn.
-    auto& b = graph.buffers;
-    auto& vertex_node = b.vertex_node;
-    auto& crossing_node = b.crossing_node;
+    auto& buffers = graph.buffers;
+    auto& vertex_node = buffers.vertex_node;
+    auto& crossing_node = buffers.crossing_node;
     vertex_node.clear();
     crossing_node.clear();
     auto crossing_key = [](int32_t e, int32_t j) { return (uint64_t(uint32_t(e)) << 32) | uint32_t(j); };
@@ -419,14 +419,14 @@ void build_triangle_graph(const CoarseMesh& mesh, const Embedding& embedding, in
         vertex_node.push_back({c[k], static_cast<int32_t>(graph.nodes.size())});
         graph.nodes.push_back(corner_node(k, c[k]));
     }
-    auto& candidates = b.candidates;
-    auto& list = b.list;
+    auto& candidates = buffers.candidates;
+    auto& list = buffers.list;
     candidates.clear();
     for (int k = 0; k < 3; ++k) {
-        const int32_t a = c[k], b_ = c[(k + 1) % 3];
+        const int32_t a = c[k], b = c[(k + 1) % 3];
         EdgeContentView content;
-        if (!embedding.content(a, b_, content)) continue;
-        const int32_t lo = std::min(a, b_);
+        if (!embedding.content(a, b, content)) continue;
+        const int32_t lo = std::min(a, b);
         auto bary_on_edge = [&](double s) { return bary_on_side(c, k, lo, s); };
         list.assign(content.vertices.begin(), content.vertices.end());
         std::sort(list.begin(), list.end());
@@ -444,7 +444,7 @@ void build_triangle_graph(const CoarseMesh& mesh, const Embedding& embedding, in
         list.assign(content.crossing_edges.begin(), content.crossing_edges.end());
         std::sort(list.begin(), list.end());
         list.erase(std::unique(list.begin(), list.end()), list.end());
-        const int32_t hi = std::max(a, b_);
+        const int32_t hi = std::max(a, b);
         for (int32_t e : list) {
             const auto p = embedding.crossings(e);
             for (int32_t j = 0; j < int32_t(p.size()); ++j) {
@@ -503,8 +503,8 @@ void build_triangle_graph(const CoarseMesh& mesh, const Embedding& embedding, in
         }
         return -1;
     };
-    auto& points = b.points;
-    auto& sigmas = b.sigmas;
+    auto& points = graph.buffers.points;
+    auto& sigmas = graph.buffers.sigmas;
     for (int32_t e : candidates) {
         embedding.path_points(e, points, sigmas);
         const int32_t last = static_cast<int32_t>(points.size()) - 1;

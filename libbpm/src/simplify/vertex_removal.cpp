@@ -287,6 +287,22 @@ bool FanPlanner::end_finish(bool checks_passed, const std::string& reason, doubl
 // called and tested on its own, and they are freed with their remover instead of living
 // as long as the thread. (finish_part() runs parts of one plan on several threads at
 // once: each part has its own TriangleCheck in `parts`.)
+// append_hole_sides's buffers.
+struct HoleSideScratch {
+    static constexpr int32_t kTableCorners = 64;  // the table: at most 64 x 64 entries (16 kB)
+    std::vector<int32_t> owner;                   // the table, all -1 between calls
+    // Larger fans: each diagonal as one of its triangles runs it (corner `from` to corner
+    // `to`), ordered by (from, to, triangle).
+    struct DirectedDiagonal {
+        int32_t from, to, triangle;
+        bool operator<(const DirectedDiagonal& o) const {
+            return from != o.from ? from < o.from : (to != o.to ? to < o.to : triangle < o.triangle);
+        }
+    };
+    std::vector<DirectedDiagonal> diagonals;
+};
+using DirectedDiagonal = HoleSideScratch::DirectedDiagonal;
+
 struct RemovalScratch {
     RemovalPlan disk;  // the second plan of plan(), kept for its buffers
     // A diagonal the next plan_once() must not use (a deferred validation failed on it).
@@ -313,7 +329,7 @@ struct RemovalScratch {
     // sharpest_changed_ridge's `hole_sides`, appended with the new triangles
     // (append_hole_sides).
     std::vector<int32_t> hole_sides;
-    std::vector<int32_t> diagonal_owner;  // of append_hole_sides
+    HoleSideScratch hole_side_scratch;  // of append_hole_sides
     RemovalScratch(const CoarseMesh& mesh, const Embedding& embedding, const std::vector<int8_t>& sign,
                    const std::vector<Vec3>& normals)
         : planner(mesh, embedding, sign, normals) {}
@@ -324,23 +340,38 @@ namespace {
 // in their order: the edge from local corner j to j + 1 is side j of the polygon, whose
 // removed triangle is fan.triangles[j] (an open fan's side n - 1 is its new edge: -1); a
 // diagonal is -2 - the index (in the plan's new triangles) of the fan's other triangle on
-// it. The fan's first triangle is new triangle `base`. `owner`: a buffer, all -1 between
-// calls (n x n entries once grown).
-void append_hole_sides(const Fan& fan, const FanTriangulation& tri, int32_t base, std::vector<int32_t>& owner,
+// it. The fan's first triangle is new triangle `base`. `scratch`: buffers.
+void append_hole_sides(const Fan& fan, const FanTriangulation& tri, int32_t base, HoleSideScratch& scratch,
                        std::vector<int32_t>& out) {
     const int32_t n = fan.corners();
     const auto& ts = tri.triangles;
-    // The first triangle that runs each diagonal from corner a to corner b, at a * n + b,
-    // so that the triangle that runs it the other way is one load away (a search of all
-    // the triangles per diagonal was quadratic, and mispredicted).
-    if (owner.size() < size_t(n) * size_t(n)) owner.assign(size_t(n) * size_t(n), -1);
-    const auto at = [n](int32_t a, int32_t b) { return size_t(a) * size_t(n) + size_t(b); };
     const auto is_side = [n](int32_t a, int32_t b) { return b == (a + 1 == n ? 0 : a + 1); };
+    // Per diagonal, the first triangle that runs it from corner a to corner b, so that the
+    // one that runs it the other way is found directly (a search of all the triangles per
+    // diagonal was quadratic, and mispredicted). Up to kTableCorners corners (nearly
+    // every star) in a table of a * n + b, all -1 between calls; larger fans (the centre
+    // of a CAD disc has thousands of corners: the table would grow with the square) in a
+    // sorted list of the diagonals.
+    const bool table = n <= HoleSideScratch::kTableCorners;
+    auto& owner = scratch.owner;
+    auto& diagonals = scratch.diagonals;
+    const auto at = [n](int32_t a, int32_t b) { return size_t(a) * size_t(n) + size_t(b); };
+    if (table && owner.size() < size_t(n) * size_t(n)) owner.resize(size_t(n) * size_t(n), -1);
+    diagonals.clear();
     for (size_t i = 0; i < ts.size(); ++i)
         for (int k = 0; k < 3; ++k) {
             const int32_t a = ts[i][k], b = ts[i][k == 2 ? 0 : k + 1];
-            if (!is_side(a, b) && owner[at(a, b)] < 0) owner[at(a, b)] = int32_t(i);
+            if (is_side(a, b)) continue;
+            if (!table) diagonals.push_back({a, b, int32_t(i)});
+            else if (owner[at(a, b)] < 0) owner[at(a, b)] = int32_t(i);
         }
+    if (!table) std::sort(diagonals.begin(), diagonals.end());
+    // The first triangle that runs a diagonal from a to b, or -1.
+    const auto first_running = [&](int32_t a, int32_t b) -> int32_t {
+        if (table) return owner[at(a, b)];
+        const auto it = std::lower_bound(diagonals.begin(), diagonals.end(), DirectedDiagonal{a, b, -1});
+        return it != diagonals.end() && it->from == a && it->to == b ? it->triangle : -1;
+    };
     const size_t first = out.size();
     out.resize(first + 3 * ts.size());
     for (size_t i = 0; i < ts.size(); ++i)
@@ -351,14 +382,15 @@ void append_hole_sides(const Fan& fan, const FanTriangulation& tri, int32_t base
                 known = fan.closed || a != n - 1 ? fan.triangles[size_t(a)] : -1;
                 continue;
             }
-            const int32_t twin = owner[at(b, a)];  // the triangle that runs the diagonal the other way
+            const int32_t twin = first_running(b, a);  // the triangle that runs the diagonal the other way
             known = twin < 0 ? -1 : -2 - (base + twin);
         }
-    for (const auto& t : ts) {
-        owner[at(t[0], t[1])] = -1;
-        owner[at(t[1], t[2])] = -1;
-        owner[at(t[2], t[0])] = -1;
-    }
+    if (table)
+        for (const auto& t : ts) {
+            owner[at(t[0], t[1])] = -1;
+            owner[at(t[1], t[2])] = -1;
+            owner[at(t[2], t[0])] = -1;
+        }
 }
 // The parts of a plan taken from a planned fan, and the rewritten paths at the end.
 void add_fan(const CoarseMesh& mesh, RemovalScratch& scratch, const Fan& fan, FanPlanner& planner, RemovalPlan& plan);
@@ -629,7 +661,7 @@ void VertexRemover::plan_once(int32_t v, bool force_disk, bool validate, bool de
                 // finish_part() validates (finish_parts_done() sets them again).
                 for (const auto& t : planner.tri.triangles)
                     plan.new_triangles.push_back({fan.link[t[0]], fan.link[t[1]], fan.link[t[2]]});
-                append_hole_sides(fan, planner.tri, 0, scratch_->diagonal_owner, scratch_->hole_sides);
+                append_hole_sides(fan, planner.tri, 0, scratch_->hole_side_scratch, scratch_->hole_sides);
                 measure_new_ridges(plan);
                 return;
             }
@@ -672,7 +704,7 @@ void add_fan(const CoarseMesh& mesh_, RemovalScratch& scratch, const Fan& fan, F
         // The triangulation computed it already, for the same corners in the same order.
         plan.worst_new_aspect = std::max(plan.worst_new_aspect, planner.tri.aspects[i]);
     }
-    append_hole_sides(fan, planner.tri, base, scratch.diagonal_owner, scratch.hole_sides);
+    append_hole_sides(fan, planner.tri, base, scratch.hole_side_scratch, scratch.hole_sides);
     for (const auto& d : planner.tri.diagonals) {
         const int32_t a = fan.link[d[0]], b = fan.link[d[1]];
         plan.new_edges.push_back({std::min(a, b), std::max(a, b)});
