@@ -614,6 +614,12 @@ void Simplifier::hold_back_by_estimate() {
 }
 
 bool Simplifier::waits(int k, double cost) const {
+    // The queue's top may be stale (a vertex re-ranked or removed since): about half the
+    // calls on a 208k-triangle input see one, and 105 of 158k decisions would differ.
+    // Popping stale tops first (what pick() does) was tried: 0.05 % fewer full plans,
+    // every output different, and the Hausdorff distance of femur at 390 vertices 10 %
+    // worse (0.00841 vs 0.00763), fandisk at 648 11 % better: a change of the removal
+    // order, not of its quality. Kept as it is.
     double next = std::numeric_limits<double>::infinity();
     if (!queue_.empty()) next = queue_.top().cost;
     for (int j = k + 1; j < step_.count; ++j)
