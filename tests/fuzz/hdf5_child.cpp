@@ -2,7 +2,7 @@
 //
 // HDF5 crashes. HDF5 itself (Debian libhdf5 1.10.8, not instrumented) crashes on some
 // corrupt files, about one input in a few thousand, or misbehaves in a way ASan sees at
-// its libc calls (heap over-reads in strdup, memcpy with size -1; bpm_file.cpp, "HDF5
+// its libc calls (heap over-reads in strdup, memcpy with size -1; io/bpm_read.cpp, "HDF5
 // crashes"). The tools survive that by parsing in a child process first
 // (bpm::set_hdf5_isolation). The .bpm targets do the same, but keep the child's sanitizer
 // report and classifies it: a report whose innermost frame outside libc and the sanitizer

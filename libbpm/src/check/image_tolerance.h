@@ -1,7 +1,7 @@
 #pragma once
 // How far a node image may be from the point its node names before it counts as another
 // point: one value for bpm-check's format check (check_format.cpp, which also holds coarse
-// vertices to it) and for write_bpm (io/bpm_file.cpp), which refuses exactly the images
+// vertices to it) and for write_bpm (io/bpm_write.cpp), which refuses exactly the images
 // that check would fail, since a format 2.0 file drops them and readers recompute them.
 // Internal to libbpm.
 

@@ -6,7 +6,7 @@
 // asked for): armadillo at 10 %, 6.3 MB: 0.10 s and 8 MB instead of read_bpm's 1.0 s and
 // 58 MB (spec/info-report.md "Cost").
 //
-// Implemented in bpm_file.cpp with read_bpm's reader: the same checks of what is read
+// Implemented in bpm_read.cpp with read_bpm's reader: the same checks of what is read
 // (datatypes, shapes, storage bounds against the file size, index ranges of the coarse
 // surface, /patch_info and /provenance as read_bpm checks them) and the same isolation
 // from HDF5 crashes. What is not read is not checked: bpm-check validates.

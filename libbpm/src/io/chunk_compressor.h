@@ -1,4 +1,4 @@
-// The .bpm writer's chunk compression (io/bpm_file.cpp): HDF5's shuffle + deflate
+// The .bpm writer's chunk compression (io/bpm_write.cpp): HDF5's shuffle + deflate
 // pipeline done by the writer itself, chunk by chunk, with libdeflate, and the choice of
 // whether a dataset's pipeline has the shuffle filter.
 //

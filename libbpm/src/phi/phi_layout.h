@@ -1,7 +1,7 @@
 #pragma once
 // The structural rules of phi's layout (parametrization.h, spec/bpm-format.md), visited
-// once for every caller: the .bpm reader and writer (bpm_file.cpp) and bpm-check's
-// format check (check_format.cpp). A layout that passes can be indexed without bounds
+// once for every caller: the .bpm reader and writer (their shared rules,
+// io/bpm_file_rules.cpp) and bpm-check's format check (check_format.cpp). A layout that passes can be indexed without bounds
 // checks: array sizes agree, CSR offsets are well formed, every index is in range,
 // every node kind is valid and the numbers the others are computed from are finite.
 //

@@ -122,7 +122,7 @@ TEST_CASE("fixtures with non-trivial phi round-trip exactly", "[format]") {
     }
     SECTION("large enough to be chunked and compressed") {
         // More than 16384 rows: the datasets earlier writers compressed (now every dataset
-        // of at least 512 bytes, bpm_file.cpp, spec §3.2).
+        // of at least 512 bytes, bpm_write.cpp, spec §3.2).
         const BpmFile f = with_provenance(test::make_height_field(132, 6, test::default_height));
         REQUIRE(f.param.num_nodes() > 16384);
         REQUIRE(f.param.original.num_triangles() > 16384);
@@ -201,7 +201,7 @@ TEST_CASE("a file written in place has the bytes of the in-memory image, also wi
 TEST_CASE("datasets of small files are compressed too, and tiny ones stay contiguous", "[format]") {
     // Earlier writers deflated only datasets of more than 16384 rows, which left the whole
     // .bpm of a small input raw (elephant: 1.29 MB, 0.58 MB deflated).
-    // bpm_file.cpp compresses every dataset of at least 512 bytes (spec §3.2).
+    // bpm_write.cpp compresses every dataset of at least 512 bytes (spec §3.2).
     const BpmFile f = with_provenance(test::make_subdivided_octahedron(3));
     REQUIRE(f.param.num_nodes() < 16384);
     REQUIRE(f.param.num_nodes() * 8 >= 512);
@@ -237,7 +237,7 @@ TEST_CASE("datasets of small files are compressed too, and tiny ones stay contig
 }
 
 TEST_CASE("a chunk deflate cannot shrink is stored unfiltered, and chunked datasets read back exactly", "[format]") {
-    // bpm_file.cpp compresses the chunks itself and hands them to HDF5 as stored
+    // bpm_write.cpp compresses the chunks itself and hands them to HDF5 as stored
     // (H5Dwrite_chunk), with a filter mask saying which filters it skipped: a chunk that
     // deflate does not shrink (random bits) is stored raw with the deflate filter marked
     // skipped, the last of several chunks is padded to a whole one. A wrong mask or
@@ -277,7 +277,7 @@ TEST_CASE("a chunk deflate cannot shrink is stored unfiltered, and chunked datas
 }
 
 TEST_CASE("datasets with the bytes of an earlier surface dataset store its chunks and read back exactly", "[format]") {
-    // bpm_file.cpp writes a surface dataset whose type, shape and bytes are those of one
+    // bpm_write.cpp writes a surface dataset whose type, shape and bytes are those of one
     // written before (the coarse surface of an identity phi is the original; /VTKHDF
     // repeats the coarse surface) as a copy of that one's stored chunks, read back raw. The
     // copies must be the chunks compressing them would give, several chunks included.
