@@ -25,4 +25,14 @@ printf 'OFF\n4 4 0\n0.2 0.2 0.2\n1.2 0.2 0.2\n0.2 1.2 0.2\n0.2 0.2 1.2\n3 0 2 1\
 expect 5 "bpm-simplify on inputs that intersect" -- "$tools/bpm-simplify" "$work/a.off" "$work/b.off" -o "$work/ab.bpm" --ratio 1
 contains "$work/err" "bpm-simplify: error: $work/a.off + $work/b.off: the input surface intersects itself" \
     "both files are named"
+# The first pair is one triangle of each file (two patches): the message says where the
+# two materials' surfaces overlap and what a multi-material input must look like there.
+contains "$work/err" "in patches 0 and 1 (if these are the surfaces of two materials" "the two patches are named"
+contains "$work/err" "must be the same triangles in both" "what an interface must be is said"
+# The same two tetrahedra in one file are one patch: no word of materials.
+{ printf 'OFF\n8 8 0\n'; sed -n '3,6p' "$work/a.off"; sed -n '3,6p' "$work/b.off"
+  sed -n '7,10p' "$work/a.off"; sed -n '7,10p' "$work/b.off" | awk '{print 3, $2 + 4, $3 + 4, $4 + 4}'; } >"$work/ab.off"
+expect 5 "bpm-simplify on one file that intersects itself" -- "$tools/bpm-simplify" "$work/ab.off" -o "$work/one.bpm" --ratio 1
+contains "$work/err" "the input surface intersects itself" "the one file is refused too"
+ok "one patch: no patches named" -- bash -c "! grep -q 'in patches' '$work/err'"
 finish

@@ -1067,11 +1067,28 @@ void check_options(const SimplifyOptions& options) {
 // The input check's verdict and first problem named by the caller's ids: on a failure
 // found in the simplifier's numbering, the check again on a copy in the caller's order
 // (only for the message: the first problem in that order, as the caller numbers it).
+// When the first problem's two triangles are in different patches, it says so: one
+// surface per material (per label of a segmentation, per segment) meshed separately meets
+// its neighbour in an interface that is not the same triangles on both sides, and the
+// user has to know that the overlap is there, not a defect inside one material's surface.
 CheckResult check_intersections_in_user_order(const Surface& original, const InputOrder& order,
                                               const CheckOptions& options, const Context& context) {
     Surface user = original;
     to_user_order(user, order);
-    return check_intersections(user, options, context, "input intersections");
+    CheckResult r = check_intersections(user, options, context, "input intersections");
+    if (!r.problems.empty()) {
+        CheckProblem& first = r.problems.front();
+        const int64_t a = first.id("triangle"), b = first.id("other_triangle");
+        const auto patch_of = [&](int64_t t) {
+            return t >= 0 && t < int64_t(user.patches.size()) ? user.patches[size_t(t)] : -1;
+        };
+        if (patch_of(a) >= 0 && patch_of(b) >= 0 && patch_of(a) != patch_of(b))
+            first.message += ", in patches " + std::to_string(patch_of(a)) + " and " + std::to_string(patch_of(b)) +
+                             " (if these are the surfaces of two materials, meshed one material at a time, their "
+                             "common interface must be the same triangles in both, or be stored once as in an "
+                             "Amira .surf or a Gmsh physical surface named A|B)";
+    }
+    return r;
 }
 
 // simplify() after check_options(), on `original` (out.original) in the simplifier's
