@@ -124,6 +124,44 @@ assert j["material_problems"] == 0
 ' "$work/out"
 contains "$work/two.msh" '2 3 "A|B"' "the MSH patch is named by its regions"
 
+# One OBJ whose groups name the materials they separate (the convention of Gmsh's physical
+# names): the two cubes with their interface stored once.
+$py - "$work/left.off" "$work/right.off" "$work/named.obj" <<'PY'
+import sys
+def off(path):
+    t = open(path).read().split()
+    nv, nt = int(t[1]), int(t[2])
+    v = [tuple(t[4 + 3 * i:7 + 3 * i]) for i in range(nv)]
+    f = [tuple(int(x) for x in t[4 + 3 * nv + 4 * i + 1:4 + 3 * nv + 4 * i + 4]) for i in range(nt)]
+    return v, f
+(va, fa), (vb, fb) = off(sys.argv[1]), off(sys.argv[2])
+ids, verts = {}, []
+def vid(p):
+    if p not in ids:
+        ids[p] = len(verts) + 1
+        verts.append(p)
+    return ids[p]
+left = [tuple(vid(va[i]) for i in t) for t in fa]
+right = [tuple(vid(vb[i]) for i in t) for t in fb]
+shared = {tuple(sorted(t)) for t in left} & {tuple(sorted(t)) for t in right}
+with open(sys.argv[3], "w") as out:
+    out.writelines("v %s %s %s\n" % p for p in verts)
+    for group, faces in (("exterior|left", [t for t in left if tuple(sorted(t)) not in shared]),
+                         ("left|right", [t for t in left if tuple(sorted(t)) in shared]),
+                         ("exterior|right", [t for t in right if tuple(sorted(t)) not in shared])):
+        out.write("g %s\n" % group)
+        out.writelines("f %d %d %d\n" % t for t in faces)
+PY
+expect 0 "simplify the OBJ with named groups" -- "$tools/bpm-simplify" "$work/named.obj" --ratio 1 -o "$work/named.bpm" -v
+contains "$work/err" "patch 1 'left|right': between left and right (sides not known)" "the group names give the materials"
+expect 0 "mesh it" -- "$tools/bpm-mesh" "$work/named.bpm" -o "$work/named.msh" --json
+ok "two regions with the materials the groups name" -- $py -c '
+import json, sys
+j = json.load(open(sys.argv[1]))
+assert sorted(r["material_name"] for r in j["regions"]) == ["left", "right"], j["regions"]
+assert j["material_problems"] == 0
+' "$work/out"
+
 # --material overrides; a bad one is a usage error.
 expect 0 "--material names a region" -- "$tools/bpm-mesh" "$work/two.bpm" -o "$work/user.vtu" --material 1=bone --json -q
 contains "$work/out" '"material_name": "bone"' "the user's name is used"

@@ -10,6 +10,8 @@
 //   Gmsh MSH            $PhysicalNames of dimension 2 name the patches; a name that
 //                       materials_from_patch_name() splits gives the two materials, in
 //                       no known order (oriented = false)
+//   Wavefront OBJ       the same convention for `g` group names, when at least one group
+//                       name gives materials (else the groups say nothing, see below)
 //   one file per material (read_surface of a path): file "dir/A.stl", if its format
 //                       says nothing about its patches, encloses material "A": every
 //                       patch gets front = "exterior", back = "A"; an interface fused from two files

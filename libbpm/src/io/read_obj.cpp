@@ -13,6 +13,14 @@
 // them. One exception, so that bpm's own OBJ output reads back unchanged: when there is
 // no `usemtl` and every face is under a group named `patch_<integer>`, that integer is
 // the patch id.
+//
+// Materials. A group named by the convention of Gmsh's physical names, `A|B` or
+// `pair_A_B` (materials_from_patch_name), separates materials A and B, in no known order:
+// then every patch gets a PatchInfo with its group's name, and the materials where the
+// name gives them. Only then: a file whose groups are just names ("Cube", "Mesh1") says
+// nothing about materials and still encloses the file's own (apply_file_material), as
+// before group names were read.
+#include <algorithm>
 #include <map>
 #include <string>
 #include <utility>
@@ -212,6 +220,21 @@ ReaderOutput read_obj(std::string_view bytes, const std::string& name, bool acce
     }
     s.patches.reserve(face_keys.size());
     for (int32_t key : face_keys) s.patches.push_back(key_patch[static_cast<size_t>(key)]);
+    bool names_materials = false;
+    for (const auto& key : keys) names_materials = names_materials || materials_from_patch_name(key.first);
+    if (names_materials) {
+        for (size_t k = 0; k < keys.size(); ++k) {
+            PatchInfo info{key_patch[k], keys[k].first, {}, {}, true};
+            if (const auto pair = materials_from_patch_name(keys[k].first)) {
+                info.front = pair->first;
+                info.back = pair->second;
+                info.oriented = false;  // a name does not say which side is which
+            }
+            out.patch_info.push_back(std::move(info));
+        }
+        std::sort(out.patch_info.begin(), out.patch_info.end(),
+                  [](const PatchInfo& a, const PatchInfo& b) { return a.patch < b.patch; });
+    }
     for (size_t i = 0; i < out.polygons.size(); ++i) {
         PolygonFace& polygon = out.polygons[i];
         polygon.patch = key_patch[static_cast<size_t>(polygon.patch)];

@@ -192,6 +192,21 @@ TEST_CASE("OBJ: groups named patch_N keep N as the patch id", "[surface_io]") {
     CHECK(read_bytes(mixed, SurfaceFormat::Obj).patches == std::vector<int32_t>{0, 0, 1, 1});
 }
 
+TEST_CASE("OBJ: groups named A|B or pair_A_B give their patches materials, other names none", "[surface_io]") {
+    const std::string head = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n";
+    SurfaceReadReport report;
+    (void)read_bytes(head + "g bone | muscle\nf 1 3 2\nf 1 2 4\ng pair_muscle_exterior\nf 1 4 3\ng lid\nf 2 3 4\n",
+                     SurfaceFormat::Obj, {}, &report);
+    REQUIRE(report.patch_info.size() == 3);
+    CHECK(report.patch_info[0] == PatchInfo{0, "bone | muscle", "bone", "muscle", false});
+    CHECK(report.patch_info[1] == PatchInfo{1, "pair_muscle_exterior", "muscle", "exterior", false});
+    CHECK(report.patch_info[2] == PatchInfo{2, "lid", "", "", true});  // named, no materials
+    // Groups that are just names say nothing: the file's own material applies (read from
+    // a path, apply_file_material), as for a file without groups.
+    (void)read_bytes(head + "g Cube\nf 1 3 2\nf 1 2 4\ng Lid\nf 1 4 3\nf 2 3 4\n", SurfaceFormat::Obj, {}, &report);
+    CHECK(report.patch_info.empty());
+}
+
 TEST_CASE("STL: ASCII with two solids gives two patches and shared vertices, normals are ignored", "[surface_io]") {
     const Surface t = tetrahedron();
     std::string text;
