@@ -162,6 +162,34 @@ assert sorted(r["material_name"] for r in j["regions"]) == ["left", "right"], j[
 assert j["material_problems"] == 0
 ' "$work/out"
 
+# One file, one closed surface per label (as multi-label marching cubes writes them): the
+# two cubes as groups patch_1 and patch_2 of one OBJ, the interface in both.
+$py - "$work/left.off" "$work/right.off" "$work/labels.obj" <<'PY'
+import sys
+def off(path):
+    t = open(path).read().split()
+    nv, nt = int(t[1]), int(t[2])
+    return [t[4 + 3 * i:7 + 3 * i] for i in range(nv)], [t[4 + 3 * nv + 4 * i + 1:4 + 3 * nv + 4 * i + 4] for i in range(nt)]
+with open(sys.argv[3], "w") as out:
+    base = 0
+    for label, path in ((1, sys.argv[1]), (2, sys.argv[2])):
+        v, f = off(path)
+        out.writelines("v %s %s %s\n" % tuple(p) for p in v)
+        out.write("g patch_%d\n" % label)
+        out.writelines("f %d %d %d\n" % tuple(base + 1 + int(i) for i in t) for t in f)
+        base += len(v)
+PY
+expect 0 "simplify one file with a closed surface per label" -- "$tools/bpm-simplify" "$work/labels.obj" \
+    --merge-duplicate-vertices --merge-duplicate-triangles --ratio 1 -o "$work/labels.bpm" -v
+contains "$work/err" "materials labels_1, labels_2 (one per patch, instead of labels for all)" "each label is a material"
+expect 0 "mesh it" -- "$tools/bpm-mesh" "$work/labels.bpm" -o "$work/labels.msh" --json
+ok "two regions, one material per label, no problem" -- $py -c '
+import json, sys
+j = json.load(open(sys.argv[1]))
+assert sorted(r["material_name"] for r in j["regions"]) == ["labels_1", "labels_2"], j["regions"]
+assert j["material_problems"] == 0
+' "$work/out"
+
 # --material overrides; a bad one is a usage error.
 expect 0 "--material names a region" -- "$tools/bpm-mesh" "$work/two.bpm" -o "$work/user.vtu" --material 1=bone --json -q
 contains "$work/out" '"material_name": "bone"' "the user's name is used"

@@ -15,7 +15,9 @@
 //   one file per material (read_surface of a path): file "dir/A.stl", if its format
 //                       says nothing about its patches, encloses material "A": every
 //                       patch gets front = "exterior", back = "A"; an interface fused from two files
-//                       (--merge-duplicate-triangles) separates the two files' materials
+//                       (--merge-duplicate-triangles) separates the two files' materials; in
+//                       one file whose patches share triangles (a closed surface per label),
+//                       patch P encloses "A_P" instead
 
 #include <cstdint>
 #include <optional>

@@ -92,12 +92,44 @@ std::string sniffed_format_hint(std::string_view bytes, SurfaceFormat chosen) {
     return std::string(" (the file looks like ") + detail::surface_format_name(*seen) + ", not " + detail::surface_format_name(chosen) + ")";
 }
 
-// The merge-duplicate-triangles repair, with a note per new interface patch.
-void fuse_triangles(Surface& surface, SurfaceReadReport& r, const std::string& prefix) {
+// One file whose patches share triangles holds one closed surface per material, told
+// apart by a label per triangle (a cell array `label` or `material`, as multi-label
+// marching cubes writes it: each label's surface includes its interfaces with the other
+// labels). If every patch got the file's own material (apply_file_material), its
+// interfaces would be sheets with that one material on both sides and all its regions one
+// material. So each patch P of such a file encloses its own material, "<material>_<P>".
+// Only when every patch that shares triangles has the file's material: a file that names
+// its materials keeps them. Returns a note for the log, empty if nothing changed.
+std::string split_file_material_by_patch(std::vector<PatchInfo>& infos, const std::vector<FusedPatch>& fused,
+                                         const std::string& material) {
+    if (material.empty() || fused.empty()) return {};
+    const std::string by_file = material + "|" + kExteriorMaterial;
+    const auto has_file_material = [&](const PatchInfo* info) {
+        return info && info->oriented && info->name == by_file && info->front == kExteriorMaterial &&
+               info->back == material;
+    };
+    for (const FusedPatch& f : fused)
+        for (const int32_t j : f.joins)
+            if (!has_file_material(find_patch_info(infos, j))) return {};
+    std::string renamed;
+    for (PatchInfo& info : infos) {
+        if (!has_file_material(&info)) continue;
+        info.back = material + "_" + std::to_string(info.patch);
+        info.name = info.back + "|" + kExteriorMaterial;
+        renamed += (renamed.empty() ? "" : ", ") + info.back;
+    }
+    return "the patches share triangles: one closed surface per material, told apart by the patch ids; materials " +
+           renamed + " (one per patch, instead of " + material + " for all)";
+}
+
+// The merge-duplicate-triangles repair, with a note per new interface patch. `material`:
+// what the one file read encloses (finish_reading), empty for several files together.
+void fuse_triangles(Surface& surface, SurfaceReadReport& r, const std::string& prefix, const std::string& material) {
     std::vector<FusedPatch> fused;
     const int64_t removed = fuse_duplicate_triangles(surface, &fused);
     r.fused_triangles += removed;
     if (removed == 0) return;
+    const std::string split = split_file_material_by_patch(r.patch_info, fused, material);
     add_fused_patch_info(r.patch_info, fused);
     r.notes.push_back(prefix + "removed " + std::to_string(removed) + " duplicate triangles (" +
                       std::to_string(surface.triangles.size()) + " triangles left)");
@@ -108,6 +140,7 @@ void fuse_triangles(Surface& surface, SurfaceReadReport& r, const std::string& p
         r.notes.push_back(prefix + "patch " + std::to_string(f.patch) + " = the " + std::to_string(f.triangles) +
                           " triangles that patches " + joins + " had in common (fused)");
     }
+    if (!split.empty()) r.notes.push_back(prefix + split);
     // A patch whose triangles were all in common with another's (a sphere inside a box,
     // one file per material: every triangle of the sphere's file is the box's too) has
     // none left: its name and materials would describe a patch that is not there (a
@@ -469,7 +502,7 @@ static Surface finish_reading(detail::ReaderOutput parsed, SurfaceFormat format,
     if (options.merge_duplicate_vertices) r.merged_vertices = merge_duplicate_vertices(surface);
     if (options.merge_vertices_within != 0) merge_within(surface, options.merge_vertices_within, name, r);
     if (options.drop_unreferenced_vertices) r.dropped_vertices = drop_unreferenced_vertices(surface);
-    if (options.merge_duplicate_triangles) fuse_triangles(surface, r, "");
+    if (options.merge_duplicate_triangles) fuse_triangles(surface, r, "", material);
 
     if (surface.triangles.empty()) {
         std::string message = "the surface has no triangles";
@@ -575,7 +608,7 @@ Surface read_surfaces(const std::vector<std::string>& paths, const SurfaceReadOp
     if (options.merge_duplicate_vertices) r.merged_vertices += merge_duplicate_vertices(surface);
     if (options.merge_vertices_within != 0) merge_within(surface, options.merge_vertices_within, names, r);
     // Then the interfaces that two files both have are the same triangles.
-    if (options.merge_duplicate_triangles) fuse_triangles(surface, r, "the inputs together: ");
+    if (options.merge_duplicate_triangles) fuse_triangles(surface, r, "the inputs together: ", "");
     ValidateOptions validate;
     validate.max_problems = 100;
     validate.allow_unreferenced_vertices = options.drop_unreferenced_vertices;

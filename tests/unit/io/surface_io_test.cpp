@@ -207,6 +207,32 @@ TEST_CASE("OBJ: groups named A|B or pair_A_B give their patches materials, other
     CHECK(report.patch_info.empty());
 }
 
+TEST_CASE("one file of a closed surface per label: each label encloses a material of its own", "[surface_io]") {
+    // Two tetrahedra on either side of the triangle (1, 2, 3), each a closed surface facing
+    // outward, told apart by their groups (labels 1 and 2), the shared face in both.
+    const test_support::ScratchDir scratch("surface_io_labels");
+    const std::string text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nv 1 1 1\n"
+                             "g patch_1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n"
+                             "g patch_2\nf 2 4 3\nf 2 5 4\nf 3 4 5\nf 2 3 5\n";
+    const fs::path path = scratch.path / "cells.obj";
+    std::ofstream(path) << text;
+    SurfaceReadOptions options;
+    options.merge_duplicate_triangles = true;
+    SurfaceReadReport report;
+    const Surface s = read_surface(path.string(), options, &report);
+    CHECK(s.num_triangles() == 7);
+    REQUIRE(report.patch_info.size() == 3);
+    CHECK(report.patch_info[0] == PatchInfo{1, "cells_1|exterior", "exterior", "cells_1", true});
+    CHECK(report.patch_info[1] == PatchInfo{2, "cells_2|exterior", "exterior", "cells_2", true});
+    const PatchInfo& fused = report.patch_info[2];
+    CHECK(((fused.front == "cells_2" && fused.back == "cells_1") || (fused.front == "cells_1" && fused.back == "cells_2")));
+    // Two files, one material each: the files' materials, as before.
+    std::ofstream(scratch.path / "a.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+    (void)read_surface((scratch.path / "a.obj").string(), options, &report);
+    REQUIRE(report.patch_info.size() == 1);
+    CHECK(report.patch_info[0].back == "a");
+}
+
 TEST_CASE("STL: ASCII with two solids gives two patches and shared vertices, normals are ignored", "[surface_io]") {
     const Surface t = tetrahedron();
     std::string text;
