@@ -1,5 +1,6 @@
 // The Python module bpm (package python/bpm, extension bpm._bpm): read a .bpm file and
-// evaluate phi from Python with numpy arrays, through libbpm.so.
+// evaluate phi from Python with numpy arrays, through libbpm.so; or make one from a
+// surface given as arrays (bpm.simplify) and write it.
 //
 // Arrays are copies made once when the file is read (numpy owns them; they are read-only
 // so that nobody expects a change to reach phi). Batched calls copy their inputs, release
@@ -16,6 +17,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <limits>
 #include <map>
 #include <memory>
 #include <optional>
@@ -29,6 +31,8 @@
 #include "bpm/phi_evaluation.h"
 #include "bpm/phi_inverse.h"
 #include "bpm/refine.h"
+#include "bpm/simplify.h"
+#include "bpm/surface.h"
 #include "bpm/version.h"
 
 namespace py = pybind11;
@@ -142,7 +146,9 @@ int thread_count(int threads) {
 
 class File {
 public:
-    explicit File(const std::string& path) : file_(std::make_unique<bpm::BpmFile>(bpm::read_bpm(path))), path_(path) {
+    explicit File(const std::string& path) : File(bpm::read_bpm(path), path) {}
+    // A file made in memory (bpm.simplify): `path` is what __repr__ and File.path show.
+    File(bpm::BpmFile file, std::string path) : file_(std::make_unique<bpm::BpmFile>(std::move(file))), path_(std::move(path)) {
         const bpm::Parametrization& p = file_->param;
         arrays_["coarse_vertices"] = read_only(rows(p.coarse.vertices));
         arrays_["coarse_triangles"] = read_only(rows(p.coarse.triangles));
@@ -324,6 +330,20 @@ public:
         return py::make_tuple(rows(out.surface.vertices), rows(out.surface.triangles));
     }
 
+    // Writes the file (bpm/bpm_file.h: atomically, the same bytes as the tools would);
+    // File.path is then `path`.
+    void write(const std::string& path) {
+        {
+            py::gil_scoped_release release;
+            bpm::write_bpm(path, *file_);
+        }
+        path_ = path;
+    }
+
+    // What bpm.simplify achieved (None for a file read from disk).
+    py::object simplify_report() const { return simplify_report_ ? py::object(*simplify_report_) : py::none(); }
+    void set_simplify_report(py::dict report) { simplify_report_ = std::move(report); }
+
 private:
     // Built on first use (O(#pieces), O(#pieces + #S0.T)); the GIL is held here, so only
     // one thread builds them.
@@ -347,7 +367,99 @@ private:
     std::unique_ptr<bpm::PhiInverse> inverse_;
     std::map<std::string, py::array> arrays_;
     std::string path_;
+    std::optional<py::dict> simplify_report_;
 };
+
+// ---- bpm.simplify ----------------------------------------------------------------------
+
+// What a caller passes to bpm.simplify, as bpm-simplify's command line would say it: the
+// provenance of the file (spec/bpm-format.md, /provenance/arguments).
+std::string simplify_arguments(int64_t vertices, int64_t triangles, const bpm::SimplifyOptions& o) {
+    char text[320];
+    std::snprintf(text, sizeof text,
+                  "bpm.simplify(<%lld vertices>, <%lld triangles>, target_vertices=%lld, ratio=%.17g, "
+                  "max_error=%.17g, max_aspect=%.17g, feature_angle=%.17g, keep_corners=%s)",
+                  (long long)vertices, (long long)triangles, (long long)o.target_vertices, o.target_ratio, o.max_error,
+                  o.max_aspect_ratio, o.feature_angle_degrees, o.keep_corners ? "True" : "False");
+    return text;
+}
+
+File simplify_arrays(const py::object& vertices, const py::object& triangles, const py::object& patches,
+                     int64_t target_vertices, double ratio, double max_error, double max_aspect, double feature_angle,
+                     bool keep_corners, int threads, const std::string& units) {
+    bpm::Surface surface;
+    {
+        py::array in = py::array::ensure(vertices);
+        if (!in || in.ndim() != 2 || in.shape(1) != 3)
+            throw py::value_error("vertices must have shape (n, 3), got " + (in ? shape_of(in) : std::string("no array")));
+        if (in.size() > 0 && in.dtype().kind() != 'f' && in.dtype().kind() != 'i' && in.dtype().kind() != 'u')
+            throw py::value_error("vertices must be numbers, got dtype kind '" + std::string(1, in.dtype().kind()) + "'");
+        if (in.shape(0) > std::numeric_limits<int32_t>::max())
+            throw py::value_error("vertices: more than 2^31 - 1 rows");
+        auto b = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(in);
+        surface.vertices.resize(static_cast<size_t>(in.shape(0)));
+        if (!surface.vertices.empty())
+            std::memcpy(surface.vertices.data(), b.data(), surface.vertices.size() * sizeof(bpm::Vec3));
+    }
+    const std::vector<int32_t> flat =
+        query_indices(triangles, "triangles", 0, int64_t(surface.vertices.size()), "a vertex", 3);
+    surface.triangles.resize(flat.size() / 3);
+    if (!flat.empty()) std::memcpy(surface.triangles.data(), flat.data(), flat.size() * sizeof(int32_t));
+    if (patches.is_none()) {
+        surface.patches.assign(surface.triangles.size(), 0);
+    } else {
+        surface.patches = query_indices(patches, "patches", std::numeric_limits<int32_t>::min(),
+                                        std::numeric_limits<int32_t>::max(), "a patch id");
+        if (surface.patches.size() != surface.triangles.size())
+            throw py::value_error("patches must have one entry per triangle (" +
+                                  std::to_string(surface.triangles.size()) + "), got " +
+                                  std::to_string(surface.patches.size()));
+    }
+    if (surface.triangles.empty()) throw py::value_error("triangles: the surface has no triangles");
+    // The checks bpm-simplify makes of a file it read (bpm/surface.h); the repairs are the
+    // caller's (the tools' --merge-duplicate-vertices and the like).
+    const std::vector<bpm::SurfaceProblem> problems = bpm::validate_surface(surface);
+    if (!problems.empty()) {
+        std::string message = "the surface cannot be simplified: " + bpm::describe_problem(problems[0], surface);
+        for (size_t i = 1; i < problems.size() && i < 3; ++i) message += "; " + bpm::describe_problem(problems[i], surface);
+        if (problems.size() > 3) message += "; and " + std::to_string(problems.size() - 3) + " more problems";
+        throw py::value_error(message);
+    }
+    if (target_vertices < 0 || !(ratio >= 0 && ratio <= 1) || !(max_error >= 0))
+        throw py::value_error("target_vertices must be >= 0, ratio in [0, 1] and max_error >= 0");
+    if (target_vertices == 0 && ratio == 0 && !std::isfinite(max_error))
+        throw py::value_error("give a target: target_vertices, ratio or max_error");
+    bpm::SimplifyOptions options;
+    options.target_vertices = target_vertices;
+    options.target_ratio = ratio;
+    options.max_error = max_error;
+    options.max_aspect_ratio = max_aspect;
+    options.feature_angle_degrees = feature_angle;
+    options.keep_corners = keep_corners;
+    options.threads = thread_count(threads);
+    bpm::BpmFile file;
+    file.units = units;
+    file.provenance.push_back({"bpm (Python)", std::string("bpm ") + BPM_VERSION_STRING,
+                               simplify_arguments(int64_t(surface.vertices.size()), int64_t(surface.triangles.size()), options),
+                               ""});
+    bpm::SimplifyResult result;
+    {
+        py::gil_scoped_release release;
+        result = bpm::simplify(std::move(surface), options, bpm::Context{}, file.param);
+    }
+    py::dict report;
+    report["input_vertices"] = result.input_vertices;
+    report["output_vertices"] = result.output_vertices;
+    report["output_triangles"] = result.output_triangles;
+    report["max_error"] = result.max_error;
+    report["worst_aspect_ratio"] = result.worst_aspect_ratio;
+    report["target_reached"] = result.target_reached;
+    report["stop_reason"] = result.stop_reason;
+    report["threads"] = result.threads;
+    File made(std::move(file), "<memory>");
+    made.set_simplify_report(std::move(report));
+    return made;
+}
 
 // Python exception classes: bpm.Error and one subclass per libbpm exception type; the
 // file errors are OSErrors too, option errors ValueErrors.
@@ -487,6 +599,16 @@ PYBIND11_MODULE(_bpm, m) {
              "The coarse surface refined through phi (bpm/refine.h): levels=K splits each coarse\n"
              "triangle into 4**K (0 <= K <= 10); or adaptive with tolerance > 0 (fraction of the\n"
              "bounding-box diagonal of S0). Returns (vertices (n, 3) float64, triangles (m, 3) int32).")
+        .def("write", [](File& f, const py::object& path) {
+                 f.write(py::module_::import("os").attr("fsdecode")(path).cast<std::string>());
+             },
+             py::arg("path"),
+             "Writes the file as a .bpm (bpm/bpm_file.h; atomically: complete or not at all). Raises\n"
+             "bpm.OutputError (an OSError) with the file name and what went wrong.")
+        .def_property_readonly("simplify_report", &File::simplify_report,
+                               "For a file made by bpm.simplify: dict of input_vertices, output_vertices,\n"
+                               "output_triangles, max_error (of the diagonal), worst_aspect_ratio,\n"
+                               "target_reached, stop_reason, threads; None for a file read from disk.")
         .def("__repr__", [](const File& f) {
             return "<bpm.File '" + f.path() + "': " + std::to_string(f.num_coarse_triangles()) + " coarse triangles" +
                    (f.has_tetmesh() ? ", tet mesh>" : ">");
@@ -499,6 +621,22 @@ PYBIND11_MODULE(_bpm, m) {
           py::arg("path"),
           "Reads a .bpm file (bpm/bpm_file.h). Raises bpm.InputError (an OSError) with the\n"
           "file name and what is wrong.");
+    m.def("simplify", &simplify_arrays, py::arg("vertices"), py::arg("triangles"), py::arg("patches") = py::none(),
+          py::kw_only(), py::arg("target_vertices") = 0, py::arg("ratio") = 0.0,
+          py::arg("max_error") = std::numeric_limits<double>::infinity(),
+          py::arg("max_aspect") = bpm::SimplifyOptions{}.max_aspect_ratio,
+          py::arg("feature_angle") = bpm::SimplifyOptions{}.feature_angle_degrees,
+          py::arg("keep_corners") = bpm::SimplifyOptions{}.keep_corners, py::arg("threads") = 0, py::arg("units") = "",
+          "bpm-simplify on a surface given as arrays (bpm/simplify.h): vertices (n, 3) floats,\n"
+          "triangles (m, 3) integer indices (counter-clockwise seen from the front), patches\n"
+          "(m,) integer ids or None. Targets as the tool's: target_vertices, ratio (of the input\n"
+          "vertices) or max_error (fraction of the bounding-box diagonal); the first reached\n"
+          "stops. Returns a bpm.File in memory (File.write(path) writes it; File.simplify_report\n"
+          "says what was achieved). The same coarse surface and phi as bpm-simplify with the same\n"
+          "options; threads=0 picks as the tool does, and the result does not depend on it.\n"
+          "Raises ValueError for bad arrays and for a surface bpm-simplify would refuse (NaN,\n"
+          "degenerate or duplicate triangles, unused or duplicate vertices: repair them first),\n"
+          "bpm.AlgorithmError for a surface that intersects itself.");
     m.def("set_hdf5_isolation", &bpm::set_hdf5_isolation, py::arg("enabled"),
           "Parse .bpm files in a forked child first, so that a corrupt file that crashes HDF5\n"
           "raises bpm.InputError instead of killing Python (off by default; bpm/bpm_file.h).");

@@ -1,7 +1,9 @@
-"""bpm from Python: read boundary-parametrized surfaces (.bpm) and evaluate phi.
+"""bpm from Python: read boundary-parametrized surfaces (.bpm) and evaluate phi, or make one.
 
     f = bpm.read("femur.bpm")
     positions = f.phi(triangles, barycentrics)   # (k,) ints, (k, 3) floats -> (k, 3)
+    g = bpm.simplify(vertices, triangles, ratio=0.1)   # (n, 3), (m, 3) -> a bpm.File
+    g.write("coarse.bpm")
 
 See README.md, "Using bpm from a solver", and help(bpm.File).
 """
@@ -16,7 +18,8 @@ from ._bpm import (  # noqa: F401
     format_version,
     read,
     set_hdf5_isolation,
+    simplify,
 )
 
-__all__ = ["read", "File", "Error", "InputError", "OutputError", "OptionError", "AlgorithmError",
+__all__ = ["read", "simplify", "File", "Error", "InputError", "OutputError", "OptionError", "AlgorithmError",
            "set_hdf5_isolation", "format_version", "__version__"]

@@ -315,3 +315,88 @@ def test_refine_options_are_option_errors_with_libbpm_messages(femur):
     assert isinstance(e.value, ValueError)
     with pytest.raises(bpm.OptionError):
         f.refine(levels=11)
+
+
+def read_off(path):
+    """Vertices (n, 3) and triangles (m, 3) of an OFF file of triangles."""
+    t = Path(path).read_text().split()
+    nv, nt = int(t[1]), int(t[2])
+    v = np.array(t[4:4 + 3 * nv], dtype=float).reshape(-1, 3)
+    f = np.array(t[4 + 3 * nv:4 + 3 * nv + 4 * nt], dtype=np.int64).reshape(-1, 4)
+    assert (f[:, 0] == 3).all()
+    return v, f[:, 1:]
+
+
+@pytest.mark.parametrize("name", ["femur", "fandisk"])
+def test_simplify_from_arrays_is_the_tools_result(name, tmp_path):
+    """bpm.simplify on the arrays of a real mesh gives bpm-simplify's coarse surface and phi,
+    on any thread count; File.write writes it; the report says what was reached."""
+    vertices, triangles = read_off(MESHES / f"{name}.off")
+    made = bpm.simplify(vertices, triangles, ratio=0.1, threads=1)
+    tool = bpm.read(simplified(name))
+    for key in ("coarse_vertices", "coarse_triangles", "coarse_patches", "coarse_vertex_origin",
+                "original_vertices", "original_triangles"):
+        assert np.array_equal(getattr(made, key), getattr(tool, key)), key
+    rng = np.random.default_rng(7)
+    t, b = random_points(rng, len(made.coarse_triangles), 500)
+    assert np.array_equal(made.phi(t, b), tool.phi(t, b))
+    assert np.array_equal(bpm.simplify(vertices, triangles, ratio=0.1, threads=2).coarse_vertices, made.coarse_vertices)
+    report = made.simplify_report
+    assert report["input_vertices"] == len(vertices) and report["output_vertices"] == len(made.coarse_vertices)
+    assert report["target_reached"] and 0 < report["max_error"] < 0.05
+    assert tool.simplify_report is None
+    out = tmp_path / "made.bpm"
+    made.write(out)
+    assert made.path == str(out)
+    back = bpm.read(out)
+    assert np.array_equal(back.coarse_triangles, made.coarse_triangles)
+    with h5py.File(out, "r") as f:
+        assert f["provenance/tool"][0].decode() == "bpm (Python)"
+        assert "ratio=0.10000000000000001" in f["provenance/arguments"][0].decode()
+
+
+def test_simplify_keeps_patches_and_targets():
+    """Patches given per triangle stay the original's and the coarse surface's; a vertex
+    target is met."""
+    vertices, triangles = read_off(MESHES / "femur.off")
+    patches = (vertices[triangles].mean(axis=1)[:, 2] > np.median(vertices[:, 2])).astype(np.int32) + 4
+    made = bpm.simplify(vertices, triangles, patches, target_vertices=1000)
+    assert np.array_equal(made.original_patches, patches)
+    assert set(np.unique(made.coarse_patches)) == {4, 5}
+    assert len(made.coarse_vertices) == 1000
+
+
+def test_simplify_refuses_bad_arrays_and_surfaces():
+    """Bad shapes, indices and surfaces bpm-simplify would refuse are ValueErrors that say
+    what is wrong; a surface that intersects itself is an AlgorithmError."""
+    vertices, triangles = read_off(MESHES / "elephant.off")
+    with pytest.raises(ValueError, match=r"vertices must have shape \(n, 3\)"):
+        bpm.simplify(vertices[:, :2], triangles, ratio=0.1)
+    with pytest.raises(ValueError, match=r"triangles\[0, 1\] = %d is not a vertex" % len(vertices)):
+        bad = triangles.copy()
+        bad[0, 1] = len(vertices)
+        bpm.simplify(vertices, bad, ratio=0.1)
+    with pytest.raises(ValueError, match="give a target"):
+        bpm.simplify(vertices, triangles)
+    with pytest.raises(ValueError, match="patches must have one entry per triangle"):
+        bpm.simplify(vertices, triangles, np.zeros(3, dtype=np.int32), ratio=0.1)
+    with pytest.raises(ValueError, match="zero area"):
+        flat = vertices.copy()
+        a, b, c = triangles[0]
+        flat[a], flat[b], flat[c] = (0.0, 0.0, 0.0), (2.0, 2.0, 2.0), (1.0, 1.0, 1.0)  # exactly collinear
+        bpm.simplify(flat, triangles, ratio=0.1)
+    with pytest.raises(ValueError, match="not used by any triangle"):
+        bpm.simplify(np.vstack([vertices, [[9.0, 9.0, 9.0]]]), triangles, ratio=0.1)
+    shifted = vertices + np.array([0.3 * np.ptp(vertices[:, 0]), 0.0, 0.0])
+    both_v = np.vstack([vertices, shifted])
+    both_t = np.vstack([triangles, triangles + len(vertices)])
+    with pytest.raises(bpm.AlgorithmError, match="intersects itself"):
+        bpm.simplify(both_v, both_t, ratio=0.1)
+
+
+def test_write_to_a_missing_directory_is_an_output_error(tmp_path):
+    vertices, triangles = read_off(MESHES / "elephant.off")
+    made = bpm.simplify(vertices, triangles, target_vertices=500)
+    with pytest.raises(bpm.OutputError, match="no-such-dir"):
+        made.write(tmp_path / "no-such-dir" / "x.bpm")
+    assert made.path == "<memory>"
