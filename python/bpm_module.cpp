@@ -386,7 +386,7 @@ std::string simplify_arguments(int64_t vertices, int64_t triangles, const bpm::S
 
 File simplify_arrays(const py::object& vertices, const py::object& triangles, const py::object& patches,
                      int64_t target_vertices, double ratio, double max_error, double max_aspect, double feature_angle,
-                     bool keep_corners, int threads, const std::string& units) {
+                     bool keep_corners, int threads, const std::string& units, const py::object& progress) {
     bpm::Surface surface;
     {
         py::array in = py::array::ensure(vertices);
@@ -442,10 +442,30 @@ File simplify_arrays(const py::object& vertices, const py::object& triangles, co
     file.provenance.push_back({"bpm (Python)", std::string("bpm ") + BPM_VERSION_STRING,
                                simplify_arguments(int64_t(surface.vertices.size()), int64_t(surface.triangles.size()), options),
                                ""});
+    // The progress reports (several a second, on the calling thread) take the GIL, look
+    // for a pending signal, so that Ctrl-C raises KeyboardInterrupt from inside a run of
+    // minutes instead of after it, and call the caller's `progress`: an exception there
+    // stops the run and is raised, False stops it with bpm.Error("cancelled").
+    bpm::Context context;
+    context.progress = [&progress](double fraction, const std::string& stage) {
+        py::gil_scoped_acquire gil;
+        if (PyErr_CheckSignals() != 0) return false;
+        if (progress.is_none()) return true;
+        try {
+            const py::object go_on = progress(fraction, stage);
+            return go_on.is_none() || go_on.cast<bool>();
+        } catch (py::error_already_set& e) {
+            e.restore();
+            return false;
+        }
+    };
     bpm::SimplifyResult result;
-    {
+    try {
         py::gil_scoped_release release;
-        result = bpm::simplify(std::move(surface), options, bpm::Context{}, file.param);
+        result = bpm::simplify(std::move(surface), options, context, file.param);
+    } catch (const bpm::Cancelled&) {
+        if (PyErr_Occurred()) throw py::error_already_set();
+        throw;
     }
     py::dict report;
     report["input_vertices"] = result.input_vertices;
@@ -627,6 +647,7 @@ PYBIND11_MODULE(_bpm, m) {
           py::arg("max_aspect") = bpm::SimplifyOptions{}.max_aspect_ratio,
           py::arg("feature_angle") = bpm::SimplifyOptions{}.feature_angle_degrees,
           py::arg("keep_corners") = bpm::SimplifyOptions{}.keep_corners, py::arg("threads") = 0, py::arg("units") = "",
+          py::arg("progress") = py::none(),
           "bpm-simplify on a surface given as arrays (bpm/simplify.h): vertices (n, 3) floats,\n"
           "triangles (m, 3) integer indices (counter-clockwise seen from the front), patches\n"
           "(m,) integer ids or None. Targets as the tool's: target_vertices, ratio (of the input\n"
@@ -636,7 +657,9 @@ PYBIND11_MODULE(_bpm, m) {
           "options; threads=0 picks as the tool does, and the result does not depend on it.\n"
           "Raises ValueError for bad arrays and for a surface bpm-simplify would refuse (NaN,\n"
           "degenerate or duplicate triangles, unused or duplicate vertices: repair them first),\n"
-          "bpm.AlgorithmError for a surface that intersects itself.");
+          "bpm.AlgorithmError for a surface that intersects itself. progress(fraction, stage) is\n"
+          "called several times a second (a progress bar); returning False stops the run with\n"
+          "bpm.Error('cancelled'), an exception it raises stops it and is raised; so does Ctrl-C.");
     m.def("set_hdf5_isolation", &bpm::set_hdf5_isolation, py::arg("enabled"),
           "Parse .bpm files in a forked child first, so that a corrupt file that crashes HDF5\n"
           "raises bpm.InputError instead of killing Python (off by default; bpm/bpm_file.h).");

@@ -400,3 +400,40 @@ def test_write_to_a_missing_directory_is_an_output_error(tmp_path):
     with pytest.raises(bpm.OutputError, match="no-such-dir"):
         made.write(tmp_path / "no-such-dir" / "x.bpm")
     assert made.path == "<memory>"
+
+
+def test_simplify_reports_progress_and_stops_on_request():
+    """progress(fraction, stage) sees increasing fractions up to 1; an exception raised there,
+    a False returned and Ctrl-C (a pending KeyboardInterrupt, set by _thread.interrupt_main)
+    each stop the run at the next report, not after it."""
+    import _thread
+    vertices, triangles = read_off(MESHES / "elephant.off")
+    seen = []
+    bpm.simplify(vertices, triangles, target_vertices=500, progress=lambda f, stage: seen.append(f))
+    assert seen == sorted(seen) and seen[-1] == 1.0 and len(seen) > 5
+
+    class Stop(Exception):
+        pass
+
+    def stop_at(fraction, action):
+        calls = []
+
+        def progress(f, stage):
+            calls.append(f)
+            if f >= fraction:
+                return action()
+        return calls, progress
+
+    def raise_stop():
+        raise Stop()
+
+    for action, expected in ((raise_stop, Stop), (lambda: False, bpm.Error),
+                             (lambda: _thread.interrupt_main(), KeyboardInterrupt)):
+        calls, progress = stop_at(0.3, action)
+        with pytest.raises(expected):
+            bpm.simplify(vertices, triangles, target_vertices=500, progress=progress)
+        stopped = [f for f in calls if f >= 0.3]
+        # The run ends at the report that asked (Ctrl-C: at the one after it).
+        assert len(stopped) <= (2 if expected is KeyboardInterrupt else 1), (action, calls)
+        assert calls[-1] < 1.0
+    assert len(bpm.simplify(vertices, triangles, target_vertices=500).coarse_vertices) == 500

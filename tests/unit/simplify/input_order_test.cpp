@@ -229,7 +229,9 @@ TEST_CASE("simplify names the caller's triangles when the input intersects itsel
         } catch (const AlgorithmError& e) {
             const std::string what = e.what();
             INFO(what);
-            CHECK(what.find("first: " + named + ")") != std::string::npos);
+            // The caller's ids, then (the cube and the tetrahedron are patches 1 and 2)
+            // that the pair lies in two patches.
+            CHECK(what.find("first: " + named + ", in patches 1 and 2 (") != std::string::npos);
         }
     }
 }
