@@ -33,6 +33,8 @@
 #include "bpm/refine.h"
 #include "bpm/simplify.h"
 #include "bpm/surface.h"
+#include "bpm/tetmesh.h"
+#include "bpm/tetmesh_materials.h"
 #include "bpm/version.h"
 
 namespace py = pybind11;
@@ -142,6 +144,43 @@ int thread_count(int threads) {
     return threads;
 }
 
+// ---- long calls ------------------------------------------------------------------------
+
+// The Context of a long call (bpm.simplify, File.mesh): its progress reports (several a
+// second, on the calling thread) take the GIL, look for a pending signal, so that Ctrl-C
+// raises KeyboardInterrupt from inside a run of minutes instead of after it, and call the
+// caller's `progress`: an exception raised there stops the run and is raised, False stops
+// it with bpm.Error("cancelled"). `progress` must outlive the context.
+bpm::Context cancellable_context(const py::object& progress) {
+    bpm::Context context;
+    context.progress = [&progress](double fraction, const std::string& stage) {
+        py::gil_scoped_acquire gil;
+        if (PyErr_CheckSignals() != 0) return false;
+        if (progress.is_none()) return true;
+        try {
+            const py::object go_on = progress(fraction, stage);
+            return go_on.is_none() || go_on.cast<bool>();
+        } catch (py::error_already_set& e) {
+            e.restore();
+            return false;
+        }
+    };
+    return context;
+}
+
+// Runs `call` without the GIL; a stop that cancellable_context asked for raises the
+// Python exception behind it (or bpm.Error "cancelled" for a False).
+template <class Call>
+void run_cancellable(Call&& call) {
+    try {
+        py::gil_scoped_release release;
+        call();
+    } catch (const bpm::Cancelled&) {
+        if (PyErr_Occurred()) throw py::error_already_set();
+        throw;
+    }
+}
+
 // ---- the file object -----------------------------------------------------------------
 
 class File {
@@ -173,6 +212,7 @@ public:
             }
             arrays_["tet_vertex_parameter_triangle"] = read_only(column(triangles));
             arrays_["tet_vertex_parameter_barycentric"] = read_only(rows(barycentrics));
+            if (!m.region_material.empty()) arrays_["tet_region_material"] = read_only(column(m.region_material));
         }
     }
 
@@ -330,6 +370,34 @@ public:
         return py::make_tuple(rows(out.surface.vertices), rows(out.surface.triangles));
     }
 
+    // bpm-mesh: a tet mesh of the coarse surface (bpm/tetmesh.h, TetGen), its regions given
+    // the materials the patches name (bpm/tetmesh_materials.h); a new file in memory.
+    File mesh(const bpm::TetMeshOptions& options, const py::object& progress) const {
+        bpm::BpmFile meshed = *file_;
+        bpm::TetMesh tets;
+        const bpm::Context context = cancellable_context(progress);
+        bpm::TetMeshResult result;
+        run_cancellable([&] {
+            result = bpm::generate_tetmesh(meshed.param, options, context, tets);
+            bpm::assign_materials(tets, meshed.patch_info);
+        });
+        meshed.tetmesh = std::move(tets);
+        char arguments[200];
+        std::snprintf(arguments, sizeof arguments,
+                      "File.mesh(quality=%.17g, min_dihedral=%.17g, max_volume=%.17g, smooth=%s, flip=%s)",
+                      options.quality, options.min_dihedral_degrees.value_or(0.0), options.max_volume.value_or(0.0),
+                      options.smooth ? "True" : "False", options.flip ? "True" : "False");
+        meshed.provenance.push_back({"bpm (Python)", std::string("bpm ") + BPM_VERSION_STRING, arguments, ""});
+        return File(std::move(meshed), "<memory>");
+    }
+
+    py::list material_names() const {
+        py::list names;
+        if (file_->tetmesh)
+            for (const std::string& n : file_->tetmesh->material_names) names.append(n);
+        return names;
+    }
+
     // Writes the file (bpm/bpm_file.h: atomically, the same bytes as the tools would);
     // File.path is then `path`.
     void write(const std::string& path) {
@@ -442,31 +510,9 @@ File simplify_arrays(const py::object& vertices, const py::object& triangles, co
     file.provenance.push_back({"bpm (Python)", std::string("bpm ") + BPM_VERSION_STRING,
                                simplify_arguments(int64_t(surface.vertices.size()), int64_t(surface.triangles.size()), options),
                                ""});
-    // The progress reports (several a second, on the calling thread) take the GIL, look
-    // for a pending signal, so that Ctrl-C raises KeyboardInterrupt from inside a run of
-    // minutes instead of after it, and call the caller's `progress`: an exception there
-    // stops the run and is raised, False stops it with bpm.Error("cancelled").
-    bpm::Context context;
-    context.progress = [&progress](double fraction, const std::string& stage) {
-        py::gil_scoped_acquire gil;
-        if (PyErr_CheckSignals() != 0) return false;
-        if (progress.is_none()) return true;
-        try {
-            const py::object go_on = progress(fraction, stage);
-            return go_on.is_none() || go_on.cast<bool>();
-        } catch (py::error_already_set& e) {
-            e.restore();
-            return false;
-        }
-    };
+    const bpm::Context context = cancellable_context(progress);
     bpm::SimplifyResult result;
-    try {
-        py::gil_scoped_release release;
-        result = bpm::simplify(std::move(surface), options, context, file.param);
-    } catch (const bpm::Cancelled&) {
-        if (PyErr_Occurred()) throw py::error_already_set();
-        throw;
-    }
+    run_cancellable([&] { result = bpm::simplify(std::move(surface), options, context, file.param); });
     py::dict report;
     report["input_vertices"] = result.input_vertices;
     report["output_vertices"] = result.output_vertices;
@@ -619,6 +665,30 @@ PYBIND11_MODULE(_bpm, m) {
              "The coarse surface refined through phi (bpm/refine.h): levels=K splits each coarse\n"
              "triangle into 4**K (0 <= K <= 10); or adaptive with tolerance > 0 (fraction of the\n"
              "bounding-box diagonal of S0). Returns (vertices (n, 3) float64, triangles (m, 3) int32).")
+        .def_property_readonly("tet_region_material", [](const File& f) { return f.array("tet_region_material"); },
+                               "(R,) int32 material id (1-based, into material_names) of each region 1..R, or None")
+        .def_property_readonly("material_names", &File::material_names,
+                               "names of the tet mesh's materials (tet_region_material's ids - 1); [] without")
+        .def("mesh",
+             [](const File& f, double quality, const py::object& min_dihedral, const py::object& max_volume,
+                bool smooth, bool flip, const py::object& progress) {
+                 bpm::TetMeshOptions o;
+                 o.quality = quality;
+                 if (!min_dihedral.is_none()) o.min_dihedral_degrees = min_dihedral.cast<double>();
+                 if (!max_volume.is_none()) o.max_volume = max_volume.cast<double>();
+                 o.smooth = smooth;
+                 o.flip = flip;
+                 return f.mesh(o, progress);
+             },
+             py::kw_only(), py::arg("quality") = bpm::TetMeshOptions{}.quality, py::arg("min_dihedral") = py::none(),
+             py::arg("max_volume") = py::none(), py::arg("smooth") = bpm::TetMeshOptions{}.smooth,
+             py::arg("flip") = bpm::TetMeshOptions{}.flip, py::arg("progress") = py::none(),
+             "bpm-mesh (bpm/tetmesh.h): a tetrahedral mesh of the coarse surface with TetGen (Debian\n"
+             "package tetgen), every region given the material its patches name; a new bpm.File in\n"
+             "memory with the tet_* arrays, tet_region_material and material_names. quality: TetGen's\n"
+             "radius-edge bound (> 1), min_dihedral (degrees) and max_volume as bpm-mesh's options.\n"
+             "progress and Ctrl-C as in bpm.simplify. Raises bpm.AlgorithmError for a surface TetGen\n"
+             "cannot mesh (open, touching itself), bpm.Error if TetGen is missing or fails.")
         .def("write", [](File& f, const py::object& path) {
                  f.write(py::module_::import("os").attr("fsdecode")(path).cast<std::string>());
              },

@@ -437,3 +437,29 @@ def test_simplify_reports_progress_and_stops_on_request():
         assert len(stopped) <= (2 if expected is KeyboardInterrupt else 1), (action, calls)
         assert calls[-1] < 1.0
     assert len(bpm.simplify(vertices, triangles, target_vertices=500).coarse_vertices) == 500
+
+
+def test_mesh_is_the_tools_mesh(femur, tmp_path):
+    """File.mesh gives bpm-mesh's tet mesh of the same file, with the materials its patches
+    name; a file made by bpm.simplify meshes too; progress and a stop work as in simplify."""
+    out = tmp_path / "femur_tet.bpm"
+    subprocess.run([str(TOOLS / "bpm-mesh"), str(femur), "-o", str(out)], check=True, stderr=subprocess.DEVNULL)
+    tool = bpm.read(out)
+    seen = []
+    meshed = bpm.read(femur).mesh(progress=lambda f, stage: seen.append(f))
+    assert seen and seen[-1] <= 1.0
+    for key in ("tet_vertices", "tet_tetrahedra", "tet_regions", "tet_faces", "tet_face_coarse_triangle",
+                "tet_vertex_parameter_triangle", "tet_vertex_parameter_barycentric", "tet_region_material"):
+        assert np.array_equal(getattr(meshed, key), getattr(tool, key)), key
+    assert meshed.material_names == tool.material_names == ["femur"]
+    assert bpm.read(femur).material_names == [] and bpm.read(femur).tet_region_material is None
+    meshed.write(tmp_path / "again.bpm")
+    assert np.array_equal(bpm.read(tmp_path / "again.bpm").tet_tetrahedra, tool.tet_tetrahedra)
+    vertices, triangles = read_off(MESHES / "elephant.off")
+    made = bpm.simplify(vertices, triangles, ratio=0.1).mesh()
+    assert made.has_tetmesh and len(made.tet_tetrahedra) > 0 and made.material_names == ["region_1"]
+
+    def stop(f, stage):
+        return False
+    with pytest.raises(bpm.Error, match="cancelled"):
+        bpm.read(femur).mesh(progress=stop)
