@@ -3,7 +3,7 @@
     f = bpm.read("femur.bpm")
     positions = f.phi(triangles, barycentrics)   # (k,) ints, (k, 3) floats -> (k, 3)
     g = bpm.simplify(vertices, triangles, ratio=0.1)   # (n, 3), (m, 3) -> a bpm.File
-    g.write("coarse.bpm")
+    g.mesh().write("coarse.bpm")                       # with a tet mesh (TetGen)
 
 See README.md, "Using bpm from a solver", and help(bpm.File).
 """
