@@ -124,71 +124,30 @@ assert j["material_problems"] == 0
 ' "$work/out"
 contains "$work/two.msh" '2 3 "A|B"' "the MSH patch is named by its regions"
 
+# bpm-mesh FILE.bpm gives two regions with the materials NAMES (sorted, comma separated)
+# and no material problem.
+meshes_to_materials() {
+    expect 0 "mesh $(basename "$1")" -- "$tools/bpm-mesh" "$1" -o "${1%.bpm}.msh" --json
+    ok "two regions, materials $2, no problem" -- $py -c '
+import json, sys
+j = json.load(open(sys.argv[1]))
+assert sorted(r["material_name"] for r in j["regions"]) == sys.argv[2].split(","), j["regions"]
+assert j["material_problems"] == 0
+' "$work/out" "$2"
+}
+
 # One OBJ whose groups name the materials they separate (the convention of Gmsh's physical
-# names): the two cubes with their interface stored once.
-$py - "$work/left.off" "$work/right.off" "$work/named.obj" <<'PY'
-import sys
-def off(path):
-    t = open(path).read().split()
-    nv, nt = int(t[1]), int(t[2])
-    v = [tuple(t[4 + 3 * i:7 + 3 * i]) for i in range(nv)]
-    f = [tuple(int(x) for x in t[4 + 3 * nv + 4 * i + 1:4 + 3 * nv + 4 * i + 4]) for i in range(nt)]
-    return v, f
-(va, fa), (vb, fb) = off(sys.argv[1]), off(sys.argv[2])
-ids, verts = {}, []
-def vid(p):
-    if p not in ids:
-        ids[p] = len(verts) + 1
-        verts.append(p)
-    return ids[p]
-left = [tuple(vid(va[i]) for i in t) for t in fa]
-right = [tuple(vid(vb[i]) for i in t) for t in fb]
-shared = {tuple(sorted(t)) for t in left} & {tuple(sorted(t)) for t in right}
-with open(sys.argv[3], "w") as out:
-    out.writelines("v %s %s %s\n" % p for p in verts)
-    for group, faces in (("exterior|left", [t for t in left if tuple(sorted(t)) not in shared]),
-                         ("left|right", [t for t in left if tuple(sorted(t)) in shared]),
-                         ("exterior|right", [t for t in right if tuple(sorted(t)) not in shared])):
-        out.write("g %s\n" % group)
-        out.writelines("f %d %d %d\n" % t for t in faces)
-PY
+# names): the two cubes with their interface stored once (two_cubes.py's named.obj).
 expect 0 "simplify the OBJ with named groups" -- "$tools/bpm-simplify" "$work/named.obj" --ratio 1 -o "$work/named.bpm" -v
 contains "$work/err" "patch 1 'left|right': between left and right (sides not known)" "the group names give the materials"
-expect 0 "mesh it" -- "$tools/bpm-mesh" "$work/named.bpm" -o "$work/named.msh" --json
-ok "two regions with the materials the groups name" -- $py -c '
-import json, sys
-j = json.load(open(sys.argv[1]))
-assert sorted(r["material_name"] for r in j["regions"]) == ["left", "right"], j["regions"]
-assert j["material_problems"] == 0
-' "$work/out"
+meshes_to_materials "$work/named.bpm" left,right
 
 # One file, one closed surface per label (as multi-label marching cubes writes them): the
-# two cubes as groups patch_1 and patch_2 of one OBJ, the interface in both.
-$py - "$work/left.off" "$work/right.off" "$work/labels.obj" <<'PY'
-import sys
-def off(path):
-    t = open(path).read().split()
-    nv, nt = int(t[1]), int(t[2])
-    return [t[4 + 3 * i:7 + 3 * i] for i in range(nv)], [t[4 + 3 * nv + 4 * i + 1:4 + 3 * nv + 4 * i + 4] for i in range(nt)]
-with open(sys.argv[3], "w") as out:
-    base = 0
-    for label, path in ((1, sys.argv[1]), (2, sys.argv[2])):
-        v, f = off(path)
-        out.writelines("v %s %s %s\n" % tuple(p) for p in v)
-        out.write("g patch_%d\n" % label)
-        out.writelines("f %d %d %d\n" % tuple(base + 1 + int(i) for i in t) for t in f)
-        base += len(v)
-PY
+# two cubes as groups patch_1 and patch_2 of one OBJ, the interface in both (labels.obj).
 expect 0 "simplify one file with a closed surface per label" -- "$tools/bpm-simplify" "$work/labels.obj" \
-    --merge-duplicate-vertices --merge-duplicate-triangles --ratio 1 -o "$work/labels.bpm" -v
+    --merge-duplicate-triangles --ratio 1 -o "$work/labels.bpm" -v
 contains "$work/err" "materials labels_1, labels_2 (one per patch, instead of labels for all)" "each label is a material"
-expect 0 "mesh it" -- "$tools/bpm-mesh" "$work/labels.bpm" -o "$work/labels.msh" --json
-ok "two regions, one material per label, no problem" -- $py -c '
-import json, sys
-j = json.load(open(sys.argv[1]))
-assert sorted(r["material_name"] for r in j["regions"]) == ["labels_1", "labels_2"], j["regions"]
-assert j["material_problems"] == 0
-' "$work/out"
+meshes_to_materials "$work/labels.bpm" labels_1,labels_2
 
 # --material overrides; a bad one is a usage error.
 expect 0 "--material names a region" -- "$tools/bpm-mesh" "$work/two.bpm" -o "$work/user.vtu" --material 1=bone --json -q

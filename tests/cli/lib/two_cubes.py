@@ -3,6 +3,10 @@
 materials touching along the square x = 1, which is in both files, triangulated alike, in
 opposite orientations (bpm-simplify fuses it with --merge-duplicate-vertices
 --merge-duplicate-triangles). Used by the CLI tests (materials.sh, check_tetmesh.sh).
+The same two cubes also as one OBJ each way a single file can hold two materials:
+DIR/named.obj, groups `exterior|left`, `left|right` (the shared square, once) and
+`exterior|right`; DIR/labels.obj, one closed surface per label, groups `patch_1` and
+`patch_2` (the shared square in both).
 
     two_cubes.py DIR
 """
@@ -32,8 +36,32 @@ def cube(work, x0, name):
         f.write(f"OFF\n{len(v)} {len(tris)} 0\n")
         for p in v: f.write("%g %g %g\n" % p)
         for t in tris: f.write("3 %d %d %d\n" % t)
+    return v, tris
+
+
+def write_obj(path, groups):
+    """groups: (name, [triangles as corner positions]); vertices shared by position."""
+    ids, verts = {}, []
+    with open(path, "w") as f:
+        lines = []
+        for name, triangles in groups:
+            lines.append("g %s\n" % name)
+            for t in triangles:
+                for p in t:
+                    if p not in ids:
+                        ids[p] = len(verts) + 1
+                        verts.append(p)
+                lines.append("f %d %d %d\n" % tuple(ids[p] for p in t))
+        f.writelines("v %g %g %g\n" % p for p in verts)
+        f.writelines(lines)
 
 
 if __name__ == "__main__":
-    cube(sys.argv[1], 0, "left")
-    cube(sys.argv[1], 1, "right")
+    work = sys.argv[1]
+    left = [tuple(p for p in (lv[c] for c in t)) for lv, ts in [cube(work, 0, "left")] for t in ts]
+    right = [tuple(p for p in (rv[c] for c in t)) for rv, ts in [cube(work, 1, "right")] for t in ts]
+    shared = {frozenset(t) for t in left} & {frozenset(t) for t in right}
+    write_obj(f"{work}/named.obj", [("exterior|left", [t for t in left if frozenset(t) not in shared]),
+                                    ("left|right", [t for t in left if frozenset(t) in shared]),
+                                    ("exterior|right", [t for t in right if frozenset(t) not in shared])])
+    write_obj(f"{work}/labels.obj", [("patch_1", left), ("patch_2", right)])
