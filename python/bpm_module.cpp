@@ -33,6 +33,7 @@
 #include "bpm/refine.h"
 #include "bpm/simplify.h"
 #include "bpm/surface.h"
+#include "bpm/tet_refine.h"
 #include "bpm/tetmesh.h"
 #include "bpm/tetmesh_materials.h"
 #include "bpm/version.h"
@@ -391,6 +392,23 @@ public:
         return File(std::move(meshed), "<memory>");
     }
 
+    // bpm-mesh --existing --refine K: the file's tet mesh refined K times (red refinement),
+    // new boundary vertices through phi (bpm/tet_refine.h); a new file in memory.
+    File refine_mesh(const bpm::TetRefineOptions& options, const py::object& progress) const {
+        if (!file_->tetmesh) throw py::value_error("refine_mesh: the file has no tet mesh (File.mesh makes one)");
+        bpm::BpmFile refined = *file_;
+        bpm::TetMesh fine;
+        const bpm::Context context = cancellable_context(progress);
+        run_cancellable([&] { bpm::refine_tetmesh(refined.param, *file_->tetmesh, options, context, fine); });
+        refined.tetmesh = std::move(fine);
+        char arguments[120];
+        std::snprintf(arguments, sizeof arguments, "File.refine_mesh(levels=%d, flat=%s, smooth=%s, flip=%s)",
+                      options.levels, options.move_to_surface ? "False" : "True", options.repair.smooth ? "True" : "False",
+                      options.flip ? "True" : "False");
+        refined.provenance.push_back({"bpm (Python)", std::string("bpm ") + BPM_VERSION_STRING, arguments, ""});
+        return File(std::move(refined), "<memory>");
+    }
+
     py::list material_names() const {
         py::list names;
         if (file_->tetmesh)
@@ -689,6 +707,22 @@ PYBIND11_MODULE(_bpm, m) {
              "radius-edge bound (> 1), min_dihedral (degrees) and max_volume as bpm-mesh's options.\n"
              "progress and Ctrl-C as in bpm.simplify. Raises bpm.AlgorithmError for a surface TetGen\n"
              "cannot mesh (open, touching itself), bpm.Error if TetGen is missing or fails.")
+        .def("refine_mesh",
+             [](const File& f, int levels, bool flat, bool smooth, bool flip, const py::object& progress) {
+                 if (levels < 0 || levels > 8) throw py::value_error("levels must be in 0..8 (as bpm-mesh --refine), got " + std::to_string(levels));
+                 bpm::TetRefineOptions o;
+                 o.levels = levels;
+                 o.move_to_surface = !flat;
+                 o.repair.smooth = smooth;
+                 o.flip = smooth && flip;
+                 return f.refine_mesh(o, progress);
+             },
+             py::arg("levels") = 1, py::kw_only(), py::arg("flat") = false, py::arg("smooth") = true,
+             py::arg("flip") = true, py::arg("progress") = py::none(),
+             "bpm-mesh --existing --refine LEVELS (bpm/tet_refine.h): the tet mesh refined (each level\n"
+             "8 children per tetrahedron), new boundary vertices moved onto S0 through phi as far as no\n"
+             "tetrahedron inverts, interior smoothed (smooth) and flipped (flip); flat=True keeps them\n"
+             "at the midpoints. A new bpm.File in memory; progress and Ctrl-C as in bpm.simplify.")
         .def("write", [](File& f, const py::object& path) {
                  f.write(py::module_::import("os").attr("fsdecode")(path).cast<std::string>());
              },

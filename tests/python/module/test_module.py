@@ -463,3 +463,25 @@ def test_mesh_is_the_tools_mesh(femur, tmp_path):
         return False
     with pytest.raises(bpm.Error, match="cancelled"):
         bpm.read(femur).mesh(progress=stop)
+
+
+def test_refine_mesh_is_the_tools_refinement(femur, tmp_path):
+    """File.refine_mesh(1) gives bpm-mesh --existing --refine 1's tet mesh of the same file;
+    a file without a tet mesh and bad levels are ValueErrors."""
+    meshed = tmp_path / "femur_tet.bpm"
+    refined = tmp_path / "femur_tet1.bpm"
+    subprocess.run([str(TOOLS / "bpm-mesh"), str(femur), "-o", str(meshed)], check=True, stderr=subprocess.DEVNULL)
+    subprocess.run([str(TOOLS / "bpm-mesh"), str(meshed), "--existing", "--refine", "1", "-o", str(refined)],
+                   check=True, stderr=subprocess.DEVNULL)
+    tool = bpm.read(refined)
+    mine = bpm.read(meshed).refine_mesh(1)
+    assert len(mine.tet_tetrahedra) >= 8 * len(bpm.read(meshed).tet_tetrahedra)  # + insertions into slivers
+    for key in ("tet_vertices", "tet_tetrahedra", "tet_regions", "tet_faces", "tet_vertex_parameter_triangle",
+                "tet_vertex_parameter_barycentric", "tet_region_material"):
+        assert np.array_equal(getattr(mine, key), getattr(tool, key)), key
+    flat = bpm.read(meshed).refine_mesh(1, flat=True)
+    assert not np.array_equal(flat.tet_vertices, mine.tet_vertices)
+    with pytest.raises(ValueError, match="no tet mesh"):
+        bpm.read(femur).refine_mesh(1)
+    with pytest.raises(ValueError, match="levels must be in 0..8"):
+        bpm.read(meshed).refine_mesh(9)
