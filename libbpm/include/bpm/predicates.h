@@ -17,19 +17,17 @@ inline int orient2d(const Vec2& a, const Vec2& b, const Vec2& c) {
     const double left = (a[0] - c[0]) * (b[1] - c[1]);
     const double right = (a[1] - c[1]) * (b[0] - c[0]);
     const double det = left - right;
-    double sum;
-    if (left > 0.0) {
-        if (right <= 0.0) return det > 0.0 ? 1 : (det < 0.0 ? -1 : 0);
-        sum = left + right;
-    } else if (left < 0.0) {
-        if (right >= 0.0) return det > 0.0 ? 1 : (det < 0.0 ? -1 : 0);
-        sum = -left - right;
-    } else {
-        return det > 0.0 ? 1 : (det < 0.0 ? -1 : 0);
+    // With left and right of opposite signs (or one zero) |det| is sum (rounded alike),
+    // far above the bound: Shewchuk's early exits are this test's first branch.
+    const double sum = std::abs(left) + std::abs(right);
+    // The bound assumes no underflow, as in orient3d; a NaN (inf * 0) fails both tests.
+    if (sum > 1e-250) {
+        const double bound = 3.3306690738754716e-16 * sum;  // (3 + 16 eps) eps
+        if (det >= bound) return 1;
+        if (-det >= bound) return -1;
+    } else if (sum == 0.0 && (a[0] == c[0] || b[1] == c[1]) && (a[1] == c[1] || b[0] == c[0])) {
+        return 0;  // both products zero without underflow: a factor of each is zero
     }
-    const double bound = 3.3306690738754716e-16 * sum;  // (3 + 16 eps) eps
-    if (det >= bound) return 1;
-    if (-det >= bound) return -1;
     return orient2d_exact(a, b, c);
 }
 // Sign of the signed volume of (a,b,c,d), CGAL::orientation's: +1 if d is on the side
@@ -72,9 +70,11 @@ inline int in_circle(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d)
     const double permanent = (std::abs(bdxcdy) + std::abs(cdxbdy)) * alift +
                              (std::abs(cdxady) + std::abs(adxcdy)) * blift +
                              (std::abs(adxbdy) + std::abs(bdxady)) * clift;
-    const double bound = 1.1102230246251577e-15 * permanent;  // (10 + 96 eps) eps
-    if (det > bound) return 1;
-    if (-det > bound) return -1;
+    if (permanent > 1e-250) {  // no underflow, as in orient3d
+        const double bound = 1.1102230246251577e-15 * permanent;  // (10 + 96 eps) eps
+        if (det > bound) return 1;
+        if (-det > bound) return -1;
+    }
     return in_circle_exact(a, b, c, d);
 }
 // Exact: are the three points collinear?
