@@ -46,6 +46,7 @@ BPM_FMA_TARGET int in_circle_fma(const Vec2& a, const Vec2& b, const Vec2& c, co
 }
 // a * b - c, which this file's flags let the compiler fuse.
 BPM_FMA_TARGET double product_minus(double a, double b, double c) { return a * b - c; }
+BPM_FMA_TARGET double rounded_product_minus(double a, double b, double c) { return detail::rounded_product(a, b) - c; }
 
 int orient2d_plain(const Vec2& a, const Vec2& b, const Vec2& c) { return orient2d(a, b, c); }
 int orient3d_plain(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) { return orient3d(a, b, c, d); }
@@ -217,5 +218,6 @@ TEST_CASE("the predicate filters agree with the exact predicates when the caller
     // The premise: in this file the compiler does fuse (-ffp-contract=fast, FMA target).
     CHECK(product_minus(a, b, one) == -0x1p-60);
 #endif
+    CHECK(rounded_product_minus(a, b, one) == 0.0);
     check_against_exact(orient2d_fma, orient3d_fma, in_circle_fma);
 }
