@@ -18,7 +18,7 @@
 // #pragma GCC optimize would stop GCC from inlining the filters, and clang's
 // -ffp-contract=fast ignores #pragma clang fp contract.)
 // The bounds also assume no underflow: the filters decide only with the permanent (orient2d:
-// |left| + |right|) above 1e-250, far above the denormals, whose rounding errors are absolute.
+// the determinant) above 1e-250, far above the denormals, whose rounding errors are absolute.
 
 #include <cmath>
 
@@ -54,17 +54,16 @@ inline int orient2d(const Vec2& a, const Vec2& b, const Vec2& c) {
     const double left = detail::rounded_product(a[0] - c[0], b[1] - c[1]);
     const double right = detail::rounded_product(a[1] - c[1], b[0] - c[0]);
     const double det = left - right;
-    // With left and right of opposite signs (or one zero) |det| is sum (rounded alike),
-    // far above the bound: Shewchuk's early exits are this test's first branch.
-    const double sum = std::abs(left) + std::abs(right);
-    // The bound assumes no underflow, as in orient3d; a NaN (inf * 0) fails both tests.
-    if (sum > 1e-250) {
-        const double bound = 3.3306690738754716e-16 * sum;  // (3 + 16 eps) eps
-        if (det >= bound) return 1;
-        if (-det >= bound) return -1;
-    } else if (sum == 0.0 && (a[0] == c[0] || b[1] == c[1]) && (a[1] == c[1] || b[0] == c[0])) {
-        return 0;  // both products zero without underflow: a factor of each is zero
-    }
+    // Products of opposite signs (or one zero) make |det| their sum, rounded alike, far
+    // above the bound: Shewchuk's early exits are the bound test. His bound assumes no
+    // underflow; the 1e-250 added (rounding can only raise the bound) leaves every |det|
+    // that small to the exact predicate, as orient3d's guard does: the rounding errors of
+    // denormals are absolute, up to 2^-1075. A NaN (inf * 0) fails both tests. Both
+    // products zero (repeated points, an axis) go to orient2d_exact, which answers those
+    // at once.
+    const double bound = 3.3306690738754716e-16 * (std::abs(left) + std::abs(right)) + 1e-250;  // (3 + 16 eps) eps
+    if (det >= bound) return 1;
+    if (-det >= bound) return -1;
     return orient2d_exact(a, b, c);
 }
 // Sign of the signed volume of (a,b,c,d), CGAL::orientation's: +1 if d is on the side
