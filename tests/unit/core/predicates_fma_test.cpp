@@ -1,6 +1,6 @@
 // The inline filters of bpm/predicates.h are compiled with the caller's flags, not libbpm's
 // -ffp-contract=off. This file is a caller that contracts: it is compiled with
-// -ffp-contract=fast (tests/CMakeLists.txt), and the functions marked kFmaTarget are
+// -ffp-contract=fast (tests/CMakeLists.txt), and the functions marked BPM_FMA_TARGET are
 // compiled for a CPU with fused multiply-add, as a solver built with -march=native would
 // be. (A whole file with -mfma would also compile the out-of-line copies of the inline
 // functions it uses for that CPU, and the linker may pick those copies for the whole test
