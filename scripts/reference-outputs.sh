@@ -8,8 +8,10 @@
 #   scripts/reference-outputs.sh build-old old && scripts/reference-outputs.sh build new
 #   diff old/SHA256SUMS new/SHA256SUMS                 (no output: byte-identical)
 #
-# Each .bpm stores its command line, so the tools run by bare name with relative output
-# names: the bytes do not depend on where the build or OUTDIR is. Files written by a
+# Each .bpm stores its command line, so the tools run by bare name with relative input and
+# output names (the meshes through OUTDIR/meshes, a link to the checkout's .data/meshes): the
+# bytes do not depend on where the checkout, the build or OUTDIR is (a worktree gives the
+# same bytes as the main checkout). Files written by a
 # different writer (e.g. other HDF5 filter settings) can differ in bytes with the same
 # content: compare those with `h5diff -c OLD NEW`.
 set -euo pipefail
@@ -23,10 +25,11 @@ meshes=$root/.data/meshes
 [ -f "$meshes/femur.off" ] || { echo "reference-outputs.sh: no $meshes/femur.off (scripts/setup.sh unpacks the meshes)" >&2; exit 2; }
 mkdir -p "$2"
 cd "$2"
+ln -sfn "$meshes" meshes
 export PATH="$build/bin:$PATH"
 for m in femur fandisk elephant armadillo mech-holes-shark; do
-    bpm-simplify "$meshes/$m.off" -o "$m-10.bpm" --ratio 0.1 --deterministic -q &
-    bpm-simplify "$meshes/$m.off" -o "$m-1000.bpm" --vertices 1000 --deterministic -q
+    bpm-simplify "meshes/$m.off" -o "$m-10.bpm" --ratio 0.1 --deterministic -q &
+    bpm-simplify "meshes/$m.off" -o "$m-1000.bpm" --vertices 1000 --deterministic -q
     wait
 done
 /usr/bin/python3 "$root/bench/make_two_cubes.py" two_cubes.obj 4 >/dev/null
