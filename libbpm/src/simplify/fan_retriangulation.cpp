@@ -235,4 +235,36 @@ bool retriangulate_fan(const CoarseMesh& mesh, const Fan& fan, const PolarMap& m
     return true;
 }
 
+double triangulation_aspect_lower_bound(const std::vector<Vec3>& x, const Fan& fan) {
+    const int32_t n = fan.corners();
+    constexpr double kInfinite = std::numeric_limits<double>::infinity();
+    const auto corner = [&](int32_t i) -> const Vec3& { return x[fan.link[mod(i, n)]]; };
+    // The two best ears, and the shortest side (side i runs from corner i to i + 1).
+    double best = kInfinite, second = kInfinite;
+    int32_t shortest = 0;
+    double shortest_length = kInfinite;
+    for (int32_t i = 0; i < n; ++i) {
+        const double length = distance(corner(i), corner(i + 1));
+        if (length < shortest_length) {
+            shortest_length = length;
+            shortest = i;
+        }
+        const double a = aspect_ratio(corner(i - 1), corner(i), corner(i + 1));
+        if (!(a < second)) continue;  // also NaN
+        if (a < best) {
+            second = best;
+            best = a;
+        } else {
+            second = a;
+        }
+    }
+    double side_best = kInfinite;
+    for (int32_t j = 0; j < n; ++j) {
+        if (j == shortest || j == mod(shortest + 1, n)) continue;
+        const double a = aspect_ratio(corner(shortest), corner(shortest + 1), corner(j));
+        if (a < side_best) side_best = a;
+    }
+    return std::max(second, side_best);
+}
+
 }  // namespace bpm::detail
