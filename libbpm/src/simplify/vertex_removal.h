@@ -105,9 +105,12 @@ public:
     // the removed triangles' worst where that is higher). A fan of more than
     // kLargeFanCorners corners whose every retriangulation has a worse triangle
     // (triangulation_aspect_lower_bound) makes the plan invalid with kShapeLimitReason
-    // before its O(n^2) retriangulation: removal_cost would refuse it for that reason
-    // anyway. Smaller fans are planned in full (cheap, and the reason is then the first
-    // failure the full plan meets). Default +infinity: no early refusal.
+    // before its O(n^2) retriangulation. removal_cost would refuse the full plan anyway
+    // (for this reason, or for one it checks first, or the plan fails on the way), so
+    // only the reason recorded for such a star may differ, and one thing more: a vertex on
+    // a crease whose half-disk is refused here is tried as a disk (plan()), as after any
+    // invalid plan, where a valid half-disk plan refused by its cost was not. Smaller fans
+    // are always planned in full. Default +infinity: no early refusal.
     static constexpr int32_t kLargeFanCorners = 64;
     void set_aspect_limit(double max_aspect_ratio) { aspect_limit_ = max_aspect_ratio; }
 
