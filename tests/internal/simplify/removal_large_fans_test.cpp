@@ -143,3 +143,35 @@ TEST_CASE("removal large fans: below the limit a large centre is planned as befo
         CHECK(a.worst_new_aspect == b.worst_new_aspect);
     }
 }
+
+TEST_CASE("removal large fans: a square rim with collinear corners is triangulated", "[simplify][removal]") {
+    // A square face fanned from its centre (bench/make_fan_box.py): 4 x 20 rim corners,
+    // 19 of every 20 on a straight side. The polar map cannot make it strictly convex; the
+    // ears of its own polygon go first, and none may be a straight corner.
+    std::vector<double> angles, radii;
+    const int m = 20;
+    for (int side = 0; side < 4; ++side)
+        for (int k = 0; k < m; ++k) {
+            const double t = double(k) / m - 0.5;  // along the side, from -0.5
+            const double x = side == 0 ? t : side == 1 ? 0.5 : side == 2 ? -t : -0.5;
+            const double y = side == 0 ? -0.5 : side == 1 ? t : side == 2 ? 0.5 : -t;
+            angles.push_back(std::atan2(y, x) * 180.0 / M_PI);
+            radii.push_back(std::hypot(x, y));
+        }
+    const Surface square = removal_test::fan_surface(angles, radii, true);
+    CoarseMesh mesh(square);
+    std::vector<Fan> fans;
+    StarScratch star;
+    bool crease_line = false;
+    std::string why;
+    REQUIRE(classify_star(mesh, 0, false, fans, crease_line, why, star) == VertexClass::Regular);
+    PolarMap map;
+    REQUIRE(polar_map(mesh.positions(), 0, fans[0], 1.0, map, why));
+    CHECK(map.cocircular);  // the corners on a circle, the polar map's polygon for the ears
+    FanTriangulation tri;
+    EarScratch ears;
+    REQUIRE(retriangulate_fan(mesh, fans[0], map, {}, tri, ears, why));
+    CHECK(tri.triangles.size() == size_t(4 * m - 2));
+    for (double a : tri.aspects) CHECK(std::isfinite(a));  // no three corners on one side
+    CHECK(worst_of(tri) >= triangulation_aspect_lower_bound(mesh.positions(), fans[0]));
+}
