@@ -56,4 +56,16 @@ bool retriangulate_fan(const CoarseMesh& mesh, const Fan& fan, const PolarMap& m
                        const std::vector<std::array<int32_t, 2>>& forbidden, FanTriangulation& out,
                        EarScratch& scratch, std::string& why);
 
+// A lower bound of the worst 3D aspect ratio (R/r) of every triangulation of the polygon
+// of `fan` (corners fan.link[0..n-1], n >= 4) that retriangulate_fan() or any other could
+// make, in O(n) (a retriangulation is O(n^2)). The larger of two bounds:
+// - every triangulation of a polygon has two ears (triangles of three consecutive
+//   corners) at different corners: its worst triangle is at least the second best ear;
+// - every side of the polygon is in one new triangle, whose third corner is another
+//   corner: the shortest side's best such triangle.
+// The centre of a CAD disc fanned into n slivers is what this is for: every new triangle
+// on the rim's shortest side is about twice as thin as the fan's own sliver there.
+// Degenerate triangles count as +infinity (no triangulation may use them).
+double triangulation_aspect_lower_bound(const std::vector<Vec3>& x, const Fan& fan);
+
 }  // namespace bpm::detail

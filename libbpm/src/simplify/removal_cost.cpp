@@ -24,7 +24,7 @@ double removal_cost(const RemovalPlan& plan, const SimplifyOptions& options, dou
         return kRefused;
     }
     if (plan.worst_new_aspect > std::max(options.max_aspect_ratio, plan.worst_old_aspect)) {
-        why = "triangle shape limit (max_aspect_ratio)";
+        why = kShapeLimitReason;
         return kRefused;
     }
     if (plan.longest_new_edge > options.max_edge_length * diagonal) {

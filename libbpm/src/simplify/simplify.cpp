@@ -301,6 +301,10 @@ private:
             step_.candidates[size_t(k)].plan = &step_plans_[size_t(k)];
             step_.candidates[size_t(k)].remover = k == 0 ? remover_.get() : candidate_removers_.back().get();
         }
+        // Large stars that removal_cost would refuse for their shape are refused unplanned.
+        remover_->set_aspect_limit(options.max_aspect_ratio);
+        for (auto& r : removers_) r->set_aspect_limit(options.max_aspect_ratio);
+        for (auto& r : candidate_removers_) r->set_aspect_limit(options.max_aspect_ratio);
         finish_parts_ = std::min<int>(VertexRemover::kMaxFinishParts, threads);
         cheap_plans_.resize(threads);
         grid_scratch_.resize(threads);

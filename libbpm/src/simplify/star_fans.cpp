@@ -1,6 +1,7 @@
 #include "simplify/star_fans.h"
 
 #include <algorithm>
+#include <array>
 
 namespace bpm::detail {
 
@@ -19,24 +20,49 @@ inline bool rotate_to(const Tri& t, int32_t v, int32_t& x, int32_t& y) {
 
 // Other triangle on edge (v,x), or -1 unless the edge has exactly two: the alive
 // triangles of v containing x, in the order of CoarseMesh::edge_triangles().
-// `corners[i]`: the corners of tris[i].
-int32_t other_triangle_across(VertexTriangleLists::View tris, const std::vector<Tri>& corners, int32_t t, int32_t x) {
+// `corners[i]`: the corners of tris[i]; `by_corner`: empty, or (corner, i) for every
+// corner other than v of every corners[i], sorted (index_corners()).
+int32_t other_triangle_across(VertexTriangleLists::View tris, const std::vector<Tri>& corners,
+                              const std::vector<std::array<int32_t, 2>>& by_corner, int32_t t, int32_t x) {
     int32_t found[2] = {-1, -1};
     int count = 0;
-    for (size_t i = 0; i < corners.size(); ++i) {
-        const Tri& c = corners[i];
-        if (c[0] == x || c[1] == x || c[2] == x) {
-            if (count < 2) found[count] = tris[i];
+    if (!by_corner.empty()) {
+        // The same triangles in the same order (by i), found in O(log n).
+        for (auto it = std::lower_bound(by_corner.begin(), by_corner.end(), std::array<int32_t, 2>{x, -1});
+             it != by_corner.end() && (*it)[0] == x; ++it) {
+            if (count < 2) found[count] = tris[size_t((*it)[1])];
             ++count;
+        }
+    } else {
+        for (size_t i = 0; i < corners.size(); ++i) {
+            const Tri& c = corners[i];
+            if (c[0] == x || c[1] == x || c[2] == x) {
+                if (count < 2) found[count] = tris[i];
+                ++count;
+            }
         }
     }
     if (count != 2) return -1;
     return found[0] == t ? found[1] : found[0];
 }
 
+// The walks look for the triangles on an edge (v, x) once per triangle: a scan of the
+// star each time is quadratic, which a star of a few dozen triangles does not notice but
+// the centre of a CAD disc (thousands of triangles, re-classified each time a corner
+// goes) does. Above kIndexedStar triangles they are looked up in a sorted list.
+constexpr size_t kIndexedStar = 64;
+void index_corners(int32_t v, const std::vector<Tri>& corners, std::vector<std::array<int32_t, 2>>& by_corner) {
+    by_corner.clear();
+    if (corners.size() <= kIndexedStar) return;
+    for (size_t i = 0; i < corners.size(); ++i)
+        for (int32_t x : corners[i])
+            if (x != v) by_corner.push_back({x, int32_t(i)});  // v is in all: never looked up
+    std::sort(by_corner.begin(), by_corner.end());
+}
+
 // The closed fan of a vertex off the feature lines, from its smallest triangle id.
-VertexClass walk_disk(const CoarseMesh& mesh, int32_t v, const std::vector<Tri>& corners, std::vector<Fan>& fans,
-                      std::string& why) {
+VertexClass walk_disk(const CoarseMesh& mesh, int32_t v, const std::vector<Tri>& corners,
+                      const std::vector<std::array<int32_t, 2>>& by_corner, std::vector<Fan>& fans, std::string& why) {
     const auto& tris = mesh.triangles_of(v);
     fans.resize(1);
     Fan& fan = fans[0];
@@ -50,7 +76,7 @@ VertexClass walk_disk(const CoarseMesh& mesh, int32_t v, const std::vector<Tri>&
     fan.triangles.push_back(t0);
     int32_t t = t0, last = y;
     while (true) {
-        const int32_t n = other_triangle_across(tris, corners, t, last);
+        const int32_t n = other_triangle_across(tris, corners, by_corner, t, last);
         if (n < 0) {
             why = "non-manifold edge without feature mark";
             return VertexClass::Feature;
@@ -80,7 +106,8 @@ VertexClass walk_disk(const CoarseMesh& mesh, int32_t v, const std::vector<Tri>&
 
 // The open fans between feature edges v -- f0 and v -- f1, one per sheet.
 VertexClass walk_half_disks(const CoarseMesh& mesh, int32_t v, int32_t f0, int32_t f1, const std::vector<Tri>& corners,
-                            std::vector<int32_t>& starts, std::vector<Fan>& fans, std::string& why) {
+                            const std::vector<std::array<int32_t, 2>>& by_corner, std::vector<int32_t>& starts,
+                            std::vector<Fan>& fans, std::string& why) {
     const auto& tris = mesh.triangles_of(v);
     // Half-disks: start at every triangle on the first feature edge and walk across
     // non-feature edges until the second feature edge.
@@ -102,7 +129,7 @@ VertexClass walk_half_disks(const CoarseMesh& mesh, int32_t v, int32_t f0, int32
         while (true) {
             link.push_back(last);
             if (last == f1 || last == f0) break;
-            const int32_t n = other_triangle_across(tris, corners, t, last);
+            const int32_t n = other_triangle_across(tris, corners, by_corner, t, last);
             if (n < 0) {
                 why = "non-manifold edge without feature mark";
                 return VertexClass::Feature;
@@ -196,12 +223,13 @@ VertexClass classify_star(const CoarseMesh& mesh, int32_t v, bool force_disk, st
         crease_line = true;
     }
 
-    if (features.empty()) return walk_disk(mesh, v, corners, fans, why);
-    if (features.size() != 2) {
+    if (!features.empty() && features.size() != 2) {
         why = features.size() == 1 ? "end of a feature line" : "meeting point of feature lines";
         return VertexClass::Feature;
     }
-    return walk_half_disks(mesh, v, features[0], features[1], corners, starts, fans, why);
+    index_corners(v, corners, scratch.by_corner);
+    if (features.empty()) return walk_disk(mesh, v, corners, scratch.by_corner, fans, why);
+    return walk_half_disks(mesh, v, features[0], features[1], corners, scratch.by_corner, starts, fans, why);
 }
 
 }  // namespace bpm::detail

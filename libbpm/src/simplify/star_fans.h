@@ -4,6 +4,7 @@
 // the feature lines, or the half-disks between the two feature edges of a vertex on a
 // feature line. classify_star() decides which, or why v is kept.
 
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -79,6 +80,7 @@ struct Fan {
 struct StarScratch {
     std::vector<int32_t> hard, crease, features, starts;
     std::vector<Tri> corners;  // of the star's triangles, read once
+    std::vector<std::array<int32_t, 2>> by_corner;  // (corner, index in corners), sorted: large stars only
 };
 
 // Splits the star of v into fans and classifies v. Regular: one closed fan with all the

@@ -586,6 +586,22 @@ void VertexRemover::plan_once(int32_t v, bool force_disk, bool validate, bool de
         plan.new_edges.push_back({std::min(a, b), std::max(a, b)});
     }
 
+    // A large fan (the centre of a CAD disc: thousands of corners) whose every
+    // retriangulation has a triangle worse than removal_cost's shape limit is refused now,
+    // in O(n): its retriangulation is O(n^2), and it is re-ranked each time one of its
+    // corners goes. The margin covers the rounding of an R/r with its corners in another order.
+    const auto large = [](const Fan& f) { return f.corners() > kLargeFanCorners; };
+    if (aspect_limit_ < std::numeric_limits<double>::infinity() && std::any_of(fans.begin(), fans.end(), large)) {
+        double limit = aspect_limit_;  // or the removed triangles' worst, as in removal_cost
+        for (const Fan& fan : fans)
+            for (int32_t t : fan.triangles) limit = std::max(limit, mesh_.aspect(t));
+        for (const Fan& fan : fans)
+            if (large(fan) && triangulation_aspect_lower_bound(x, fan) > limit * (1.0 + 1e-6)) {
+                plan.reason = kShapeLimitReason;
+                return;
+            }
+    }
+
     // Path edits of all fans, grouped by edge in finish_paths() (a feature-line vertex
     // has two fans that an original edge may both pass).
     for (PathEdit& e : scratch_->edits) spare.recycle(e.middle);

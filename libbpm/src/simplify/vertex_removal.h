@@ -16,6 +16,7 @@
 // touching the state.
 
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -25,6 +26,10 @@
 #include "simplify/star_fans.h"  // VertexClass, the corner reasons
 
 namespace bpm::detail {
+
+// removal_cost()'s reason for new triangles above SimplifyOptions::max_aspect_ratio (and
+// above the removed ones), which VertexRemover also gives a large star it refuses early.
+inline constexpr const char* kShapeLimitReason = "triangle shape limit (max_aspect_ratio)";
 
 struct RemovalPlan {
     int32_t vertex = -1;
@@ -96,6 +101,19 @@ public:
                   const std::vector<Vec3>& oriented_normals, const std::vector<float>& vertex_ridges);
     ~VertexRemover();
 
+    // removal_cost's limit on the new triangles' R/r (SimplifyOptions::max_aspect_ratio;
+    // the removed triangles' worst where that is higher). A fan of more than
+    // kLargeFanCorners corners whose every retriangulation has a worse triangle
+    // (triangulation_aspect_lower_bound) makes the plan invalid with kShapeLimitReason
+    // before its O(n^2) retriangulation. removal_cost would refuse the full plan anyway
+    // (for this reason, or for one it checks first, or the plan fails on the way), so
+    // only the reason recorded for such a star may differ, and one thing more: a vertex on
+    // a crease whose half-disk is refused here is tried as a disk (plan()), as after any
+    // invalid plan, where a valid half-disk plan refused by its cost was not. Smaller fans
+    // are always planned in full. Default +infinity: no early refusal.
+    static constexpr int32_t kLargeFanCorners = 64;
+    void set_aspect_limit(double max_aspect_ratio) { aspect_limit_ = max_aspect_ratio; }
+
     // Plans the removal of v. Checks everything local: classification, the topology
     // condition (no new edge or triangle may already exist), flattening, a valid
     // transfer of phi. Global checks (intersections with the rest of the surface)
@@ -126,6 +144,7 @@ private:
     const std::vector<Vec3>& oriented_normals_;
     const std::vector<float>& vertex_ridges_;
     RemovalScratch* scratch_;
+    double aspect_limit_ = std::numeric_limits<double>::infinity();
 };
 
 void commit_removal(CoarseMesh& mesh, Embedding& embedding, const RemovalPlan& plan);

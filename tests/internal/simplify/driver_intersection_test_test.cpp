@@ -2,10 +2,12 @@
 // small triangle sets: what it must refuse (a piercing triangle, a coplanar fold, two new
 // triangles crossing each other) and what it must allow (sharing an edge or a vertex,
 // overlapping only a triangle the removal takes away), also after update().
+#include <random>
 #include <vector>
 
 #include <catch2/catch.hpp>
 
+#include "bpm/predicates.h"
 #include "bpm/surface.h"
 #include "simplify/coarse_mesh.h"
 #include "simplify/intersection_test.h"
@@ -47,6 +49,42 @@ TEST_CASE("intersection test: meet_improperly on pairs of triangles", "[internal
     // Symmetric in its arguments.
     CHECK(meet_improperly(x, Tri{0, 1, 2}, Tri{4, 5, 6}));
     CHECK(meet_improperly(x, Tri{0, 1, 2}, Tri{0, 1, 11}));
+}
+
+TEST_CASE("intersection test: coplanar triangles sharing a corner", "[internal][simplify]") {
+    // The fan of a CAD disc: slivers around one centre in one plane. Apart on both sides
+    // of a line through the centre (the quick exact answer), overlapping, or touching
+    // along a ray (both meet improperly).
+    const std::vector<Vec3> x = {{0, 0, 0}, {1, 0, 0}, {1, 0.1, 0}, {-1, 0.05, 0}, {-1, -0.05, 0},
+                                 {1, -0.1, 0}, {2, 0, 0}, {0.5, 0.02, 0}, {0.3, 0.3, 0.3}};
+    CHECK_FALSE(meet_improperly(x, Tri{0, 1, 2}, Tri{0, 3, 4}));  // opposite wedges
+    CHECK_FALSE(meet_improperly(x, Tri{0, 1, 2}, Tri{0, 5, 1}));  // a shared edge, on either side
+    CHECK_FALSE(meet_improperly(x, Tri{0, 1, 2}, Tri{4, 0, 5}));  // neighbouring wedges
+    CHECK(meet_improperly(x, Tri{0, 1, 2}, Tri{0, 6, 7}));        // overlapping wedges
+    CHECK(meet_improperly(x, Tri{0, 1, 2}, Tri{0, 5, 6}));        // along the ray 0 -- 1
+    CHECK(meet_improperly(x, Tri{0, 1, 2}, Tri{0, 0, 3}));        // a degenerate triangle
+    // Against the full exact test on small integer coordinates in tilted planes (many
+    // collinear and touching cases): the same answer for every pair with one shared corner.
+    std::mt19937 rng(7);
+    std::uniform_int_distribution<int> coordinate(-3, 3);
+    int apart = 0, met = 0;
+    for (int round = 0; round < 20000; ++round) {
+        // The plane z = 2 u + 3 w (exact in doubles), or x = 0 (axis-aligned).
+        const bool tilted = round % 2 == 0;
+        std::vector<Vec3> p;
+        for (int i = 0; i < 5; ++i) {
+            const double u = coordinate(rng), w = coordinate(rng);
+            p.push_back(tilted ? Vec3{u, w, 2 * u + 3 * w} : Vec3{0, u, w});
+        }
+        const Tri a{0, 1, 2}, b{0, 3, 4};
+        const Vec3 pa[3] = {p[0], p[1], p[2]}, pb[3] = {p[0], p[3], p[4]};
+        const int shared[3] = {0, -1, -1};
+        const bool full = triangles_intersect_improperly(pa, pb, shared);
+        CHECK(meet_improperly(p, a, b) == full);
+        (full ? met : apart) += 1;
+    }
+    CHECK(apart > 1000);
+    CHECK(met > 1000);
 }
 
 TEST_CASE("intersection test: two sets of triangles", "[internal][simplify]") {
