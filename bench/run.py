@@ -114,6 +114,7 @@ MANUAL_SECTIONS = [
     "loop4.md",
     "morton.md",
     "nodeimage.md",
+    "cad-fans.md",
 ]
 RUN_RECORD = "all.json"  # in the results folder: what `all` ran, for --assemble
 QUICK_REFINE_MESHES = "femur"
