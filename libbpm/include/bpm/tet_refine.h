@@ -26,7 +26,9 @@
 // smoothed (bpm/tetmesh_smooth.h: smart Laplacian, then local optimisation of the smallest
 // dihedral angle; never inverting, never making the worst element around a vertex worse),
 // and every boundary vertex still short of phi, of this level or an earlier one, is
-// retried: smoothing often makes room, so fewer vertices stay off S0. The boundary can
+// retried: smoothing often makes room, so fewer vertices stay off S0; last, those still
+// short of phi next to a tetrahedron below the angle bound move on as far as the worst
+// tetrahedron around them does not get worse (bpm/boundary_repair.h, step 4). The boundary can
 // also approach phi in several steps with smoothing in between (boundary_steps; on the
 // benchmark meshes one step did as well). This step 4 of each level is the repair a solver
 // applies to its own refined grid (bpm/boundary_repair.h, the same implementation; here a
