@@ -25,7 +25,7 @@
 //   3. every boundary vertex still short of phi(p) is retried from where it now is, then
 //      the interior is smoothed again, up to retry_passes times, stopping when no vertex
 //      gets closer (smoothing often makes room);
-//   4. widening (when min_dihedral_degrees > 0): every boundary vertex still short of
+//   4. widening (options.widen, when min_dihedral_degrees > 0): every boundary vertex still short of
 //      phi(p) with a tetrahedron below min_dihedral_degrees around it moves on towards
 //      phi(p) as far as the smallest dihedral angle of its tetrahedra does not get smaller
 //      (or stays at least min_dihedral_degrees): one of them may lose angle below the bound
@@ -104,6 +104,9 @@ struct BoundaryRepairOptions {
     // closer.
     int boundary_steps = 1;  // >= 1
     int retry_passes = 4;    // >= 0
+    // Step 4 (widening, see the top of this file), when min_dihedral_degrees > 0.
+    // refine_tetmesh turns it off (bpm/tet_refine.h).
+    bool widen = true;
     // Interior smoothing (bpm/tetmesh_smooth.h) after each placement of the boundary
     // vertices: only vertices without a parameter point move, the smallest dihedral angle
     // around a moved vertex only grows, and no tetrahedron inverts.

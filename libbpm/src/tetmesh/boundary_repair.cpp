@@ -189,7 +189,7 @@ double repair_boundary_vertices(std::vector<Vec3>& x, const std::vector<Tet>& te
     // and femur's adaptive step 6 needed a longer reset, bpm/dune/uggrid_repair.h). No move of this pass, nor smoothing
     // (which never makes the worst tetrahedron around a vertex worse), lowers the mesh's
     // smallest angle, so it ends at least where it would without the pass.
-    if (guard > -3 && !movers.empty()) {
+    if (options.widen && guard > -3 && !movers.empty()) {
         widening = true;
         std::fill(dirty.begin(), dirty.end(), 0);
         int64_t widened = 0;
