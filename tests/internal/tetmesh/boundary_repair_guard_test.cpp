@@ -46,9 +46,10 @@ Sandwich sandwich(double target_height) {
 
 double min_dihedral_degrees(const Sandwich& s) { return detail::tet_quality(s.x, s.tets, {}).min_dihedral_degrees; }
 
-void repair(Sandwich& s) {
+void repair(Sandwich& s, bool widen = true) {
     BoundaryRepairOptions options;  // min_dihedral_degrees = 5
     options.smooth = false;
+    options.widen = widen;
     const std::vector<Vec3> reference = s.x;
     const std::vector<char> movable(s.x.size(), 0);
     detail::repair_boundary_vertices(s.x, s.tets, {}, reference, {6}, movable, s.segments, options, Context{}, 0, 1,
@@ -82,4 +83,14 @@ TEST_CASE("boundary_repair guard: the worst tetrahedron around the vertex never 
     CHECK(s.x[6][2] <= 0.03 + 1e-9);
     CHECK(min_dihedral_degrees(s) >= before);
     for (const Tet& t : s.tets) CHECK(orient3d(s.x[t[0]], s.x[t[1]], s.x[t[2]], s.x[t[3]]) == 1);
+}
+
+TEST_CASE("boundary_repair guard: without widening (refine_tetmesh) a neighbour below the bound that narrows keeps "
+          "the vertex where it is",
+          "[boundary_repair][boundary_repair_guard]") {
+    Sandwich s = sandwich(0.015);
+    const std::vector<Vec3> start = s.x;
+    repair(s, false);
+    CHECK(s.segments.fraction[6] == 0.0);
+    CHECK(s.x == start);
 }
