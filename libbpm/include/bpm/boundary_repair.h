@@ -24,7 +24,13 @@
 //      never inverting a tetrahedron, never making the worst one around a vertex worse);
 //   3. every boundary vertex still short of phi(p) is retried from where it now is, then
 //      the interior is smoothed again, up to retry_passes times, stopping when no vertex
-//      gets closer (smoothing often makes room).
+//      gets closer (smoothing often makes room);
+//   4. widening (options.widen, when min_dihedral_degrees > 0): every boundary vertex still short of
+//      phi(p) with a tetrahedron below min_dihedral_degrees around it moves on towards
+//      phi(p) as far as the smallest dihedral angle of its tetrahedra does not get smaller
+//      (or stays at least min_dihedral_degrees): one of them may lose angle below the bound
+//      where the move widens a thinner one, which step 1 refuses. The interior around the
+//      vertices that moved is smoothed again. Neither lowers the mesh's smallest angle.
 //
 // A vertex whose parameter point is a corner of its coarse triangle (a barycentric
 // coordinate exactly 1) is a coarse vertex (level-0 vertex i of a grid built from the .bpm
@@ -88,7 +94,8 @@ struct BoundaryRepairOptions {
     // Admissible also asks every tetrahedron around the vertex to keep a smallest dihedral
     // angle of at least this many degrees, or not to lose any (0 = no such condition).
     // Trades distance to S0 for element quality where smoothing cannot help (tetrahedra
-    // whose four vertices are all on S, which a curved S0 flattens). In [0, 90).
+    // whose four vertices are all on S, which a curved S0 flattens). Step 4 (widening, see
+    // the top of this file) asks it of the worst tetrahedron around the vertex only. In [0, 90).
     double min_dihedral_degrees = 5;  // (refine_tetmesh uses 8: bpm/tet_refine.h)
     // The boundary vertices approach phi in boundary_steps steps: in step s each goes to
     // the largest admissible 1-lambda <= s / boundary_steps, and the interior is smoothed
@@ -97,6 +104,9 @@ struct BoundaryRepairOptions {
     // closer.
     int boundary_steps = 1;  // >= 1
     int retry_passes = 4;    // >= 0
+    // Step 4 (widening, see the top of this file), when min_dihedral_degrees > 0.
+    // refine_tetmesh turns it off (bpm/tet_refine.h).
+    bool widen = true;
     // Interior smoothing (bpm/tetmesh_smooth.h) after each placement of the boundary
     // vertices: only vertices without a parameter point move, the smallest dihedral angle
     // around a moved vertex only grows, and no tetrahedron inverts.

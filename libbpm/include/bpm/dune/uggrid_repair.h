@@ -38,10 +38,15 @@
 // nodes of some green rules), coarser levels first, and level-0 corners that smoothing
 // moved go back to where the grid was built (UGGridFromBpm::level0_positions); when every
 // such corner of an inverted tetrahedron is back, the father corners they were made from
-// follow, and so on (at most 16 rounds). Flat refinement of a positive grid is positive,
-// so resetting far enough gives a positive grid. The reset vertices then take part in the repair like the new ones; `reset`
-// (if given) counts them. (Resetting only boundary vertices left 1-7 inverted tets at
-// adaptive steps 3-4 on the femur with interior smoothing; bench/RESULTS.md.)
+// follow, and so on, round after round until no tetrahedron is inverted or no corner of
+// one is left to reset (each round resets at least one vertex not reset before, so there
+// are at most #V rounds). Flat refinement of a positive grid is positive, so resetting
+// far enough gives a positive grid. The reset vertices then take part in the repair like
+// the new ones; `reset` (if given) counts them. (Resetting only boundary vertices left 1-7
+// inverted tets at adaptive steps 3-4 on the femur with interior smoothing;
+// bench/RESULTS.md. A cap of 16 rounds left 252 tets inverted at femur's adaptive step 6
+// once the repair's angle guard compared the worst tetrahedron around a vertex, 34 of them
+// still inverted after the repair: the reset had to reach further there.)
 
 #include <algorithm>
 #include <array>
@@ -168,7 +173,7 @@ inline BoundaryRepairResult repair_uggrid(UGGrid3& grid, const BoundaryParameter
         all_reset.push_back(leaf_index(v.vertex));
     }
     int64_t reset_count = 0;
-    for (int round = 0; round < 16; ++round) {
+    for (;;) {  // rounds: see the top of this file
         std::vector<size_t> to_reset;
         std::vector<char> queued(n, 0);
         auto queue = [&](size_t i) {
