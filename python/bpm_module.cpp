@@ -655,7 +655,7 @@ PYBIND11_MODULE(_bpm, m) {
         .def("repair",
              [](File& f, const py::object& vertices, const py::object& tetrahedra, const py::object& parameter_triangles,
                 const py::object& parameter_barycentrics, int bisection_steps, double min_volume_fraction,
-                double min_dihedral_degrees, int boundary_steps, int retry_passes, bool smooth) {
+                double min_dihedral_degrees, int boundary_steps, int retry_passes, bool smooth, bool widen) {
                  bpm::BoundaryRepairOptions o;
                  o.bisection_steps = bisection_steps;
                  o.min_volume_fraction = min_volume_fraction;
@@ -663,6 +663,7 @@ PYBIND11_MODULE(_bpm, m) {
                  o.boundary_steps = boundary_steps;
                  o.retry_passes = retry_passes;
                  o.smooth = smooth;
+                 o.widen = widen;
                  return f.repair(vertices, tetrahedra, parameter_triangles, parameter_barycentrics, o);
              },
              py::arg("vertices"), py::arg("tetrahedra"), py::arg("parameter_triangles"),
@@ -673,11 +674,13 @@ PYBIND11_MODULE(_bpm, m) {
              py::arg("boundary_steps") = bpm::BoundaryRepairOptions{}.boundary_steps,
              py::arg("retry_passes") = bpm::BoundaryRepairOptions{}.retry_passes,
              py::arg("smooth") = bpm::BoundaryRepairOptions{}.smooth,
+             py::arg("widen") = bpm::BoundaryRepairOptions{}.widen,
              "Repair after a solver refines (bpm/boundary_repair.h): moves the boundary vertices of a\n"
              "tet mesh (vertices (n, 3), positively oriented tetrahedra (m, 4)) towards phi of their\n"
              "parameter points (parameter_triangles (n,), -1 for interior vertices;\n"
              "parameter_barycentrics (n, 3)), holding a vertex back where phi would invert or flatten\n"
-             "a tetrahedron, and smooths the interior. Returns (new vertices (n, 3), dict of counts:\n"
+             "a tetrahedron, and smooths the interior (widen: a last pass lets a held-back vertex widen\n"
+             "the thinnest tetrahedron around it). Returns (new vertices (n, 3), dict of counts:\n"
              "boundary_vertices, at_phi, held_back, max_distance, inverted_before/after, ...).")
         .def("refine", &File::refine, py::arg("levels") = -1, py::arg("tolerance") = 0.0, py::arg("max_level") = 10,
              "The coarse surface refined through phi (bpm/refine.h): levels=K splits each coarse\n"

@@ -236,6 +236,10 @@ def test_repair_moves_a_flat_refined_boundary_onto_the_original_surface():
     assert np.isclose(after.max(), r["max_distance"])
     d = np.linalg.det(np.stack([x[f.tet_tetrahedra[:, k]] - x[f.tet_tetrahedra[:, 0]] for k in (1, 2, 3)], axis=1))
     assert (d > 0).all()
+    # Without the widening pass (bpm/boundary_repair.h step 4) nothing inverts either, and
+    # the smallest angle is no larger than with it.
+    x2, r2 = f.repair(flat, f.tet_tetrahedra, pt, pb, widen=False)
+    assert r2["inverted_after"] == 0 and r2["min_dihedral_degrees"] <= r["min_dihedral_degrees"] + 1e-12
 
     with pytest.raises(ValueError, match=r"tetrahedra\[0, 2\] = %d is not a vertex" % len(x)):
         bad = f.tet_tetrahedra.copy()
