@@ -13,6 +13,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <atomic>
 #include <cstdint>
 #include <cmath>
 #include <cstdio>
@@ -147,40 +148,83 @@ int thread_count(int threads) {
 
 // ---- long calls ------------------------------------------------------------------------
 
-// The Context of a long call (bpm.simplify, File.mesh): its progress reports (several a
-// second, on the calling thread) take the GIL, look for a pending signal, so that Ctrl-C
+// A long call (bpm.simplify, File.mesh, File.refine_mesh) run without the GIL, that Python
+// can stop. libbpm's progress reports (often: every chunk of the first ranking, every 256
+// removals; on the calling thread) take the GIL, look for a pending signal, so that Ctrl-C
 // raises KeyboardInterrupt from inside a run of minutes instead of after it, and call the
 // caller's `progress`: an exception raised there stops the run and is raised, False stops
-// it with bpm.Error("cancelled"). `progress` must outlive the context.
-bpm::Context cancellable_context(const py::object& progress) {
-    bpm::Context context;
-    context.progress = [&progress](double fraction, const std::string& stage) {
-        py::gil_scoped_acquire gil;
-        if (PyErr_CheckSignals() != 0) return false;
-        if (progress.is_none()) return true;
+// it with bpm.Error("cancelled"). libbpm's warnings become Python warnings (UserWarning),
+// as the tools print them. Once a stop is asked for, every later report answers "stop" at
+// once, without Python: a round of the planning pool may report again before it ends, and
+// Python code must not run with an exception pending. The exception is kept here, not in
+// the thread's error indicator, and raised by run() when libbpm has stopped.
+class LongCall {
+public:
+    explicit LongCall(py::object progress) : progress_(std::move(progress)) {
+        context_.progress = [this](double fraction, const std::string& stage) { return go_on(fraction, stage); };
+        context_.log = [this](bpm::LogLevel level, const std::string& text) {
+            if (level == bpm::LogLevel::Warning) warn(text);
+        };
+    }
+    LongCall(const LongCall&) = delete;
+    LongCall& operator=(const LongCall&) = delete;
+
+    const bpm::Context& context() const { return context_; }
+
+    // Runs `call` without the GIL; raises the Python exception that stopped it, if any.
+    template <class Call>
+    void run(Call&& call) {
         try {
-            const py::object go_on = progress(fraction, stage);
-            return go_on.is_none() || go_on.cast<bool>();
-        } catch (py::error_already_set& e) {
-            e.restore();
+            py::gil_scoped_release release;
+            call();
+        } catch (const bpm::Cancelled&) {
+            if (error_) throw *error_;
+            throw;
+        }
+        if (error_) throw *error_;  // a warning turned into an error after the last report
+    }
+
+    // A warning about the result, raised as a Python warning (the GIL held).
+    void warn_now(const std::string& text) {
+        if (PyErr_WarnEx(PyExc_UserWarning, text.c_str(), 1) != 0) throw py::error_already_set();
+    }
+
+private:
+    bool go_on(double fraction, const std::string& stage) {
+        if (stopped_.load()) return false;
+        py::gil_scoped_acquire gil;
+        if (PyErr_CheckSignals() != 0) return stop();
+        if (progress_.is_none()) return true;
+        try {
+            const py::object answer = progress_(fraction, stage);
+            if (answer.is_none()) return true;
+            const int truth = PyObject_IsTrue(answer.ptr());
+            if (truth < 0) return stop();  // its __bool__ raised
+            if (truth == 0) stopped_.store(true);
+            return truth != 0;
+        } catch (py::error_already_set& e) {  // raised by the callback
+            error_.emplace(std::move(e));
+            stopped_.store(true);
             return false;
         }
-    };
-    return context;
-}
-
-// Runs `call` without the GIL; a stop that cancellable_context asked for raises the
-// Python exception behind it (or bpm.Error "cancelled" for a False).
-template <class Call>
-void run_cancellable(Call&& call) {
-    try {
-        py::gil_scoped_release release;
-        call();
-    } catch (const bpm::Cancelled&) {
-        if (PyErr_Occurred()) throw py::error_already_set();
-        throw;
     }
-}
+    // With the GIL and a Python error pending: keep it for run(), stop.
+    bool stop() {
+        error_.emplace(py::error_already_set());
+        stopped_.store(true);
+        return false;
+    }
+    void warn(const std::string& text) {
+        if (stopped_.load()) return;
+        py::gil_scoped_acquire gil;
+        if (PyErr_WarnEx(PyExc_UserWarning, text.c_str(), 1) != 0) stop();  // warnings as errors
+    }
+
+    py::object progress_;
+    bpm::Context context_;
+    std::atomic<bool> stopped_{false};
+    std::optional<py::error_already_set> error_;
+};
 
 // ---- the file object -----------------------------------------------------------------
 
@@ -347,6 +391,7 @@ public:
         d["at_phi"] = r.at_phi;
         d["held_back"] = r.held_back;
         d["not_moved"] = r.not_moved;
+        d["widened"] = r.widened;
         d["max_distance"] = r.max_distance;
         d["max_distance_relative"] = r.max_distance_relative;
         d["min_phi_fraction"] = r.min_phi_fraction;
@@ -376,17 +421,27 @@ public:
     File mesh(const bpm::TetMeshOptions& options, const py::object& progress) const {
         bpm::BpmFile meshed = *file_;
         bpm::TetMesh tets;
-        const bpm::Context context = cancellable_context(progress);
-        bpm::TetMeshResult result;
-        run_cancellable([&] {
-            result = bpm::generate_tetmesh(meshed.param, options, context, tets);
-            bpm::assign_materials(tets, meshed.patch_info);
+        LongCall call(progress);
+        bpm::MaterialResult materials;
+        call.run([&] {
+            bpm::generate_tetmesh(meshed.param, options, call.context(), tets);
+            materials = bpm::assign_materials(tets, meshed.patch_info);
         });
+        // What bpm-mesh warns about the materials.
+        if (materials.orientation_ignored)
+            call.warn_now("the patches' front/back materials contradict each other (reversed normals?): read "
+                          "them as unordered pairs");
+        for (const std::string& problem : materials.problems) call.warn_now(problem);
         meshed.tetmesh = std::move(tets);
-        char arguments[200];
-        std::snprintf(arguments, sizeof arguments,
-                      "File.mesh(quality=%.17g, min_dihedral=%.17g, max_volume=%.17g, smooth=%s, flip=%s)",
-                      options.quality, options.min_dihedral_degrees.value_or(0.0), options.max_volume.value_or(0.0),
+        const auto given = [](const std::optional<double>& x) {
+            if (!x) return std::string("None");
+            char text[32];
+            std::snprintf(text, sizeof text, "%.17g", *x);
+            return std::string(text);
+        };
+        char arguments[240];
+        std::snprintf(arguments, sizeof arguments, "File.mesh(quality=%.17g, min_dihedral=%s, max_volume=%s, smooth=%s, flip=%s)",
+                      options.quality, given(options.min_dihedral_degrees).c_str(), given(options.max_volume).c_str(),
                       options.smooth ? "True" : "False", options.flip ? "True" : "False");
         meshed.provenance.push_back({"bpm (Python)", std::string("bpm ") + BPM_VERSION_STRING, arguments, ""});
         return File(std::move(meshed), "<memory>");
@@ -398,8 +453,8 @@ public:
         if (!file_->tetmesh) throw py::value_error("refine_mesh: the file has no tet mesh (File.mesh makes one)");
         bpm::BpmFile refined = *file_;
         bpm::TetMesh fine;
-        const bpm::Context context = cancellable_context(progress);
-        run_cancellable([&] { bpm::refine_tetmesh(refined.param, *file_->tetmesh, options, context, fine); });
+        LongCall call(progress);
+        call.run([&] { bpm::refine_tetmesh(refined.param, *file_->tetmesh, options, call.context(), fine); });
         refined.tetmesh = std::move(fine);
         char arguments[120];
         std::snprintf(arguments, sizeof arguments, "File.refine_mesh(levels=%d, flat=%s, smooth=%s, flip=%s)",
@@ -418,11 +473,10 @@ public:
 
     // Writes the file (bpm/bpm_file.h: atomically, the same bytes as the tools would);
     // File.path is then `path`.
+    // The GIL stays held: HDF5 is not to run in two Python threads at once, nor beside the
+    // fork of an isolated read (set_hdf5_isolation), whose child would inherit HDF5's lock.
     void write(const std::string& path) {
-        {
-            py::gil_scoped_release release;
-            bpm::write_bpm(path, *file_);
-        }
+        bpm::write_bpm(path, *file_);
         path_ = path;
     }
 
@@ -495,7 +549,7 @@ File simplify_arrays(const py::object& vertices, const py::object& triangles, co
         surface.patches.assign(surface.triangles.size(), 0);
     } else {
         surface.patches = query_indices(patches, "patches", std::numeric_limits<int32_t>::min(),
-                                        std::numeric_limits<int32_t>::max(), "a patch id");
+                                        int64_t(std::numeric_limits<int32_t>::max()) + 1, "a patch id (an int32)");
         if (surface.patches.size() != surface.triangles.size())
             throw py::value_error("patches must have one entry per triangle (" +
                                   std::to_string(surface.triangles.size()) + "), got " +
@@ -522,15 +576,18 @@ File simplify_arrays(const py::object& vertices, const py::object& triangles, co
     options.max_aspect_ratio = max_aspect;
     options.feature_angle_degrees = feature_angle;
     options.keep_corners = keep_corners;
-    options.threads = thread_count(threads);
+    if (threads < 0)
+        throw py::value_error("threads must be >= 0 (0 = as bpm-simplify chooses: 1 for small inputs or a busy "
+                              "machine, else 2), got " + std::to_string(threads));
+    options.threads = threads;
     bpm::BpmFile file;
     file.units = units;
     file.provenance.push_back({"bpm (Python)", std::string("bpm ") + BPM_VERSION_STRING,
                                simplify_arguments(int64_t(surface.vertices.size()), int64_t(surface.triangles.size()), options),
                                ""});
-    const bpm::Context context = cancellable_context(progress);
+    LongCall call(progress);
     bpm::SimplifyResult result;
-    run_cancellable([&] { result = bpm::simplify(std::move(surface), options, context, file.param); });
+    call.run([&] { result = bpm::simplify(std::move(surface), options, call.context(), file.param); });
     py::dict report;
     report["input_vertices"] = result.input_vertices;
     report["output_vertices"] = result.output_vertices;
@@ -691,12 +748,12 @@ PYBIND11_MODULE(_bpm, m) {
         .def_property_readonly("material_names", &File::material_names,
                                "names of the tet mesh's materials (tet_region_material's ids - 1); [] without")
         .def("mesh",
-             [](const File& f, double quality, const py::object& min_dihedral, const py::object& max_volume,
+             [](const File& f, double quality, std::optional<double> min_dihedral, std::optional<double> max_volume,
                 bool smooth, bool flip, const py::object& progress) {
                  bpm::TetMeshOptions o;
                  o.quality = quality;
-                 if (!min_dihedral.is_none()) o.min_dihedral_degrees = min_dihedral.cast<double>();
-                 if (!max_volume.is_none()) o.max_volume = max_volume.cast<double>();
+                 o.min_dihedral_degrees = min_dihedral;
+                 o.max_volume = max_volume;
                  o.smooth = smooth;
                  o.flip = flip;
                  return f.mesh(o, progress);
@@ -765,8 +822,9 @@ PYBIND11_MODULE(_bpm, m) {
           "Raises ValueError for bad arrays and for a surface bpm-simplify would refuse (NaN,\n"
           "degenerate or duplicate triangles, unused or duplicate vertices: repair them first),\n"
           "bpm.AlgorithmError for a surface that intersects itself. progress(fraction, stage) is\n"
-          "called several times a second (a progress bar); returning False stops the run with\n"
-          "bpm.Error('cancelled'), an exception it raises stops it and is raised; so does Ctrl-C.");
+          "called often (every 256 vertices ranked or removed; fractions rise to 1): returning False\n"
+          "stops the run with bpm.Error('cancelled'), an exception it raises stops it and is raised;\n"
+          "so does Ctrl-C. The tool's warnings are UserWarnings.");
     m.def("set_hdf5_isolation", &bpm::set_hdf5_isolation, py::arg("enabled"),
           "Parse .bpm files in a forked child first, so that a corrupt file that crashes HDF5\n"
           "raises bpm.InputError instead of killing Python (off by default; bpm/bpm_file.h).");

@@ -120,6 +120,7 @@ struct BoundaryRepairResult {
     int64_t at_phi = 0;              // of those, exactly at phi(parameter point) on exit
     int64_t held_back = 0;           // boundary_vertices - at_phi: short of phi on exit (the §3.3 remedy)
     int64_t not_moved = 0;           // of those, not moved at all (no step towards phi admissible)
+    int64_t widened = 0;             // boundary vertices the widening pass moved on (step 4, options.widen)
     double max_distance = 0;         // largest |x - phi(p)| of a held-back vertex, model units
     double max_distance_relative = 0;  // the same over the bounding-box diagonal of the vertices on exit
     double min_phi_fraction = 1;     // smallest 1-lambda of a vertex on this call's segment (1: all at phi)

@@ -14,8 +14,8 @@
 // no `usemtl` and every face is under a group named `patch_<integer>`, that integer is
 // the patch id.
 //
-// Materials. A group named by the convention of Gmsh's physical names, `A|B` or
-// `pair_A_B` (materials_from_patch_name), separates materials A and B, in no known order:
+// Materials. A group named by the convention of Gmsh's physical names, `A|B`, `pair_A_B`
+// or `interface_A_B` (materials_from_patch_name), separates materials A and B, in no known order:
 // then every patch gets a PatchInfo with its group's name, and the materials where the
 // name gives them. Only then: a file whose groups are just names ("Cube", "Mesh1") says
 // nothing about materials and still encloses the file's own (apply_file_material), as

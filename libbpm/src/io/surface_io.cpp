@@ -3,6 +3,7 @@
 #include "bpm/surface_io.h"
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <charconv>
 #include <cmath>
@@ -12,6 +13,7 @@
 #include <filesystem>
 #include <limits>
 #include <map>
+#include <set>
 #include <unordered_map>
 
 #include "bpm/errors.h"
@@ -92,17 +94,43 @@ std::string sniffed_format_hint(std::string_view bytes, SurfaceFormat chosen) {
     return std::string(" (the file looks like ") + detail::surface_format_name(*seen) + ", not " + detail::surface_format_name(chosen) + ")";
 }
 
+// The patches whose triangles, taken alone, are closed: every edge in exactly two of them.
+std::set<int32_t> closed_patches(const Surface& surface) {
+    std::vector<std::array<int32_t, 3>> edges;  // (patch, smaller vertex, larger vertex), one per side
+    edges.reserve(3 * surface.triangles.size());
+    for (size_t t = 0; t < surface.triangles.size() && t < surface.patches.size(); ++t) {
+        const Tri& tri = surface.triangles[t];
+        for (int k = 0; k < 3; ++k)
+            edges.push_back({surface.patches[t], std::min(tri[k], tri[(k + 1) % 3]), std::max(tri[k], tri[(k + 1) % 3])});
+    }
+    std::sort(edges.begin(), edges.end());
+    std::set<int32_t> closed, open;
+    for (size_t i = 0; i < edges.size();) {
+        size_t j = i;
+        while (j < edges.size() && edges[j] == edges[i]) ++j;
+        (j - i == 2 ? closed : open).insert(edges[i][0]);
+        i = j;
+    }
+    for (const int32_t p : open) closed.erase(p);
+    return closed;
+}
+
 // One file whose patches share triangles holds one closed surface per material, told
 // apart by a label per triangle (a cell array `label` or `material`, as multi-label
 // marching cubes writes it: each label's surface includes its interfaces with the other
 // labels). If every patch got the file's own material (apply_file_material), its
 // interfaces would be sheets with that one material on both sides and all its regions one
 // material. So each patch P of such a file encloses its own material, "<material>_<P>".
-// Only when every patch that shares triangles has the file's material: a file that names
-// its materials keeps them. Returns a note for the log, empty if nothing changed.
+// Only when every patch that shares triangles has the file's material (a file that names
+// its materials keeps them) and was a closed surface on its own before the fuse (the
+// evidence of one closed surface per label: a duplicated triangle between two faces of a
+// CAD part is not). Returns a note for the log, empty if nothing changed.
 std::string split_file_material_by_patch(std::vector<PatchInfo>& infos, const std::vector<FusedPatch>& fused,
-                                         const std::string& material) {
+                                         const std::set<int32_t>& closed, const std::string& material) {
     if (material.empty() || fused.empty()) return {};
+    for (const FusedPatch& f : fused)
+        for (const int32_t j : f.joins)
+            if (!closed.count(j)) return {};
     const std::string by_file = material + "|" + kExteriorMaterial;
     const auto has_file_material = [&](const PatchInfo* info) {
         return info && info->oriented && info->name == by_file && info->front == kExteriorMaterial &&
@@ -125,11 +153,12 @@ std::string split_file_material_by_patch(std::vector<PatchInfo>& infos, const st
 // The merge-duplicate-triangles repair, with a note per new interface patch. `material`:
 // what the one file read encloses (finish_reading), empty for several files together.
 void fuse_triangles(Surface& surface, SurfaceReadReport& r, const std::string& prefix, const std::string& material) {
+    const std::set<int32_t> closed = material.empty() ? std::set<int32_t>() : closed_patches(surface);
     std::vector<FusedPatch> fused;
     const int64_t removed = fuse_duplicate_triangles(surface, &fused);
     r.fused_triangles += removed;
     if (removed == 0) return;
-    const std::string split = split_file_material_by_patch(r.patch_info, fused, material);
+    const std::string split = split_file_material_by_patch(r.patch_info, fused, closed, material);
     add_fused_patch_info(r.patch_info, fused);
     r.notes.push_back(prefix + "removed " + std::to_string(removed) + " duplicate triangles (" +
                       std::to_string(surface.triangles.size()) + " triangles left)");

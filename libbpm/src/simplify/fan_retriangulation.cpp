@@ -33,7 +33,8 @@ bool clearly_in_circle(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& 
 inline bool clearly_clockwise(const Vec2& a, const Vec2& b, const Vec2& c) {
     const double left = (a[0] - c[0]) * (b[1] - c[1]);
     const double right = (a[1] - c[1]) * (b[0] - c[0]);
-    return left - right < -3.3306690738754716e-16 * (std::abs(left) + std::abs(right));
+    // The 1e-250 as in orient2d: no claim where the products may have underflowed.
+    return left - right < -(3.3306690738754716e-16 * (std::abs(left) + std::abs(right)) + 1e-250);
 }
 
 // Whether p is in the closed triangle (a, b, d), counter-clockwise: orient2d of p against

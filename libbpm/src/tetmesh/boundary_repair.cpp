@@ -50,7 +50,7 @@ double repair_boundary_vertices(std::vector<Vec3>& x, const std::vector<Tet>& te
                                 const std::vector<Vec3>& reference, const std::vector<int32_t>& movers,
                                 const std::vector<char>& movable, RepairSegments& seg,
                                 const BoundaryRepairOptions& options, const Context& context, double progress_base,
-                                double progress_span, const std::string& stage) {
+                                double progress_span, const std::string& stage, int64_t* widened_out) {
     const size_t nv = x.size();
     auto place = [&](int32_t v) {
         const double w = seg.fraction[v];
@@ -204,6 +204,7 @@ double repair_boundary_vertices(std::vector<Vec3>& x, const std::vector<Tet>& te
             }
         }
         if (widened > 0 && options.smooth) smooth(1, 0);
+        if (widened_out) *widened_out = widened;
     }
     return smoothing_seconds;
 }
@@ -296,7 +297,7 @@ BoundaryRepairResult repair_boundary(const PhiEvaluator& phi, std::vector<Vec3>&
     const std::vector<bool> all_positive;  // the mesh's own orientation: positive
     result.smoothing_seconds =
         detail::repair_boundary_vertices(vertices, tetrahedra, all_positive, reference, movers, movable, seg, options,
-                                         context, 0.05, 0.9, "repair: boundary vertices towards phi");
+                                         context, 0.05, 0.9, "repair: boundary vertices towards phi", &result.widened);
 
     for (int32_t v : movers) {
         if (vertices[v] == seg.target[v]) continue;

@@ -25,7 +25,7 @@ struct RepairSegments {
 // options.smooth).
 void check_repair_options(const BoundaryRepairOptions& options);
 
-// Steps 1-3 of bpm/boundary_repair.h on raw arrays: moves the vertices `movers` (indices,
+// Steps 1-4 of bpm/boundary_repair.h on raw arrays: moves the vertices `movers` (indices,
 // each with fraction < 1, in the order they are visited) from where they are (x[v], on
 // their segment at fraction[v]) towards their target, and smooths the vertices with
 // movable[v] != 0 (never a mover). tets[t] is positively oriented, or negatively where
@@ -33,12 +33,13 @@ void check_repair_options(const BoundaryRepairOptions& options);
 // min_volume_fraction refers to. x and segments.fraction are updated; x[v] of a mover is
 // always (1-w)*base + w*target of its fraction w (exactly base at 0, target at 1).
 // Progress goes to context in [progress_base, progress_base + progress_span], labelled
-// `stage`. Returns the seconds spent smoothing.
+// `stage`. Returns the seconds spent smoothing; `widened`, if given, gets the number of
+// movers the widening pass (step 4) moved on.
 double repair_boundary_vertices(std::vector<Vec3>& x, const std::vector<Tet>& tets, const std::vector<bool>& negative,
                                 const std::vector<Vec3>& reference, const std::vector<int32_t>& movers,
                                 const std::vector<char>& movable, RepairSegments& segments,
                                 const BoundaryRepairOptions& options, const Context& context, double progress_base,
-                                double progress_span, const std::string& stage);
+                                double progress_span, const std::string& stage, int64_t* widened = nullptr);
 
 // The smallest dihedral angle (degrees, 0 for no tetrahedra) and the number of tetrahedra
 // with one below 1, 5 and 10 degrees; tets oriented as for repair_boundary_vertices.

@@ -46,14 +46,17 @@ Sandwich sandwich(double target_height) {
 
 double min_dihedral_degrees(const Sandwich& s) { return detail::tet_quality(s.x, s.tets, {}).min_dihedral_degrees; }
 
-void repair(Sandwich& s, bool widen = true) {
+// Returns how many vertices the widening pass moved on.
+int64_t repair(Sandwich& s, bool widen = true) {
     BoundaryRepairOptions options;  // min_dihedral_degrees = 5
     options.smooth = false;
     options.widen = widen;
     const std::vector<Vec3> reference = s.x;
     const std::vector<char> movable(s.x.size(), 0);
+    int64_t widened = -1;
     detail::repair_boundary_vertices(s.x, s.tets, {}, reference, {6}, movable, s.segments, options, Context{}, 0, 1,
-                                     "test");
+                                     "test", &widened);
+    return widened;
 }
 
 }  // namespace
@@ -64,7 +67,7 @@ TEST_CASE("boundary_repair guard: a move that widens the worst tetrahedron aroun
     Sandwich s = sandwich(0.015);  // A 0.81 -> 2.43 degrees, B 4.85 -> 3.24 degrees
     const double before = min_dihedral_degrees(s);
     REQUIRE(before == Approx(0.81).margin(0.01));
-    repair(s);
+    CHECK(repair(s) == 1);  // the one vertex, by the widening pass
     CHECK(s.segments.fraction[6] == 1.0);
     CHECK(s.x[6] == s.segments.target[6]);
     CHECK(min_dihedral_degrees(s) == Approx(2.43).margin(0.01));
@@ -90,7 +93,7 @@ TEST_CASE("boundary_repair guard: without widening (refine_tetmesh) a neighbour 
           "[boundary_repair][boundary_repair_guard]") {
     Sandwich s = sandwich(0.015);
     const std::vector<Vec3> start = s.x;
-    repair(s, false);
+    CHECK(repair(s, false) == -1);  // the pass did not run: nothing counted
     CHECK(s.segments.fraction[6] == 0.0);
     CHECK(s.x == start);
 }

@@ -240,6 +240,7 @@ def test_repair_moves_a_flat_refined_boundary_onto_the_original_surface():
     # the smallest angle is no larger than with it.
     x2, r2 = f.repair(flat, f.tet_tetrahedra, pt, pb, widen=False)
     assert r2["inverted_after"] == 0 and r2["min_dihedral_degrees"] <= r["min_dihedral_degrees"] + 1e-12
+    assert r2["widened"] == 0 and 0 <= r["widened"] <= r["boundary_vertices"]
 
     with pytest.raises(ValueError, match=r"tetrahedra\[0, 2\] = %d is not a vertex" % len(x)):
         bad = f.tet_tetrahedra.copy()
@@ -411,10 +412,11 @@ def test_simplify_reports_progress_and_stops_on_request():
     a False returned and Ctrl-C (a pending KeyboardInterrupt, set by _thread.interrupt_main)
     each stop the run at the next report, not after it."""
     import _thread
-    vertices, triangles = read_off(MESHES / "elephant.off")
+    femur_v, femur_t = read_off(MESHES / "femur.off")
     seen = []
-    bpm.simplify(vertices, triangles, target_vertices=500, progress=lambda f, stage: seen.append(f))
+    bpm.simplify(femur_v, femur_t, ratio=0.1, progress=lambda f, stage: seen.append(f))
     assert seen == sorted(seen) and seen[-1] == 1.0 and len(seen) > 5
+    vertices, triangles = read_off(MESHES / "elephant.off")
 
     class Stop(Exception):
         pass
@@ -441,6 +443,41 @@ def test_simplify_reports_progress_and_stops_on_request():
         assert len(stopped) <= (2 if expected is KeyboardInterrupt else 1), (action, calls)
         assert calls[-1] < 1.0
     assert len(bpm.simplify(vertices, triangles, target_vertices=500).coarse_vertices) == 500
+    # A stop asked for at the very first report, inside the first ranking's round of the
+    # planning pool on 2 threads (whose caller goes on taking tasks after one failed): the
+    # callback is not called again, and its own exception is raised.
+    for action, expected in ((raise_stop, Stop), (lambda: False, bpm.Error)):
+        stages = []
+
+        def progress(f, stage):
+            stages.append(stage)
+            if stage.startswith("evaluating vertices"):
+                return action()
+        with pytest.raises(expected):
+            bpm.simplify(vertices, triangles, target_vertices=500, threads=2, progress=progress)
+        assert sum(stage.startswith("evaluating vertices") for stage in stages) == 1, stages
+
+    def not_a_truth(f, stage):
+        return np.zeros(3)  # its truth value raises ValueError
+    with pytest.raises(ValueError, match="truth value"):
+        bpm.simplify(vertices, triangles, target_vertices=500, progress=not_a_truth)
+
+
+def test_warnings_are_python_warnings_and_patch_ids_any_int32():
+    """bpm-mesh's warning about a thin coarse triangle is a UserWarning from File.mesh; the
+    largest int32 is a patch id."""
+    femur_v, femur_t = read_off(MESHES / "femur.off")
+    thin = bpm.simplify(femur_v, femur_t, ratio=0.1, max_aspect=500)  # worst R/r 92.8
+    assert thin.simplify_report["worst_aspect_ratio"] > 30
+    with pytest.warns(UserWarning, match="has aspect ratio"):
+        thin.mesh()
+    vertices, triangles = read_off(MESHES / "elephant.off")
+    patches = np.full(len(triangles), 2**31 - 1, dtype=np.int64)
+    assert (bpm.simplify(vertices, triangles, patches, target_vertices=500).coarse_patches == 2**31 - 1).all()
+    with pytest.raises(ValueError, match="is not a patch id"):
+        bpm.simplify(vertices, triangles, patches + 1, target_vertices=500)
+    with pytest.raises(ValueError, match="0 = as bpm-simplify chooses"):
+        bpm.simplify(vertices, triangles, target_vertices=500, threads=-1)
 
 
 def test_mesh_is_the_tools_mesh(femur, tmp_path):

@@ -226,11 +226,19 @@ TEST_CASE("one file of a closed surface per label: each label encloses a materia
     CHECK(report.patch_info[1] == PatchInfo{2, "cells_2|exterior", "exterior", "cells_2", true});
     const PatchInfo& fused = report.patch_info[2];
     CHECK(((fused.front == "cells_2" && fused.back == "cells_1") || (fused.front == "cells_1" && fused.back == "cells_2")));
-    // Two files, one material each: the files' materials, as before.
+    // A file of one material: the files' material, as before.
     std::ofstream(scratch.path / "a.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
     (void)read_surface((scratch.path / "a.obj").string(), options, &report);
     REQUIRE(report.patch_info.size() == 1);
     CHECK(report.patch_info[0].back == "a");
+    // One closed surface in two patches (faces of a part) with one triangle in both: no
+    // patch is closed alone, so this is no surface per label, and the material stays the
+    // file's.
+    std::ofstream(scratch.path / "part.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n"
+                                                "g patch_1\nf 1 3 2\nf 1 2 4\ng patch_2\nf 1 4 3\nf 2 3 4\nf 1 2 3\n";
+    (void)read_surface((scratch.path / "part.obj").string(), options, &report);
+    REQUIRE(report.patch_info.size() >= 2);
+    for (const PatchInfo& info : report.patch_info) CHECK(info.back.rfind("part_", 0) == std::string::npos);
 }
 
 TEST_CASE("STL: ASCII with two solids gives two patches and shared vertices, normals are ignored", "[surface_io]") {
