@@ -33,6 +33,7 @@
 #include "bpm/phi_inverse.h"
 #include "bpm/refine.h"
 #include "bpm/simplify.h"
+#include "bpm/smooth.h"
 #include "bpm/surface.h"
 #include "bpm/tet_refine.h"
 #include "bpm/tetmesh.h"
@@ -447,6 +448,19 @@ public:
         return File(std::move(meshed), "<memory>");
     }
 
+    // bpm-smooth: phi smoothed (bpm/smooth.h), the same coarse surface; a new file in memory
+    // with the file's other groups kept, as bpm-smooth keeps them.
+    File smooth(const bpm::SmoothOptions& options, const py::object& progress) const {
+        bpm::BpmFile smoothed = *file_;
+        LongCall call(progress);
+        call.run([&] { bpm::smooth(smoothed.param, options, call.context()); });
+        char arguments[160];
+        std::snprintf(arguments, sizeof arguments, "File.smooth(iterations=%d, tolerance=%.17g, feature_angle=%.17g)",
+                      options.iterations, options.tolerance, options.feature_angle_degrees);
+        smoothed.provenance.push_back({"bpm (Python)", std::string("bpm ") + BPM_VERSION_STRING, arguments, ""});
+        return File(std::move(smoothed), "<memory>");
+    }
+
     // bpm-mesh --existing --refine K: the file's tet mesh refined K times (red refinement),
     // new boundary vertices through phi (bpm/tet_refine.h); a new file in memory.
     File refine_mesh(const bpm::TetRefineOptions& options, const py::object& progress) const {
@@ -767,6 +781,20 @@ PYBIND11_MODULE(_bpm, m) {
              "radius-edge bound (> 1), min_dihedral (degrees) and max_volume as bpm-mesh's options.\n"
              "progress and Ctrl-C as in bpm.simplify. Raises bpm.AlgorithmError for a surface TetGen\n"
              "cannot mesh (open, touching itself), bpm.Error if TetGen is missing or fails.")
+        .def("smooth",
+             [](const File& f, int iterations, double tolerance, double feature_angle, const py::object& progress) {
+                 bpm::SmoothOptions o;
+                 o.iterations = iterations;
+                 o.tolerance = tolerance;
+                 o.feature_angle_degrees = feature_angle;
+                 o.measure_quality = false;  // a report only (bpm-smooth -q leaves it out too)
+                 return f.smooth(o, progress);
+             },
+             py::kw_only(), py::arg("iterations") = bpm::SmoothOptions{}.iterations,
+             py::arg("tolerance") = bpm::SmoothOptions{}.tolerance,
+             py::arg("feature_angle") = bpm::SmoothOptions{}.feature_angle_degrees, py::arg("progress") = py::none(),
+             "bpm-smooth (bpm/smooth.h, paper 2.5): phi smoothed for better shaped refinements, the same\n"
+             "coarse surface; a new bpm.File in memory. progress and Ctrl-C as in bpm.simplify.")
         .def("refine_mesh",
              [](const File& f, int levels, bool flat, bool smooth, bool flip, const py::object& progress) {
                  if (levels < 0 || levels > 8) throw py::value_error("levels must be in 0..8 (as bpm-mesh --refine), got " + std::to_string(levels));

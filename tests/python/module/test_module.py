@@ -526,3 +526,22 @@ def test_refine_mesh_is_the_tools_refinement(femur, tmp_path):
         bpm.read(femur).refine_mesh(1)
     with pytest.raises(ValueError, match="levels must be in 0..8"):
         bpm.read(meshed).refine_mesh(9)
+
+
+def test_smooth_is_the_tools_smoothing(femur, tmp_path):
+    """File.smooth gives bpm-smooth's phi of the same file (the datasets of /phi equal), the
+    same coarse surface; bad options are OptionErrors."""
+    out = tmp_path / "femur_smooth.bpm"
+    subprocess.run([str(TOOLS / "bpm-smooth"), str(femur), "-o", str(out), "-q"], check=True)
+    mine = tmp_path / "mine.bpm"
+    smoothed = bpm.read(femur).smooth()
+    smoothed.write(mine)
+    with h5py.File(out, "r") as a, h5py.File(mine, "r") as b:
+        for name in a["phi"]:
+            assert np.array_equal(a["phi"][name][()], b["phi"][name][()], equal_nan=True), name
+    assert np.array_equal(smoothed.coarse_vertices, bpm.read(femur).coarse_vertices)
+    rng = np.random.default_rng(3)
+    t, b = random_points(rng, len(smoothed.coarse_triangles), 300)
+    assert not np.array_equal(smoothed.phi(t, b), bpm.read(femur).phi(t, b))  # phi moved
+    with pytest.raises(bpm.OptionError, match="iterations"):
+        bpm.read(femur).smooth(iterations=-1)
