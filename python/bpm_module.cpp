@@ -27,6 +27,7 @@
 #include <vector>
 
 #include "bpm/boundary_repair.h"
+#include "bpm/check.h"
 #include "bpm/bpm_file.h"
 #include "bpm/errors.h"
 #include "bpm/phi_evaluation.h"
@@ -448,6 +449,18 @@ public:
         return File(std::move(meshed), "<memory>");
     }
 
+    // bpm-check (bpm/check.h): its default checks (format, intersections, topology,
+    // bijectivity, distortion, and the tet mesh's when there is one), replay on request,
+    // distance and quality by their limits; the report as bpm-check --json writes it
+    // (spec/check-report.md), parsed.
+    py::object check(const bpm::CheckSelection& selection, const bpm::CheckOptions& options,
+                     const py::object& progress) const {
+        LongCall call(progress);
+        bpm::CheckReport report;
+        call.run([&] { report = bpm::run_checks(*file_, selection, options, call.context()); });
+        return py::module_::import("json").attr("loads")(bpm::check_report_to_json(report));
+    }
+
     // bpm-smooth: phi smoothed (bpm/smooth.h), the same coarse surface; a new file in memory
     // with the file's other groups kept, as bpm-smooth keeps them.
     File smooth(const bpm::SmoothOptions& options, const py::object& progress) const {
@@ -781,6 +794,28 @@ PYBIND11_MODULE(_bpm, m) {
              "radius-edge bound (> 1), min_dihedral (degrees) and max_volume as bpm-mesh's options.\n"
              "progress and Ctrl-C as in bpm.simplify. Raises bpm.AlgorithmError for a surface TetGen\n"
              "cannot mesh (open, touching itself), bpm.Error if TetGen is missing or fails.")
+        .def("check",
+             [](const File& f, bool replay, std::optional<double> max_distance, std::optional<double> max_aspect,
+                std::optional<double> min_angle, int threads, const py::object& progress) {
+                 bpm::CheckSelection selection;
+                 selection.distortion = true;  // bpm-check's default, 'all'
+                 selection.replay = replay;
+                 bpm::CheckOptions options;
+                 options.max_error = max_distance;
+                 options.max_aspect_ratio = max_aspect;
+                 options.min_angle_degrees = min_angle;
+                 options.threads = thread_count(threads);
+                 return f.check(selection, options, progress);
+             },
+             py::kw_only(), py::arg("replay") = false, py::arg("max_distance") = py::none(),
+             py::arg("max_aspect") = py::none(), py::arg("min_angle") = py::none(), py::arg("threads") = 0,
+             py::arg("progress") = py::none(),
+             "bpm-check (bpm/check.h): format, intersections, topology, bijectivity, distortion and, with a\n"
+             "tet mesh, tetmesh; replay=True replays the recorded removals; max_distance (fraction of the\n"
+             "diagonal), max_aspect and min_angle (degrees) add the distance and quality gates. Returns the\n"
+             "report bpm-check --json writes (spec/check-report.md) as a dict: 'passed', and 'checks', one\n"
+             "dict per check with 'name', 'passed', 'summary', 'problems'. progress and Ctrl-C as in\n"
+             "bpm.simplify.")
         .def("smooth",
              [](const File& f, int iterations, double tolerance, double feature_angle, const py::object& progress) {
                  bpm::SmoothOptions o;

@@ -11,6 +11,7 @@ Environment (set by ctest; defaults for a run from the source tree after a build
   BPM_TOOLS   the built tools (build/bin)       BPM_MESHES  the real meshes (.data/meshes)
   BPM_WORK    a scratch directory               PYTHONPATH  must find the package (build/python)
 """
+import json
 import os
 import subprocess
 import sys
@@ -545,3 +546,21 @@ def test_smooth_is_the_tools_smoothing(femur, tmp_path):
     assert not np.array_equal(smoothed.phi(t, b), bpm.read(femur).phi(t, b))  # phi moved
     with pytest.raises(bpm.OptionError, match="iterations"):
         bpm.read(femur).smooth(iterations=-1)
+
+
+def test_check_is_the_tools_report(femur, tmp_path):
+    """File.check reports what bpm-check --json reports for the same file (the same checks,
+    verdicts and counts); a file made in memory is checked before it is written; a
+    distance gate too tight fails the distance check."""
+    tool = json.loads(subprocess.run([str(TOOLS / "bpm-check"), "--json", str(femur)], check=True,
+                                     capture_output=True, text=True).stdout)
+    mine = bpm.read(femur).check()
+    assert mine["passed"] and tool["passed"]
+    assert [(c["name"], c["passed"], c.get("counts")) for c in mine["checks"]] == \
+        [(c["name"], c["passed"], c.get("counts")) for c in tool["checks"]]
+    vertices, triangles = read_off(MESHES / "elephant.off")
+    made = bpm.simplify(vertices, triangles, target_vertices=500)
+    assert made.check()["passed"]
+    tight = made.check(max_distance=1e-6)
+    assert not tight["passed"]
+    assert [c["name"] for c in tight["checks"] if not c["passed"]] == ["distance"]
