@@ -13,6 +13,7 @@ exact orient2d of collinear rim corners was 27 % of the run). Outputs unchanged.
 
 Usage: make_fan_box.py OUT.off M
 """
+import os
 import sys
 
 
@@ -49,12 +50,9 @@ def fan_box(m, height=0.5):
 
 def main():
     verts, tris = fan_box(int(sys.argv[2]))
-    with open(sys.argv[1], "w") as f:
-        f.write("OFF\n%d %d 0\n" % (len(verts), len(tris)))
-        for p in verts:
-            f.write("%.17g %.17g %.17g\n" % p)
-        for t in tris:
-            f.write("3 %d %d %d\n" % t)
+    sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests", "cli", "lib"))
+    from fan_cylinder import write_off
+    write_off(sys.argv[1], verts, tris)
 
 
 if __name__ == "__main__":

@@ -36,16 +36,20 @@ def fan_cylinder(n, rings):
     return verts, tris
 
 
-def main():
-    out, n = sys.argv[1], int(sys.argv[2])
-    rings = int(sys.argv[3]) if len(sys.argv) > 3 else 5
-    verts, tris = fan_cylinder(n, rings)
-    with open(out, "w") as f:
+def write_off(path, verts, tris):
+    """verts: (x, y, z) tuples, tris: (a, b, c) 0-based; also bench/make_fan_box.py's writer."""
+    with open(path, "w") as f:
         f.write("OFF\n%d %d 0\n" % (len(verts), len(tris)))
         for p in verts:
             f.write("%.17g %.17g %.17g\n" % p)
         for t in tris:
             f.write("3 %d %d %d\n" % t)
+
+
+def main():
+    out, n = sys.argv[1], int(sys.argv[2])
+    rings = int(sys.argv[3]) if len(sys.argv) > 3 else 5
+    write_off(out, *fan_cylinder(n, rings))
 
 
 if __name__ == "__main__":
