@@ -156,10 +156,11 @@ int thread_count(int threads) {
 // raises KeyboardInterrupt from inside a run of minutes instead of after it, and call the
 // caller's `progress`: an exception raised there stops the run and is raised, False stops
 // it with bpm.Error("cancelled"). libbpm's warnings become Python warnings (UserWarning),
-// as the tools print them. Once a stop is asked for, every later report answers "stop" at
-// once, without Python: a round of the planning pool may report again before it ends, and
-// Python code must not run with an exception pending. The exception is kept here, not in
-// the thread's error indicator, and raised by run() when libbpm has stopped.
+// as the tools print them. Once a stop is asked for, every later report or warning answers
+// at once, without Python (the planning pool skips a failed round's remaining tasks, but
+// nothing else promises that libbpm reports no more before Cancelled reaches us). The
+// exception is kept here, not in the thread's error indicator, and raised by run() when
+// libbpm has stopped.
 class LongCall {
 public:
     explicit LongCall(py::object progress) : progress_(std::move(progress)) {

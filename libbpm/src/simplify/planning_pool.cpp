@@ -72,11 +72,30 @@ void PlanningPool::take_tasks(int thread) {
         try {
             work_(thread, i);
         } catch (...) {
-            std::lock_guard<std::mutex> lock(failure_mutex_);
-            if (!failure_) failure_ = std::current_exception();
+            {
+                std::lock_guard<std::mutex> lock(failure_mutex_);
+                if (!failure_) failure_ = std::current_exception();
+            }
+            skip_rest();
         }
         done_.fetch_add(1);
         v = slot_.load();
+    }
+}
+
+// After a failed task: the round's tasks not taken yet are taken at once and counted as
+// done, unrun (the contract lets them be skipped). A cancelled first ranking (bpm::Cancelled
+// from the progress report of thread 0) then ends without ranking the rest, and no later
+// task of the round reports progress again.
+void PlanningPool::skip_rest() {
+    uint64_t v = slot_.load();
+    while (true) {
+        const size_t i = v & kIndexMask, tasks = (v >> 20) & kIndexMask;
+        if (i >= tasks) return;
+        if (slot_.compare_exchange_weak(v, v - i + tasks)) {  // next = tasks, same round
+            done_.fetch_add(tasks - i);
+            return;
+        }
     }
 }
 

@@ -12,8 +12,8 @@
 //   outputs (or per-thread buffers indexed by `thread`), and then the results do not
 //   depend on the number of threads.
 // - If a task throws, run_round rethrows that exception (the first caught) on the caller
-//   once no task of the round is running any more; tasks not started by then may be
-//   skipped. The pool stays usable.
+//   once no task of the round is running any more; the tasks no thread has taken when
+//   one fails are skipped. The pool stays usable.
 // - One round at a time, from one caller thread; rounds of at most 2^20 - 1 tasks
 //   (std::length_error otherwise).
 //
@@ -77,6 +77,7 @@ private:
     };
     void run(size_t tasks, WorkRef work);
     void take_tasks(int thread);
+    void skip_rest();
     void serve(int thread);
 
     std::vector<std::thread> workers_;

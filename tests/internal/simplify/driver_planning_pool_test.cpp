@@ -87,6 +87,28 @@ TEST_CASE("planning pool: a task's exception reaches the caller and the pool kee
     }
 }
 
+TEST_CASE("planning pool: after a task fails, the tasks no thread has taken are skipped",
+          "[internal][simplify]") {
+    // Task 0 fails at once; the others take a while each. Without skipping, all 2000 ran
+    // (a cancelled first ranking went on ranking, and reporting progress, to its end).
+    for (int threads : {1, 2, 3}) {
+        CAPTURE(threads);
+        PlanningPool pool(threads);
+        std::atomic<int> ran{0};
+        auto work = [&](int, size_t i) {
+            if (i == 0) throw std::runtime_error("task 0 failed");
+            ++ran;
+            for (volatile int k = 0; k < 20000; k = k + 1) {
+            }
+        };
+        CHECK_THROWS_WITH(pool.run_round(2000, work), "task 0 failed");
+        CHECK(ran.load() < 100);
+        std::atomic<int> after{0};
+        pool.run_round(50, [&](int, size_t) { ++after; });  // still usable, every task runs
+        CHECK(after.load() == 50);
+    }
+}
+
 TEST_CASE("planning pool: a task may wait for an earlier task of its round", "[internal][simplify]") {
     // VertexRemover::finish_part: part 0 prepares, the later parts wait for it. Tasks are
     // handed out in order, so with any number of threads the waiting task cannot hold up
