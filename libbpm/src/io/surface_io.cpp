@@ -115,6 +115,12 @@ std::set<int32_t> closed_patches(const Surface& surface) {
     return closed;
 }
 
+// Whether `info` is what apply_file_material gave the patch: "<material>|exterior".
+bool is_file_material(const PatchInfo& info, const std::string& material) {
+    return info.oriented && info.front == kExteriorMaterial && info.back == material &&
+           info.name == material + "|" + kExteriorMaterial;
+}
+
 // One file whose patches share triangles holds one closed surface per material, told
 // apart by a label per triangle (a cell array `label` or `material`, as multi-label
 // marching cubes writes it: each label's surface includes its interfaces with the other
@@ -131,11 +137,7 @@ std::string split_file_material_by_patch(std::vector<PatchInfo>& infos, const st
     for (const FusedPatch& f : fused)
         for (const int32_t j : f.joins)
             if (!closed.count(j)) return {};
-    const std::string by_file = material + "|" + kExteriorMaterial;
-    const auto has_file_material = [&](const PatchInfo* info) {
-        return info && info->oriented && info->name == by_file && info->front == kExteriorMaterial &&
-               info->back == material;
-    };
+    const auto has_file_material = [&](const PatchInfo* info) { return info && is_file_material(*info, material); };
     for (const FusedPatch& f : fused)
         for (const int32_t j : f.joins)
             if (!has_file_material(find_patch_info(infos, j))) return {};
@@ -153,7 +155,12 @@ std::string split_file_material_by_patch(std::vector<PatchInfo>& infos, const st
 // The merge-duplicate-triangles repair, with a note per new interface patch. `material`:
 // what the one file read encloses (finish_reading), empty for several files together.
 void fuse_triangles(Surface& surface, SurfaceReadReport& r, const std::string& prefix, const std::string& material) {
-    const std::set<int32_t> closed = material.empty() ? std::set<int32_t>() : closed_patches(surface);
+    // Which patches are closed, before the fuse: needed only where the file's patches may
+    // be split into materials (several, all with the file's material).
+    const bool may_split = !material.empty() && r.patch_info.size() > 1 &&
+                           std::all_of(r.patch_info.begin(), r.patch_info.end(),
+                                       [&](const PatchInfo& info) { return is_file_material(info, material); });
+    const std::set<int32_t> closed = may_split ? closed_patches(surface) : std::set<int32_t>();
     std::vector<FusedPatch> fused;
     const int64_t removed = fuse_duplicate_triangles(surface, &fused);
     r.fused_triangles += removed;
