@@ -8,6 +8,7 @@
 
 #include "bpm/bpm_file.h"
 #include "bpm/check.h"
+#include "bpm/self_intersection_repair.h"
 #include "bpm/simplify.h"
 #include "bpm/surface_io.h"
 #include "common/tool_main.h"
@@ -19,6 +20,7 @@ namespace {
 std::string with_flags(std::string text) {
     static const std::pair<const char*, const char*> kFlags[] = {
         {"set reject_self_intersecting_input = false", "use --allow-self-intersecting-input"},
+        {"repair_self_intersections()", "rerun with --repair-self-intersections, which"},
         {"max_normal_deviation_degrees", "--max-normal-deviation"},
         {"feature_angle_degrees", "--feature-angle"},
         {"crease_chain_angle_degrees", "--crease-chain-angle"},
@@ -97,6 +99,36 @@ private:
         return {double(w.tv_sec) + 1e-9 * double(w.tv_nsec), double(c.tv_sec) + 1e-9 * double(c.tv_nsec)};
     }
 };
+
+// What --repair-self-intersections did, in a line or two.
+void report_repair(const bpm::SelfIntersectionRepair& r, const bpm::Context& context) {
+    const std::string pairs = std::to_string(r.intersecting_pairs) + " intersecting pair" +
+                              (r.intersecting_pairs == 1 ? "" : "s");
+    if (r.intersecting_pairs == 0) {
+        context.info("--repair-self-intersections: the input does not intersect itself; nothing to repair");
+        return;
+    }
+    if (!r.refused.empty()) {
+        context.warn("--repair-self-intersections: the input has " + pairs + " and was left as it is: " + r.refused);
+        return;
+    }
+    char change[64];
+    std::snprintf(change, sizeof change, "%.3g", r.largest_change);
+    context.info("--repair-self-intersections: " + pairs + ", " + std::to_string(r.remaining_pairs) + " left; " +
+                 std::to_string(r.removed_triangles) + " triangles replaced by " + std::to_string(r.added_triangles) +
+                 " (" + std::to_string(r.added_vertices) + " new vertices, " + std::to_string(r.moved_vertices) +
+                 " moved, " + std::to_string(r.removed_vertices) + " gone); the surface changed by at most " + change +
+                 " of the bounding-box diagonal, and phi maps onto the repaired surface");
+    // A repair that replaced much of the surface is worth a look before phi is built on it
+    // (a scan's loose shells that crossed the rest are replaced whole).
+    if (r.largest_change > 0.01 || r.removed_triangles > 1000)
+        context.warn("--repair-self-intersections replaced " + std::to_string(r.removed_triangles) +
+                     " triangles and moved the surface by up to " + change +
+                     " of the diagonal: look at the surface phi maps onto (bpm-refine OUT.bpm --levels 4 -o look.vtu draws it)");
+    if (r.remaining_pairs > 0)
+        context.warn("--repair-self-intersections: " + std::to_string(r.remaining_pairs) +
+                     " intersecting pairs are too large or tangled for a local repair");
+}
 
 }  // namespace
 
@@ -216,6 +248,11 @@ int main(int argc, char** argv) {
     app.add_flag("--triangulate-polygons", read_options.triangulate_polygons,
                  "Split faces with more than 3 corners (OFF OBJ PLY VTK) into triangles")
         ->group(repairs);
+    bool repair_intersections = false;
+    app.add_flag("--repair-self-intersections", repair_intersections,
+                 "Replace the triangles around each place where the input intersects itself by a new local patch "
+                 "(a scan's or segmentation's few crossings; phi then maps onto the repaired surface)")
+        ->group(repairs);
     app.add_option("-o,--output", output, "Output .bpm file, or - for standard output")->required()->group(output_group);
     app.add_option("--units", units, "Length unit of the coordinates, recorded in the file (e.g. mm)")->group(output_group);
     app.add_flag("--record-steps", options.record_steps,
@@ -283,6 +320,10 @@ int main(int argc, char** argv) {
         if (std::string seam = bpm::tools::open_seam_warning(report); !seam.empty()) context.warn(seam);
         context.info("read " + std::to_string(surface.num_vertices()) + " vertices, " +
                      std::to_string(surface.num_triangles()) + " triangles");
+        if (repair_intersections) {
+            clock.start("self-intersection repair");
+            report_repair(bpm::repair_self_intersections(surface, context), context);
+        }
         // A target the input already meets is a no-op: say so rather than "3897 -> 3897".
         // The first target reached stops the run, so one the input meets stops it at once.
         if (options.target_ratio >= 1.0)
@@ -313,7 +354,12 @@ int main(int argc, char** argv) {
         } catch (const bpm::OptionError& e) {
             throw bpm::OptionError(with_flags(e.what()));
         } catch (const bpm::AlgorithmError& e) {
-            throw bpm::AlgorithmError(with_flags(e.what()));
+            std::string message = e.what();
+            // After --repair-self-intersections, what is left is for a repair by hand.
+            const std::string suggestion = "repair_self_intersections() replaces the triangles around a few local ones";
+            if (const size_t at = message.find(suggestion); repair_intersections && at != std::string::npos)
+                message.replace(at, suggestion.size(), "--repair-self-intersections could not repair these");
+            throw bpm::AlgorithmError(with_flags(message));
         }
         file.simplification_steps = std::move(result.steps);
         file.units = units;

@@ -1134,7 +1134,8 @@ SimplifyResult simplify_checked(const Surface& original, const InputOrder& order
             throw AlgorithmError("the input surface intersects itself (" + std::to_string(r.problem_count) +
                                  " problems; first: " + (r.problems.empty() ? std::string("?") : r.problems[0].describe()) +
                                  "); bpm needs a surface without self-intersections to produce a coarse surface "
-                                 "without them. Repair the input, or set reject_self_intersecting_input = false");
+                                 "without them. Repair the input (repair_self_intersections() replaces the triangles around "
+                                 "a few local ones), or set reject_self_intersecting_input = false");
     }
     if (!simplifier) {
         timer.start("set-up");

@@ -1,0 +1,140 @@
+// repair_self_intersections (bpm/self_intersection_repair.h): a closed sphere with one
+// vertex pushed through to the far side (its fan pierces the other half, as where a
+// scan's thin part was reconstructed through the rest) is repaired locally; what cannot
+// be repaired (patches that would meet in the new triangles, a non-manifold edge) is
+// left untouched with the reason.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+
+#include "bpm/check.h"
+#include "bpm/self_intersection_repair.h"
+#include "bpm/surface.h"
+
+using namespace bpm;
+
+namespace {
+
+constexpr int kRings = 12, kSegments = 24;
+
+int32_t ring_vertex(int ring, int segment) { return 1 + (ring - 1) * kSegments + (segment % kSegments); }
+
+// A UV sphere (266 vertices, 528 triangles, patch 3), optionally with the vertex of ring 6,
+// segment 0 pushed through the centre to just outside the far side; vertex data "id" holds
+// every vertex's index.
+Surface sphere(bool spike) {
+    Surface s;
+    const double pi = std::acos(-1.0);
+    s.vertices.push_back({0, 0, 1});
+    for (int i = 1; i < kRings; ++i)
+        for (int j = 0; j < kSegments; ++j) {
+            const double th = pi * i / kRings, ph = 2 * pi * j / kSegments;
+            s.vertices.push_back({std::sin(th) * std::cos(ph), std::sin(th) * std::sin(ph), std::cos(th)});
+        }
+    s.vertices.push_back({0, 0, -1});
+    const int32_t last = s.num_vertices() - 1;
+    for (int j = 0; j < kSegments; ++j) s.triangles.push_back({0, ring_vertex(1, j), ring_vertex(1, j + 1)});
+    for (int i = 1; i < kRings - 1; ++i)
+        for (int j = 0; j < kSegments; ++j) {
+            const int32_t a = ring_vertex(i, j), b = ring_vertex(i + 1, j), c = ring_vertex(i + 1, j + 1),
+                          d = ring_vertex(i, j + 1);
+            s.triangles.push_back({a, b, c});
+            s.triangles.push_back({a, c, d});
+        }
+    for (int j = 0; j < kSegments; ++j) s.triangles.push_back({last, ring_vertex(kRings - 1, j + 1), ring_vertex(kRings - 1, j)});
+    if (spike) {
+        Vec3& v = s.vertices[size_t(ring_vertex(6, 0))];
+        v = -1.05 * v;
+    }
+    s.patches.assign(s.triangles.size(), 3);
+    VertexArray id{"id", 1, {}};
+    for (int32_t v = 0; v < s.num_vertices(); ++v) id.values.push_back(v);
+    s.vertex_data.push_back(id);
+    return s;
+}
+
+int64_t intersecting_pairs(const Surface& s) { return check_intersections(s).problem_count; }
+
+}  // namespace
+
+TEST_CASE("a vertex pushed through the far side is repaired locally", "[self_intersection_repair]") {
+    const Surface input = sphere(true);
+    REQUIRE(intersecting_pairs(input) > 0);
+    Surface s = input;
+    const SelfIntersectionRepair r = repair_self_intersections(s);
+    INFO(r.refused);
+    CHECK(r.refused.empty());
+    CHECK(r.intersecting_pairs == intersecting_pairs(input));
+    CHECK(r.remaining_pairs == 0);
+    CHECK(intersecting_pairs(s) == 0);
+    CHECK(r.removed_triangles > 0);
+    CHECK(r.removed_triangles < 40);  // local: the spike's fan and what it pierced, not the sphere
+    CHECK(s.num_triangles() == input.num_triangles() - r.removed_triangles + r.added_triangles);
+    CHECK(s.num_vertices() == input.num_vertices() - r.removed_vertices + r.added_vertices);
+    CHECK(r.largest_change > 0.1);  // the spike reached across the sphere
+    // Patches and vertex data stay in step; kept vertices keep their data, new ones take a
+    // kept vertex's; the spike vertex is gone.
+    REQUIRE(s.patches.size() == s.triangles.size());
+    for (int32_t p : s.patches) CHECK(p == 3);
+    REQUIRE(s.vertex_data.size() == 1);
+    REQUIRE(s.vertex_data[0].values.size() == s.vertices.size());
+    const int32_t spike = ring_vertex(6, 0);
+    for (size_t v = 0; v < s.vertices.size(); ++v) {
+        const double id = s.vertex_data[0].values[v];
+        REQUIRE(id == std::floor(id));
+        REQUIRE(id >= 0);
+        REQUIRE(id < input.num_vertices());
+        if (v < s.vertices.size() - size_t(r.added_vertices)) CHECK(id != spike);
+    }
+    // The kept triangles come first, in their order, and are the input's.
+    size_t kept = 0;
+    for (size_t t = 0; t < input.triangles.size() && kept < s.triangles.size(); ++t) {
+        Tri mapped;
+        for (int c = 0; c < 3; ++c) mapped[size_t(c)] = int32_t(s.vertex_data[0].values[size_t(s.triangles[kept][size_t(c)])]);
+        if (mapped == input.triangles[t]) ++kept;
+    }
+    CHECK(int64_t(kept) == input.num_triangles() - r.removed_triangles);
+    // Deterministic.
+    Surface again = input;
+    repair_self_intersections(again);
+    CHECK(again.vertices == s.vertices);
+    CHECK(again.triangles == s.triangles);
+}
+
+TEST_CASE("a surface without intersections is left as it is", "[self_intersection_repair]") {
+    const Surface input = sphere(false);
+    Surface s = input;
+    const SelfIntersectionRepair r = repair_self_intersections(s);
+    CHECK(r.intersecting_pairs == 0);
+    CHECK(r.remaining_pairs == 0);
+    CHECK(r.refused.empty());
+    CHECK(s.vertices == input.vertices);
+    CHECK(s.triangles == input.triangles);
+}
+
+TEST_CASE("a repair whose new triangles would border two patches is refused", "[self_intersection_repair]") {
+    Surface input = sphere(true);
+    for (size_t t = 0; t < input.patches.size(); ++t) input.patches[t] = int32_t(t % 2);
+    Surface s = input;
+    const SelfIntersectionRepair r = repair_self_intersections(s);
+    CHECK(r.refused.find("patches") != std::string::npos);
+    CHECK(r.remaining_pairs == r.intersecting_pairs);
+    CHECK(r.removed_triangles == 0);
+    CHECK(s.vertices == input.vertices);
+    CHECK(s.triangles == input.triangles);
+    CHECK(s.patches == input.patches);
+}
+
+TEST_CASE("a non-manifold surface is refused, untouched", "[self_intersection_repair]") {
+    Surface input = sphere(true);
+    // A third triangle on the edge between the north pole and ring 1.
+    input.vertices.push_back({0.5, 0.5, 2});
+    input.vertex_data[0].values.push_back(input.num_vertices() - 1);
+    input.triangles.push_back({0, ring_vertex(1, 0), input.num_vertices() - 1});
+    input.patches.push_back(3);
+    Surface s = input;
+    const SelfIntersectionRepair r = repair_self_intersections(s);
+    CHECK(r.refused.find("non-manifold") != std::string::npos);
+    CHECK(r.refused.find("triangle 528") != std::string::npos);
+    CHECK(s.triangles == input.triangles);
+}
