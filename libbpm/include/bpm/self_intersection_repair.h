@@ -10,10 +10,13 @@
 // - Only where intersections are: a surface without any (bpm::check_intersections) is
 //   left untouched, and so is every triangle away from them. The surface the coarse
 //   surface and phi then describe is the repaired one, not the file's.
-// - The surface must be a manifold with consistently oriented triangles (an orientable
-//   surface, open or closed); otherwise nothing is changed and `refused` says why. So is
-//   a repair whose new triangles would border several patches (an intersection where
-//   materials meet: which patch the new triangles belong to is not known).
+// - The triangles must be consistently oriented (neighbours across an edge of two
+//   triangles traverse it in opposite directions); otherwise nothing is changed and
+//   `refused` names the triangle. Edges of three or more triangles and pinched vertices
+//   (fans that meet only at their tip) are no obstacle: the repair sees the sheets there
+//   as separate, and they stay as they were. Also refused: a repair whose new triangles
+//   would border several patches (an intersection where materials meet: which patch the
+//   new triangles belong to is not known).
 // - Kept vertices and triangles keep their order (removed ones are dropped); new vertices
 //   and triangles follow them. New triangles get the patch of the triangles around them;
 //   new vertices the vertex data of the nearest kept vertex on the repaired patch's rim.

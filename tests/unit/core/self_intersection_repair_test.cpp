@@ -5,6 +5,7 @@
 // left untouched with the reason.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 
 #include "bpm/check.h"
@@ -125,16 +126,64 @@ TEST_CASE("a repair whose new triangles would border two patches is refused", "[
     CHECK(s.patches == input.patches);
 }
 
-TEST_CASE("a non-manifold surface is refused, untouched", "[self_intersection_repair]") {
+TEST_CASE("a triangle turned against its neighbours is refused, untouched", "[self_intersection_repair]") {
     Surface input = sphere(true);
-    // A third triangle on the edge between the north pole and ring 1.
-    input.vertices.push_back({0.5, 0.5, 2});
+    std::swap(input.triangles[30][1], input.triangles[30][2]);
+    Surface s = input;
+    const SelfIntersectionRepair r = repair_self_intersections(s);
+    CHECK(r.refused.find("turns against a neighbour") != std::string::npos);
+    CHECK(r.refused.find("triangle 30 ") != std::string::npos);
+    CHECK(r.remaining_pairs == r.intersecting_pairs);
+    CHECK(s.triangles == input.triangles);
+}
+
+TEST_CASE("a non-manifold edge is kept, the crossing repaired", "[self_intersection_repair]") {
+    Surface input = sphere(true);
+    // A third triangle on the edge between the north pole and ring 1, outside the sphere.
+    input.vertices.push_back({0.1, 0.1, 2});
     input.vertex_data[0].values.push_back(input.num_vertices() - 1);
     input.triangles.push_back({0, ring_vertex(1, 0), input.num_vertices() - 1});
     input.patches.push_back(3);
     Surface s = input;
     const SelfIntersectionRepair r = repair_self_intersections(s);
-    CHECK(r.refused.find("non-manifold") != std::string::npos);
-    CHECK(r.refused.find("triangle 528") != std::string::npos);
-    CHECK(s.triangles == input.triangles);
+    INFO(r.refused);
+    CHECK(r.refused.empty());
+    CHECK(r.remaining_pairs == 0);
+    // The flap is still there, on the same two sphere vertices (its vertex ids by data).
+    const Tri& flap = s.triangles[size_t(input.num_triangles() - 1 - r.removed_triangles)];
+    Tri ids;
+    for (int c = 0; c < 3; ++c) ids[size_t(c)] = int32_t(s.vertex_data[0].values[size_t(flap[size_t(c)])]);
+    CHECK(ids == input.triangles.back());
+    CHECK(std::count(s.vertex_data[0].values.begin(), s.vertex_data[0].values.end(), 0.0) == 1);
+}
+
+TEST_CASE("a pinched vertex (two fans meeting at their tip) is repaired around and kept as one", "[self_intersection_repair]") {
+    Surface input = sphere(true);
+    // A closed tetrahedron outside the sphere with one corner at the north pole (vertex 0).
+    const int32_t n = input.num_vertices();
+    for (const Vec3& p : {Vec3{0.3, 0, 1.5}, Vec3{-0.3, 0.3, 1.5}, Vec3{-0.3, -0.3, 1.5}}) {
+        input.vertices.push_back(p);
+        input.vertex_data[0].values.push_back(input.num_vertices() - 1);
+    }
+    for (const Tri& t : {Tri{0, n, n + 1}, Tri{0, n + 1, n + 2}, Tri{0, n + 2, n}, Tri{n, n + 2, n + 1}}) {
+        input.triangles.push_back(t);
+        input.patches.push_back(3);
+    }
+    Surface s = input;
+    const SelfIntersectionRepair r = repair_self_intersections(s);
+    INFO(r.refused);
+    CHECK(r.refused.empty());
+    CHECK(r.remaining_pairs == 0);
+    CHECK(intersecting_pairs(s) == 0);
+    // The pole is still one vertex, with the tetrahedron's triangles (the last kept ones).
+    CHECK(std::count(s.vertex_data[0].values.begin(), s.vertex_data[0].values.end(), 0.0) == 1);
+    CHECK(s.vertices[0] == input.vertices[0]);
+    const int64_t kept = input.num_triangles() - r.removed_triangles;
+    REQUIRE(kept >= 4);
+    for (int k = 0; k < 4; ++k) {
+        const Tri& t = s.triangles[size_t(kept - 4 + k)];
+        Tri ids;
+        for (int c = 0; c < 3; ++c) ids[size_t(c)] = int32_t(s.vertex_data[0].values[size_t(t[size_t(c)])]);
+        CHECK(ids == input.triangles[size_t(input.num_triangles() - 4 + k)]);
+    }
 }
