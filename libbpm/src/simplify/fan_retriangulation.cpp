@@ -111,6 +111,8 @@ bool retriangulate_fan(const CoarseMesh& mesh, const Fan& fan, const PolarMap& m
                        EarScratch& scratch, std::string& why) {
     const auto& x = mesh.positions();
     const int32_t n = fan.corners();
+    int64_t& work = scratch.work;
+    work = 0;
     auto& poly = scratch.polygon;
     poly.resize(n);
     for (int32_t i = 0; i < n; ++i) poly[i] = i;
@@ -158,6 +160,7 @@ bool retriangulate_fan(const CoarseMesh& mesh, const Fan& fan, const PolarMap& m
         const Vec2 &pa = map.q_polar[a], &pb = map.q_polar[b], &pd = map.q_polar[d];
         if (orient2d(pa, pb, pd) <= 0) return false;
         for (int32_t p : poly) {
+            ++work;
             if (p == a || p == b || p == d) continue;
             const Vec2& pp = map.q_polar[p];
             if (in_closed_triangle(pa, pb, pd, pp)) {
@@ -173,6 +176,7 @@ bool retriangulate_fan(const CoarseMesh& mesh, const Fan& fan, const PolarMap& m
         int32_t best = -1;
         bool best_delaunay = false, best_polar = false;
         double best_aspect = std::numeric_limits<double>::infinity();
+        work += m;
         for (int32_t c = 0; c < m; ++c) {
             const int32_t a = poly[mod(c - 1, m)], b = poly[c], d = poly[mod(c + 1, m)];
             if (std::isnan(ear_aspect[b]))
@@ -188,6 +192,7 @@ bool retriangulate_fan(const CoarseMesh& mesh, const Fan& fan, const PolarMap& m
             if (ear_delaunay[b] < 0) {
                 bool admissible = true;
                 for (int32_t o = 0; o < m && admissible; ++o) {
+                    ++work;
                     const int32_t p = poly[o];
                     if (p == a || p == b || p == d) continue;
                     if (clearly_in_circle(map.q[a], map.q[b], map.q[d], map.q[p])) {
@@ -232,6 +237,7 @@ bool retriangulate_fan(const CoarseMesh& mesh, const Fan& fan, const PolarMap& m
         ear_aspect[a] = ear_aspect[d] = std::nan("");
         ear_delaunay[a] = ear_delaunay[d] = map.cocircular ? 1 : -1;
         ear_polar[a] = ear_polar[d] = map.cocircular ? -1 : 1;
+        work += m - 1;
         for (int32_t p : poly) {
             if (ear_delaunay[p] == 0 && ear_witness[p] == b) ear_delaunay[p] = -1;
             if (ear_polar[p] == 0 && ear_polar_witness[p] == b) ear_polar[p] = -1;

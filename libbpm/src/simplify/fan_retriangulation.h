@@ -38,6 +38,9 @@ struct EarScratch {
     std::vector<double> worst;
     std::vector<int32_t> apex;
     std::vector<std::array<int32_t, 2>> stack;
+    // Corners the last call visited in its scans and tests (the ear choices, the polar-ear,
+    // Delaunay and witness loops; not the fallback): what its cost grows with, for tests.
+    int64_t work = 0;
 };
 
 // Triangulates the polygon of `fan` laid out by `map` (a strictly convex polygon) into
