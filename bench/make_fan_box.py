@@ -5,7 +5,11 @@ one band of quads split in two, each square face 4 M triangles around one centre
 
 Unlike the round caps of tests/cli/lib/fan_cylinder.py, the rims have collinear corners
 and removing a centre with up to about 250 corners (M = 250) passes the shape limit, so
-VertexRemover's early refusal does not apply: its re-ranks are still O(n^2) ear cutting.
+VertexRemover's early refusal does not apply: it is planned again each time a rim vertex
+goes. Its polygon is put on a circle by the polar map (collinear corners), and such a
+polygon of more than 64 corners is cut in O(n log n) (fan_retriangulation.cpp
+cut_indexed_ears; it was O(n^2)): M = 250 / 500, 2.62 / 29.9 CPU s before, 1.14 / 7.37
+after (fanbox branch, 2026-12-07, bench/results/manual/cad-fans.md), outputs unchanged.
 M = 250 (2002 vertices), --ratio 0.1 --threads 1, CPU s, medians of 3 alternated rounds
 (fans branch): 5.21 before, 4.91 with the refusal and the coplanar test, 2.83 with the
 polar-ear test's quick side rejection (fan_retriangulation.cpp in_closed_triangle; the

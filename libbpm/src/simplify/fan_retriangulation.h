@@ -7,6 +7,7 @@
 
 #include <array>
 #include <cstdint>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -38,6 +39,30 @@ struct EarScratch {
     std::vector<double> worst;
     std::vector<int32_t> apex;
     std::vector<std::array<int32_t, 2>> stack;
+    // Of the indexed ear cutting (large polygons on a circle, see retriangulate_fan).
+    struct EarKey {
+        int8_t rank;    // 0: an ear of the polar map's polygon, 1: not
+        double aspect;  // 3D R/r, finite
+        int32_t corner;
+        bool operator<(const EarKey& o) const {
+            return rank != o.rank ? rank < o.rank : aspect != o.aspect ? aspect < o.aspect : corner < o.corner;
+        }
+    };
+    std::set<EarKey> ears;             // the non-degenerate ears, except those found blocked
+    std::vector<int8_t> queued;        // the corner's ear is in `ears`
+    std::vector<int32_t> next, prev;   // the polygon as a cyclic list
+    std::vector<double> angle;         // atan2 of each corner in the polar map's polygon
+    std::vector<int32_t> by_angle;     // the corners sorted by angle
+    std::vector<double> sorted_angle;  // their angles
+    std::vector<int32_t> angle_rank;   // the position of each corner in by_angle
+    std::vector<int32_t> skip;         // by position in by_angle: towards the next corner still in the polygon
+    std::vector<std::vector<int32_t>> witnessed;  // ears whose polar witness the corner is (or was)
+    std::vector<int32_t> ties;         // the best ears within rounding
+    // Tests only: false gives every polygon the plain scan (the choices are the same).
+    bool indexed = true;
+    // Corners the last call visited in its scans and tests (the ear choices, the polar-ear,
+    // Delaunay and witness loops; not the fallback): what its cost grows with, for tests.
+    int64_t work = 0;
 };
 
 // Triangulates the polygon of `fan` laid out by `map` (a strictly convex polygon) into
@@ -52,6 +77,13 @@ struct EarScratch {
 // the smallest worst aspect ratio is taken instead (dynamic programming, O(n^3)). Fails
 // with `why` when there is none, or the last triangle is degenerate or already exists;
 // `out` is then unspecified.
+// A polygon of more than kIndexedEarCorners corners that the polar map put on a circle
+// (map.cocircular, so every ear is Delaunay-admissible: a CAD face fanned from its centre,
+// with collinear rim corners) is cut with its ears in an ordered set, and the polar-ear
+// test looks only at the corners within the ear's angle seen from v: O(n log n) where the
+// plain scan is O(n^2) per call, with the same triangulation (the scan's choice among
+// ears of near-equal aspect ratio is replayed on those ears alone).
+inline constexpr int32_t kIndexedEarCorners = 64;
 bool retriangulate_fan(const CoarseMesh& mesh, const Fan& fan, const PolarMap& map,
                        const std::vector<std::array<int32_t, 2>>& forbidden, FanTriangulation& out,
                        EarScratch& scratch, std::string& why);

@@ -175,3 +175,113 @@ TEST_CASE("removal large fans: a square rim with collinear corners is triangulat
     for (double a : tri.aspects) CHECK(std::isfinite(a));  // no three corners on one side
     CHECK(worst_of(tri) >= triangulation_aspect_lower_bound(mesh.positions(), fans[0]));
 }
+
+namespace {
+
+// A square face of side 1 fanned from its centre (vertex 0) as bench/make_fan_box.py
+// writes it: m rim corners per side, exactly on the side's line, counter-clockwise from
+// (0, 0); `dent` moves every seventh rim vertex that far towards the centre (reflex
+// corners: ears with other corners inside).
+Surface square_fan(int m, double dent = 0.0) {
+    Surface s;
+    s.vertices.push_back({0.5, 0.5, 0.0});
+    for (int side = 0; side < 4; ++side)
+        for (int k = 0; k < m; ++k) {
+            const double t = double(k) / m;
+            const double x = side == 0 ? t : side == 1 ? 1.0 : side == 2 ? 1.0 - t : 0.0;
+            const double y = side == 0 ? 0.0 : side == 1 ? t : side == 2 ? 1.0 : 1.0 - t;
+            const int i = side * m + k;
+            const double in = i % 7 == 3 ? dent : 0.0;
+            s.vertices.push_back({x + in * (0.5 - x), y + in * (0.5 - y), 0.0});
+        }
+    const int32_t n = 4 * m;
+    for (int32_t k = 1; k < n; ++k) s.triangles.push_back({0, k, k + 1});
+    s.triangles.push_back({0, n, 1});
+    s.patches.assign(s.triangles.size(), 0);
+    return s;
+}
+
+struct SquareCut {
+    bool ok = false;
+    std::string why;
+    FanTriangulation tri;
+    int64_t work = 0;
+};
+
+SquareCut cut_square(const Surface& square, bool indexed = true,
+                     const std::vector<std::array<int32_t, 2>>& forbidden = {}) {
+    CoarseMesh mesh(square);
+    std::vector<Fan> fans;
+    StarScratch star;
+    bool crease_line = false;
+    SquareCut r;
+    REQUIRE(classify_star(mesh, 0, false, fans, crease_line, r.why, star) == VertexClass::Regular);
+    PolarMap map;
+    REQUIRE(polar_map(mesh.positions(), 0, fans[0], 1.0, map, r.why));
+    REQUIRE(map.cocircular);
+    EarScratch ears;
+    ears.indexed = indexed;
+    r.ok = retriangulate_fan(mesh, fans[0], map, forbidden, r.tri, ears, r.why);
+    r.work = ears.work;
+    return r;
+}
+
+}  // namespace
+
+TEST_CASE("removal large fans: a square rim of collinear corners is cut in O(n log n), not O(n^2)",
+          "[simplify][removal]") {
+    // The fan box's centres (bench/make_fan_box.py) pass the shape limit, so their plans are
+    // made each time a rim vertex goes: the plain ear cutting scanned every corner for every
+    // cut (about n^2 corner visits: 5 million at 4 x 401 corners).
+    // (An odd number per side: with an even one the four zips from the square's corners
+    // meet on three collinear corners, and the last triangle is degenerate.)
+    const SquareCut small = cut_square(square_fan(101));
+    const SquareCut large = cut_square(square_fan(401));
+    REQUIRE(small.ok);
+    REQUIRE(large.ok);
+    CHECK(large.tri.triangles.size() == size_t(4 * 401 - 2));
+    CAPTURE(small.work, large.work);
+    CHECK(large.work < 20 * 4 * 401);  // 12 n now
+    CHECK(large.work < 6 * small.work);  // 4 times the corners: 16 times the work if quadratic
+}
+
+TEST_CASE("removal large fans: the indexed ear cutting makes the plain scan's choices", "[simplify][removal]") {
+    // Square rims with straight sides, odd and even (the even ones fail on their last
+    // triangle), dented (ears with corners inside: the polar-ear test and its witnesses),
+    // with diagonals forbidden, and with an existing edge between two rim vertices.
+    for (const int m : {17, 40, 101})
+        for (const double dent : {0.0, 0.01, 0.2}) {
+            CAPTURE(m, dent);
+            const Surface square = square_fan(m, dent);
+            const SquareCut plain = cut_square(square, false);
+            const SquareCut indexed = cut_square(square, true);
+            CHECK(indexed.ok == plain.ok);
+            CHECK(indexed.why == plain.why);
+            CHECK(indexed.tri.triangles == plain.tri.triangles);
+            CHECK(indexed.tri.aspects == plain.tri.aspects);
+            CHECK(indexed.tri.diagonals == plain.tri.diagonals);
+            if (!plain.ok) continue;
+            CHECK(indexed.work < plain.work);
+            // Forbid the first three diagonals the plain scan cut.
+            std::vector<std::array<int32_t, 2>> forbidden(plain.tri.diagonals.begin(), plain.tri.diagonals.begin() + 3);
+            const SquareCut plain_f = cut_square(square, false, forbidden);
+            const SquareCut indexed_f = cut_square(square, true, forbidden);
+            CHECK(indexed_f.ok == plain_f.ok);
+            CHECK(indexed_f.why == plain_f.why);
+            CHECK(indexed_f.tri.triangles == plain_f.tri.triangles);
+            CHECK(indexed_f.tri.diagonals == plain_f.tri.diagonals);
+            // An edge elsewhere between the ends of the first diagonal (link vertices are
+            // corners + 1): that diagonal is blocked.
+            Surface linked = square;
+            const int32_t u = plain.tri.diagonals[0][0] + 1, w = plain.tri.diagonals[0][1] + 1;
+            linked.vertices.push_back({0.5, 0.5, 1.0});
+            linked.triangles.push_back({u, w, int32_t(linked.vertices.size() - 1)});
+            linked.patches.push_back(0);
+            const SquareCut plain_e = cut_square(linked, false);
+            const SquareCut indexed_e = cut_square(linked, true);
+            CHECK(indexed_e.ok == plain_e.ok);
+            CHECK(indexed_e.why == plain_e.why);
+            CHECK(indexed_e.tri.triangles == plain_e.tri.triangles);
+            CHECK(indexed_e.tri.diagonals == plain_e.tri.diagonals);
+        }
+}
