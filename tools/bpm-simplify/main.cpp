@@ -250,8 +250,7 @@ int main(int argc, char** argv) {
         ->group(repairs);
     bool repair_intersections = false;
     app.add_flag("--repair-self-intersections", repair_intersections,
-                 "Replace the triangles around each place where the input intersects itself by a new local patch "
-                 "(a scan's or segmentation's few crossings; phi then maps onto the repaired surface)")
+                 "Replace the triangles where the input crosses itself by local patches (phi maps onto the result)")
         ->group(repairs);
     app.add_option("-o,--output", output, "Output .bpm file, or - for standard output")->required()->group(output_group);
     app.add_option("--units", units, "Length unit of the coordinates, recorded in the file (e.g. mm)")->group(output_group);
