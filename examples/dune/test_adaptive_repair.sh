@@ -10,7 +10,10 @@
 #     midpoints were placed before their ends had moved back): 0 / 0 / 0 / 2 at steps 0-3
 #     here (35 at step 5); on elephant at 10 % 2 tets stayed inverted after the repair at
 #     step 5 (min dihedral 7e-5 deg), on femur at 10 % 10 at step 6;
-#   - a tetrahedron is inverted after the repair at any step.
+#   - a tetrahedron is inverted after the repair at any step;
+#   - a step's smallest dihedral angle is below 4 degrees (the repair's bound is 5): before
+#     the repair's retreat (bpm/boundary_repair.h, step 5) step 3 had 3.55 degrees, a
+#     tetrahedron of boundary vertices that reached phi in earlier steps, now 5.
 # Usage: test_adaptive_repair.sh TOOL_DIR SOURCE_DIR WORK_DIR
 set -euo pipefail
 bin=$1
@@ -34,6 +37,8 @@ bad = []
 if len(levels) != 4: bad.append("expected 4 levels (0..3), got %d" % len(levels))
 if any(after_reset): bad.append("tets inverted when the repair starts: %s" % after_reset)
 if any(inverted): bad.append("inverted tets after the repair: %s" % inverted)
+low = [l["min_dihedral_degrees"] for l in levels if l["min_dihedral_degrees"] < 4]
+if low: bad.append("steps below 4 degrees: %s" % low)
 for b in bad: print("FAIL:", b)
 sys.exit(1 if bad else 0)
 PY

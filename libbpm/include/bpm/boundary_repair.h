@@ -31,6 +31,19 @@
 //      (or stays at least min_dihedral_degrees): one of them may lose angle below the bound
 //      where the move widens a thinner one, which step 1 refuses. The interior around the
 //      vertices that moved is smoothed again. Neither lowers the mesh's smallest angle.
+//   5. retreat (options.retreat, when the solver gives plain positions: where plain
+//      refinement puts each vertex, the midpoint of the edge it split): every boundary
+//      vertex with a tetrahedron below min_dihedral_degrees around it, worst first, moves
+//      back on the segment from where it is towards its plain position, to where the worst
+//      tetrahedron around it is widest, if that is wider than where it is; then the
+//      interior around the vertices that moved is smoothed again. This is the §3.3 remedy
+//      applied to vertices that reached phi in an earlier call: four boundary vertices close
+//      together on a curved S0 make a flat tetrahedron (a sliver) wherever refinement put
+//      one tetrahedron on all four, and a tetrahedron UG then cuts from it at an interior
+//      edge midpoint can be no wider than half the sliver's angle at the opposite edge, wherever
+//      smoothing puts the midpoint (femur at 10 %, bpm-torsion --adaptive step 5: a 2.02
+//      degree sliver of four boundary vertices cut into two 1.01 degree tetrahedra; flat
+//      refinement has 2.37). No move lowers the mesh's smallest angle.
 //
 // A vertex whose parameter point is a corner of its coarse triangle (a barycentric
 // coordinate exactly 1) is a coarse vertex (level-0 vertex i of a grid built from the .bpm
@@ -58,8 +71,9 @@
 //   exit (result.inverted_after <= result.inverted_before, 0 when 0 before). Tetrahedra
 //   that are inverted on entry are allowed: a boundary vertex next to one moves only to
 //   positions where all its tetrahedra are positive, interior smoothing may untangle them.
-//   Boundary vertices move only along their own segment towards phi(p); interior vertices
-//   move only by smoothing; the connectivity and the parameter points are not changed.
+//   Boundary vertices move only along their own segment towards phi(p), or (step 5) back
+//   towards their plain position; interior vertices move only by smoothing; the
+//   connectivity and the parameter points are not changed.
 //
 // Typical use (after each refinement of the solver's grid):
 //     bpm::PhiEvaluator phi(file.param);                  // once
@@ -107,6 +121,9 @@ struct BoundaryRepairOptions {
     // Step 4 (widening, see the top of this file), when min_dihedral_degrees > 0.
     // refine_tetmesh turns it off (bpm/tet_refine.h).
     bool widen = true;
+    // Step 5 (retreat, see the top of this file), when min_dihedral_degrees > 0 and the
+    // call has plain positions.
+    bool retreat = true;
     // Interior smoothing (bpm/tetmesh_smooth.h) after each placement of the boundary
     // vertices: only vertices without a parameter point move, the smallest dihedral angle
     // around a moved vertex only grows, and no tetrahedron inverts.
@@ -118,12 +135,13 @@ struct BoundaryRepairResult {
     int64_t boundary_vertices = 0;   // vertices with a valid parameter point
     int64_t at_phi_before = 0;       // of those, exactly at phi(parameter point) on entry (not touched)
     int64_t at_phi = 0;              // of those, exactly at phi(parameter point) on exit
-    int64_t held_back = 0;           // boundary_vertices - at_phi: short of phi on exit (the §3.3 remedy)
-    int64_t not_moved = 0;           // of those, not moved at all (no step towards phi admissible)
+    int64_t held_back = 0;           // boundary_vertices - at_phi: short of phi on exit (the §3.3 remedy; retreated included)
+    int64_t not_moved = 0;           // of those, not moved towards phi at all (no step admissible; steps 1-4)
     int64_t widened = 0;             // boundary vertices the widening pass moved on (step 4, options.widen)
+    int64_t retreated = 0;           // boundary vertices moved back towards their plain positions (step 5)
     double max_distance = 0;         // largest |x - phi(p)| of a held-back vertex, model units
     double max_distance_relative = 0;  // the same over the bounding-box diagonal of the vertices on exit
-    double min_phi_fraction = 1;     // smallest 1-lambda of a vertex on this call's segment (1: all at phi)
+    double min_phi_fraction = 1;     // smallest 1-lambda of a vertex on this call's segment after steps 1-4 (1: all at phi)
     int64_t smoothed_vertices = 0;   // interior vertices that moved
     double min_dihedral_degrees = 0; // smallest dihedral angle of the mesh on exit (0 for no tetrahedra)
     int64_t inverted_before = 0;     // tetrahedra not positively oriented on entry (exact orient3d)
@@ -151,5 +169,17 @@ BoundaryRepairResult repair_boundary(const PhiEvaluator& phi, std::vector<Vec3>&
                                      const std::vector<Tet>& tetrahedra,
                                      const std::vector<SurfacePoint>& parameter_points,
                                      const BoundaryRepairOptions& options = {}, const Context& context = {});
+
+// The same with step 5 (retreat): `plain_positions` (#V, model units) gives where plain
+// refinement of the solver's grid puts each vertex (for a vertex refinement created at an
+// edge midpoint: that midpoint of the edge ends' current positions; for the others their
+// position); only those of boundary vertices are read. Empty: no step 5, as above.
+// \throw std::invalid_argument also if plain_positions is neither empty nor #V long or a
+//        coordinate of it is not finite.
+BoundaryRepairResult repair_boundary(const PhiEvaluator& phi, std::vector<Vec3>& vertices,
+                                     const std::vector<Tet>& tetrahedra,
+                                     const std::vector<SurfacePoint>& parameter_points,
+                                     const std::vector<Vec3>& plain_positions, const BoundaryRepairOptions& options = {},
+                                     const Context& context = {});
 
 }  // namespace bpm

@@ -209,6 +209,99 @@ double repair_boundary_vertices(std::vector<Vec3>& x, const std::vector<Tet>& te
     return smoothing_seconds;
 }
 
+int64_t retreat_boundary_vertices(std::vector<Vec3>& x, const std::vector<Tet>& tets, const std::vector<Vec3>& plain,
+                                  const std::vector<char>& may_retreat, const BoundaryRepairOptions& options,
+                                  std::vector<char>& dirty, int rounds) {
+    if (!(options.min_dihedral_degrees > 0)) return 0;
+    const size_t nv = x.size();
+    const double guard = pseudo_from_radians(options.min_dihedral_degrees * kDegree);
+    // The vertices that may retreat, and the tetrahedra around each (CSR).
+    std::vector<int32_t> slot(nv, -1), candidates;
+    for (size_t v = 0; v < nv; ++v)
+        if (may_retreat[v] && plain[v] != x[v]) {
+            slot[v] = static_cast<int32_t>(candidates.size());
+            candidates.push_back(static_cast<int32_t>(v));
+        }
+    if (candidates.empty()) return 0;
+    std::vector<int64_t> offsets(candidates.size() + 1, 0);
+    for (const Tet& t : tets)
+        for (int32_t v : t)
+            if (slot[v] >= 0) ++offsets[slot[v] + 1];
+    for (size_t i = 0; i < candidates.size(); ++i) offsets[i + 1] += offsets[i];
+    std::vector<int32_t> incident(static_cast<size_t>(offsets.back()));
+    {
+        std::vector<int64_t> fill(offsets.begin(), offsets.end() - 1);
+        for (size_t t = 0; t < tets.size(); ++t)
+            for (int32_t v : tets[t])
+                if (slot[v] >= 0) incident[fill[slot[v]]++] = static_cast<int32_t>(t);
+    }
+    // The worst tetrahedron around candidate i as a pseudo-angle; -3 (below every
+    // pseudo-angle) where one of them is not positively oriented (exact).
+    auto worst_around = [&](size_t i) {
+        double worst = 2;
+        for (int64_t k = offsets[i]; k < offsets[i + 1]; ++k) {
+            const Tet& T = tets[static_cast<size_t>(incident[k])];
+            if (orient3d(x[T[0]], x[T[1]], x[T[2]], x[T[3]]) != 1) return -3.0;
+            worst = std::min(worst, min_dihedral_pseudo(x[T[0]], x[T[1]], x[T[2]], x[T[3]]));
+        }
+        return worst;
+    };
+    std::vector<char> moved(candidates.size(), 0);
+    for (int round = 0; round < rounds; ++round) {
+        std::vector<std::pair<double, size_t>> order;  // worst first
+        for (size_t i = 0; i < candidates.size(); ++i)
+            if (const double w = worst_around(i); w < guard) order.emplace_back(w, i);
+        std::sort(order.begin(), order.end());
+        int64_t moves = 0;
+        for (const auto& entry : order) {
+            const size_t i = entry.second;
+            const int32_t v = candidates[i];
+            const double start = worst_around(i);  // earlier moves of this round may have changed it
+            if (start >= guard) continue;
+            const Vec3 from = x[v], to = plain[v];
+            auto at = [&](double s) {
+                x[v] = s == 1.0 ? to : (1 - s) * from + s * to;
+                return worst_around(i);
+            };
+            // The widest worst tetrahedron on the segment: 16 samples, then a golden-section
+            // search around the best of them (the worst angle around a vertex is the smallest
+            // of smooth functions along the segment: one or a few local maxima).
+            double best = start, best_s = 0;
+            for (int k = 1; k <= 16; ++k)
+                if (const double w = at(k / 16.0); w > best) best = w, best_s = k / 16.0;
+            double lo = std::max(0.0, best_s - 1.0 / 16), hi = std::min(1.0, best_s + 1.0 / 16);
+            const double golden = 0.5 * (std::sqrt(5.0) - 1);
+            double a = hi - golden * (hi - lo), b = lo + golden * (hi - lo);
+            double fa = at(a), fb = at(b);
+            for (int step = 0; step < 20; ++step) {
+                if (fa > best) best = fa, best_s = a;
+                if (fb > best) best = fb, best_s = b;
+                if (fa >= fb) {
+                    hi = b, b = a, fb = fa;
+                    a = hi - golden * (hi - lo), fa = at(a);
+                } else {
+                    lo = a, a = b, fa = fb;
+                    b = lo + golden * (hi - lo), fb = at(b);
+                }
+            }
+            if (fa > best) best = fa, best_s = a;
+            if (fb > best) best = fb, best_s = b;
+            if (best_s > 0 && at(best_s) > start) {
+                ++moves;
+                moved[i] = 1;
+                for (int64_t k = offsets[i]; k < offsets[i + 1]; ++k)
+                    for (int32_t u : tets[static_cast<size_t>(incident[k])]) dirty[u] = 1;
+            } else {
+                x[v] = from;
+            }
+        }
+        if (moves == 0) break;
+    }
+    int64_t count = 0;
+    for (char m : moved) count += m;
+    return count;
+}
+
 TetQuality tet_quality(const std::vector<Vec3>& x, const std::vector<Tet>& tets, const std::vector<bool>& negative) {
     TetQuality q;
     const double one = pseudo_from_radians(kDegree), five = pseudo_from_radians(5 * kDegree),
@@ -233,6 +326,14 @@ BoundaryRepairResult repair_boundary(const PhiEvaluator& phi, std::vector<Vec3>&
                                      const std::vector<Tet>& tetrahedra,
                                      const std::vector<SurfacePoint>& parameter_points,
                                      const BoundaryRepairOptions& options, const Context& context) {
+    return repair_boundary(phi, vertices, tetrahedra, parameter_points, {}, options, context);
+}
+
+BoundaryRepairResult repair_boundary(const PhiEvaluator& phi, std::vector<Vec3>& vertices,
+                                     const std::vector<Tet>& tetrahedra,
+                                     const std::vector<SurfacePoint>& parameter_points,
+                                     const std::vector<Vec3>& plain_positions, const BoundaryRepairOptions& options,
+                                     const Context& context) {
     using clock = std::chrono::steady_clock;
     const auto start = clock::now();
     detail::check_repair_options(options);
@@ -240,9 +341,17 @@ BoundaryRepairResult repair_boundary(const PhiEvaluator& phi, std::vector<Vec3>&
     if (parameter_points.size() != nv)
         throw std::invalid_argument("repair_boundary: " + std::to_string(parameter_points.size()) +
                                     " parameter points for " + std::to_string(nv) + " vertices");
-    for (size_t v = 0; v < nv; ++v)
+    if (!plain_positions.empty() && plain_positions.size() != nv)
+        throw std::invalid_argument("repair_boundary: " + std::to_string(plain_positions.size()) +
+                                    " plain positions for " + std::to_string(nv) + " vertices");
+    for (size_t v = 0; v < nv; ++v) {
         for (double c : vertices[v])
             if (!std::isfinite(c)) throw std::invalid_argument("repair_boundary: vertex " + std::to_string(v) + " is not finite");
+        if (!plain_positions.empty())
+            for (double c : plain_positions[v])
+                if (!std::isfinite(c))
+                    throw std::invalid_argument("repair_boundary: the plain position of vertex " + std::to_string(v) + " is not finite");
+    }
     for (size_t t = 0; t < tetrahedra.size(); ++t)
         for (int32_t v : tetrahedra[t])
             if (v < 0 || size_t(v) >= nv)
@@ -301,10 +410,30 @@ BoundaryRepairResult repair_boundary(const PhiEvaluator& phi, std::vector<Vec3>&
 
     for (int32_t v : movers) {
         if (vertices[v] == seg.target[v]) continue;
-        ++result.held_back;
         result.not_moved += seg.fraction[v] == 0;
-        result.max_distance = std::max(result.max_distance, distance(vertices[v], seg.target[v]));
         result.min_phi_fraction = std::min(result.min_phi_fraction, seg.fraction[v]);
+    }
+    // Step 5 (retreat): back towards the plain positions where that widens the worst
+    // tetrahedron around a boundary vertex; coarse vertices stay (see above).
+    if (options.retreat && !plain_positions.empty()) {
+        context.report(0.95, "repair: boundary vertices back towards their plain positions");
+        std::vector<char> may_retreat(nv, 0);
+        for (int32_t v : boundary) {
+            const Vec3& b = parameter_points[v].barycentric;
+            may_retreat[v] = !(b[0] == 1 || b[1] == 1 || b[2] == 1);
+        }
+        std::vector<char> dirty(nv, 0);
+        result.retreated =
+            detail::retreat_boundary_vertices(vertices, tetrahedra, plain_positions, may_retreat, options, dirty);
+        if (result.retreated > 0 && options.smooth)
+            result.smoothing_seconds += detail::smooth_interior(vertices, tetrahedra, all_positive, movable, &dirty,
+                                                                options.smoothing, context, 0.95, 0)
+                                            .seconds;
+    }
+    for (int32_t v : boundary) {
+        if (vertices[v] == seg.target[v]) continue;
+        ++result.held_back;
+        result.max_distance = std::max(result.max_distance, distance(vertices[v], seg.target[v]));
     }
     result.at_phi = result.boundary_vertices - result.held_back;
     for (size_t v = 0; v < nv; ++v) result.smoothed_vertices += movable[v] && vertices[v] != reference[v];

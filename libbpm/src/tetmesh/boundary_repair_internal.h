@@ -41,6 +41,19 @@ double repair_boundary_vertices(std::vector<Vec3>& x, const std::vector<Tet>& te
                                 const BoundaryRepairOptions& options, const Context& context, double progress_base,
                                 double progress_span, const std::string& stage, int64_t* widened = nullptr);
 
+// Step 5 of bpm/boundary_repair.h (retreat): every vertex v with may_retreat[v] != 0 and
+// plain[v] != x[v] that has a tetrahedron below options.min_dihedral_degrees around it,
+// worst first, moves on the segment from x[v] towards plain[v] to where the worst
+// tetrahedron around it is widest (a search of the segment), if that is wider than where
+// it is and every tetrahedron around it is positively oriented there (exact); up to
+// `rounds` rounds, stopping when none moves. The worst tetrahedron around a moved vertex
+// only widens, so the mesh's smallest angle never gets smaller. tets positively oriented
+// (as in repair_boundary). Sets dirty[u] for the corners of the tetrahedra around every
+// moved vertex (for smooth_interior); returns how many distinct vertices moved.
+int64_t retreat_boundary_vertices(std::vector<Vec3>& x, const std::vector<Tet>& tets, const std::vector<Vec3>& plain,
+                                  const std::vector<char>& may_retreat, const BoundaryRepairOptions& options,
+                                  std::vector<char>& dirty, int rounds = 3);
+
 // The smallest dihedral angle (degrees, 0 for no tetrahedra) and the number of tetrahedra
 // with one below 1, 5 and 10 degrees; tets oriented as for repair_boundary_vertices.
 struct TetQuality {

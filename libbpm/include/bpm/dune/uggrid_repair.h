@@ -23,6 +23,15 @@
 // coordinates in its father element, LCVECT) only place nodes UG creates inside faces or
 // elements (gm/ugm.cc), which its refinement of tetrahedra does not create.
 //
+// repair_boundary gets the plain positions too (where plain refinement of the grid as it
+// now is puts each boundary vertex refinement created: the weighted corners it was made
+// from, below), for its retreat (step 5, bpm/boundary_repair.h): a boundary vertex next to
+// a tetrahedron below the angle bound may move back towards its plain position where that
+// widens the worst tetrahedron around it. Four boundary vertices that reached phi in
+// earlier calls can make a sliver that no interior vertex can widen (femur at 10 %,
+// adaptive step 5: 2.02 degrees, cut by UG at an interior edge midpoint into two halves
+// of 1.01 degrees each, the mesh's smallest angle; flat refinement has 2.37).
+//
 // Call it after each adapt()/globalRefine(n = 1) and BoundaryParameterPoints::update, with
 // what update returned.
 //
@@ -217,7 +226,17 @@ inline BoundaryRepairResult repair_uggrid(UGGrid3& grid, const BoundaryParameter
     }
     if (reset) *reset = reset_count;
 
-    const BoundaryRepairResult result = repair_boundary(phi, x, tetrahedra, points, options);
+    // Where plain refinement puts each vertex refinement created (of the positions now),
+    // for repair_boundary's retreat (step 5).
+    std::vector<Vec3> plain = x;
+    for (size_t i = 0; i < n; ++i)
+        if (points[i].valid())
+            if (const MadeFrom* m = made_in_leaf(i)) {
+                Vec3 at{0, 0, 0};
+                for (int k = 0; k < m->count; ++k) at = at + m->weight[static_cast<size_t>(k)] * x[by_id.at(m->corner[static_cast<size_t>(k)])];
+                plain[i] = at;
+            }
+    const BoundaryRepairResult result = repair_boundary(phi, x, tetrahedra, points, plain, options);
 
     for (const auto& vertex : vertices(view)) {
         const size_t i = index.index(vertex);
