@@ -4,7 +4,7 @@
 # without the flag, with the flag named; repaired with it, reported, and the result passes
 # bpm-check; the same bytes twice; so does camel.off (20 pairs). A clean input is left as
 # it is; two interpenetrating cubes (not a local crossing) stay refused, with the flag's
-# failure said.
+# failure said; a repair that moves the surface far (bones.off) needs --max-repair-change.
 # Usage: repair_self_intersections.sh TOOL_DIR SOURCE_DIR WORK_DIR
 source "$(dirname "$0")/lib/harness.bash"
 simplify=$tools/bpm-simplify
@@ -32,6 +32,14 @@ camel=$src/.data/meshes/camel.off
 expect 0 "camel repaired" -- "$simplify" "$camel" -o "$work/camel.bpm" --ratio 0.1 --repair-self-intersections
 contains "$work/err" "--repair-self-intersections: 20 intersecting pairs, 0 left" "camel: every pair repaired"
 expect 0 "camel passes bpm-check" -- "$check" "$work/camel.bpm"
+
+# bones: the repair replaces 40 % of the surface (loose shells crossing the rest), moving
+# it by ~0.07 of the diagonal: refused by default, done when the limit allows it.
+bones=$src/.data/meshes/bones.off
+expect 5 "bones: a repair that is not local is refused" -- "$simplify" "$bones" -o "$work/bones.bpm" --ratio 0.1 --repair-self-intersections
+contains "$work/err" "more than --max-repair-change 0.01" "the refusal names the limit's flag"
+expect 0 "bones with --max-repair-change 0.1" -- "$simplify" "$bones" -o "$work/bones.bpm" --ratio 0.1 --repair-self-intersections --max-repair-change 0.1
+expect 0 "bones passes bpm-check" -- "$check" "$work/bones.bpm"
 
 expect 0 "a clean input with the flag" -- "$simplify" "$femur" -o "$work/femur.bpm" --ratio 0.1 --repair-self-intersections
 contains "$work/err" "does not intersect itself; nothing to repair" "nothing to repair is said"

@@ -22,6 +22,7 @@ std::string with_flags(std::string text) {
         {"set reject_self_intersecting_input = false", "use --allow-self-intersecting-input"},
         {"repair_self_intersections()", "rerun with --repair-self-intersections, which"},
         {"max_normal_deviation_degrees", "--max-normal-deviation"},
+        {"max_change =", "--max-repair-change"},
         {"feature_angle_degrees", "--feature-angle"},
         {"crease_chain_angle_degrees", "--crease-chain-angle"},
         {"crease_chain_length", "--crease-chain-length"},
@@ -101,33 +102,34 @@ private:
 };
 
 // What --repair-self-intersections did, in a line or two.
+std::string count(int64_t n, const char* one, const char* many) {
+    return std::to_string(n) + " " + (n == 1 ? one : many);
+}
+
+// What --repair-self-intersections did, in a line or two.
 void report_repair(const bpm::SelfIntersectionRepair& r, const bpm::Context& context) {
-    const std::string pairs = std::to_string(r.intersecting_pairs) + " intersecting pair" +
-                              (r.intersecting_pairs == 1 ? "" : "s");
+    const std::string pairs = count(r.intersecting_pairs, "intersecting pair", "intersecting pairs");
     if (r.intersecting_pairs == 0) {
         context.info("--repair-self-intersections: the input does not intersect itself; nothing to repair");
         return;
     }
     if (!r.refused.empty()) {
-        context.warn("--repair-self-intersections: the input has " + pairs + " and was left as it is: " + r.refused);
+        context.warn("--repair-self-intersections: the input has " + pairs + " and was left as it is: " +
+                     with_flags(r.refused));
         return;
     }
     char change[64];
     std::snprintf(change, sizeof change, "%.3g", r.largest_change);
     context.info("--repair-self-intersections: " + pairs + ", " + std::to_string(r.remaining_pairs) + " left; " +
-                 std::to_string(r.removed_triangles) + " triangles replaced by " + std::to_string(r.added_triangles) +
-                 " (" + std::to_string(r.added_vertices) + " new vertices, " + std::to_string(r.moved_vertices) +
-                 " moved, " + std::to_string(r.removed_vertices) + " gone); the surface changed by at most " + change +
-                 " of the bounding-box diagonal, and phi maps onto the repaired surface");
-    // A repair that replaced much of the surface is worth a look before phi is built on it
-    // (a scan's loose shells that crossed the rest are replaced whole).
-    if (r.largest_change > 0.01 || r.removed_triangles > 1000)
-        context.warn("--repair-self-intersections replaced " + std::to_string(r.removed_triangles) +
-                     " triangles and moved the surface by up to " + change +
-                     " of the diagonal: look at the surface phi maps onto (bpm-refine OUT.bpm --levels 4 -o look.vtu draws it)");
+                 count(r.removed_triangles, "triangle", "triangles") + " replaced by " +
+                 std::to_string(r.added_triangles) + " (" + count(r.added_vertices, "new vertex", "new vertices") +
+                 ", " + count(r.removed_vertices, "vertex", "vertices") + " gone); the surface moved by about " +
+                 change + " of the bounding-box diagonal, and phi maps onto the repaired surface");
+    if (!r.topology_change.empty())
+        context.warn("--repair-self-intersections changed the topology: " + r.topology_change);
     if (r.remaining_pairs > 0)
-        context.warn("--repair-self-intersections: " + std::to_string(r.remaining_pairs) +
-                     " intersecting pairs are too large or tangled for a local repair");
+        context.warn("--repair-self-intersections: " + count(r.remaining_pairs, "intersecting pair", "intersecting pairs") +
+                     " of the input could not be repaired locally");
 }
 
 }  // namespace
@@ -248,9 +250,15 @@ int main(int argc, char** argv) {
     app.add_flag("--triangulate-polygons", read_options.triangulate_polygons,
                  "Split faces with more than 3 corners (OFF OBJ PLY VTK) into triangles")
         ->group(repairs);
-    bool repair_intersections = false;
+    bool repair_intersections = false, repaired_surface = false;
+    bpm::SelfIntersectionRepairOptions repair_options;
     app.add_flag("--repair-self-intersections", repair_intersections,
                  "Replace the triangles where the input crosses itself by local patches (phi maps onto the result)")
+        ->group(repairs);
+    app.add_option("--max-repair-change", repair_options.max_change,
+                   "Refuse a --repair-self-intersections that moves the surface further than this (fraction of the "
+                   "diagonal; default 0.01)")
+        ->check(CLI::PositiveNumber)
         ->group(repairs);
     app.add_option("-o,--output", output, "Output .bpm file, or - for standard output")->required()->group(output_group);
     app.add_option("--units", units, "Length unit of the coordinates, recorded in the file (e.g. mm)")->group(output_group);
@@ -321,7 +329,9 @@ int main(int argc, char** argv) {
                      std::to_string(surface.num_triangles()) + " triangles");
         if (repair_intersections) {
             clock.start("self-intersection repair");
-            report_repair(bpm::repair_self_intersections(surface, context), context);
+            const bpm::SelfIntersectionRepair repair = bpm::repair_self_intersections(surface, repair_options, context);
+            report_repair(repair, context);
+            repaired_surface = repair.refused.empty() && repair.removed_triangles + repair.added_triangles > 0;
         }
         // A target the input already meets is a no-op: say so rather than "3897 -> 3897".
         // The first target reached stops the run, so one the input meets stops it at once.
@@ -358,6 +368,9 @@ int main(int argc, char** argv) {
             const std::string suggestion = "repair_self_intersections() replaces the triangles around a few local ones";
             if (const size_t at = message.find(suggestion); repair_intersections && at != std::string::npos)
                 message.replace(at, suggestion.size(), "--repair-self-intersections could not repair these");
+            // Its triangle numbers are those of the surface the repair left.
+            if (const size_t at = message.find("the input surface intersects itself"); repaired_surface && at == 0)
+                message.replace(0, 35, "the repaired input surface still intersects itself");
             throw bpm::AlgorithmError(with_flags(message));
         }
         file.simplification_steps = std::move(result.steps);

@@ -6,7 +6,7 @@
 // (it takes minutes to compile).
 #include "bpm/self_intersection_repair.h"
 
-#include <CGAL/AABB_face_graph_triangle_primitive.h>
+#include <CGAL/AABB_triangle_primitive.h>
 #include <CGAL/AABB_traits.h>
 #include <CGAL/AABB_tree.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
@@ -14,6 +14,8 @@
 #include <CGAL/Surface_mesh.h>
 
 #include <algorithm>
+#include <cstdio>
+#include <stdexcept>
 #include <limits>
 #include <map>
 #include <set>
@@ -21,6 +23,7 @@
 
 #include "bpm/check.h"
 #include "bpm/predicates.h"
+#include "bpm/surface_topology.h"
 #include "check/improper_pair.h"
 
 namespace bpm {
@@ -41,6 +44,10 @@ Vec3 to_vec(const Point& p) { return {p.x(), p.y(), p.z()}; }
 struct ProgressVisitor : CGAL::Polygon_mesh_processing::experimental::Remove_self_intersection_default_visitor<Mesh> {
     const Context* context = nullptr;
     int round = 0;
+    bool stop() const {
+        context->report(0.1 + 0.1 * std::min(round, 7), "self-intersection repair: round " + std::to_string(round));
+        return false;
+    }
     void start_iteration() {
         ++round;
         context->report(0.1 + 0.1 * std::min(round, 7), "self-intersection repair: round " + std::to_string(round));
@@ -99,8 +106,9 @@ bool same_triangle(const Tri& before, const Tri& now) {
 }
 
 // Per corner (3 t + k) of the surface, its fan: the corners of one vertex whose triangles
-// are joined through edges of exactly two triangles at that vertex share a fan id (the
-// smallest corner of the fan). A vertex with more than one fan is pinched.
+// are joined through edges of exactly two consistently oriented triangles at that vertex
+// share a fan id (the smallest corner of the fan). A vertex with more than one fan is
+// pinched (or on an edge of 3+ triangles, or on a turned triangle).
 std::vector<int32_t> fan_of_corners(const Surface& surface) {
     std::vector<int32_t> parent(surface.triangles.size() * 3);
     for (size_t i = 0; i < parent.size(); ++i) parent[i] = int32_t(i);
@@ -124,7 +132,10 @@ std::vector<int32_t> fan_of_corners(const Surface& surface) {
     for (size_t i = 0; i < edges.size();) {
         size_t j = i;
         while (j < edges.size() && edges[j][0] == edges[i][0] && edges[j][1] == edges[i][1]) ++j;
-        if (j - i == 2) {
+        // Two triangles that run the edge in opposite directions (a consistently oriented
+        // neighbour): a triangle turned against its neighbours is a sheet of its own.
+        const auto first_end = [&](int32_t corner) { return surface.triangles[size_t(corner / 3)][size_t(corner % 3)]; };
+        if (j - i == 2 && first_end(edges[i][2]) != first_end(edges[i + 1][2])) {
             // Corner k of the edge's triangle is at vertex triangles[t][k], corner k+1 at the other end.
             for (const int32_t end : {edges[i][0], edges[i][1]}) {
                 auto at = [&](int32_t corner) {
@@ -146,18 +157,67 @@ double distance_to(const Tree& tree, const Point& p) {
     return std::sqrt(CGAL::to_double(tree.squared_distance(p)));
 }
 
-using Primitive = CGAL::AABB_face_graph_triangle_primitive<Mesh>;
+using Triangles = std::vector<Kernel::Triangle_3>;
+using Primitive = CGAL::AABB_triangle_primitive<Kernel, Triangles::const_iterator>;
 using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
+
+Triangles triangles_of(const Surface& s) {
+    Triangles out;
+    out.reserve(s.triangles.size());
+    for (const Tri& t : s.triangles)
+        out.emplace_back(to_point(s.vertices[size_t(t[0])]), to_point(s.vertices[size_t(t[1])]),
+                         to_point(s.vertices[size_t(t[2])]));
+    return out;
+}
+
+// The intersecting pairs check_intersections finds (smaller triangle first), at most 2^20.
+std::set<std::pair<int32_t, int32_t>> intersecting_pairs(const Surface& s, int64_t& count, const Context& context) {
+    CheckOptions options;
+    options.max_problems = size_t(1) << 20;
+    const CheckResult r = check_intersections(s, options, context);
+    count = r.problem_count;
+    std::set<std::pair<int32_t, int32_t>> pairs;
+    for (const CheckProblem& p : r.problems) {
+        const int64_t a = p.id("triangle"), b = p.id("other_triangle");
+        if (a >= 0 && b >= 0) pairs.insert({int32_t(std::min(a, b)), int32_t(std::max(a, b))});
+    }
+    return pairs;
+}
+
+std::string plural(int64_t n, const char* one, const char* many) { return std::to_string(n) + " " + (n == 1 ? one : many); }
 
 }  // namespace
 
-SelfIntersectionRepair repair_self_intersections(Surface& surface, const Context& context) {
+SelfIntersectionRepair repair_self_intersections(Surface& surface, const SelfIntersectionRepairOptions& options,
+                                                 const Context& context) {
     SelfIntersectionRepair result;
+    // Bad input is the caller's error, not something to repair (the readers refuse it).
+    if (surface.patches.size() != surface.triangles.size())
+        throw std::invalid_argument("repair_self_intersections: " + std::to_string(surface.patches.size()) +
+                                    " patch ids for " + std::to_string(surface.triangles.size()) + " triangles");
+    if (const std::vector<std::string> bad = vertex_data_problems(surface); !bad.empty())
+        throw std::invalid_argument("repair_self_intersections: " + bad[0]);
+    {
+        ValidateOptions validate;
+        validate.allow_unreferenced_vertices = validate.allow_duplicate_vertices = true;
+        validate.max_problems = 1;
+        for (const SurfaceProblem& p : validate_surface(surface, validate))
+            if (p.kind == SurfaceProblem::Kind::IndexOutOfRange || p.kind == SurfaceProblem::Kind::NonFiniteCoordinate)
+                throw std::invalid_argument("repair_self_intersections: " + describe_problem(p, surface));
+    }
     context.report(0.0, "self-intersection repair: finding intersections");
-    CheckOptions check_options;
-    check_options.max_problems = 1;
-    result.intersecting_pairs = result.remaining_pairs = check_intersections(surface, check_options).problem_count;
+    const std::set<std::pair<int32_t, int32_t>> input_pairs =
+        intersecting_pairs(surface, result.intersecting_pairs, Context{nullptr, context.progress});
+    result.remaining_pairs = result.intersecting_pairs;
     if (result.intersecting_pairs == 0) return result;
+    // Nothing changes unless the result is accepted: on a refusal only the counts before.
+    const auto refuse = [&](std::string why) {
+        const int64_t pairs = result.intersecting_pairs;
+        result = SelfIntersectionRepair{};
+        result.intersecting_pairs = result.remaining_pairs = pairs;
+        result.refused = std::move(why);
+        return result;
+    };
 
     // The CGAL copy, with every element's index in `surface` (-1 for what the repair adds;
     // Surface_mesh resets the properties of a recycled slot). A vertex where several fans
@@ -188,38 +248,40 @@ SelfIntersectionRepair repair_self_intersections(Surface& surface, const Context
             }
         }
         const FaceIndex f = mesh.add_face(c[0], c[1], c[2]);
-        if (f == Mesh::null_face()) {
-            result.refused = "triangle " + std::to_string(t) + " (vertices " + std::to_string(tri[0]) + ", " +
-                             std::to_string(tri[1]) + ", " + std::to_string(tri[2]) +
-                             ") shares an edge with two others or turns against a neighbour; the repair needs an "
-                             "orientable surface whose edges have one or two triangles";
-            return result;
-        }
+        if (f == Mesh::null_face())  // e.g. a repeated corner or a duplicate triangle
+            return refuse("triangle " + std::to_string(t) + " (vertices " + std::to_string(tri[0]) + ", " +
+                          std::to_string(tri[1]) + ", " + std::to_string(tri[2]) +
+                          ") cannot be joined to its neighbours (a repeated corner, or the same triangle twice?)");
         face_input[f] = t;
     }
-    const Mesh input_mesh = mesh;  // for the distances of the change
 
     ProgressVisitor visitor;
     visitor.context = &context;
     CGAL::Polygon_mesh_processing::experimental::remove_self_intersections(
         mesh, CGAL::parameters::preserve_genus(true).visitor(visitor).filter(PinchedPairs{&mesh, &vertex_input}));
     context.report(0.85, "self-intersection repair: checking the result");
+    // CGAL's hole filling gives the vertices inside a replaced region new points but keeps
+    // their handles (and so their properties): a vertex away from its input position is
+    // new, whatever its handle says. (So is a kept vertex the smoothing moved.)
+    for (const VertexIndex v : mesh.vertices())
+        if (vertex_input[v] >= 0 && to_vec(mesh.point(v)) != surface.vertices[size_t(vertex_input[v])]) vertex_input[v] = -1;
 
     // Kept triangles: the input's, still there with the same corners.
     const size_t input_triangles = surface.triangles.size();
     std::vector<char> kept(input_triangles, 0);
+    std::vector<FaceIndex> face_of(input_triangles, Mesh::null_face());
     for (const FaceIndex f : mesh.faces()) {
         const int32_t t = face_input[f];
         if (t < 0) continue;
         const auto c = corners(mesh, f);
-        if (same_triangle(surface.triangles[size_t(t)], {vertex_input[c[0]], vertex_input[c[1]], vertex_input[c[2]]}))
+        if (same_triangle(surface.triangles[size_t(t)], {vertex_input[c[0]], vertex_input[c[1]], vertex_input[c[2]]})) {
             kept[size_t(t)] = 1;
+            face_of[size_t(t)] = f;
+        }
     }
     std::vector<FaceIndex> added;  // in the mesh's index order
-    for (const FaceIndex f : mesh.faces()) {
-        const int32_t t = face_input[f];
-        if (t < 0 || !kept[size_t(t)]) added.push_back(f);
-    }
+    for (const FaceIndex f : mesh.faces())
+        if (face_input[f] < 0 || !kept[size_t(face_input[f])]) added.push_back(f);
 
     // The repaired surface: kept vertices (in order) that some triangle still uses, then
     // the new ones in the mesh's index order, then the copies of a pinched vertex that the
@@ -231,62 +293,45 @@ SelfIntersectionRepair repair_self_intersections(Surface& surface, const Context
     std::vector<std::vector<VertexIndex>> copies(surface.vertices.size());  // in index order
     for (const VertexIndex v : mesh.vertices())
         if (vertex_input[v] >= 0) copies[size_t(vertex_input[v])].push_back(v);
-    std::vector<FaceIndex> face_of(input_triangles, Mesh::null_face());
-    for (const FaceIndex f : mesh.faces())
-        if (face_input[f] >= 0 && kept[size_t(face_input[f])]) face_of[size_t(face_input[f])] = f;
     for (const FaceIndex f : mesh.faces())  // kept and added: every face left
         for (const VertexIndex v : corners(mesh, f)) used[size_t(v)] = 1;
-    std::vector<int32_t> rim;  // kept vertices of new triangles: where new vertices take their data from
+    // Where new vertices take their data from: the nearest input vertex of the replaced
+    // region (the corners of the removed triangles and the kept corners of the new ones).
+    std::vector<int32_t> region;
     for (const FaceIndex f : added)
         for (const VertexIndex v : corners(mesh, f))
-            if (vertex_input[v] >= 0) rim.push_back(vertex_input[v]);
-    std::sort(rim.begin(), rim.end());
-    rim.erase(std::unique(rim.begin(), rim.end()), rim.end());
+            if (vertex_input[v] >= 0) region.push_back(vertex_input[v]);
+    for (size_t t = 0; t < input_triangles; ++t)
+        if (!kept[t]) region.insert(region.end(), surface.triangles[t].begin(), surface.triangles[t].end());
+    std::sort(region.begin(), region.end());
+    region.erase(std::unique(region.begin(), region.end()), region.end());
 
     std::vector<int32_t> source_of;  // per repaired vertex: the input vertex its data comes from
-    std::vector<VertexIndex> moved_apart;
     for (size_t v = 0; v < surface.vertices.size(); ++v) {
-        VertexIndex first = Mesh::null_vertex();
+        bool any = false;
         for (const VertexIndex m : copies[v]) {
             if (!used[size_t(m)]) continue;
-            if (first == Mesh::null_vertex()) {
-                first = m;
-                const Vec3 now = to_vec(mesh.point(m));
-                if (now != surface.vertices[v]) ++result.moved_vertices;
+            if (!any) {  // every copy left is at the input position: one vertex
                 new_index[size_t(m)] = repaired.num_vertices();
-                repaired.vertices.push_back(now);
+                repaired.vertices.push_back(surface.vertices[v]);
                 source_of.push_back(int32_t(v));
-            } else if (mesh.point(m) == mesh.point(first)) {
-                new_index[size_t(m)] = new_index[size_t(first)];
+                any = true;
             } else {
-                moved_apart.push_back(m);
+                new_index[size_t(m)] = repaired.num_vertices() - 1;
             }
         }
-        if (first == Mesh::null_vertex()) ++result.removed_vertices;
+        if (!any) ++result.removed_vertices;
     }
     for (const VertexIndex v : mesh.vertices()) {
         if (vertex_input[v] >= 0 || !used[size_t(v)]) continue;
         const Vec3 p = to_vec(mesh.point(v));
         int32_t nearest = -1;
         double best = std::numeric_limits<double>::infinity();
-        // The rim, or every kept vertex if the repair replaced a whole component.
-        auto consider = [&](int32_t u) {
-            const double d = distance(p, surface.vertices[size_t(u)]);
-            if (d < best) best = d, nearest = u;
-        };
-        if (!rim.empty())
-            for (int32_t u : rim) consider(u);
-        else
-            for (int32_t u = 0; u < surface.num_vertices(); ++u) consider(u);
+        for (const int32_t u : region)
+            if (const double d = distance(p, surface.vertices[size_t(u)]); d < best) best = d, nearest = u;
         new_index[size_t(v)] = repaired.num_vertices();
         repaired.vertices.push_back(p);
         source_of.push_back(nearest);
-        ++result.added_vertices;
-    }
-    for (const VertexIndex m : moved_apart) {
-        new_index[size_t(m)] = repaired.num_vertices();
-        repaired.vertices.push_back(to_vec(mesh.point(m)));
-        source_of.push_back(vertex_input[m]);
         ++result.added_vertices;
     }
 
@@ -312,19 +357,27 @@ SelfIntersectionRepair repair_self_intersections(Surface& surface, const Context
                 }
             }
         }
-        if (around.empty() && all_patches.size() == 1) around = all_patches;
-        if (around.size() != 1) {
-            const int64_t pairs = result.intersecting_pairs;
-            result = SelfIntersectionRepair{};
-            result.intersecting_pairs = result.remaining_pairs = pairs;
-            result.refused = around.empty()
-                                 ? std::string("the repair would replace a whole component, whose patch is not known")
-                                 : "the repair of an intersection would border " + std::to_string(around.size()) +
-                                       " patches (it lies where materials meet), so its new triangles have no patch";
-            return result;
+        if (around.empty()) {
+            // Cut off at edges of 3+ triangles or pinched vertices: the kept triangles at
+            // its input vertices.
+            std::set<int32_t> corners_of_group;
+            for (const FaceIndex g : group)
+                for (const VertexIndex v : corners(mesh, g))
+                    if (vertex_input[v] >= 0) corners_of_group.insert(vertex_input[v]);
+            for (size_t t = 0; t < input_triangles; ++t)
+                if (kept[t])
+                    for (const int32_t v : surface.triangles[t])
+                        if (corners_of_group.count(v)) around.insert(surface.patches[t]);
         }
+        if (around.empty() && all_patches.size() == 1) around = all_patches;
+        if (around.size() != 1)
+            return refuse(around.empty()
+                              ? std::string("the repair would replace a whole component, whose patch is not known")
+                              : "the repair of an intersection would border " + std::to_string(around.size()) +
+                                    " patches (it lies where materials meet), so its new triangles have no patch");
         for (const FaceIndex g : group) added_patch[g] = *around.begin();
     }
+    std::vector<int32_t> input_of_kept;  // per kept triangle of `repaired`: its index in `surface`
     for (size_t t = 0; t < input_triangles; ++t) {
         if (!kept[t]) {
             ++result.removed_triangles;
@@ -335,6 +388,7 @@ SelfIntersectionRepair repair_self_intersections(Surface& surface, const Context
         while (vertex_input[c[0]] != surface.triangles[t][0]) std::rotate(c.begin(), c.begin() + 1, c.end());
         repaired.triangles.push_back({new_index[size_t(c[0])], new_index[size_t(c[1])], new_index[size_t(c[2])]});
         repaired.patches.push_back(surface.patches[t]);
+        input_of_kept.push_back(int32_t(t));
     }
     for (const FaceIndex f : added) {
         const auto c = corners(mesh, f);
@@ -351,29 +405,36 @@ SelfIntersectionRepair repair_self_intersections(Surface& surface, const Context
         repaired.vertex_data.push_back(std::move(out));
     }
 
-    result.remaining_pairs = check_intersections(repaired, check_options).problem_count;
-    if (result.remaining_pairs >= result.intersecting_pairs) {
-        const int64_t before = result.intersecting_pairs, after = result.remaining_pairs;
-        result = SelfIntersectionRepair{};
-        result.intersecting_pairs = result.remaining_pairs = before;
-        result.refused = "the local repairs left " + std::to_string(after) + " of the " + std::to_string(before) +
-                         " intersecting pairs (too large or tangled for a local repair)";
-        return result;
+    // Accepted only if every pair left is one of the input's, between kept triangles: a
+    // repair never adds an intersection of its own.
+    int64_t left = 0;
+    const std::set<std::pair<int32_t, int32_t>> left_pairs = intersecting_pairs(repaired, left, Context{});
+    int64_t made = left - int64_t(left_pairs.size());  // beyond the listed ones: not known to be old
+    for (const auto& [a, b] : left_pairs) {
+        const bool old = size_t(b) < input_of_kept.size() &&
+                         input_pairs.count({std::min(input_of_kept[size_t(a)], input_of_kept[size_t(b)]),
+                                            std::max(input_of_kept[size_t(a)], input_of_kept[size_t(b)])});
+        if (!old) ++made;
     }
+    if (made > 0)
+        return refuse("the local repairs would make " + plural(made, "new intersecting pair", "new intersecting pairs") +
+                      " (" + std::to_string(left) + " in all, of " + std::to_string(result.intersecting_pairs) +
+                      " before): too large or tangled for a local repair");
+    if (left >= result.intersecting_pairs)
+        return refuse("the local repairs left all " + std::to_string(left) + " intersecting pairs");
+    result.remaining_pairs = left;
 
-    // How far the surface changed: changed points of the repaired surface against the
-    // input, removed triangles of the input against the repaired surface.
+    // How far the surface changed: new points of the repaired surface (vertices and the
+    // centroids of new triangles) against the input, removed triangles' corners and
+    // centroids against the repaired surface.
     context.report(0.95, "self-intersection repair: measuring the change");
     double largest = 0.0;
     {
-        Tree to_input(faces(input_mesh).first, faces(input_mesh).second, input_mesh);
+        const Triangles input_triangles_3 = triangles_of(surface);
+        Tree to_input(input_triangles_3.begin(), input_triangles_3.end());
         to_input.accelerate_distance_queries();
-        for (size_t v = 0; v < repaired.vertices.size(); ++v) {
-            const int32_t s = source_of[v];
-            const bool is_new = v >= repaired.vertices.size() - size_t(result.added_vertices);
-            if (is_new || repaired.vertices[v] != surface.vertices[size_t(s)])
-                largest = std::max(largest, distance_to(to_input, to_point(repaired.vertices[v])));
-        }
+        for (size_t v = repaired.vertices.size() - size_t(result.added_vertices); v < repaired.vertices.size(); ++v)
+            largest = std::max(largest, distance_to(to_input, to_point(repaired.vertices[v])));
         for (size_t t = repaired.triangles.size() - size_t(result.added_triangles); t < repaired.triangles.size(); ++t) {
             const Tri& tri = repaired.triangles[t];
             const Vec3 c = (1.0 / 3.0) * (repaired.vertices[size_t(tri[0])] + repaired.vertices[size_t(tri[1])] +
@@ -382,7 +443,8 @@ SelfIntersectionRepair repair_self_intersections(Surface& surface, const Context
         }
     }
     {
-        Tree to_repaired(faces(mesh).first, faces(mesh).second, mesh);
+        const Triangles repaired_triangles_3 = triangles_of(repaired);
+        Tree to_repaired(repaired_triangles_3.begin(), repaired_triangles_3.end());
         to_repaired.accelerate_distance_queries();
         for (size_t t = 0; t < input_triangles; ++t) {
             if (kept[t]) continue;
@@ -397,6 +459,15 @@ SelfIntersectionRepair repair_self_intersections(Surface& surface, const Context
     }
     const double diagonal = bounding_box_diagonal(surface);
     result.largest_change = diagonal > 0 ? largest / diagonal : 0.0;
+    if (result.largest_change > options.max_change) {
+        char text[160];
+        std::snprintf(text, sizeof text, "the repair would move the surface by about %.3g of the diagonal, more than "
+                                         "max_change = %.3g", result.largest_change, options.max_change);
+        return refuse(text);
+    }
+    const std::string before = describe_topology(compute_topology(surface));
+    const std::string after = describe_topology(compute_topology(repaired));
+    if (before != after) result.topology_change = before + " -> " + after;
     surface = std::move(repaired);
     context.report(1.0, "self-intersection repair: done");
     return result;

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 #include "bpm/check.h"
 #include "bpm/self_intersection_repair.h"
@@ -58,11 +59,18 @@ int64_t intersecting_pairs(const Surface& s) { return check_intersections(s).pro
 
 }  // namespace
 
+// The spike reaches across the sphere: its repair moves the surface by ~0.2 of the diagonal.
+SelfIntersectionRepairOptions far() {
+    SelfIntersectionRepairOptions options;
+    options.max_change = 1;
+    return options;
+}
+
 TEST_CASE("a vertex pushed through the far side is repaired locally", "[self_intersection_repair]") {
     const Surface input = sphere(true);
     REQUIRE(intersecting_pairs(input) > 0);
     Surface s = input;
-    const SelfIntersectionRepair r = repair_self_intersections(s);
+    const SelfIntersectionRepair r = repair_self_intersections(s, far());
     INFO(r.refused);
     CHECK(r.refused.empty());
     CHECK(r.intersecting_pairs == intersecting_pairs(input));
@@ -95,9 +103,13 @@ TEST_CASE("a vertex pushed through the far side is repaired locally", "[self_int
         if (mapped == input.triangles[t]) ++kept;
     }
     CHECK(int64_t(kept) == input.num_triangles() - r.removed_triangles);
+    // Kept vertices keep their positions and their own data.
+    for (size_t v = 0; v + size_t(r.added_vertices) < s.vertices.size(); ++v)
+        CHECK(s.vertices[v] == input.vertices[size_t(s.vertex_data[0].values[v])]);
+    CHECK(r.topology_change.empty());
     // Deterministic.
     Surface again = input;
-    repair_self_intersections(again);
+    repair_self_intersections(again, far());
     CHECK(again.vertices == s.vertices);
     CHECK(again.triangles == s.triangles);
 }
@@ -117,7 +129,7 @@ TEST_CASE("a repair whose new triangles would border two patches is refused", "[
     Surface input = sphere(true);
     for (size_t t = 0; t < input.patches.size(); ++t) input.patches[t] = int32_t(t % 2);
     Surface s = input;
-    const SelfIntersectionRepair r = repair_self_intersections(s);
+    const SelfIntersectionRepair r = repair_self_intersections(s, far());
     CHECK(r.refused.find("patches") != std::string::npos);
     CHECK(r.remaining_pairs == r.intersecting_pairs);
     CHECK(r.removed_triangles == 0);
@@ -126,15 +138,40 @@ TEST_CASE("a repair whose new triangles would border two patches is refused", "[
     CHECK(s.patches == input.patches);
 }
 
-TEST_CASE("a triangle turned against its neighbours is refused, untouched", "[self_intersection_repair]") {
+TEST_CASE("a repair that moves the surface further than max_change is refused, untouched", "[self_intersection_repair]") {
+    const Surface input = sphere(true);
+    Surface s = input;
+    const SelfIntersectionRepair r = repair_self_intersections(s);  // max_change 0.01
+    CHECK(r.refused.find("max_change") != std::string::npos);
+    CHECK(r.remaining_pairs == r.intersecting_pairs);
+    CHECK(r.removed_triangles == 0);
+    CHECK(s.vertices == input.vertices);
+    CHECK(s.triangles == input.triangles);
+}
+
+TEST_CASE("a triangle turned against its neighbours is a sheet of its own, kept", "[self_intersection_repair]") {
     Surface input = sphere(true);
     std::swap(input.triangles[30][1], input.triangles[30][2]);
     Surface s = input;
-    const SelfIntersectionRepair r = repair_self_intersections(s);
-    CHECK(r.refused.find("turns against a neighbour") != std::string::npos);
-    CHECK(r.refused.find("triangle 30 ") != std::string::npos);
-    CHECK(r.remaining_pairs == r.intersecting_pairs);
-    CHECK(s.triangles == input.triangles);
+    const SelfIntersectionRepair r = repair_self_intersections(s, far());
+    INFO(r.refused);
+    CHECK(r.refused.empty());
+    CHECK(r.remaining_pairs == 0);
+    Tri ids;
+    for (int c = 0; c < 3; ++c) ids[size_t(c)] = int32_t(s.vertex_data[0].values[size_t(s.triangles[30][size_t(c)])]);
+    CHECK(ids == input.triangles[30]);
+}
+
+TEST_CASE("surfaces a caller got wrong are std::invalid_argument", "[self_intersection_repair]") {
+    Surface s = sphere(true);
+    s.patches.clear();
+    CHECK_THROWS_AS(repair_self_intersections(s), std::invalid_argument);
+    s = sphere(true);
+    s.vertex_data[0].values.pop_back();
+    CHECK_THROWS_AS(repair_self_intersections(s), std::invalid_argument);
+    s = sphere(true);
+    s.triangles[5][1] = 9999;
+    CHECK_THROWS_AS(repair_self_intersections(s), std::invalid_argument);
 }
 
 TEST_CASE("a non-manifold edge is kept, the crossing repaired", "[self_intersection_repair]") {
@@ -145,7 +182,7 @@ TEST_CASE("a non-manifold edge is kept, the crossing repaired", "[self_intersect
     input.triangles.push_back({0, ring_vertex(1, 0), input.num_vertices() - 1});
     input.patches.push_back(3);
     Surface s = input;
-    const SelfIntersectionRepair r = repair_self_intersections(s);
+    const SelfIntersectionRepair r = repair_self_intersections(s, far());
     INFO(r.refused);
     CHECK(r.refused.empty());
     CHECK(r.remaining_pairs == 0);
@@ -170,7 +207,7 @@ TEST_CASE("a pinched vertex (two fans meeting at their tip) is repaired around a
         input.patches.push_back(3);
     }
     Surface s = input;
-    const SelfIntersectionRepair r = repair_self_intersections(s);
+    const SelfIntersectionRepair r = repair_self_intersections(s, far());
     INFO(r.refused);
     CHECK(r.refused.empty());
     CHECK(r.remaining_pairs == 0);
