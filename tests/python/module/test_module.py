@@ -204,6 +204,12 @@ def test_inverse_phi_errors(femur):
         f.phi_inverse([0], np.ones((1, 2)))
     with pytest.raises(ValueError, match="not finite"):
         f.phi_inverse_positions([[0.0, np.inf, 0.0]])
+    # Squared distances from here overflow: this crashed (segfault) instead of raising.
+    with pytest.raises(ValueError, match="too far from the original surface"):
+        f.phi_inverse_positions([[1e300, 0.0, 0.0]])
+    far = f.phi_inverse_positions([[1e100, 0.0, 0.0]])
+    assert 0 <= far["triangles"][0] < len(f.coarse_triangles)
+    assert 0 <= far["original_triangles"][0] < n0
 
 
 def test_repair_moves_a_flat_refined_boundary_onto_the_original_surface():
