@@ -14,6 +14,7 @@
 #include <pybind11/stl.h>
 
 #include <atomic>
+#include <charconv>
 #include <cstdint>
 #include <cmath>
 #include <cstdio>
@@ -552,6 +553,20 @@ std::string simplify_arguments(int64_t vertices, int64_t triangles, const bpm::S
     return text;
 }
 
+// A number for a message: 6 significant digits, '.' whatever the locale (a Python
+// program may have called locale.setlocale).
+std::string number_text(double value) {
+    char text[32];
+    const auto end = std::to_chars(text, text + sizeof text, value, std::chars_format::general, 6).ptr;
+    return std::string(text, end);
+}
+
+void require_feature_angle(double feature_angle) {
+    if (!(feature_angle >= 0 && feature_angle <= 180))
+        throw bpm::OptionError("feature_angle must be between 0 and 180 degrees (default 60), got " +
+                               number_text(feature_angle));
+}
+
 File simplify_arrays(const py::object& vertices, const py::object& triangles, const py::object& patches,
                      int64_t target_vertices, double ratio, double max_error, double max_aspect, double feature_angle,
                      bool keep_corners, int threads, const std::string& units, const py::object& progress) {
@@ -593,8 +608,19 @@ File simplify_arrays(const py::object& vertices, const py::object& triangles, co
         if (problems.size() > 3) message += "; and " + std::to_string(problems.size() - 3) + " more problems";
         throw py::value_error(message);
     }
-    if (target_vertices < 0 || !(ratio >= 0 && ratio <= 1) || !(max_error >= 0))
-        throw py::value_error("target_vertices must be >= 0, ratio in [0, 1] and max_error >= 0");
+    // Each keyword by its Python name (libbpm's messages name the C++ fields, e.g.
+    // max_aspect_ratio, which are no keywords of this function).
+    if (target_vertices < 0) throw py::value_error("target_vertices must be >= 0, got " + std::to_string(target_vertices));
+    if (!(ratio >= 0 && ratio <= 1))
+        throw py::value_error("ratio must be in [0, 1] (a fraction of the input vertices, e.g. 0.1), got " +
+                              number_text(ratio));
+    if (!(max_error >= 0))
+        throw py::value_error("max_error must be >= 0 (a fraction of the bounding-box diagonal, e.g. 0.005), got " +
+                              number_text(max_error));
+    if (!(max_aspect >= 2))
+        throw bpm::OptionError("max_aspect must be at least 2 (2 = equilateral; default 30), got " +
+                               number_text(max_aspect));
+    require_feature_angle(feature_angle);
     if (target_vertices == 0 && ratio == 0 && !std::isfinite(max_error))
         throw py::value_error("give a target: target_vertices, ratio or max_error");
     bpm::SimplifyOptions options;
@@ -798,6 +824,17 @@ PYBIND11_MODULE(_bpm, m) {
         .def("check",
              [](const File& f, bool replay, std::optional<double> max_distance, std::optional<double> max_aspect,
                 std::optional<double> min_angle, int threads, const py::object& progress) {
+                 // The ranges bpm-check's options have (a value outside was no error but a
+                 // check that failed on every triangle).
+                 if (max_distance && !(*max_distance >= 0 && std::isfinite(*max_distance)))
+                     throw bpm::OptionError("max_distance must be a number >= 0 (a fraction of the bounding-box "
+                                            "diagonal, e.g. 0.005), got " + number_text(*max_distance));
+                 if (max_aspect && !(*max_aspect >= 2))
+                     throw bpm::OptionError("max_aspect must be at least 2 (2 = equilateral), got " +
+                                            number_text(*max_aspect));
+                 if (min_angle && !(*min_angle >= 0 && *min_angle <= 60))
+                     throw bpm::OptionError("min_angle must be between 0 and 60 degrees (60 = equilateral), got " +
+                                            number_text(*min_angle));
                  bpm::CheckSelection selection;
                  selection.distortion = true;  // bpm-check's default, 'all'
                  selection.replay = replay;
@@ -819,6 +856,7 @@ PYBIND11_MODULE(_bpm, m) {
              "bpm.simplify.")
         .def("smooth",
              [](const File& f, int iterations, double tolerance, double feature_angle, const py::object& progress) {
+                 require_feature_angle(feature_angle);
                  bpm::SmoothOptions o;
                  o.iterations = iterations;
                  o.tolerance = tolerance;

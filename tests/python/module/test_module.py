@@ -570,3 +570,30 @@ def test_check_is_the_tools_report(femur, tmp_path):
     tight = made.check(max_distance=1e-6)
     assert not tight["passed"]
     assert [c["name"] for c in tight["checks"] if not c["passed"]] == ["distance"]
+
+
+def test_option_errors_name_the_python_keywords(femur):
+    """An option out of range names the keyword the caller wrote and the value given:
+    simplify's errors named libbpm's fields (max_aspect_ratio, feature_angle_degrees) or
+    lumped the three targets into one message; check() took a negative max_distance, a
+    max_aspect below 2 or a min_angle above 60 and reported every triangle as failing,
+    where bpm-check refuses the option."""
+    vertices, triangles = read_off(MESHES / "elephant.off")
+    for kwargs, message in [
+            (dict(ratio=2.0), r"ratio must be in \[0, 1\] .*got 2$"),
+            (dict(ratio=float("nan")), r"ratio must be in \[0, 1\] .*got nan$"),
+            (dict(target_vertices=-5), r"target_vertices must be >= 0, got -5$"),
+            (dict(max_error=-1.0), r"max_error must be >= 0 .*got -1$"),
+            (dict(ratio=0.1, max_aspect=1.0), r"^max_aspect must be at least 2 .*got 1$"),
+            (dict(ratio=0.1, feature_angle=500.0), r"^feature_angle must be between 0 and 180 .*got 500$")]:
+        with pytest.raises(ValueError, match=message):
+            bpm.simplify(vertices, triangles, **kwargs)
+    f = bpm.read(femur)
+    with pytest.raises(bpm.OptionError, match=r"^feature_angle must be between 0 and 180"):
+        f.smooth(feature_angle=-1.0)
+    for kwargs, message in [(dict(max_distance=-1.0), r"^max_distance must be a number >= 0"),
+                            (dict(max_distance=float("inf")), r"^max_distance must be a number >= 0"),
+                            (dict(max_aspect=0.5), r"^max_aspect must be at least 2"),
+                            (dict(min_angle=100.0), r"^min_angle must be between 0 and 60")]:
+        with pytest.raises(bpm.OptionError, match=message):
+            f.check(**kwargs)
