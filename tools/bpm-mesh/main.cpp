@@ -305,6 +305,7 @@ int main(int argc, char** argv) {
                 j += std::string(i ? ", " : "") + "{\"id\": " + std::to_string(i + 1) + ", \"name\": \"" +
                      json_escape(m.material_names[i]) + "\"}";
             j += "], \"material_problems\": " + std::to_string(materials.problems.size()) + "}";
+            bpm::tools::end_progress_line();
             std::cout << j << std::endl;
         }
         return int(bpm::tools::kOk);

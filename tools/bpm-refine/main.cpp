@@ -375,6 +375,7 @@ int main(int argc, char** argv) {
                      json_double(u.at[2]) + "]}";
             }
             j += "], \"seconds\": " + json_double(result.seconds) + "}\n";
+            bpm::tools::end_progress_line();
             std::fputs(j.c_str(), stdout);
         }
         return int(bpm::tools::kOk);

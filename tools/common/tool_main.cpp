@@ -252,6 +252,7 @@ int run(const std::string& tool, int argc, char** argv, CLI::App& app, const std
     // tool's JSON report of it on stdout (a CI job parsing stdout always gets a report).
     // --json counts when it is on the command line even if parsing failed.
     const auto fail = [&](const std::string& where, const std::string& message, int code) {
+        end_progress_line();
         print_error(tool, where, message);
         bool json = g_json && *g_json;
         for (int i = 1; i < argc && !json && g_render_error; ++i) json = std::string(argv[i]) == "--json";
@@ -281,7 +282,9 @@ int run(const std::string& tool, int argc, char** argv, CLI::App& app, const std
     set_hdf5_isolation(true);
     install_signal_handlers();
     try {
-        return body();
+        const int code = body();
+        end_progress_line();  // no prompt after a stage left below 100 %
+        return code;
     } catch (const InputNeedsRepair& e) {
         // The library names the repairs; the command line to copy is the tool's to give.
         std::string flags;
@@ -320,9 +323,24 @@ int run(const std::string& tool, int argc, char** argv, CLI::App& app, const std
     }
 }
 
+namespace {
+// Whether the last thing on stderr is a progress line ("\rstage  42%") without its end:
+// the next line printed, on stderr or on stdout (the same terminal), would continue it.
+bool g_progress_line_open = false;
+}  // namespace
+
+void end_progress_line() {
+    if (!g_progress_line_open) return;
+    g_progress_line_open = false;
+    std::fprintf(stderr, "\r%65s\r", "");  // as wide as "%-60.60s %3d%%"
+    std::fflush(stderr);
+}
+
 Context make_context(const std::string& tool, bool verbose, bool quiet) {
     Context context;
     context.log = [tool, verbose, quiet](LogLevel level, const std::string& message) {
+        const bool shown = (level == LogLevel::Warning || level == LogLevel::Info) ? !quiet : verbose;
+        if (shown) end_progress_line();
         if (level == LogLevel::Warning && !quiet) {
             std::cerr << tool << ": warning: " << message << std::endl;
         } else if (level == LogLevel::Info && !quiet) {
@@ -344,6 +362,7 @@ Context make_context(const std::string& tool, bool verbose, bool quiet) {
             *last_stage = stage;
             std::fprintf(stderr, "\r%-60.60s %3d%%", stage.c_str(), percent);
             if (percent >= 100) std::fprintf(stderr, "\n");
+            g_progress_line_open = percent < 100;
             std::fflush(stderr);
         }
         return true;

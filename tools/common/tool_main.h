@@ -78,6 +78,11 @@ std::string error_json(const ErrorReport& error);
 // and whose progress is shown on stderr only when stderr is a terminal.
 Context make_context(const std::string& tool, bool verbose, bool quiet);
 
+// Erases a progress line that stopped short of 100 % (a stage that ended early), so that
+// what comes next starts a line of its own: the context's log lines and errors call it;
+// a tool calls it before it prints its report on standard output (the same terminal).
+void end_progress_line();
+
 // "bpm-verb 0.1.0 (bpm format 1.0)"
 std::string version_line(const std::string& tool);
 
