@@ -214,8 +214,9 @@ int main(int argc, char** argv) {
                                         *surface_format == bpm::SurfaceFormat::Vtp ||
                                         *surface_format == bpm::SurfaceFormat::Surf))
             throw CLI::ValidationError(format.empty() ? "--output" : "--output-format",
-                                       "unknown output format '" + kind +
-                                           "' (valid: off obj ply stl msh msh22 vtu bpm, by extension or --output-format)");
+                                       (kind.empty() ? "cannot tell the format from '" + output + "' (no extension)"
+                                                     : "unknown output format '" + kind + "'") +
+                                           " (valid: off obj ply stl msh msh22 vtu bpm, by extension or --output-format)");
         if (is_bpm) bpm::tools::refuse_binary_to_terminal(output, "binary .bpm (HDF5) data");
         if (surface_format && (*surface_format == bpm::SurfaceFormat::Stl || *surface_format == bpm::SurfaceFormat::Ply))
             bpm::tools::refuse_binary_to_terminal(output, "binary " + kind + " data");

@@ -395,10 +395,19 @@ void group_options(CLI::App& app, const std::string& group, const std::vector<st
 }
 
 void require_output_directory(const std::string& path) {
-    if (path.empty() || path == "-") return;
+    if (path == "-") return;
+    if (path.empty()) throw CLI::ValidationError("--output", "the file name is empty");
+    // A directory, or a name ending in '/' (exit 4, as when the writer finds it): the
+    // format checks that follow would talk about an empty file name ("'' does not end in
+    // .bpm", "unknown output format ''").
+    std::error_code ec;
+    if (path.back() == '/' || std::filesystem::is_directory(path, ec)) {
+        std::string dir = path;
+        while (dir.size() > 1 && dir.back() == '/') dir.pop_back();
+        throw OutputError(path, "is a directory: -o names the output file (e.g. " + dir + "/NAME.EXT)");
+    }
     std::filesystem::path parent = std::filesystem::path(path).parent_path();
     if (parent.empty()) return;
-    std::error_code ec;
     if (!std::filesystem::is_directory(parent, ec))
         throw CLI::ValidationError("--output", "directory does not exist: " + parent.string());
 }
@@ -408,6 +417,10 @@ void require_bpm_output(const std::string& path, const std::string& tool) {
     const std::string name = std::filesystem::path(path).filename().string();
     std::string extension = std::filesystem::path(name).extension().string();
     for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    std::string lower_name = name;
+    for (char& c : lower_name) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    if (lower_name == ".bpm")  // a hidden file without extension, for std::filesystem
+        throw CLI::ValidationError("--output", "'" + name + "' has no name before the extension (e.g. -o coarse.bpm)");
     if (extension != ".bpm")
         throw CLI::ValidationError("--output", tool + " writes .bpm files only, and '" + name +
                                                    "' does not end in .bpm (bpm-refine writes surfaces, bpm-mesh "
