@@ -14,11 +14,13 @@
 #include <pybind11/stl.h>
 
 #include <atomic>
+#include <cctype>
 #include <charconv>
 #include <cstdint>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <limits>
 #include <map>
 #include <memory>
@@ -505,6 +507,15 @@ public:
     // The GIL stays held: HDF5 is not to run in two Python threads at once, nor beside the
     // fork of an isolated read (set_hdf5_isolation), whose child would inherit HDF5's lock.
     void write(const std::string& path) {
+        // An HDF5 file named like a mesh format is a trap for whoever opens it next (the
+        // tools refuse any name but .bpm; other names, e.g. .h5, are left to the caller).
+        std::string ext = std::filesystem::path(path).extension().string();
+        for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+        for (const char* mesh : {".off", ".obj", ".stl", ".ply", ".msh", ".vtk", ".vtp", ".vtu", ".mesh", ".surf"})
+            if (ext == mesh)
+                throw bpm::OptionError("File.write writes .bpm (HDF5) files, and '" + path + "' is named like a " +
+                                       ext.substr(1) + " file: name it .bpm (the coarse surface is coarse_vertices "
+                                       "and coarse_triangles, e.g. for meshio)");
         bpm::write_bpm(path, *file_);
         path_ = path;
     }
@@ -890,7 +901,8 @@ PYBIND11_MODULE(_bpm, m) {
              },
              py::arg("path"),
              "Writes the file as a .bpm (bpm/bpm_file.h; atomically: complete or not at all). Raises\n"
-             "bpm.OutputError (an OSError) with the file name and what went wrong.")
+             "bpm.OutputError (an OSError) with the file name and what went wrong; bpm.OptionError for a\n"
+             "name of a mesh format (.off .obj .stl .ply .msh .vtk .vtp .vtu .mesh .surf).")
         .def_property_readonly("simplify_report", &File::simplify_report,
                                "For a file made by bpm.simplify: dict of input_vertices, output_vertices,\n"
                                "output_triangles, max_error (of the diagonal), worst_aspect_ratio,\n"

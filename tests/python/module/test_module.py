@@ -412,6 +412,13 @@ def test_write_to_a_missing_directory_is_an_output_error(tmp_path):
     with pytest.raises(bpm.OutputError, match="no-such-dir"):
         made.write(tmp_path / "no-such-dir" / "x.bpm")
     assert made.path == "<memory>"
+    # An HDF5 file named coarse.off (written silently before) is refused; other names pass.
+    for name in ("coarse.off", "coarse.STL", "mesh.vtu"):
+        with pytest.raises(bpm.OptionError, match=r"File.write writes .bpm \(HDF5\) files"):
+            made.write(tmp_path / name)
+        assert not (tmp_path / name).exists()
+    made.write(tmp_path / "coarse.h5")
+    assert bpm.read(tmp_path / "coarse.h5").coarse_triangles.shape == made.coarse_triangles.shape
 
 
 def test_simplify_reports_progress_and_stops_on_request():
