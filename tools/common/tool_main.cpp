@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <atomic>
 #include <cctype>
 #include <charconv>
 #include <csignal>
@@ -326,12 +327,12 @@ int run(const std::string& tool, int argc, char** argv, CLI::App& app, const std
 namespace {
 // Whether the last thing on stderr is a progress line ("\rstage  42%") without its end:
 // the next line printed, on stderr or on stdout (the same terminal), would continue it.
-bool g_progress_line_open = false;
+// Atomic: the library may log from its worker threads while the main thread reports progress.
+std::atomic<bool> g_progress_line_open{false};
 }  // namespace
 
 void end_progress_line() {
-    if (!g_progress_line_open) return;
-    g_progress_line_open = false;
+    if (!g_progress_line_open.exchange(false)) return;
     std::fprintf(stderr, "\r%65s\r", "");  // as wide as "%-60.60s %3d%%"
     std::fflush(stderr);
 }
