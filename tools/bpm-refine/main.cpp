@@ -69,6 +69,9 @@ std::vector<Unmet> worst_unmet(const bpm::RefinedSurface& r, double tolerance, s
 
 namespace {
 
+// Uniform refinements above this many triangles are announced before they start.
+constexpr double kLargeRefinement = 2e7;
+
 // --volume: the tetrahedral mesh of the file, refined through phi (bpm/tet_refine.h).
 int refine_volume(const std::string& tool, int argc, char** argv, const std::string& input, const std::string& output,
                   const std::string& format, const bpm::tools::EncodingFlags& encoding_flags, int levels, bool smooth,
@@ -228,6 +231,17 @@ int main(int argc, char** argv) {
         if (file.tetmesh && !is_bpm)
             context.info("refining the surface; the file's tetrahedral mesh is refined with --volume");
         const bpm::Parametrization& param = file.param;
+        // Each level quadruples the output: --levels 8 on a few thousand coarse triangles is
+        // hundreds of millions of triangles, minutes and gigabytes, with nothing said first.
+        if (levels >= 0) {
+            const double triangles = double(param.num_coarse_triangles()) * std::pow(4.0, levels);
+            if (triangles > kLargeRefinement)
+                context.warn("--levels " + std::to_string(levels) + " makes " +
+                             bpm::tools::three_digit_text(triangles / 1e6) + " million triangles (" +
+                             std::to_string(param.num_coarse_triangles()) + " coarse triangles, 4^" +
+                             std::to_string(levels) + " each): this takes a while and several GB; each level "
+                             "less is a quarter of it (--max-error E refines only where needed)");
+        }
         bpm::RefinedSurface refined;
         const bpm::RefineResult result = bpm::refine(param, options, context, refined);
         char line[512];
