@@ -14,10 +14,13 @@
 #include <pybind11/stl.h>
 
 #include <atomic>
+#include <cctype>
+#include <charconv>
 #include <cstdint>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <limits>
 #include <map>
 #include <memory>
@@ -504,6 +507,15 @@ public:
     // The GIL stays held: HDF5 is not to run in two Python threads at once, nor beside the
     // fork of an isolated read (set_hdf5_isolation), whose child would inherit HDF5's lock.
     void write(const std::string& path) {
+        // An HDF5 file named like a mesh format is a trap for whoever opens it next (the
+        // tools refuse any name but .bpm; other names, e.g. .h5, are left to the caller).
+        std::string ext = std::filesystem::path(path).extension().string();
+        for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+        for (const char* mesh : {".off", ".obj", ".stl", ".ply", ".msh", ".vtk", ".vtp", ".vtu", ".mesh", ".surf"})
+            if (ext == mesh)
+                throw bpm::OptionError("File.write writes .bpm (HDF5) files, and '" + path + "' is named like a " +
+                                       ext.substr(1) + " file: name it .bpm (the coarse surface is coarse_vertices "
+                                       "and coarse_triangles, e.g. for meshio)");
         bpm::write_bpm(path, *file_);
         path_ = path;
     }
@@ -552,6 +564,20 @@ std::string simplify_arguments(int64_t vertices, int64_t triangles, const bpm::S
     return text;
 }
 
+// A number for a message: 6 significant digits, '.' whatever the locale (a Python
+// program may have called locale.setlocale).
+std::string number_text(double value) {
+    char text[32];
+    const auto end = std::to_chars(text, text + sizeof text, value, std::chars_format::general, 6).ptr;
+    return std::string(text, end);
+}
+
+void require_feature_angle(double feature_angle) {
+    if (!(feature_angle >= 0 && feature_angle <= 180))
+        throw bpm::OptionError("feature_angle must be between 0 and 180 degrees (default 60), got " +
+                               number_text(feature_angle));
+}
+
 File simplify_arrays(const py::object& vertices, const py::object& triangles, const py::object& patches,
                      int64_t target_vertices, double ratio, double max_error, double max_aspect, double feature_angle,
                      bool keep_corners, int threads, const std::string& units, const py::object& progress) {
@@ -593,8 +619,19 @@ File simplify_arrays(const py::object& vertices, const py::object& triangles, co
         if (problems.size() > 3) message += "; and " + std::to_string(problems.size() - 3) + " more problems";
         throw py::value_error(message);
     }
-    if (target_vertices < 0 || !(ratio >= 0 && ratio <= 1) || !(max_error >= 0))
-        throw py::value_error("target_vertices must be >= 0, ratio in [0, 1] and max_error >= 0");
+    // Each keyword by its Python name (libbpm's messages name the C++ fields, e.g.
+    // max_aspect_ratio, which are no keywords of this function).
+    if (target_vertices < 0) throw py::value_error("target_vertices must be >= 0, got " + std::to_string(target_vertices));
+    if (!(ratio >= 0 && ratio <= 1))
+        throw py::value_error("ratio must be in [0, 1] (a fraction of the input vertices, e.g. 0.1), got " +
+                              number_text(ratio));
+    if (!(max_error >= 0))
+        throw py::value_error("max_error must be >= 0 (a fraction of the bounding-box diagonal, e.g. 0.005), got " +
+                              number_text(max_error));
+    if (!(max_aspect >= 2))
+        throw bpm::OptionError("max_aspect must be at least 2 (2 = equilateral; default 30), got " +
+                               number_text(max_aspect));
+    require_feature_angle(feature_angle);
     if (target_vertices == 0 && ratio == 0 && !std::isfinite(max_error))
         throw py::value_error("give a target: target_vertices, ratio or max_error");
     bpm::SimplifyOptions options;
@@ -798,6 +835,17 @@ PYBIND11_MODULE(_bpm, m) {
         .def("check",
              [](const File& f, bool replay, std::optional<double> max_distance, std::optional<double> max_aspect,
                 std::optional<double> min_angle, int threads, const py::object& progress) {
+                 // The ranges bpm-check's options have (a value outside was no error but a
+                 // check that failed on every triangle).
+                 if (max_distance && !(*max_distance >= 0 && std::isfinite(*max_distance)))
+                     throw bpm::OptionError("max_distance must be a number >= 0 (a fraction of the bounding-box "
+                                            "diagonal, e.g. 0.005), got " + number_text(*max_distance));
+                 if (max_aspect && !(*max_aspect >= 2))
+                     throw bpm::OptionError("max_aspect must be at least 2 (2 = equilateral), got " +
+                                            number_text(*max_aspect));
+                 if (min_angle && !(*min_angle >= 0 && *min_angle <= 60))
+                     throw bpm::OptionError("min_angle must be between 0 and 60 degrees (60 = equilateral), got " +
+                                            number_text(*min_angle));
                  bpm::CheckSelection selection;
                  selection.distortion = true;  // bpm-check's default, 'all'
                  selection.replay = replay;
@@ -819,6 +867,7 @@ PYBIND11_MODULE(_bpm, m) {
              "bpm.simplify.")
         .def("smooth",
              [](const File& f, int iterations, double tolerance, double feature_angle, const py::object& progress) {
+                 require_feature_angle(feature_angle);
                  bpm::SmoothOptions o;
                  o.iterations = iterations;
                  o.tolerance = tolerance;
@@ -852,7 +901,8 @@ PYBIND11_MODULE(_bpm, m) {
              },
              py::arg("path"),
              "Writes the file as a .bpm (bpm/bpm_file.h; atomically: complete or not at all). Raises\n"
-             "bpm.OutputError (an OSError) with the file name and what went wrong.")
+             "bpm.OutputError (an OSError) with the file name and what went wrong; bpm.OptionError for a\n"
+             "name of a mesh format (.off .obj .stl .ply .msh .vtk .vtp .vtu .mesh .surf).")
         .def_property_readonly("simplify_report", &File::simplify_report,
                                "For a file made by bpm.simplify: dict of input_vertices, output_vertices,\n"
                                "output_triangles, max_error (of the diagonal), worst_aspect_ratio,\n"

@@ -160,4 +160,13 @@ ok "no output after failures" -- test ! -e "$work/x.vtu"
 expect 0 "simplify from standard input" -- sh -c "'$tools/bpm-simplify' - --format off --ratio 1 -o '$work/anon.bpm' < '$work/left.off'"
 expect 0 "mesh a file without /patch_info" -- "$tools/bpm-mesh" "$work/anon.bpm" -o "$work/anon.msh"
 contains "$work/anon.msh" '3 1 "region_1"' "a region without information is material region_1"
+# Regions the input leaves undecided (the outer groups name no materials, the interface
+# names two in no known order): the warnings end with the --material flags that name them.
+sed -e 's/^g exterior|left$/g left_skin/' -e 's/^g exterior|right$/g right_skin/' "$work/named.obj" >"$work/ambiguous.obj"
+expect 0 "simplify an OBJ whose only materials are an unordered interface" -- "$tools/bpm-simplify" \
+    "$work/ambiguous.obj" --ratio 1 -o "$work/ambiguous.bpm" -q
+expect 0 "mesh it" -- "$tools/bpm-mesh" "$work/ambiguous.bpm" -o "$work/ambiguous.msh"
+contains "$work/err" "(ambiguous); named region_1" "region 1 is undecided"
+contains "$work/err" "to name the regions the input does not decide, rerun with --material 1=NAME --material 2=NAME" \
+    "the warning names the flag that decides"
 finish

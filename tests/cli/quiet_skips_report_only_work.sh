@@ -27,4 +27,7 @@ ok "-q: phi's distortion is not measured for the summary line nobody sees" -- \
 expect 0 "simplify -v" -- simplify -v
 contains "$work/err" "distortion of phi (report)" "without -q the summary's distortion is measured"
 contains "$work/err" "phi turns pieces by up to" "and the summary line reports it"
+# "(136 > 90)" read as a comparison; the count says what it counts.
+ok "the summary counts the pieces turned over 90 degrees in words" -- \
+    grep -qE "phi turns pieces by up to [0-9.e+-]+ degrees \([0-9]+ pieces over 90\)" "$work/err"
 finish

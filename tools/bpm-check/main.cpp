@@ -256,6 +256,7 @@ int main(int argc, char** argv) {
             name_flags(report, sel.replay && !file.simplification_steps, tetmesh_missing);
         }
         report.input = input;
+        bpm::tools::end_progress_line();
         std::cout << (json ? bpm::check_report_to_json(report) : bpm::check_report_to_text(report)) << std::flush;
         return report.passed() ? bpm::tools::kOk : bpm::tools::kCheckFailed;
     });

@@ -262,6 +262,7 @@ int main(int argc, char** argv) {
         } catch (const bpm::InputError& e) {
             bpm::tools::rethrow_with_mesh_file_hint(e, input);
         }
+        bpm::tools::end_progress_line();
         std::cout << (json ? to_json(info) : to_text(info)) << std::flush;
         return int(bpm::tools::kOk);
     });

@@ -242,6 +242,15 @@ int main(int argc, char** argv) {
                 context.warn("the patches' front/back materials contradict each other (reversed normals?): read them "
                              "as unordered pairs");
             for (const std::string& p : materials.problems) context.warn(p);
+            // Each problem leaves a region named region_<id>: say how to name it.
+            std::string unnamed;
+            for (size_t r = 0; r < m.region_material.size(); ++r) {
+                const std::string id = std::to_string(r + 1);
+                if (m.material_names[size_t(m.region_material[r] - 1)] == "region_" + id)
+                    unnamed += (unnamed.empty() ? "" : " ") + std::string("--material ") + id + "=NAME";
+            }
+            if (!materials.problems.empty() && !unnamed.empty())
+                context.warn("to name the regions the input does not decide, rerun with " + unnamed);
         }
         // For the warning (which -q hides) and --json only.
         const bpm::TetMeshStats stats = json || !quiet ? bpm::tetmesh_stats(*file.tetmesh) : bpm::TetMeshStats{};
@@ -305,6 +314,7 @@ int main(int argc, char** argv) {
                 j += std::string(i ? ", " : "") + "{\"id\": " + std::to_string(i + 1) + ", \"name\": \"" +
                      json_escape(m.material_names[i]) + "\"}";
             j += "], \"material_problems\": " + std::to_string(materials.problems.size()) + "}";
+            bpm::tools::end_progress_line();
             std::cout << j << std::endl;
         }
         return int(bpm::tools::kOk);

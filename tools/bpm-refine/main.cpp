@@ -69,6 +69,9 @@ std::vector<Unmet> worst_unmet(const bpm::RefinedSurface& r, double tolerance, s
 
 namespace {
 
+// Uniform refinements above this many triangles are announced before they start.
+constexpr double kLargeRefinement = 2e7;
+
 // --volume: the tetrahedral mesh of the file, refined through phi (bpm/tet_refine.h).
 int refine_volume(const std::string& tool, int argc, char** argv, const std::string& input, const std::string& output,
                   const std::string& format, const bpm::tools::EncodingFlags& encoding_flags, int levels, bool smooth,
@@ -214,8 +217,9 @@ int main(int argc, char** argv) {
                                         *surface_format == bpm::SurfaceFormat::Vtp ||
                                         *surface_format == bpm::SurfaceFormat::Surf))
             throw CLI::ValidationError(format.empty() ? "--output" : "--output-format",
-                                       "unknown output format '" + kind +
-                                           "' (valid: off obj ply stl msh msh22 vtu bpm, by extension or --output-format)");
+                                       (kind.empty() ? "cannot tell the format from '" + output + "' (no extension)"
+                                                     : "unknown output format '" + kind + "'") +
+                                           " (valid: off obj ply stl msh msh22 vtu bpm, by extension or --output-format)");
         if (is_bpm) bpm::tools::refuse_binary_to_terminal(output, "binary .bpm (HDF5) data");
         if (surface_format && (*surface_format == bpm::SurfaceFormat::Stl || *surface_format == bpm::SurfaceFormat::Ply))
             bpm::tools::refuse_binary_to_terminal(output, "binary " + kind + " data");
@@ -227,6 +231,17 @@ int main(int argc, char** argv) {
         if (file.tetmesh && !is_bpm)
             context.info("refining the surface; the file's tetrahedral mesh is refined with --volume");
         const bpm::Parametrization& param = file.param;
+        // Each level quadruples the output: --levels 8 on a few thousand coarse triangles is
+        // hundreds of millions of triangles, minutes and gigabytes, with nothing said first.
+        if (levels >= 0) {
+            const double triangles = double(param.num_coarse_triangles()) * std::pow(4.0, levels);
+            if (triangles > kLargeRefinement)
+                context.warn("--levels " + std::to_string(levels) + " makes " +
+                             bpm::tools::three_digit_text(triangles / 1e6) + " million triangles (" +
+                             std::to_string(param.num_coarse_triangles()) + " coarse triangles, 4^" +
+                             std::to_string(levels) + " each): this takes a while and several GB; each level "
+                             "less is a quarter of it (--max-error E refines only where needed)");
+        }
         bpm::RefinedSurface refined;
         const bpm::RefineResult result = bpm::refine(param, options, context, refined);
         char line[512];
@@ -375,6 +390,7 @@ int main(int argc, char** argv) {
                      json_double(u.at[2]) + "]}";
             }
             j += "], \"seconds\": " + json_double(result.seconds) + "}\n";
+            bpm::tools::end_progress_line();
             std::fputs(j.c_str(), stdout);
         }
         return int(bpm::tools::kOk);

@@ -391,7 +391,7 @@ int main(int argc, char** argv) {
             char line[640];
             std::snprintf(line, sizeof line,
                           "%lld -> %lld vertices (%lld triangles), max error %.3g of diagonal, worst aspect ratio "
-                          "%.3g, phi turns pieces by up to %.3g degrees (%lld > 90), %.2f s (%d %s)",
+                          "%.3g, phi turns pieces by up to %.3g degrees (%lld pieces over 90), %.2f s (%d %s)",
                           (long long)result.input_vertices, (long long)result.output_vertices,
                           (long long)result.output_triangles, result.max_error, result.worst_aspect_ratio, turn,
                           (long long)std::max<int64_t>(folds, 0), result.seconds, result.threads,

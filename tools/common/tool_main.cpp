@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <atomic>
 #include <cctype>
 #include <charconv>
 #include <csignal>
@@ -252,6 +253,7 @@ int run(const std::string& tool, int argc, char** argv, CLI::App& app, const std
     // tool's JSON report of it on stdout (a CI job parsing stdout always gets a report).
     // --json counts when it is on the command line even if parsing failed.
     const auto fail = [&](const std::string& where, const std::string& message, int code) {
+        end_progress_line();
         print_error(tool, where, message);
         bool json = g_json && *g_json;
         for (int i = 1; i < argc && !json && g_render_error; ++i) json = std::string(argv[i]) == "--json";
@@ -281,7 +283,9 @@ int run(const std::string& tool, int argc, char** argv, CLI::App& app, const std
     set_hdf5_isolation(true);
     install_signal_handlers();
     try {
-        return body();
+        const int code = body();
+        end_progress_line();  // no prompt after a stage left below 100 %
+        return code;
     } catch (const InputNeedsRepair& e) {
         // The library names the repairs; the command line to copy is the tool's to give.
         std::string flags;
@@ -320,9 +324,24 @@ int run(const std::string& tool, int argc, char** argv, CLI::App& app, const std
     }
 }
 
+namespace {
+// Whether the last thing on stderr is a progress line ("\rstage  42%") without its end:
+// the next line printed, on stderr or on stdout (the same terminal), would continue it.
+// Atomic: the library may log from its worker threads while the main thread reports progress.
+std::atomic<bool> g_progress_line_open{false};
+}  // namespace
+
+void end_progress_line() {
+    if (!g_progress_line_open.exchange(false)) return;
+    std::fprintf(stderr, "\r%65s\r", "");  // as wide as "%-60.60s %3d%%"
+    std::fflush(stderr);
+}
+
 Context make_context(const std::string& tool, bool verbose, bool quiet) {
     Context context;
     context.log = [tool, verbose, quiet](LogLevel level, const std::string& message) {
+        const bool shown = (level == LogLevel::Warning || level == LogLevel::Info) ? !quiet : verbose;
+        if (shown) end_progress_line();
         if (level == LogLevel::Warning && !quiet) {
             std::cerr << tool << ": warning: " << message << std::endl;
         } else if (level == LogLevel::Info && !quiet) {
@@ -344,6 +363,7 @@ Context make_context(const std::string& tool, bool verbose, bool quiet) {
             *last_stage = stage;
             std::fprintf(stderr, "\r%-60.60s %3d%%", stage.c_str(), percent);
             if (percent >= 100) std::fprintf(stderr, "\n");
+            g_progress_line_open = percent < 100;
             std::fflush(stderr);
         }
         return true;
@@ -376,10 +396,19 @@ void group_options(CLI::App& app, const std::string& group, const std::vector<st
 }
 
 void require_output_directory(const std::string& path) {
-    if (path.empty() || path == "-") return;
+    if (path == "-") return;
+    if (path.empty()) throw CLI::ValidationError("--output", "the file name is empty");
+    // A directory, or a name ending in '/' (exit 4, as when the writer finds it): the
+    // format checks that follow would talk about an empty file name ("'' does not end in
+    // .bpm", "unknown output format ''").
+    std::error_code ec;
+    if (path.back() == '/' || std::filesystem::is_directory(path, ec)) {
+        std::string dir = path;
+        while (dir.size() > 1 && dir.back() == '/') dir.pop_back();
+        throw OutputError(path, "is a directory: -o names the output file (e.g. " + dir + "/NAME.EXT)");
+    }
     std::filesystem::path parent = std::filesystem::path(path).parent_path();
     if (parent.empty()) return;
-    std::error_code ec;
     if (!std::filesystem::is_directory(parent, ec))
         throw CLI::ValidationError("--output", "directory does not exist: " + parent.string());
 }
@@ -389,6 +418,10 @@ void require_bpm_output(const std::string& path, const std::string& tool) {
     const std::string name = std::filesystem::path(path).filename().string();
     std::string extension = std::filesystem::path(name).extension().string();
     for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    std::string lower_name = name;
+    for (char& c : lower_name) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    if (lower_name == ".bpm")  // a hidden file without extension, for std::filesystem
+        throw CLI::ValidationError("--output", "'" + name + "' has no name before the extension (e.g. -o coarse.bpm)");
     if (extension != ".bpm")
         throw CLI::ValidationError("--output", tool + " writes .bpm files only, and '" + name +
                                                    "' does not end in .bpm (bpm-refine writes surfaces, bpm-mesh "

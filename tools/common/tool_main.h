@@ -78,6 +78,11 @@ std::string error_json(const ErrorReport& error);
 // and whose progress is shown on stderr only when stderr is a terminal.
 Context make_context(const std::string& tool, bool verbose, bool quiet);
 
+// Erases a progress line that stopped short of 100 % (a stage that ended early), so that
+// what comes next starts a line of its own: the context's log lines and errors call it;
+// a tool calls it before it prints its report on standard output (the same terminal).
+void end_progress_line();
+
 // "bpm-verb 0.1.0 (bpm format 1.0)"
 std::string version_line(const std::string& tool);
 
@@ -122,8 +127,9 @@ CLI::Option* add_deprecated_alias(CLI::App& app, const std::string& old_name, T&
 // expected range with an example and, for "0,1", that the decimal point is a dot.
 CLI::Validator decimal_range(double low, double high, bool low_open, bool high_open, const std::string& example);
 
-// Throws CLI::ValidationError if the directory of `path` does not exist (checked before
-// any expensive work); "-" is always accepted.
+// Throws CLI::ValidationError if `path` is empty or its directory does not exist, and
+// OutputError if it is a directory (or ends in '/'); checked before any expensive work
+// and before the output format is derived from the name. "-" is always accepted.
 void require_output_directory(const std::string& path);
 
 // Throws CLI::ValidationError unless `path` is "-" or ends in .bpm (any case): for the

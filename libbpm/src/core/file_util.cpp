@@ -18,6 +18,7 @@
 #include <cstring>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 #include <random>
 #include <vector>
 
@@ -67,6 +68,37 @@ std::filesystem::path output_directory(const std::string& path) {
     return dir;
 }
 
+// The file `path` names, through any symbolic links: the output replaces that file, as
+// writing into it would (a shell's '>' or cp), and the links stay links (renaming over
+// `path` itself would replace the link with a file and leave its target as it was).
+// A dangling link names the file it would create. Throws OutputError for a loop.
+std::string follow_symlinks(const std::string& path) {
+    std::string p = path;
+    for (int hops = 0; hops < 40; ++hops) {
+        struct stat st;
+        if (::lstat(p.c_str(), &st) != 0 || !S_ISLNK(st.st_mode)) return p;
+        std::vector<char> text(static_cast<size_t>(st.st_size > 0 ? st.st_size : 255) + 1);
+        const ssize_t n = ::readlink(p.c_str(), text.data(), text.size());
+        if (n < 0 || static_cast<size_t>(n) >= text.size()) return p;  // changed meanwhile: rename over it
+        const std::filesystem::path link(std::string(text.data(), static_cast<size_t>(n)));
+        p = link.is_absolute() ? link.string() : (std::filesystem::path(p).parent_path() / link).string();
+    }
+    throw OutputError(path, "cannot write through it: too many levels of symbolic links");
+}
+
+// The permission bits of the regular file `path` replaces, so that a file made private
+// (chmod 600) or executable stays so; nothing if there is none.
+std::optional<mode_t> existing_mode(const std::string& path) {
+    struct stat st;
+    if (::stat(path.c_str(), &st) != 0 || !S_ISREG(st.st_mode)) return std::nullopt;
+    return st.st_mode & 07777;
+}
+
+// Gives the finished file the permission bits of the one it replaces.
+void keep_mode(int fd, const std::optional<mode_t>& mode, const std::string& path) {
+    if (mode && ::fchmod(fd, *mode) != 0) throw OutputError(path, "cannot set its permissions: " + errno_text());
+}
+
 // A fresh temporary name next to `path` (so that rename() is atomic): ".NAME.tmpXXXXXXXX".
 std::string temporary_name(const std::filesystem::path& dir, const std::string& path) {
     static thread_local std::random_device rd;
@@ -101,16 +133,18 @@ bool name_unnamed(int fd, const std::filesystem::path& dir, const std::string& p
 
 // Closes `fd`, the complete temporary file `tmp`, and renames it over `path`; the
 // temporary is removed if any of it fails.
-void close_and_rename(int fd, const std::string& tmp, const std::string& path, const std::filesystem::path& dir) {
+// `where` names the output in messages (the path the user gave, `path` may be its link's target).
+void close_and_rename(int fd, const std::string& tmp, const std::string& path, const std::filesystem::path& dir,
+                      const std::string& where) {
     if (::close(fd) != 0) {
         const std::string why = errno_text();
         ::unlink(tmp.c_str());
-        throw OutputError(path, "cannot close: " + why);
+        throw OutputError(where, "cannot close: " + why);
     }
     if (::rename(tmp.c_str(), path.c_str()) != 0) {
         const std::string why = errno_text();
         ::unlink(tmp.c_str());
-        throw OutputError(path, "cannot rename the finished file into place: " + why);
+        throw OutputError(where, "cannot rename the finished file into place: " + why);
     }
     sync_directory(dir.string());
 }
@@ -124,9 +158,11 @@ void write_file_atomically(const std::string& path, const std::string& bytes) {
     write_file_atomically(path, [&](int fd) { write_all(fd, bytes, path); });
 }
 
-void write_file_atomically(const std::string& path, const std::function<void(int fd)>& fill) {
-    if (path == "-") throw OutputError("<stdout>", "internal error: standard output cannot be written in place");
+void write_file_atomically(const std::string& where, const std::function<void(int fd)>& fill) {
+    if (where == "-") throw OutputError("<stdout>", "internal error: standard output cannot be written in place");
+    const std::string path = follow_symlinks(where);
     const std::filesystem::path dir = output_directory(path);
+    const std::optional<mode_t> mode = existing_mode(path);
 
 #ifdef O_TMPFILE
     // Preferred (Linux): an unnamed file in the target's directory, given a name only once
@@ -134,18 +170,19 @@ void write_file_atomically(const std::string& path, const std::function<void(int
     // behind. Filesystems without O_TMPFILE fall through to a named temporary file.
     int unnamed = ::open(dir.c_str(), O_TMPFILE | O_RDWR | O_CLOEXEC, 0644);
     if (unnamed < 0 && errno != EOPNOTSUPP && errno != EISDIR && errno != EINVAL)
-        throw OutputError(path, "cannot create file: " + errno_text());
+        throw OutputError(where, "cannot create file: " + errno_text());
     if (unnamed >= 0) {
         try {
             fill(unnamed);
-            if (::fsync(unnamed) != 0) throw OutputError(path, "cannot flush to disk: " + errno_text());
+            keep_mode(unnamed, mode, where);
+            if (::fsync(unnamed) != 0) throw OutputError(where, "cannot flush to disk: " + errno_text());
         } catch (...) {
             ::close(unnamed);  // the unnamed file disappears with its descriptor
             throw;
         }
         std::string tmp;
         if (name_unnamed(unnamed, dir, path, tmp)) {
-            close_and_rename(unnamed, tmp, path, dir);
+            close_and_rename(unnamed, tmp, path, dir, where);
             return;
         }
         const int link_errno = errno;
@@ -153,7 +190,7 @@ void write_file_atomically(const std::string& path, const std::function<void(int
         // No /proc, or linking refused: write again under a name (below), unless the
         // directory cannot take one more entry anyway.
         if (link_errno == ENOSPC || link_errno == EDQUOT || link_errno == EROFS)
-            throw OutputError(path, "cannot create file: " + std::string(std::strerror(link_errno)));
+            throw OutputError(where, "cannot create file: " + std::string(std::strerror(link_errno)));
     }
 #endif
 
@@ -161,13 +198,14 @@ void write_file_atomically(const std::string& path, const std::function<void(int
     const int fd = create_temporary(dir, path, tmp);
     try {
         fill(fd);
-        if (::fsync(fd) != 0) throw OutputError(path, "cannot flush to disk: " + errno_text());
+        keep_mode(fd, mode, where);
+        if (::fsync(fd) != 0) throw OutputError(where, "cannot flush to disk: " + errno_text());
     } catch (...) {
         ::close(fd);
         ::unlink(tmp.c_str());
         throw;
     }
-    close_and_rename(fd, tmp, path, dir);
+    close_and_rename(fd, tmp, path, dir, where);
 }
 
 std::string read_whole_input(const std::string& path, size_t max_bytes) {

@@ -19,6 +19,9 @@ namespace bpm::detail {
 // temporary name is ".NAME.tmpXXXXXXXX" next to NAME (hidden, 8 hex digits, never NAME's
 // extension): that is the only thing a killed bpm tool can leave behind, it is never a
 // complete output, and it may be deleted.
+// A `path` that is a symbolic link is followed: the file it names is replaced and the
+// link stays (as writing through it would do). The new file keeps the permission bits
+// of the file it replaces (a private chmod 600 output stays private).
 void write_file_atomically(const std::string& path, const std::string& bytes);
 
 // The same for a writer that writes the file itself, so that no image of the whole file

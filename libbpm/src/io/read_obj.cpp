@@ -17,9 +17,9 @@
 // Materials. A group named by the convention of Gmsh's physical names, `A|B`, `pair_A_B`
 // or `interface_A_B` (materials_from_patch_name), separates materials A and B, in no known order:
 // then every patch gets a PatchInfo with its group's name, and the materials where the
-// name gives them. Only then: a file whose groups are just names ("Cube", "Mesh1") says
-// nothing about materials and still encloses the file's own (apply_file_material), as
-// before group names were read.
+// name gives them. Only then: a file whose groups are just names ("Cube", "inlet") says
+// nothing about materials and still encloses the file's own (apply_file_material); the
+// names are kept as the patches' names (ReaderOutput::patch_names).
 #include <algorithm>
 #include <map>
 #include <string>
@@ -234,6 +234,15 @@ ReaderOutput read_obj(std::string_view bytes, const std::string& name, bool acce
         }
         std::sort(out.patch_info.begin(), out.patch_info.end(),
                   [](const PatchInfo& a, const PatchInfo& b) { return a.patch < b.patch; });
+    } else if (!own_names) {
+        // Names alone ("inlet", "wall"): kept as the patches' names, so that they reach
+        // /patch_info and the physical names of MSH outputs; the group name, else the
+        // usemtl name, else both.
+        for (size_t k = 0; k < keys.size(); ++k) {
+            const auto& [g, m] = keys[k];
+            std::string patch_name = g.empty() ? m : m.empty() ? g : g + " (" + m + ")";
+            if (!patch_name.empty()) out.patch_names.push_back({key_patch[k], std::move(patch_name)});
+        }
     }
     for (size_t i = 0; i < out.polygons.size(); ++i) {
         PolygonFace& polygon = out.polygons[i];

@@ -27,8 +27,10 @@
 //               whole file: such values are common as "no data" markers.
 //   CELL_DATA   the first 1-component array with whole-number values named patch, material,
 //               region, label or physical (any case), failing that one named gmsh:physical,
-//               CellEntityIds or RegionId (Gmsh, meshio, Slicer), gives the patch id of every
-//               triangle made from the cell. Other cell arrays are ignored (one note).
+//               CellEntityIds or RegionId (Gmsh, meshio, Slicer), failing that the array
+//               named "scalars" (VTK's name for unnamed scalars: vtkDiscreteMarchingCubes'
+//               labels), gives the patch id of every triangle made from the cell. Other
+//               cell arrays are ignored (one note).
 //   LOOKUP_TABLE sections and METADATA blocks are skipped; string arrays are skipped.
 //
 // The points must come before the cells (every writer does this), so that each index is
@@ -47,6 +49,9 @@ namespace bpm::detail {
 
 namespace {
 
+
+// The name vtkDataWriter writes for an unnamed SCALARS array.
+constexpr const char* kUnnamedScalars = "scalars";
 
 char lower_char(char c) { return (c >= 'A' && c <= 'Z') ? static_cast<char>(c - 'A' + 'a') : c; }
 
@@ -309,7 +314,8 @@ private:
     int64_t num_cells_ = 0;
     // The patch array: the first one with a primary name (rank 0), else a secondary one (1).
     std::vector<double> patch_values_;
-    int patch_rank_ = 2;
+    static constexpr int kNoPatchRank = 3;  // take_array's rank of a cell array that is no patch id
+    int patch_rank_ = kNoPatchRank;
     std::string patch_name_;
     std::vector<std::string> ignored_cell_arrays_;
     std::vector<std::string> dropped_arrays_;
@@ -720,11 +726,15 @@ void VtkReader::take_array(VtkArray&& a) {
                 if (iequals(a.name, n)) return true;
             return false;
         };
+        // "scalars" is the name vtkDataWriter gives an unnamed SCALARS array, such as the
+        // labels vtkDiscreteMarchingCubes puts on its triangles (one closed surface per
+        // label): taken only when no array is named as patches, and only with whole values.
         const int rank = is_one_of({"patch", "material", "region", "label", "physical"}) ? 0
                          : is_one_of({"gmsh:physical", "CellEntityIds", "RegionId"})     ? 1
-                                                                                         : 2;
+                         : a.name == kUnnamedScalars                                     ? 2
+                                                                                         : kNoPatchRank;
         if (rank < patch_rank_ && a.components == 1 && a.whole) {
-            if (patch_rank_ < 2) ignored_cell_arrays_.push_back(patch_name_);
+            if (patch_rank_ < kNoPatchRank) ignored_cell_arrays_.push_back(patch_name_);
             patch_rank_ = rank;
             patch_name_ = a.name;
             patch_values_ = std::move(a.values);
@@ -897,7 +907,7 @@ void VtkReader::assemble() {
     std::vector<Tri>& tris = s.triangles;
     std::vector<int32_t>& patches = s.patches;
     int64_t skipped_points = 0, skipped_lines = 0, skipped_volume = 0, degenerate_strip = 0;
-    const bool have_patches = patch_rank_ < 2;
+    const bool have_patches = patch_rank_ < kNoPatchRank;
     auto patch_of = [&](int64_t cell) {
         return have_patches ? static_cast<int32_t>(patch_values_[static_cast<size_t>(cell)]) : 0;
     };
@@ -1015,7 +1025,11 @@ void VtkReader::assemble() {
     if (degenerate_strip > 0) {
         out_.notes.push_back(std::to_string(degenerate_strip) + " zero-area triangles of triangle strips dropped");
     }
-    if (have_patches) out_.notes.push_back("patch ids from the cell data array '" + patch_name_ + "'");
+    if (have_patches)
+        out_.notes.push_back("patch ids from the cell data array '" + patch_name_ + "'" +
+                             (patch_name_ == kUnnamedScalars ? " (VTK's name for unnamed cell scalars, such as the "
+                                                               "labels of vtkDiscreteMarchingCubes)"
+                                                             : ""));
     if (!ignored_cell_arrays_.empty()) {
         std::string list;
         for (size_t i = 0; i < ignored_cell_arrays_.size() && i < 8; ++i)

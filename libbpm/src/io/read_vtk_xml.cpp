@@ -14,7 +14,9 @@
 //   with a note, or refused when there is no surface cell at all.
 //   <PointData>: every numeric DataArray becomes Surface::vertex_data.
 //   <CellData>: the first integer-valued array named patch / material / region / label /
-//   physical / gmsh:physical / CellEntityIds / RegionId (any case) gives the patch ids.
+//   physical / gmsh:physical / CellEntityIds / RegionId (any case), failing that the one
+//   named "Scalars_" (VTK's name for unnamed scalars: vtkDiscreteMarchingCubes' labels),
+//   gives the patch ids.
 //
 // The XML is read by a small scanner of its own (VTK XML has no DTD, no CDATA, no
 // namespaces); the appended section is binary and is never scanned as XML: it starts
@@ -37,6 +39,9 @@
 namespace bpm::detail {
 
 namespace {
+
+// The name vtkXMLWriter writes for an unnamed scalars array.
+const std::string kUnnamedScalars = "Scalars_";
 
 // ---- XML scanner -------------------------------------------------------------------
 
@@ -851,6 +856,26 @@ void VtkXmlReader::read_piece(const XmlElement& piece, bool polydata, size_t pie
     bool have_patches = false;
     if (const XmlElement* cd = part("CellData")) {
         check_children(*cd, {"DataArray", "Array"});
+        // Reads `d` as the patch ids if it is one integer-valued component per cell.
+        const auto take_patches = [&](const XmlElement& d, const std::string& name) {
+            VtkType t;
+            const std::string* type = d.attribute("type");
+            if (d.name != "DataArray" || !type || !vtk_type_from_name(*type, t)) return false;
+            ArrayValues a = read_array(d, "CellData", -1, false);
+            bool integral = a.components == 1;
+            for (double v : a.values) integral = integral && v == std::floor(v) && v >= -2147483648.0 && v <= 2147483647.0;
+            if (integral && static_cast<int64_t>(a.values.size()) != total_cells) {
+                fail_at(d, describe(d, "CellData") + " holds " + std::to_string(a.values.size()) + " values for " +
+                               std::to_string(total_cells) + " cells");
+            }
+            if (!integral) return false;
+            patch_values = std::move(a.values);
+            have_patches = true;
+            if (patch_array_name_.empty()) patch_array_name_ = name;
+            return true;
+        };
+        std::vector<std::string> ignored;
+        const XmlElement* unnamed_scalars = nullptr;
         for (size_t c : cd->children) {
             const XmlElement& d = el(c);
             const std::string* n = d.attribute("Name");
@@ -858,26 +883,18 @@ void VtkXmlReader::read_piece(const XmlElement& piece, bool polydata, size_t pie
             const std::string l = lower(name);
             const bool patch_name = l == "patch" || l == "material" || l == "region" || l == "label" ||
                                     l == "physical" || l == "gmsh:physical" || l == "cellentityids" || l == "regionid";
-            VtkType t;
-            const std::string* type = d.attribute("type");
-            if (!have_patches && patch_name && d.name == "DataArray" && type && vtk_type_from_name(*type, t)) {
-                ArrayValues a = read_array(d, "CellData", -1, false);
-                bool integral = a.components == 1;
-                for (double v : a.values) integral = integral && v == std::floor(v) && v >= -2147483648.0 && v <= 2147483647.0;
-                if (integral && static_cast<int64_t>(a.values.size()) != total_cells) {
-                    fail_at(d, describe(d, "CellData") + " holds " + std::to_string(a.values.size()) + " values for " +
-                                   std::to_string(total_cells) + " cells");
-                }
-                if (integral) {
-                    patch_values = std::move(a.values);
-                    have_patches = true;
-                    if (patch_array_name_.empty()) patch_array_name_ = name;
-                    continue;
-                }
-            }
+            if (!have_patches && patch_name && take_patches(d, name)) continue;
+            // "Scalars_" is the name vtkXMLWriter gives unnamed scalars, such as the labels
+            // vtkDiscreteMarchingCubes puts on its triangles (one closed surface per
+            // label): the patch ids only if no array is named as patches.
+            if (name == kUnnamedScalars && !unnamed_scalars) unnamed_scalars = &d;
+            ignored.push_back(name);
+        }
+        if (!have_patches && unnamed_scalars && take_patches(*unnamed_scalars, kUnnamedScalars))
+            ignored.erase(std::find(ignored.begin(), ignored.end(), std::string(kUnnamedScalars)));
+        for (const std::string& name : ignored)
             if (std::find(ignored_cell_arrays_.begin(), ignored_cell_arrays_.end(), name) == ignored_cell_arrays_.end())
                 ignored_cell_arrays_.push_back(name);
-        }
     }
     if (!have_patches) ++pieces_without_patches_;
     auto patch_of = [&](int64_t cell) {
@@ -1128,6 +1145,9 @@ ReaderOutput VtkXmlReader::read() {
     for (std::string& note : point_data_notes_) out_.notes.push_back(std::move(note));
     if (!patch_array_name_.empty()) {
         out_.notes.push_back("patch ids from the cell data array " + quote_token(patch_array_name_) +
+                             (patch_array_name_ == kUnnamedScalars ? " (VTK's name for unnamed cell scalars, such as "
+                                                                     "the labels of vtkDiscreteMarchingCubes)"
+                                                                   : "") +
                              (pieces_without_patches_ > 0 ? " (0 in the " + std::to_string(pieces_without_patches_) +
                                                                 " pieces without it)"
                                                           : ""));

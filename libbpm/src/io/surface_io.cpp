@@ -115,10 +115,11 @@ std::set<int32_t> closed_patches(const Surface& surface) {
     return closed;
 }
 
-// Whether `info` is what apply_file_material gave the patch: "<material>|exterior".
+// Whether `info` has what apply_file_material gave the patch: exterior in front, the
+// file's material behind (its name is "<material>|exterior", or the file's name for the
+// patch, e.g. an OBJ group).
 bool is_file_material(const PatchInfo& info, const std::string& material) {
-    return info.oriented && info.front == kExteriorMaterial && info.back == material &&
-           info.name == material + "|" + kExteriorMaterial;
+    return info.oriented && info.front == kExteriorMaterial && info.back == material;
 }
 
 // One file whose patches share triangles holds one closed surface per material, told
@@ -144,8 +145,9 @@ std::string split_file_material_by_patch(std::vector<PatchInfo>& infos, const st
     std::string renamed;
     for (PatchInfo& info : infos) {
         if (!has_file_material(&info)) continue;
+        const bool default_name = info.name == material + "|" + kExteriorMaterial;
         info.back = material + "_" + std::to_string(info.patch);
-        info.name = info.back + "|" + kExteriorMaterial;
+        if (default_name) info.name = info.back + "|" + kExteriorMaterial;
         renamed += (renamed.empty() ? "" : ", ") + info.back;
     }
     return "the patches share triangles: one closed surface per material, told apart by the patch ids; materials " +
@@ -535,6 +537,21 @@ static Surface finish_reading(detail::ReaderOutput parsed, SurfaceFormat format,
     r.notes = std::move(parsed.notes);
     r.patch_info = std::move(parsed.patch_info);
     apply_file_material(r.patch_info, surface, material);
+    // Names without materials (OBJ groups): on the file's material where it applies, else
+    // alone. Only for patches that have triangles (as apply_file_material).
+    if (!parsed.patch_names.empty()) {
+        const std::set<int32_t> used(surface.patches.begin(), surface.patches.end());
+        for (auto& [patch, patch_name] : parsed.patch_names) {
+            if (!used.count(patch)) continue;
+            if (PatchInfo* info = find_patch_info(r.patch_info, patch)) {
+                if (is_file_material(*info, material)) info->name = std::move(patch_name);
+            } else {
+                r.patch_info.push_back(PatchInfo{patch, std::move(patch_name), {}, {}, true});
+            }
+        }
+        std::sort(r.patch_info.begin(), r.patch_info.end(),
+                  [](const PatchInfo& a, const PatchInfo& b) { return a.patch < b.patch; });
+    }
     if (options.merge_duplicate_vertices) r.merged_vertices = merge_duplicate_vertices(surface);
     if (options.merge_vertices_within != 0) merge_within(surface, options.merge_vertices_within, name, r);
     if (options.drop_unreferenced_vertices) r.dropped_vertices = drop_unreferenced_vertices(surface);

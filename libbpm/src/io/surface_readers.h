@@ -63,6 +63,10 @@ struct ReaderOutput {
     // "line 22: face 0 has 4 corners (and 5 more polygon faces)"; empty if none.
     std::string triangulated_polygons;
     std::vector<PatchInfo> patch_info;  // what the file says about its patches (SURF, MSH), by patch id
+    // Names of patches that say nothing about materials (OBJ groups such as "inlet"), by
+    // patch id: finish_reading gives them to the patches' PatchInfo, whose materials
+    // come from the file (apply_file_material), or alone when there are none.
+    std::vector<std::pair<int32_t, std::string>> patch_names;
 };
 
 // `accept_polygons`: faces with more than three corners go to ReaderOutput::polygons

@@ -45,6 +45,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "core/number_text.h"
 #include "phi/grouped_queries.h"
 #include "phi/phi_corner_code.h"
 
@@ -112,6 +113,9 @@ namespace {
 constexpr int kBlock = 4;  // cells per block side
 constexpr int kBlockCells = kBlock * kBlock * kBlock;
 constexpr int kTriangleGroup = 64;  // original points are grouped by internal triangle / 64
+// How far (per axis, from S0's bounding box) a from_position query may be: 3 * 1e300
+// squared distances stay finite; beyond, every distance would overflow to infinity.
+constexpr double kMaxQueryOffset = 1e150;
 
 }  // namespace
 
@@ -132,6 +136,7 @@ struct PhiInverse::Impl {
     std::vector<std::array<Vec3, 3>> corners;  // #S0.T corner positions, by internal number
     std::vector<Plane> planes;                 // #S0.T, a cheap lower bound of the distance
     Vec3 lo{0, 0, 0};
+    Vec3 hi_box{0, 0, 0};  // with lo, the bounding box of S0
     double h = 1, inv_h = 1;
     int32_t dims[3] = {1, 1, 1};   // cells per axis
     int32_t bdims[3] = {1, 1, 1};  // blocks per axis
@@ -252,6 +257,7 @@ struct PhiInverse::Impl {
         for (int i = 0; i < 3; ++i)
             if (!std::isfinite(lo[i]) || !std::isfinite(hi[i]))
                 throw std::invalid_argument("PhiInverse: the original surface has a non-finite coordinate");
+        hi_box = hi;
         // Cells half as large as a typical triangle: a point of S0 then finds a few
         // triangles in its cell (measured on armadillo at 10%: cells as large as a
         // triangle held ten). The dense block table is kept below 4 entries per triangle
@@ -509,6 +515,15 @@ struct PhiInverse::Impl {
         if (!finite(y)) throw std::invalid_argument("PhiInverse::from_position: non-finite coordinate");
         if (p.original.triangles.empty())
             throw std::invalid_argument("PhiInverse::from_position: the original surface has no triangles");
+        // Squared distances to S0 must not overflow (they would all be infinite, and no
+        // triangle would be the closest): every coordinate difference to S0's bounding box
+        // stays below kMaxQueryOffset, whose square, times 3, is far below DBL_MAX.
+        for (int a = 0; a < 3; ++a)
+            if (std::max(std::abs(y[a] - lo[a]), std::abs(y[a] - hi_box[a])) > kMaxQueryOffset)
+                throw std::invalid_argument("PhiInverse::from_position: position (" + detail::round_trip_text(y[0]) + ", " +
+                                            detail::round_trip_text(y[1]) + ", " + detail::round_trip_text(y[2]) +
+                                            ") is too far from the original surface (more than 1e150 along an "
+                                            "axis) for its distance to be computed in double precision");
     }
 
     SurfacePoint from_original(const OriginalPoint& x) const {

@@ -204,6 +204,12 @@ def test_inverse_phi_errors(femur):
         f.phi_inverse([0], np.ones((1, 2)))
     with pytest.raises(ValueError, match="not finite"):
         f.phi_inverse_positions([[0.0, np.inf, 0.0]])
+    # Squared distances from here overflow: this crashed (segfault) instead of raising.
+    with pytest.raises(ValueError, match="too far from the original surface"):
+        f.phi_inverse_positions([[1e300, 0.0, 0.0]])
+    far = f.phi_inverse_positions([[1e100, 0.0, 0.0]])
+    assert 0 <= far["triangles"][0] < len(f.coarse_triangles)
+    assert 0 <= far["original_triangles"][0] < n0
 
 
 def test_repair_moves_a_flat_refined_boundary_onto_the_original_surface():
@@ -406,6 +412,13 @@ def test_write_to_a_missing_directory_is_an_output_error(tmp_path):
     with pytest.raises(bpm.OutputError, match="no-such-dir"):
         made.write(tmp_path / "no-such-dir" / "x.bpm")
     assert made.path == "<memory>"
+    # An HDF5 file named coarse.off (written silently before) is refused; other names pass.
+    for name in ("coarse.off", "coarse.STL", "mesh.vtu"):
+        with pytest.raises(bpm.OptionError, match=r"File.write writes .bpm \(HDF5\) files"):
+            made.write(tmp_path / name)
+        assert not (tmp_path / name).exists()
+    made.write(tmp_path / "coarse.h5")
+    assert bpm.read(tmp_path / "coarse.h5").coarse_triangles.shape == made.coarse_triangles.shape
 
 
 def test_simplify_reports_progress_and_stops_on_request():
@@ -564,3 +577,30 @@ def test_check_is_the_tools_report(femur, tmp_path):
     tight = made.check(max_distance=1e-6)
     assert not tight["passed"]
     assert [c["name"] for c in tight["checks"] if not c["passed"]] == ["distance"]
+
+
+def test_option_errors_name_the_python_keywords(femur):
+    """An option out of range names the keyword the caller wrote and the value given:
+    simplify's errors named libbpm's fields (max_aspect_ratio, feature_angle_degrees) or
+    lumped the three targets into one message; check() took a negative max_distance, a
+    max_aspect below 2 or a min_angle above 60 and reported every triangle as failing,
+    where bpm-check refuses the option."""
+    vertices, triangles = read_off(MESHES / "elephant.off")
+    for kwargs, message in [
+            (dict(ratio=2.0), r"ratio must be in \[0, 1\] .*got 2$"),
+            (dict(ratio=float("nan")), r"ratio must be in \[0, 1\] .*got nan$"),
+            (dict(target_vertices=-5), r"target_vertices must be >= 0, got -5$"),
+            (dict(max_error=-1.0), r"max_error must be >= 0 .*got -1$"),
+            (dict(ratio=0.1, max_aspect=1.0), r"^max_aspect must be at least 2 .*got 1$"),
+            (dict(ratio=0.1, feature_angle=500.0), r"^feature_angle must be between 0 and 180 .*got 500$")]:
+        with pytest.raises(ValueError, match=message):
+            bpm.simplify(vertices, triangles, **kwargs)
+    f = bpm.read(femur)
+    with pytest.raises(bpm.OptionError, match=r"^feature_angle must be between 0 and 180"):
+        f.smooth(feature_angle=-1.0)
+    for kwargs, message in [(dict(max_distance=-1.0), r"^max_distance must be a number >= 0"),
+                            (dict(max_distance=float("inf")), r"^max_distance must be a number >= 0"),
+                            (dict(max_aspect=0.5), r"^max_aspect must be at least 2"),
+                            (dict(min_angle=100.0), r"^min_angle must be between 0 and 60")]:
+        with pytest.raises(bpm.OptionError, match=message):
+            f.check(**kwargs)

@@ -201,10 +201,19 @@ TEST_CASE("OBJ: groups named A|B or pair_A_B give their patches materials, other
     CHECK(report.patch_info[0] == PatchInfo{0, "bone | muscle", "bone", "muscle", false});
     CHECK(report.patch_info[1] == PatchInfo{1, "pair_muscle_exterior", "muscle", "exterior", false});
     CHECK(report.patch_info[2] == PatchInfo{2, "lid", "", "", true});  // named, no materials
-    // Groups that are just names say nothing: the file's own material applies (read from
-    // a path, apply_file_material), as for a file without groups.
+    // Groups that are just names say nothing about materials: the file's own material
+    // applies (read from a path, apply_file_material), as for a file without groups, but
+    // the names are kept (they were dropped: every patch was "<file>|exterior"). From
+    // memory (no file name, no material) the names alone.
     (void)read_bytes(head + "g Cube\nf 1 3 2\nf 1 2 4\ng Lid\nf 1 4 3\nf 2 3 4\n", SurfaceFormat::Obj, {}, &report);
-    CHECK(report.patch_info.empty());
+    CHECK(report.patch_info == std::vector<PatchInfo>{{0, "Cube", "", "", true}, {1, "Lid", "", "", true}});
+    const test_support::ScratchDir scratch("surface_io_obj_names");
+    std::ofstream(scratch.path / "part.obj") << head << "g inlet\nf 1 3 2\ng wall\nusemtl steel\nf 1 2 4\nf 1 4 3\n"
+                                             << "g\nusemtl paint\nf 2 3 4\n";
+    (void)read_surface((scratch.path / "part.obj").string(), {}, &report);
+    CHECK(report.patch_info == std::vector<PatchInfo>{{0, "inlet", "exterior", "part", true},
+                                                      {1, "wall (steel)", "exterior", "part", true},
+                                                      {2, "paint", "exterior", "part", true}});
 }
 
 TEST_CASE("one file of a closed surface per label: each label encloses a material of its own", "[surface_io]") {

@@ -299,3 +299,25 @@ TEST_CASE("inverse phi rejects bad queries", "[phi_inverse]") {
     broken.piece_original_triangle[0] = p.original.num_triangles();
     CHECK_THROWS_AS(PhiInverse(broken), std::invalid_argument);
 }
+
+// A position so far away that every squared distance overflows to infinity found no
+// closest triangle, and the query then indexed with -1 (a segfault in Python's
+// File.phi_inverse_positions([[1e300, 0, 0]])). Far but measurable positions are answered.
+TEST_CASE("inverse phi of a position too far to measure is refused instead of crashing", "[phi_inverse]") {
+    const Parametrization p = test::make_height_field(8, 2, test::default_height);
+    PhiInverse inverse(p);
+    const PhiInverseSample far = inverse.from_position(Vec3{1e100, 0, 0});
+    REQUIRE(far.original.triangle >= 0);
+    REQUIRE(far.original.triangle < p.original.num_triangles());
+    REQUIRE(far.point.triangle >= 0);
+    REQUIRE(far.point.triangle < p.num_coarse_triangles());
+    REQUIRE(std::isfinite(far.distance));
+    for (const Vec3& y : {Vec3{1e160, 0, 0}, Vec3{0, -1e300, 0}, Vec3{0, 0, 1.7e308}}) {
+        REQUIRE_THROWS_AS(inverse.from_position(y), std::invalid_argument);
+        std::vector<PhiInverseSample> samples;
+        REQUIRE_THROWS_AS(inverse.from_position(std::vector<Vec3>{Vec3{0.5, 0.5, 0}, y}, samples, 2),
+                          std::invalid_argument);
+        std::vector<SurfacePoint> points;
+        REQUIRE_THROWS_AS(inverse.from_position(std::vector<Vec3>{y}, points, 1), std::invalid_argument);
+    }
+}
