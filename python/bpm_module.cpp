@@ -36,6 +36,7 @@
 #include "bpm/phi_evaluation.h"
 #include "bpm/phi_inverse.h"
 #include "bpm/refine.h"
+#include "bpm/self_intersection_repair.h"
 #include "bpm/simplify.h"
 #include "bpm/smooth.h"
 #include "bpm/surface.h"
@@ -578,9 +579,9 @@ void require_feature_angle(double feature_angle) {
                                number_text(feature_angle));
 }
 
-File simplify_arrays(const py::object& vertices, const py::object& triangles, const py::object& patches,
-                     int64_t target_vertices, double ratio, double max_error, double max_aspect, double feature_angle,
-                     bool keep_corners, int threads, const std::string& units, const py::object& progress) {
+// A surface from the arrays of bpm.simplify / bpm.repair_self_intersections: shapes, types
+// and index ranges checked (ValueError), not yet validated as a surface.
+bpm::Surface surface_from_arrays(const py::object& vertices, const py::object& triangles, const py::object& patches) {
     bpm::Surface surface;
     {
         py::array in = py::array::ensure(vertices);
@@ -610,6 +611,13 @@ File simplify_arrays(const py::object& vertices, const py::object& triangles, co
                                   std::to_string(surface.patches.size()));
     }
     if (surface.triangles.empty()) throw py::value_error("triangles: the surface has no triangles");
+    return surface;
+}
+
+File simplify_arrays(const py::object& vertices, const py::object& triangles, const py::object& patches,
+                     int64_t target_vertices, double ratio, double max_error, double max_aspect, double feature_angle,
+                     bool keep_corners, int threads, const std::string& units, const py::object& progress) {
+    bpm::Surface surface = surface_from_arrays(vertices, triangles, patches);
     // The checks bpm-simplify makes of a file it read (bpm/surface.h); the repairs are the
     // caller's (the tools' --merge-duplicate-vertices and the like).
     const std::vector<bpm::SurfaceProblem> problems = bpm::validate_surface(surface);
@@ -684,6 +692,34 @@ std::string with_where(const std::string& where, const char* what) {
 }
 
 }  // namespace
+
+// bpm-simplify --repair-self-intersections on arrays: (vertices, triangles, patches, report).
+py::tuple repair_self_intersections_arrays(const py::object& vertices, const py::object& triangles,
+                                           const py::object& patches, double max_change, const py::object& progress) {
+    bpm::Surface surface = surface_from_arrays(vertices, triangles, patches);
+    if (!(max_change > 0))
+        throw py::value_error("max_change must be > 0 (a fraction of the bounding-box diagonal, e.g. 0.01), got " +
+                              number_text(max_change));
+    for (const bpm::SurfaceProblem& p : bpm::validate_surface(surface))
+        if (p.kind == bpm::SurfaceProblem::Kind::NonFiniteCoordinate)
+            throw py::value_error("the surface cannot be repaired: " + bpm::describe_problem(p, surface));
+    bpm::SelfIntersectionRepairOptions options;
+    options.max_change = max_change;
+    LongCall call(progress);
+    bpm::SelfIntersectionRepair r;
+    call.run([&] { r = bpm::repair_self_intersections(surface, options, call.context()); });
+    py::dict report;
+    report["intersecting_pairs"] = r.intersecting_pairs;
+    report["remaining_pairs"] = r.remaining_pairs;
+    report["removed_triangles"] = r.removed_triangles;
+    report["added_triangles"] = r.added_triangles;
+    report["removed_vertices"] = r.removed_vertices;
+    report["added_vertices"] = r.added_vertices;
+    report["largest_change"] = r.largest_change;
+    report["topology_change"] = r.topology_change;
+    report["refused"] = r.refused;
+    return py::make_tuple(rows(surface.vertices), rows(surface.triangles), column(surface.patches), report);
+}
 
 PYBIND11_MODULE(_bpm, m) {
     m.doc() = "bpm: read boundary-parametrized surfaces (.bpm) and evaluate phi (see README, "
@@ -935,10 +971,22 @@ PYBIND11_MODULE(_bpm, m) {
           "options; threads=0 picks as the tool does, and the result does not depend on it.\n"
           "Raises ValueError for bad arrays and for a surface bpm-simplify would refuse (NaN,\n"
           "degenerate or duplicate triangles, unused or duplicate vertices: repair them first),\n"
-          "bpm.AlgorithmError for a surface that intersects itself. progress(fraction, stage) is\n"
+          "bpm.AlgorithmError for a surface that intersects itself (bpm.repair_self_intersections may\n"
+          "repair it). progress(fraction, stage) is\n"
           "called often (every 256 vertices ranked or removed; fractions rise to 1): returning False\n"
           "stops the run with bpm.Error('cancelled'), an exception it raises stops it and is raised;\n"
           "so does Ctrl-C. The tool's warnings are UserWarnings.");
+    m.def("repair_self_intersections", &repair_self_intersections_arrays, py::arg("vertices"), py::arg("triangles"),
+          py::arg("patches") = py::none(), py::kw_only(),
+          py::arg("max_change") = bpm::SelfIntersectionRepairOptions{}.max_change, py::arg("progress") = py::none(),
+          "bpm-simplify --repair-self-intersections on arrays (bpm/self_intersection_repair.h):\n"
+          "replaces the triangles around each place the surface crosses itself by a local patch.\n"
+          "Returns (vertices, triangles, patches, report): the repaired arrays (kept vertices and\n"
+          "triangles first, in order; new ones after), or the input's if nothing was repaired, and a\n"
+          "dict with intersecting_pairs, remaining_pairs, removed/added triangles and vertices,\n"
+          "largest_change (fraction of the diagonal), topology_change and refused (why nothing\n"
+          "changed). All or nothing: no new crossing, and no move beyond max_change. Pass the\n"
+          "result to bpm.simplify; phi then maps onto the repaired surface.");
     m.def("set_hdf5_isolation", &bpm::set_hdf5_isolation, py::arg("enabled"),
           "Parse .bpm files in a forked child first, so that a corrupt file that crashes HDF5\n"
           "raises bpm.InputError instead of killing Python (off by default; bpm/bpm_file.h).");

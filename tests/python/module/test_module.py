@@ -367,6 +367,31 @@ def test_simplify_from_arrays_is_the_tools_result(name, tmp_path):
         assert "ratio=0.10000000000000001" in f["provenance/arguments"][0].decode()
 
 
+def test_repair_self_intersections_then_simplify():
+    """bull.off crosses itself in 3 places: bpm.simplify refuses it, bpm.repair_self_intersections
+    repairs it as bpm-simplify --repair-self-intersections does (kept vertices and triangles
+    first, unchanged), and the repaired arrays simplify; a clean surface comes back as it was;
+    max_change refuses a repair that moves the surface too far."""
+    vertices, triangles = read_off(MESHES / "bull.off")
+    with pytest.raises(bpm.AlgorithmError, match="repair_self_intersections"):
+        bpm.simplify(vertices, triangles, ratio=0.1)
+    v, t, p, report = bpm.repair_self_intersections(vertices, triangles)
+    assert report["intersecting_pairs"] == 3 and report["remaining_pairs"] == 0 and report["refused"] == ""
+    assert report["removed_triangles"] == 4 and len(t) == len(triangles) - 4 + report["added_triangles"]
+    assert 0 < report["largest_change"] < 0.01 and report["topology_change"] == ""
+    kept = len(v) - report["added_vertices"]
+    assert np.array_equal(v[:kept], vertices[:kept]) and (p == 0).all()
+    made = bpm.simplify(v, t, p, ratio=0.1)
+    assert np.array_equal(made.original_triangles, t)
+    clean_v, clean_t = read_off(MESHES / "femur.off")
+    v2, t2, _, report2 = bpm.repair_self_intersections(clean_v, clean_t)
+    assert report2["intersecting_pairs"] == 0 and np.array_equal(v2, clean_v) and np.array_equal(t2, clean_t)
+    _, t3, _, report3 = bpm.repair_self_intersections(vertices, triangles, max_change=1e-5)
+    assert "max_change" in report3["refused"] and np.array_equal(t3, triangles)
+    with pytest.raises(ValueError, match="max_change"):
+        bpm.repair_self_intersections(vertices, triangles, max_change=0)
+
+
 def test_simplify_keeps_patches_and_targets():
     """Patches given per triangle stay the original's and the coarse surface's; a vertex
     target is met."""
