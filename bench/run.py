@@ -115,6 +115,7 @@ MANUAL_SECTIONS = [
     "morton.md",
     "nodeimage.md",
     "cad-fans.md",
+    "self-intersection-repair.md",
 ]
 RUN_RECORD = "all.json"  # in the results folder: what `all` ran, for --assemble
 QUICK_REFINE_MESHES = "femur"
