@@ -57,6 +57,13 @@ Surface sphere(bool spike) {
 
 int64_t intersecting_pairs(const Surface& s) { return check_intersections(s).problem_count; }
 
+// Triangle t of a repaired sphere by the input's vertex ids (its vertex data "id").
+Tri input_ids(const Surface& s, const Tri& t) {
+    Tri ids;
+    for (int c = 0; c < 3; ++c) ids[size_t(c)] = int32_t(s.vertex_data[0].values[size_t(t[size_t(c)])]);
+    return ids;
+}
+
 }  // namespace
 
 // The spike reaches across the sphere: its repair moves the surface by ~0.2 of the diagonal.
@@ -98,9 +105,7 @@ TEST_CASE("a vertex pushed through the far side is repaired locally", "[self_int
     // The kept triangles come first, in their order, and are the input's.
     size_t kept = 0;
     for (size_t t = 0; t < input.triangles.size() && kept < s.triangles.size(); ++t) {
-        Tri mapped;
-        for (int c = 0; c < 3; ++c) mapped[size_t(c)] = int32_t(s.vertex_data[0].values[size_t(s.triangles[kept][size_t(c)])]);
-        if (mapped == input.triangles[t]) ++kept;
+        if (input_ids(s, s.triangles[kept]) == input.triangles[t]) ++kept;
     }
     CHECK(int64_t(kept) == input.num_triangles() - r.removed_triangles);
     // Kept vertices keep their positions and their own data.
@@ -157,9 +162,7 @@ TEST_CASE("a triangle turned against its neighbours is a sheet of its own, kept"
     INFO(r.refused);
     CHECK(r.refused.empty());
     CHECK(r.remaining_pairs == 0);
-    Tri ids;
-    for (int c = 0; c < 3; ++c) ids[size_t(c)] = int32_t(s.vertex_data[0].values[size_t(s.triangles[30][size_t(c)])]);
-    CHECK(ids == input.triangles[30]);
+    CHECK(input_ids(s, s.triangles[30]) == input.triangles[30]);
 }
 
 TEST_CASE("surfaces a caller got wrong are std::invalid_argument", "[self_intersection_repair]") {
@@ -187,10 +190,7 @@ TEST_CASE("a non-manifold edge is kept, the crossing repaired", "[self_intersect
     CHECK(r.refused.empty());
     CHECK(r.remaining_pairs == 0);
     // The flap is still there, on the same two sphere vertices (its vertex ids by data).
-    const Tri& flap = s.triangles[size_t(input.num_triangles() - 1 - r.removed_triangles)];
-    Tri ids;
-    for (int c = 0; c < 3; ++c) ids[size_t(c)] = int32_t(s.vertex_data[0].values[size_t(flap[size_t(c)])]);
-    CHECK(ids == input.triangles.back());
+    CHECK(input_ids(s, s.triangles[size_t(input.num_triangles() - 1 - r.removed_triangles)]) == input.triangles.back());
     CHECK(std::count(s.vertex_data[0].values.begin(), s.vertex_data[0].values.end(), 0.0) == 1);
 }
 
@@ -218,9 +218,6 @@ TEST_CASE("a pinched vertex (two fans meeting at their tip) is repaired around a
     const int64_t kept = input.num_triangles() - r.removed_triangles;
     REQUIRE(kept >= 4);
     for (int k = 0; k < 4; ++k) {
-        const Tri& t = s.triangles[size_t(kept - 4 + k)];
-        Tri ids;
-        for (int c = 0; c < 3; ++c) ids[size_t(c)] = int32_t(s.vertex_data[0].values[size_t(t[size_t(c)])]);
-        CHECK(ids == input.triangles[size_t(input.num_triangles() - 4 + k)]);
+        CHECK(input_ids(s, s.triangles[size_t(kept - 4 + k)]) == input.triangles[size_t(input.num_triangles() - 4 + k)]);
     }
 }
