@@ -369,9 +369,11 @@ public:
         return d;
     }
 
-    // repair_boundary (bpm/boundary_repair.h) on a copy of `vertices`.
+    // repair_boundary (bpm/boundary_repair.h) on a copy of `vertices`; with plain positions
+    // (not None) its retreat (step 5) too.
     py::tuple repair(const py::object& vertices, const py::object& tetrahedra, const py::object& parameter_triangles,
-                     const py::object& parameter_barycentrics, const bpm::BoundaryRepairOptions& options) {
+                     const py::object& parameter_barycentrics, const py::object& plain_positions,
+                     const bpm::BoundaryRepairOptions& options) {
         std::vector<bpm::Vec3> x = query_vec3(vertices, "vertices", 0, nullptr);
         const int64_t n = static_cast<int64_t>(x.size());
         std::vector<int32_t> flat = query_indices(tetrahedra, "tetrahedra", 0, n, "a vertex", 4);
@@ -386,11 +388,13 @@ public:
                                                "parameter_triangles");
         std::vector<bpm::SurfacePoint> points(pt.size());
         for (size_t i = 0; i < pt.size(); ++i) points[i] = {pt[i], pb[i]};
+        std::vector<bpm::Vec3> plain;
+        if (!plain_positions.is_none()) plain = query_vec3(plain_positions, "plain_positions", x.size(), "vertices");
         const bpm::PhiEvaluator& ev = evaluator();
         bpm::BoundaryRepairResult r;
         {
             py::gil_scoped_release release;
-            r = bpm::repair_boundary(ev, x, tets, points, options, bpm::Context{});
+            r = bpm::repair_boundary(ev, x, tets, points, plain, options, bpm::Context{});
         }
         py::dict d;
         d["boundary_vertices"] = r.boundary_vertices;
@@ -399,6 +403,7 @@ public:
         d["held_back"] = r.held_back;
         d["not_moved"] = r.not_moved;
         d["widened"] = r.widened;
+        d["retreated"] = r.retreated;
         d["max_distance"] = r.max_distance;
         d["max_distance_relative"] = r.max_distance_relative;
         d["min_phi_fraction"] = r.min_phi_fraction;
@@ -812,8 +817,9 @@ PYBIND11_MODULE(_bpm, m) {
              "original_triangles (k,), original_barycentrics (k, 3), distances (k,) |position - foot|.")
         .def("repair",
              [](File& f, const py::object& vertices, const py::object& tetrahedra, const py::object& parameter_triangles,
-                const py::object& parameter_barycentrics, int bisection_steps, double min_volume_fraction,
-                double min_dihedral_degrees, int boundary_steps, int retry_passes, bool smooth, bool widen) {
+                const py::object& parameter_barycentrics, const py::object& plain_positions, int bisection_steps,
+                double min_volume_fraction, double min_dihedral_degrees, int boundary_steps, int retry_passes,
+                bool smooth, bool widen, bool retreat) {
                  bpm::BoundaryRepairOptions o;
                  o.bisection_steps = bisection_steps;
                  o.min_volume_fraction = min_volume_fraction;
@@ -822,10 +828,11 @@ PYBIND11_MODULE(_bpm, m) {
                  o.retry_passes = retry_passes;
                  o.smooth = smooth;
                  o.widen = widen;
-                 return f.repair(vertices, tetrahedra, parameter_triangles, parameter_barycentrics, o);
+                 o.retreat = retreat;
+                 return f.repair(vertices, tetrahedra, parameter_triangles, parameter_barycentrics, plain_positions, o);
              },
              py::arg("vertices"), py::arg("tetrahedra"), py::arg("parameter_triangles"),
-             py::arg("parameter_barycentrics"), py::kw_only(),
+             py::arg("parameter_barycentrics"), py::arg("plain_positions") = py::none(), py::kw_only(),
              py::arg("bisection_steps") = bpm::BoundaryRepairOptions{}.bisection_steps,
              py::arg("min_volume_fraction") = bpm::BoundaryRepairOptions{}.min_volume_fraction,
              py::arg("min_dihedral_degrees") = bpm::BoundaryRepairOptions{}.min_dihedral_degrees,
@@ -833,13 +840,19 @@ PYBIND11_MODULE(_bpm, m) {
              py::arg("retry_passes") = bpm::BoundaryRepairOptions{}.retry_passes,
              py::arg("smooth") = bpm::BoundaryRepairOptions{}.smooth,
              py::arg("widen") = bpm::BoundaryRepairOptions{}.widen,
+             py::arg("retreat") = bpm::BoundaryRepairOptions{}.retreat,
              "Repair after a solver refines (bpm/boundary_repair.h): moves the boundary vertices of a\n"
              "tet mesh (vertices (n, 3), positively oriented tetrahedra (m, 4)) towards phi of their\n"
              "parameter points (parameter_triangles (n,), -1 for interior vertices;\n"
              "parameter_barycentrics (n, 3)), holding a vertex back where phi would invert or flatten\n"
              "a tetrahedron, and smooths the interior (widen: a last pass lets a held-back vertex widen\n"
-             "the thinnest tetrahedron around it). Returns (new vertices (n, 3), dict of counts:\n"
-             "boundary_vertices, at_phi, held_back, max_distance, inverted_before/after, ...).")
+             "the thinnest tetrahedron around it). plain_positions (n, 3), where the solver's plain\n"
+             "refinement puts each vertex (a new one: the midpoint of the edge it split, of the edge\n"
+             "ends' current positions; only those of boundary vertices are read), adds the retreat\n"
+             "(retreat=True): a boundary vertex next to a tetrahedron below min_dihedral_degrees moves\n"
+             "back towards its plain position where that widens the worst tetrahedron around it.\n"
+             "Returns (new vertices (n, 3), dict of counts: boundary_vertices, at_phi, held_back,\n"
+             "retreated, max_distance, inverted_before/after, ...).")
         .def("refine", &File::refine, py::arg("levels") = -1, py::arg("tolerance") = 0.0, py::arg("max_level") = 10,
              "The coarse surface refined through phi (bpm/refine.h): levels=K splits each coarse\n"
              "triangle into 4**K (0 <= K <= 10); or adaptive with tolerance > 0 (fraction of the\n"

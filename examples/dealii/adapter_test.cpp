@@ -8,6 +8,7 @@
 #include <cmath>
 #include <set>
 #include <string>
+#include <vector>
 
 #include "bpm/dealii/global_refinement.h"
 #include "bpm/dealii/triangulation_from_bpm.h"
@@ -180,5 +181,60 @@ TEST_CASE("dealii_refinement_with_repair_leaves_no_inverted_cell") {
             // Held-back vertices are the only ones off phi.
             CHECK(vertices_off_phi(mesh) == r.repair.held_back);
         }
+    }
+}
+
+TEST_CASE("dealii_plain_positions_are_the_midpoints_of_the_lines_the_vertices_were_made_on") {
+    // Flat: right after a refinement every new vertex is where deal.II put it, its line's
+    // midpoint; level-0 vertices are where they are.
+    BpmTriangulation flat(two_cubes(), BoundaryMode::Flat);
+    const size_t n0 = flat.triangulation().n_vertices();
+    refine_global(flat);
+    std::vector<Vec3> plain = flat.plain_positions();
+    const TetMesh cells = flat.cells_as_tetmesh();
+    REQUIRE(plain.size() == cells.vertices.size());
+    CHECK(plain == cells.vertices);
+    // Phi with the repair: vertices of both refinements have moved since; each plain
+    // position is the midpoint of its line's ends where they are now.
+    BpmTriangulation phi(two_cubes(), BoundaryMode::Phi);
+    refine_global(phi);
+    refine_global(phi);
+    plain = phi.plain_positions();
+    const auto& x = phi.triangulation().get_vertices();
+    REQUIRE(plain.size() == x.size());
+    for (size_t i = 0; i < n0; ++i) CHECK(plain[i] == to_vec3(x[i]));
+    std::set<unsigned> mids;
+    int64_t off = 0;
+    for (const auto& cell : phi.triangulation().cell_iterators())
+        for (unsigned l = 0; l < cell->n_lines(); ++l) {
+            const auto line = cell->line(l);
+            if (!line->has_children()) continue;
+            const unsigned mid = line->child(0)->vertex_index(1);
+            CHECK(plain[mid] == 0.5 * (to_vec3(x[line->vertex_index(0)]) + to_vec3(x[line->vertex_index(1)])));
+            if (mids.insert(mid).second) off += plain[mid] != to_vec3(x[mid]);
+        }
+    CHECK(mids.size() == x.size() - n0);  // every new vertex is a line midpoint
+    CHECK(off > 0);  // the repair moved some
+}
+
+TEST_CASE("dealii_refinement_repair_retreats_boundary_vertices_towards_their_midpoints") {
+    // The repair gets the plain positions (bpm/boundary_repair.h step 5): with an angle
+    // bound most cells near S miss, boundary vertices that reached phi at level 1 move back
+    // towards their midpoints at level 2 where that widens the worst cell around them.
+    // Without plain positions (before the adapter passed them) nothing retreats.
+    for (const bool retreat : {true, false}) {
+        BpmTriangulation mesh(two_cubes(), BoundaryMode::Phi);
+        GlobalRefineOptions o;
+        o.repair_options.min_dihedral_degrees = 25;
+        o.repair_options.retreat = retreat;
+        int64_t retreated = 0;
+        for (int level = 1; level <= 2; ++level) {
+            const GlobalRefineResult r = refine_global(mesh, o);
+            CHECK(r.inverted == 0);
+            CHECK(vertices_off_phi(mesh) == r.repair.held_back);  // retreated vertices are held back
+            retreated += r.repair.retreated;
+        }
+        if (retreat) CHECK(retreated > 0);
+        else CHECK(retreated == 0);
     }
 }

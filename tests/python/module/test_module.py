@@ -259,6 +259,60 @@ def test_repair_moves_a_flat_refined_boundary_onto_the_original_surface():
         f.repair(flat, f.tet_tetrahedra, pt, pb, boundary_steps=0)
 
 
+def test_repair_with_plain_positions_retreats_towards_them():
+    """repair(..., plain_positions) adds the retreat (bpm/boundary_repair.h step 5): a
+    boundary vertex next to a tetrahedron below min_dihedral_degrees moves back from phi
+    towards where the solver's plain refinement put it (here the flat level-1 mesh of the
+    test above) where that widens the worst tetrahedron around it. It never lowers the
+    smallest angle, inverts nothing, and without plain positions (or with retreat=False)
+    nothing retreats."""
+    out = WORK / "elephant_tet1.bpm"
+    if not out.exists():
+        subprocess.run([str(TOOLS / "bpm-mesh"), str(simplified("elephant")), "--refine", "1", "--no-smooth",
+                        "-o", str(out)], check=True, stderr=subprocess.DEVNULL)
+    f = bpm.read(out)
+    pt, pb = f.tet_vertex_parameter_triangle, f.tet_vertex_parameter_barycentric
+    with h5py.File(out, "r") as h:
+        coarse_vertex = h["tetmesh/vertex_coarse_vertex"][()]
+    new_on_s = (pt >= 0) & (coarse_vertex < 0)
+    flat = f.tet_vertices.copy()
+    C, T = f.coarse_vertices, f.coarse_triangles
+    flat[new_on_s] = np.einsum("qk,qkd->qd", pb[new_on_s], C[T[pt[new_on_s]]])
+    tets = f.tet_tetrahedra
+    bound = 15.0  # many tetrahedra next to S0 are thinner
+
+    x0, r0 = f.repair(flat, tets, pt, pb, min_dihedral_degrees=bound)
+    x1, r1 = f.repair(flat, tets, pt, pb, flat, min_dihedral_degrees=bound)
+    assert r0["retreated"] == 0
+    assert r1["retreated"] > 0
+    assert r1["inverted_after"] == 0
+    assert r1["min_dihedral_degrees"] >= r0["min_dihedral_degrees"]
+    assert r1["held_back"] >= r0["held_back"]
+    assert r1["at_phi"] + r1["held_back"] == r1["boundary_vertices"]
+    # Retreated vertices lie between where steps 1-4 left them (x0) and their plain
+    # positions: closer to the latter.
+    moved = np.flatnonzero((pt >= 0) & np.any(x1 != x0, axis=1))
+    assert len(moved) >= r1["retreated"]
+    closer = np.linalg.norm(x1[moved] - flat[moved], axis=1) < np.linalg.norm(x0[moved] - flat[moved], axis=1)
+    assert closer.sum() >= r1["retreated"]
+    d = np.linalg.det(np.stack([x1[tets[:, k]] - x1[tets[:, 0]] for k in (1, 2, 3)], axis=1))
+    assert (d > 0).all()
+    # The same as a keyword; None and retreat=False are the repair without it.
+    x2, r2 = f.repair(flat, tets, pt, pb, plain_positions=flat, min_dihedral_degrees=bound)
+    assert np.array_equal(x2, x1) and r2["retreated"] == r1["retreated"]
+    x3, r3 = f.repair(flat, tets, pt, pb, plain_positions=None, min_dihedral_degrees=bound)
+    assert np.array_equal(x3, x0)
+    x4, r4 = f.repair(flat, tets, pt, pb, flat, min_dihedral_degrees=bound, retreat=False)
+    assert np.array_equal(x4, x0) and r4["retreated"] == 0
+
+    with pytest.raises(ValueError, match=r"plain_positions must have shape \(%d, 3\)" % len(flat)):
+        f.repair(flat, tets, pt, pb, flat[:-1])
+    bad = flat.copy()
+    bad[3, 1] = np.nan
+    with pytest.raises(ValueError, match=r"plain_positions\[3\] is not finite"):
+        f.repair(flat, tets, pt, pb, bad)
+
+
 @pytest.mark.parametrize("levels", [0, 1, 2])
 def test_refine_counts(femur, levels):
     f = bpm.read(femur)

@@ -17,10 +17,13 @@
 // records their parameter points all the same), which keeps every cell positive, and the
 // repair (bpm::repair_boundary, bpm/boundary_repair.h) then moves every boundary vertex
 // towards phi of its parameter point as far as no cell inverts, and smooths the interior
-// (the §3.3 remedy; most vertices reach phi). The adapter writes the moved positions back
-// into the triangulation (deal.II lets a caller move vertices: cell->vertex(i) = x) and
-// re-keys the parameter points PhiBoundary knows by the new positions, so that the next
-// level's new points still follow phi. A vertex held back short of phi gets another chance
+// (the §3.3 remedy; most vertices reach phi). The repair also gets the plain positions
+// (BpmTriangulation::plain_positions: the midpoint of the line each vertex was made on), so
+// that a boundary vertex next to a cell below the angle bound may move back towards it
+// where that widens the worst cell around it (step 5, retreat). The adapter writes the
+// moved positions back into the triangulation (deal.II lets a caller move vertices:
+// cell->vertex(i) = x) and re-keys the parameter points PhiBoundary knows by the new
+// positions, so that the next level's new points still follow phi. A vertex held back short of phi gets another chance
 // at every later level (the repair continues it on its own segment).
 
 #include <deal.II/grid/tria.h>
@@ -142,7 +145,9 @@ inline GlobalRefineResult execute_refinement(BpmTriangulation& mesh, const Globa
         return r;
     }
     std::vector<Vec3> positions = cells.vertices;
-    r.repair = repair_boundary(boundary.phi(), positions, cells.tetrahedra, points, options.repair_options);
+    // With the plain positions, for the repair's retreat (step 5, bpm/boundary_repair.h).
+    r.repair = repair_boundary(boundary.phi(), positions, cells.tetrahedra, points, mesh.plain_positions(),
+                               options.repair_options);
     r.repaired = true;
     mesh.move_vertices(positions, points);
     r.inverted = count_inverted_cells(tria);

@@ -173,6 +173,30 @@ public:
         return out;
     }
 
+    // Where plain refinement of the triangulation as it now is puts each vertex (#V, deal.II
+    // indices): for a vertex refinement created at the midpoint of a line (deal.II's
+    // refinement of tetrahedra creates vertices nowhere else), the midpoint of that line's
+    // ends at their current positions; for the others (level 0) their position. What
+    // bpm::repair_boundary takes as plain positions for its retreat (step 5,
+    // bpm/boundary_repair.h): for a vertex of this refinement it is where deal.II put it
+    // (the repair lets deal.II place new points at their midpoints), for one of an earlier
+    // refinement the midpoint of its line's ends as they have moved since.
+    std::vector<Vec3> plain_positions() const {
+        const auto& v = tria_.get_vertices();
+        std::vector<Vec3> out(v.size());
+        for (size_t i = 0; i < v.size(); ++i) out[i] = to_vec3(v[i]);
+        // Every line of a cell of any level (deal.II keeps its raw line iterators private in
+        // 3D); a refined one has children (v0, midpoint), (midpoint, v1).
+        for (const auto& cell : tria_.cell_iterators())
+            for (unsigned l = 0; l < cell->n_lines(); ++l) {
+                const auto line = cell->line(l);
+                if (!line->has_children()) continue;
+                const unsigned mid = line->child(0)->vertex_index(1);
+                out[mid] = 0.5 * (to_vec3(v[line->vertex_index(0)]) + to_vec3(v[line->vertex_index(1)]));
+            }
+        return out;
+    }
+
     // Moves the vertices to `positions` (#V, deal.II indices; cell->vertex(k) = x, which
     // moves the vertex in every cell and level that has it) and records the parameter
     // points `points` (#V, invalid for interior vertices) at the new positions, forgetting
