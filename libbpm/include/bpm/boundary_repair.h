@@ -32,7 +32,9 @@
 //      where the move widens a thinner one, which step 1 refuses. The interior around the
 //      vertices that moved is smoothed again. Neither lowers the mesh's smallest angle.
 //   5. retreat (options.retreat, when the solver gives plain positions: where plain
-//      refinement puts each vertex, the midpoint of the edge it split): every boundary
+//      refinement puts each vertex, the midpoint of the edge it split; repair_uggrid, the
+//      deal.II adapter's execute_refinement and Python's File.repair(plain_positions=)
+//      pass them, refine_tetmesh does not): every boundary
 //      vertex with a tetrahedron below min_dihedral_degrees around it, worst first, moves
 //      back on the segment from where it is towards its plain position, to where the worst
 //      tetrahedron around it is widest, if that is wider than where it is; then the
