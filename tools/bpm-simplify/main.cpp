@@ -101,7 +101,7 @@ private:
     }
 };
 
-// What --repair-self-intersections did, in a line or two.
+// "1 triangle", "2 triangles".
 std::string count(int64_t n, const char* one, const char* many) {
     return std::to_string(n) + " " + (n == 1 ? one : many);
 }
