@@ -14,6 +14,7 @@
 #include <CGAL/Surface_mesh.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <stdexcept>
 #include <limits>
@@ -43,14 +44,12 @@ Vec3 to_vec(const Point& p) { return {p.x(), p.y(), p.z()}; }
 // copy half-repaired, never the caller's surface.
 struct ProgressVisitor : CGAL::Polygon_mesh_processing::experimental::Remove_self_intersection_default_visitor<Mesh> {
     const Context* context = nullptr;
-    int round = 0;
+    mutable int round = 0;
+    // Asked once at the start of each round.
     bool stop() const {
-        context->report(0.1 + 0.1 * std::min(round, 7), "self-intersection repair: round " + std::to_string(round));
-        return false;
-    }
-    void start_iteration() {
         ++round;
         context->report(0.1 + 0.1 * std::min(round, 7), "self-intersection repair: round " + std::to_string(round));
+        return false;
     }
 };
 
@@ -197,14 +196,19 @@ SelfIntersectionRepair repair_self_intersections(Surface& surface, const SelfInt
                                     " patch ids for " + std::to_string(surface.triangles.size()) + " triangles");
     if (const std::vector<std::string> bad = vertex_data_problems(surface); !bad.empty())
         throw std::invalid_argument("repair_self_intersections: " + bad[0]);
-    {
-        ValidateOptions validate;
-        validate.allow_unreferenced_vertices = validate.allow_duplicate_vertices = true;
-        validate.max_problems = 1;
-        for (const SurfaceProblem& p : validate_surface(surface, validate))
-            if (p.kind == SurfaceProblem::Kind::IndexOutOfRange || p.kind == SurfaceProblem::Kind::NonFiniteCoordinate)
-                throw std::invalid_argument("repair_self_intersections: " + describe_problem(p, surface));
-    }
+    // Every index and coordinate (validate_surface stops at its first problem, which may be
+    // a harmless one ahead of an index Surface_mesh would read out of bounds).
+    for (size_t v = 0; v < surface.vertices.size(); ++v)
+        for (const double x : surface.vertices[v])
+            if (!std::isfinite(x))
+                throw std::invalid_argument("repair_self_intersections: vertex " + std::to_string(v) +
+                                            " has a coordinate that is not finite");
+    for (size_t t = 0; t < surface.triangles.size(); ++t)
+        for (const int32_t v : surface.triangles[t])
+            if (v < 0 || v >= surface.num_vertices())
+                throw std::invalid_argument("repair_self_intersections: triangle " + std::to_string(t) + " has vertex " +
+                                            std::to_string(v) + ", out of range [0, " +
+                                            std::to_string(surface.num_vertices()) + ")");
     context.report(0.0, "self-intersection repair: finding intersections");
     const std::set<std::pair<int32_t, int32_t>> input_pairs =
         intersecting_pairs(surface, result.intersecting_pairs, Context{nullptr, context.progress});

@@ -175,6 +175,11 @@ TEST_CASE("surfaces a caller got wrong are std::invalid_argument", "[self_inters
     s = sphere(true);
     s.triangles[5][1] = 9999;
     CHECK_THROWS_AS(repair_self_intersections(s), std::invalid_argument);
+    // Behind a harmless problem (a repeated corner in an earlier triangle) too.
+    s = sphere(true);
+    s.triangles[2][1] = s.triangles[2][0];
+    s.triangles[5][1] = 9999;
+    CHECK_THROWS_AS(repair_self_intersections(s), std::invalid_argument);
 }
 
 TEST_CASE("a non-manifold edge is kept, the crossing repaired", "[self_intersection_repair]") {
