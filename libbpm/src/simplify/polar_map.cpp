@@ -1,5 +1,6 @@
 #include "simplify/polar_map.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "bpm/predicates.h"
@@ -38,8 +39,18 @@ bool polar_map(const std::vector<Vec3>& x, int32_t v, const Fan& fan, double rad
     for (int32_t i = 0; i < n; ++i) r[i] = distance(x[fan.link[i]], x[v]) / radius_scale;
     // Closed: the polar map z -> z^alpha (conformal). Open: angles scaled, radii kept,
     // so that the position of v on the new edge is the same in every half-disk.
+    // At a sharp cone tip (angles at v summing to a few degrees) alpha is in the hundreds
+    // and r^alpha of the farther corners overflowed to inf (q inf or NaN). One factor on
+    // every radius changes no shape: then, and only then, the radii are taken relative to
+    // the largest (2^-largest_log), so that the usual case stays bit for bit as it was.
+    double largest_log = 0.0;
+    if (fan.closed)
+        for (int32_t i = 0; i < n; ++i) largest_log = std::max(largest_log, alpha * std::log2(r[i]));
+    const bool relative = largest_log > 1000.0;  // doubles overflow at 2^1024
     for (int32_t i = 0; i < n; ++i) {
-        const double radius = fan.closed ? std::pow(r[i], alpha) : r[i];
+        const double radius = !fan.closed ? r[i]
+                              : relative  ? std::exp2(alpha * std::log2(r[i]) - largest_log)
+                                          : std::pow(r[i], alpha);
         map.q[i] = {radius * std::cos(phi[i]), radius * std::sin(phi[i])};
     }
     if (!fan.closed) {

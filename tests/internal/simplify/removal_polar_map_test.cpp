@@ -89,3 +89,30 @@ TEST_CASE("removal polar map: a degenerate fan triangle is refused", "[simplify]
     CHECK_FALSE(polar_map(s.vertices, 0, fan_of({1, 2, 3, 4, 5, 6}, true), 1.0, map, why));
     CHECK(why == "degenerate triangle in the star");
 }
+
+TEST_CASE("removal polar map: a sharp cone tip gives finite corners (r^alpha overflowed)", "[simplify][removal]") {
+    // Total angle at v about 0.01 rad: alpha = 2 pi / 0.01 ~ 630, and r^alpha of corners
+    // a few times radius_scale away was inf (q inf or NaN, sorted by the ear cutting).
+    for (const int n : {6, 80}) {
+        Surface s;
+        s.vertices.push_back({0, 0, 0});
+        const double rho = 0.01 / (2 * M_PI);
+        std::vector<int32_t> link;
+        for (int i = 0; i < n; ++i) {
+            const double a = 2 * M_PI * i / n;
+            s.vertices.push_back({rho * std::cos(a), rho * std::sin(a), i == 2 ? 0.5 : 1.0});
+            link.push_back(i + 1);
+        }
+        double scale = 0;
+        for (int i = 0; i < n; ++i) scale += distance(s.vertices[size_t(i + 1)], s.vertices[size_t((i + 1) % n + 1)]) / n;
+        PolarMap map;
+        std::string why;
+        const bool ok = polar_map(s.vertices, 0, fan_of(link, true), scale, map, why);
+        INFO("n = " << n << ", ok = " << ok << ", why = " << why);
+        for (const auto* q : {&map.q, &map.q_polar})
+            for (const Vec2& p : *q) {
+                CHECK(std::isfinite(p[0]));
+                CHECK(std::isfinite(p[1]));
+            }
+    }
+}
