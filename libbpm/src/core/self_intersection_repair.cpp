@@ -41,15 +41,24 @@ Point to_point(const Vec3& v) { return Point(v[0], v[1], v[2]); }
 Vec3 to_vec(const Point& p) { return {p.x(), p.y(), p.z()}; }
 
 // Reports CGAL's rounds as progress; bpm::Cancelled thrown from here leaves the CGAL
-// copy half-repaired, never the caller's surface.
+// copy half-repaired, never the caller's surface. (CGAL copies the visitor and uses the
+// copy throughout.)
 struct ProgressVisitor : CGAL::Polygon_mesh_processing::experimental::Remove_self_intersection_default_visitor<Mesh> {
     const Context* context = nullptr;
-    mutable int round = 0;
-    // Asked once at the start of each round.
-    bool stop() const {
+    int round = 0;
+    // Once at the start of each round.
+    void start_iteration() {
         ++round;
-        context->report(0.1 + 0.1 * std::min(round, 7), "self-intersection repair: round " + std::to_string(round));
+        report();
+    }
+    // At the start of each round and of each connected region within a round: the same
+    // progress again, so that cancellation is noticed between regions.
+    bool stop() const {
+        if (round > 0) report();
         return false;
+    }
+    void report() const {
+        context->report(0.1 + 0.1 * std::min(round, 7), "self-intersection repair: round " + std::to_string(round));
     }
 };
 
@@ -232,6 +241,9 @@ std::string plural(int64_t n, const char* one, const char* many) { return std::t
 SelfIntersectionRepair repair_self_intersections(Surface& surface, const SelfIntersectionRepairOptions& options,
                                                  const Context& context) {
     SelfIntersectionRepair result;
+    if (!(options.max_change >= 0))  // NaN would accept any change
+        throw std::invalid_argument("repair_self_intersections: max_change must be a number >= 0, got " +
+                                    std::to_string(options.max_change));
     // Bad input is the caller's error, not something to repair (the readers refuse it).
     if (surface.patches.size() != surface.triangles.size())
         throw std::invalid_argument("repair_self_intersections: " + std::to_string(surface.patches.size()) +

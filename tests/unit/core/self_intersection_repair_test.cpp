@@ -226,3 +226,34 @@ TEST_CASE("a pinched vertex (two fans meeting at their tip) is repaired around a
         CHECK(input_ids(s, s.triangles[size_t(kept - 4 + k)]) == input.triangles[size_t(input.num_triangles() - 4 + k)]);
     }
 }
+
+TEST_CASE("max_change must be a number: NaN would accept any change", "[self_intersection_repair]") {
+    Surface s = sphere(true);
+    SelfIntersectionRepairOptions options;
+    options.max_change = std::nan("");
+    CHECK_THROWS_AS(repair_self_intersections(s, options), std::invalid_argument);
+    options.max_change = -1;
+    CHECK_THROWS_AS(repair_self_intersections(s, options), std::invalid_argument);
+}
+
+TEST_CASE("progress counts CGAL's rounds, not the regions within a round", "[self_intersection_repair]") {
+    // Eight vertices pushed through: several separate regions in CGAL's first round. Its
+    // rounds are at most 7; the visitor's stop() is also asked once per region, which was
+    // counted as a round.
+    Surface s = sphere(false);
+    for (const auto& [ring, segment] : std::vector<std::pair<int, int>>{{3, 0}, {3, 6}, {3, 12}, {3, 18}, {9, 3}, {9, 9}, {9, 15}, {9, 21}}) {
+        Vec3& v = s.vertices[size_t(ring_vertex(ring, segment))];
+        v = -1.05 * v;
+    }
+    REQUIRE(intersecting_pairs(s) > 0);
+    int largest = 0;
+    Context context;
+    context.progress = [&](double, const std::string& stage) {
+        const std::string prefix = "self-intersection repair: round ";
+        if (stage.compare(0, prefix.size(), prefix) == 0) largest = std::max(largest, std::stoi(stage.substr(prefix.size())));
+        return true;
+    };
+    repair_self_intersections(s, far(), context);
+    CHECK(largest >= 1);
+    CHECK(largest <= 7);
+}
