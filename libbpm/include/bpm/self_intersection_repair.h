@@ -29,7 +29,8 @@
 // - Deterministic: the result depends only on the input surface and the options.
 // - Progress and cancellation through `context` (bpm::Cancelled; the surface is then
 //   unchanged). \throw std::invalid_argument if patches and triangles differ in number, a
-//   vertex data array is malformed, an index is out of range or a coordinate not finite.
+//   vertex data array is malformed, an index is out of range, a coordinate not finite, or
+//   options.max_change is not a number >= 0.
 
 #include <cstdint>
 #include <string>
