@@ -80,8 +80,9 @@ struct EarScratch {
 // A polygon of more than kIndexedEarCorners corners that the polar map put on a circle
 // (map.cocircular, so every ear is Delaunay-admissible: a CAD face fanned from its centre,
 // with collinear rim corners) is cut with its ears in an ordered set, and the polar-ear
-// test looks only at the corners within the ear's angle seen from v: O(n log n) where the
-// plain scan is O(n^2) per call, with the same triangulation (the scan's choice among
+// test looks only at the corners within the ear's angle seen from v: O(n log n) on
+// collinear rims where the plain scan is O(n^2) per call (O(n^2) still when the ears'
+// angles widen), with the same triangulation (the scan's choice among
 // ears of near-equal aspect ratio is replayed on those ears alone).
 inline constexpr int32_t kIndexedEarCorners = 64;
 bool retriangulate_fan(const CoarseMesh& mesh, const Fan& fan, const PolarMap& map,
