@@ -85,10 +85,10 @@ struct SimplifyOptions {
     // Hausdorff distances of the bench rows moved by -3 % to +6 % against 1. 1: one
     // removal per step (with queue_tolerance 0: strict cost order). More: larger rounds
     // for more threads, but more work: measured at 4, 8, 16 (bench/README.md, "Parallel
-    // rounds of the simplifier"), the Hausdorff distances of the 10 bench rows moved by
-    // -8 % to +13 % against 2 (removal order), the one-thread CPU time rose by up to 25 %
-    // on 208k triangles (more candidates planned in full and then held back), and the
-    // time at two threads did not drop below that of 2.
+    // rounds"; again 2026-12-07, bench rows and 208k, 832k triangles): Hausdorff -8 % to +20 %
+    // against 2 (removal order; each R has a row over +5 %: R=4 fandisk 1000 V +20 %, R=8
+    // mech-holes-shark 1000 V +11 %, R=16 armadillo 1000 V +8 %), one-thread CPU up on most
+    // rows (armadillo 10 %: +13/+18/+22 %), two-thread CPU down (old 200 us spin; R=16 -5..-17 %).
     int removals_per_step = 2;
     // Worst triangle shape (circumradius / inradius; 2 = equilateral) a removal may
     // create, unless the triangles it removes were already worse. Mesh generators need
@@ -187,9 +187,9 @@ struct SimplifyOptions {
     // output is the same for every thread count. 0 = automatic: 1 for an input of fewer
     // than 10000 triangles (two saved it no wall time), else 2 if the hardware has a
     // second core and not every core is busy (1-minute load average below the number of
-    // cores), else 1. Two threads take about 1.2x less wall time and 1.5x more CPU time
-    // (the second thread spins between the short rounds), so a busy machine is better
-    // off with one.
+    // cores), else 1. Two threads take more CPU time than one (208k triangles: 1.25x at
+    // load 12, spinning 30 us between the short rounds; 1.28x idle with the old 200 us
+    // spin) and save wall time only on a free core, so a busy machine is better off with one.
     int threads = 0;
     // Record every committed removal (the vertex and the triangles that replaced its
     // star) in SimplifyResult::steps, so that bpm-check --replay can re-apply them.

@@ -3,9 +3,11 @@
 // round once ran a task of the next round twice), the caller is thread 0, and an
 // exception in a task reaches the caller without breaking the pool.
 #include <atomic>
+#include <chrono>
 #include <cstdint>
 #include <set>
 #include <stdexcept>
+#include <thread>
 #include <vector>
 
 #include <catch2/catch.hpp>
@@ -147,4 +149,26 @@ TEST_CASE("planning threads: automatic is one thread for a small input, else wha
     CHECK(planning_threads(2, 5558) == 2);  // asked for: as asked
     CHECK(planning_threads(3, 100) == 3);
     CHECK(planning_threads(100, 1000000) == 64);
+}
+
+TEST_CASE("planning pool: threads that went to sleep (a worker between rounds, the caller on a slow task) wake for "
+          "every round",
+          "[internal][simplify]") {
+    // Pauses between rounds and tasks slower than the pool's spins: the workers sleep
+    // before the next round, and the caller sleeps while a worker finishes the slow
+    // task. A lost wake-up would hang here; a task run twice or not at all fails.
+    for (int threads : {2, 3}) {
+        CAPTURE(threads);
+        PlanningPool pool(threads);
+        for (int round = 0; round < 40; ++round) {
+            if (round % 2 == 0) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+            const size_t tasks = size_t(2 + round % 3);
+            std::vector<std::atomic<int>> runs(tasks);
+            pool.run_round(tasks, [&](int, size_t i) {
+                if (i == 1) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+                runs[i].fetch_add(1);
+            });
+            for (size_t i = 0; i < tasks; ++i) REQUIRE(runs[i].load() == 1);
+        }
+    }
 }
