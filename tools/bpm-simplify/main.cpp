@@ -328,6 +328,9 @@ int main(int argc, char** argv) {
         context.info("read " + std::to_string(surface.num_vertices()) + " vertices, " +
                      std::to_string(surface.num_triangles()) + " triangles");
         if (repair_intersections) {
+            // bpm::simplify refuses such coordinates too, but the repair would run on them first.
+            if (const std::string why = bpm::coordinate_range_problem(surface); !why.empty())
+                throw bpm::AlgorithmError(why);
             clock.start("self-intersection repair");
             const bpm::SelfIntersectionRepair repair = bpm::repair_self_intersections(surface, repair_options, context);
             report_repair(repair, context);
