@@ -438,6 +438,7 @@ public:
         call.run([&] {
             bpm::generate_tetmesh(meshed.param, options, call.context(), tets);
             materials = bpm::assign_materials(tets, meshed.patch_info);
+            bpm::name_patches_after_regions(tets, meshed.patch_info);  // as bpm-mesh does
         });
         // What bpm-mesh warns about the materials.
         if (materials.orientation_ignored)

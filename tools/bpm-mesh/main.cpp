@@ -227,6 +227,11 @@ int main(int argc, char** argv) {
             context.info(line);
         }
         const bpm::MaterialResult materials = bpm::assign_materials(*file.tetmesh, file.patch_info, material_options);
+        // /patch_info and the MSH physical names as the regions show them (a nested file's
+        // outer side is the enclosing material, not exterior).
+        if (const int64_t renamed = bpm::name_patches_after_regions(*file.tetmesh, file.patch_info); renamed > 0)
+            context.debug(std::to_string(renamed) + " patch" + (renamed == 1 ? "" : "es") +
+                          " named after the regions on their sides (exterior was the enclosing material)");
         {
             const bpm::TetMesh& m = *file.tetmesh;
             std::string line = std::to_string(materials.materials) + " material" + (materials.materials == 1 ? "" : "s") + ":";
