@@ -168,7 +168,7 @@ int main(int argc, char** argv) {
         ->group(target);
     app.add_option("--max-aspect", options.max_aspect_ratio,
                    "Refuse new triangles with circumradius/inradius above this, and remove the input's worse ones first where possible (default 30; 2 = equilateral)")
-        ->check(CLI::Range(2.0, 1e300))
+        ->check(bpm::tools::aspect_ratio_limit())
         ->group(quality);
     bool no_flips = false;
     app.add_flag("--no-flips", no_flips,
