@@ -415,11 +415,17 @@ public:
         return py::make_tuple(rows(x), d);
     }
 
-    py::tuple refine(int levels, double tolerance, int max_level) {
+    py::tuple refine(int levels, double tolerance, std::optional<int> max_level) {
         bpm::RefineOptions options;
+        // bpm-refine's --levels excludes --max-level as it does --max-error (the library
+        // refuses levels with a tolerance itself): a uniform refinement has no level limit.
+        if (levels >= 0 && max_level)
+            throw bpm::OptionError("refine: max_level limits the adaptive refinement (tolerance) only; give levels "
+                                   "or max_level, not both; got levels " + std::to_string(levels) +
+                                   " and max_level " + std::to_string(*max_level));
         options.levels = levels;
         options.tolerance = tolerance;
-        options.max_level = max_level;
+        if (max_level) options.max_level = *max_level;
         bpm::RefinedSurface out;
         {
             py::gil_scoped_release release;
@@ -438,6 +444,7 @@ public:
         call.run([&] {
             bpm::generate_tetmesh(meshed.param, options, call.context(), tets);
             materials = bpm::assign_materials(tets, meshed.patch_info);
+            bpm::name_patches_after_regions(tets, meshed.patch_info);  // as bpm-mesh does
         });
         // What bpm-mesh warns about the materials.
         if (materials.orientation_ignored)
@@ -853,10 +860,13 @@ PYBIND11_MODULE(_bpm, m) {
              "back towards its plain position where that widens the worst tetrahedron around it.\n"
              "Returns (new vertices (n, 3), dict of counts: boundary_vertices, at_phi, held_back,\n"
              "retreated, max_distance, inverted_before/after, ...).")
-        .def("refine", &File::refine, py::arg("levels") = -1, py::arg("tolerance") = 0.0, py::arg("max_level") = 10,
+        .def("refine", &File::refine, py::arg("levels") = -1, py::arg("tolerance") = 0.0,
+             py::arg("max_level") = py::none(),
              "The coarse surface refined through phi (bpm/refine.h): levels=K splits each coarse\n"
              "triangle into 4**K (0 <= K <= 10); or adaptive with tolerance > 0 (fraction of the\n"
-             "bounding-box diagonal of S0). Returns (vertices (n, 3) float64, triangles (m, 3) int32).")
+             "bounding-box diagonal of S0), at most max_level levels (default 10). levels with\n"
+             "tolerance or max_level raises bpm.OptionError, as bpm-refine refuses --levels with\n"
+             "--max-error or --max-level. Returns (vertices (n, 3) float64, triangles (m, 3) int32).")
         .def_property_readonly("tet_region_material", [](const File& f) { return f.array("tet_region_material"); },
                                "(R,) int32 material id (1-based, into material_names) of each region 1..R, or None")
         .def_property_readonly("material_names", &File::material_names,

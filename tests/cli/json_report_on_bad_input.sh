@@ -47,7 +47,8 @@ ok "unknown option: JSON report" -- is_error_report "$work/out" passed 2 ""
 expect 0 "bpm-check --json on a good file" -- "$tools/bpm-check" "$work/tet.bpm" --json
 ok "good file: no error key, passed true" -- /usr/bin/python3 -c '
 import json, sys; r = json.load(open(sys.argv[1])); assert r["passed"] is True and "error" not in r, r' "$work/out"
-expect 1 "bpm-check without --json: a failed check" -- "$tools/bpm-check" "$work/tet.bpm" --max-aspect 1
+# (--max-aspect 2: the right triangles of this corner have R/r 2.41; below 2 is refused, exit 2)
+expect 1 "bpm-check without --json: a failed check" -- "$tools/bpm-check" "$work/tet.bpm" --max-aspect 2
 expect 3 "bpm-check without --json: nothing on stdout" -- "$tools/bpm-check" "$work/missing.bpm"
 ok "no JSON without --json" -- test ! -s "$work/out"
 

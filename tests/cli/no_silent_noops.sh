@@ -18,6 +18,12 @@ expect 0 "unreachable target with -q" -- "$tools/bpm-simplify" "$work/tet.off" -
 ok "-q: stderr empty" -- test ! -s "$work/err"
 expect 0 "bpm-smooth -q" -- "$tools/bpm-smooth" "$work/a.bpm" -o "$work/b.bpm" -q
 ok "bpm-smooth -q: stderr empty" -- test ! -s "$work/err"
+# bpm-smooth --iterations 0 wrote a copy and said "0 sweeps": a no-op, so a warning.
+expect 0 "bpm-smooth --iterations 0" -- "$tools/bpm-smooth" "$work/a.bpm" -o "$work/b.bpm" --iterations 0
+contains "$work/err" "warning: --iterations 0: no sweep, so phi is written out unchanged (give 1 or more" \
+    "bpm-smooth --iterations 0 says it did nothing"
+expect 0 "bpm-smooth --iterations 0 -q" -- "$tools/bpm-smooth" "$work/a.bpm" -o "$work/b.bpm" --iterations 0 -q
+ok "bpm-smooth -q: stderr empty" -- test ! -s "$work/err"
 expect 0 "bpm-refine -q" -- "$tools/bpm-refine" "$work/a.bpm" --max-error 1e-9 --max-level 1 -o "$work/b.off" -q
 ok "bpm-refine -q: its max-level warning is not printed" -- test ! -s "$work/err"
 expect 3 "an error is still printed under -q" -- "$tools/bpm-refine" "$work/missing.bpm" --levels 1 -o "$work/b.off" -q

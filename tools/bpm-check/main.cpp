@@ -96,8 +96,8 @@ int main(int argc, char** argv) {
                  "Also check the original surface for self-intersections (reported as 'original-intersections')");
     app.add_flag("--json", json, "Print the report as JSON on standard output (format: spec/check-report.md)");
     auto* aspect_opt = app.add_option("--max-aspect", max_aspect,
-                                      "Fail if a coarse triangle has aspect ratio R/r above A (2 = equilateral)")
-                           ->check(CLI::PositiveNumber);
+                                      "Fail if a coarse triangle has aspect ratio R/r above A (at least 2 = equilateral)")
+                           ->check(bpm::tools::aspect_ratio_limit());
     aspect_opt->type_name("A");
     auto* angle_opt = app.add_option("--min-angle", min_angle, "Fail if a coarse triangle has an angle below D degrees")
                           ->check(CLI::Range(0.0, 60.0));

@@ -46,8 +46,8 @@ int main(int argc, char** argv) {
         "package 'tetgen', found on PATH) with the surface kept exactly (-p -Y -q -A). Every enclosed region of\n"
         "a multi-material surface gets its own region id (1, 2, ...); the outside is not meshed. Every region\n"
         "gets a material from the patch information of the input (Amira InnerRegion/OuterRegion, one input\n"
-        "file per material, Gmsh physical names 'A|B' or 'pair_A_B'; spec/tetmesh.md 3.7) or from --material;\n"
-        "regions nothing decides are materials of their own, named region_<id>.\n"
+        "file per material, Gmsh physical names 'A|B' or 'pair_A_B', MSH 4.1 physical volumes; spec/tetmesh.md\n"
+        "3.7) or from --material; regions nothing decides are materials of their own, named region_<id>.\n"
         "Output by extension: .bpm (the input file plus a /tetmesh group, spec/tetmesh.md), .msh (Gmsh 4.1),\n"
         ".vtu (VTK), .mesh (MEDIT). With --refine K the mesh is red-refined K times and new boundary vertices\n"
         "are moved onto the original surface through phi (Krause & Sander §3.3). Vertices not on the surface\n"
@@ -227,6 +227,11 @@ int main(int argc, char** argv) {
             context.info(line);
         }
         const bpm::MaterialResult materials = bpm::assign_materials(*file.tetmesh, file.patch_info, material_options);
+        // /patch_info and the MSH physical names as the regions show them (a nested file's
+        // outer side is the enclosing material, not exterior).
+        if (const int64_t renamed = bpm::name_patches_after_regions(*file.tetmesh, file.patch_info); renamed > 0)
+            context.debug(std::to_string(renamed) + " patch" + (renamed == 1 ? "" : "es") +
+                          " named after the regions on their sides (exterior was the enclosing material)");
         {
             const bpm::TetMesh& m = *file.tetmesh;
             std::string line = std::to_string(materials.materials) + " material" + (materials.materials == 1 ? "" : "s") + ":";

@@ -154,8 +154,9 @@ int main(int argc, char** argv) {
     bpm::tools::add_deprecated_alias(app, "--tolerance", max_error, tol,
                                      "bpm-smooth's --tolerance is its stopping threshold, another quantity")
         ->check(CLI::PositiveNumber);
-    app.add_option("--max-level", options.max_level, "Adaptive: at most this many levels (default 10)")
-        ->check(CLI::Range(0, 10));
+    // With --levels (and so with --volume) it was accepted and did nothing.
+    lv->excludes(app.add_option("--max-level", options.max_level, "Adaptive: at most this many levels (default 10)")
+                     ->check(CLI::Range(0, 10)));
     app.add_flag("--data", data,
                  "VTU output: the original's vertex data and normals through phi as point data (and where each "
                  "vertex lies)");

@@ -168,7 +168,7 @@ int main(int argc, char** argv) {
         ->group(target);
     app.add_option("--max-aspect", options.max_aspect_ratio,
                    "Refuse new triangles with circumradius/inradius above this, and remove the input's worse ones first where possible (default 30; 2 = equilateral)")
-        ->check(CLI::Range(2.0, 1e300))
+        ->check(bpm::tools::aspect_ratio_limit())
         ->group(quality);
     bool no_flips = false;
     app.add_flag("--no-flips", no_flips,
@@ -328,6 +328,9 @@ int main(int argc, char** argv) {
         context.info("read " + std::to_string(surface.num_vertices()) + " vertices, " +
                      std::to_string(surface.num_triangles()) + " triangles");
         if (repair_intersections) {
+            // bpm::simplify refuses such coordinates too, but the repair would run on them first.
+            if (const std::string why = bpm::coordinate_range_problem(surface); !why.empty())
+                throw bpm::AlgorithmError(why);
             clock.start("self-intersection repair");
             const bpm::SelfIntersectionRepair repair = bpm::repair_self_intersections(surface, repair_options, context);
             report_repair(repair, context);

@@ -59,6 +59,9 @@ int main(int argc, char** argv) {
         options.measure_quality = !no_quality && !quiet;
         options.weights = weights == "shape-preserving" ? bpm::SmoothWeights::ShapePreserving : bpm::SmoothWeights::MeanValue;
         const bpm::Context context = bpm::tools::make_context(tool, verbose, quiet);
+        // A no-op that wrote a copy with "0 sweeps" and exit 0 (as bpm-simplify --ratio 1 warns).
+        if (options.iterations == 0)
+            context.warn("--iterations 0: no sweep, so phi is written out unchanged (give 1 or more; default 10)");
         bpm::BpmFile file = bpm::tools::read_bpm_input(input);
         const bpm::SmoothResult r = bpm::smooth(file.param, options, context);
         file.provenance.push_back({tool, bpm::tools::version_line(tool), bpm::tools::command_line(argc, argv),

@@ -178,6 +178,21 @@ CLI::Validator decimal_range(double low, double high, bool low_open, bool high_o
     return v;
 }
 
+CLI::Validator aspect_ratio_limit() {
+    return CLI::Validator(
+        [](std::string& text) -> std::string {
+            char* end = nullptr;
+            const double x = std::strtod(text.c_str(), &end);
+            if (!text.empty() && end && *end == '\0' && x >= 2) return std::string();
+            std::string message = "expects a circumradius/inradius ratio of at least 2 (an equilateral triangle has "
+                                  "2, every other triangle more, so a smaller limit fails every triangle; e.g. 30), "
+                                  "got '" + text + "'";
+            if (text.find(',') != std::string::npos) message += ": write the decimal point as a dot";
+            return message;
+        },
+        "NUMBER >= 2");
+}
+
 namespace {
 const bool* g_json = nullptr;
 std::function<std::string(const ErrorReport&)> g_render_error;

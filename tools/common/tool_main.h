@@ -127,6 +127,11 @@ CLI::Option* add_deprecated_alias(CLI::App& app, const std::string& old_name, T&
 // expected range with an example and, for "0,1", that the decimal point is a dot.
 CLI::Validator decimal_range(double low, double high, bool low_open, bool high_open, const std::string& example);
 
+// Validator for a limit of the aspect ratio circumradius / inradius (bpm/geometry.h,
+// aspect_ratio): at least 2, which an equilateral triangle has and every other triangle
+// exceeds, so that a smaller limit fails every triangle (bpm-check --max-aspect 1 did).
+CLI::Validator aspect_ratio_limit();
+
 // Throws CLI::ValidationError if `path` is empty or its directory does not exist, and
 // OutputError if it is a directory (or ends in '/'); checked before any expensive work
 // and before the output format is derived from the name. "-" is always accepted.

@@ -28,6 +28,7 @@ namespace bpm {
 
 struct RefineOptions {
     // Uniform: each coarse triangle into 4^levels triangles. -1 = adaptive (tolerance).
+    // Both (levels >= 0 and a tolerance other than 0) is an OptionError.
     int levels = -1;
     // Adaptive: split triangles whose phi-image deviates from the flat triangle by more
     // than this fraction of the bounding-box diagonal of S0 (> 0), measured exactly (max

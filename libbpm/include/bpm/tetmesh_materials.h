@@ -53,6 +53,16 @@ struct MaterialResult {
 MaterialResult assign_materials(TetMesh& mesh, const std::vector<PatchInfo>& patch_info,
                                 const MaterialOptions& options = {});
 
+// The patch information after assign_materials, for the files that carry it with the
+// mesh: an oriented side that says "exterior" (weak, see the top) but lies in a meshed
+// region (the same material on that side of every face of the patch) gets that region's
+// material, and a name in the file-per-material form "<back>|<front>" is made again from
+// the new pair. So a file nested in another, whose patch the reader named "inner|exterior",
+// is "inner|outer" with front "outer" once the mesh shows where it lies (the regions had the
+// right materials; /patch_info and the MSH physical names still said exterior). Other
+// entries are left as they are. Returns the number of entries changed.
+int64_t name_patches_after_regions(const TetMesh& mesh, std::vector<PatchInfo>& patch_info);
+
 // The material id (1..#M) of every tetrahedron; empty when the mesh has no materials.
 std::vector<int32_t> tet_materials(const TetMesh& mesh);
 

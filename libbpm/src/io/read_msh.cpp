@@ -2,13 +2,24 @@
 //
 // Read: $MeshFormat, $Nodes, $Elements, $PhysicalNames (the names of dimension 2 become
 // PatchInfo names; "A|B" / "pair_A_B" names also give the two materials, unordered: see
-// materials_from_patch_name), and for 4.1 $Entities; every other section ($Periodic,
-// $NodeData, $Comments, ...) is skipped. Node tags may be
-// sparse and in any order; vertices are numbered in the order of the nodes in the file,
-// triangles in the order of the elements. Element type 2 (3-node triangle) becomes a
-// triangle; every other element type is skipped and counted (SurfaceReadReport::
-// skipped_elements). Nodes used only by skipped elements are unreferenced vertices, so a
-// volume mesh reads only with the drop-unreferenced-vertices repair.
+// materials_from_patch_name; those of dimension 3 name materials, below), and for 4.1
+// $Entities; every other section ($Periodic, $NodeData, $Comments, ...) is skipped. Node
+// tags may be sparse and in any order; vertices are numbered in the order of the nodes in
+// the file, triangles in the order of the elements. Element type 2 (3-node triangle)
+// becomes a triangle; every other element type is skipped and counted
+// (SurfaceReadReport::skipped_elements). Nodes used only by skipped elements are
+// unreferenced vertices, so a volume mesh reads only with the drop-unreferenced-vertices
+// repair.
+//
+// Physical volumes (4.1): a volume entity lists the surface entities that bound it, so a
+// patch whose name gives no materials gets the two materials on its sides from the
+// physical volumes its surface entities bound: the names of the two volumes (a physical
+// volume without a name: "volume_<tag>"), or the one volume and "exterior" for a surface
+// that bounds one volume only. Unordered (oriented = false): Gmsh signs the bounding
+// surfaces, but an OpenCASCADE geometry (gmsh 4.8, a sphere in a box) gives the surface
+// between two volumes the same sign in both. Only when every surface entity of the patch
+// bounds the same volumes; otherwise, and in MSH 2.2 (which does not say which surfaces
+// bound a volume), a note says that the physical volumes were ignored.
 //
 // Patch ids: 2.2 — the first tag of the element (its physical tag), 0 without tags.
 // 4.1 — the first physical tag of the element's entity in $Entities, 0 when the entity
@@ -28,6 +39,8 @@
 // and size_t of 8 bytes) is accepted.
 #include <algorithm>
 #include <map>
+#include <optional>
+#include <set>
 #include <string>
 #include <utility>
 
@@ -216,6 +229,8 @@ private:
             if (name.size() < 2 || name.front() != '"' || name.back() != '"')
                 in_.fail_line(name_at, "expected a quoted name after physical tag " + std::to_string(tag));
             name = name.substr(1, name.size() - 2);
+            if (dim == 3 && tag >= std::numeric_limits<int32_t>::min() && tag <= std::numeric_limits<int32_t>::max())
+                volume_names_[static_cast<int32_t>(tag)] = std::string(name);
             if (dim != 2) continue;
             if (tag < std::numeric_limits<int32_t>::min() || tag > std::numeric_limits<int32_t>::max())
                 in_.fail_line(in_.offset_of(tag_token), "physical tag " + std::to_string(tag) + " is out of range");
@@ -368,7 +383,11 @@ private:
                     const size_t bounding_at = value_pos();
                     const int64_t bounding = read_size(what + ": its number of bounding entities");
                     check(bounding, 2, 4, "bounding entities", bounding_at);
-                    for (int64_t k = 0; k < bounding; ++k) (void)read_int(what + ": a bounding entity");
+                    for (int64_t k = 0; k < bounding; ++k) {
+                        const int64_t b = read_int(what + ": a bounding entity");
+                        // A volume's bounding surfaces, by their unsigned tags (see the top).
+                        if (d == 3) surface_volumes_[b < 0 ? -b : b].push_back(tag);
+                    }
                 }
             }
         }
@@ -529,12 +548,79 @@ private:
             }
             out.patch_info.push_back(std::move(info));
         }
+        materials_from_volumes(s, out);
         out.skipped_elements = skipped_;
         if (skipped_ > 0) {
             out.notes.push_back("skipped " + std::to_string(skipped_) + " MSH element" + (skipped_ == 1 ? "" : "s") +
                                 " that are not 3-node triangles");
         }
         return out;
+    }
+
+    // The physical volumes on the two sides of each patch (see the top), into
+    // out.patch_info; a note when there are physical volumes and they give nothing.
+    void materials_from_volumes(const Surface& s, ReaderOutput& out) const {
+        if (volume_names_.empty() && surface_volumes_.empty()) return;
+        std::string names;
+        for (const auto& [tag, name] : volume_names_) names += (names.empty() ? "'" : ", '") + name + "'";
+        if (!version4_) {
+            if (!names.empty())
+                out.notes.push_back("physical volumes " + names + " ignored: MSH 2.2 does not say which surfaces bound "
+                                    "a volume (write MSH 4.1, gmsh -format msh41, or name the physical surfaces 'A|B' "
+                                    "after the materials on their two sides)");
+            return;
+        }
+        using Pair = std::pair<std::string, std::string>;
+        const auto volume_material = [&](int64_t volume) -> std::optional<std::string> {
+            const auto physical = entity_physical_.find({3, static_cast<int>(volume)});
+            if (physical == entity_physical_.end()) return std::nullopt;
+            const auto named = volume_names_.find(physical->second);
+            return named != volume_names_.end() ? named->second : "volume_" + std::to_string(physical->second);
+        };
+        // Per patch: the pair all its surface entities give; nullopt once one gives none or another.
+        std::map<int32_t, std::optional<Pair>> by_patch;
+        std::set<std::pair<int32_t, int>> seen;  // (patch, surface entity)
+        for (size_t t = 0; t < s.patches.size() && t < entities_.size(); ++t) {
+            if (entities_[t].first != 2 || !seen.insert({s.patches[t], entities_[t].second}).second) continue;
+            std::optional<Pair> pair;
+            const auto volumes = surface_volumes_.find(entities_[t].second);
+            if (volumes != surface_volumes_.end() && (volumes->second.size() == 1 || volumes->second.size() == 2)) {
+                const auto a = volume_material(volumes->second[0]);
+                const auto b = volumes->second.size() == 2 ? volume_material(volumes->second[1])
+                                                           : std::optional<std::string>(kExteriorMaterial);
+                if (a && b && *a != *b) pair = std::minmax(*a, *b);
+            }
+            const auto [it, fresh] = by_patch.emplace(s.patches[t], pair);
+            if (!fresh && it->second != pair) it->second = std::nullopt;
+        }
+        int64_t given = 0;
+        std::string unnamed;
+        for (const auto& [patch, pair] : by_patch) {
+            PatchInfo* info = find_patch_info(out.patch_info, patch);
+            if (info && info->has_materials()) continue;  // its name says them
+            if (!pair) {
+                unnamed += (unnamed.empty() ? "" : ", ") + std::to_string(patch + patch_offset_);
+                continue;
+            }
+            if (!info) {
+                out.patch_info.push_back(PatchInfo{patch, "", {}, {}, true});
+                info = &out.patch_info.back();
+            }
+            info->front = pair->first;
+            info->back = pair->second;
+            info->oriented = false;
+            ++given;
+        }
+        std::sort(out.patch_info.begin(), out.patch_info.end(),
+                  [](const PatchInfo& a, const PatchInfo& b) { return a.patch < b.patch; });
+        if (given == 0 && !names.empty())
+            out.notes.push_back("physical volumes " + names + " ignored: no physical surface lies between the same "
+                                "physical volumes everywhere (its surfaces are not listed as bounding a volume, or "
+                                "bound different ones); name the physical surfaces 'A|B' after the materials on "
+                                "their two sides");
+        else if (!unnamed.empty() && given > 0)
+            out.notes.push_back("physical surfaces " + unnamed + ": no materials from the physical volumes (parts of "
+                                "them bound different volumes, or none with a physical group)");
     }
 
     InputCursor in_;
@@ -551,6 +637,8 @@ private:
     std::vector<std::pair<int, int>> entities_;
     std::map<std::pair<int, int>, int32_t> entity_physical_;
     std::map<int32_t, std::string> physical_names_;  // dimension 2 only
+    std::map<int32_t, std::string> volume_names_;    // dimension 3: physical tag -> name
+    std::map<int64_t, std::vector<int64_t>> surface_volumes_;  // 4.1: surface entity -> volume entities it bounds
     int32_t patch_offset_ = 0;                       // $BpmPatchIds: physical tag of patch 0
     int64_t skipped_ = 0;
 };

@@ -600,6 +600,13 @@ Surface read_surface(const std::string& path, const SurfaceReadOptions& options,
     if (!format) format = surface_format_from_path(path);
     if (!format && path == "-") throw InputError(name, "the format of standard input must be given explicitly");
     const std::string bytes = detail::read_whole_input(path);
+    // A .bpm file (HDF5) passed where a surface belongs, e.g. to simplify it further: the
+    // error was "cannot tell the surface format from the file name", or with a format given
+    // a parse error at byte 0.
+    if (bytes.compare(0, 8, "\x89HDF\r\n\x1a\n") == 0)
+        throw InputError(name, "an HDF5 file (a .bpm?), not a surface: the surface readers take .off, .obj, .stl, "
+                               ".ply, .msh, .vtk, .vtp, .vtu and .surf files. A .bpm file's coarse surface is written "
+                               "out by bpm-refine FILE --levels 0 -o coarse.off");
     // One file per material: the material is the file's name without directory and extension.
     const std::string material =
         path == "-" ? std::string() : std::filesystem::path(detail::without_gz_suffix(path)).stem().string();

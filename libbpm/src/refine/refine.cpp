@@ -1281,6 +1281,11 @@ RefineResult refine(const Parametrization& param, const RefineOptions& options, 
     if (options.levels > 10) throw OptionError("refine: levels must be at most 10 (4^10 triangles per coarse triangle)");
     if (options.levels < 0 && !(options.tolerance > 0))
         throw OptionError("refine: give levels >= 0 (uniform) or a tolerance > 0 (adaptive)");
+    // Both given: the tolerance was dropped without a word (uniform refinement won).
+    if (options.levels >= 0 && options.tolerance != 0)
+        throw OptionError("refine: give levels (uniform) or tolerance (adaptive), not both; got levels " +
+                          std::to_string(options.levels) + " and tolerance " +
+                          detail::significant_text(options.tolerance, 6));
     if (options.levels < 0 && (options.max_level < 0 || options.max_level > 10))
         throw OptionError("refine: max_level must be in 0..10");
     const PhiEvaluator phi(param);

@@ -239,6 +239,42 @@ MaterialResult assign_materials(TetMesh& mesh, const std::vector<PatchInfo>& pat
     return result;
 }
 
+int64_t name_patches_after_regions(const TetMesh& mesh, std::vector<PatchInfo>& patch_info) {
+    if (mesh.region_material.empty() || find_material_inconsistency(mesh) != "") return 0;
+    // Per patch: the material on the front and on the back of its faces (0 = the unmeshed
+    // outside), -1 where its faces disagree.
+    const std::vector<Sides> sides = face_sides(mesh);
+    const auto material = [&](int32_t region) {
+        return region >= 1 && region <= int32_t(mesh.region_material.size()) ? mesh.region_material[size_t(region - 1)] : 0;
+    };
+    std::map<int32_t, std::pair<int32_t, int32_t>> by_patch;
+    for (size_t f = 0; f < mesh.faces.size() && f < mesh.face_patches.size(); ++f) {
+        const std::pair<int32_t, int32_t> m{material(sides[f].front), material(sides[f].back)};
+        const auto [it, fresh] = by_patch.emplace(mesh.face_patches[f], m);
+        if (fresh) continue;
+        if (it->second.first != m.first) it->second.first = -1;
+        if (it->second.second != m.second) it->second.second = -1;
+    }
+    int64_t changed = 0;
+    for (PatchInfo& info : patch_info) {
+        const auto found = by_patch.find(info.patch);
+        if (!info.oriented || found == by_patch.end()) continue;
+        const std::string generated = info.back + "|" + info.front;
+        bool now = false;
+        for (auto [side, m] : {std::pair{&info.front, found->second.first}, std::pair{&info.back, found->second.second}}) {
+            if (m < 1 || !is_exterior(*side)) continue;
+            const std::string& there = mesh.material_names[size_t(m - 1)];
+            if (is_exterior(there)) continue;
+            *side = there;
+            now = true;
+        }
+        if (!now) continue;
+        ++changed;
+        if (info.name == generated) info.name = info.back + "|" + info.front;
+    }
+    return changed;
+}
+
 std::vector<int32_t> tet_materials(const TetMesh& mesh) {
     if (mesh.region_material.empty()) return {};
     std::vector<int32_t> out(mesh.regions.size());

@@ -381,6 +381,15 @@ def test_refine_options_are_option_errors_with_libbpm_messages(femur):
     assert isinstance(e.value, ValueError)
     with pytest.raises(bpm.OptionError):
         f.refine(levels=11)
+    # Both kinds at once: the tolerance was dropped silently (uniform refinement won);
+    # bpm-refine refuses --levels with --max-error or --max-level.
+    with pytest.raises(bpm.OptionError, match=r"give levels \(uniform\) or tolerance \(adaptive\), not both; "
+                                              r"got levels 2 and tolerance 0.001$"):
+        f.refine(levels=2, tolerance=1e-3)
+    with pytest.raises(bpm.OptionError, match=r"give levels or max_level, not both; got levels 1 and max_level 3$"):
+        f.refine(levels=1, max_level=3)
+    v, t = f.refine(tolerance=3e-3, max_level=2)
+    assert len(t) > 0
 
 
 def read_off(path):

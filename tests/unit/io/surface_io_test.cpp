@@ -403,6 +403,69 @@ TEST_CASE("MSH 4.1 ASCII: physical tags of entities, multiple blocks, parametric
     CHECK(report.skipped_elements == 1);
 }
 
+TEST_CASE("MSH 4.1: physical volumes give the materials on the sides of the physical surfaces they bound",
+          "[surface_io]") {
+    // Volume 1 (physical 5, "bone") is bounded by surfaces 1, 2 and 3, volume 2 (physical 6,
+    // no name) by surface 2. They were read and ignored: the patches had no materials, and
+    // bpm-mesh named the regions region_1, region_2.
+    const std::string head =
+        "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n"
+        "$PhysicalNames\n3\n2 31 \"skin\"\n2 33 \"pair_a_b\"\n3 5 \"bone\"\n$EndPhysicalNames\n"
+        "$Entities\n0 0 3 2\n"
+        "1 0 0 0 1 1 1 1 31 0\n"
+        "2 0 0 0 1 1 1 1 32 0\n"
+        "3 0 0 0 1 1 1 1 33 0\n";
+    const std::string mesh =
+        "$EndEntities\n"
+        "$Nodes\n1 4 1 4\n3 1 0 4\n1\n2\n3\n4\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n$EndNodes\n"
+        "$Elements\n3 4 1 4\n2 1 2 2\n1 1 3 2\n2 1 2 4\n2 2 2 1\n3 1 4 3\n2 3 2 1\n4 2 3 4\n$EndElements\n";
+    SurfaceReadReport report;
+    const Surface s = read_bytes(head + "1 0 0 0 1 1 1 1 5 3 1 -2 3\n2 0 0 0 1 1 1 1 6 1 2\n" + mesh,
+                                 SurfaceFormat::Msh, {}, &report);
+    CHECK(s.patches == std::vector<int32_t>{31, 31, 32, 33});
+    CHECK(report.patch_info == std::vector<PatchInfo>{{31, "skin", "bone", "exterior", false},
+                                                      {32, "", "bone", "volume_6", false},
+                                                      {33, "pair_a_b", "a", "b", false}});  // the name wins
+    for (const std::string& note : report.notes) CHECK(note.find("physical volumes") == std::string::npos);
+
+    SECTION("a physical surface whose parts bound different volumes gets none, and a note says which") {
+        // Surface 3 joins physical 31 and bounds volume 2 only.
+        std::string split = head;
+        split.replace(split.find("3 0 0 0 1 1 1 1 33 0"), 20, "3 0 0 0 1 1 1 1 31 0");
+        SurfaceReadReport r;
+        (void)read_bytes(split + "1 0 0 0 1 1 1 1 5 2 1 -2\n2 0 0 0 1 1 1 1 6 2 2 3\n" + mesh, SurfaceFormat::Msh,
+                         {}, &r);
+        CHECK(r.patch_info == std::vector<PatchInfo>{{31, "skin", "", "", true},
+                                                     {32, "", "bone", "volume_6", false},
+                                                     {33, "pair_a_b", "a", "b", false}});  // named, unused
+        REQUIRE(r.notes.size() == 1);
+        CHECK(r.notes[0].find("physical surfaces 31: no materials from the physical volumes") == 0);
+    }
+    SECTION("volumes that list no bounding surfaces: a note says the physical volumes were ignored") {
+        SurfaceReadReport r;
+        (void)read_bytes(head + "1 0 0 0 1 1 1 1 5 0\n2 0 0 0 1 1 1 1 6 0\n" + mesh, SurfaceFormat::Msh, {}, &r);
+        CHECK(r.patch_info == std::vector<PatchInfo>{{31, "skin", "", "", true}, {33, "pair_a_b", "a", "b", false}});
+        REQUIRE(r.notes.size() == 1);
+        CHECK(r.notes[0].find("physical volumes 'bone' ignored: no physical surface lies between the same") == 0);
+    }
+}
+
+TEST_CASE("MSH 2.2: physical volumes are reported as ignored (the format does not say what bounds them)",
+          "[surface_io]") {
+    const std::string text =
+        "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n"
+        "$PhysicalNames\n2\n2 10 \"skin\"\n3 7 \"bone\"\n$EndPhysicalNames\n"
+        "$Nodes\n4\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n$EndNodes\n"
+        "$Elements\n4\n1 2 2 10 1 1 3 2\n2 2 2 10 1 1 2 4\n3 2 2 10 1 1 4 3\n4 2 2 10 1 2 3 4\n$EndElements\n";
+    SurfaceReadReport report;
+    (void)read_bytes(text, SurfaceFormat::Msh, {}, &report);
+    CHECK(report.patch_info == std::vector<PatchInfo>{{10, "skin", "", "", true}});
+    REQUIRE(report.notes.size() == 1);
+    CHECK(report.notes[0] == "physical volumes 'bone' ignored: MSH 2.2 does not say which surfaces bound a volume "
+                             "(write MSH 4.1, gmsh -format msh41, or name the physical surfaces 'A|B' after the "
+                             "materials on their two sides)");
+}
+
 TEST_CASE("MSH 4.1 binary: entities, nodes and elements", "[surface_io]") {
     const Surface t = awkward_tetrahedron();
     auto q = [](std::string& o, uint64_t v) { put<uint64_t>(o, v); };

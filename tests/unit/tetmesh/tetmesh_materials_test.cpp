@@ -129,6 +129,42 @@ TEST_CASE("materials: a face's front region is the tet its normal points into (h
     }
 }
 
+TEST_CASE("materials: a patch whose weak exterior side lies in a meshed region is named after it (hand-made "
+          "two tetrahedra)", "[materials]") {
+    // Patch 2 as the reader gives a file nested in another ("A|exterior": every file's outer
+    // side says exterior), though its front is region 2 = B. The regions were right; the
+    // patch kept "A|exterior" in /patch_info and the MSH physical names.
+    TetMesh m = two_tets();
+    std::vector<PatchInfo> infos = {{0, "A|exterior", "exterior", "A", true},
+                                    {1, "B|exterior", "exterior", "B", true},
+                                    {2, "A|exterior", "exterior", "A", true}};
+    const MaterialResult r = assign_materials(m, infos);
+    REQUIRE(region_names(m) == std::vector<std::string>{"A", "B"});
+    CHECK(r.problems.empty());
+    CHECK(name_patches_after_regions(m, infos) == 1);
+    CHECK(infos[0] == PatchInfo{0, "A|exterior", "exterior", "A", true});  // the outside is exterior
+    CHECK(infos[1] == PatchInfo{1, "B|exterior", "exterior", "B", true});
+    CHECK(infos[2] == PatchInfo{2, "A|B", "B", "A", true});
+    CHECK(name_patches_after_regions(m, infos) == 0);  // nothing left to do
+
+    SECTION("a name of the user's own stays; unordered pairs and patches without materials are left alone") {
+        std::vector<PatchInfo> named = {{0, "skin", "exterior", "A", true},
+                                        {1, "B|exterior", "exterior", "B", false},
+                                        {2, "lid", "Exterior", "A", true}};
+        CHECK(name_patches_after_regions(m, named) == 1);
+        CHECK(named[0] == PatchInfo{0, "skin", "exterior", "A", true});
+        CHECK(named[1] == PatchInfo{1, "B|exterior", "exterior", "B", false});
+        CHECK(named[2] == PatchInfo{2, "lid", "B", "A", true});
+    }
+    SECTION("a mesh without materials changes nothing") {
+        TetMesh plain = two_tets();
+        std::vector<PatchInfo> kept = infos;
+        kept[2] = {2, "A|exterior", "exterior", "A", true};
+        CHECK(name_patches_after_regions(plain, kept) == 0);
+        CHECK(kept[2] == PatchInfo{2, "A|exterior", "exterior", "A", true});
+    }
+}
+
 TEST_CASE("materials: the HyperSurface fixture's InnerRegion/OuterRegion name the regions", "[materials][surf]") {
     // The two-tetrahedra surface of read_surf_test as an ASCII HyperSurface.
     const std::string surf =
@@ -216,6 +252,15 @@ TEST_CASE("materials: a file nested in another lies in the enclosing file's mate
     CHECK(names == std::vector<std::string>{"inner", "outer"});
     CHECK(r.problems.empty());
     CHECK_FALSE(r.orientation_ignored);
+
+    // Once meshed, the inner file's patch is named after the regions on its two sides.
+    TetMesh m;
+    (void)generate_tetmesh(make_identity_parametrization(s), TetMeshOptions{}, Context{}, m);
+    (void)assign_materials(m, report.patch_info);
+    std::vector<PatchInfo> infos = report.patch_info;
+    CHECK(name_patches_after_regions(m, infos) == 1);
+    CHECK(infos[0] == PatchInfo{0, "outer|exterior", "exterior", "outer", true});
+    CHECK(infos[1] == PatchInfo{1, "inner|outer", "outer", "inner", true});
 }
 
 TEST_CASE("materials: .bpm files carry /patch_info and the region materials, older files read without them",
