@@ -46,23 +46,26 @@
 //      smoothing puts the midpoint (femur at 10 %, bpm-torsion --adaptive step 5: a 2.02
 //      degree sliver of four boundary vertices cut into two 1.01 degree tetrahedra; flat
 //      refinement has 2.37). No move lowers the mesh's smallest angle.
-//   6. slide (options.slide, only in repair_boundary_sliding, whose caller takes the new
-//      parameter points): every boundary vertex with a tetrahedron below
-//      min_dihedral_degrees around it, worst first, moves along S0: its parameter point
-//      moves within its coarse triangle (a point on a coarse edge stays on that edge, a
-//      coarse vertex stays), the vertex to phi of the new point (or, held back, with its
-//      offset from phi kept), to where the worst tetrahedron around it is widest within a
-//      quarter of its shortest edge (a compass search), if that is wider than where it is
-//      and every tetrahedron around it stays positive (exact); then the interior around the
-//      vertices that moved is smoothed again. This widens tetrahedra of four boundary
-//      vertices that neither retreat nor smoothing can: four points of a smooth surface
-//      close together are nearly coplanar, and refinement keeps making such tetrahedra
-//      where a coarse tetrahedron has two faces on S0 (a ridge of the coarse surface),
-//      each level with about half the angle of the last, unless its vertices stay off S0
-//      (femur at 10 %, bpm-torsion --adaptive, step 5: 3.49 degrees, a tetrahedron with a
-//      face on one coarse triangle and its fourth corner on the neighbouring one, inverted
-//      with all four corners at phi; sliding a corner on the coarse edge between them gives
-//      the tetrahedra around it 7 degrees). No move lowers the mesh's smallest angle.
+//   6. slide (options.slide, only in repair_boundary_sliding, whose caller keeps the new
+//      parameter points: repair_uggrid and the deal.II adapter's execute_refinement;
+//      refine_tetmesh and Python's File.repair do not slide): every boundary vertex with a
+//      tetrahedron below min_dihedral_degrees around it, worst first, moves along S0: its
+//      parameter point moves within its coarse triangle (a point on a coarse edge stays on
+//      that edge, a coarse vertex stays), the vertex to phi of the new point (or, held
+//      back, with its offset from phi kept), to where the worst tetrahedron around it is
+//      widest within a quarter of its shortest edge (a compass search), if that is wider
+//      than where it is and every tetrahedron around it stays positive (exact); then the
+//      interior around the vertices that moved is smoothed again. This widens tetrahedra
+//      of four boundary vertices that neither the retreat nor smoothing can: four points
+//      of a surface that is smooth at their scale are nearly coplanar, and refinement
+//      keeps making such tetrahedra under a level-0 tetrahedron with all four corners on
+//      S0 (the children at a corner whose three edges are on S0), flatter at each level,
+//      unless their vertices stay off S0 (femur at 10 %, bpm-torsion --adaptive: at step
+//      5, 3.49 degrees, a tetrahedron with a face on one coarse triangle and its fourth
+//      corner on the neighbouring one, under a level-0 tetrahedron with faces on both; at
+//      step 6, 2.63 degrees, two at a coarse vertex; all three inverted with their corners
+//      at phi; with the slide both steps keep 5 degrees). No move lowers the mesh's
+//      smallest angle.
 //
 // A vertex whose parameter point is a corner of its coarse triangle (a barycentric
 // coordinate exactly 1) is a coarse vertex (level-0 vertex i of a grid built from the .bpm
