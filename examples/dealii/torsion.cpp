@@ -4,7 +4,7 @@
 // refinement through the bpm adapter (bpm/dealii/): new boundary vertices on the original
 // surface through phi, or at the plain midpoints with --flat.
 //
-//   bpm-dealii-torsion FILE.bpm --levels K [--flat] [--no-repair] [--no-retreat] [--adaptive] [--json]
+//   bpm-dealii-torsion FILE.bpm --levels K [--flat] [--no-repair] [--no-retreat] [--no-slide] [--adaptive] [--json]
 //
 // --adaptive asks for local refinement, which the adapter refuses (deal.II 9.4 refines
 // tetrahedral meshes correctly only globally): the program exits with the adapter's message.
@@ -135,7 +135,7 @@ int main(int argc, char** argv) {
     CLI::App app{"Torsion problem -Δu = 1, u = 0 on the boundary, with deal.II on a .bpm tet mesh refined through phi"};
     std::string input;
     int levels = 2;
-    bool flat = false, no_repair = false, no_retreat = false, json = false, adaptive = false;
+    bool flat = false, no_repair = false, no_retreat = false, no_slide = false, json = false, adaptive = false;
     app.add_option("FILE", input, ".bpm file with a tetrahedral mesh (bpm-mesh)")->required();
     app.add_option("--levels", levels, "Solve on levels 0..K of global refinement (default 2)")->check(CLI::Range(0, 6));
     app.add_flag("--flat", flat, "Refine without phi: new boundary vertices at the plain midpoints");
@@ -143,6 +143,9 @@ int main(int argc, char** argv) {
     app.add_flag("--no-retreat", no_retreat,
                  "Repair without its retreat step (no boundary vertex moves back towards its edge midpoint to "
                  "widen a thin cell; bpm/boundary_repair.h step 5)");
+    app.add_flag("--no-slide", no_slide,
+                 "Repair without its slide step (no boundary vertex moves along the surface, with a new parameter "
+                 "point, to widen a thin cell; bpm/boundary_repair.h step 6)");
     app.add_flag("--adaptive", adaptive,
                  "Refine only part of the cells, as an adaptive run would (refused with exit 2: deal.II 9.4 cannot "
                  "refine tetrahedral meshes locally, and the adapter says so)");
@@ -157,10 +160,12 @@ int main(int argc, char** argv) {
         bpm::dealii::GlobalRefineOptions options;
         options.repair = !no_repair;
         options.repair_options.retreat = !no_retreat;
+        options.repair_options.slide = !no_slide;
 
         std::ostringstream out;
         if (json) out << "{\"mode\": \"" << (flat ? "flat" : "phi") << "\", \"repair\": " << (no_repair ? "false" : "true")
-                      << ", \"retreat\": " << (flat || no_repair || no_retreat ? "false" : "true") << ", \"levels\": [";
+                      << ", \"retreat\": " << (flat || no_repair || no_retreat ? "false" : "true")
+                      << ", \"slide\": " << (flat || no_repair || no_slide ? "false" : "true") << ", \"levels\": [";
         else out << "level cells vertices dofs J volume inverted inverted_without_repair held_back min_dihedral_degrees "
                     "phi_fallbacks seconds\n";
         for (int level = 0; level <= levels; ++level) {
@@ -200,6 +205,7 @@ int main(int argc, char** argv) {
                 out << "], \"inverted\": " << stats.inverted
                     << ", \"inverted_without_repair\": " << without << ", \"held_back\": " << held_back
                     << ", \"retreated\": " << (r.repaired ? r.repair.retreated : 0)
+                    << ", \"slid\": " << (r.repaired ? r.repair.slid : 0)
                     << ", \"max_held_back_distance\": " << number(r.repaired ? r.repair.max_distance : 0.0)
                     << ", \"min_dihedral_degrees\": " << number(stats.min_dihedral_degrees)
                     << ", \"cg_iterations\": " << s.cg_iterations << ", \"phi_fallbacks\": " << fallbacks

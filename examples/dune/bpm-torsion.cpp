@@ -69,6 +69,7 @@ struct LevelReport {
     long held_back = 0;               // boundary vertices the repair kept short of phi
     long smoothed = 0;                // interior vertices the repair's smoothing moved
     long retreated = 0;               // boundary vertices the repair moved back towards their edge midpoints
+    long slid = 0;                    // boundary vertices the repair moved along the surface (new parameter points)
     long reset = 0;                   // earlier boundary vertices put back to midpoints (repair_uggrid)
     long inverted_after_reset = 0;    // tets still inverted when the repair starts (after the reset): should be 0
     long rules_kept = 0;              // bpm::dune::uggrid_refinement_rules_kept() during this refinement
@@ -287,7 +288,7 @@ int main(int argc, char** argv) {
     std::string input;
     int levels = 2;
     bool flat = false, adaptive = false, json = false, no_repair = false, no_smooth = false, flat_interfaces = false,
-         no_retreat = false;
+         no_retreat = false, no_slide = false;
     double reference_j = 0, until_error = 0;
     app.add_option("INPUT", input, ".bpm file with a tet mesh (bpm-mesh)")->required();
     app.add_option("--levels", levels, "Refinement steps K: levels 0..K are solved (uniform: K <= 8)")
@@ -303,6 +304,9 @@ int main(int argc, char** argv) {
     app.add_flag("--no-retreat", no_retreat,
                  "Repair without its retreat step (no boundary vertex moves back towards its edge midpoint "
                  "to widen a thin tetrahedron)");
+    app.add_flag("--no-slide", no_slide,
+                 "Repair without its slide step (no boundary vertex moves along the surface, changing its "
+                 "parameter point, to widen a thin tetrahedron)");
     app.add_flag("--json", json, "Print the report as JSON on standard output (progress stays on standard error)");
     auto* reference_option =
         app.add_option("--reference-j", reference_j, "Reference value of J (for --until-error)")->check(CLI::PositiveNumber);
@@ -338,6 +342,7 @@ int main(int argc, char** argv) {
         bpm::BoundaryRepairOptions repair_options;
         repair_options.smooth = !no_smooth;
         repair_options.retreat = !no_retreat;
+        repair_options.slide = !no_slide;
         for (int level = 0; level <= levels; ++level) {
             const auto start = std::chrono::steady_clock::now();
             LevelReport report;
@@ -356,6 +361,7 @@ int main(int argc, char** argv) {
                 report.held_back += r.held_back;
                 report.smoothed += r.smoothed_vertices;
                 report.retreated += r.retreated;
+                report.slid += r.slid;
             };
             if (level > 0) {
                 if (adaptive) {
@@ -395,6 +401,7 @@ int main(int argc, char** argv) {
                 << "\", \"refinement\": \"" << (adaptive ? "adaptive" : "global") << "\", \"repair\": " << (flat || no_repair ? "false" : "true")
                 << ", \"smooth\": " << (flat || no_repair || no_smooth ? "false" : "true")
                 << ", \"retreat\": " << (flat || no_repair || no_retreat ? "false" : "true")
+                << ", \"slide\": " << (flat || no_repair || no_slide ? "false" : "true")
                 << ", \"interfaces\": \"" << (flat || no_repair || flat_interfaces ? "flat" : "phi") << "\""
                 << ", \"interface_faces\": " << params.interface_faces()
                 << ", \"original_region_volumes\": [";
@@ -429,7 +436,7 @@ int main(int argc, char** argv) {
                     << ", \"min_dihedral_degrees\": " << json_number(r.min_dihedral_degrees)
                     << ", \"max_boundary_offset\": " << json_number(r.max_boundary_offset)
                     << ", \"inverted_before_repair\": " << r.inverted_before_repair
-                    << ", \"held_back\": " << r.held_back << ", \"smoothed\": " << r.smoothed << ", \"retreated\": " << r.retreated << ", \"reset\": " << r.reset
+                    << ", \"held_back\": " << r.held_back << ", \"smoothed\": " << r.smoothed << ", \"retreated\": " << r.retreated << ", \"slid\": " << r.slid << ", \"reset\": " << r.reset
                     << ", \"inverted_after_reset\": " << r.inverted_after_reset
                     << ", \"rules_kept\": " << r.rules_kept << ", \"marked\": " << r.marked
                     << ", \"adapts\": " << r.adapts << ", \"superseded\": " << r.superseded

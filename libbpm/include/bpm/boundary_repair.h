@@ -46,6 +46,26 @@
 //      smoothing puts the midpoint (femur at 10 %, bpm-torsion --adaptive step 5: a 2.02
 //      degree sliver of four boundary vertices cut into two 1.01 degree tetrahedra; flat
 //      refinement has 2.37). No move lowers the mesh's smallest angle.
+//   6. slide (options.slide, only in repair_boundary_sliding, whose caller keeps the new
+//      parameter points: repair_uggrid and the deal.II adapter's execute_refinement;
+//      refine_tetmesh and Python's File.repair do not slide): every boundary vertex with a
+//      tetrahedron below min_dihedral_degrees around it, worst first, moves along S0: its
+//      parameter point moves within its coarse triangle (a point on a coarse edge stays on
+//      that edge, a coarse vertex stays), the vertex to phi of the new point (or, held
+//      back, with its offset from phi kept), to where the worst tetrahedron around it is
+//      widest within a quarter of its shortest edge (a compass search), if that is wider
+//      than where it is and every tetrahedron around it stays positive (exact); then the
+//      interior around the vertices that moved is smoothed again. This widens tetrahedra
+//      of four boundary vertices that neither the retreat nor smoothing can: four points
+//      of a surface that is smooth at their scale are nearly coplanar, and refinement
+//      keeps making such tetrahedra under a level-0 tetrahedron with all four corners on
+//      S0 (the children at a corner whose three edges are on S0), flatter at each level,
+//      unless their vertices stay off S0 (femur at 10 %, bpm-torsion --adaptive: at step
+//      5, 3.49 degrees, a tetrahedron with a face on one coarse triangle and its fourth
+//      corner on the neighbouring one, under a level-0 tetrahedron with faces on both; at
+//      step 6, 2.63 degrees, two at a coarse vertex; all three inverted with their corners
+//      at phi; with the slide both steps keep 5 degrees). No move lowers the mesh's
+//      smallest angle.
 //
 // A vertex whose parameter point is a corner of its coarse triangle (a barycentric
 // coordinate exactly 1) is a coarse vertex (level-0 vertex i of a grid built from the .bpm
@@ -74,8 +94,9 @@
 //   that are inverted on entry are allowed: a boundary vertex next to one moves only to
 //   positions where all its tetrahedra are positive, interior smoothing may untangle them.
 //   Boundary vertices move only along their own segment towards phi(p), or (step 5) back
-//   towards their plain position; interior vertices move only by smoothing; the
-//   connectivity and the parameter points are not changed.
+//   towards their plain position, or (step 6, repair_boundary_sliding only) along S0 with
+//   a new parameter point; interior vertices move only by smoothing; the connectivity is
+//   not changed, nor are the parameter points except by step 6.
 //
 // Typical use (after each refinement of the solver's grid):
 //     bpm::PhiEvaluator phi(file.param);                  // once
@@ -126,6 +147,9 @@ struct BoundaryRepairOptions {
     // Step 5 (retreat, see the top of this file), when min_dihedral_degrees > 0 and the
     // call has plain positions.
     bool retreat = true;
+    // Step 6 (slide, see the top of this file), when min_dihedral_degrees > 0; only
+    // repair_boundary_sliding slides (it may change parameter points).
+    bool slide = true;
     // Interior smoothing (bpm/tetmesh_smooth.h) after each placement of the boundary
     // vertices: only vertices without a parameter point move, the smallest dihedral angle
     // around a moved vertex only grows, and no tetrahedron inverts.
@@ -141,6 +165,7 @@ struct BoundaryRepairResult {
     int64_t not_moved = 0;           // of those, not moved towards phi at all (no step admissible; steps 1-4)
     int64_t widened = 0;             // boundary vertices the widening pass moved on (step 4, options.widen)
     int64_t retreated = 0;           // boundary vertices moved back towards their plain positions (step 5)
+    int64_t slid = 0;                // boundary vertices moved along S0, with new parameter points (step 6)
     double max_distance = 0;         // largest |x - phi(p)| of a held-back vertex, model units
     double max_distance_relative = 0;  // the same over the bounding-box diagonal of the vertices on exit
     double min_phi_fraction = 1;     // smallest 1-lambda of a vertex on this call's segment after steps 1-4 (1: all at phi)
@@ -183,5 +208,18 @@ BoundaryRepairResult repair_boundary(const PhiEvaluator& phi, std::vector<Vec3>&
                                      const std::vector<SurfacePoint>& parameter_points,
                                      const std::vector<Vec3>& plain_positions, const BoundaryRepairOptions& options = {},
                                      const Context& context = {});
+
+// The same with step 6 (slide): boundary vertices may also move along S0, so
+// `parameter_points` is in/out, and the caller must keep the new points (a vertex's
+// parameter point is what its children's points are made from, and the next call moves it
+// towards phi of it). A changed point stays in the same coarse triangle, with the same
+// barycentric coordinates 0 (so on the same coarse edge, and in every coarse triangle it
+// was in). plain_positions may be empty (no step 5).
+// \throw as repair_boundary with plain positions.
+BoundaryRepairResult repair_boundary_sliding(const PhiEvaluator& phi, std::vector<Vec3>& vertices,
+                                             const std::vector<Tet>& tetrahedra,
+                                             std::vector<SurfacePoint>& parameter_points,
+                                             const std::vector<Vec3>& plain_positions,
+                                             const BoundaryRepairOptions& options = {}, const Context& context = {});
 
 }  // namespace bpm

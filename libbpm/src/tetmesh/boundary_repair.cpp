@@ -302,6 +302,135 @@ int64_t retreat_boundary_vertices(std::vector<Vec3>& x, const std::vector<Tet>& 
     return count;
 }
 
+int64_t slide_boundary_vertices(std::vector<Vec3>& x, const std::vector<Tet>& tets, std::vector<SurfacePoint>& points,
+                                const std::function<Vec3(const SurfacePoint&)>& surface,
+                                const std::vector<char>& may_slide, const BoundaryRepairOptions& options,
+                                std::vector<char>& dirty, int rounds) {
+    if (!(options.min_dihedral_degrees > 0)) return 0;
+    const size_t nv = x.size();
+    const double guard = pseudo_from_radians(options.min_dihedral_degrees * kDegree);
+    std::vector<int32_t> slot(nv, -1), candidates;
+    for (size_t v = 0; v < nv; ++v) {
+        if (!may_slide[v] || !points[v].valid()) continue;
+        const Vec3& b = points[v].barycentric;
+        if ((b[0] > 0) + (b[1] > 0) + (b[2] > 0) < 2 || b[0] < 0 || b[1] < 0 || b[2] < 0) continue;
+        slot[v] = static_cast<int32_t>(candidates.size());
+        candidates.push_back(static_cast<int32_t>(v));
+    }
+    if (candidates.empty()) return 0;
+    std::vector<int64_t> offsets(candidates.size() + 1, 0);
+    for (const Tet& t : tets)
+        for (int32_t v : t)
+            if (slot[v] >= 0) ++offsets[slot[v] + 1];
+    for (size_t i = 0; i < candidates.size(); ++i) offsets[i + 1] += offsets[i];
+    std::vector<int32_t> incident(static_cast<size_t>(offsets.back()));
+    {
+        std::vector<int64_t> fill(offsets.begin(), offsets.end() - 1);
+        for (size_t t = 0; t < tets.size(); ++t)
+            for (int32_t v : tets[t])
+                if (slot[v] >= 0) incident[fill[slot[v]]++] = static_cast<int32_t>(t);
+    }
+    // As in retreat_boundary_vertices: the worst tetrahedron around candidate i, -3 where
+    // one of them is not positively oriented (exact).
+    auto worst_around = [&](size_t i) {
+        double worst = 2;
+        for (int64_t k = offsets[i]; k < offsets[i + 1]; ++k) {
+            const Tet& T = tets[static_cast<size_t>(incident[k])];
+            if (orient3d(x[T[0]], x[T[1]], x[T[2]], x[T[3]]) != 1) return -3.0;
+            worst = std::min(worst, min_dihedral_pseudo(x[T[0]], x[T[1]], x[T[2]], x[T[3]]));
+        }
+        return worst;
+    };
+    std::vector<char> moved(candidates.size(), 0);
+    for (int round = 0; round < rounds; ++round) {
+        std::vector<std::pair<double, size_t>> order;  // worst first
+        for (size_t i = 0; i < candidates.size(); ++i)
+            if (const double w = worst_around(i); w < guard) order.emplace_back(w, i);
+        std::sort(order.begin(), order.end());
+        int64_t moves = 0;
+        for (const auto& entry : order) {
+            const size_t i = entry.second;
+            const int32_t v = candidates[i];
+            const double start = worst_around(i);
+            if (start >= guard) continue;
+            const Vec3 from = x[v];
+            const SurfacePoint p0 = points[v];
+            const Vec3 on_surface = surface(p0);
+            const bool at_surface = from == on_surface;
+            // Where the vertex goes for parameter point p: on the surface, or with its offset.
+            auto place = [&](const Vec3& b) {
+                const Vec3 s = surface(SurfacePoint{p0.triangle, b});
+                return at_surface ? s : from + (s - on_surface);
+            };
+            // Reach: a quarter of the shortest edge at v, so that the boundary triangles
+            // around it do not fold over (the exact orientation test guards the tetrahedra).
+            double shortest = 0;
+            for (int64_t k = offsets[i]; k < offsets[i + 1]; ++k)
+                for (int32_t u : tets[static_cast<size_t>(incident[k])])
+                    if (u != v) {
+                        const double e = distance(x[u], from);
+                        if (shortest == 0 || e < shortest) shortest = e;
+                    }
+            const double reach = 0.25 * shortest;
+            if (!(reach > 0)) continue;
+            // Directions e_j - e_k between the nonzero coordinates (the zero ones stay 0),
+            // each with the length phi moves per unit of it here (a small difference).
+            struct Direction {
+                int plus, minus;
+                double rate;
+            };
+            std::vector<Direction> directions;
+            const Vec3& b0 = p0.barycentric;
+            for (int j = 0; j < 3; ++j)
+                for (int k = 0; k < 3; ++k) {
+                    if (j == k || !(b0[j] > 0) || !(b0[k] > 0)) continue;
+                    const double eps = 1e-6 * b0[k];
+                    Vec3 b = b0;
+                    b[j] += eps;
+                    b[k] -= eps;
+                    const double rate = distance(surface(SurfacePoint{p0.triangle, b}), on_surface) / eps;
+                    if (rate > 0 && std::isfinite(rate)) directions.push_back({j, k, rate});
+                }
+            Vec3 b = b0;
+            double best = start;
+            for (double step = 0.5 * reach; step > reach / 64; step *= 0.5) {
+                for (bool improved = true; improved;) {
+                    improved = false;
+                    for (const Direction& d : directions) {
+                        const double t = step / d.rate;
+                        Vec3 c = b;
+                        c[d.plus] += t;
+                        c[d.minus] -= t;
+                        if (!(c[d.minus] > 0) || !(c[d.plus] < 1)) continue;
+                        const Vec3 at = place(c);
+                        if (distance(at, from) > reach) continue;
+                        x[v] = at;
+                        if (const double w = worst_around(i); w > best) {
+                            best = w;
+                            b = c;
+                            improved = true;
+                        }
+                    }
+                }
+            }
+            if (best > start) {
+                x[v] = place(b);
+                points[v].barycentric = b;
+                ++moves;
+                moved[i] = 1;
+                for (int64_t k = offsets[i]; k < offsets[i + 1]; ++k)
+                    for (int32_t u : tets[static_cast<size_t>(incident[k])]) dirty[u] = 1;
+            } else {
+                x[v] = from;
+            }
+        }
+        if (moves == 0) break;
+    }
+    int64_t count = 0;
+    for (char m : moved) count += m;
+    return count;
+}
+
 TetQuality tet_quality(const std::vector<Vec3>& x, const std::vector<Tet>& tets, const std::vector<bool>& negative) {
     TetQuality q;
     const double one = pseudo_from_radians(kDegree), five = pseudo_from_radians(5 * kDegree),
@@ -322,6 +451,13 @@ TetQuality tet_quality(const std::vector<Vec3>& x, const std::vector<Tet>& tets,
 
 }  // namespace detail
 
+namespace {
+BoundaryRepairResult repair(const PhiEvaluator& phi, std::vector<Vec3>& vertices, const std::vector<Tet>& tetrahedra,
+                            const std::vector<SurfacePoint>& parameter_points, const std::vector<Vec3>& plain_positions,
+                            std::vector<SurfacePoint>* slide_points, const BoundaryRepairOptions& options,
+                            const Context& context);
+}  // namespace
+
 BoundaryRepairResult repair_boundary(const PhiEvaluator& phi, std::vector<Vec3>& vertices,
                                      const std::vector<Tet>& tetrahedra,
                                      const std::vector<SurfacePoint>& parameter_points,
@@ -334,6 +470,25 @@ BoundaryRepairResult repair_boundary(const PhiEvaluator& phi, std::vector<Vec3>&
                                      const std::vector<SurfacePoint>& parameter_points,
                                      const std::vector<Vec3>& plain_positions, const BoundaryRepairOptions& options,
                                      const Context& context) {
+    return repair(phi, vertices, tetrahedra, parameter_points, plain_positions, nullptr, options, context);
+}
+
+BoundaryRepairResult repair_boundary_sliding(const PhiEvaluator& phi, std::vector<Vec3>& vertices,
+                                             const std::vector<Tet>& tetrahedra,
+                                             std::vector<SurfacePoint>& parameter_points,
+                                             const std::vector<Vec3>& plain_positions,
+                                             const BoundaryRepairOptions& options, const Context& context) {
+    return repair(phi, vertices, tetrahedra, parameter_points, plain_positions, &parameter_points, options, context);
+}
+
+namespace {
+
+// Steps 1-6; `slide_points` (parameter_points itself, or null: no step 6) gets the new
+// parameter points of the vertices step 6 moves, after steps 1-5 have read them.
+BoundaryRepairResult repair(const PhiEvaluator& phi, std::vector<Vec3>& vertices, const std::vector<Tet>& tetrahedra,
+                            const std::vector<SurfacePoint>& parameter_points, const std::vector<Vec3>& plain_positions,
+                            std::vector<SurfacePoint>* slide_points, const BoundaryRepairOptions& options,
+                            const Context& context) {
     using clock = std::chrono::steady_clock;
     const auto start = clock::now();
     detail::check_repair_options(options);
@@ -415,17 +570,33 @@ BoundaryRepairResult repair_boundary(const PhiEvaluator& phi, std::vector<Vec3>&
     }
     // Step 5 (retreat): back towards the plain positions where that widens the worst
     // tetrahedron around a boundary vertex; coarse vertices stay (see above).
-    if (options.retreat && !plain_positions.empty()) {
-        context.report(0.95, "repair: boundary vertices back towards their plain positions");
-        std::vector<char> may_retreat(nv, 0);
+    // Step 6 (slide): along S0 where that widens the worst tetrahedron around a boundary
+    // vertex; coarse vertices stay. Then the interior around the vertices that moved in
+    // steps 5 and 6 is smoothed again.
+    const bool retreat = options.retreat && !plain_positions.empty();
+    const bool slide = options.slide && slide_points;
+    if (retreat || slide) {
+        std::vector<char> may_move(nv, 0);  // every boundary vertex but the coarse ones
         for (int32_t v : boundary) {
             const Vec3& b = parameter_points[v].barycentric;
-            may_retreat[v] = !(b[0] == 1 || b[1] == 1 || b[2] == 1);
+            may_move[v] = !(b[0] == 1 || b[1] == 1 || b[2] == 1);
         }
         std::vector<char> dirty(nv, 0);
-        result.retreated =
-            detail::retreat_boundary_vertices(vertices, tetrahedra, plain_positions, may_retreat, options, dirty);
-        if (result.retreated > 0 && options.smooth)
+        if (retreat) {
+            context.report(0.95, "repair: boundary vertices back towards their plain positions");
+            result.retreated =
+                detail::retreat_boundary_vertices(vertices, tetrahedra, plain_positions, may_move, options, dirty);
+        }
+        if (slide) {
+            context.report(0.96, "repair: boundary vertices along S0");
+            const std::vector<SurfacePoint> before = *slide_points;
+            auto surface = [&](const SurfacePoint& p) { return phi.evaluate(p).position; };
+            result.slid =
+                detail::slide_boundary_vertices(vertices, tetrahedra, *slide_points, surface, may_move, options, dirty);
+            for (int32_t v : boundary)
+                if ((*slide_points)[v] != before[v]) seg.target[v] = surface((*slide_points)[v]);
+        }
+        if (result.retreated + result.slid > 0 && options.smooth)
             result.smoothing_seconds += detail::smooth_interior(vertices, tetrahedra, all_positive, movable, &dirty,
                                                                 options.smoothing, context, 0.95, 0)
                                             .seconds;
@@ -450,5 +621,7 @@ BoundaryRepairResult repair_boundary(const PhiEvaluator& phi, std::vector<Vec3>&
     context.report(1.0, "repair done");
     return result;
 }
+
+}  // namespace
 
 }  // namespace bpm

@@ -3,6 +3,7 @@
 // refine_tetmesh's step 4 (bpm/tet_refine.h); not public API.
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -53,6 +54,24 @@ double repair_boundary_vertices(std::vector<Vec3>& x, const std::vector<Tet>& te
 int64_t retreat_boundary_vertices(std::vector<Vec3>& x, const std::vector<Tet>& tets, const std::vector<Vec3>& plain,
                                   const std::vector<char>& may_retreat, const BoundaryRepairOptions& options,
                                   std::vector<char>& dirty, int rounds = 3);
+
+// Step 6 of bpm/boundary_repair.h (slide): every vertex v with may_slide[v] != 0 that has
+// a tetrahedron below options.min_dihedral_degrees around it, worst first, moves along the
+// surface: its parameter point points[v] changes within the coarse feature it lies on (the
+// barycentric coordinates that are 0 stay exactly 0: a vertex inside a coarse triangle stays
+// inside it, one on a coarse edge stays on that edge; a vertex with fewer than two nonzero
+// coordinates, a coarse vertex, does not move), and the vertex goes to surface(new point),
+// plus its offset from surface(old point) if it was not exactly there (a held-back vertex
+// keeps its offset). A compass search in the parameter plane keeps a move where the worst
+// tetrahedron around the vertex gets wider and every tetrahedron around it stays
+// positively oriented (exact), within a quarter of the vertex's shortest edge of where it
+// was; up to `rounds` rounds, stopping when none moves. The mesh's smallest angle never gets
+// smaller. tets positively oriented. Sets dirty[u] for the corners of the tetrahedra around
+// every moved vertex; returns how many distinct vertices moved.
+int64_t slide_boundary_vertices(std::vector<Vec3>& x, const std::vector<Tet>& tets, std::vector<SurfacePoint>& points,
+                                const std::function<Vec3(const SurfacePoint&)>& surface,
+                                const std::vector<char>& may_slide, const BoundaryRepairOptions& options,
+                                std::vector<char>& dirty, int rounds = 3);
 
 // The smallest dihedral angle (degrees, 0 for no tetrahedra) and the number of tetrahedra
 // with one below 1, 5 and 10 degrees; tets oriented as for repair_boundary_vertices.

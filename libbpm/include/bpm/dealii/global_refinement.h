@@ -20,7 +20,8 @@
 // (the §3.3 remedy; most vertices reach phi). The repair also gets the plain positions
 // (BpmTriangulation::plain_positions: the midpoint of the line each vertex was made on), so
 // that a boundary vertex next to a cell below the angle bound may move back towards it
-// where that widens the worst cell around it (step 5, retreat). The adapter writes the
+// where that widens the worst cell around it (step 5, retreat), or slide along S0 with a
+// new parameter point (step 6, repair_boundary_sliding). The adapter writes the
 // moved positions back into the triangulation (deal.II lets a caller move vertices:
 // cell->vertex(i) = x) and re-keys the parameter points PhiBoundary knows by the new
 // positions, so that the next level's new points still follow phi. A vertex held back short of phi gets another chance
@@ -133,7 +134,7 @@ inline GlobalRefineResult execute_refinement(BpmTriangulation& mesh, const Globa
         return r;
     }
     const TetMesh cells = mesh.cells_as_tetmesh();
-    const std::vector<SurfacePoint> points = mesh.vertex_parameter_points();
+    std::vector<SurfacePoint> points = mesh.vertex_parameter_points();
     // Every boundary vertex at phi: what PhiManifold alone gives.
     std::vector<Vec3> at_phi = cells.vertices;
     for (size_t i = 0; i < at_phi.size(); ++i)
@@ -145,9 +146,10 @@ inline GlobalRefineResult execute_refinement(BpmTriangulation& mesh, const Globa
         return r;
     }
     std::vector<Vec3> positions = cells.vertices;
-    // With the plain positions, for the repair's retreat (step 5, bpm/boundary_repair.h).
-    r.repair = repair_boundary(boundary.phi(), positions, cells.tetrahedra, points, mesh.plain_positions(),
-                               options.repair_options);
+    // With the plain positions, for the repair's retreat (step 5, bpm/boundary_repair.h);
+    // sliding (step 6) may change parameter points, which move_vertices records.
+    r.repair = repair_boundary_sliding(boundary.phi(), positions, cells.tetrahedra, points, mesh.plain_positions(),
+                                       options.repair_options);
     r.repaired = true;
     mesh.move_vertices(positions, points);
     r.inverted = count_inverted_cells(tria);

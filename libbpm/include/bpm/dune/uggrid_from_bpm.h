@@ -278,6 +278,17 @@ public:
     }
     size_t size() const { return points_.size(); }
 
+    // Replaces the parameter point of a known boundary vertex (repair_uggrid, when the
+    // repair slid the vertex along S0; bpm/boundary_repair.h, step 6). Vertices refined
+    // later from its edges take their points from the new one. \pre p is in the same coarse
+    // triangles as the old point (the repair keeps its zero coordinates).
+    // \throw AlgorithmError for an id without a parameter point.
+    void set(IdType id, const SurfacePoint& p) {
+        const auto it = points_.find(id);
+        if (it == points_.end()) throw AlgorithmError("bpm::dune: set a parameter point of a vertex that has none");
+        it->second = p;
+    }
+
 private:
     // Records the interface faces of every element (by element id; DUNE face numbers) and
     // gives the new vertices on them parameter points.

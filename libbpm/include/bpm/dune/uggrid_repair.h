@@ -32,6 +32,14 @@
 // adaptive step 5: 2.02 degrees, cut by UG at an interior edge midpoint into two halves
 // of 1.01 degrees each, the mesh's smallest angle; flat refinement has 2.37).
 //
+// The repair may also slide boundary vertices along S0 (step 6, bpm/boundary_repair.h:
+// repair_boundary_sliding; options.slide), which changes their parameter points: they are
+// written back into `params`, so the vertices refined later from their edges start from
+// them. Four boundary vertices close together on a smooth S0 make a sliver that neither
+// the retreat nor smoothing widens (femur at 10 %, adaptive step 5: 3.49 degrees, where a
+// level-0 tetrahedron has faces on two neighbouring coarse triangles; all four corners at
+// phi would invert it).
+//
 // Call it after each adapt()/globalRefine(n = 1) and BoundaryParameterPoints::update, with
 // what update returned.
 //
@@ -74,10 +82,11 @@ namespace bpm::dune {
 
 // \pre `added` is what params.update(grid) returned after the last refinement, and no
 //      vertex has been moved since.
+// `params` gets the new parameter points of the vertices the repair slid (step 6).
 // \pre the grid was made by make_uggrid (or keep_uggrid_refinement_rules() was called)
 // \throw AlgorithmError if a vertex of `added` or one of its edge ends is not a leaf
 //        vertex; what repair_boundary throws.
-inline BoundaryRepairResult repair_uggrid(UGGrid3& grid, const BoundaryParameterPoints& params,
+inline BoundaryRepairResult repair_uggrid(UGGrid3& grid, BoundaryParameterPoints& params,
                                           const std::vector<BoundaryParameterPoints::NewVertex>& added,
                                           const PhiEvaluator& phi,
                                           const BoundaryRepairOptions& options = {},
@@ -236,7 +245,10 @@ inline BoundaryRepairResult repair_uggrid(UGGrid3& grid, const BoundaryParameter
                 for (int k = 0; k < m->count; ++k) at = at + m->weight[static_cast<size_t>(k)] * x[by_id.at(m->corner[static_cast<size_t>(k)])];
                 plain[i] = at;
             }
-    const BoundaryRepairResult result = repair_boundary(phi, x, tetrahedra, points, plain, options);
+    const std::vector<SurfacePoint> points_before = points;
+    const BoundaryRepairResult result = repair_boundary_sliding(phi, x, tetrahedra, points, plain, options);
+    for (size_t i = 0; i < n; ++i)
+        if (points[i] != points_before[i]) params.set(id_of[i], points[i]);
 
     for (const auto& vertex : vertices(view)) {
         const size_t i = index.index(vertex);
