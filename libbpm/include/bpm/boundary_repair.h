@@ -74,12 +74,15 @@
 // may differ from the coarse vertex by rounding.)
 //
 // Vertices held back by an earlier call: the call keeps no state between calls. A vertex
-// that an earlier call left at lambda*x + (1-lambda)*phi(p) lies on the segment from its
-// flat position x to phi(p), so moving it from where it is towards phi(p) continues on the
-// same segment: each call gives it another chance, and the solver only keeps positions and
-// parameter points (which it needs anyway). 1-lambda in the result refers to this call's
-// segments (from the position on entry). Boundary vertices exactly at phi(p) are not
-// touched, so calling twice leaves every vertex already at phi bit for bit where it is.
+// that an earlier call left short of phi(p) is moved from where it is towards phi(p) again:
+// each call gives it another chance, and the solver only keeps positions and parameter
+// points (which it needs anyway). (Without steps 5 and 6 such a vertex lies on the segment
+// from its flat position to phi(p), and the call continues on that segment; after a
+// retreat it lies towards the plain position of that call instead.) 1-lambda in the result
+// refers to this call's segments (from the position on entry). Steps 1-4 leave boundary
+// vertices exactly at phi(p) where they are; steps 5 and 6 may move them (back towards a
+// plain position, or along S0), so a second call is bit for bit idempotent only without
+// plain positions and without sliding.
 //
 // Contract.
 //   The solver guarantees: every tetrahedron is positively oriented,
@@ -159,7 +162,7 @@ struct BoundaryRepairOptions {
 
 struct BoundaryRepairResult {
     int64_t boundary_vertices = 0;   // vertices with a valid parameter point
-    int64_t at_phi_before = 0;       // of those, exactly at phi(parameter point) on entry (not touched)
+    int64_t at_phi_before = 0;       // of those, exactly at phi(parameter point) on entry (steps 1-4 leave them)
     int64_t at_phi = 0;              // of those, exactly at phi(parameter point) on exit
     int64_t held_back = 0;           // boundary_vertices - at_phi: short of phi on exit (the §3.3 remedy; retreated included)
     int64_t not_moved = 0;           // of those, not moved towards phi at all (no step admissible; steps 1-4)
