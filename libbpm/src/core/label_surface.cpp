@@ -68,7 +68,9 @@ struct UnionFind12 {
 // holds a diagonal and the two other corners differ from it, that label is taken as
 // connected across the diagonal (of a checkerboard of two labels, the larger one) and
 // the two other corners are cut off, each with its own edge of the surface. The decision
-// depends only on the face, so both cubes that share it agree.
+// depends only on the face, so both cubes that share it agree. After
+// resolve_edge_contacts no face has such a diagonal (unless it reported some left): there,
+// the two edges may join the same two vertices, an edge in four triangles of one label.
 // Returns the number of groups (0-2); group g's face-edge positions (i = the edge from
 // corner i to corner i+1) as a bit mask in masks[g].
 int face_groups(const int32_t l[4], int masks[2]) {

@@ -218,7 +218,7 @@ TEST_CASE("label_image_surface: spacing, origin and a reflected direction keep t
     CHECK(max_x < 10.0);
 }
 
-TEST_CASE("label_image_surface: one label has no surface; bad images are refused with the reason") {
+TEST_CASE("label_image_surface: one label has no surface, and bad images are refused with the reason") {
     LabelImage one = blank(3);
     CHECK(label_image_surface(one).surface.triangles.empty());
     std::fill(one.labels.begin(), one.labels.end(), 4);  // all label 4: it meets the background outside
