@@ -246,3 +246,20 @@ TEST_CASE("label_image_surface: material names from LabelImage::names") {
     CHECK(ls.patch_info[2].name == "muscle|bone");
     CHECK(label_material_name(image, 2) == "label_2");
 }
+
+TEST_CASE("label_image_surface: progress rises to 1, and a progress callback can stop it") {
+    const LabelImage image = balls_in_box(40);
+    std::vector<double> seen;
+    Context context;
+    context.progress = [&](double fraction, const std::string&) {
+        seen.push_back(fraction);
+        return true;
+    };
+    (void)label_image_surface(image, {}, context);
+    REQUIRE(seen.size() >= 4);
+    CHECK(std::is_sorted(seen.begin(), seen.end()));
+    CHECK(seen.back() == 1.0);
+    Context stop;
+    stop.progress = [](double fraction, const std::string&) { return fraction < 0.5; };
+    CHECK_THROWS_AS(label_image_surface(image, {}, stop), Cancelled);
+}
