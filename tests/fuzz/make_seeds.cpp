@@ -1,5 +1,5 @@
 // bpm-fuzz-seeds OUTDIR: writes small valid files of every input format into
-// OUTDIR/{off,obj,stl,ply,msh,vtk,surf,bpm}/, the seed corpora of the fuzz targets
+// OUTDIR/{off,obj,stl,ply,msh,vtk,surf,nifti,bpm}/, the seed corpora of the fuzz targets
 // (scripts/fuzz.sh adds the malformed files of tests/data/bad/ and spec/examples/).
 //
 // Surfaces come from the library's writers (one encoding per format) and, for the
@@ -398,6 +398,53 @@ BpmFile wrap(Parametrization p, const std::string& what) {
 
 }  // namespace
 
+// NIfTI-1 label images: a 5x4x3 block of labels 0-3 (uint8, sform) and the same as int16
+// big-endian with a qform.
+std::string nifti(bool int16_big_endian) {
+    std::string h(352, '\0');
+    const auto put_at = [&](size_t at, const void* p, size_t n, bool swap) {
+        std::string b(static_cast<const char*>(p), n);
+        if (swap) std::reverse(b.begin(), b.end());
+        h.replace(at, n, b);
+    };
+    const bool sw = int16_big_endian;
+    const int32_t hdr = 348;
+    put_at(0, &hdr, 4, sw);
+    const int16_t dim[8] = {3, 5, 4, 3, 1, 1, 1, 1};
+    for (int i = 0; i < 8; ++i) put_at(40 + 2 * size_t(i), &dim[i], 2, sw);
+    const int16_t type = int16_big_endian ? 4 : 2, bits = int16_big_endian ? 16 : 8;
+    put_at(70, &type, 2, sw);
+    put_at(72, &bits, 2, sw);
+    const float pixdim[4] = {-1, 1, 1.5f, 2};
+    for (int i = 0; i < 4; ++i) put_at(76 + 4 * size_t(i), &pixdim[i], 4, sw);
+    const float offset = 352;
+    put_at(108, &offset, 4, sw);
+    const int16_t code = 1;
+    if (int16_big_endian) {
+        put_at(252, &code, 2, sw);
+        const float q[6] = {0, 0, 0.7071f, 1, 2, 3};
+        for (int i = 0; i < 6; ++i) put_at(256 + 4 * size_t(i), &q[i], 4, sw);
+    } else {
+        put_at(254, &code, 2, sw);
+        const float srow[12] = {1, 0, 0, -2, 0, 1, 0, -2, 0, 0, 1, -2};
+        for (int i = 0; i < 12; ++i) put_at(280 + 4 * size_t(i), &srow[i], 4, sw);
+    }
+    h.replace(344, 4, std::string("n+1\0", 4));
+    for (int k = 0; k < 3; ++k)
+        for (int j = 0; j < 4; ++j)
+            for (int i = 0; i < 5; ++i) {
+                const int16_t l = int16_t((i / 2 + j / 2 + k) % 4);
+                if (int16_big_endian) put_at(h.size(), &l, 2, true);
+                else h.push_back(char(l));
+            }
+    return h;
+}
+
+void write_nifti_seeds() {
+    std::ofstream((g_out / "nifti" / "labels_uint8.nii").string(), std::ios::binary) << nifti(false);
+    std::ofstream((g_out / "nifti" / "labels_int16_be.nii").string(), std::ios::binary) << nifti(true);
+}
+
 int main(int argc, char** argv) {
     if (argc != 2) {
         std::fprintf(stderr, "usage: bpm-fuzz-seeds OUTDIR\n");
@@ -405,9 +452,10 @@ int main(int argc, char** argv) {
     }
     g_out = argv[1];
     try {
-        for (const char* d : {"off", "obj", "stl", "ply", "msh", "vtk", "surf", "bpm"}) fs::create_directories(g_out / d);
+        for (const char* d : {"off", "obj", "stl", "ply", "msh", "vtk", "surf", "nifti", "bpm"}) fs::create_directories(g_out / d);
 
         write_surface_seeds("tetrahedron", tetrahedron());
+        write_nifti_seeds();
         write_surface_seeds("octahedron1", test::make_subdivided_octahedron(1).original);
         write_surface_seeds("height_field", test::make_height_field(4, 2, test::default_height).original);
 

@@ -216,7 +216,9 @@ int main(int argc, char** argv) {
         const auto surface_format = bpm::surface_format_from_name(kind);
         if (!is_bpm && !is_vtu && (!surface_format || *surface_format == bpm::SurfaceFormat::Vtk ||
                                         *surface_format == bpm::SurfaceFormat::Vtp ||
-                                        *surface_format == bpm::SurfaceFormat::Surf))
+                                        *surface_format == bpm::SurfaceFormat::Surf ||
+                                        *surface_format == bpm::SurfaceFormat::Nifti ||
+                                        *surface_format == bpm::SurfaceFormat::Nrrd))
             throw CLI::ValidationError(format.empty() ? "--output" : "--output-format",
                                        (kind.empty() ? "cannot tell the format from '" + output + "' (no extension)"
                                                      : "unknown output format '" + kind + "'") +

@@ -150,7 +150,8 @@ int main(int argc, char** argv) {
     // Help: one plain line per option (default and unit in it), grouped by what a user
     // wants to set; the tuning internals under "Advanced".
     app.add_option("INPUT", inputs,
-                   "Input surface(s): .off .obj .stl .ply .msh .vtk .vtp .vtu .surf, or -; several (one per "
+                   "Input surface(s): .off .obj .stl .ply .msh .vtk .vtp .vtu .surf, a label image .nii (.nii.gz) .nrrd, or -; "
+                   "several (one per "
                    "material) are simplified as one")
         ->required();
     const std::string target = "Target (the first one reached stops)", quality = "Quality",
@@ -318,6 +319,7 @@ int main(int argc, char** argv) {
         if (one_removal_per_step) options.removals_per_step = 1;
         options.reject_self_intersecting_input = !allow_bad_input;
         bpm::Context context = bpm::tools::make_context(tool, verbose, quiet);
+        read_options.context = &context;  // label images: the surface extraction reports progress
         PhaseClock clock("reading");
 
         bpm::SurfaceReadReport report;

@@ -29,6 +29,14 @@
 //                        Patches entry is a patch (0, 1, ... in file order; the notes and
 //                        patch_info name its InnerRegion / OuterRegion); Parameters, BoundaryCurves and
 //                        Surfaces are parsed and not used. Details in read_surf.cpp.
+//   NIfTI (.nii .nii.gz) NIfTI-1 label images (read only): a segmentation with one integer
+//                        label per voxel becomes its multi-material surface by surface nets
+//                        (bpm/label_image.h): one patch per pair of labels that touch, named
+//                        and given materials in patch_info (label 0 = "exterior", label L =
+//                        "label_L"). Details in read_nifti.cpp.
+//   NRRD  (.nrrd)        NRRD label images (read only), 3D Slicer's .seg.nrrd included (its
+//                        segment names name the materials): raw, gzip and ascii encodings,
+//                        attached data. Details in read_nrrd.cpp.
 // Every triangle gets a patch id (0 when the format has none). In detail:
 //   OBJ  each distinct (group names, material) pair is a patch, numbered 0, 1, ... in the
 //        order faces first use it; but when there is no `usemtl` and every face is in a
@@ -48,7 +56,8 @@
 // other one the triangulated surface needs.
 //
 // The format is chosen by options.format, else by the extension; a file without a known
-// extension whose first line starts with "# HyperSurface" is read as SURF.
+// extension whose first line starts with "# HyperSurface" is read as SURF, one with NIfTI-1's
+// magic as NIfTI, one starting "NRRD000" as NRRD.
 //
 // Compressed input: gzip data (a file, standard input or a buffer that starts with the
 // gzip magic bytes) is decompressed first, and the format of FILE.EXT.gz is told by EXT
@@ -72,6 +81,7 @@
 #include <string>
 #include <vector>
 
+#include "bpm/context.h"
 #include "bpm/errors.h"
 #include "bpm/mesh_encoding.h"
 #include "bpm/patch_info.h"
@@ -82,9 +92,10 @@ namespace bpm {
 // Vtp, Vtu: VTK XML PolyData / UnstructuredGrid, read only (bpm-refine writes .vtu with
 // its own writer, write_surface_vtu in bpm/write_vtu.h). Surf: Amira HyperSurface, read only.
 // Msh writes MSH 4.1, Msh22 MSH 2.2; both read every MSH version.
-enum class SurfaceFormat { Off, Obj, Stl, Ply, Msh, Msh22, Vtk, Vtp, Vtu, Surf };
+// Nifti, Nrrd: label images, read only (their surface is extracted, bpm/label_image.h).
+enum class SurfaceFormat { Off, Obj, Stl, Ply, Msh, Msh22, Vtk, Vtp, Vtu, Surf, Nifti, Nrrd };
 
-// "off", "obj", "stl", "ply", "msh", "msh22", "vtk", "vtp", "vtu", "surf" (case-insensitive)
+// "off", "obj", "stl", "ply", "msh", "msh22", "vtk", "vtp", "vtu", "surf", "nii", "nrrd" (case-insensitive)
 // -> format; nullopt otherwise. The extension .msh is Msh.
 std::optional<SurfaceFormat> surface_format_from_name(const std::string& name);
 // Format from the extension of `path` (before a final .gz); nullopt if unknown.
@@ -108,6 +119,9 @@ struct SurfaceReadOptions {
     // ear clipping in the face's plane (reported in SurfaceReadReport::notes); a face that
     // is not a simple polygon seen along its normal is still refused.
     bool triangulate_polygons = false;
+    // Progress and log lines of a slow read (the surface extraction of a label image);
+    // may be null. Must outlive the call.
+    const Context* context = nullptr;
 };
 
 // What a read did besides producing the surface, for the tool to report.

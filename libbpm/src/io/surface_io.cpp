@@ -21,6 +21,7 @@
 #include "core/file_util.h"
 #include "core/gzip.h"
 #include "core/number_text.h"
+#include "io/label_image_readers.h"
 #include "io/surface_readers.h"
 
 namespace bpm {
@@ -39,6 +40,8 @@ const char* surface_format_name(SurfaceFormat f) {
         case SurfaceFormat::Vtp: return "VTP";
         case SurfaceFormat::Vtu: return "VTU";
         case SurfaceFormat::Surf: return "HyperSurface";
+        case SurfaceFormat::Nifti: return "NIfTI";
+        case SurfaceFormat::Nrrd: return "NRRD";
     }
     return "?";
 }
@@ -76,6 +79,10 @@ std::optional<SurfaceFormat> format_from_head(std::string_view bytes) {
     else if (head.substr(0, 5) == "solid") seen = SurfaceFormat::Stl;
     else if (head.substr(0, 14) == "# vtk DataFile") seen = SurfaceFormat::Vtk;
     else if (head.substr(0, 14) == "# HyperSurface" || head.substr(0, 13) == "#HyperSurface") seen = SurfaceFormat::Surf;
+    else if (bytes.size() >= 348 && (bytes.substr(344, 4) == std::string_view("n+1\0", 4) ||
+                                     bytes.substr(344, 4) == std::string_view("ni1\0", 4)))
+        seen = SurfaceFormat::Nifti;
+    else if (head.substr(0, 7) == "NRRD000") seen = SurfaceFormat::Nrrd;
     else if (const std::string_view tag = vtk_file_tag(bytes); !tag.empty()) {
         if (tag.find("\"PolyData\"") != std::string_view::npos) seen = SurfaceFormat::Vtp;
         else if (tag.find("\"UnstructuredGrid\"") != std::string_view::npos) seen = SurfaceFormat::Vtu;
@@ -325,6 +332,8 @@ std::optional<SurfaceFormat> surface_format_from_name(const std::string& name) {
     if (n == "pvtp") return SurfaceFormat::Vtp;  // parallel: its pieces are read (read_surface)
     if (n == "pvtu") return SurfaceFormat::Vtu;
     if (n == "surf") return SurfaceFormat::Surf;
+    if (n == "nii" || n == "nifti") return SurfaceFormat::Nifti;
+    if (n == "nrrd") return SurfaceFormat::Nrrd;  // also .seg.nrrd (3D Slicer)
     return std::nullopt;
 }
 
@@ -360,6 +369,20 @@ static Surface read_from_memory(const std::string& bytes, SurfaceFormat format, 
             case SurfaceFormat::Vtp:
             case SurfaceFormat::Vtu: parsed = detail::read_vtk_xml(bytes, name, polygons); break;
             case SurfaceFormat::Surf: parsed = detail::read_surf(bytes, name); break;
+            case SurfaceFormat::Nifti: {
+                std::vector<std::string> notes;
+                LabelImage image = detail::read_nifti_image(bytes, name, &notes);
+                parsed = detail::label_image_reader_output(std::move(image), name, options.context ? *options.context : Context{},
+                                                           std::move(notes));
+                break;
+            }
+            case SurfaceFormat::Nrrd: {
+                std::vector<std::string> notes;
+                LabelImage image = detail::read_nrrd_image(bytes, name, &notes);
+                parsed = detail::label_image_reader_output(std::move(image), name, options.context ? *options.context : Context{},
+                                                           std::move(notes));
+                break;
+            }
         }
     } catch (const InputError& e) {
         const std::string hint = sniffed_format_hint(bytes, format);
@@ -617,9 +640,12 @@ Surface read_surface(const std::string& path, const SurfaceReadOptions& options,
     // "# HyperSurface" cannot be mistaken for anything else); every other format needs its
     // extension or an explicit choice.
     if (!format && format_from_head(bytes) == SurfaceFormat::Surf) format = SurfaceFormat::Surf;
+    if (!format && format_from_head(bytes) == SurfaceFormat::Nifti) format = SurfaceFormat::Nifti;
+    if (!format && format_from_head(bytes) == SurfaceFormat::Nrrd) format = SurfaceFormat::Nrrd;
     if (!format) {
         throw InputError(name, "cannot tell the surface format from the file name; expected the extension .off, "
-                               ".obj, .stl, .ply, .msh, .vtk, .vtp, .vtu, .pvtp, .pvtu or .surf, or an explicit format");
+                               ".obj, .stl, .ply, .msh, .vtk, .vtp, .vtu, .pvtp, .pvtu, .surf, .nii (.nii.gz) or .nrrd, or an explicit "
+                               "format");
     }
     return read_from_memory(bytes, *format, name, options, report, material);
 }

@@ -118,6 +118,10 @@ void write_surface(const std::string& path, const Surface& surface, std::optiona
         throw OutputError(where, std::string("cannot write ") + detail::surface_format_name(*format) +
                                      ": VTK XML is an input format here (write .off, .obj, .stl, .ply or .msh)");
     }
+    if (*format == SurfaceFormat::Nifti || *format == SurfaceFormat::Nrrd) {
+        throw OutputError(where, std::string("cannot write ") + detail::surface_format_name(*format) +
+                                     ": a label image is an input format here (write .off .obj .stl .ply or .msh)");
+    }
     if (*format == SurfaceFormat::Surf) {
         // Region names would have to be made up: a bpm patch is not a pair of materials.
         throw OutputError(where, "cannot write Amira HyperSurface (.surf): bpm reads it but writes only .off .obj .stl "
@@ -181,6 +185,8 @@ void write_surface(const std::string& path, const Surface& surface, std::optiona
         case SurfaceFormat::Vtp:
         case SurfaceFormat::Vtu: break;  // refused above
         case SurfaceFormat::Surf: break;  // refused above
+        case SurfaceFormat::Nifti:
+        case SurfaceFormat::Nrrd: break;  // refused above
     }
     detail::write_file_atomically(path, bytes);
 }

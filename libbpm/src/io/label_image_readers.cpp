@@ -1,0 +1,125 @@
+// From a label image to what read_surface needs (io/label_image_readers.h).
+#include "io/label_image_readers.h"
+
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <limits>
+
+#include "bpm/errors.h"
+
+namespace bpm::detail {
+
+int voxel_type_size(VoxelType type) {
+    switch (type) {
+        case VoxelType::U8:
+        case VoxelType::I8: return 1;
+        case VoxelType::I16:
+        case VoxelType::U16: return 2;
+        case VoxelType::I32:
+        case VoxelType::U32:
+        case VoxelType::F32: return 4;
+        case VoxelType::F64: return 8;
+    }
+    return 1;
+}
+
+const char* voxel_type_name(VoxelType type) {
+    switch (type) {
+        case VoxelType::U8: return "uint8";
+        case VoxelType::I8: return "int8";
+        case VoxelType::I16: return "int16";
+        case VoxelType::U16: return "uint16";
+        case VoxelType::I32: return "int32";
+        case VoxelType::U32: return "uint32";
+        case VoxelType::F32: return "float32";
+        case VoxelType::F64: return "float64";
+    }
+    return "?";
+}
+
+void decode_labels(const unsigned char* data, VoxelType type, bool swap, double slope, double inter,
+                   const std::string& scaled_by, LabelImage& image, const std::string& name) {
+    const int64_t voxels = image.num_voxels();
+    image.labels.resize(size_t(voxels));
+    const bool scaled = slope != 1 || inter != 0;
+    if (type == VoxelType::U8 && !scaled) {
+        for (int64_t v = 0; v < voxels; ++v) image.labels[size_t(v)] = data[v];
+        return;
+    }
+    const int size = voxel_type_size(type);
+    const auto where = [&](int64_t v) {
+        const int64_t i = v % image.size[0], j = (v / image.size[0]) % image.size[1], k = v / (image.size[0] * image.size[1]);
+        return "voxel (" + std::to_string(i) + ", " + std::to_string(j) + ", " + std::to_string(k) + ")";
+    };
+    const auto text = [](double x) {
+        char buffer[32];
+        std::snprintf(buffer, sizeof buffer, "%.9g", x);
+        return std::string(buffer);
+    };
+    for (int64_t v = 0; v < voxels; ++v) {
+        unsigned char b[8];
+        std::memcpy(b, data + size_t(v) * size_t(size), size_t(size));
+        if (swap)
+            for (int i = 0; i < size / 2; ++i) std::swap(b[i], b[size - 1 - i]);
+        double raw = 0;
+        switch (type) {
+            case VoxelType::U8: raw = b[0]; break;
+            case VoxelType::I8: raw = int8_t(b[0]); break;
+            case VoxelType::I16: { int16_t x; std::memcpy(&x, b, 2); raw = x; break; }
+            case VoxelType::U16: { uint16_t x; std::memcpy(&x, b, 2); raw = x; break; }
+            case VoxelType::I32: { int32_t x; std::memcpy(&x, b, 4); raw = x; break; }
+            case VoxelType::U32: { uint32_t x; std::memcpy(&x, b, 4); raw = x; break; }
+            case VoxelType::F32: { float x; std::memcpy(&x, b, 4); raw = x; break; }
+            case VoxelType::F64: { double x; std::memcpy(&x, b, 8); raw = x; break; }
+        }
+        const double x = scaled ? slope * raw + inter : raw;
+        if (!std::isfinite(x) || x != std::floor(x))
+            throw InputError(name, where(v) + " has the value " + text(x) + (scaled ? " (after " + scaled_by + ")" : "") +
+                                       " of type " + voxel_type_name(type) + ", which is not an integer label");
+        if (x < double(std::numeric_limits<int32_t>::min()) || x > double(std::numeric_limits<int32_t>::max()))
+            throw InputError(name, where(v) + " has the label " + text(x) + ", beyond the int32 range");
+        image.labels[size_t(v)] = int32_t(x);
+    }
+}
+
+ReaderOutput label_image_reader_output(LabelImage image, const std::string& name, const Context& context,
+                                       std::vector<std::string> notes) {
+    if (std::string problem = label_image_problem(image); !problem.empty()) throw InputError(name, problem);
+    LabelSurface extracted;
+    try {
+        extracted = label_image_surface(std::move(image), {}, context);
+    } catch (const InputError& e) {
+        throw InputError(name, e.what());
+    }
+    std::string labels;
+    for (size_t i = 0; i < extracted.labels.size(); ++i) {
+        if (i == 8 && extracted.labels.size() > 10) {
+            labels += ", ... (" + std::to_string(extracted.labels.size()) + " in all)";
+            break;
+        }
+        labels += (i ? ", " : "") + std::to_string(extracted.labels[i]);
+    }
+    if (extracted.surface.triangles.empty())
+        throw InputError(name, "every voxel has the label 0 (background): no two labels meet, so there is no surface");
+    ReaderOutput out;
+    out.notes = std::move(notes);
+    out.notes.push_back("labels " + labels + " (0 = background, material '" + std::string(kExteriorMaterial) + "')");
+    out.notes.push_back("surface nets: " + std::to_string(extracted.surface.num_vertices()) + " vertices, " +
+                        std::to_string(extracted.surface.num_triangles()) + " triangles, " +
+                        std::to_string(extracted.patch_info.size()) + " interfaces (patches), " +
+                        std::to_string(extracted.junction_vertices) + " vertices on junction lines, " +
+                        std::to_string(extracted.split_vertices) + " cube vertices split where a label touches "
+                        "itself at a corner");
+    if (extracted.changed_voxels > 0)
+        out.notes.push_back(std::to_string(extracted.changed_voxels) + " voxels relabelled where a label touched itself "
+                            "only along a voxel edge (given the label of the two voxels that touched)" +
+                            (extracted.unresolved_contacts > 0
+                                 ? "; " + std::to_string(extracted.unresolved_contacts) + " such edges remain"
+                                 : std::string()));
+    out.surface = std::move(extracted.surface);
+    out.patch_info = std::move(extracted.patch_info);
+    return out;
+}
+
+}  // namespace bpm::detail

@@ -1,0 +1,43 @@
+#pragma once
+// Label image readers (NIfTI-1, ...): each parses its format into a bpm::LabelImage;
+// label_image_reader_output() then extracts the multi-material surface (bpm/label_image.h)
+// for read_surface. Internal, like surface_readers.h.
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "bpm/context.h"
+#include "bpm/label_image.h"
+#include "io/surface_readers.h"
+
+namespace bpm::detail {
+
+// The voxel types label image files store.
+enum class VoxelType { U8, I8, I16, U16, I32, U32, F32, F64 };
+int voxel_type_size(VoxelType type);
+const char* voxel_type_name(VoxelType type);  // "uint8", ...
+
+// Fills image.labels (image.size set) from `count` voxels of `type` at `data` (byte-swapped
+// when `swap`), each value scaled by slope * x + inter when those are not 1 and 0. A value
+// that is not an integer, or beyond int32, is an InputError naming the voxel (i, j, k).
+// `scaled_by` names the scaling for that message ("scl_slope/scl_inter"), empty if none.
+void decode_labels(const unsigned char* data, VoxelType type, bool swap, double slope, double inter,
+                   const std::string& scaled_by, LabelImage& image, const std::string& name);
+
+// NIfTI-1 single file (magic "n+1"), already decompressed. Details in read_nifti.cpp.
+// `notes`, if given, receives a line describing the image. \throw InputError naming the
+// file and the header field or voxel that is wrong.
+LabelImage read_nifti_image(std::string_view bytes, const std::string& name, std::vector<std::string>* notes = nullptr);
+
+// NRRD (3D Slicer .nrrd / .seg.nrrd), attached data, encodings raw, gzip and ascii.
+// Details in read_nrrd.cpp. Segment names of a .seg.nrrd become LabelImage::names.
+LabelImage read_nrrd_image(std::string_view bytes, const std::string& name, std::vector<std::string>* notes = nullptr);
+
+// The surface of `image` (label_image_surface) as a reader's output: patches, patch_info
+// (one oriented row per label pair), and notes with the counts. An image of background
+// only is an InputError (there is no surface), as is a label_image_problem.
+ReaderOutput label_image_reader_output(LabelImage image, const std::string& name, const Context& context,
+                                       std::vector<std::string> notes);
+
+}  // namespace bpm::detail
