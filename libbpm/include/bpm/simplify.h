@@ -187,9 +187,10 @@ struct SimplifyOptions {
     // output is the same for every thread count. 0 = automatic: 1 for an input of fewer
     // than 10000 triangles (two saved it no wall time), else 2 if the hardware has a
     // second core and not every core is busy (1-minute load average below the number of
-    // cores), else 1. Two threads take more CPU time than one (208k triangles: 1.25x at
-    // load 12, spinning 30 us between the short rounds; 1.28x idle with the old 200 us
-    // spin) and save wall time only on a free core, so a busy machine is better off with one.
+    // cores), else 1. Two threads take more CPU time than one (208k triangles, spinning
+    // 30 us between the short rounds: 1.55x CPU for 0.85x wall on an idle machine, 1.25x
+    // CPU and more wall at load 12) and save wall time only on a free core, so a busy
+    // machine is better off with one.
     int threads = 0;
     // Record every committed removal (the vertex and the triangles that replaced its
     // star) in SimplifyResult::steps, so that bpm-check --replay can re-apply them.
