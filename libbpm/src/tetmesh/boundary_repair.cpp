@@ -209,6 +209,37 @@ double repair_boundary_vertices(std::vector<Vec3>& x, const std::vector<Tet>& te
     return smoothing_seconds;
 }
 
+// The tetrahedra around each candidate vertex of the retreat and the slide (slot[v]: v's
+// candidate index, or -1) in one array: candidate i's are incident[offsets[i] ..
+// offsets[i + 1]).
+struct TetsAround {
+    std::vector<int64_t> offsets;
+    std::vector<int32_t> incident;
+    TetsAround(const std::vector<Tet>& tets, const std::vector<int32_t>& slot, size_t candidates)
+        : offsets(candidates + 1, 0) {
+        for (const Tet& t : tets)
+            for (int32_t v : t)
+                if (slot[v] >= 0) ++offsets[slot[v] + 1];
+        for (size_t i = 0; i < candidates; ++i) offsets[i + 1] += offsets[i];
+        incident.resize(static_cast<size_t>(offsets.back()));
+        std::vector<int64_t> fill(offsets.begin(), offsets.end() - 1);
+        for (size_t t = 0; t < tets.size(); ++t)
+            for (int32_t v : tets[t])
+                if (slot[v] >= 0) incident[fill[slot[v]]++] = static_cast<int32_t>(t);
+    }
+    // The worst tetrahedron around candidate i as a pseudo-angle; -3 (below every
+    // pseudo-angle) where one of them is not positively oriented (exact).
+    double worst(size_t i, const std::vector<Tet>& tets, const std::vector<Vec3>& x) const {
+        double result = 2;
+        for (int64_t k = offsets[i]; k < offsets[i + 1]; ++k) {
+            const Tet& T = tets[static_cast<size_t>(incident[k])];
+            if (orient3d(x[T[0]], x[T[1]], x[T[2]], x[T[3]]) != 1) return -3.0;
+            result = std::min(result, min_dihedral_pseudo(x[T[0]], x[T[1]], x[T[2]], x[T[3]]));
+        }
+        return result;
+    }
+};
+
 int64_t retreat_boundary_vertices(std::vector<Vec3>& x, const std::vector<Tet>& tets, const std::vector<Vec3>& plain,
                                   const std::vector<char>& may_retreat, const BoundaryRepairOptions& options,
                                   std::vector<char>& dirty, int rounds) {
@@ -223,29 +254,10 @@ int64_t retreat_boundary_vertices(std::vector<Vec3>& x, const std::vector<Tet>& 
             candidates.push_back(static_cast<int32_t>(v));
         }
     if (candidates.empty()) return 0;
-    std::vector<int64_t> offsets(candidates.size() + 1, 0);
-    for (const Tet& t : tets)
-        for (int32_t v : t)
-            if (slot[v] >= 0) ++offsets[slot[v] + 1];
-    for (size_t i = 0; i < candidates.size(); ++i) offsets[i + 1] += offsets[i];
-    std::vector<int32_t> incident(static_cast<size_t>(offsets.back()));
-    {
-        std::vector<int64_t> fill(offsets.begin(), offsets.end() - 1);
-        for (size_t t = 0; t < tets.size(); ++t)
-            for (int32_t v : tets[t])
-                if (slot[v] >= 0) incident[fill[slot[v]]++] = static_cast<int32_t>(t);
-    }
-    // The worst tetrahedron around candidate i as a pseudo-angle; -3 (below every
-    // pseudo-angle) where one of them is not positively oriented (exact).
-    auto worst_around = [&](size_t i) {
-        double worst = 2;
-        for (int64_t k = offsets[i]; k < offsets[i + 1]; ++k) {
-            const Tet& T = tets[static_cast<size_t>(incident[k])];
-            if (orient3d(x[T[0]], x[T[1]], x[T[2]], x[T[3]]) != 1) return -3.0;
-            worst = std::min(worst, min_dihedral_pseudo(x[T[0]], x[T[1]], x[T[2]], x[T[3]]));
-        }
-        return worst;
-    };
+    const TetsAround around(tets, slot, candidates.size());
+    const std::vector<int64_t>& offsets = around.offsets;
+    const std::vector<int32_t>& incident = around.incident;
+    auto worst_around = [&](size_t i) { return around.worst(i, tets, x); };
     std::vector<char> moved(candidates.size(), 0);
     for (int round = 0; round < rounds; ++round) {
         std::vector<std::pair<double, size_t>> order;  // worst first
@@ -318,29 +330,10 @@ int64_t slide_boundary_vertices(std::vector<Vec3>& x, const std::vector<Tet>& te
         candidates.push_back(static_cast<int32_t>(v));
     }
     if (candidates.empty()) return 0;
-    std::vector<int64_t> offsets(candidates.size() + 1, 0);
-    for (const Tet& t : tets)
-        for (int32_t v : t)
-            if (slot[v] >= 0) ++offsets[slot[v] + 1];
-    for (size_t i = 0; i < candidates.size(); ++i) offsets[i + 1] += offsets[i];
-    std::vector<int32_t> incident(static_cast<size_t>(offsets.back()));
-    {
-        std::vector<int64_t> fill(offsets.begin(), offsets.end() - 1);
-        for (size_t t = 0; t < tets.size(); ++t)
-            for (int32_t v : tets[t])
-                if (slot[v] >= 0) incident[fill[slot[v]]++] = static_cast<int32_t>(t);
-    }
-    // As in retreat_boundary_vertices: the worst tetrahedron around candidate i, -3 where
-    // one of them is not positively oriented (exact).
-    auto worst_around = [&](size_t i) {
-        double worst = 2;
-        for (int64_t k = offsets[i]; k < offsets[i + 1]; ++k) {
-            const Tet& T = tets[static_cast<size_t>(incident[k])];
-            if (orient3d(x[T[0]], x[T[1]], x[T[2]], x[T[3]]) != 1) return -3.0;
-            worst = std::min(worst, min_dihedral_pseudo(x[T[0]], x[T[1]], x[T[2]], x[T[3]]));
-        }
-        return worst;
-    };
+    const TetsAround around(tets, slot, candidates.size());
+    const std::vector<int64_t>& offsets = around.offsets;
+    const std::vector<int32_t>& incident = around.incident;
+    auto worst_around = [&](size_t i) { return around.worst(i, tets, x); };
     std::vector<char> moved(candidates.size(), 0);
     for (int round = 0; round < rounds; ++round) {
         std::vector<std::pair<double, size_t>> order;  // worst first
