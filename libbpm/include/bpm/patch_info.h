@@ -18,9 +18,9 @@
 //                       (--merge-duplicate-triangles) separates the two files' materials; in
 //                       one file whose patches share triangles (a closed surface per label),
 //                       patch P encloses "A_P" instead
-//   label image (NIfTI)  one patch per pair of touching labels A < B: front = A's material,
-//                       back = B's ("exterior" for label 0, else "label_<L>"), name
-//                       "<back>|<front>" (bpm/label_image.h)
+//   label image (NIfTI, one patch per pair of touching labels A < B: front = A's material,
+//   NRRD)               back = B's ("exterior" for label 0, else "label_<L>" or a Slicer
+//                       .seg.nrrd's segment name), name "<back>|<front>" (bpm/label_image.h)
 
 #include <cstdint>
 #include <optional>
