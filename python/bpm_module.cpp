@@ -636,7 +636,7 @@ File simplify_arrays(const py::object& vertices, const py::object& triangles, co
     if (!problems.empty()) {
         std::string message = "the surface cannot be simplified: " + bpm::describe_problem(problems[0], surface);
         for (size_t i = 1; i < problems.size() && i < 3; ++i) message += "; " + bpm::describe_problem(problems[i], surface);
-        if (problems.size() > 3) message += "; and " + std::to_string(problems.size() - 3) + " more problems";
+        if (problems.size() > 3) message += "; and " + std::to_string(problems.size() - 3) + " more problem" + (problems.size() == 4 ? "" : "s");
         throw py::value_error(message);
     }
     // Each keyword by its Python name (libbpm's messages name the C++ fields, e.g.

@@ -12,6 +12,7 @@
 #include "check/check_internal.h"
 #include "check/image_tolerance.h"
 #include "core/edge_key.h"
+#include "core/number_text.h"
 #include "phi/phi_layout.h"
 
 namespace bpm {
@@ -161,7 +162,7 @@ CheckResult check_format_of(const Parametrization& p, const std::vector<Vec3>* s
     r.add_count("nodes", p.num_nodes());
     r.add_count("pieces", p.num_pieces());
     if (!safe) {
-        r.summary = std::to_string(r.problem_count) + " structural problems";
+        r.summary = detail::count_text(r.problem_count, "structural problem");
         return r;
     }
 

@@ -12,6 +12,7 @@
 #include "bpm/predicates.h"
 #include "bpm/tetmesh.h"
 #include "check/check_internal.h"
+#include "core/number_text.h"
 #include "core/tetrahedron_quality.h"
 
 namespace bpm {
@@ -317,12 +318,12 @@ CheckResult check_tetmesh(const BpmFile& file, const CheckOptions& options, cons
                 std::to_string(inverted) + " inverted, " +
                 (nonconforming + holes + unlisted_interfaces + faces_not_in_mesh + duplicate_faces == 0
                      ? std::string("conforming")
-                     : std::to_string(nonconforming + holes + unlisted_interfaces + faces_not_in_mesh +
-                                      duplicate_faces) +
-                           " conformity problems") +
+                     : detail::count_text(nonconforming + holes + unlisted_interfaces + faces_not_in_mesh +
+                                              duplicate_faces,
+                                          "conformity problem")) +
                 ", " + std::to_string(nf) + " faces on S" +
                 (misplaced_faces + uncovered == 0 ? std::string(" covering it")
-                                                  : " (" + std::to_string(misplaced_faces + uncovered) + " problems)") +
+                                                  : " (" + detail::count_text(misplaced_faces + uncovered, "problem") + ")") +
                 ", smallest dihedral angle " + detail::format_number(min_dihedral) + " degrees";
     context.report(1.0, "tetrahedral mesh checked");
     return r;

@@ -24,6 +24,12 @@ inline void append_round_trip_text(std::string& out, double v) { append_signific
 // Three significant digits: ratios, tolerances and sizes in messages.
 inline std::string three_digit_text(double v) { return significant_text(v, 3); }
 
+// "1 problem", "3 problems": a count and its noun, singular for exactly one (nouns whose
+// plural adds an "s"). Messages count things that are often single.
+inline std::string count_text(long long n, const char* noun) {
+    return std::to_string(n) + " " + noun + (n == 1 ? "" : "s");
+}
+
 // A double at the start of [first, last), as std::from_chars reads it (general format: no
 // leading blanks, no '+', no hexadecimal; '.' is the decimal point whatever the locale;
 // "inf", "nan" in any case), except that a number outside double's range is no error but

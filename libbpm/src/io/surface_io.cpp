@@ -238,7 +238,8 @@ std::string problems_message(const std::vector<SurfaceProblem>& problems, const 
     }
     if (problems.size() > shown) {
         message += problems.size() >= limit ? "; and more problems"
-                                            : "; and " + std::to_string(problems.size() - shown) + " more problems";
+                                            : "; and " + std::to_string(problems.size() - shown) + " more problem" +
+                                                  (problems.size() - shown == 1 ? "" : "s");
     }
     return message;
 }

@@ -1131,8 +1131,8 @@ SimplifyResult simplify_checked(const Surface& original, const InputOrder& order
                 r = check_intersections_in_user_order(original, order, check_options, context);
         }
         if (!r.passed)
-            throw AlgorithmError("the input surface intersects itself (" + std::to_string(r.problem_count) +
-                                 " problems; first: " + (r.problems.empty() ? std::string("?") : r.problems[0].describe()) +
+            throw AlgorithmError("the input surface intersects itself (" + detail::count_text(r.problem_count, "problem") +
+                                 "; first: " + (r.problems.empty() ? std::string("?") : r.problems[0].describe()) +
                                  "); bpm needs a surface without self-intersections to produce a coarse surface "
                                  "without them. Repair the input (repair_self_intersections() replaces the triangles around "
                                  "a few local ones), or set reject_self_intersecting_input = false");

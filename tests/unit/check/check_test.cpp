@@ -209,8 +209,11 @@ TEST_CASE("mutations fail the right check and name the right element", "[check]"
     SECTION("original triangle index out of range") {
         Parametrization p = fixtures::refined_parametrization(fixtures::cube());
         p.piece_original_triangle[10] = -1;
-        const CheckProblem e = first_problem(check_format(p));
+        const CheckResult r = check_format(p);
+        const CheckProblem e = first_problem(r);
         CHECK(e.id("piece") == 10);
+        CHECK(r.problem_count == 1);
+        CHECK(r.summary == "1 structural problem");  // not "1 structural problems"
     }
     SECTION("break a CSR offset") {
         Parametrization p = fixtures::refined_parametrization(fixtures::cube());
