@@ -48,4 +48,32 @@ for name in big30 small30; do
     contains "$work/err" "98 -> 49 vertices" "$name: half of the vertices removed"
     expect 0 "$name: bpm-check passes" -- "$tools/bpm-check" "$work/$name.bpm"
 done
+
+# A .bpm written elsewhere with such coordinates (the unit cube's file scaled by 1e80 and
+# 1e-80): bpm-check passed it with NaN distortions, bpm-smooth and bpm-refine wrote
+# nonsense, TetGen aborted under bpm-mesh. Now bpm-check fails the format check and the
+# tools that compute refuse it, naming the file, writing nothing.
+$py - "$work" <<'PY'
+import shutil, sys
+import h5py
+work = sys.argv[1]
+for name, scale in [("big80", 1e80), ("small80", 1e-80)]:
+    shutil.copy("%s/unit.bpm" % work, "%s/%s-file.bpm" % (work, name))
+    with h5py.File("%s/%s-file.bpm" % (work, name), "r+") as f:
+        for d in ("original/vertices", "coarse/vertices"):
+            f[d][...] = f[d][()] * scale
+PY
+for name in big80 small80; do
+    file=$work/$name-file.bpm
+    expect 1 "$name .bpm: bpm-check fails" -- "$tools/bpm-check" "$file"
+    contains "$work/out" "FAIL format" "$name .bpm: the format check fails"
+    contains "$work/out" "coordinates out of range" "$name .bpm: bpm-check says why"
+    for tool in bpm-mesh bpm-refine bpm-smooth; do
+        args=()
+        [ $tool != bpm-refine ] || args=(--levels 1)
+        expect 5 "$name .bpm: $tool refuses it" -- "$tools/$tool" "$file" -o "$work/$name-$tool.bpm" "${args[@]}"
+        contains "$work/err" "$tool: error: $file: coordinates out of range" "$name .bpm: $tool names the file and the problem"
+        ok "$name .bpm: $tool writes nothing" -- test ! -e "$work/$name-$tool.bpm"
+    done
+done
 finish

@@ -329,10 +329,11 @@ int main(int argc, char** argv) {
         if (std::string seam = bpm::tools::open_seam_warning(report); !seam.empty()) context.warn(seam);
         context.info("read " + std::to_string(surface.num_vertices()) + " vertices, " +
                      std::to_string(surface.num_triangles()) + " triangles");
+        // bpm::simplify refuses such coordinates too, but the repair would run on them first,
+        // and only the tool knows the flag that records the new unit.
+        if (const std::string why = bpm::coordinate_range_problem(surface); !why.empty())
+            throw bpm::AlgorithmError(why + " (--units records the unit in the file)");
         if (repair_intersections) {
-            // bpm::simplify refuses such coordinates too, but the repair would run on them first.
-            if (const std::string why = bpm::coordinate_range_problem(surface); !why.empty())
-                throw bpm::AlgorithmError(why);
             clock.start("self-intersection repair");
             const bpm::SelfIntersectionRepair repair = bpm::repair_self_intersections(surface, repair_options, context);
             report_repair(repair, context);

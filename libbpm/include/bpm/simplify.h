@@ -262,28 +262,10 @@ struct SimplifyResult {
     std::optional<SimplificationSteps> steps;
 };
 
-// The range of coordinates bpm computes in: no |coordinate| above kMaxCoordinate, and a
-// bounding box whose largest side is at least kMinExtent. bpm's shape and error measures
-// square lengths and multiply squares (aspect_ratio: a length^4 over a length^4), which
-// overflow double precision near 1e77 and lose every digit to underflow near 1e-77;
-// bpm-simplify removed nothing on a sphere of radius 1e78 and blamed "input slivers",
-// and TetGen aborted below a diagonal of about 1e-52. 1e40 keeps a margin of 1e37 to
-// both, far beyond any physical model in any length unit. (Scaling internally would have
-// to reach every tool, the Python module, the adapters and TetGen's input; a model
-// outside the range is rescaled once by its user instead.)
-inline constexpr double kMaxCoordinate = 1e40;
-inline constexpr double kMinExtent = 1e-40;
-
-// Why the surface's coordinates are outside that range, with the values found and what
-// to do (rescale, i.e. express the model in another length unit); empty when they are
-// inside it, or when a coordinate is NaN/Inf or there are no vertices (validate_surface
-// reports those).
-std::string coordinate_range_problem(const Surface& surface);
-
 // \pre `original` passed validate_surface (finite, no degenerate or duplicate triangles).
 // \throw bpm::OptionError for contradictory options, bpm::AlgorithmError for a
 //        self-intersecting input (see SimplifyOptions) or one whose coordinates are outside
-//        the range bpm computes in (coordinate_range_problem, above),
+//        the range bpm computes in (coordinate_range_problem, bpm/surface.h),
 //        bpm::Cancelled via the context.
 // Fills `out` (original, coarse, phi) and returns what was achieved. The run itself
 // works on its own numbering of the input (Morton order of the vertices, for memory

@@ -80,6 +80,25 @@ struct ValidateOptions {
 // (identical coordinates; -0 equals +0). Deterministic.
 std::vector<SurfaceProblem> validate_surface(const Surface& surface, const ValidateOptions& options = {});
 
+// The range of coordinates bpm computes in: no |coordinate| above kMaxCoordinate, and a
+// bounding box whose largest side is at least kMinExtent. bpm's shape and error measures
+// square lengths and multiply squares (aspect_ratio: a length^4 over a length^4), which
+// overflow double precision near 1e77 and lose every digit to underflow near 1e-77;
+// bpm-simplify removed nothing on a sphere of radius 1e78 and blamed "input slivers",
+// and TetGen aborted below a diagonal of about 1e-52. 1e40 keeps a margin of 1e37 to
+// both, far beyond any physical model in any length unit. (Scaling internally would have
+// to reach every tool, the Python module, the adapters and TetGen's input; a model
+// outside the range is rescaled once by its user instead.)
+inline constexpr double kMaxCoordinate = 1e40;
+inline constexpr double kMinExtent = 1e-40;
+
+// Why the surface's coordinates are outside that range, with the values found and what
+// to do (rescale, i.e. express the model in another length unit); empty when they are
+// inside it, or when a coordinate is NaN/Inf or there are no vertices (validate_surface
+// reports those). simplify, refine, smooth and generate_tetmesh refuse such surfaces
+// (AlgorithmError with this text), check_format reports them (a .bpm written elsewhere).
+std::string coordinate_range_problem(const Surface& surface);
+
 // Repairs that only happen on request (tools: --merge-duplicate-vertices,
 // --drop-unreferenced-vertices). Each returns how many elements it changed.
 // Both keep the surviving vertices in their original order (a merged group is kept at

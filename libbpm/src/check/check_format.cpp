@@ -98,13 +98,22 @@ CheckProblem layout_problem(const Parametrization* p, const Surface& s, const st
     return problem({}, name + ": invalid layout");
 }
 
-// Everything needed to index safely (phi_layout.h). Reports through `sink`; returns
-// true when safe.
+// Everything needed to index safely (phi_layout.h), and coordinates in the range bpm
+// computes in (bpm/surface.h: beyond it the measures the other checks take overflow, and
+// a file written elsewhere may hold anything). Reports through `sink`; returns true when
+// safe.
 bool structure(const Parametrization& p, const Sink& sink) {
-    return detail::visit_phi_layout(p, [&](const detail::LayoutProblem& pr) {
-        const bool original = pr.surface == detail::SurfaceRole::Original;
-        return sink(layout_problem(&p, original ? p.original : p.coarse, original ? "original" : "coarse", pr));
-    });
+    if (!detail::visit_phi_layout(p, [&](const detail::LayoutProblem& pr) {
+            const bool original = pr.surface == detail::SurfaceRole::Original;
+            return sink(layout_problem(&p, original ? p.original : p.coarse, original ? "original" : "coarse", pr));
+        }))
+        return false;
+    for (const auto& [surface, which] : {std::pair{&p.original, "original"}, std::pair{&p.coarse, "coarse"}})
+        if (const std::string why = coordinate_range_problem(*surface); !why.empty()) {
+            sink(problem({}, std::string(which) + " surface: " + why));
+            return false;
+        }
+    return true;
 }
 
 using detail::edge_key;

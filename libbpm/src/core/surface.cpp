@@ -612,4 +612,32 @@ int64_t fuse_duplicate_triangles(Surface& surface, std::vector<FusedPatch>* inte
     return removed;
 }
 
+std::string coordinate_range_problem(const Surface& surface) {
+    if (surface.vertices.empty()) return {};
+    Vec3 lo = surface.vertices[0], hi = lo;
+    double largest = 0.0;
+    for (const Vec3& p : surface.vertices)
+        for (int k = 0; k < 3; ++k) {
+            if (!std::isfinite(p[k])) return {};  // validate_surface() says which vertex
+            lo[k] = std::min(lo[k], p[k]);
+            hi[k] = std::max(hi[k], p[k]);
+            largest = std::max(largest, std::fabs(p[k]));
+        }
+    // The sides, not the diagonal: its squares would overflow for the inputs checked here.
+    double extent = 0.0;
+    for (int k = 0; k < 3; ++k) extent = std::max(extent, hi[k] - lo[k]);
+    const auto g = [](double x) { return detail::three_digit_text(x); };
+    const std::string range = "bpm computes with squares and fourth powers of lengths, which leave double precision "
+                              "(overflow near 1e77, underflow near 1e-77), so coordinates must be within +-" +
+                              g(kMaxCoordinate) + " and the bounding box at least " + g(kMinExtent) + " across";
+    const std::string fix = ". Rescale the input, e.g. express it in another length unit";
+    if (largest > kMaxCoordinate)
+        return "coordinates out of range: the largest magnitude is " + g(largest) + " (bounding box " + g(extent) +
+               " across); " + range + fix;
+    if (extent < kMinExtent && extent > 0.0)
+        return "coordinates out of range: the bounding box is only " + g(extent) + " across (largest magnitude " +
+               g(largest) + "); " + range + fix;
+    return {};
+}
+
 }  // namespace bpm

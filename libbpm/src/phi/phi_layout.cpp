@@ -1,5 +1,7 @@
 #include "phi/phi_layout.h"
 
+#include "bpm/errors.h"
+
 #include <cmath>
 
 namespace bpm::detail {
@@ -187,6 +189,11 @@ bool visit_phi_layout(const Parametrization& p, const LayoutSink& sink) {
         }
     }
     return visit.clean();
+}
+
+void require_coordinates_in_range(const Parametrization& p) {
+    for (const Surface* surface : {&p.original, &p.coarse})
+        if (std::string why = coordinate_range_problem(*surface); !why.empty()) throw AlgorithmError(std::move(why));
 }
 
 }  // namespace bpm::detail

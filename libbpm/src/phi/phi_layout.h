@@ -84,4 +84,10 @@ bool visit_surface_layout(const Surface& s, SurfaceRole role, const LayoutSink& 
 // Returns true when nothing was found, i.e. when `p` can be indexed safely.
 bool visit_phi_layout(const Parametrization& p, const LayoutSink& sink);
 
+// Throws AlgorithmError (coordinate_range_problem's text, bpm/surface.h) when the original
+// or the coarse surface of `p` lies outside the range bpm computes in: what refine, smooth
+// and generate_tetmesh do first, since a .bpm written elsewhere may hold anything and
+// their measures overflow there (NaN distortions, TetGen aborting) instead of failing.
+void require_coordinates_in_range(const Parametrization& p);
+
 }  // namespace bpm::detail

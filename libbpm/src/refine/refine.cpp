@@ -33,6 +33,7 @@
 #include "core/barycentric_orientation.h"
 #include "core/edge_key.h"
 #include "core/number_text.h"
+#include "phi/phi_layout.h"
 #include "refine/planar_regions.h"
 
 namespace bpm {
@@ -1288,6 +1289,7 @@ RefineResult refine(const Parametrization& param, const RefineOptions& options, 
                           detail::significant_text(options.tolerance, 6));
     if (options.levels < 0 && (options.max_level < 0 || options.max_level > 10))
         throw OptionError("refine: max_level must be in 0..10");
+    detail::require_coordinates_in_range(param);
     const PhiEvaluator phi(param);
     out = RefinedSurface{};
     Refiner refiner(param, phi, out);

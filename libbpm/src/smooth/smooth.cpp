@@ -48,6 +48,7 @@
 #include "core/crease_chains.h"
 #include "core/edge_key.h"
 #include "core/number_text.h"
+#include "phi/phi_layout.h"
 #include "phi/phi_triangle_data.h"
 
 namespace bpm {
@@ -989,6 +990,7 @@ SmoothResult smooth(Parametrization& param, const SmoothOptions& options, const 
     if (options.measure_quality && (options.quality_levels < 0 || options.quality_levels > 6))
         throw OptionError("smooth: quality_levels must be in 0..6");
     if (options.check_levels < 0 || options.check_levels > 6) throw OptionError("smooth: check_levels must be in 0..6");
+    detail::require_coordinates_in_range(param);
     SmoothResult result;
     if (options.measure_quality) result.before = refined_quality(param, options.quality_levels);
     {

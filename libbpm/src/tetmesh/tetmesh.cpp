@@ -42,6 +42,7 @@
 #include "bpm/surface_topology.h"
 #include "core/number_text.h"
 #include "core/tetrahedron_quality.h"
+#include "phi/phi_layout.h"
 #include "tetmesh/tet_flips.h"
 #include "tetmesh/tet_insert.h"
 #include "tetmesh/tetgen_poly.h"
@@ -633,6 +634,7 @@ TetMeshResult generate_tetmesh(const Parametrization& param, const TetMeshOption
         throw OptionError("max_dihedral_degrees must be 0 (TetGen's default) or between 90 and 180 degrees");
     if (!(options.time_limit_seconds >= 0) || !std::isfinite(options.time_limit_seconds))
         throw OptionError("time limit must be a number of seconds >= 0 (0 = no limit)");
+    detail::require_coordinates_in_range(param);
     context.report(0.0, "checking the coarse surface");
     check_meshable(s, context);
     // TetGen keeps S exactly (-Y): a needle of S (an original one the simplifier could not
