@@ -215,25 +215,20 @@ void fuse_triangles(Surface& surface, SurfaceReadReport& r, const std::string& p
     }
 }
 
-// Why a surface that parsed is still unusable, with the repair that would help.
+// Why a surface that parsed is still unusable. The repairs that help are listed once at
+// the end (throw_surface_problems); only what merging duplicate triangles does to
+// materials is said at the problem, since the repair's name does not tell it.
 std::string problems_message(const std::vector<SurfaceProblem>& problems, const Surface& surface, size_t limit) {
     using Kind = SurfaceProblem::Kind;
     std::string message;
     const size_t shown = std::min<size_t>(problems.size(), 3);
+    bool explained = false;
     for (size_t i = 0; i < shown; ++i) {
         if (i > 0) message += "; ";
         message += describe_problem(problems[i], surface);
-        // The repair that helps, once per kind of problem.
-        bool hinted = false;
-        for (size_t j = 0; j < i; ++j) hinted = hinted || problems[j].kind == problems[i].kind;
-        if (hinted) continue;
-        if (problems[i].kind == Kind::UnreferencedVertex) {
-            message += " (repair: drop unreferenced vertices)";
-        } else if (problems[i].kind == Kind::DuplicateVertex) {
-            message += " (repair: merge duplicate vertices)";
-        } else if (problems[i].kind == Kind::DuplicateTriangle) {
-            message += " (repair: merge duplicate triangles; an interface between two materials becomes a patch of "
-                       "its own)";
+        if (problems[i].kind == Kind::DuplicateTriangle && !explained) {
+            message += " (merged, an interface between two materials becomes a patch of its own)";
+            explained = true;
         }
     }
     if (problems.size() > shown) {

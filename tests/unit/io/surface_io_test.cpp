@@ -831,6 +831,11 @@ TEST_CASE("reject: zero-area and duplicate triangles, named by index", "[surface
 TEST_CASE("unreferenced vertices: an error unless the repair is requested", "[surface_io]") {
     const std::string text = "OFF\n5 4 0\n0 0 0\n9 9 9\n1 0 0\n0 1 0\n0 0 1\n3 0 3 2\n3 0 2 4\n3 0 4 3\n3 2 3 4\n";
     CHECK_READ_ERROR(text, SurfaceFormat::Off, "vertex 1: not used by any triangle");
+    // The repair is named once, at the end (it was also repeated after the problem).
+    const std::string message = read_error(text, SurfaceFormat::Off);
+    INFO(message);
+    CHECK(message.find("drop unreferenced vertices") == message.rfind("drop unreferenced vertices"));
+    CHECK(message.find("the repair it needs: drop unreferenced vertices") != std::string::npos);
     SurfaceReadOptions options;
     options.drop_unreferenced_vertices = true;
     SurfaceReadReport report;
