@@ -291,6 +291,7 @@ int main(int argc, char** argv) {
             bpm::BpmFile out;
             out.param = bpm::refined_parametrization(param, refined, context);
             out.units = file.units;
+            out.coordinate_frame = file.coordinate_frame;
             out.patch_info = file.patch_info;  // refinement keeps patch ids and orientations
             out.provenance = file.provenance;
             out.provenance.push_back({tool, bpm::tools::version_line(tool), bpm::tools::command_line(argc, argv),

@@ -49,6 +49,16 @@
 
 namespace bpm {
 
+// The anatomical frame of a label image's world coordinates. The axes of LPS point to the
+// patient's Left, Posterior and Superior, those of RAS to the Right, Anterior and
+// Superior: the same point is (x, y, z) in one and (-x, -y, z) in the other, a rotation by
+// 180 degrees about z (which keeps orientation, so outward normals stay outward). DICOM,
+// ITK, MetaImage and 3D Slicer's files use LPS; NIfTI's qform/sform give RAS.
+// Unknown: coordinates with no anatomical frame (an NRRD space such as scanner-xyz or
+// 3D-right-handed, or none), used as the file gives them.
+enum class ImageFrame { Unknown, Lps, Ras };
+const char* image_frame_name(ImageFrame frame);  // "LPS", "RAS", "" (Unknown)
+
 struct LabelImage {
     std::array<int64_t, 3> size{0, 0, 0};  // voxels along i, j, k; each >= 1
     // Voxel (i, j, k) has its centre at origin + direction * (spacing ⊙ (i, j, k)):
@@ -59,6 +69,9 @@ struct LabelImage {
     std::array<double, 3> spacing{1, 1, 1};
     std::array<double, 3> origin{0, 0, 0};
     std::array<double, 9> direction{1, 0, 0, 0, 1, 0, 0, 0, 1};
+    // The frame origin and direction are given in (the readers set it: NIfTI Ras, NRRD
+    // its 'space', MetaImage Lps); label_image_surface converts to LabelSurfaceOptions::frame.
+    ImageFrame frame = ImageFrame::Unknown;
     // size[0] * size[1] * size[2] labels, i fastest then j then k.
     std::vector<int32_t> labels;
     // Optional material names of labels (e.g. the segment names of a 3D Slicer file);
@@ -74,6 +87,11 @@ struct LabelSurfaceOptions {
     // How far a vertex may come to the faces of its cube, as a fraction of the voxel; in
     // (0, 0.5). Keeps vertices of neighbouring cubes apart.
     double margin = 0.05;
+    // The frame of the output coordinates. An image in the other frame (LPS or RAS) is turned
+    // by 180 degrees about z (x and y negated; orientation and outward normals are kept);
+    // an image of frame Unknown keeps its own coordinates (LabelSurface::frame says which).
+    // Unknown here: every image keeps its own frame (a NIfTI file RAS, a Slicer file LPS).
+    ImageFrame frame = ImageFrame::Lps;
 };
 
 struct LabelSurface {
@@ -88,6 +106,9 @@ struct LabelSurface {
     // smoothing made the surface cross itself there.
     int64_t unsmoothed_vertices = 0;
     int64_t junction_vertices = 0;      // vertices where three or more labels meet
+    // The frame of the surface's coordinates: LabelSurfaceOptions::frame (when not Unknown)
+    // for an image in LPS or RAS; the image's own frame otherwise.
+    ImageFrame frame = ImageFrame::Unknown;
 };
 
 // The material name of `label` in `image` (see LabelImage::names).

@@ -83,6 +83,7 @@
 
 #include "bpm/context.h"
 #include "bpm/errors.h"
+#include "bpm/label_image.h"
 #include "bpm/mesh_encoding.h"
 #include "bpm/patch_info.h"
 #include "bpm/surface.h"
@@ -122,6 +123,10 @@ struct SurfaceReadOptions {
     // Progress and log lines of a slow read (the surface extraction of a label image);
     // may be null. Must outlive the call.
     const Context* context = nullptr;
+    // Label images (NIfTI, NRRD, MetaImage): how their surface is extracted, and the frame
+    // of its coordinates (label_image.frame, LPS by default: one segmentation gives the same
+    // coordinates from every format; SurfaceReadReport::frame says what was done).
+    LabelSurfaceOptions label_image;
 };
 
 // What a read did besides producing the surface, for the tool to report.
@@ -145,6 +150,10 @@ struct SurfaceReadReport {
     // The largest distance a vertex moved in merge_vertices_within, as a fraction of the
     // bounding-box diagonal.
     double largest_merge_move = 0.0;
+    // The anatomical frame of the coordinates: that of a label image's surface
+    // (SurfaceReadOptions::label_image.frame, unless the image has none); Unknown for other
+    // inputs, and for several inputs that are not all label images of one frame.
+    ImageFrame frame = ImageFrame::Unknown;
     // An open seam the surface (all inputs together) still has: boundary edges that pair
     // up with others within 1e-6 of the diagonal (find_open_seam; its gap here as a
     // fraction of the diagonal). Open surfaces are accepted, but they do not enclose a

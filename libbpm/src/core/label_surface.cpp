@@ -193,6 +193,15 @@ int64_t resolve_edge_contacts(LabelImage& image, int64_t& unresolved, const Cont
 
 }  // namespace
 
+const char* image_frame_name(ImageFrame frame) {
+    switch (frame) {
+        case ImageFrame::Lps: return "LPS";
+        case ImageFrame::Ras: return "RAS";
+        case ImageFrame::Unknown: break;
+    }
+    return "";
+}
+
 std::string label_material_name(const LabelImage& image, int32_t label) {
     for (const auto& [l, name] : image.names)
         if (l == label && !name.empty()) return name;
@@ -226,6 +235,16 @@ LabelSurface label_image_surface(LabelImage image, const LabelSurfaceOptions& op
         throw InputError("label image", "label surface options out of range (relaxation in (0, 1], margin in (0, 0.5), "
                                         "iterations >= 0)");
     LabelSurface out;
+    out.frame = image.frame;
+    if (image.frame != ImageFrame::Unknown && options.frame != ImageFrame::Unknown && image.frame != options.frame) {
+        // LPS <-> RAS: x and y negated, a rotation about z (det(direction) is kept, so the
+        // triangles face the smaller label as before).
+        for (int r = 0; r < 2; ++r) {
+            image.origin[size_t(r)] = -image.origin[size_t(r)];
+            for (int c = 0; c < 3; ++c) image.direction[3 * size_t(r) + size_t(c)] = -image.direction[3 * size_t(r) + size_t(c)];
+        }
+        out.frame = options.frame;
+    }
     out.changed_voxels = resolve_edge_contacts(image, out.unresolved_contacts, context);
     const Grid g{image.size[0], image.size[1], image.size[2], image.labels.data()};
     // The distinct labels (the background is there whenever the image touches its border,

@@ -83,12 +83,13 @@ void decode_labels(const unsigned char* data, VoxelType type, bool swap, double 
     }
 }
 
-ReaderOutput label_image_reader_output(LabelImage image, const std::string& name, const Context& context,
-                                       std::vector<std::string> notes) {
+ReaderOutput label_image_reader_output(LabelImage image, const std::string& name, const LabelSurfaceOptions& options,
+                                       const Context& context, std::vector<std::string> notes) {
     if (std::string problem = label_image_problem(image); !problem.empty()) throw InputError(name, problem);
+    const ImageFrame file_frame = image.frame;
     LabelSurface extracted;
     try {
-        extracted = label_image_surface(std::move(image), {}, context);
+        extracted = label_image_surface(std::move(image), options, context);
     } catch (const InputError& e) {
         throw InputError(name, e.what());
     }
@@ -104,6 +105,14 @@ ReaderOutput label_image_reader_output(LabelImage image, const std::string& name
         throw InputError(name, "every voxel has the label 0 (background): no two labels meet, so there is no surface");
     ReaderOutput out;
     out.notes = std::move(notes);
+    if (file_frame == ImageFrame::Unknown)
+        out.notes.push_back("coordinates as the file gives them (it names no anatomical frame, LPS or RAS)");
+    else if (extracted.frame != file_frame)
+        out.notes.push_back(std::string("coordinates in ") + image_frame_name(extracted.frame) + ": the file's " +
+                            image_frame_name(file_frame) + " coordinates turned by 180 degrees about z (x and y negated)");
+    else
+        out.notes.push_back(std::string("coordinates in ") + image_frame_name(extracted.frame) + ", as in the file");
+    out.frame = extracted.frame;
     out.notes.push_back("labels " + labels + " (0 = background, material '" + std::string(kExteriorMaterial) + "')");
     out.notes.push_back("surface nets: " + std::to_string(extracted.surface.num_vertices()) + " vertices, " +
                         std::to_string(extracted.surface.num_triangles()) + " triangles, " +

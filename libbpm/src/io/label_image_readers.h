@@ -34,10 +34,11 @@ LabelImage read_nifti_image(std::string_view bytes, const std::string& name, std
 // Details in read_nrrd.cpp. Segment names of a .seg.nrrd become LabelImage::names.
 LabelImage read_nrrd_image(std::string_view bytes, const std::string& name, std::vector<std::string>* notes = nullptr);
 
-// The surface of `image` (label_image_surface) as a reader's output: patches, patch_info
-// (one oriented row per label pair), and notes with the counts. An image of background
-// only is an InputError (there is no surface), as is a label_image_problem.
-ReaderOutput label_image_reader_output(LabelImage image, const std::string& name, const Context& context,
-                                       std::vector<std::string> notes);
+// The surface of `image` (label_image_surface with `options`) as a reader's output:
+// patches, patch_info (one oriented row per label pair), the frame of its coordinates, and
+// notes with the counts and the frame. An image of background only is an InputError
+// (there is no surface), as is a label_image_problem.
+ReaderOutput label_image_reader_output(LabelImage image, const std::string& name, const LabelSurfaceOptions& options,
+                                       const Context& context, std::vector<std::string> notes);
 
 }  // namespace bpm::detail

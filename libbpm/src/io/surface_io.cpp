@@ -372,15 +372,15 @@ static Surface read_from_memory(const std::string& bytes, SurfaceFormat format, 
             case SurfaceFormat::Nifti: {
                 std::vector<std::string> notes;
                 LabelImage image = detail::read_nifti_image(bytes, name, &notes);
-                parsed = detail::label_image_reader_output(std::move(image), name, options.context ? *options.context : Context{},
-                                                           std::move(notes));
+                parsed = detail::label_image_reader_output(std::move(image), name, options.label_image,
+                                                           options.context ? *options.context : Context{}, std::move(notes));
                 break;
             }
             case SurfaceFormat::Nrrd: {
                 std::vector<std::string> notes;
                 LabelImage image = detail::read_nrrd_image(bytes, name, &notes);
-                parsed = detail::label_image_reader_output(std::move(image), name, options.context ? *options.context : Context{},
-                                                           std::move(notes));
+                parsed = detail::label_image_reader_output(std::move(image), name, options.label_image,
+                                                           options.context ? *options.context : Context{}, std::move(notes));
                 break;
             }
         }
@@ -557,6 +557,7 @@ static Surface finish_reading(detail::ReaderOutput parsed, SurfaceFormat format,
     r = SurfaceReadReport{};
     r.format = format;
     r.skipped_elements = parsed.skipped_elements;
+    r.frame = parsed.frame;
     r.notes = std::move(parsed.notes);
     r.patch_info = std::move(parsed.patch_info);
     apply_file_material(r.patch_info, surface, material);
@@ -667,7 +668,8 @@ Surface read_surfaces(const std::vector<std::string>& paths, const SurfaceReadOp
         names += (i ? " + " : "") + name;
         SurfaceReadReport one;
         parts.push_back(read_surface(paths[i], options, &one));
-        if (i == 0) r.format = one.format;
+        if (i == 0) r.format = one.format, r.frame = one.frame;
+        if (one.frame != r.frame) r.frame = ImageFrame::Unknown;
         r.merged_vertices += one.merged_vertices;
         r.dropped_vertices += one.dropped_vertices;
         r.fused_triangles += one.fused_triangles;

@@ -263,3 +263,42 @@ TEST_CASE("label_image_surface: progress rises to 1, and a progress callback can
     stop.progress = [](double fraction, const std::string&) { return fraction < 0.5; };
     CHECK_THROWS_AS(label_image_surface(image, {}, stop), Cancelled);
 }
+
+TEST_CASE("label_image_surface: LPS <-> RAS negates x and y and keeps the triangles facing out") {
+    LabelImage image = balls_in_box(12);
+    image.spacing = {0.5, 1.0, 2.0};
+    image.origin = {10, -3, 7};
+    image.direction = {-1, 0, 0, 0, 1, 0, 0, 0, 1};  // a reflection, as NIfTI files often have
+    image.frame = ImageFrame::Ras;
+    LabelSurfaceOptions as_is, turned;
+    as_is.frame = ImageFrame::Ras;
+    turned.frame = ImageFrame::Lps;
+    const LabelSurface ras = label_image_surface(image, as_is), lps = label_image_surface(image, turned);
+    CHECK(ras.frame == ImageFrame::Ras);
+    CHECK(lps.frame == ImageFrame::Lps);
+    REQUIRE(ras.surface.triangles == lps.surface.triangles);
+    REQUIRE(ras.surface.num_vertices() == lps.surface.num_vertices());
+    for (size_t v = 0; v < ras.surface.vertices.size(); ++v) {
+        INFO("vertex " << v);
+        CHECK(lps.surface.vertices[v][0] == -ras.surface.vertices[v][0]);
+        CHECK(lps.surface.vertices[v][1] == -ras.surface.vertices[v][1]);
+        CHECK(lps.surface.vertices[v][2] == ras.surface.vertices[v][2]);
+    }
+    // Outward normals in both: every label encloses a positive volume.
+    for (const LabelSurface* ls : {&ras, &lps}) {
+        const std::map<int32_t, double> volume = closed_volumes(*ls);
+        for (const int32_t l : {1, 2, 3}) CHECK(volume.at(l) > 0.5 * count_voxels(image, l));
+    }
+    // Options::frame Unknown keeps the image's frame; an image of frame Unknown is never turned.
+    LabelSurfaceOptions keep;
+    keep.frame = ImageFrame::Unknown;
+    const LabelSurface kept = label_image_surface(image, keep);
+    CHECK(kept.frame == ImageFrame::Ras);
+    CHECK(kept.surface.vertices == ras.surface.vertices);
+    image.frame = ImageFrame::Unknown;
+    const LabelSurface plain = label_image_surface(image, turned);
+    CHECK(plain.frame == ImageFrame::Unknown);
+    CHECK(plain.surface.vertices == ras.surface.vertices);
+    CHECK(std::string(image_frame_name(ImageFrame::Lps)) == "LPS");
+    CHECK(std::string(image_frame_name(ImageFrame::Unknown)).empty());
+}
