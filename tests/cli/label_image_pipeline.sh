@@ -87,6 +87,20 @@ ok "and no frame recorded" -- $py -c '
 import h5py, sys
 assert "coordinate_frame" not in h5py.File(sys.argv[1], "r").attrs
 ' "$work/x.bpm"
+# MetaImage: a compressed .mha and a .mhd with its .raw data file, both LPS (as ITK writes them).
+expect 0 "simplify a compressed .mha" -- "$tools/bpm-simplify" "$work/spheres.mha" --ratio 0.2 -o "$work/mha.bpm" -v
+contains "$work/err" "MetaImage label image: 24 x 24 x 24 voxels of uint8 (compressed), placed by the TransformMatrix" "the log describes it"
+expect 0 "simplify a .mhd + .raw (uint16, big-endian)" -- "$tools/bpm-simplify" "$work/spheres.mhd" --ratio 0.2 -o "$work/mhd.bpm" -v
+contains "$work/err" "in 'spheres.raw'" "the data file is read"
+ok "MetaImage, NIfTI and NRRD give the same coordinates" -- $py -c '
+import h5py, numpy, sys
+v = [h5py.File(f, "r")["original/vertices"][()] for f in sys.argv[1:]]
+for w in v[1:]:
+    assert w.shape == v[0].shape and numpy.abs(w - v[0]).max() < 1e-9, numpy.abs(w - v[0]).max()
+' "$work/s.bpm" "$work/mha.bpm" "$work/mhd.bpm"
+expect 0 "bpm-check passes" -- "$tools/bpm-check" "$work/mhd.bpm"
+expect 3 "a .mhd whose data file is missing" -- "$tools/bpm-simplify" "$work/bad_missing_data.mhd" --ratio 0.5 -o "$work/x.bpm"
+contains "$work/err" "bad_missing_data.mhd: key ElementDataFile: the data file 'nowhere.raw' cannot be read" "names the header, the key and the data file"
 expect 0 "raw big-endian int16 NRRD with spacings" -- "$tools/bpm-simplify" "$work/spheres_raw.nrrd" --ratio 0.2 -o "$work/raw.bpm" -q
 expect 0 "passes bpm-check" -- "$tools/bpm-check" "$work/raw.bpm"
 expect 3 "NRRD of an unknown type" -- "$tools/bpm-simplify" "$work/bad_type.nrrd" --ratio 0.5 -o "$work/x.bpm"

@@ -218,7 +218,8 @@ int main(int argc, char** argv) {
                                         *surface_format == bpm::SurfaceFormat::Vtp ||
                                         *surface_format == bpm::SurfaceFormat::Surf ||
                                         *surface_format == bpm::SurfaceFormat::Nifti ||
-                                        *surface_format == bpm::SurfaceFormat::Nrrd))
+                                        *surface_format == bpm::SurfaceFormat::Nrrd ||
+                                        *surface_format == bpm::SurfaceFormat::MetaImage))
             throw CLI::ValidationError(format.empty() ? "--output" : "--output-format",
                                        (kind.empty() ? "cannot tell the format from '" + output + "' (no extension)"
                                                      : "unknown output format '" + kind + "'") +

@@ -150,7 +150,7 @@ int main(int argc, char** argv) {
     // Help: one plain line per option (default and unit in it), grouped by what a user
     // wants to set; the tuning internals under "Advanced".
     app.add_option("INPUT", inputs,
-                   "Input surface(s): .off .obj .stl .ply .msh .vtk .vtp .vtu .surf, a label image .nii (.nii.gz) .nrrd, or -; "
+                   "Input surface(s): .off .obj .stl .ply .msh .vtk .vtp .vtu .surf, a label image .nii (.nii.gz) .nrrd .mha .mhd, or -; "
                    "several (one per "
                    "material) are simplified as one")
         ->required();

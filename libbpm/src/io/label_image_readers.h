@@ -3,6 +3,7 @@
 // label_image_reader_output() then extracts the multi-material surface (bpm/label_image.h)
 // for read_surface. Internal, like surface_readers.h.
 
+#include <functional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -33,6 +34,15 @@ LabelImage read_nifti_image(std::string_view bytes, const std::string& name, std
 // NRRD (3D Slicer .nrrd / .seg.nrrd), attached data, encodings raw, gzip and ascii.
 // Details in read_nrrd.cpp. Segment names of a .seg.nrrd become LabelImage::names.
 LabelImage read_nrrd_image(std::string_view bytes, const std::string& name, std::vector<std::string>* notes = nullptr);
+
+// Reads the data file a MetaImage header names (ElementDataFile), given as written in the
+// header; throws InputError when it cannot.
+using DataFileLoader = std::function<std::string(const std::string& file_name)>;
+
+// MetaImage (.mha, or .mhd with its data file read through `load`; null: only LOCAL data).
+// Details in read_metaimage.cpp. World coordinates are LPS (as ITK's).
+LabelImage read_metaimage_image(std::string_view bytes, const std::string& name, const DataFileLoader& load,
+                                std::vector<std::string>* notes = nullptr);
 
 // The surface of `image` (label_image_surface with `options`) as a reader's output:
 // patches, patch_info (one oriented row per label pair), the frame of its coordinates, and

@@ -6,6 +6,7 @@
 #include <cstring>
 #include <string>
 #include <vector>
+#include <zlib.h>
 
 #include "bpm/errors.h"
 #include "bpm/label_image.h"
@@ -130,4 +131,104 @@ TEST_CASE("label images: NRRD spaces without an anatomical frame are used as the
     check_same(las, read(nifti(labels, kSrow), SurfaceFormat::Nifti, ImageFrame::Lps));
     CHECK_THROWS_WITH(read(nrrd(labels, "space: right-anterior-superior-time\n"), SurfaceFormat::Nrrd, ImageFrame::Lps),
                       Catch::Contains("field 'space' is 'right-anterior-superior-time'"));
+}
+
+namespace {
+
+// MetaImage with the voxels after the header (ElementDataFile = LOCAL); `extra` lines go
+// before ElementDataFile; `data` replaces the raw uint8 voxels.
+std::string mha(const std::vector<uint8_t>& labels, const std::string& extra, const std::string* data = nullptr,
+                const std::string& type = "MET_UCHAR") {
+    std::string h = "ObjectType = Image\nNDims = 3\nDimSize = " + std::to_string(kN[0]) + " " + std::to_string(kN[1]) + " " +
+                    std::to_string(kN[2]) + "\nElementType = " + type + "\n" + extra + "ElementDataFile = LOCAL\n";
+    return h + (data ? *data : std::string(labels.begin(), labels.end()));
+}
+
+// The LPS placement of the NIfTI file above (kSrow): axes -x, -y, z, origin (3, 2, -1).
+const char* kMhaLps = "TransformMatrix = -1 0 0 0 -1 0 0 0 1\nOffset = 3 2 -1\nElementSpacing = 1 1 1\n"
+                      "AnatomicalOrientation = RAI\n";
+
+std::string zlib(const std::string& raw) {
+    uLongf n = compressBound(uLong(raw.size()));
+    std::string out(n, '\0');
+    REQUIRE(compress(reinterpret_cast<Bytef*>(&out[0]), &n, reinterpret_cast<const Bytef*>(raw.data()), uLong(raw.size())) == Z_OK);
+    out.resize(n);
+    return out;
+}
+}  // namespace
+
+TEST_CASE("label images: MetaImage (LPS) gives the coordinates of the same segmentation as NIfTI and NRRD") {
+    const std::vector<uint8_t> labels = l_shape();
+    const Surface from_nifti = read(nifti(labels, kSrow), SurfaceFormat::Nifti, ImageFrame::Lps);
+    SurfaceReadReport report;
+    check_same(from_nifti, read(mha(labels, kMhaLps), SurfaceFormat::MetaImage, ImageFrame::Lps, &report));
+    CHECK(report.frame == ImageFrame::Lps);
+    // zlib-compressed, with and without CompressedDataSize.
+    const std::string packed = zlib(std::string(labels.begin(), labels.end()));
+    check_same(from_nifti, read(mha(labels, std::string(kMhaLps) + "CompressedData = True\n", &packed),
+                                SurfaceFormat::MetaImage, ImageFrame::Lps));
+    check_same(from_nifti, read(mha(labels, std::string(kMhaLps) + "CompressedData = True\nCompressedDataSize = " +
+                                                std::to_string(packed.size()) + "\n", &packed),
+                                SurfaceFormat::MetaImage, ImageFrame::Lps));
+    // Big-endian 16-bit labels; MET_LONG (4 bytes in MetaIO), little-endian.
+    std::string be, le32;
+    for (const uint8_t l : labels) {
+        be += '\0', be += char(l);
+        le32 += char(l), le32 += std::string(3, '\0');
+    }
+    check_same(from_nifti, read(mha(labels, std::string(kMhaLps) + "ElementByteOrderMSB = True\n", &be, "MET_USHORT"),
+                                SurfaceFormat::MetaImage, ImageFrame::Lps));
+    check_same(from_nifti, read(mha(labels, std::string(kMhaLps) + "BinaryDataByteOrderMSB = False\n", &le32, "MET_LONG"),
+                                SurfaceFormat::MetaImage, ImageFrame::Lps));
+    // In RAS as NIfTI gives it.
+    check_same(read(nifti(labels, kSrow), SurfaceFormat::Nifti, ImageFrame::Ras),
+               read(mha(labels, kMhaLps), SurfaceFormat::MetaImage, ImageFrame::Ras));
+    // Told by its head without a format.
+    CHECK(surface_format_from_name("mha") == SurfaceFormat::MetaImage);
+    CHECK(surface_format_from_path("a/b.mhd") == SurfaceFormat::MetaImage);
+}
+
+TEST_CASE("label images: bad MetaImage files are refused naming the key, never read past their end") {
+    const std::vector<uint8_t> labels = l_shape();
+    const auto refused = [&](const std::string& bytes, const std::string& words) {
+        INFO(words);
+        CHECK_THROWS_WITH(read(bytes, SurfaceFormat::MetaImage, ImageFrame::Lps), Catch::Contains(words));
+    };
+    const std::string raw(labels.begin(), labels.end());
+    const std::string short_data = raw.substr(0, raw.size() - 1);
+    refused(mha(labels, "", &short_data), "truncated: 7 x 6 x 5 voxels of uint8 need 210 bytes, but the data after the header has 209");
+    refused(mha(labels, "", nullptr, "MET_STRING"), "key ElementType is 'MET_STRING'");
+    refused("ObjectType = Image\nNDims = 2\nDimSize = 4 4\nElementType = MET_UCHAR\nElementDataFile = LOCAL\n", "key NDims is '2'");
+    refused(mha(labels, "ElementNumberOfChannels = 3\n"), "key ElementNumberOfChannels is '3'");
+    refused("ObjectType = Image\nNDims = 3\nDimSize = 2147483648 2147483648 2147483648\nElementType = MET_UCHAR\n"
+            "ElementDataFile = LOCAL\n",
+            "key DimSize: 2147483648 x 2147483648 x 2147483648 voxels is too large");
+    refused("ObjectType = Image\nNDims = 3\nDimSize = 4 -4 4\nElementType = MET_UCHAR\nElementDataFile = LOCAL\n",
+            "key DimSize: '-4' is not a size");
+    refused(mha(labels, "ElementSpacing = 1 0 1\n"), "ElementSpacing: 0");
+    refused(mha(labels, "TransformMatrix = 1 0 0 0 1 0\n"), "key TransformMatrix has 6 values, expected 9");
+    refused(mha(labels, "AnatomicalOrientation = RRS\n"), "key AnatomicalOrientation is 'RRS'");
+    refused(mha(labels, "ElementByteOrderMSB = maybe\n"), "key ElementByteOrderMSB is 'maybe', not True or False");
+    refused("ObjectType = Image\nNDims = 3\nDimSize = 7 6 5\nElementType = MET_UCHAR\n", "key ElementDataFile is missing");
+    refused("ObjectType = Image\nNDims = 3\nDimSize = 7 6 5\nElementType = MET_UCHAR\nElementDataFile = labels.raw\n",
+            "names the data file 'labels.raw'; reading from memory or standard input, it cannot be found");
+    refused("ObjectType = Image\nNDims = 3\nDimSize = 7 6 5\nElementType = MET_UCHAR\nElementDataFile = slice%03d.raw 0 4 1\n",
+            "several files (one per slice)");
+    refused(mha(labels, "BinaryData = False\n"), "key BinaryData is False");
+    // Compressed: garbage, a stream cut short, and a bomb (a stream that inflates beyond the
+    // voxels' size is stopped there, not inflated to the end).
+    const std::string packed = zlib(raw);
+    const std::string cut = packed.substr(0, packed.size() / 2), junk = "not zlib data at all";
+    refused(mha(labels, "CompressedData = True\n", &junk), "CompressedData: not valid zlib data");
+    refused(mha(labels, "CompressedData = True\n", &cut), "CompressedData: the stream ends early");
+    const std::string bomb = zlib(std::string(size_t(200) << 20, '\1'));  // 200 MB of label 1 in ~200 kB
+    refused(mha(labels, "CompressedData = True\n", &bomb), "holds more than the 210 bytes the voxels need");
+    refused(mha(labels, "CompressedData = True\nCompressedDataSize = 99999\n", &packed), "truncated: key CompressedDataSize is 99999");
+    // A non-integer value in a float image names the voxel.
+    std::string floats;
+    for (const uint8_t l : labels) {
+        const float x = l + 0.25f;
+        floats.append(reinterpret_cast<const char*>(&x), 4);
+    }
+    refused(mha(labels, "", &floats, "MET_FLOAT"), "voxel (0, 0, 0) has the value 0.25");
 }
