@@ -34,8 +34,9 @@
 // all the way after 6 rounds. A surface still crossing after 8 rounds is returned as it is
 // (bpm-simplify refuses it, naming the crossing).
 //
-// Memory: the image itself (4 bytes per voxel) plus what is proportional to the surface;
-// nothing else per voxel.
+// Memory: the image itself (compact: 1 byte per voxel for up to 256 distinct labels, else 2;
+// plain labels are made compact first, 4 + 1 or 2 bytes a voxel while that runs) plus what
+// is proportional to the surface; nothing else per voxel.
 
 #include <array>
 #include <cstdint>
@@ -72,14 +73,34 @@ struct LabelImage {
     // The frame origin and direction are given in (the readers set it: NIfTI Ras, NRRD
     // its 'space', MetaImage Lps); label_image_surface converts to LabelSurfaceOptions::frame.
     ImageFrame frame = ImageFrame::Unknown;
-    // size[0] * size[1] * size[2] labels, i fastest then j then k.
+    // size[0] * size[1] * size[2] labels, i fastest then j then k, in one of two forms
+    // (label_image_surface takes either; the readers give the compact one). Plain: one
+    // int32 per voxel (4 bytes a voxel) in `labels`...
     std::vector<int32_t> labels;
+    // ... or, when `labels` is empty, compact: label_values are the distinct labels in
+    // increasing order (0, the background outside the image, among them; at most 65536),
+    // and each voxel holds the position of its label in label_values: in label_index8
+    // (1 byte a voxel) when there are at most 256 values, else in label_index16 (2 bytes).
+    // The surface depends only on the labels, not on the form they are given in.
+    std::vector<int32_t> label_values;
+    std::vector<uint8_t> label_index8;
+    std::vector<uint16_t> label_index16;
     // Optional material names of labels (e.g. the segment names of a 3D Slicer file);
     // labels not listed are "label_<L>", label 0 "exterior".
     std::vector<std::pair<int32_t, std::string>> names;
 
     int64_t num_voxels() const { return size[0] * size[1] * size[2]; }
+    bool compact() const { return labels.empty() && !label_values.empty(); }
+    int32_t label_at(int64_t voxel) const {  // either form
+        return !compact() ? labels[size_t(voxel)]
+               : label_values.size() <= 256 ? label_values[label_index8[size_t(voxel)]]
+                                            : label_values[label_index16[size_t(voxel)]];
+    }
 };
+
+// Turns `image`'s plain labels into the compact form (LabelImage::labels emptied).
+// \throw InputError (where = "label image") for more than 65536 distinct labels.
+void compact_labels(LabelImage& image);
 
 struct LabelSurfaceOptions {
     int smoothing_iterations = 20;  // 0: the vertices stay at the centroids of their quads' midpoints
@@ -115,7 +136,8 @@ struct LabelSurface {
 std::string label_material_name(const LabelImage& image, int32_t label);
 
 // The problem that makes `image` unusable, empty if none: a size < 1, more than 2^31
-// vertices possible, labels.size() not the voxel count, a spacing not finite and > 0, a
+// vertices possible, labels.size() not the voxel count (or, compact, the index vector's
+// size; label_values not increasing, without 0, or more than 65536; an index beyond them), a spacing not finite and > 0, a
 // direction that is not invertible or not finite, a non-finite origin.
 std::string label_image_problem(const LabelImage& image);
 

@@ -19,10 +19,11 @@ enum class VoxelType { U8, I8, I16, U16, I32, U32, F32, F64 };
 int voxel_type_size(VoxelType type);
 const char* voxel_type_name(VoxelType type);  // "uint8", ...
 
-// Fills image.labels (image.size set) from `count` voxels of `type` at `data` (byte-swapped
-// when `swap`), each value scaled by slope * x + inter when those are not 1 and 0. A value
+// Fills the compact labels of `image` (LabelImage::label_values and label_index8/16;
+// image.size set) from its voxels of `type` at `data` (byte-swapped when `swap`), each value scaled by slope * x + inter when those are not 1 and 0. A value
 // that is not an integer, or beyond int32, is an InputError naming the voxel (i, j, k).
 // `scaled_by` names the scaling for that message ("scl_slope/scl_inter"), empty if none.
+// More than 65536 distinct labels is an InputError too.
 void decode_labels(const unsigned char* data, VoxelType type, bool swap, double slope, double inter,
                    const std::string& scaled_by, LabelImage& image, const std::string& name);
 

@@ -355,9 +355,16 @@ static Surface finish_reading(detail::ReaderOutput parsed, SurfaceFormat format,
                               const std::string& material = {});
 
 // `load`: reads a file that a header names (a MetaImage data file), null from memory.
+// `release`: `bytes` itself when the caller lets the reader free them once a label image
+// is decoded (read_surface of a path), so that the file's voxels and the extraction's
+// memory are not needed at the same time; null otherwise.
 static Surface read_from_memory(const std::string& bytes, SurfaceFormat format, const std::string& name,
                                 const SurfaceReadOptions& options, SurfaceReadReport* report,
-                                const std::string& material, const detail::DataFileLoader& load = {}) {
+                                const std::string& material, const detail::DataFileLoader& load = {},
+                                std::string* release = nullptr) {
+    const auto decoded = [&] {
+        if (release) std::string().swap(*release);
+    };
     detail::ReaderOutput parsed;
     // Polygon faces are always parsed and triangulated, so that one error can name every
     // repair the input needs (the duplicates of a polygon file show only once it is read);
@@ -378,6 +385,7 @@ static Surface read_from_memory(const std::string& bytes, SurfaceFormat format, 
             case SurfaceFormat::Nifti: {
                 std::vector<std::string> notes;
                 LabelImage image = detail::read_nifti_image(bytes, name, &notes);
+                decoded();
                 parsed = detail::label_image_reader_output(std::move(image), name, options.label_image,
                                                            options.context ? *options.context : Context{}, std::move(notes));
                 break;
@@ -385,6 +393,7 @@ static Surface read_from_memory(const std::string& bytes, SurfaceFormat format, 
             case SurfaceFormat::Nrrd: {
                 std::vector<std::string> notes;
                 LabelImage image = detail::read_nrrd_image(bytes, name, &notes);
+                decoded();
                 parsed = detail::label_image_reader_output(std::move(image), name, options.label_image,
                                                            options.context ? *options.context : Context{}, std::move(notes));
                 break;
@@ -392,6 +401,7 @@ static Surface read_from_memory(const std::string& bytes, SurfaceFormat format, 
             case SurfaceFormat::MetaImage: {
                 std::vector<std::string> notes;
                 LabelImage image = detail::read_metaimage_image(bytes, name, load, &notes);
+                decoded();
                 parsed = detail::label_image_reader_output(std::move(image), name, options.label_image,
                                                            options.context ? *options.context : Context{}, std::move(notes));
                 break;
@@ -636,7 +646,7 @@ Surface read_surface(const std::string& path, const SurfaceReadOptions& options,
     std::optional<SurfaceFormat> format = options.format;
     if (!format) format = surface_format_from_path(path);
     if (!format && path == "-") throw InputError(name, "the format of standard input must be given explicitly");
-    const std::string bytes = detail::read_whole_input(path);
+    std::string bytes = detail::read_whole_input(path);
     // A .bpm file (HDF5) passed where a surface belongs, e.g. to simplify it further: the
     // error was "cannot tell the surface format from the file name", or with a format given
     // a parse error at byte 0.
@@ -673,7 +683,7 @@ Surface read_surface(const std::string& path, const SurfaceReadOptions& options,
         if (in.bad()) throw InputError(data_path.string(), "cannot read it");
         return data;
     };
-    return read_from_memory(bytes, *format, name, options, report, material, load);
+    return read_from_memory(bytes, *format, name, options, report, material, load, &bytes);
 }
 
 Surface read_surfaces(const std::vector<std::string>& paths, const SurfaceReadOptions& options,
