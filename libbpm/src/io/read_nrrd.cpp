@@ -275,8 +275,16 @@ LabelImage read_nrrd_image(std::string_view bytes, const std::string& name, std:
     const int size = voxel_type_size(type);
     if (encoding == "gzip" || encoding == "gz") {
         // At most what the voxels need (and a little): a bomb stops there.
-        inflated = decompress_if_gzip(std::string(data), name + " (gzip data)", true,
-                                      size_t(std::min<double>(double(voxels) * size + 1024, 1e11)));
+        // The error names the file (InputError::where), as every reader's does; what is wrong
+        // with the data goes into the message.
+        const std::string packed(data);
+        if (!looks_like_gzip(packed))
+            fail("field 'encoding' is gzip, but the data after the header does not start with the gzip magic bytes 1f 8b 08");
+        try {
+            inflated = decompress_if_gzip(packed, name, false, size_t(std::min<double>(double(voxels) * size + 1024, 1e11)));
+        } catch (const InputError& e) {
+            throw InputError(name, std::string("the voxels (encoding gzip): ") + e.what());
+        }
         data = inflated;
     } else if (encoding == "ascii" || encoding == "text" || encoding == "txt") {
         const double most = double(data.size()) / 2 + 1;  // a number and a separator each

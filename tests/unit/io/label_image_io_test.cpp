@@ -112,7 +112,7 @@ TEST_CASE("label images: one segmentation as NIfTI (RAS) and as NRRD (LPS) gives
     CHECK(lo > -3.5);
 }
 
-TEST_CASE("label images: NRRD spaces without an anatomical frame are used as they are; LAS becomes LPS") {
+TEST_CASE("label images: NRRD spaces without an anatomical frame are used as they are, LAS becomes LPS") {
     const std::vector<uint8_t> labels = l_shape();
     SurfaceReadReport report;
     const Surface scanner = read(nrrd(labels, "space: scanner-xyz\nspace directions: (1,0,0) (0,1,0) (0,0,1)\n"
@@ -231,4 +231,21 @@ TEST_CASE("label images: bad MetaImage files are refused naming the key, never r
         floats.append(reinterpret_cast<const char*>(&x), 4);
     }
     refused(mha(labels, "", &floats, "MET_FLOAT"), "voxel (0, 0, 0) has the value 0.25");
+}
+
+TEST_CASE("label images: NRRD gzip data that is not gzip, or corrupt, is an error naming the file") {
+    // Found by fuzz_read_nrrd: the error named "image (gzip data)" instead of the input.
+    const std::vector<uint8_t> labels = l_shape();
+    std::string file = nrrd(labels, "");
+    file.replace(file.find("encoding: raw"), 13, "encoding: gzip");
+    for (const std::string& data : {std::string("plain bytes"), std::string("\x1f\x8b\x08\x00garbage", 12)}) {
+        const std::string bytes = file.substr(0, file.find("\n\n") + 2) + data;
+        try {
+            (void)read(bytes, SurfaceFormat::Nrrd, ImageFrame::Lps);
+            FAIL("accepted");
+        } catch (const InputError& e) {
+            CHECK(e.where() == "image");
+            CHECK(std::string(e.what()).find("gzip") != std::string::npos);
+        }
+    }
 }
