@@ -256,7 +256,7 @@ int main(int argc, char** argv) {
                    "Coordinates of a label image's surface: lps (default; DICOM, ITK, MetaImage, 3D Slicer) or ras "
                    "(NIfTI's); the other frame is turned 180 degrees about z (x, y negated). Recorded in the file")
         ->check(CLI::IsMember({"lps", "ras"}))
-        ->group(repairs);
+        ->group(output_group);
     bool repair_intersections = false, repaired_surface = false;
     bpm::SelfIntersectionRepairOptions repair_options;
     app.add_flag("--repair-self-intersections", repair_intersections,
