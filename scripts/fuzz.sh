@@ -5,7 +5,8 @@
 #   scripts/fuzz.sh [SECONDS] [TARGET...]      e.g.  scripts/fuzz.sh 600 fuzz_read_bpm
 #
 # Targets: fuzz_read_off fuzz_read_obj fuzz_read_stl fuzz_read_ply fuzz_read_msh fuzz_read_vtk
-# fuzz_read_bpm fuzz_read_vtk_xml fuzz_read_surf fuzz_read_bpm_outline fuzz_read_nifti (default: all). Seeds: small valid files of every format written by
+# fuzz_read_bpm fuzz_read_vtk_xml fuzz_read_surf fuzz_read_bpm_outline fuzz_read_nifti
+# fuzz_read_nrrd fuzz_read_metaimage (default: all). Seeds: small valid files of every format written by
 # bpm-fuzz-seeds, the malformed corpora of tests/data/bad/ and spec/examples/, all
 # generated or copied into build-fuzz/seeds/ at run time. What a target finds is kept
 # in build-fuzz/corpus/TARGET/ (reused by the next run), crashes in
@@ -19,6 +20,7 @@ seconds=${1:-30}
 shift || true
 all=(fuzz_read_off fuzz_read_obj fuzz_read_stl fuzz_read_ply fuzz_read_msh fuzz_read_vtk fuzz_read_bpm)
 all+=(fuzz_read_vtk_xml fuzz_read_surf fuzz_read_bpm_outline fuzz_read_nifti)
+all+=(fuzz_read_nrrd fuzz_read_metaimage)
 targets=("$@")
 [ ${#targets[@]} -gt 0 ] || targets=("${all[@]}")
 case $seconds in '' | *[!0-9]*) echo "fuzz: SECONDS must be a whole number, not '$seconds'" >&2; exit 2 ;; esac

@@ -16,6 +16,7 @@ $py "$(dirname "$0")/lib/label_images.py" "$work"
 
 expect 0 "simplify a gzipped NIfTI label image" -- "$tools/bpm-simplify" "$work/spheres.nii.gz" --ratio 0.2 -o "$work/s.bpm" -v
 contains "$work/err" "NIfTI-1 label image: 24 x 24 x 24 voxels of uint8" "the log describes the image"
+contains "$work/err" "coordinates in LPS: the file's RAS coordinates turned by 180 degrees about z" "NIfTI's RAS made LPS"
 contains "$work/err" "labels 0, 1, 2, 3" "and its labels"
 contains "$work/err" "4 interfaces (patches)" "four interfaces: box|exterior, 1|2, 1|3, 2|3"
 contains "$work/err" "patch 1 'label_2|label_1': front label_1, back label_2" "patches named and oriented"
@@ -51,6 +52,7 @@ expect 0 "passes bpm-check" -- "$tools/bpm-check" "$work/n.bpm"
 # NRRD: 3D Slicer's .seg.nrrd (gzip, segment names) and raw big-endian int16.
 expect 0 "simplify a .seg.nrrd" -- "$tools/bpm-simplify" "$work/spheres.seg.nrrd" --ratio 0.2 -o "$work/seg.bpm" -v
 contains "$work/err" "segments 1 = bone, 2 = marrow, 3 = muscle" "the segment names are read"
+contains "$work/err" "coordinates in LPS, as in the file" "the log says the frame"
 contains "$work/err" "'marrow|bone': front bone, back marrow" "and name the materials"
 expect 0 "mesh it" -- "$tools/bpm-mesh" "$work/seg.bpm" -o "$work/seg.tet.bpm" --json -q
 ok "regions named by the segments" -- $py -c '
@@ -59,6 +61,46 @@ j = json.load(open(sys.argv[1]))
 assert sorted(r["material_name"] for r in j["regions"]) == ["bone", "marrow", "muscle"], j["regions"]
 assert j["material_problems"] == 0, j
 ' "$work/out"
+# One frame for every format: the NIfTI file (RAS) and the .seg.nrrd (LPS) hold the same
+# segmentation at the same place, so their surfaces have the same coordinates (LPS by default).
+ok "NIfTI and .seg.nrrd give the same coordinates, in LPS, recorded in the file" -- $py -c '
+import h5py, numpy, sys
+a, b = (h5py.File(f, "r") for f in sys.argv[1:3])
+va, vb = a["original/vertices"][()], b["original/vertices"][()]
+assert va.shape == vb.shape and numpy.abs(va - vb).max() < 1e-9, numpy.abs(va - vb).max()
+for f in (a, b):
+    assert f.attrs["coordinate_frame"] in (b"LPS", "LPS"), dict(f.attrs)
+' "$work/s.bpm" "$work/seg.bpm"
+expect 0 "--image-frame ras" -- "$tools/bpm-simplify" "$work/spheres.seg.nrrd" --ratio 0.2 -o "$work/seg_ras.bpm" -v --image-frame ras
+contains "$work/err" "coordinates in RAS: the file's LPS coordinates turned by 180 degrees about z" "says it turned them"
+ok "RAS: x and y negated, recorded" -- $py -c '
+import h5py, numpy, sys
+a, b = (h5py.File(f, "r") for f in sys.argv[1:3])
+va, vb = a["original/vertices"][()], b["original/vertices"][()]
+assert numpy.array_equal(va[:, :2], -vb[:, :2]) and numpy.array_equal(va[:, 2], vb[:, 2])
+assert b.attrs["coordinate_frame"] in (b"RAS", "RAS"), dict(b.attrs)
+' "$work/seg.bpm" "$work/seg_ras.bpm"
+printf 'OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n' >"$work/tet.off"
+expect 0 "--image-frame on a surface input" -- "$tools/bpm-simplify" "$work/tet.off" --ratio 0.5 -o "$work/x.bpm" --image-frame ras
+contains "$work/err" "warning: --image-frame ras did nothing: the input is not a label image" "is not silent"
+ok "and no frame recorded" -- $py -c '
+import h5py, sys
+assert "coordinate_frame" not in h5py.File(sys.argv[1], "r").attrs
+' "$work/x.bpm"
+# MetaImage: a compressed .mha and a .mhd with its .raw data file, both LPS (as ITK writes them).
+expect 0 "simplify a compressed .mha" -- "$tools/bpm-simplify" "$work/spheres.mha" --ratio 0.2 -o "$work/mha.bpm" -v
+contains "$work/err" "MetaImage label image: 24 x 24 x 24 voxels of uint8 (compressed), placed by the TransformMatrix" "the log describes it"
+expect 0 "simplify a .mhd + .raw (uint16, big-endian)" -- "$tools/bpm-simplify" "$work/spheres.mhd" --ratio 0.2 -o "$work/mhd.bpm" -v
+contains "$work/err" "in 'spheres.raw'" "the data file is read"
+ok "MetaImage, NIfTI and NRRD give the same coordinates" -- $py -c '
+import h5py, numpy, sys
+v = [h5py.File(f, "r")["original/vertices"][()] for f in sys.argv[1:]]
+for w in v[1:]:
+    assert w.shape == v[0].shape and numpy.abs(w - v[0]).max() < 1e-9, numpy.abs(w - v[0]).max()
+' "$work/s.bpm" "$work/mha.bpm" "$work/mhd.bpm"
+expect 0 "bpm-check passes" -- "$tools/bpm-check" "$work/mhd.bpm"
+expect 3 "a .mhd whose data file is missing" -- "$tools/bpm-simplify" "$work/bad_missing_data.mhd" --ratio 0.5 -o "$work/x.bpm"
+contains "$work/err" "bad_missing_data.mhd: key ElementDataFile: the data file 'nowhere.raw' cannot be read" "names the header, the key and the data file"
 expect 0 "raw big-endian int16 NRRD with spacings" -- "$tools/bpm-simplify" "$work/spheres_raw.nrrd" --ratio 0.2 -o "$work/raw.bpm" -q
 expect 0 "passes bpm-check" -- "$tools/bpm-check" "$work/raw.bpm"
 expect 3 "NRRD of an unknown type" -- "$tools/bpm-simplify" "$work/bad_type.nrrd" --ratio 0.5 -o "$work/x.bpm"

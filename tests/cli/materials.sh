@@ -28,7 +28,7 @@ assert [m["name"] for m in j["materials"]] == ["left", "right"] and j["material_
 ok "the .bpm holds /patch_info and the region materials (since format 1.3)" -- $py -c '
 import h5py, sys
 f = h5py.File(sys.argv[1], "r")
-assert list(f.attrs["format_version"]) == [2, 0]
+assert list(f.attrs["format_version"]) == [2, 1]
 pi = f["patch_info"]
 assert [n.decode() for n in pi["name"][()]] == ["left|exterior", "right|exterior", "left|right"], pi["name"][()]
 assert [n.decode() for n in pi["front_material"][()]] == ["exterior", "exterior", "right"]

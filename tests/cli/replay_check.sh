@@ -55,7 +55,7 @@ if /usr/bin/python3 -c "import h5py" 2>/dev/null; then
     ok "spec §10.1 replayed independently with h5py gives /coarse" -- /usr/bin/python3 -c "
 import h5py
 f = h5py.File('$work/femur.bpm', 'r')
-assert list(f.attrs['format_version']) == [2, 0]
+assert list(f.attrs['format_version']) == [2, 1]
 g = f['simplification_steps']
 vertex, offsets = g['vertex'][()], g['triangle_offsets'][()]
 tris, patches = g['triangles'][()], g['triangle_patches'][()]

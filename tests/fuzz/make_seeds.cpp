@@ -1,5 +1,5 @@
 // bpm-fuzz-seeds OUTDIR: writes small valid files of every input format into
-// OUTDIR/{off,obj,stl,ply,msh,vtk,surf,nifti,bpm}/, the seed corpora of the fuzz targets
+// OUTDIR/{off,obj,stl,ply,msh,vtk,surf,nifti,nrrd,metaimage,bpm}/, the seed corpora of the fuzz targets
 // (scripts/fuzz.sh adds the malformed files of tests/data/bad/ and spec/examples/).
 //
 // Surfaces come from the library's writers (one encoding per format) and, for the
@@ -17,6 +17,7 @@
 #include <fstream>
 #include <string>
 #include <vector>
+#include <zlib.h>
 
 #include "bpm/bpm_file.h"
 #include "bpm/errors.h"
@@ -445,6 +446,77 @@ void write_nifti_seeds() {
     std::ofstream((g_out / "nifti" / "labels_int16_be.nii").string(), std::ios::binary) << nifti(true);
 }
 
+// The same 5x4x3 block of labels 0-3 as NRRD and MetaImage files, in every encoding the
+// readers take: one byte per label, or as 16-bit `big` / little endian.
+std::string block_voxels(int bytes_per_voxel, bool big_endian) {
+    std::string out;
+    for (int k = 0; k < 3; ++k)
+        for (int j = 0; j < 4; ++j)
+            for (int i = 0; i < 5; ++i) {
+                const char l = char((i / 2 + j / 2 + k) % 4);
+                std::string v(size_t(bytes_per_voxel), '\0');
+                v[big_endian ? v.size() - 1 : 0] = l;
+                out += v;
+            }
+    return out;
+}
+
+std::string zlib_compress(const std::string& raw, bool gzip) {
+    z_stream z{};
+    deflateInit2(&z, 9, Z_DEFLATED, gzip ? 15 + 16 : 15, 8, Z_DEFAULT_STRATEGY);
+    std::string out(deflateBound(&z, uLong(raw.size())) + 32, '\0');
+    z.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(raw.data()));
+    z.avail_in = uInt(raw.size());
+    z.next_out = reinterpret_cast<Bytef*>(&out[0]);
+    z.avail_out = uInt(out.size());
+    deflate(&z, Z_FINISH);
+    out.resize(z.total_out);
+    deflateEnd(&z);
+    return out;
+}
+
+void write_nrrd_seeds() {
+    const std::string head = "NRRD0004\n# bpm-fuzz-seeds\ndimension: 3\nsizes: 5 4 3\n";
+    const std::string lps = "space: left-posterior-superior\nspace directions: (-1,0,0) (0,-1.5,0) (0,0,2)\n"
+                            "space origin: (2,2,-2)\n";
+    put_file("nrrd", "labels_raw_lps.nrrd", head + "type: uchar\nencoding: raw\n" + lps + "\n" + block_voxels(1, false));
+    put_file("nrrd", "labels_gzip_short_be.nrrd",
+             head + "type: short\nencoding: gzip\nendian: big\nspace: right-anterior-superior\n"
+                    "space directions: (1,0,0) (0,1,0) (0,0,1)\n\n" + zlib_compress(block_voxels(2, true), true));
+    std::string ascii;
+    for (const char l : block_voxels(1, false)) ascii += std::to_string(int(l)) + " ";
+    put_file("nrrd", "labels_ascii_spacings.nrrd", head + "type: int\nencoding: ascii\nspacings: 1 1 2\n\n" + ascii + "\n");
+    // A one-layer .seg.nrrd as 3D Slicer writes it: 4 axes, the first 'none', segment names.
+    put_file("nrrd", "labels.seg.nrrd",
+             "NRRD0004\ntype: unsigned char\ndimension: 4\nspace: left-posterior-superior\nsizes: 1 5 4 3\n"
+             "space directions: none (1,0,0) (0,1,0) (0,0,1)\nkinds: list domain domain domain\nencoding: gzip\n"
+             "space origin: (0,0,0)\nSegment0_ID:=Segment_1\nSegment0_LabelValue:=1\nSegment0_Layer:=0\n"
+             "Segment0_Name:=bone\nSegment1_LabelValue:=2\nSegment1_Name:=marrow\n\n" +
+                 zlib_compress(block_voxels(1, false), true));
+}
+
+void write_metaimage_seeds() {
+    const std::string head = "ObjectType = Image\nNDims = 3\nBinaryData = True\n";
+    const std::string geometry = "TransformMatrix = -1 0 0 0 -1 0 0 0 1\nOffset = 2 2 -2\nCenterOfRotation = 0 0 0\n"
+                                 "AnatomicalOrientation = RAI\nElementSpacing = 1 1.5 2\nDimSize = 5 4 3\n";
+    put_file("metaimage", "labels_uchar.mha",
+             head + "BinaryDataByteOrderMSB = False\nCompressedData = False\n" + geometry +
+                 "ElementType = MET_UCHAR\nElementDataFile = LOCAL\n" + block_voxels(1, false));
+    const std::string packed = zlib_compress(block_voxels(2, true), false);
+    put_file("metaimage", "labels_short_msb_zlib.mha",
+             head + "ElementByteOrderMSB = True\nCompressedData = True\nCompressedDataSize = " +
+                 std::to_string(packed.size()) + "\n" + geometry + "ElementType = MET_SHORT\nElementDataFile = LOCAL\n" +
+                 packed);
+    std::string floats;
+    for (const char l : block_voxels(1, false)) {
+        const float x = float(l);
+        floats.append(reinterpret_cast<const char*>(&x), 4);
+    }
+    put_file("metaimage", "labels_float_headersize.mha",
+             head + "HeaderSize = 0\nElementSize = 1 1 1\nPosition = 0 0 0\nDimSize = 5 4 3\n"
+                    "ElementNumberOfChannels = 1\nElementType = MET_FLOAT\nElementDataFile = LOCAL\n" + floats);
+}
+
 int main(int argc, char** argv) {
     if (argc != 2) {
         std::fprintf(stderr, "usage: bpm-fuzz-seeds OUTDIR\n");
@@ -452,10 +524,12 @@ int main(int argc, char** argv) {
     }
     g_out = argv[1];
     try {
-        for (const char* d : {"off", "obj", "stl", "ply", "msh", "vtk", "surf", "nifti", "bpm"}) fs::create_directories(g_out / d);
+        for (const char* d : {"off", "obj", "stl", "ply", "msh", "vtk", "surf", "nifti", "nrrd", "metaimage", "bpm"}) fs::create_directories(g_out / d);
 
         write_surface_seeds("tetrahedron", tetrahedron());
         write_nifti_seeds();
+        write_nrrd_seeds();
+        write_metaimage_seeds();
         write_surface_seeds("octahedron1", test::make_subdivided_octahedron(1).original);
         write_surface_seeds("height_field", test::make_height_field(4, 2, test::default_height).original);
 

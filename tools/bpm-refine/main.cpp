@@ -218,7 +218,8 @@ int main(int argc, char** argv) {
                                         *surface_format == bpm::SurfaceFormat::Vtp ||
                                         *surface_format == bpm::SurfaceFormat::Surf ||
                                         *surface_format == bpm::SurfaceFormat::Nifti ||
-                                        *surface_format == bpm::SurfaceFormat::Nrrd))
+                                        *surface_format == bpm::SurfaceFormat::Nrrd ||
+                                        *surface_format == bpm::SurfaceFormat::MetaImage))
             throw CLI::ValidationError(format.empty() ? "--output" : "--output-format",
                                        (kind.empty() ? "cannot tell the format from '" + output + "' (no extension)"
                                                      : "unknown output format '" + kind + "'") +
@@ -291,6 +292,7 @@ int main(int argc, char** argv) {
             bpm::BpmFile out;
             out.param = bpm::refined_parametrization(param, refined, context);
             out.units = file.units;
+            out.coordinate_frame = file.coordinate_frame;
             out.patch_info = file.patch_info;  // refinement keeps patch ids and orientations
             out.provenance = file.provenance;
             out.provenance.push_back({tool, bpm::tools::version_line(tool), bpm::tools::command_line(argc, argv),

@@ -150,7 +150,7 @@ int main(int argc, char** argv) {
     // Help: one plain line per option (default and unit in it), grouped by what a user
     // wants to set; the tuning internals under "Advanced".
     app.add_option("INPUT", inputs,
-                   "Input surface(s): .off .obj .stl .ply .msh .vtk .vtp .vtu .surf, a label image .nii (.nii.gz) .nrrd, or -; "
+                   "Input surface(s): .off .obj .stl .ply .msh .vtk .vtp .vtu .surf, a label image .nii (.nii.gz) .nrrd .mha .mhd, or -; "
                    "several (one per "
                    "material) are simplified as one")
         ->required();
@@ -251,6 +251,12 @@ int main(int argc, char** argv) {
     app.add_flag("--triangulate-polygons", read_options.triangulate_polygons,
                  "Split faces with more than 3 corners (OFF OBJ PLY VTK) into triangles")
         ->group(repairs);
+    std::string image_frame = "lps";
+    app.add_option("--image-frame", image_frame,
+                   "Coordinates of a label image's surface: lps (default; DICOM, ITK, MetaImage, 3D Slicer) or ras "
+                   "(NIfTI's); the other frame is turned 180 degrees about z (x, y negated). Recorded in the file")
+        ->check(CLI::IsMember({"lps", "ras"}))
+        ->group(output_group);
     bool repair_intersections = false, repaired_surface = false;
     bpm::SelfIntersectionRepairOptions repair_options;
     app.add_flag("--repair-self-intersections", repair_intersections,
@@ -320,6 +326,7 @@ int main(int argc, char** argv) {
         options.reject_self_intersecting_input = !allow_bad_input;
         bpm::Context context = bpm::tools::make_context(tool, verbose, quiet);
         read_options.context = &context;  // label images: the surface extraction reports progress
+        read_options.label_image.frame = image_frame == "ras" ? bpm::ImageFrame::Ras : bpm::ImageFrame::Lps;
         PhaseClock clock("reading");
 
         bpm::SurfaceReadReport report;
@@ -327,6 +334,9 @@ int main(int argc, char** argv) {
         for (const auto& note : report.notes) context.info(note);
         for (const auto& warning : report.warnings) context.warn(warning);
         if (std::string seam = bpm::tools::open_seam_warning(report); !seam.empty()) context.warn(seam);
+        if (app.count("--image-frame") > 0 && report.frame == bpm::ImageFrame::Unknown)
+            context.warn("--image-frame " + image_frame + " did nothing: the input is not a label image in LPS or RAS "
+                         "coordinates, so they are used as they are");
         context.info("read " + std::to_string(surface.num_vertices()) + " vertices, " +
                      std::to_string(surface.num_triangles()) + " triangles");
         // bpm::simplify refuses such coordinates too, but the repair would run on them first,
@@ -381,6 +391,7 @@ int main(int argc, char** argv) {
         }
         file.simplification_steps = std::move(result.steps);
         file.units = units;
+        file.coordinate_frame = bpm::image_frame_name(report.frame);
         file.provenance.push_back({tool, bpm::tools::version_line(tool), bpm::tools::command_line(argc, argv),
                                    deterministic ? std::string() : bpm::tools::utc_timestamp()});
         clock.add(result.phases);

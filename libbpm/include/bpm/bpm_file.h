@@ -1,5 +1,5 @@
 #pragma once
-// The bpm file format v2.0 (spec/bpm-format.md is normative): one HDF5 file holding a
+// The bpm file format v2.1 (spec/bpm-format.md is normative): one HDF5 file holding a
 // parametrized surface, its provenance, and room for later groups.
 
 #include <optional>
@@ -30,6 +30,10 @@ struct BpmFile {
     Parametrization param;
     std::vector<ProvenanceStep> provenance;  // oldest first
     std::string units;                        // free text, e.g. "mm"; empty if unknown
+    // The anatomical frame of all coordinates, "LPS" or "RAS" (a surface from a label image,
+    // bpm/label_image.h), in the optional root attribute coordinate_frame (format 2.1,
+    // spec/bpm-format.md §2); empty if unknown (then not written).
+    std::string coordinate_frame;
     // A tetrahedral mesh of the volume bounded by the coarse surface (bpm-mesh), stored
     // in the optional /tetmesh group (spec/tetmesh.md). Files without one are unchanged.
     std::optional<TetMesh> tetmesh;

@@ -34,8 +34,9 @@
 // all the way after 6 rounds. A surface still crossing after 8 rounds is returned as it is
 // (bpm-simplify refuses it, naming the crossing).
 //
-// Memory: the image itself (4 bytes per voxel) plus what is proportional to the surface;
-// nothing else per voxel.
+// Memory: the image itself (compact: 1 byte per voxel for up to 256 distinct labels, else 2;
+// plain labels are made compact first, 4 + 1 or 2 bytes a voxel while that runs) plus what
+// is proportional to the surface; nothing else per voxel.
 
 #include <array>
 #include <cstdint>
@@ -49,6 +50,16 @@
 
 namespace bpm {
 
+// The anatomical frame of a label image's world coordinates. The axes of LPS point to the
+// patient's Left, Posterior and Superior, those of RAS to the Right, Anterior and
+// Superior: the same point is (x, y, z) in one and (-x, -y, z) in the other, a rotation by
+// 180 degrees about z (which keeps orientation, so outward normals stay outward). DICOM,
+// ITK, MetaImage and 3D Slicer's files use LPS; NIfTI's qform/sform give RAS.
+// Unknown: coordinates with no anatomical frame (an NRRD space such as scanner-xyz or
+// 3D-right-handed, or none), used as the file gives them.
+enum class ImageFrame { Unknown, Lps, Ras };
+const char* image_frame_name(ImageFrame frame);  // "LPS", "RAS", "" (Unknown)
+
 struct LabelImage {
     std::array<int64_t, 3> size{0, 0, 0};  // voxels along i, j, k; each >= 1
     // Voxel (i, j, k) has its centre at origin + direction * (spacing ⊙ (i, j, k)):
@@ -59,14 +70,37 @@ struct LabelImage {
     std::array<double, 3> spacing{1, 1, 1};
     std::array<double, 3> origin{0, 0, 0};
     std::array<double, 9> direction{1, 0, 0, 0, 1, 0, 0, 0, 1};
-    // size[0] * size[1] * size[2] labels, i fastest then j then k.
+    // The frame origin and direction are given in (the readers set it: NIfTI Ras, NRRD
+    // its 'space', MetaImage Lps); label_image_surface converts to LabelSurfaceOptions::frame.
+    ImageFrame frame = ImageFrame::Unknown;
+    // size[0] * size[1] * size[2] labels, i fastest then j then k, in one of two forms
+    // (label_image_surface takes either; the readers give the compact one). Plain: one
+    // int32 per voxel (4 bytes a voxel) in `labels`...
     std::vector<int32_t> labels;
+    // ... or, when `labels` is empty, compact: label_values are the distinct labels in
+    // increasing order (0, the background outside the image, among them; at most 65536),
+    // and each voxel holds the position of its label in label_values: in label_index8
+    // (1 byte a voxel) when there are at most 256 values, else in label_index16 (2 bytes).
+    // The surface depends only on the labels, not on the form they are given in.
+    std::vector<int32_t> label_values;
+    std::vector<uint8_t> label_index8;
+    std::vector<uint16_t> label_index16;
     // Optional material names of labels (e.g. the segment names of a 3D Slicer file);
     // labels not listed are "label_<L>", label 0 "exterior".
     std::vector<std::pair<int32_t, std::string>> names;
 
     int64_t num_voxels() const { return size[0] * size[1] * size[2]; }
+    bool compact() const { return labels.empty() && !label_values.empty(); }
+    int32_t label_at(int64_t voxel) const {  // either form
+        return !compact() ? labels[size_t(voxel)]
+               : label_values.size() <= 256 ? label_values[label_index8[size_t(voxel)]]
+                                            : label_values[label_index16[size_t(voxel)]];
+    }
 };
+
+// Turns `image`'s plain labels into the compact form (LabelImage::labels emptied).
+// \throw InputError (where = "label image") for more than 65536 distinct labels.
+void compact_labels(LabelImage& image);
 
 struct LabelSurfaceOptions {
     int smoothing_iterations = 20;  // 0: the vertices stay at the centroids of their quads' midpoints
@@ -74,6 +108,11 @@ struct LabelSurfaceOptions {
     // How far a vertex may come to the faces of its cube, as a fraction of the voxel; in
     // (0, 0.5). Keeps vertices of neighbouring cubes apart.
     double margin = 0.05;
+    // The frame of the output coordinates. An image in the other frame (LPS or RAS) is turned
+    // by 180 degrees about z (x and y negated; orientation and outward normals are kept);
+    // an image of frame Unknown keeps its own coordinates (LabelSurface::frame says which).
+    // Unknown here: every image keeps its own frame (a NIfTI file RAS, a Slicer file LPS).
+    ImageFrame frame = ImageFrame::Lps;
 };
 
 struct LabelSurface {
@@ -88,13 +127,17 @@ struct LabelSurface {
     // smoothing made the surface cross itself there.
     int64_t unsmoothed_vertices = 0;
     int64_t junction_vertices = 0;      // vertices where three or more labels meet
+    // The frame of the surface's coordinates: LabelSurfaceOptions::frame (when not Unknown)
+    // for an image in LPS or RAS; the image's own frame otherwise.
+    ImageFrame frame = ImageFrame::Unknown;
 };
 
 // The material name of `label` in `image` (see LabelImage::names).
 std::string label_material_name(const LabelImage& image, int32_t label);
 
 // The problem that makes `image` unusable, empty if none: a size < 1, more than 2^31
-// vertices possible, labels.size() not the voxel count, a spacing not finite and > 0, a
+// vertices possible, labels.size() not the voxel count (or, compact, the index vector's
+// size; label_values not increasing, without 0, or more than 65536; an index beyond them), a spacing not finite and > 0, a
 // direction that is not invertible or not finite, a non-finite origin.
 std::string label_image_problem(const LabelImage& image);
 

@@ -37,6 +37,11 @@
 //   NRRD  (.nrrd)        NRRD label images (read only), 3D Slicer's .seg.nrrd included (its
 //                        segment names name the materials): raw, gzip and ascii encodings,
 //                        attached data. Details in read_nrrd.cpp.
+//   MetaImage (.mha .mhd) ITK MetaImage label images (read only): one file (.mha, or .mhd
+//                        with ElementDataFile LOCAL) or a header with its data file (.mhd +
+//                        .raw/.zraw, found next to the header: read_surface of a path only),
+//                        zlib-compressed or not. Details in read_metaimage.cpp.
+// Label images' surfaces come out in one anatomical frame (SurfaceReadOptions::label_image).
 // Every triangle gets a patch id (0 when the format has none). In detail:
 //   OBJ  each distinct (group names, material) pair is a patch, numbered 0, 1, ... in the
 //        order faces first use it; but when there is no `usemtl` and every face is in a
@@ -57,7 +62,7 @@
 //
 // The format is chosen by options.format, else by the extension; a file without a known
 // extension whose first line starts with "# HyperSurface" is read as SURF, one with NIfTI-1's
-// magic as NIfTI, one starting "NRRD000" as NRRD.
+// magic as NIfTI, one starting "NRRD000" as NRRD, one starting "ObjectType = Image" as MetaImage.
 //
 // Compressed input: gzip data (a file, standard input or a buffer that starts with the
 // gzip magic bytes) is decompressed first, and the format of FILE.EXT.gz is told by EXT
@@ -83,6 +88,7 @@
 
 #include "bpm/context.h"
 #include "bpm/errors.h"
+#include "bpm/label_image.h"
 #include "bpm/mesh_encoding.h"
 #include "bpm/patch_info.h"
 #include "bpm/surface.h"
@@ -92,10 +98,10 @@ namespace bpm {
 // Vtp, Vtu: VTK XML PolyData / UnstructuredGrid, read only (bpm-refine writes .vtu with
 // its own writer, write_surface_vtu in bpm/write_vtu.h). Surf: Amira HyperSurface, read only.
 // Msh writes MSH 4.1, Msh22 MSH 2.2; both read every MSH version.
-// Nifti, Nrrd: label images, read only (their surface is extracted, bpm/label_image.h).
-enum class SurfaceFormat { Off, Obj, Stl, Ply, Msh, Msh22, Vtk, Vtp, Vtu, Surf, Nifti, Nrrd };
+// Nifti, Nrrd, MetaImage: label images, read only (their surface is extracted, bpm/label_image.h).
+enum class SurfaceFormat { Off, Obj, Stl, Ply, Msh, Msh22, Vtk, Vtp, Vtu, Surf, Nifti, Nrrd, MetaImage };
 
-// "off", "obj", "stl", "ply", "msh", "msh22", "vtk", "vtp", "vtu", "surf", "nii", "nrrd" (case-insensitive)
+// "off", "obj", "stl", "ply", "msh", "msh22", "vtk", "vtp", "vtu", "surf", "nii", "nrrd", "mha", "mhd" (case-insensitive)
 // -> format; nullopt otherwise. The extension .msh is Msh.
 std::optional<SurfaceFormat> surface_format_from_name(const std::string& name);
 // Format from the extension of `path` (before a final .gz); nullopt if unknown.
@@ -122,6 +128,10 @@ struct SurfaceReadOptions {
     // Progress and log lines of a slow read (the surface extraction of a label image);
     // may be null. Must outlive the call.
     const Context* context = nullptr;
+    // Label images (NIfTI, NRRD, MetaImage): how their surface is extracted, and the frame
+    // of its coordinates (label_image.frame, LPS by default: one segmentation gives the same
+    // coordinates from every format; SurfaceReadReport::frame says what was done).
+    LabelSurfaceOptions label_image;
 };
 
 // What a read did besides producing the surface, for the tool to report.
@@ -145,6 +155,10 @@ struct SurfaceReadReport {
     // The largest distance a vertex moved in merge_vertices_within, as a fraction of the
     // bounding-box diagonal.
     double largest_merge_move = 0.0;
+    // The anatomical frame of the coordinates: that of a label image's surface
+    // (SurfaceReadOptions::label_image.frame, unless the image has none); Unknown for other
+    // inputs, and for several inputs that are not all label images of one frame.
+    ImageFrame frame = ImageFrame::Unknown;
     // An open seam the surface (all inputs together) still has: boundary edges that pair
     // up with others within 1e-6 of the diagonal (find_open_seam; its gap here as a
     // fraction of the diagonal). Open surfaces are accepted, but they do not enclose a

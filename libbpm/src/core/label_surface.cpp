@@ -101,11 +101,15 @@ struct CubeRecord {
     uint8_t component[12];  // per edge: the component (vertex) of the edge, 255 if inactive
 };
 
+// Labels as their positions among the image's distinct labels (LabelImage's compact form):
+// the order, and so every comparison below, is that of the labels themselves.
+template <class Index>
 struct Grid {
     int64_t nx, ny, nz;
-    const int32_t* labels;
+    const Index* labels;
+    int32_t outside;  // the position of label 0
     int32_t at(int64_t i, int64_t j, int64_t k) const {
-        if (i < 0 || j < 0 || k < 0 || i >= nx || j >= ny || k >= nz) return 0;
+        if (i < 0 || j < 0 || k < 0 || i >= nx || j >= ny || k >= nz) return outside;
         return labels[i + nx * (j + ny * k)];
     }
     int64_t cube_key(int64_t a, int64_t b, int64_t c) const { return a + (nx + 1) * (b + (ny + 1) * c); }
@@ -132,9 +136,10 @@ double det3(const std::array<double, 9>& m) {
 // larger off-diagonal label. Only voxels inside the image change (outside is background).
 // Returns the number of voxels changed; `unresolved` counts the edges left, 0 unless the
 // passes ran out (they do not, but the loop is bounded).
-int64_t resolve_edge_contacts(LabelImage& image, int64_t& unresolved, const Context& context) {
+template <class Index>
+int64_t resolve_edge_contacts(const LabelImage& image, Index* labels, int32_t outside, int64_t& unresolved,
+                              const Context& context) {
     const int64_t n[3] = {image.size[0], image.size[1], image.size[2]};
-    int32_t* labels = image.labels.data();
     const auto index = [&](const int64_t* p) -> int64_t {
         for (int d = 0; d < 3; ++d)
             if (p[d] < 0 || p[d] >= n[d]) return -1;
@@ -157,7 +162,7 @@ int64_t resolve_edge_contacts(LabelImage& image, int64_t& unresolved, const Cont
                             int64_t p[3];
                             p[d] = t, p[d1] = u + kCycle[c][0], p[d2] = w + kCycle[c][1];
                             at[c] = index(p);
-                            l[c] = at[c] < 0 ? 0 : labels[at[c]];
+                            l[c] = at[c] < 0 ? outside : labels[at[c]];
                         }
                         const bool diag02 = l[0] == l[2] && l[1] != l[0] && l[3] != l[0];
                         const bool diag13 = l[1] == l[3] && l[0] != l[1] && l[2] != l[1];
@@ -179,7 +184,7 @@ int64_t resolve_edge_contacts(LabelImage& image, int64_t& unresolved, const Cont
                             ++left;
                             continue;
                         }
-                        labels[at[target]] = to;
+                        labels[at[target]] = Index(to);
                         ++changed;
                     }
             }
@@ -192,6 +197,15 @@ int64_t resolve_edge_contacts(LabelImage& image, int64_t& unresolved, const Cont
 }
 
 }  // namespace
+
+const char* image_frame_name(ImageFrame frame) {
+    switch (frame) {
+        case ImageFrame::Lps: return "LPS";
+        case ImageFrame::Ras: return "RAS";
+        case ImageFrame::Unknown: break;
+    }
+    return "";
+}
 
 std::string label_material_name(const LabelImage& image, int32_t label) {
     for (const auto& [l, name] : image.names)
@@ -208,8 +222,28 @@ std::string label_image_problem(const LabelImage& image) {
     if (cubes > double(std::numeric_limits<int32_t>::max()) / 2 || double(image.num_voxels()) > 1e10)
         return "the image is too large (" + std::to_string(image.size[0]) + " x " + std::to_string(image.size[1]) + " x " +
                std::to_string(image.size[2]) + " voxels; bpm's indices are 32-bit)";
-    if (int64_t(image.labels.size()) != image.num_voxels())
+    if (image.compact()) {
+        const std::vector<int32_t>& values = image.label_values;
+        if (values.size() > 65536) return std::to_string(values.size()) + " label values (at most 65536)";
+        for (size_t i = 1; i < values.size(); ++i)
+            if (!(values[i - 1] < values[i])) return "the label values are not in increasing order";
+        if (!std::binary_search(values.begin(), values.end(), 0)) return "the label values do not include 0 (the background)";
+        const bool small = values.size() <= 256;
+        const size_t n = small ? image.label_index8.size() : image.label_index16.size();
+        if (int64_t(n) != image.num_voxels())
+            return std::to_string(n) + " label indices (" + (small ? "label_index8" : "label_index16") + ") for " +
+                   std::to_string(image.num_voxels()) + " voxels";
+        size_t largest = 0;
+        if (small)
+            for (const uint8_t i : image.label_index8) largest = std::max<size_t>(largest, i);
+        else
+            for (const uint16_t i : image.label_index16) largest = std::max<size_t>(largest, i);
+        if (largest >= values.size())
+            return "a label index is " + std::to_string(largest) + ", beyond the " + std::to_string(values.size()) +
+                   " label values";
+    } else if (int64_t(image.labels.size()) != image.num_voxels()) {
         return std::to_string(image.labels.size()) + " labels for " + std::to_string(image.num_voxels()) + " voxels";
+    }
     for (int d = 0; d < 3; ++d)
         if (!(image.spacing[d] > 0) || !std::isfinite(image.spacing[d]))
             return "the spacing along axis " + std::to_string(d) + " is not a positive finite number";
@@ -219,29 +253,35 @@ std::string label_image_problem(const LabelImage& image) {
     return {};
 }
 
-LabelSurface label_image_surface(LabelImage image, const LabelSurfaceOptions& options, const Context& context) {
-    if (std::string problem = label_image_problem(image); !problem.empty()) throw InputError("label image", problem);
-    if (!(options.relaxation > 0 && options.relaxation <= 1) || !(options.margin > 0 && options.margin < 0.5) ||
-        options.smoothing_iterations < 0)
-        throw InputError("label image", "label surface options out of range (relaxation in (0, 1], margin in (0, 0.5), "
-                                        "iterations >= 0)");
+namespace {
+
+// label_image_surface on the compact labels `idx` (positions in image.label_values).
+template <class Index>
+LabelSurface extract(LabelImage& image, Index* idx, const LabelSurfaceOptions& options, const Context& context) {
+    const std::vector<int32_t>& values = image.label_values;
+    const int32_t outside = int32_t(std::lower_bound(values.begin(), values.end(), 0) - values.begin());
     LabelSurface out;
-    out.changed_voxels = resolve_edge_contacts(image, out.unresolved_contacts, context);
-    const Grid g{image.size[0], image.size[1], image.size[2], image.labels.data()};
-    // The distinct labels (the background is there whenever the image touches its border,
-    // which every image does: outside is background).
+    out.frame = image.frame;
+    if (image.frame != ImageFrame::Unknown && options.frame != ImageFrame::Unknown && image.frame != options.frame) {
+        // LPS <-> RAS: x and y negated, a rotation about z (det(direction) is kept, so the
+        // triangles face the smaller label as before).
+        for (int r = 0; r < 2; ++r) {
+            image.origin[size_t(r)] = -image.origin[size_t(r)];
+            for (int c = 0; c < 3; ++c) image.direction[3 * size_t(r) + size_t(c)] = -image.direction[3 * size_t(r) + size_t(c)];
+        }
+        out.frame = options.frame;
+    }
+    out.changed_voxels = resolve_edge_contacts(image, idx, outside, out.unresolved_contacts, context);
+    const Grid<Index> g{image.size[0], image.size[1], image.size[2], idx, outside};
+    // The distinct labels left (the background is there whenever the image touches its
+    // border, which every image does: outside is background).
     {
-        std::unordered_set<int32_t> seen = {0};
-        int32_t last = 0;
-        for (const int32_t l : image.labels)
-            if (l != last) {
-                last = l;
-                if (seen.insert(l).second && seen.size() > 65536)
-                    throw InputError("label image", "more than 65536 distinct labels: an intensity image, not a "
-                                                    "segmentation?");
-            }
-        out.labels.assign(seen.begin(), seen.end());
-        std::sort(out.labels.begin(), out.labels.end());
+        std::vector<uint8_t> seen(values.size(), 0);
+        seen[size_t(outside)] = 1;
+        const int64_t voxels = image.num_voxels();
+        for (int64_t v = 0; v < voxels; ++v) seen[idx[v]] = 1;
+        for (size_t i = 0; i < values.size(); ++i)
+            if (seen[i]) out.labels.push_back(values[i]);
     }
 
     // ---- Pass 1: the cubes with more than one label, their sheets and vertices.
@@ -383,7 +423,7 @@ LabelSurface label_image_surface(LabelImage image, const LabelSurfaceOptions& op
     for (size_t r = 0; r < order.size(); ++r) patch_of[size_t(order[r])] = int32_t(r);
     for (Quad& quad : quads) quad.patch = patch_of[size_t(quad.patch)];
     for (size_t r = 0; r < order.size(); ++r) {
-        const auto [lo, hi] = pairs[size_t(order[r])];
+        const int32_t lo = values[size_t(pairs[size_t(order[r])][0])], hi = values[size_t(pairs[size_t(order[r])][1])];
         out.patch_labels.push_back({lo, hi});
         PatchInfo info;
         info.patch = int32_t(r);
@@ -536,6 +576,55 @@ LabelSurface label_image_surface(LabelImage image, const LabelSurfaceOptions& op
     }
     context.report(1.0, "label image: surface nets");
     return out;
+}
+
+}  // namespace
+
+void compact_labels(LabelImage& image) {
+    std::vector<int32_t> values;
+    {
+        std::unordered_set<int32_t> seen = {0};
+        int32_t last = 0;
+        for (const int32_t l : image.labels)
+            if (l != last) {
+                last = l;
+                if (seen.insert(l).second && seen.size() > 65536)
+                    throw InputError("label image", "more than 65536 distinct labels: an intensity image, not a "
+                                                    "segmentation?");
+            }
+        values.assign(seen.begin(), seen.end());
+        std::sort(values.begin(), values.end());
+    }
+    const auto fill = [&](auto& index) {
+        index.resize(image.labels.size());
+        int32_t last = values[0];
+        size_t at = 0;
+        for (size_t v = 0; v < image.labels.size(); ++v) {
+            const int32_t l = image.labels[v];
+            if (l != last) {
+                last = l;
+                at = size_t(std::lower_bound(values.begin(), values.end(), l) - values.begin());
+            }
+            index[v] = static_cast<typename std::decay_t<decltype(index)>::value_type>(at);
+        }
+    };
+    image.label_index8.clear();
+    image.label_index16.clear();
+    if (values.size() <= 256) fill(image.label_index8);
+    else fill(image.label_index16);
+    image.label_values = std::move(values);
+    std::vector<int32_t>().swap(image.labels);
+}
+
+LabelSurface label_image_surface(LabelImage image, const LabelSurfaceOptions& options, const Context& context) {
+    if (std::string problem = label_image_problem(image); !problem.empty()) throw InputError("label image", problem);
+    if (!(options.relaxation > 0 && options.relaxation <= 1) || !(options.margin > 0 && options.margin < 0.5) ||
+        options.smoothing_iterations < 0)
+        throw InputError("label image", "label surface options out of range (relaxation in (0, 1], margin in (0, 0.5), "
+                                        "iterations >= 0)");
+    if (!image.compact()) compact_labels(image);
+    if (image.label_values.size() <= 256) return extract(image, image.label_index8.data(), options, context);
+    return extract(image, image.label_index16.data(), options, context);
 }
 
 }  // namespace bpm

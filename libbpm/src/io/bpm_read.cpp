@@ -718,6 +718,7 @@ BpmFile read_image(const std::string& bytes, const std::string& where, Tape* rec
     BpmFile out;
     out.format_version = read_identification(r);
     out.units = r.read_string_attribute("units", false);
+    out.coordinate_frame = r.read_string_attribute("coordinate_frame", false);
 
     Parametrization& p = out.param;
     p.original = read_surface(r, "/original");

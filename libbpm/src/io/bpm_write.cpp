@@ -448,6 +448,7 @@ void write_contents(const Writer& w, hid_t f, const BpmFile& file) {
     const std::vector<int32_t> version{BPM_FORMAT_VERSION_MAJOR, BPM_FORMAT_VERSION_MINOR};
     w.write_int_attribute(f, "format_version", version, H5T_STD_I32LE, H5T_NATIVE_INT32);
     w.write_string_attribute(f, "units", file.units, H5T_CSET_UTF8);
+    if (!file.coordinate_frame.empty()) w.write_string_attribute(f, "coordinate_frame", file.coordinate_frame, H5T_CSET_ASCII);
 
     {
         Handle g = w.create_group(f, "original");

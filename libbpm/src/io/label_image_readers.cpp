@@ -1,8 +1,11 @@
 // From a label image to what read_surface needs (io/label_image_readers.h).
 #include "io/label_image_readers.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <type_traits>
+#include <unordered_set>
 #include <cstring>
 #include <limits>
 
@@ -40,11 +43,24 @@ const char* voxel_type_name(VoxelType type) {
 
 void decode_labels(const unsigned char* data, VoxelType type, bool swap, double slope, double inter,
                    const std::string& scaled_by, LabelImage& image, const std::string& name) {
+    // Straight into the compact form (LabelImage::label_values and an index per voxel, 1 or
+    // 2 bytes), in two passes over the file's voxels: the distinct labels, then the
+    // indices. The int32 labels (4 bytes a voxel) are never held.
     const int64_t voxels = image.num_voxels();
-    image.labels.resize(size_t(voxels));
+    image.labels.clear();
     const bool scaled = slope != 1 || inter != 0;
+    std::vector<int32_t> values;
     if (type == VoxelType::U8 && !scaled) {
-        for (int64_t v = 0; v < voxels; ++v) image.labels[size_t(v)] = data[v];
+        bool seen[256] = {};
+        seen[0] = true;
+        for (int64_t v = 0; v < voxels; ++v) seen[data[v]] = true;
+        uint8_t position[256] = {};
+        for (int b = 0; b < 256; ++b)
+            if (seen[b]) position[b] = uint8_t(values.size()), values.push_back(b);
+        image.label_index16.clear();
+        image.label_index8.resize(size_t(voxels));
+        for (int64_t v = 0; v < voxels; ++v) image.label_index8[size_t(v)] = position[data[v]];
+        image.label_values = std::move(values);
         return;
     }
     const int size = voxel_type_size(type);
@@ -57,7 +73,7 @@ void decode_labels(const unsigned char* data, VoxelType type, bool swap, double 
         std::snprintf(buffer, sizeof buffer, "%.9g", x);
         return std::string(buffer);
     };
-    for (int64_t v = 0; v < voxels; ++v) {
+    const auto label = [&](int64_t v) -> int32_t {
         unsigned char b[8];
         std::memcpy(b, data + size_t(v) * size_t(size), size_t(size));
         if (swap)
@@ -79,16 +95,49 @@ void decode_labels(const unsigned char* data, VoxelType type, bool swap, double 
                                        " of type " + voxel_type_name(type) + ", which is not an integer label");
         if (x < double(std::numeric_limits<int32_t>::min()) || x > double(std::numeric_limits<int32_t>::max()))
             throw InputError(name, where(v) + " has the label " + text(x) + ", beyond the int32 range");
-        image.labels[size_t(v)] = int32_t(x);
+        return int32_t(x);
+    };
+    {
+        std::unordered_set<int32_t> seen = {0};
+        int32_t last = 0;
+        for (int64_t v = 0; v < voxels; ++v) {
+            const int32_t l = label(v);
+            if (l != last) {
+                last = l;
+                if (seen.insert(l).second && seen.size() > 65536)
+                    throw InputError(name, "more than 65536 distinct labels: an intensity image, not a segmentation?");
+            }
+        }
+        values.assign(seen.begin(), seen.end());
+        std::sort(values.begin(), values.end());
     }
+    const auto fill = [&](auto& index) {
+        index.resize(size_t(voxels));
+        int32_t last = values[0];
+        size_t at = 0;
+        for (int64_t v = 0; v < voxels; ++v) {
+            const int32_t l = label(v);
+            if (l != last) {
+                last = l;
+                at = size_t(std::lower_bound(values.begin(), values.end(), l) - values.begin());
+            }
+            index[size_t(v)] = static_cast<typename std::decay_t<decltype(index)>::value_type>(at);
+        }
+    };
+    image.label_index8.clear();
+    image.label_index16.clear();
+    if (values.size() <= 256) fill(image.label_index8);
+    else fill(image.label_index16);
+    image.label_values = std::move(values);
 }
 
-ReaderOutput label_image_reader_output(LabelImage image, const std::string& name, const Context& context,
-                                       std::vector<std::string> notes) {
+ReaderOutput label_image_reader_output(LabelImage image, const std::string& name, const LabelSurfaceOptions& options,
+                                       const Context& context, std::vector<std::string> notes) {
     if (std::string problem = label_image_problem(image); !problem.empty()) throw InputError(name, problem);
+    const ImageFrame file_frame = image.frame;
     LabelSurface extracted;
     try {
-        extracted = label_image_surface(std::move(image), {}, context);
+        extracted = label_image_surface(std::move(image), options, context);
     } catch (const InputError& e) {
         throw InputError(name, e.what());
     }
@@ -104,6 +153,14 @@ ReaderOutput label_image_reader_output(LabelImage image, const std::string& name
         throw InputError(name, "every voxel has the label 0 (background): no two labels meet, so there is no surface");
     ReaderOutput out;
     out.notes = std::move(notes);
+    if (file_frame == ImageFrame::Unknown)
+        out.notes.push_back("coordinates as the file gives them (it names no anatomical frame, LPS or RAS)");
+    else if (extracted.frame != file_frame)
+        out.notes.push_back(std::string("coordinates in ") + image_frame_name(extracted.frame) + ": the file's " +
+                            image_frame_name(file_frame) + " coordinates turned by 180 degrees about z (x and y negated)");
+    else
+        out.notes.push_back(std::string("coordinates in ") + image_frame_name(extracted.frame) + ", as in the file");
+    out.frame = extracted.frame;
     out.notes.push_back("labels " + labels + " (0 = background, material '" + std::string(kExteriorMaterial) + "')");
     out.notes.push_back("surface nets: " + std::to_string(extracted.surface.num_vertices()) + " vertices, " +
                         std::to_string(extracted.surface.num_triangles()) + " triangles, " +

@@ -3,6 +3,7 @@
 // label_image_reader_output() then extracts the multi-material surface (bpm/label_image.h)
 // for read_surface. Internal, like surface_readers.h.
 
+#include <functional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -18,10 +19,11 @@ enum class VoxelType { U8, I8, I16, U16, I32, U32, F32, F64 };
 int voxel_type_size(VoxelType type);
 const char* voxel_type_name(VoxelType type);  // "uint8", ...
 
-// Fills image.labels (image.size set) from `count` voxels of `type` at `data` (byte-swapped
-// when `swap`), each value scaled by slope * x + inter when those are not 1 and 0. A value
+// Fills the compact labels of `image` (LabelImage::label_values and label_index8/16;
+// image.size set) from its voxels of `type` at `data` (byte-swapped when `swap`), each value scaled by slope * x + inter when those are not 1 and 0. A value
 // that is not an integer, or beyond int32, is an InputError naming the voxel (i, j, k).
 // `scaled_by` names the scaling for that message ("scl_slope/scl_inter"), empty if none.
+// More than 65536 distinct labels is an InputError too.
 void decode_labels(const unsigned char* data, VoxelType type, bool swap, double slope, double inter,
                    const std::string& scaled_by, LabelImage& image, const std::string& name);
 
@@ -34,10 +36,20 @@ LabelImage read_nifti_image(std::string_view bytes, const std::string& name, std
 // Details in read_nrrd.cpp. Segment names of a .seg.nrrd become LabelImage::names.
 LabelImage read_nrrd_image(std::string_view bytes, const std::string& name, std::vector<std::string>* notes = nullptr);
 
-// The surface of `image` (label_image_surface) as a reader's output: patches, patch_info
-// (one oriented row per label pair), and notes with the counts. An image of background
-// only is an InputError (there is no surface), as is a label_image_problem.
-ReaderOutput label_image_reader_output(LabelImage image, const std::string& name, const Context& context,
-                                       std::vector<std::string> notes);
+// Reads the data file a MetaImage header names (ElementDataFile), given as written in the
+// header; throws InputError when it cannot.
+using DataFileLoader = std::function<std::string(const std::string& file_name)>;
+
+// MetaImage (.mha, or .mhd with its data file read through `load`; null: only LOCAL data).
+// Details in read_metaimage.cpp. World coordinates are LPS (as ITK's).
+LabelImage read_metaimage_image(std::string_view bytes, const std::string& name, const DataFileLoader& load,
+                                std::vector<std::string>* notes = nullptr);
+
+// The surface of `image` (label_image_surface with `options`) as a reader's output:
+// patches, patch_info (one oriented row per label pair), the frame of its coordinates, and
+// notes with the counts and the frame. An image of background only is an InputError
+// (there is no surface), as is a label_image_problem.
+ReaderOutput label_image_reader_output(LabelImage image, const std::string& name, const LabelSurfaceOptions& options,
+                                       const Context& context, std::vector<std::string> notes);
 
 }  // namespace bpm::detail

@@ -10,7 +10,8 @@
 //
 // Voxel to model space, as the NIfTI-1 standard orders the methods: sform_code > 0 -> the
 // srow affine; else qform_code > 0 -> the quaternion, pixdim and qfac (pixdim[0]); else
-// pixdim scaling alone. The model space is the file's (RAS+, in its units, usually mm).
+// pixdim scaling alone. The model space is the file's: RAS+ (LabelImage::frame Ras), in
+// its units, usually mm; label_image_surface turns it to LPS unless asked for RAS.
 //
 // Data types: uint8 (2), int8 (256), int16 (4), uint16 (512), int32 (8), uint32 (768,
 // values up to 2^31 - 1), and float32 (16) / float64 (64) when every value is an integer
@@ -179,6 +180,9 @@ LabelImage read_nifti_image(std::string_view bytes, const std::string& name, std
         for (int r = 0; r < 3; ++r) image.direction[3 * size_t(r) + size_t(c)] = affine[r][c] / len;
     }
     for (int r = 0; r < 3; ++r) image.origin[size_t(r)] = affine[r][3];
+    // The standard defines every method's coordinates as RAS+ (also the pixdim-only one,
+    // "Analyze" orientation, which has no real frame but is RAS by convention).
+    image.frame = ImageFrame::Ras;
 
     // Voxels.
     double slope = h.get<float>(112), inter = h.get<float>(116);

@@ -6,8 +6,15 @@
 // 4 with a first axis of size 1, as a one-layer .seg.nrrd may be), sizes, encoding (raw,
 // gzip/gz, ascii/text/txt), endian, space directions (with "none" for a non-spatial first
 // axis) and space origin, or else spacings. Without directions the axes are x, y, z.
-// Other fields (space, kinds, measurement frame, ...) are ignored; "byte skip" and
-// "line skip" other than 0 are refused. The model space is the file's (3D Slicer: LPS).
+// Other fields (kinds, measurement frame, ...) are ignored; "byte skip" and "line skip"
+// other than 0 are refused.
+//
+// Frame (LabelImage::frame): "space" left-posterior-superior (LPS, 3D Slicer's) and
+// right-anterior-superior (RAS) are taken as they are; left-anterior-superior (LAS) is
+// made LPS by negating y (the triangles are still oriented, the surface code sees the
+// reflection). Spaces without an anatomical frame (scanner-xyz, 3D-right-handed,
+// 3D-left-handed) and files without "space" are passed through: frame Unknown, the
+// coordinates as the file gives them, said in a note. 4-D spaces (...-time) are refused.
 //
 // .seg.nrrd key/values: Segment<N>_LabelValue:=L and Segment<N>_Name:=NAME name label L's
 // material (a '|' in a name becomes '_', since "A|B" names the patches); segments in more
@@ -209,6 +216,28 @@ LabelImage read_nrrd_image(std::string_view bytes, const std::string& name, std:
         const Vec3 o = parse_vector(it->second, "field 'space origin'");
         image.origin = {o[0], o[1], o[2]};
     }
+    std::string space_note;
+    if (const auto it = field.find("space"); it != field.end()) {
+        const std::string space = lower(it->second);
+        if (space == "left-posterior-superior" || space == "lps") {
+            image.frame = ImageFrame::Lps;
+        } else if (space == "right-anterior-superior" || space == "ras") {
+            image.frame = ImageFrame::Ras;
+        } else if (space == "left-anterior-superior" || space == "las") {
+            image.frame = ImageFrame::Lps;  // LAS -> LPS: y negated
+            image.origin[1] = -image.origin[1];
+            for (int c = 0; c < 3; ++c) image.direction[3 + size_t(c)] = -image.direction[3 + size_t(c)];
+            space_note = " (LAS, taken as LPS with y negated)";
+        } else if (space == "scanner-xyz" || space == "3d-right-handed" || space == "3d-left-handed") {
+            space_note = " (space " + it->second + ": no anatomical frame)";
+        } else {
+            fail("field 'space' is " + quote_token(it->second) +
+                 "; bpm reads 3-D spaces: left-posterior-superior, right-anterior-superior, left-anterior-superior, "
+                 "scanner-xyz, 3D-right-handed, 3D-left-handed");
+        }
+    } else if (field.count("space dimension")) {
+        space_note = " (no space: no anatomical frame)";
+    }
     for (const char* skip : {"byte skip", "line skip"})
         if (const auto it = field.find(skip); it != field.end() && it->second != "0")
             fail(std::string("field '") + skip + "' is " + quote_token(it->second) + "; only 0 is supported");
@@ -246,8 +275,16 @@ LabelImage read_nrrd_image(std::string_view bytes, const std::string& name, std:
     const int size = voxel_type_size(type);
     if (encoding == "gzip" || encoding == "gz") {
         // At most what the voxels need (and a little): a bomb stops there.
-        inflated = decompress_if_gzip(std::string(data), name + " (gzip data)", true,
-                                      size_t(std::min<double>(double(voxels) * size + 1024, 1e11)));
+        // The error names the file (InputError::where), as every reader's does; what is wrong
+        // with the data goes into the message.
+        const std::string packed(data);
+        if (!looks_like_gzip(packed))
+            fail("field 'encoding' is gzip, but the data after the header does not start with the gzip magic bytes 1f 8b 08");
+        try {
+            inflated = decompress_if_gzip(packed, name, false, size_t(std::min<double>(double(voxels) * size + 1024, 1e11)));
+        } catch (const InputError& e) {
+            throw InputError(name, std::string("the voxels (encoding gzip): ") + e.what());
+        }
         data = inflated;
     } else if (encoding == "ascii" || encoding == "text" || encoding == "txt") {
         const double most = double(data.size()) / 2 + 1;  // a number and a separator each
@@ -289,7 +326,7 @@ LabelImage read_nrrd_image(std::string_view bytes, const std::string& name, std:
             named += (named.empty() ? "" : ", ") + std::to_string(label) + " = " + material;
         notes->push_back("NRRD label image: " + std::to_string(image.size[0]) + " x " + std::to_string(image.size[1]) +
                          " x " + std::to_string(image.size[2]) + " voxels of " + voxel_type_name(type) + " (" +
-                         encoding + "), placed by the " + method +
+                         encoding + "), placed by the " + method + space_note +
                          (named.empty() ? std::string() : "; segments " + named));
     }
     return image;

@@ -11,6 +11,8 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <limits>
 #include <map>
 #include <set>
@@ -42,6 +44,7 @@ const char* surface_format_name(SurfaceFormat f) {
         case SurfaceFormat::Surf: return "HyperSurface";
         case SurfaceFormat::Nifti: return "NIfTI";
         case SurfaceFormat::Nrrd: return "NRRD";
+        case SurfaceFormat::MetaImage: return "MetaImage";
     }
     return "?";
 }
@@ -83,6 +86,7 @@ std::optional<SurfaceFormat> format_from_head(std::string_view bytes) {
                                      bytes.substr(344, 4) == std::string_view("ni1\0", 4)))
         seen = SurfaceFormat::Nifti;
     else if (head.substr(0, 7) == "NRRD000") seen = SurfaceFormat::Nrrd;
+    else if (head.substr(0, 10) == "ObjectType" && head.find("Image") != std::string_view::npos) seen = SurfaceFormat::MetaImage;
     else if (const std::string_view tag = vtk_file_tag(bytes); !tag.empty()) {
         if (tag.find("\"PolyData\"") != std::string_view::npos) seen = SurfaceFormat::Vtp;
         else if (tag.find("\"UnstructuredGrid\"") != std::string_view::npos) seen = SurfaceFormat::Vtu;
@@ -330,6 +334,7 @@ std::optional<SurfaceFormat> surface_format_from_name(const std::string& name) {
     if (n == "surf") return SurfaceFormat::Surf;
     if (n == "nii" || n == "nifti") return SurfaceFormat::Nifti;
     if (n == "nrrd") return SurfaceFormat::Nrrd;  // also .seg.nrrd (3D Slicer)
+    if (n == "mha" || n == "mhd" || n == "metaimage") return SurfaceFormat::MetaImage;
     return std::nullopt;
 }
 
@@ -345,9 +350,17 @@ static Surface finish_reading(detail::ReaderOutput parsed, SurfaceFormat format,
                               const SurfaceReadOptions& options, SurfaceReadReport* report,
                               const std::string& material = {});
 
+// `load`: reads a file that a header names (a MetaImage data file), null from memory.
+// `release`: `bytes` itself when the caller lets the reader free them once a label image
+// is decoded (read_surface of a path), so that the file's voxels and the extraction's
+// memory are not needed at the same time; null otherwise.
 static Surface read_from_memory(const std::string& bytes, SurfaceFormat format, const std::string& name,
                                 const SurfaceReadOptions& options, SurfaceReadReport* report,
-                                const std::string& material) {
+                                const std::string& material, const detail::DataFileLoader& load = {},
+                                std::string* release = nullptr) {
+    const auto decoded = [&] {
+        if (release) std::string().swap(*release);
+    };
     detail::ReaderOutput parsed;
     // Polygon faces are always parsed and triangulated, so that one error can name every
     // repair the input needs (the duplicates of a polygon file show only once it is read);
@@ -368,15 +381,25 @@ static Surface read_from_memory(const std::string& bytes, SurfaceFormat format, 
             case SurfaceFormat::Nifti: {
                 std::vector<std::string> notes;
                 LabelImage image = detail::read_nifti_image(bytes, name, &notes);
-                parsed = detail::label_image_reader_output(std::move(image), name, options.context ? *options.context : Context{},
-                                                           std::move(notes));
+                decoded();
+                parsed = detail::label_image_reader_output(std::move(image), name, options.label_image,
+                                                           options.context ? *options.context : Context{}, std::move(notes));
                 break;
             }
             case SurfaceFormat::Nrrd: {
                 std::vector<std::string> notes;
                 LabelImage image = detail::read_nrrd_image(bytes, name, &notes);
-                parsed = detail::label_image_reader_output(std::move(image), name, options.context ? *options.context : Context{},
-                                                           std::move(notes));
+                decoded();
+                parsed = detail::label_image_reader_output(std::move(image), name, options.label_image,
+                                                           options.context ? *options.context : Context{}, std::move(notes));
+                break;
+            }
+            case SurfaceFormat::MetaImage: {
+                std::vector<std::string> notes;
+                LabelImage image = detail::read_metaimage_image(bytes, name, load, &notes);
+                decoded();
+                parsed = detail::label_image_reader_output(std::move(image), name, options.label_image,
+                                                           options.context ? *options.context : Context{}, std::move(notes));
                 break;
             }
         }
@@ -553,6 +576,7 @@ static Surface finish_reading(detail::ReaderOutput parsed, SurfaceFormat format,
     r = SurfaceReadReport{};
     r.format = format;
     r.skipped_elements = parsed.skipped_elements;
+    r.frame = parsed.frame;
     r.notes = std::move(parsed.notes);
     r.patch_info = std::move(parsed.patch_info);
     apply_file_material(r.patch_info, surface, material);
@@ -618,7 +642,7 @@ Surface read_surface(const std::string& path, const SurfaceReadOptions& options,
     std::optional<SurfaceFormat> format = options.format;
     if (!format) format = surface_format_from_path(path);
     if (!format && path == "-") throw InputError(name, "the format of standard input must be given explicitly");
-    const std::string bytes = detail::read_whole_input(path);
+    std::string bytes = detail::read_whole_input(path);
     // A .bpm file (HDF5) passed where a surface belongs, e.g. to simplify it further: the
     // error was "cannot tell the surface format from the file name", or with a format given
     // a parse error at byte 0.
@@ -638,12 +662,24 @@ Surface read_surface(const std::string& path, const SurfaceReadOptions& options,
     if (!format && format_from_head(bytes) == SurfaceFormat::Surf) format = SurfaceFormat::Surf;
     if (!format && format_from_head(bytes) == SurfaceFormat::Nifti) format = SurfaceFormat::Nifti;
     if (!format && format_from_head(bytes) == SurfaceFormat::Nrrd) format = SurfaceFormat::Nrrd;
+    if (!format && format_from_head(bytes) == SurfaceFormat::MetaImage) format = SurfaceFormat::MetaImage;
     if (!format) {
         throw InputError(name, "cannot tell the surface format from the file name; expected the extension .off, "
-                               ".obj, .stl, .ply, .msh, .vtk, .vtp, .vtu, .pvtp, .pvtu, .surf, .nii (.nii.gz) or .nrrd, or an explicit "
+                               ".obj, .stl, .ply, .msh, .vtk, .vtp, .vtu, .pvtp, .pvtu, .surf, .nii (.nii.gz), .nrrd, .mha or .mhd, or an explicit "
                                "format");
     }
-    return read_from_memory(bytes, *format, name, options, report, material);
+    // A MetaImage header's data file: next to the header, read as it is (no gzip sniffing:
+    // raw voxels may start with any bytes; .zraw is zlib data the reader inflates).
+    const detail::DataFileLoader load = [&](const std::string& file) -> std::string {
+        if (path == "-") throw InputError(name, "standard input has no directory to find it in");
+        const std::filesystem::path data_path = std::filesystem::path(path).parent_path() / file;
+        std::ifstream in(data_path, std::ios::binary);
+        if (!in || std::filesystem::is_directory(data_path)) throw InputError(data_path.string(), "cannot open it");
+        std::string data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        if (in.bad()) throw InputError(data_path.string(), "cannot read it");
+        return data;
+    };
+    return read_from_memory(bytes, *format, name, options, report, material, load, &bytes);
 }
 
 Surface read_surfaces(const std::vector<std::string>& paths, const SurfaceReadOptions& options,
@@ -663,7 +699,8 @@ Surface read_surfaces(const std::vector<std::string>& paths, const SurfaceReadOp
         names += (i ? " + " : "") + name;
         SurfaceReadReport one;
         parts.push_back(read_surface(paths[i], options, &one));
-        if (i == 0) r.format = one.format;
+        if (i == 0) r.format = one.format, r.frame = one.frame;
+        if (one.frame != r.frame) r.frame = ImageFrame::Unknown;
         r.merged_vertices += one.merged_vertices;
         r.dropped_vertices += one.dropped_vertices;
         r.fused_triangles += one.fused_triangles;

@@ -67,6 +67,8 @@ struct ReaderOutput {
     // patch id: finish_reading gives them to the patches' PatchInfo, whose materials
     // come from the file (apply_file_material), or alone when there are none.
     std::vector<std::pair<int32_t, std::string>> patch_names;
+    // Label images: the anatomical frame of the coordinates (bpm/label_image.h).
+    ImageFrame frame = ImageFrame::Unknown;
 };
 
 // `accept_polygons`: faces with more than three corners go to ReaderOutput::polygons

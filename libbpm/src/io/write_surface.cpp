@@ -118,7 +118,7 @@ void write_surface(const std::string& path, const Surface& surface, std::optiona
         throw OutputError(where, std::string("cannot write ") + detail::surface_format_name(*format) +
                                      ": VTK XML is an input format here (write .off, .obj, .stl, .ply or .msh)");
     }
-    if (*format == SurfaceFormat::Nifti || *format == SurfaceFormat::Nrrd) {
+    if (*format == SurfaceFormat::Nifti || *format == SurfaceFormat::Nrrd || *format == SurfaceFormat::MetaImage) {
         throw OutputError(where, std::string("cannot write ") + detail::surface_format_name(*format) +
                                      ": a label image is an input format here (write .off .obj .stl .ply or .msh)");
     }
@@ -186,7 +186,8 @@ void write_surface(const std::string& path, const Surface& surface, std::optiona
         case SurfaceFormat::Vtu: break;  // refused above
         case SurfaceFormat::Surf: break;  // refused above
         case SurfaceFormat::Nifti:
-        case SurfaceFormat::Nrrd: break;  // refused above
+        case SurfaceFormat::Nrrd:
+        case SurfaceFormat::MetaImage: break;  // refused above
     }
     detail::write_file_atomically(path, bytes);
 }

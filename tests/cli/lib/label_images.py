@@ -15,13 +15,17 @@ Writes
   spheres.seg.nrrd the spheres as 3D Slicer writes a segmentation: gzip encoding, LPS space
                    directions, segment names (bone, marrow, muscle) as key/value pairs
   spheres_raw.nrrd the same as raw int16 big-endian data with spacings only
-  bad_*.nii, bad_*.nrrd  malformed files for the readers' error messages
+  spheres.mha      the spheres as ITK writes a MetaImage: LPS (TransformMatrix -1 0 0 0 -1 0 0 0 1),
+                   zlib-compressed data after the header
+  spheres.mhd      the same as a header + spheres.raw (uint16, big-endian)
+  bad_*.nii, bad_*.nrrd, bad_*.mhd  malformed files for the readers' error messages
 The module's functions are used by tests/unit via the generated files only.
 """
 import gzip
 import os
 import struct
 import sys
+import zlib
 
 import numpy as np
 
@@ -79,6 +83,24 @@ def write_nrrd(path, data, fields, encoding="gzip", endian="little", dtype_name=
         f.write(("\n".join(lines) + "\n\n").encode() + raw)
 
 
+def write_mha(path, data, fields, compressed=False, data_file=None, msb=False, met="MET_UCHAR"):
+    """MetaImage: header, then the voxels (x fastest) after it or in `data_file` next to it."""
+    arr = np.ascontiguousarray(data.transpose(2, 1, 0)).astype(data.dtype.newbyteorder(">" if msb else "<"))
+    raw = arr.tobytes()
+    if compressed:
+        raw = zlib.compress(raw)
+    lines = ["ObjectType = Image", "NDims = 3", "BinaryData = True", "BinaryDataByteOrderMSB = " + str(msb),
+             "CompressedData = " + str(compressed)] + fields + [
+        "DimSize = %d %d %d" % data.shape, "ElementType = " + met,
+        "ElementDataFile = " + (data_file or "LOCAL")]
+    head = ("\n".join(lines) + "\n").encode()
+    if data_file:
+        open(path, "wb").write(head)
+        open(os.path.join(os.path.dirname(path), data_file), "wb").write(raw)
+    else:
+        open(path, "wb").write(head + raw)
+
+
 def spheres(n=24):
     """Ball 1 (centre left) and ball 2 (centre right) touching each other, inside box 3."""
     x, y, z = np.meshgrid(np.arange(n), np.arange(n), np.arange(n), indexing="ij")
@@ -134,6 +156,13 @@ def main():
                endian="big", dtype_name="short")
     write_nrrd(os.path.join(out, "bad_type.nrrd"), small.astype(np.float32), [], encoding="raw", dtype_name="block")
     write_nrrd(os.path.join(out, "bad_layers.nrrd"), small, [], keys=[("Segment0_Layer", "1")])
+    lps = ["TransformMatrix = -1 0 0 0 -1 0 0 0 1", "Offset = 12 12 -12", "CenterOfRotation = 0 0 0",
+           "AnatomicalOrientation = RAI", "ElementSpacing = 1 1 1"]
+    write_mha(os.path.join(out, "spheres.mha"), s, lps, compressed=True)
+    write_mha(os.path.join(out, "spheres.mhd"), s.astype(np.uint16), lps, data_file="spheres.raw", msb=True,
+              met="MET_USHORT")
+    write_mha(os.path.join(out, "bad_missing_data.mhd"), s, lps, data_file="nowhere.raw")
+    os.remove(os.path.join(out, "nowhere.raw"))
     full = open(os.path.join(out, "spheres_raw.nrrd"), "rb").read()
     open(os.path.join(out, "bad_truncated.nrrd"), "wb").write(full[:len(full) - 100])
 

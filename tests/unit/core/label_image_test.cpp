@@ -263,3 +263,108 @@ TEST_CASE("label_image_surface: progress rises to 1, and a progress callback can
     stop.progress = [](double fraction, const std::string&) { return fraction < 0.5; };
     CHECK_THROWS_AS(label_image_surface(image, {}, stop), Cancelled);
 }
+
+TEST_CASE("label_image_surface: LPS <-> RAS negates x and y and keeps the triangles facing out") {
+    LabelImage image = balls_in_box(12);
+    image.spacing = {0.5, 1.0, 2.0};
+    image.origin = {10, -3, 7};
+    image.direction = {-1, 0, 0, 0, 1, 0, 0, 0, 1};  // a reflection, as NIfTI files often have
+    image.frame = ImageFrame::Ras;
+    LabelSurfaceOptions as_is, turned;
+    as_is.frame = ImageFrame::Ras;
+    turned.frame = ImageFrame::Lps;
+    const LabelSurface ras = label_image_surface(image, as_is), lps = label_image_surface(image, turned);
+    CHECK(ras.frame == ImageFrame::Ras);
+    CHECK(lps.frame == ImageFrame::Lps);
+    REQUIRE(ras.surface.triangles == lps.surface.triangles);
+    REQUIRE(ras.surface.num_vertices() == lps.surface.num_vertices());
+    for (size_t v = 0; v < ras.surface.vertices.size(); ++v) {
+        INFO("vertex " << v);
+        CHECK(lps.surface.vertices[v][0] == -ras.surface.vertices[v][0]);
+        CHECK(lps.surface.vertices[v][1] == -ras.surface.vertices[v][1]);
+        CHECK(lps.surface.vertices[v][2] == ras.surface.vertices[v][2]);
+    }
+    // Outward normals in both: every label encloses a positive volume.
+    for (const LabelSurface* ls : {&ras, &lps}) {
+        const std::map<int32_t, double> volume = closed_volumes(*ls);
+        for (const int32_t l : {1, 2, 3}) CHECK(volume.at(l) > 0.5 * count_voxels(image, l));
+    }
+    // Options::frame Unknown keeps the image's frame; an image of frame Unknown is never turned.
+    LabelSurfaceOptions keep;
+    keep.frame = ImageFrame::Unknown;
+    const LabelSurface kept = label_image_surface(image, keep);
+    CHECK(kept.frame == ImageFrame::Ras);
+    CHECK(kept.surface.vertices == ras.surface.vertices);
+    image.frame = ImageFrame::Unknown;
+    const LabelSurface plain = label_image_surface(image, turned);
+    CHECK(plain.frame == ImageFrame::Unknown);
+    CHECK(plain.surface.vertices == ras.surface.vertices);
+    CHECK(std::string(image_frame_name(ImageFrame::Lps)) == "LPS");
+    CHECK(std::string(image_frame_name(ImageFrame::Unknown)).empty());
+}
+
+namespace {
+
+// Many labels: 4x4x4-voxel blocks of distinct labels (`count` of them, negative ones too),
+// background around, so that the compact form needs 2 bytes a voxel.
+LabelImage many_labels(int blocks, int32_t first) {
+    const int64_t n = 4 * blocks + 2;
+    LabelImage image = blank(n);
+    for (int64_t k = 1; k < n - 1; ++k)
+        for (int64_t j = 1; j < n - 1; ++j)
+            for (int64_t i = 1; i < n - 1; ++i)
+                at(image, i, j, k) = first + int32_t(((i - 1) / 4) + blocks * (((j - 1) / 4) + blocks * ((k - 1) / 4)));
+    return image;
+}
+
+void check_same_surface(const LabelSurface& a, const LabelSurface& b) {
+    CHECK(a.surface.vertices == b.surface.vertices);
+    CHECK(a.surface.triangles == b.surface.triangles);
+    CHECK(a.surface.patches == b.surface.patches);
+    CHECK(a.patch_labels == b.patch_labels);
+    CHECK(a.labels == b.labels);
+    REQUIRE(a.patch_info.size() == b.patch_info.size());
+    for (size_t i = 0; i < a.patch_info.size(); ++i) CHECK(a.patch_info[i].name == b.patch_info[i].name);
+    CHECK(a.changed_voxels == b.changed_voxels);
+    CHECK(a.split_vertices == b.split_vertices);
+}
+
+}  // namespace
+
+TEST_CASE("label_image_surface: the compact form (1 or 2 bytes a voxel) gives the surface of the plain labels") {
+    for (const LabelImage& plain : {balls_in_box(14), noisy_checkerboard(12, 5), many_labels(7, -150)}) {
+        LabelImage compact = plain;
+        compact_labels(compact);
+        CHECK(compact.labels.empty());
+        CHECK(compact.compact());
+        const bool wide = compact.label_values.size() > 256;
+        CHECK(int64_t(wide ? compact.label_index16.size() : compact.label_index8.size()) == plain.num_voxels());
+        CHECK((wide ? compact.label_index8.empty() : compact.label_index16.empty()));
+        CHECK(std::is_sorted(compact.label_values.begin(), compact.label_values.end()));
+        for (int64_t v = 0; v < plain.num_voxels(); ++v)
+            if (compact.label_at(v) != plain.labels[size_t(v)]) FAIL("voxel " << v);
+        CHECK(label_image_problem(compact).empty());
+        check_same_surface(label_image_surface(plain), label_image_surface(compact));
+    }
+    const LabelImage wide = many_labels(7, -150);  // 343 labels, 0 among them
+    LabelImage c = wide;
+    compact_labels(c);
+    CHECK(c.label_values.size() == 343);
+    CHECK(c.label_index16.size() == size_t(wide.num_voxels()));
+
+    LabelImage bad = c;
+    bad.label_values.erase(std::find(bad.label_values.begin(), bad.label_values.end(), 0));
+    CHECK(label_image_problem(bad).find("do not include 0") != std::string::npos);
+    bad = c;
+    bad.label_index16[5] = 343;
+    CHECK(label_image_problem(bad).find("a label index is 343, beyond the 343 label values") != std::string::npos);
+    bad = c;
+    bad.label_index16.pop_back();
+    CHECK(label_image_problem(bad).find("label indices (label_index16)") != std::string::npos);
+    std::swap(bad.label_values[0], bad.label_values[1]);
+    CHECK(label_image_problem(bad).find("not in increasing order") != std::string::npos);
+    // More than 65536 distinct labels: refused, as before.
+    LabelImage intensity = blank(42);
+    for (size_t v = 0; v < intensity.labels.size(); ++v) intensity.labels[v] = int32_t(v);
+    CHECK_THROWS_WITH(label_image_surface(intensity), Catch::Contains("more than 65536 distinct labels"));
+}

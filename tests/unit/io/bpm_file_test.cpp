@@ -70,6 +70,7 @@ void require_equal(const BpmFile& a, const BpmFile& b) {
     REQUIRE(p.pieces == q.pieces);
     REQUIRE(p.piece_original_triangle == q.piece_original_triangle);
     REQUIRE(a.units == b.units);
+    REQUIRE(a.coordinate_frame == b.coordinate_frame);
     REQUIRE(a.provenance.size() == b.provenance.size());
     for (size_t i = 0; i < a.provenance.size(); ++i) {
         CHECK(a.provenance[i].tool == b.provenance[i].tool);
@@ -134,6 +135,21 @@ TEST_CASE("fixtures with non-trivial phi round-trip exactly", "[format]") {
         f.param = make_identity_parametrization(two_triangle_surface());
         require_equal(f, read_bpm_from_memory(write_bpm_to_memory(f), "mem"));
     }
+}
+
+TEST_CASE("the coordinate frame round-trips, and files without one have none (format 2.1)", "[format]") {
+    BpmFile f = with_provenance(make_identity_parametrization(two_triangle_surface()));
+    f.coordinate_frame = "LPS";
+    const std::string with = write_bpm_to_memory(f);
+    const BpmFile g = read_bpm_from_memory(with, "mem");
+    require_equal(f, g);
+    CHECK(g.coordinate_frame == "LPS");
+    CHECK(g.format_version.minor == BPM_FORMAT_VERSION_MINOR);
+    f.coordinate_frame.clear();
+    const std::string without = write_bpm_to_memory(f);
+    CHECK(without.find("coordinate_frame") == std::string::npos);  // not written when unknown
+    CHECK(with.find("coordinate_frame") != std::string::npos);
+    CHECK(read_bpm_from_memory(without, "mem").coordinate_frame.empty());
 }
 
 TEST_CASE("with crash isolation the parsed data comes back from the child unchanged", "[format]") {
