@@ -106,6 +106,10 @@ int main(int argc, char** argv) {
                    "Hold a boundary vertex short of phi rather than bring a dihedral angle below this (degrees; "
                    "default 8)")
         ->check(CLI::Range(0.0, 60.0));
+    bool no_corner_split = false;
+    app.add_flag("--no-corner-split", no_corner_split,
+                 "Do not split the tetrahedra with a corner whose three edges are on the surface (refining "
+                 "those makes tetrahedra with four corners on the surface, which phi flattens)");
     app.add_flag("--existing", existing, "Use the tetrahedral mesh already in INPUT instead of running TetGen");
     app.add_flag("--flat", flat, "With --refine: leave new boundary vertices on the coarse surface (red refinement of the boundary)");
     app.add_option("--tetgen", options.tetgen, "TetGen executable (default: tetgen on PATH)");
@@ -120,7 +124,7 @@ int main(int argc, char** argv) {
     bpm::tools::group_options(app, "Quality", {"--quality", "--min-dihedral", "--max-dihedral", "--max-volume", "--time-limit"});
     bpm::tools::group_options(app, "Refinement", {"--refine", "--flat", "--min-volume-fraction", "--remedy-min-dihedral"});
     bpm::tools::group_options(app, "Regions", {"--material"});
-    bpm::tools::group_options(app, "Advanced", {"--no-smooth", "--no-flip", "--existing", "--tetgen", "--keep-temporary"});
+    bpm::tools::group_options(app, "Advanced", {"--no-smooth", "--no-flip", "--no-corner-split", "--existing", "--tetgen", "--keep-temporary"});
     bpm::tools::add_examples(app, {"bpm-mesh femur.bpm -o femur.tet.bpm",
                                    "bpm-mesh femur.bpm -o femur.msh --refine 1 --time-limit 600 --json"});
 
@@ -151,6 +155,7 @@ int main(int argc, char** argv) {
             throw CLI::ValidationError("--max-dihedral", "must be 0 (TetGen's default) or between 90 and 179 degrees");
         options.smooth = !no_smooth;
         options.flip = !no_smooth && !no_flip;  // --no-smooth: no quality improvement at all, as before flips
+        options.split_surface_corners = !no_corner_split;
         bpm::MaterialOptions material_options;
         for (const std::string& a : material_args) {
             const size_t eq = a.find('=');
@@ -293,6 +298,7 @@ int main(int argc, char** argv) {
                                 return n;
                             }()) +
                             ", \"insertions\": " + std::to_string(mesh_result.insertions) +
+                            ", \"surface_corner_splits\": " + std::to_string(mesh_result.surface_corner_splits) +
                             ", \"flip_seconds\": " + json_double([&] {
                                 double sec = mesh_result.flip_seconds;
                                 for (const auto& l : refine_result.levels) sec += l.flip_seconds;
