@@ -55,7 +55,9 @@ int main(int argc, char** argv) {
         "the moved boundary well shaped, and tetrahedra with a small dihedral angle are flipped (2-3 flips,\n"
         "edge removals; never a face of the surface) where that raises it, at level 0 followed by a new\n"
         "interior vertex in those no flip improves; --no-smooth turns all of it off, --no-flip the flips\n"
-        "and the new vertices.",
+        "and the new vertices. Tetrahedra with a corner whose three edges are on the surface are split at level 0\n"
+        "(refining them would make tetrahedra with four corners on the surface, which phi flattens;\n"
+        "--no-corner-split keeps them).",
         tool};
     std::string input, output, format;
     bpm::TetMeshOptions options;

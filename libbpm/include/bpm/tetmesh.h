@@ -116,8 +116,8 @@ struct TetMeshOptions {
     // Split the tetrahedra with a *surface corner*, a corner whose three edges are all edges
     // of S (two faces on neighbouring coarse triangles, or three edges at a coarse vertex):
     // the longest of their edges not on S at its midpoint (a new interior vertex, which the
-    // smoothing then places), or at the centroid when all six edges are on S; the flips then
-    // make none again. Why: refinement makes tetrahedra with four corners on S only below
+    // smoothing then places), or at the centroid when all six edges are on S; then vertex
+    // insertion and flips (which make none again) widen the split tetrahedra. Why: refinement makes tetrahedra with four corners on S only below
     // such tetrahedra (their corner children, at every level), and phi flattens those onto
     // the smooth original surface (spec/tetmesh.md §3.6; src/tetmesh/tet_split.h).
     bool split_surface_corners = true;

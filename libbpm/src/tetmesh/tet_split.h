@@ -32,7 +32,8 @@
 // few coarse triangles) get a vertex at their centroid instead (1-4 split). A split is made
 // only if every new tetrahedron is positively oriented (exact orient3d); a tetrahedron none
 // of whose candidates passes stays (counted in `left`). The new vertices are appended to x;
-// generate_tetmesh's smoothing moves them afterwards (they are interior vertices).
+// generate_tetmesh then runs the vertex insertion and the flips (keeping surface corners
+// out) and smooths them (they are interior vertices).
 // Deterministic.
 
 #include <cstdint>
