@@ -40,7 +40,7 @@ int64_t all_corners_on_s(const TetMesh& m) {
 
 }  // namespace
 
-TEST_CASE("tet_split: a bipyramid's tetrahedra each have two faces on S; the axis is split", "[tetmesh][tet_split]") {
+TEST_CASE("tet_split: a bipyramid's tetrahedra each have two faces on S, the axis is split", "[tetmesh][tet_split]") {
     // Ring r0..r4 around the axis from n (north) to s (south): five tetrahedra (n, s, r_i,
     // r_i+1), each with the faces (n, r_i, r_i+1) and (s, r_i+1, r_i) on S, so r_i has three
     // edges on S. The only edge not on S is the axis.
