@@ -110,8 +110,7 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(0.0, 60.0));
     bool no_corner_split = false;
     app.add_flag("--no-corner-split", no_corner_split,
-                 "Do not split the tetrahedra with a corner whose three edges are on the surface (refining "
-                 "those makes tetrahedra with four corners on the surface, which phi flattens)");
+                 "Keep the tetrahedra with a corner whose three edges are on the surface (see above)");
     app.add_flag("--existing", existing, "Use the tetrahedral mesh already in INPUT instead of running TetGen");
     app.add_flag("--flat", flat, "With --refine: leave new boundary vertices on the coarse surface (red refinement of the boundary)");
     app.add_option("--tetgen", options.tetgen, "TetGen executable (default: tetgen on PATH)");
