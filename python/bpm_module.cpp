@@ -369,8 +369,11 @@ public:
         return d;
     }
 
-    // repair_boundary (bpm/boundary_repair.h) on a copy of `vertices`; with plain positions
-    // (not None) its retreat (step 5) too.
+    // repair_boundary_sliding (bpm/boundary_repair.h) on a copy of `vertices`; with plain
+    // positions (not None) its retreat (step 5) too. The slide (step 6, options.slide) changes
+    // parameter points: the new ones are returned in the dict, for the caller to keep (the next
+    // level's points are made from them, and the next call moves each vertex towards phi of
+    // its point).
     py::tuple repair(const py::object& vertices, const py::object& tetrahedra, const py::object& parameter_triangles,
                      const py::object& parameter_barycentrics, const py::object& plain_positions,
                      const bpm::BoundaryRepairOptions& options) {
@@ -394,7 +397,13 @@ public:
         bpm::BoundaryRepairResult r;
         {
             py::gil_scoped_release release;
-            r = bpm::repair_boundary(ev, x, tets, points, plain, options, bpm::Context{});
+            r = bpm::repair_boundary_sliding(ev, x, tets, points, plain, options, bpm::Context{});
+        }
+        std::vector<int32_t> new_triangles(points.size());
+        std::vector<bpm::Vec3> new_barycentrics(points.size());
+        for (size_t i = 0; i < points.size(); ++i) {
+            new_triangles[i] = points[i].triangle;
+            new_barycentrics[i] = points[i].barycentric;
         }
         py::dict d;
         d["boundary_vertices"] = r.boundary_vertices;
@@ -404,6 +413,9 @@ public:
         d["not_moved"] = r.not_moved;
         d["widened"] = r.widened;
         d["retreated"] = r.retreated;
+        d["slid"] = r.slid;
+        d["parameter_triangles"] = column(new_triangles);
+        d["parameter_barycentrics"] = rows(new_barycentrics);
         d["max_distance"] = r.max_distance;
         d["max_distance_relative"] = r.max_distance_relative;
         d["min_phi_fraction"] = r.min_phi_fraction;
@@ -826,7 +838,7 @@ PYBIND11_MODULE(_bpm, m) {
              [](File& f, const py::object& vertices, const py::object& tetrahedra, const py::object& parameter_triangles,
                 const py::object& parameter_barycentrics, const py::object& plain_positions, int bisection_steps,
                 double min_volume_fraction, double min_dihedral_degrees, int boundary_steps, int retry_passes,
-                bool smooth, bool widen, bool retreat) {
+                bool smooth, bool widen, bool retreat, bool slide) {
                  bpm::BoundaryRepairOptions o;
                  o.bisection_steps = bisection_steps;
                  o.min_volume_fraction = min_volume_fraction;
@@ -836,6 +848,7 @@ PYBIND11_MODULE(_bpm, m) {
                  o.smooth = smooth;
                  o.widen = widen;
                  o.retreat = retreat;
+                 o.slide = slide;
                  return f.repair(vertices, tetrahedra, parameter_triangles, parameter_barycentrics, plain_positions, o);
              },
              py::arg("vertices"), py::arg("tetrahedra"), py::arg("parameter_triangles"),
@@ -848,6 +861,7 @@ PYBIND11_MODULE(_bpm, m) {
              py::arg("smooth") = bpm::BoundaryRepairOptions{}.smooth,
              py::arg("widen") = bpm::BoundaryRepairOptions{}.widen,
              py::arg("retreat") = bpm::BoundaryRepairOptions{}.retreat,
+             py::arg("slide") = bpm::BoundaryRepairOptions{}.slide,
              "Repair after a solver refines (bpm/boundary_repair.h): moves the boundary vertices of a\n"
              "tet mesh (vertices (n, 3), positively oriented tetrahedra (m, 4)) towards phi of their\n"
              "parameter points (parameter_triangles (n,), -1 for interior vertices;\n"
@@ -859,8 +873,12 @@ PYBIND11_MODULE(_bpm, m) {
              "finite), adds the retreat\n"
              "(retreat=True): a boundary vertex next to a tetrahedron below min_dihedral_degrees moves\n"
              "back towards its plain position where that widens the worst tetrahedron around it.\n"
+             "slide=True: a boundary vertex next to such a tetrahedron moves along S0 (a new parameter\n"
+             "point in the same coarse triangle, on the same coarse edge) where that widens it.\n"
              "Returns (new vertices (n, 3), dict of counts: boundary_vertices, at_phi, held_back,\n"
-             "retreated, max_distance, inverted_before/after, ...).")
+             "retreated, slid, max_distance, inverted_before/after, ..., and the parameter points after\n"
+             "the slide, parameter_triangles (n,) and parameter_barycentrics (n, 3): keep them for the\n"
+             "next level and the next call).")
         .def("refine", &File::refine, py::arg("levels") = -1, py::arg("tolerance") = 0.0,
              py::arg("max_level") = py::none(),
              "The coarse surface refined through phi (bpm/refine.h): levels=K splits each coarse\n"

@@ -55,7 +55,9 @@ int main(int argc, char** argv) {
         "the moved boundary well shaped, and tetrahedra with a small dihedral angle are flipped (2-3 flips,\n"
         "edge removals; never a face of the surface) where that raises it, at level 0 followed by a new\n"
         "interior vertex in those no flip improves; --no-smooth turns all of it off, --no-flip the flips\n"
-        "and the new vertices.",
+        "and the new vertices. Tetrahedra with a corner whose three edges are on the surface are split at level 0\n"
+        "(refining them would make tetrahedra with four corners on the surface, which phi flattens;\n"
+        "--no-corner-split keeps them).",
         tool};
     std::string input, output, format;
     bpm::TetMeshOptions options;
@@ -106,6 +108,9 @@ int main(int argc, char** argv) {
                    "Hold a boundary vertex short of phi rather than bring a dihedral angle below this (degrees; "
                    "default 8)")
         ->check(CLI::Range(0.0, 60.0));
+    bool no_corner_split = false;
+    app.add_flag("--no-corner-split", no_corner_split,
+                 "Keep the tetrahedra with a corner whose three edges are on the surface (see above)");
     app.add_flag("--existing", existing, "Use the tetrahedral mesh already in INPUT instead of running TetGen");
     app.add_flag("--flat", flat, "With --refine: leave new boundary vertices on the coarse surface (red refinement of the boundary)");
     app.add_option("--tetgen", options.tetgen, "TetGen executable (default: tetgen on PATH)");
@@ -120,7 +125,7 @@ int main(int argc, char** argv) {
     bpm::tools::group_options(app, "Quality", {"--quality", "--min-dihedral", "--max-dihedral", "--max-volume", "--time-limit"});
     bpm::tools::group_options(app, "Refinement", {"--refine", "--flat", "--min-volume-fraction", "--remedy-min-dihedral"});
     bpm::tools::group_options(app, "Regions", {"--material"});
-    bpm::tools::group_options(app, "Advanced", {"--no-smooth", "--no-flip", "--existing", "--tetgen", "--keep-temporary"});
+    bpm::tools::group_options(app, "Advanced", {"--no-smooth", "--no-flip", "--no-corner-split", "--existing", "--tetgen", "--keep-temporary"});
     bpm::tools::add_examples(app, {"bpm-mesh femur.bpm -o femur.tet.bpm",
                                    "bpm-mesh femur.bpm -o femur.msh --refine 1 --time-limit 600 --json"});
 
@@ -151,6 +156,7 @@ int main(int argc, char** argv) {
             throw CLI::ValidationError("--max-dihedral", "must be 0 (TetGen's default) or between 90 and 179 degrees");
         options.smooth = !no_smooth;
         options.flip = !no_smooth && !no_flip;  // --no-smooth: no quality improvement at all, as before flips
+        options.split_surface_corners = !no_corner_split;
         bpm::MaterialOptions material_options;
         for (const std::string& a : material_args) {
             const size_t eq = a.find('=');
@@ -293,6 +299,7 @@ int main(int argc, char** argv) {
                                 return n;
                             }()) +
                             ", \"insertions\": " + std::to_string(mesh_result.insertions) +
+                            ", \"surface_corner_splits\": " + std::to_string(mesh_result.surface_corner_splits) +
                             ", \"flip_seconds\": " + json_double([&] {
                                 double sec = mesh_result.flip_seconds;
                                 for (const auto& l : refine_result.levels) sec += l.flip_seconds;

@@ -113,6 +113,14 @@ struct TetMeshOptions {
     // and the flips run again: fandisk at 1000 vertices, an interior sliver with four
     // corners on S that no flip improves, 2.94 -> 12.0 degrees.
     bool flip = true;
+    // Split the tetrahedra with a *surface corner*, a corner whose three edges are all edges
+    // of S (two faces on neighbouring coarse triangles, or three edges at a coarse vertex):
+    // the longest of their edges not on S at its midpoint (a new interior vertex, which the
+    // smoothing then places), or at the centroid when all six edges are on S; then vertex
+    // insertion and flips (which make none again) widen the split tetrahedra. Why: refinement makes tetrahedra with four corners on S only below
+    // such tetrahedra (their corner children, at every level), and phi flattens those onto
+    // the smooth original surface (spec/tetmesh.md §3.6; src/tetmesh/tet_split.h).
+    bool split_surface_corners = true;
 };
 
 struct TetMeshResult {
@@ -120,6 +128,7 @@ struct TetMeshResult {
     int64_t steiner_points = 0;      // vertices added (all strictly inside regions): TetGen's and the insertions
     int64_t flips = 0;               // flips made (options.flip): 2-3 flips and edge removals
     int64_t insertions = 0;          // vertices inserted into slivers no flip improves (options.flip)
+    int64_t surface_corner_splits = 0;  // vertices inserted by options.split_surface_corners
     double flip_seconds = 0.0;       // flips and insertions
     double tetgen_seconds = 0.0;     // wall time of the TetGen runs
     double seconds = 0.0;            // wall time of the whole call

@@ -15,6 +15,7 @@
 #include "bpm/predicates.h"
 #include "core/tetrahedron_quality.h"
 #include "tetmesh/tetmesh_internal.h"
+#include "tetmesh/tet_split.h"
 
 namespace bpm::detail {
 
@@ -54,6 +55,7 @@ public:
         dead_.assign(tets_.size(), 0);
         created_.assign(tets_.size(), 0);
         touched_.assign(x_.size(), 0);
+        if (o.keep_surface_corners_out) surface_edges_ = surface_edges(protected_faces);
     }
 
     TetFlipResult run() {
@@ -157,7 +159,11 @@ private:
         return quality_of(T);
     }
     double quality_of(const Tet& T) const { return min_dihedral_pseudo(x_[T[0]], x_[T[1]], x_[T[2]], x_[T[3]]); }
-    bool positive(const Tet& T) const { return orient3d(x_[T[0]], x_[T[1]], x_[T[2]], x_[T[3]]) == 1; }
+    // Positively oriented (exact) and, with keep_surface_corners_out, no surface corner.
+    bool allowed(const Tet& T) const {
+        if (o_.keep_surface_corners_out && has_surface_corner(T, surface_edges_)) return false;
+        return orient3d(x_[T[0]], x_[T[1]], x_[T[2]], x_[T[3]]) == 1;
+    }
     bool is_protected(int32_t a, int32_t b, int32_t c) const {
         return protected_.contains(a, b, c);
     }
@@ -365,7 +371,7 @@ private:
                     const Tet up{r[i], r[k], r[j], q}, down{r[i], r[j], r[k], p};
                     const double here = std::min({sub, quality_of(up), quality_of(down)});
                     if (!(here > Q[i][j]) || !(here > old_min)) continue;
-                    if (!positive(up) || !positive(down)) continue;
+                    if (!allowed(up) || !allowed(down)) continue;
                     Q[i][j] = here;
                     K[i][j] = k;
                 }
@@ -396,7 +402,7 @@ private:
         for (const Tet& n : fresh) new_min = std::min(new_min, quality_of(n));
         if (!(new_min > old_min) || !(new_min > best.quality)) return;
         for (const Tet& n : fresh)
-            if (!positive(n)) return;  // exact: the flip must give a valid mesh
+            if (!allowed(n)) return;  // exact: the flip must give a valid mesh
         best.quality = new_min;
         best.old = old;
         best.fresh = fresh;
@@ -410,6 +416,7 @@ private:
     const TetFlipOptions& o_;
     double target_ = 0;
     ProtectedFaces protected_;
+    std::vector<std::array<int32_t, 2>> surface_edges_;  // with keep_surface_corners_out
     std::vector<char> dead_, created_;
     std::vector<int32_t> slot_;
     std::vector<std::vector<int32_t>> lists_;

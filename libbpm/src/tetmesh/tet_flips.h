@@ -47,6 +47,10 @@ struct TetFlipOptions {
     // 3.2 s), 10 leaves 630 (768 flips, 1.8 s); the minimum is the same.
     double target_degrees = 15;
     int sweeps = 8;              // at most this many passes over them
+    // Make no tetrahedron with a surface corner (a corner whose three edges are edges of
+    // `protected_faces`; tetmesh/tet_split.h): at level 0 after split_surface_corners, so
+    // that the flips do not bring back what the splits removed.
+    bool keep_surface_corners_out = false;
 };
 
 struct TetFlipResult {

@@ -259,6 +259,51 @@ def test_repair_moves_a_flat_refined_boundary_onto_the_original_surface():
         f.repair(flat, f.tet_tetrahedra, pt, pb, boundary_steps=0)
 
 
+def test_repair_slides_and_returns_the_new_parameter_points():
+    """repair slides (bpm/boundary_repair.h step 6, slide=True by default): a boundary vertex
+    next to a tetrahedron below min_dihedral_degrees moves along S0, to phi of a new parameter
+    point in the same coarse triangle with the same zero coordinates, where that widens the
+    worst tetrahedron around it. The dict returns the points after the slide (before, repair
+    did not slide: a caller could not have kept the new points)."""
+    out = WORK / "elephant_tet1.bpm"
+    if not out.exists():
+        subprocess.run([str(TOOLS / "bpm-mesh"), str(simplified("elephant")), "--refine", "1", "--no-smooth",
+                        "-o", str(out)], check=True, stderr=subprocess.DEVNULL)
+    f = bpm.read(out)
+    pt, pb = f.tet_vertex_parameter_triangle, f.tet_vertex_parameter_barycentric
+    with h5py.File(out, "r") as h:
+        coarse_vertex = h["tetmesh/vertex_coarse_vertex"][()]
+    new_on_s = (pt >= 0) & (coarse_vertex < 0)
+    flat = f.tet_vertices.copy()
+    C, T = f.coarse_vertices, f.coarse_triangles
+    flat[new_on_s] = np.einsum("qk,qkd->qd", pb[new_on_s], C[T[pt[new_on_s]]])
+    tets = f.tet_tetrahedra
+    bound = 15.0  # many tetrahedra next to S0 are thinner
+
+    x0, r0 = f.repair(flat, tets, pt, pb, min_dihedral_degrees=bound, slide=False)
+    x1, r1 = f.repair(flat, tets, pt, pb, min_dihedral_degrees=bound)
+    assert r0["slid"] == 0
+    assert np.array_equal(r0["parameter_triangles"], pt) and np.array_equal(r0["parameter_barycentrics"], pb)
+    assert r1["slid"] > 0
+    assert r1["inverted_after"] == 0
+    assert r1["min_dihedral_degrees"] >= r0["min_dihedral_degrees"]
+    t1, b1 = r1["parameter_triangles"], r1["parameter_barycentrics"]
+    assert t1.shape == pt.shape and b1.shape == pb.shape
+    changed = np.flatnonzero(np.any(b1 != pb, axis=1) | (t1 != pt))
+    assert len(changed) == r1["slid"]
+    # Same coarse triangle, same zero coordinates (a vertex on a coarse edge stays on it),
+    # coarse vertices and interior vertices keep theirs, barycentrics sum to 1.
+    assert np.array_equal(t1, pt)
+    assert np.array_equal(b1[changed] == 0, pb[changed] == 0)
+    assert (coarse_vertex[changed] < 0).all() and (pt[changed] >= 0).all()
+    assert np.allclose(b1.sum(axis=1)[pt >= 0], 1.0, atol=1e-12) and (b1 >= 0).all()
+    # A slid vertex at phi is at phi of its new point.
+    at_phi = np.linalg.norm(x1[changed] - f.phi(t1[changed], b1[changed]), axis=1) < 1e-12
+    assert at_phi.any()
+    d = np.linalg.det(np.stack([x1[tets[:, k]] - x1[tets[:, 0]] for k in (1, 2, 3)], axis=1))
+    assert (d > 0).all()
+
+
 def test_repair_with_plain_positions_retreats_towards_them():
     """repair(..., plain_positions) adds the retreat (bpm/boundary_repair.h step 5): a
     boundary vertex next to a tetrahedron below min_dihedral_degrees moves back from phi
