@@ -137,6 +137,9 @@ public:
 private:
     void plan_once(int32_t v, bool force_disk, bool validate, bool defer, RemovalPlan& plan, bool& crease_line);
     void measure_new_ridges(RemovalPlan& plan);  // RemovalPlan::sharpest_new_ridge
+    // A feature-line plan of three or more fans keeps the order of the sheets around the
+    // line (simplify/sheet_guard.h).
+    bool line_keeps_sheet_order(const RemovalPlan& plan) const;
 
     const CoarseMesh& mesh_;
     const Embedding& embedding_;
