@@ -122,8 +122,10 @@ CheckResult check_topology(const Surface& surface, const CheckOptions& options =
 // (junction_edges_without_materials) and skipped; edges with two triangles on one
 // half-plane (an overlap the intersection check reports) are problems. A sheet turned
 // past another around their common edge intersects nothing, so the intersection check
-// passes, but the regions of the volume change. The file's form checks S0 and S (the
-// counts of S0 are prefixed "original_"); the surface's form checks that surface.
+// passes, but the regions of the volume change. The file's form checks that S keeps the
+// structure of S0: S0 is scanned too (counts prefixed "original_") but never fails, and
+// patches whose materials contradict S0 itself (a reader's guess) are not checked on S
+// (count "patches_contradicting_original"). The surface's form checks that surface.
 CheckResult check_junctions(const BpmFile& file, const CheckOptions& options = {}, const Context& context = {});
 CheckResult check_junctions(const Surface& surface, const std::vector<PatchInfo>& patch_info,
                             const CheckOptions& options = {}, const Context& context = {});

@@ -33,11 +33,15 @@ struct JunctionCounts {
 };
 
 // Scans `surface`; problems name triangles by `triangle_kind` and the edge's vertices by
-// `vertex_name` (e.g. the original id of a coarse vertex).
+// `vertex_name` (e.g. the original id of a coarse vertex). With `reference` set the
+// surface is the reference (S0 of a file): nothing is a problem, and the patches of its
+// inconsistent edges are added to `*reference`. Patches listed in `doubtful` count as
+// without materials.
 template <class VertexName>
 JunctionCounts scan_junctions(const Surface& surface, const std::vector<PatchInfo>& infos,
                               const std::string& triangle_kind, const VertexName& vertex_name, CheckResult& r,
-                              size_t max_problems) {
+                              size_t max_problems, std::vector<int32_t>* reference,
+                              const std::vector<int32_t>& doubtful) {
     JunctionCounts counts;
     const SurfaceConnectivity conn = build_connectivity(surface);
     const bool have_patches = surface.patches.size() == surface.triangles.size();
@@ -64,6 +68,8 @@ JunctionCounts scan_junctions(const Surface& surface, const std::vector<PatchInf
             apexes.push_back(surface.vertices[next == b ? prev : next]);
             const PatchInfo* pi = have_patches ? find_patch_info(infos, surface.patches[t]) : nullptr;
             if (!pi || !pi->has_materials() || !pi->oriented) known = false;
+            if (have_patches && std::find(doubtful.begin(), doubtful.end(), surface.patches[t]) != doubtful.end())
+                known = false;
             info.push_back(pi);
         }
         const Vec3& pa = surface.vertices[a];
@@ -72,6 +78,7 @@ JunctionCounts scan_junctions(const Surface& surface, const std::vector<PatchInf
             "edge " + vertex_name(a) + " -- " + vertex_name(b) + " (" + std::to_string(tris.size()) + " triangles)";
         if (!detail::sort_around_edge(pa, pb, apexes, order)) {
             ++counts.overlapping;
+            if (reference) continue;
             r.add_problem({{{triangle_kind, tris[0]}},
                            edge_where + ": two of its triangles lie on one half-plane, or one is degenerate: their "
                                         "order around the edge is undefined"},
@@ -98,6 +105,10 @@ JunctionCounts scan_junctions(const Surface& surface, const std::vector<PatchInf
         }
         if (bad == 0) continue;
         ++counts.inconsistent;
+        if (reference) {
+            for (int32_t t : tris) reference->push_back(surface.patches[t]);
+            continue;
+        }
         const int32_t i = order[first_bad], j = order[(first_bad + 1) % n];
         const std::string& mi = forward[i] ? info[i]->front : info[i]->back;
         const std::string& mj = forward[j] ? info[j]->back : info[j]->front;
@@ -146,7 +157,7 @@ CheckResult check_junctions(const Surface& surface, const std::vector<PatchInfo>
     context.report(0.0, "sheets around junction edges");
     const JunctionCounts c = scan_junctions(
         surface, patch_info, "triangle", [](int32_t v) { return "vertex " + std::to_string(v); }, r,
-        options.max_problems);
+        options.max_problems, nullptr, {});
     add_counts(r, "", c);
     r.summary = describe("", c);
     context.report(1.0, "sheets around junction edges");
@@ -161,20 +172,31 @@ CheckResult check_junctions(const BpmFile& file, const CheckOptions& options, co
         detail::refuse(r, *why);
         return r;
     }
+    // S0 is the reference: the check is that S keeps its structure. Where the materials
+    // patch_info gives contradict S0 itself (a guess of the reader: one file read as one
+    // material, whose inner walls then claim "exterior" on one side), they say nothing
+    // about S either: those patches are left out on S, and S0 is only counted.
     context.report(0.0, "sheets around junction edges of the original surface");
+    std::vector<int32_t> doubtful;
     const JunctionCounts original = scan_junctions(
         p.original, file.patch_info, "original_triangle",
-        [](int32_t v) { return "original vertex " + std::to_string(v); }, r, options.max_problems);
+        [](int32_t v) { return "original vertex " + std::to_string(v); }, r, options.max_problems, &doubtful, {});
+    std::sort(doubtful.begin(), doubtful.end());
+    doubtful.erase(std::unique(doubtful.begin(), doubtful.end()), doubtful.end());
     context.report(0.5, "sheets around junction edges of the coarse surface");
     const JunctionCounts coarse = scan_junctions(
         p.coarse, file.patch_info, "coarse_triangle",
         [&](int32_t v) {
             return "coarse vertex " + std::to_string(v) + " (original " + std::to_string(p.coarse_vertex_origin[v]) + ")";
         },
-        r, options.max_problems);
+        r, options.max_problems, nullptr, doubtful);
     add_counts(r, "original_", original);
     add_counts(r, "", coarse);
+    r.add_count("patches_contradicting_original", static_cast<int64_t>(doubtful.size()));
     r.summary = describe(" on S", coarse) + "; " + describe(" on S0", original);
+    if (!doubtful.empty())
+        r.summary += "; the materials of " + std::to_string(doubtful.size()) +
+                     " patches contradict S0 (not checked on S)";
     context.report(1.0, "sheets around junction edges");
     return r;
 }

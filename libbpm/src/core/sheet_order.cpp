@@ -1,6 +1,7 @@
 #include "core/sheet_order.h"
 
 #include <algorithm>
+#include <cstdint>
 #include <numeric>
 
 #include "bpm/predicates.h"
@@ -38,15 +39,28 @@ bool sort_around_edge(const Vec3& a, const Vec3& b, const std::vector<Vec3>& ape
     std::iota(order.begin(), order.end(), 0);
     if (apexes.empty()) return true;
     const Vec3& r = apexes[0];
-    std::stable_sort(order.begin(), order.end(),
-                     [&](int32_t x, int32_t y) { return turns_before(a, b, r, apexes[x], apexes[y]); });
+    // turns_before with each apex's half-turn found once (the sort compares each apex
+    // several times).
+    int8_t half[16];
+    std::vector<int8_t> many;
+    int8_t* h = half;
+    if (apexes.size() > 16) {
+        many.resize(apexes.size());
+        h = many.data();
+    }
+    for (size_t i = 0; i < apexes.size(); ++i) h[i] = static_cast<int8_t>(i == 0 ? 0 : half_turn(a, b, r, apexes[i]));
+    auto before = [&](int32_t x, int32_t y) {
+        if (h[x] != h[y]) return h[x] < h[y];
+        if (h[x] == 0 || h[x] == 2) return false;
+        return orient3d(a, b, apexes[x], apexes[y]) > 0;
+    };
+    std::stable_sort(order.begin(), order.end(), before);
     bool distinct = true;
     for (const Vec3& c : apexes)
         if (collinear3d(a, b, c)) distinct = false;
+    // Apexes on one half-plane compare equal (the half-plane of r: half-turn 0).
     for (size_t k = 1; k < order.size() && distinct; ++k)
-        if (!turns_before(a, b, r, apexes[order[k - 1]], apexes[order[k]])) distinct = false;
-    // Half-plane 0 of r itself holds only r unless another apex shares it.
-    if (order.size() > 1 && half_turn(a, b, r, apexes[order[1]]) == 0) distinct = false;
+        if (!before(order[k - 1], order[k])) distinct = false;
     return distinct;
 }
 

@@ -53,18 +53,16 @@ bool keeps_sheet_order(const CoarseMesh& mesh, const std::vector<int32_t>& remov
 }
 
 bool keeps_line_sheet_order(const std::vector<Vec3>& x, int32_t a, int32_t v, int32_t b,
-                            const std::vector<int32_t>& old_first, const std::vector<int32_t>& old_second,
-                            const std::vector<int32_t>& new_apex) {
-    if (new_apex.size() < 3) return true;  // two sheets have one cyclic order
-    std::vector<Vec3> apexes(new_apex.size());
+                            const std::vector<std::array<int32_t, 3>>& sheets) {
+    if (sheets.size() < 3) return true;  // two sheets have one cyclic order
+    std::vector<Vec3> apexes(sheets.size());
     std::vector<int32_t> order_new, order_old;
-    for (size_t i = 0; i < new_apex.size(); ++i) apexes[i] = x[size_t(new_apex[i])];
+    for (size_t i = 0; i < sheets.size(); ++i) apexes[i] = x[size_t(sheets[i][2])];
     if (!cyclic_order(x[a], x[b], apexes, order_new)) return false;
-    for (const auto* old : {&old_first, &old_second}) {
-        const bool first = old == &old_first;
-        for (size_t i = 0; i < old->size(); ++i) apexes[i] = x[size_t((*old)[i])];
+    for (int k = 0; k < 2; ++k) {
+        for (size_t i = 0; i < sheets.size(); ++i) apexes[i] = x[size_t(sheets[i][k])];
         // Both edges point along the line as a -> b does.
-        if (!cyclic_order(first ? x[a] : x[v], first ? x[v] : x[b], apexes, order_old)) continue;  // was undefined
+        if (!cyclic_order(k == 0 ? x[a] : x[v], k == 0 ? x[v] : x[b], apexes, order_old)) continue;  // was undefined
         if (order_old != order_new) return false;
     }
     return true;

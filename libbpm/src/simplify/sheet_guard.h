@@ -16,6 +16,7 @@
 //                           around the two edges a -- v and v -- b it replaces.
 // Internal to libbpm.
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -32,10 +33,10 @@ inline constexpr const char* kSheetOrderReason = "would turn a sheet past anothe
 bool keeps_sheet_order(const CoarseMesh& mesh, const std::vector<int32_t>& removed, const std::vector<Tri>& added,
                        std::vector<int32_t>& scratch);
 
-// `old_first[i]` / `old_second[i]`: the apex of sheet i's triangle at a -- v and at v -- b;
-// `new_apex[i]`: the apex of its new triangle at a -- b.
+// `sheets[i]`: the apexes of sheet i's triangles at a -- v and at v -- b, and of its new
+// triangle at a -- b. All triangles at a -- v and v -- b are in the removed star, so the
+// answer holds as long as the plan does.
 bool keeps_line_sheet_order(const std::vector<Vec3>& x, int32_t a, int32_t v, int32_t b,
-                            const std::vector<int32_t>& old_first, const std::vector<int32_t>& old_second,
-                            const std::vector<int32_t>& new_apex);
+                            const std::vector<std::array<int32_t, 3>>& sheets);
 
 }  // namespace bpm::detail

@@ -742,7 +742,8 @@ bool Simplifier::ready_to_commit(int k, double& cost) {
     }
     // Last, on the surface as it is now: the sheets on the other side of a junction edge
     // may have changed since the plan was made, without touching its star.
-    if (!keeps_sheet_order(mesh_, plan.removed_triangles, plan.new_triangles, sheet_scratch_)) {
+    if (!keeps_line_sheet_order(mesh_.positions(), plan.feature_a, v, plan.feature_b, plan.line_sheets) ||
+        !keeps_sheet_order(mesh_, plan.removed_triangles, plan.new_triangles, sheet_scratch_)) {
         last_reason_.set(v, kSheetOrderReason, 0);
         return false;
     }
@@ -903,7 +904,8 @@ void Simplifier::report_slivers(SimplifyResult& result) {
                 if (options_.prevent_intersections &&
                     intersections_.intersects_rest(plan.new_triangles, plan.removed_triangles, grid_scratch_[0]))
                     why = kSelfIntersection;
-                else if (!keeps_sheet_order(mesh_, plan.removed_triangles, plan.new_triangles, sheet_scratch_))
+                else if (!keeps_line_sheet_order(x, plan.feature_a, v, plan.feature_b, plan.line_sheets) ||
+                         !keeps_sheet_order(mesh_, plan.removed_triangles, plan.new_triangles, sheet_scratch_))
                     why = kSheetOrderReason;
                 else {
                     char text[160];

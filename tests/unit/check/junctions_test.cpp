@@ -6,6 +6,7 @@
 
 #include "bpm/check.h"
 #include "bpm/patch_info.h"
+#include "fixtures_surfaces.h"
 
 using namespace bpm;
 
@@ -93,4 +94,30 @@ TEST_CASE("check_junctions: two sheets on one half-plane are a problem", "[check
     const CheckResult r = check_junctions(fin(0, 120, 120), fin_materials());
     CHECK_FALSE(r.passed);
     CHECK(r.count("overlapping_junction_edges") == 1);
+}
+
+TEST_CASE("check_junctions of a file: S must keep the order of S0", "[check][junctions]") {
+    BpmFile file;
+    file.param = fixtures::identity_parametrization(fin(0, 120, 240));
+    file.patch_info = fin_materials();
+    CHECK(check_junctions(file).passed);
+    // Sheet 1 of S turned past sheet 2 (S0 as it was): fails, named by coarse triangles.
+    const double r = 300 * M_PI / 180.0;
+    file.param.coarse.vertices[3] = {std::cos(r), std::sin(r), 0.5};
+    const CheckResult turned = check_junctions(file);
+    INFO(turned.summary);
+    REQUIRE_FALSE(turned.passed);
+    CHECK(turned.count("inconsistent_junction_edges") == 1);
+    CHECK(turned.count("original_inconsistent_junction_edges") == 0);
+    CHECK(turned.problems.at(0).id("coarse_triangle") == 0);
+    CHECK(turned.problems.at(0).message.find("coarse vertex 0 (original 0) -- coarse vertex 1 (original 1)") !=
+          std::string::npos);
+    // Materials that contradict S0 itself (a reader's guess) say nothing about S: counted, not failed.
+    file.param.original.vertices[3] = file.param.coarse.vertices[3];
+    const CheckResult guessed = check_junctions(file);
+    INFO(guessed.summary);
+    CHECK(guessed.passed);
+    CHECK(guessed.count("original_inconsistent_junction_edges") == 1);
+    CHECK(guessed.count("patches_contradicting_original") == 3);
+    CHECK(guessed.count("junction_edges_without_materials") == 1);
 }
