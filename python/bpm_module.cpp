@@ -478,7 +478,7 @@ public:
         return File(std::move(meshed), "<memory>");
     }
 
-    // bpm-check (bpm/check.h): its default checks (format, intersections, topology,
+    // bpm-check (bpm/check.h): its default checks (format, intersections, topology, junctions,
     // bijectivity, distortion, and the tet mesh's when there is one), replay on request,
     // distance and quality by their limits; the report as bpm-check --json writes it
     // (spec/check-report.md), parsed.
@@ -937,7 +937,7 @@ PYBIND11_MODULE(_bpm, m) {
              py::kw_only(), py::arg("replay") = false, py::arg("max_distance") = py::none(),
              py::arg("max_aspect") = py::none(), py::arg("min_angle") = py::none(), py::arg("threads") = 0,
              py::arg("progress") = py::none(),
-             "bpm-check (bpm/check.h): format, intersections, topology, bijectivity, distortion and, with a\n"
+             "bpm-check (bpm/check.h): format, intersections, topology, junctions, bijectivity, distortion and, with a\n"
              "tet mesh, tetmesh; replay=True replays the recorded removals; max_distance (fraction of the\n"
              "diagonal), max_aspect and min_angle (degrees) add the distance and quality gates. Returns the\n"
              "report bpm-check --json writes (spec/check-report.md) as a dict: 'passed', and 'checks', one\n"

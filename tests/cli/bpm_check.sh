@@ -21,7 +21,7 @@ expect 0 "stdin" -- bash -c "cat '$example' | '$check' -"
 expect 0 "json" -- "$check" --json --original "$example"
 cp "$work/out" "$work/report.json"
 if command -v python3 >/dev/null; then
-    expect 0 "json parses" -- python3 -c "import json,sys; r=json.load(open('$work/report.json')); assert r['passed'] and r['bpm_check_report']==1; assert [c['name'] for c in r['checks']]==['format','original-intersections','intersections','topology','bijectivity','distortion']; d=r['checks'][-1]; assert d['counts']['pieces'] > 0 and [m['name'] for m in d['measures']][2]=='area_squeeze_max'"
+    expect 0 "json parses" -- python3 -c "import json,sys; r=json.load(open('$work/report.json')); assert r['passed'] and r['bpm_check_report']==1; assert [c['name'] for c in r['checks']]==['format','original-intersections','intersections','topology','junctions','bijectivity','distortion']; d=r['checks'][-1]; assert d['counts']['pieces'] > 0 and [m['name'] for m in d['measures']][2]=='area_squeeze_max'"
 fi
 
 expect 1 "quality gate fails" -- "$check" --max-aspect 2.01 "$example"

@@ -24,7 +24,7 @@ void add_tetmesh_in_order(bpm::CheckReport& report, bpm::CheckResult result) {
     auto at = report.checks.begin();
     for (auto it = report.checks.begin(); it != report.checks.end(); ++it)
         if (it->name == "format" || it->name == "original-intersections" || it->name == "intersections" ||
-            it->name == "topology")
+            it->name == "topology" || it->name == "junctions")
             at = std::next(it);
     report.checks.insert(at, std::move(result));
 }
@@ -66,6 +66,9 @@ int main(int argc, char** argv) {
         "                 the same topological feature vertices and lines: the feature lines of\n"
         "                 boundaries, patch borders and non-manifold edges (not creases, which are\n"
         "                 geometry; bpm-info counts both)\n"
+        "  junctions      around every edge of three or more triangles (where materials meet) the sheets,\n"
+        "                 in their order around the edge, agree about the material between each two (from\n"
+        "                 the patches' materials; edges without them are counted and skipped); S and S0\n"
         "  bijectivity    phi is one-to-one and onto: its pieces exactly cover every coarse and every\n"
         "                 original triangle\n"
         "  replay         (with --replay) the removals stored by bpm-simplify --record-steps are each a\n"
@@ -77,7 +80,7 @@ int main(int argc, char** argv) {
         "  distance       (with --max-distance) how far phi's image and the coarse surface are from the original",
         tool};
     std::string input;
-    std::string checks = "format,intersections,topology,bijectivity,distortion,tetmesh";
+    std::string checks = "format,intersections,topology,junctions,bijectivity,distortion,tetmesh";
     bool original = false, json = false, surface_mode = false;
     double max_aspect = 0, min_angle = 0, max_distance = 0, sample_spacing = 1e-3;
     bool replay = false;
@@ -88,8 +91,8 @@ int main(int argc, char** argv) {
     app.add_option("FILE", input, "Input .bpm file, or a surface file with --surface; '-' reads standard input")
         ->required();
     app.add_option("--checks", checks,
-                   "Comma-separated checks to run: format, intersections, topology, bijectivity, distortion, tetmesh, "
-                   "replay ('all' = the first six, the default; tetmesh runs on files with a volume mesh and, named "
+                   "Comma-separated checks to run: format, intersections, topology, junctions, bijectivity, distortion, "
+                   "tetmesh, replay ('all' = the first seven, the default; tetmesh runs on files with a volume mesh and, named "
                    "here by itself, fails on files without one). With --surface only intersections and topology apply")
         ->capture_default_str();
     app.add_flag("--original", original,
@@ -176,7 +179,7 @@ int main(int argc, char** argv) {
     });
     return bpm::tools::run(tool, argc, argv, app, [&]() {
         bpm::CheckSelection sel;
-        sel.format = sel.intersections = sel.topology = sel.bijectivity = sel.tetmesh = false;
+        sel.format = sel.intersections = sel.topology = sel.junctions = sel.bijectivity = sel.tetmesh = false;
         // distance and quality are run by their limits (--max-distance, --max-aspect,
         // --min-angle); named in --checks without one they measure and pass.
         bool want_distance = false, want_quality = false;
@@ -187,6 +190,7 @@ int main(int argc, char** argv) {
             if (item == "format") sel.format = true;
             else if (item == "intersections") sel.intersections = true;
             else if (item == "topology") sel.topology = true;
+            else if (item == "junctions") sel.junctions = true;
             else if (item == "bijectivity") sel.bijectivity = true;
             else if (item == "replay") sel.replay = true;
             else if (item == "distortion") sel.distortion = true;
@@ -194,10 +198,11 @@ int main(int argc, char** argv) {
             else if (item == "distance") want_distance = true;
             else if (item == "quality") want_quality = true;
             else if (item == "all")
-                sel.format = sel.intersections = sel.topology = sel.bijectivity = sel.distortion = sel.tetmesh = true;
+                sel.format = sel.intersections = sel.topology = sel.junctions = sel.bijectivity = sel.distortion =
+                    sel.tetmesh = true;
             else
                 throw CLI::ValidationError("--checks", "unknown check '" + item +
-                                                           "' (known: format, intersections, topology, bijectivity, "
+                                                           "' (known: format, intersections, topology, junctions, bijectivity, "
                                                            "distortion, tetmesh, quality, distance, replay, all)");
         }
         sel.original_intersections = original;
@@ -238,6 +243,12 @@ int main(int argc, char** argv) {
             for (const auto& warning : read_report.warnings) context.warn(warning);
             if (std::string seam = bpm::tools::open_seam_warning(read_report); !seam.empty()) context.warn(seam);
             report = bpm::run_surface_checks(surface, sel, options, context);
+            if (sel.junctions) {  // after topology; run_surface_checks has no patch info to give it
+                auto at = report.checks.begin();
+                for (auto it = report.checks.begin(); it != report.checks.end(); ++it)
+                    if (it->name == "intersections" || it->name == "topology") at = std::next(it);
+                report.checks.insert(at, bpm::check_junctions(surface, read_report.patch_info, options, context));
+            }
             if (want_quality && !report.find("quality")) add_in_order(report, bpm::check_quality(surface, options, context));
         } else {
             const bpm::BpmFile file = bpm::tools::read_bpm_input(input, "check it with bpm-check --surface " + input);

@@ -40,7 +40,7 @@ struct WorstValue {
 };
 
 struct CheckResult {
-    std::string name;     // "format", "intersections", "original-intersections", "topology", "bijectivity",
+    std::string name;     // "format", "intersections", "original-intersections", "topology", "junctions", "bijectivity",
                           // "quality", "distance", "replay"
     bool passed = true;
     std::string summary;  // one line for people, e.g. "1234 triangles, 0 intersecting pairs"
@@ -114,6 +114,22 @@ CheckResult check_topology(const Parametrization& param, const CheckOptions& opt
 // topology cannot be computed (indices out of range).
 CheckResult check_topology(const Surface& surface, const CheckOptions& options = {}, const Context& context = {});
 
+// Around every junction edge (three or more triangles) the sheets, sorted by turning
+// around the edge with exact predicates (orient3d), agree about the material between
+// them: the two triangles that bound each wedge claim the same material on the wedge's
+// side (front or back by each triangle's orientation, materials from patch_info,
+// compared case-insensitively). Edges whose patches lack oriented materials are counted
+// (junction_edges_without_materials) and skipped; edges with two triangles on one
+// half-plane (an overlap the intersection check reports) are problems. A sheet turned
+// past another around their common edge intersects nothing, so the intersection check
+// passes, but the regions of the volume change. The file's form checks that S keeps the
+// structure of S0: S0 is scanned too (counts prefixed "original_") but never fails, and
+// patches whose materials contradict S0 itself (a reader's guess) are not checked on S
+// (count "patches_contradicting_original"). The surface's form checks that surface.
+CheckResult check_junctions(const BpmFile& file, const CheckOptions& options = {}, const Context& context = {});
+CheckResult check_junctions(const Surface& surface, const std::vector<PatchInfo>& patch_info,
+                            const CheckOptions& options = {}, const Context& context = {});
+
 // phi is a bijection S -> S0: pieces tile every coarse triangle, agree along shared
 // coarse edges, map into their original triangles with positive orientation and tile
 // every original triangle; every original vertex is the image of exactly one point.
@@ -173,6 +189,7 @@ struct CheckSelection {
     bool format = true;
     bool intersections = true;
     bool topology = true;
+    bool junctions = true;                // check_junctions (S and S0)
     bool bijectivity = true;
     bool original_intersections = false;  // also check S0 (so a faulty input is reported as such)
     bool replay = false;                  // replay the recorded simplification steps (needs a record)
@@ -180,7 +197,7 @@ struct CheckSelection {
     bool tetmesh = true;                  // check the tet mesh (check_tetmesh), when the file has one
 };
 // Runs the selected checks and reports them in a fixed order: format, original
-// intersections, intersections, topology, tetmesh (only for a file with a tet mesh),
+// intersections, intersections, topology, junctions, tetmesh (only for a file with a tet mesh),
 // bijectivity, distortion, quality, distance, replay.
 // With two threads (options.threads) the first four run on a second thread, without
 // progress reports, next to the others.

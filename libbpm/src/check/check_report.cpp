@@ -160,6 +160,7 @@ CheckReport run_checks(const BpmFile& file, const CheckSelection& sel, const Che
             out.push_back(check_intersections(p.original, options, ctx, "original-intersections"));
         if (sel.intersections) out.push_back(check_intersections(p.coarse, options, ctx, "intersections"));
         if (sel.topology) out.push_back(check_topology(p, options, ctx));
+        if (sel.junctions) out.push_back(check_junctions(file, options, ctx));
         if (sel.tetmesh && file.tetmesh) out.push_back(check_tetmesh(file, options, ctx));
         return out;
     };
@@ -174,7 +175,7 @@ CheckReport run_checks(const BpmFile& file, const CheckSelection& sel, const Che
     };
     std::vector<CheckResult> first, second;
     const bool side_by_side = threads > 1 && (sel.format || sel.original_intersections || sel.intersections ||
-                                              sel.topology || (sel.tetmesh && file.tetmesh));
+                                              sel.topology || sel.junctions || (sel.tetmesh && file.tetmesh));
     if (side_by_side) {
         auto side = std::async(std::launch::async, [&] { return structural(side_context); });
         try {

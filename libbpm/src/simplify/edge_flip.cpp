@@ -7,6 +7,7 @@
 #include "bpm/predicates.h"
 #include "core/tetrahedron_quality.h"
 #include "simplify/overlay.h"
+#include "simplify/sheet_guard.h"
 
 namespace bpm::detail {
 
@@ -380,6 +381,7 @@ FlipStats flip_edges(CoarseMesh& mesh, Embedding& embedding, const std::vector<i
     const VerticesByX near(mesh, int32_t(X.size()));
     std::set<uint64_t> refused;  // edges (by their vertices) whose flip was refused: not tried again
     std::vector<TriangleGrid::Entry> scratch;
+    std::vector<int32_t> sheet_scratch;
     EdgeFlip flip, undo;
     std::string why;
     enum class Kind { Needle, Sliver };
@@ -404,6 +406,9 @@ FlipStats flip_edges(CoarseMesh& mesh, Embedding& embedding, const std::vector<i
             return refuse();
         if (limits.prevent_intersections &&
             intersections.intersects_rest({flip.added[0], flip.added[1]}, {flip.removed[0], flip.removed[1]}, scratch))
+            return refuse();
+        // The quad's sides may be junction edges: the new apexes must stay between the same sheets.
+        if (!keeps_sheet_order(mesh, {flip.removed[0], flip.removed[1]}, {flip.added[0], flip.added[1]}, sheet_scratch))
             return refuse();
         // What undoes it: the old triangles, the old locations and paths.
         undo = EdgeFlip();

@@ -42,6 +42,7 @@
 #include "simplify/planning_pool.h"
 #include "simplify/removal_cost.h"
 #include "simplify/ridge_guard.h"
+#include "simplify/sheet_guard.h"
 #include "simplify/vertex_order.h"
 #include "simplify/vertex_removal.h"
 
@@ -334,6 +335,7 @@ private:
     double diagonal_;
     int64_t target_;                  // vertices to stop at, 0: none
     IntersectionTest intersections_;  // of new triangles with the rest of the surface
+    std::vector<int32_t> sheet_scratch_;  // keeps_sheet_order's buffer (committing is serial)
     std::vector<std::vector<TriangleGrid::Entry>> grid_scratch_;  // per thread, for intersects_rest
     std::vector<uint32_t> stamp_;     // per vertex, moved on when its star changes
     RemovalQueue queue_;
@@ -738,6 +740,13 @@ bool Simplifier::ready_to_commit(int k, double& cost) {
         if (c.known_intersection == 1) last_reason_.set(v, kSelfIntersection, 0);
         return false;
     }
+    // Last, on the surface as it is now: the sheets on the other side of a junction edge
+    // may have changed since the plan was made, without touching its star.
+    if (!keeps_line_sheet_order(mesh_.positions(), plan.feature_a, v, plan.feature_b, plan.line_sheets) ||
+        !keeps_sheet_order(mesh_, plan.removed_triangles, plan.new_triangles, sheet_scratch_)) {
+        last_reason_.set(v, kSheetOrderReason, 0);
+        return false;
+    }
     return true;
 }
 
@@ -895,6 +904,9 @@ void Simplifier::report_slivers(SimplifyResult& result) {
                 if (options_.prevent_intersections &&
                     intersections_.intersects_rest(plan.new_triangles, plan.removed_triangles, grid_scratch_[0]))
                     why = kSelfIntersection;
+                else if (!keeps_line_sheet_order(x, plan.feature_a, v, plan.feature_b, plan.line_sheets) ||
+                         !keeps_sheet_order(mesh_, plan.removed_triangles, plan.new_triangles, sheet_scratch_))
+                    why = kSheetOrderReason;
                 else {
                     char text[160];
                     std::snprintf(text, sizeof text, "removable (new triangles up to R/r %.3g, error %.3g of diagonal), %s",

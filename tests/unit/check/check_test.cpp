@@ -409,7 +409,7 @@ TEST_CASE("run_checks runs the selection", "[check]") {
     std::vector<std::string> names;
     for (auto& c : r.checks) names.push_back(c.name);
     CHECK(names == std::vector<std::string>{"format", "original-intersections", "intersections", "topology",
-                                            "bijectivity", "quality"});
+                                            "junctions", "bijectivity", "quality"});
     CHECK(r.passed());
 }
 
