@@ -126,6 +126,9 @@ struct LabelSurface {
     // Vertices moved back towards their unsmoothed place (in the last round) because the
     // smoothing made the surface cross itself there.
     int64_t unsmoothed_vertices = 0;
+    // Vertices moved back towards their unsmoothed place because the smoothing had made a
+    // triangle around them a sliver (circumradius / inradius > 30).
+    int64_t sliver_vertices = 0;
     int64_t junction_vertices = 0;      // vertices where three or more labels meet
     // The frame of the surface's coordinates: LabelSurfaceOptions::frame (when not Unknown)
     // for an image in LPS or RAS; the image's own frame otherwise.
