@@ -520,22 +520,33 @@ LabelSurface extract(LabelImage& image, Index* idx, const LabelSurfaceOptions& o
     const bool reflected = det3(D) < 0;
     s.triangles.resize(quads.size() * 2);
     s.patches.resize(quads.size() * 2);
+    // A vertex in index space scaled by the spacing: model space but for a rotation or
+    // reflection and a translation, so shapes measured here are those of model space, and
+    // the same bits whatever the origin, direction or output frame (LPS or RAS files of one
+    // segmentation give the same triangles).
+    const auto scaled = [&](int32_t v) {
+        const Vec3& p = position[size_t(v)];
+        return Vec3{p[0] * image.spacing[0], p[1] * image.spacing[1], p[2] * image.spacing[2]};
+    };
     const auto triangulate = [&](size_t q) {
         const Quad& quad = quads[q];
-        const Vec3* x[4];
-        for (int k = 0; k < 4; ++k) x[k] = &s.vertices[size_t(quad.v[k])];
-        // The diagonal whose two triangles have the better worst aspect ratio (of equal
-        // ones, the shorter): where a junction line runs through three vertices of the
-        // quad, its smoothing straightens them, and the diagonal between the line's two
-        // ends would make a triangle of no area (R/r 1e12 on noisy images).
+        Vec3 y[4];
+        for (int k = 0; k < 4; ++k) y[k] = scaled(quad.v[k]);
+        // The diagonal whose two triangles have the better worst aspect ratio (of shapes
+        // equal but for rounding, the shorter): where a junction line runs through three
+        // vertices of the quad, smoothing straightens them, and the diagonal between the
+        // line's two ends made a triangle of no area (R/r 1e12 on noisy images).
         const auto worst = [&](int a) {
-            return std::max(aspect_ratio(*x[a], *x[(a + 1) % 4], *x[(a + 2) % 4]),
-                            aspect_ratio(*x[a], *x[(a + 2) % 4], *x[(a + 3) % 4]));
+            return std::max(aspect_ratio(y[a], y[(a + 1) % 4], y[(a + 2) % 4]),
+                            aspect_ratio(y[a], y[(a + 2) % 4], y[(a + 3) % 4]));
         };
         const double w0 = worst(0), w1 = worst(1);
-        const Vec3 g02 = *x[2] - *x[0], g13 = *x[3] - *x[1];
+        const Vec3 g02 = y[2] - y[0], g13 = y[3] - y[1];
         const double d02 = dot(g02, g02), d13 = dot(g13, g13);
-        int start = w1 < w0 || (w1 == w0 && d13 < d02) ? 1 : 0;  // the diagonal start -- start + 2
+        const bool tie = !(std::abs(w1 - w0) > 1e-9 * std::min(w0, w1));  // two infinities too
+        int start = (tie ? d13 < d02 : w1 < w0) ? 1 : 0;  // the diagonal start -- start + 2
+        const Vec3* x[4];
+        for (int k = 0; k < 4; ++k) x[k] = &s.vertices[size_t(quad.v[k])];
         const auto flat = [&](int a) {
             return collinear3d(*x[a], *x[(a + 1) % 4], *x[(a + 2) % 4]) || collinear3d(*x[a], *x[(a + 2) % 4], *x[(a + 3) % 4]);
         };
@@ -588,7 +599,7 @@ LabelSurface extract(LabelImage& image, Index* idx, const LabelSurfaceOptions& o
         };
         const auto mark_slivers = [&]() {
             for (const Tri& t : s.triangles)
-                if (aspect_ratio(s.vertices[size_t(t[0])], s.vertices[size_t(t[1])], s.vertices[size_t(t[2])]) > kMaxAspect)
+                if (aspect_ratio(scaled(t[0]), scaled(t[1]), scaled(t[2])) > kMaxAspect)
                     for (const int32_t v : t) back[size_t(v)] = 1;
         };
         for (int round = 0;; ++round) {
