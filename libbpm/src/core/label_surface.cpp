@@ -573,15 +573,18 @@ LabelSurface extract(LabelImage& image, Index* idx, const LabelSurfaceOptions& o
     // then nothing crosses and the worst R/r is at most max(kMaxAspect, the centroids').
     if (options.smoothing_iterations > 0) {
         constexpr double kMaxAspect = 30;  // simplify's default triangle shape limit
-        std::vector<std::vector<int32_t>> quads_of(nv);
-        for (size_t q = 0; q < quads.size(); ++q)
-            for (const int32_t v : quads[q].v) quads_of[size_t(v)].push_back(int32_t(q));
+        std::vector<std::vector<int32_t>> quads_of;  // built on the first need only
         std::vector<uint8_t> back(nv, 0), slivered(nv, 0);
         // Moves the vertices marked in `back` (and clears the marks), marks those that moved
         // in `moved_mark` if given; returns how many moved.
         const auto move_back = [&](double keep, std::vector<uint8_t>* moved_mark) {
             int64_t moved = 0;
             std::vector<size_t> touched;
+            if (quads_of.empty() && std::find(back.begin(), back.end(), uint8_t(1)) != back.end()) {
+                quads_of.resize(nv);
+                for (size_t q = 0; q < quads.size(); ++q)
+                    for (const int32_t v : quads[q].v) quads_of[size_t(v)].push_back(int32_t(q));
+            }
             for (size_t v = 0; v < nv; ++v) {
                 if (!back[v]) continue;
                 back[v] = 0;
