@@ -564,13 +564,14 @@ LabelSurface extract(LabelImage& image, Index* idx, const LabelSurfaceOptions& o
     // (2) It can make slivers of no diagonal's help: along junction lines at the image
     // border the line is straightened while its vertices stay in boxes that alternate
     // across a cube face, three of them nearly in a line in a quad of four junction
-    // vertices (R/r 100 on noisy images). The vertices of every crossing pair, and of
-    // every triangle of R/r > kMaxAspect, go back towards where smoothing found them (the
-    // centroids, which do not cross; their triangles measured R/r <= 27 on noisy images),
-    // half way per round at first, then all the way; the quads around them are split
-    // again. Once all the way, every round moves a vertex that was not yet back (the
-    // triangles of unmoved vertices neither cross nor are slivers), so the rounds end, and
-    // then nothing crosses and the worst R/r is at most max(kMaxAspect, the centroids').
+    // vertices (R/r 100 on noisy images). The four vertices of every quad with a triangle
+    // in a crossing pair or of R/r > kMaxAspect go back towards where smoothing found them
+    // (the centroids, which do not cross; their triangles measured R/r <= 5.4 on noisy
+    // images), half way per round at first, then all the way; the quads around them are
+    // split again. Once all the way, every round moves a vertex that was not yet back (a
+    // quad of four vertices back is split as the centroids' was: it is no sliver, and two
+    // such do not cross), so the rounds end, and then nothing crosses and the worst R/r is
+    // at most max(kMaxAspect, the centroids').
     if (options.smoothing_iterations > 0) {
         constexpr double kMaxAspect = 30;  // simplify's default triangle shape limit
         std::vector<std::vector<int32_t>> quads_of;  // built on the first need only
@@ -601,9 +602,16 @@ LabelSurface extract(LabelImage& image, Index* idx, const LabelSurfaceOptions& o
             return moved;
         };
         const auto mark_slivers = [&]() {
-            for (const Tri& t : s.triangles)
-                if (aspect_ratio(scaled(t[0]), scaled(t[1]), scaled(t[2])) > kMaxAspect)
-                    for (const int32_t v : t) back[size_t(v)] = 1;
+            // All four vertices of the quad: a quad of unmoved vertices is split as the
+            // centroids' was, so the bound below holds.
+            for (size_t q = 0; q < quads.size(); ++q)
+                for (const size_t t : {2 * q, 2 * q + 1}) {
+                    const Tri& tri = s.triangles[t];
+                    if (aspect_ratio(scaled(tri[0]), scaled(tri[1]), scaled(tri[2])) > kMaxAspect) {
+                        for (const int32_t v : quads[q].v) back[size_t(v)] = 1;
+                        break;
+                    }
+                }
         };
         for (int round = 0;; ++round) {
             for (int sliver_round = 0;; ++sliver_round) {
@@ -617,7 +625,7 @@ LabelSurface extract(LabelImage& image, Index* idx, const LabelSurfaceOptions& o
             for (const CheckProblem& p : r.problems)
                 for (const auto& [kind, id] : p.ids)
                     if (kind == "triangle" && id >= 0 && id < int64_t(s.triangles.size()))
-                        for (const int32_t v : s.triangles[size_t(id)]) back[size_t(v)] = 1;
+                        for (const int32_t v : quads[size_t(id) / 2].v) back[size_t(v)] = 1;
             const int64_t moved = move_back(round < 6 ? 0.5 : 0.0, nullptr);
             if (moved == 0) break;  // the centroids' own crossing (there is none): no use going on
             out.unsmoothed_vertices = moved;
