@@ -47,7 +47,10 @@ expect 0 "float32 labels placed by the qform" -- "$tools/bpm-simplify" "$work/fl
 contains "$work/err" "placed by the qform" "the qform is used"
 expect 0 "and bpm-check passes" -- "$tools/bpm-check" "$work/f.bpm"
 expect 0 "a noisy checkerboard of four labels" -- "$tools/bpm-simplify" "$work/noisy.nii" --ratio 0.3 -o "$work/n.bpm" -v
+contains "$work/err" "vertices moved back where it made slivers (R/r > 30)" "the log says where smoothing was undone"
 expect 0 "passes bpm-check" -- "$tools/bpm-check" "$work/n.bpm"
+# Smoothing straightened junction lines into triangles of almost no area (R/r 1.9e5 here).
+expect 0 "its surface has no sliver (R/r <= 30)" -- "$tools/bpm-check" --surface "$work/noisy.nii" --checks quality --max-aspect 30
 
 # NRRD: 3D Slicer's .seg.nrrd (gzip, segment names) and raw big-endian int16.
 expect 0 "simplify a .seg.nrrd" -- "$tools/bpm-simplify" "$work/spheres.seg.nrrd" --ratio 0.2 -o "$work/seg.bpm" -v

@@ -16,7 +16,8 @@
 // a cube whose 8 voxels (outside the image: background) do not all have one label gets a
 // vertex, and every pair of face-adjacent voxels with different labels a quad joining the
 // vertices of the 4 cubes around the edge between their centres, split into two triangles
-// along its shorter diagonal. Where two voxels of one label touch only along an edge (a
+// along the diagonal whose triangles have the better worst aspect ratio (circumradius /
+// inradius, measured in model space; of equal ones, the shorter diagonal). Where two voxels of one label touch only along an edge (a
 // 2x2 "checkerboard" of voxels around the edge), the label's surface would be pinched
 // along the edge, and one vertex per cube cannot represent it (two sheets would pass
 // between the same two vertices). Such edges are removed from the image first: one of the
@@ -28,11 +29,14 @@
 // by a margin, so that vertices of different cubes never coincide); vertices on a junction
 // line (an edge in 3+ quads, where 3+ labels meet) use only their two neighbours on the
 // line, so that they move along it; where junction lines end or meet, vertices stay.
-// Where the smoothed surface crosses itself (checked with bpm/check.h's exact test), the
-// vertices of the crossing triangles go back towards their unsmoothed places (the centroids
-// of their voxel faces' midpoints; no test image crosses itself there), half way per round,
-// all the way after 6 rounds. A surface still crossing after 8 rounds is returned as it is
-// (bpm-simplify refuses it, naming the crossing).
+// Where the smoothed surface crosses itself (checked with bpm/check.h's exact test) or has
+// a triangle of aspect ratio over 30 (smoothing straightens junction lines, and three
+// vertices of a quad on one line make a sliver), the four vertices of the quad go back
+// towards their unsmoothed places (the centroids of their voxel faces' midpoints; no test
+// image crosses itself there, and their triangles measured R/r <= 5.4 on noisy images),
+// half way at first, then all the way, until neither is left: the result does not cross
+// itself (unless the centroids did; then it is returned as it is and bpm-simplify refuses
+// it, naming the crossing) and its worst aspect ratio is at most max(30, the centroids').
 //
 // Memory: the image itself (compact: 1 byte per voxel for up to 256 distinct labels, else 2;
 // plain labels are made compact first, 4 + 1 or 2 bytes a voxel while that runs) plus what
@@ -126,6 +130,9 @@ struct LabelSurface {
     // Vertices moved back towards their unsmoothed place (in the last round) because the
     // smoothing made the surface cross itself there.
     int64_t unsmoothed_vertices = 0;
+    // Vertices moved back towards their unsmoothed place because the smoothing had made a
+    // triangle around them a sliver (circumradius / inradius > 30).
+    int64_t sliver_vertices = 0;
     int64_t junction_vertices = 0;      // vertices where three or more labels meet
     // The frame of the surface's coordinates: LabelSurfaceOptions::frame (when not Unknown)
     // for an image in LPS or RAS; the image's own frame otherwise.

@@ -17,6 +17,7 @@
 
 #include "bpm/check.h"
 #include "bpm/errors.h"
+#include "bpm/geometry.h"
 #include "bpm/label_image.h"
 #include "bpm/predicates.h"
 
@@ -506,7 +507,7 @@ LabelSurface extract(LabelImage& image, Index* idx, const LabelSurfaceOptions& o
     std::vector<Vec3>().swap(next);
     std::vector<std::array<double, 6>>().swap(box);
 
-    // ---- Model space, then two triangles per quad along the shorter diagonal.
+    // ---- Model space, then two triangles per quad (the diagonal: see triangulate).
     Surface& s = out.surface;
     s.vertices.resize(nv);
     const auto& D = image.direction;
@@ -519,13 +520,33 @@ LabelSurface extract(LabelImage& image, Index* idx, const LabelSurfaceOptions& o
     const bool reflected = det3(D) < 0;
     s.triangles.resize(quads.size() * 2);
     s.patches.resize(quads.size() * 2);
+    // A vertex in index space scaled by the spacing: model space but for a rotation or
+    // reflection and a translation, so shapes measured here are those of model space, and
+    // the same bits whatever the origin, direction or output frame (LPS or RAS files of one
+    // segmentation give the same triangles).
+    const auto scaled = [&](int32_t v) {
+        const Vec3& p = position[size_t(v)];
+        return Vec3{p[0] * image.spacing[0], p[1] * image.spacing[1], p[2] * image.spacing[2]};
+    };
     const auto triangulate = [&](size_t q) {
         const Quad& quad = quads[q];
+        Vec3 y[4];
+        for (int k = 0; k < 4; ++k) y[k] = scaled(quad.v[k]);
+        // The diagonal whose two triangles have the better worst aspect ratio (of shapes
+        // equal but for rounding, the shorter): where a junction line runs through three
+        // vertices of the quad, smoothing straightens them, and the diagonal between the
+        // line's two ends made a triangle of no area (R/r 1e12 on noisy images).
+        const auto worst = [&](int a) {
+            return std::max(aspect_ratio(y[a], y[(a + 1) % 4], y[(a + 2) % 4]),
+                            aspect_ratio(y[a], y[(a + 2) % 4], y[(a + 3) % 4]));
+        };
+        const double w0 = worst(0), w1 = worst(1);
+        const Vec3 g02 = y[2] - y[0], g13 = y[3] - y[1];
+        const double d02 = dot(g02, g02), d13 = dot(g13, g13);
+        const bool tie = !(std::abs(w1 - w0) > 1e-9 * std::min(w0, w1));  // two infinities too
+        int start = (tie ? d13 < d02 : w1 < w0) ? 1 : 0;  // the diagonal start -- start + 2
         const Vec3* x[4];
         for (int k = 0; k < 4; ++k) x[k] = &s.vertices[size_t(quad.v[k])];
-        const Vec3 g02 = *x[2] - *x[0], g13 = *x[3] - *x[1];
-        const double d02 = dot(g02, g02), d13 = dot(g13, g13);
-        int start = d13 < d02 ? 1 : 0;  // the diagonal start -- start + 2
         const auto flat = [&](int a) {
             return collinear3d(*x[a], *x[(a + 1) % 4], *x[(a + 2) % 4]) || collinear3d(*x[a], *x[(a + 2) % 4], *x[(a + 3) % 4]);
         };
@@ -538,41 +559,78 @@ LabelSurface extract(LabelImage& image, Index* idx, const LabelSurfaceOptions& o
     };
     for (size_t q = 0; q < quads.size(); ++q) triangulate(q);
 
-    // ---- Smoothing can fold the surface through itself where sheets are close (labels
-    // touching at corners, thin layers). The vertices of every crossing pair go back towards
-    // where smoothing found them (the centroids, which do not cross), half way per round
-    // and all the way in the last; the quads around them are split again.
+    // ---- Smoothing can spoil what the centroids had right. (1) It can fold the surface
+    // through itself where sheets are close (labels touching at corners, thin layers).
+    // (2) It can make slivers of no diagonal's help: along junction lines at the image
+    // border the line is straightened while its vertices stay in boxes that alternate
+    // across a cube face, three of them nearly in a line in a quad of four junction
+    // vertices (R/r 100 on noisy images). The four vertices of every quad with a triangle
+    // in a crossing pair or of R/r > kMaxAspect go back towards where smoothing found them
+    // (the centroids, which do not cross; their triangles measured R/r <= 5.4 on noisy
+    // images), half way per round at first, then all the way; the quads around them are
+    // split again. Once all the way, every round moves a vertex that was not yet back (a
+    // quad of four vertices back is split as the centroids' was: it is no sliver, and two
+    // such do not cross), so the rounds end, and then nothing crosses and the worst R/r is
+    // at most max(kMaxAspect, the centroids').
     if (options.smoothing_iterations > 0) {
+        constexpr double kMaxAspect = 30;  // simplify's default triangle shape limit
         std::vector<std::vector<int32_t>> quads_of;  // built on the first need only
-        for (int round = 0; round < 8; ++round) {
-            CheckOptions check;
-            check.max_problems = size_t(1) << 40;
-            const CheckResult r = check_intersections(s, check);
-            if (r.passed) break;
-            out.unsmoothed_vertices = 0;
-            if (quads_of.empty()) {
+        std::vector<uint8_t> back(nv, 0), slivered(nv, 0);
+        // Moves the vertices marked in `back` (and clears the marks), marks those that moved
+        // in `moved_mark` if given; returns how many moved.
+        const auto move_back = [&](double keep, std::vector<uint8_t>* moved_mark) {
+            int64_t moved = 0;
+            std::vector<size_t> touched;
+            if (quads_of.empty() && std::find(back.begin(), back.end(), uint8_t(1)) != back.end()) {
                 quads_of.resize(nv);
                 for (size_t q = 0; q < quads.size(); ++q)
                     for (const int32_t v : quads[q].v) quads_of[size_t(v)].push_back(int32_t(q));
             }
-            std::vector<uint8_t> back(nv, 0);
-            for (const CheckProblem& p : r.problems)
-                for (const auto& [kind, id] : p.ids)
-                    if (kind == "triangle" && id >= 0 && id < int64_t(s.triangles.size()))
-                        for (const int32_t v : s.triangles[size_t(id)]) back[size_t(v)] = 1;
-            const double keep = round >= 6 ? 0.0 : 0.5;
-            std::vector<size_t> touched;
             for (size_t v = 0; v < nv; ++v) {
                 if (!back[v]) continue;
+                back[v] = 0;
+                if (position[v] == unsmoothed[v]) continue;
                 for (int d = 0; d < 3; ++d) position[v][d] = unsmoothed[v][d] + keep * (position[v][d] - unsmoothed[v][d]);
                 place(v);
                 for (const int32_t q : quads_of[v]) touched.push_back(size_t(q));
-                ++out.unsmoothed_vertices;
+                if (moved_mark) (*moved_mark)[v] = 1;
+                ++moved;
             }
             std::sort(touched.begin(), touched.end());
             touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
             for (const size_t q : touched) triangulate(q);
+            return moved;
+        };
+        const auto mark_slivers = [&]() {
+            // All four vertices of the quad: a quad of unmoved vertices is split as the
+            // centroids' was, so the bound below holds.
+            for (size_t q = 0; q < quads.size(); ++q)
+                for (const size_t t : {2 * q, 2 * q + 1}) {
+                    const Tri& tri = s.triangles[t];
+                    if (aspect_ratio(scaled(tri[0]), scaled(tri[1]), scaled(tri[2])) > kMaxAspect) {
+                        for (const int32_t v : quads[q].v) back[size_t(v)] = 1;
+                        break;
+                    }
+                }
+        };
+        for (int round = 0;; ++round) {
+            for (int sliver_round = 0;; ++sliver_round) {
+                mark_slivers();
+                if (move_back(sliver_round < 2 ? 0.5 : 0.0, &slivered) == 0) break;
+            }
+            CheckOptions check;
+            check.max_problems = size_t(1) << 40;
+            const CheckResult r = check_intersections(s, check);
+            if (r.passed) break;
+            for (const CheckProblem& p : r.problems)
+                for (const auto& [kind, id] : p.ids)
+                    if (kind == "triangle" && id >= 0 && id < int64_t(s.triangles.size()))
+                        for (const int32_t v : quads[size_t(id) / 2].v) back[size_t(v)] = 1;
+            const int64_t moved = move_back(round < 6 ? 0.5 : 0.0, nullptr);
+            if (moved == 0) break;  // the centroids' own crossing (there is none): no use going on
+            out.unsmoothed_vertices = moved;
         }
+        out.sliver_vertices = std::count(slivered.begin(), slivered.end(), uint8_t(1));
     }
     context.report(1.0, "label image: surface nets");
     return out;

@@ -168,6 +168,10 @@ ReaderOutput label_image_reader_output(LabelImage image, const std::string& name
                         std::to_string(extracted.junction_vertices) + " vertices on junction lines, " +
                         std::to_string(extracted.split_vertices) + " cube vertices split where a label touches "
                         "itself at a corner");
+    if (extracted.sliver_vertices > 0 || extracted.unsmoothed_vertices > 0)
+        out.notes.push_back("smoothing undone in part: " + std::to_string(extracted.sliver_vertices) +
+                            " vertices moved back where it made slivers (R/r > 30), " +
+                            std::to_string(extracted.unsmoothed_vertices) + " where it made the surface cross itself");
     if (extracted.changed_voxels > 0)
         out.notes.push_back(std::to_string(extracted.changed_voxels) + " voxels relabelled where a label touched itself "
                             "only along a voxel edge (given the label of the two voxels that touched)" +

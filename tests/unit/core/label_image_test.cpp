@@ -13,6 +13,7 @@
 
 #include "bpm/check.h"
 #include "bpm/errors.h"
+#include "bpm/geometry.h"
 #include "bpm/label_image.h"
 #include "bpm/surface.h"
 
@@ -156,18 +157,74 @@ TEST_CASE("label_image_surface: the same image gives the same surface") {
 }
 
 TEST_CASE("label_image_surface: a noisy checkerboard (labels touching themselves along edges) stays valid") {
-    for (const unsigned seed : {3u, 11u, 29u}) {
+    for (const unsigned seed : {3u, 9u, 11u, 29u}) {
         INFO("seed " << seed);
         const LabelImage image = noisy_checkerboard(12, seed);
         const LabelSurface ls = label_image_surface(image);
         CHECK(ls.changed_voxels > 0);  // labels touching themselves along edges were there
         CHECK(ls.unresolved_contacts == 0);
-        // Smoothing folds this one through itself in places (25-40 crossing pairs before
-        // the vertices there went back): the guard is exercised.
-        CHECK(ls.unsmoothed_vertices > 0);
+        // Smoothing folds seed 9 through itself in a place (3 vertices went back): the
+        // guard is exercised. (With the shorter diagonal every seed folded, 25-40 crossing
+        // pairs; the diagonal of the better shape avoids most.)
+        if (seed == 9) CHECK(ls.unsmoothed_vertices > 0);
         const std::map<int32_t, double> volume = closed_volumes(ls);
         for (const int32_t l : {1, 2, 3}) CHECK(volume.at(l) > 0);
         check_valid_and_not_self_intersecting(ls);
+    }
+}
+
+// Blocks of 4 voxels of labels 0-3 with 15% of the voxels relabelled at random (as
+// tests/cli/lib/label_images.py's noisy image): junction lines everywhere, many along the
+// image border.
+LabelImage noisy_blocks(int64_t n, unsigned seed) {
+    LabelImage image = blank(n);
+    std::mt19937 rng(seed);
+    for (int64_t k = 0; k < n; ++k)
+        for (int64_t j = 0; j < n; ++j)
+            for (int64_t i = 0; i < n; ++i) {
+                int32_t l = int32_t(((i / 4) + (j / 4) + (k / 4)) % 4);
+                if (rng() % 100 < 15) l = int32_t(rng() % 4);
+                at(image, i, j, k) = l;
+            }
+    return image;
+}
+
+double worst_aspect_ratio(const Surface& s) {
+    double worst = 0;
+    for (const Tri& t : s.triangles)
+        worst = std::max(worst, aspect_ratio(s.vertices[size_t(t[0])], s.vertices[size_t(t[1])], s.vertices[size_t(t[2])]));
+    return worst;
+}
+
+TEST_CASE("label_image_surface: smoothing leaves no slivers on noisy images, and every vertex stays in its cube") {
+    // Smoothing straightens junction lines; where one runs through three vertices of a quad,
+    // the shorter diagonal joined its two ends across a triangle of no area (R/r 1e7 to
+    // 1e12 on such images), and along the image border the line's vertices, straightened
+    // but kept in boxes on alternating sides of a cube face, still made R/r ~100 with
+    // either diagonal. Now: the better diagonal, and the vertices of triangles over R/r 30
+    // back towards their unsmoothed place.
+    for (const unsigned seed : {3u, 7u, 11u}) {
+        INFO("seed " << seed);
+        const LabelImage image = noisy_blocks(16, seed);
+        for (const int iterations : {0, 20}) {
+            INFO("smoothing iterations " << iterations);
+            LabelSurfaceOptions options;
+            options.smoothing_iterations = iterations;
+            const LabelSurface ls = label_image_surface(image, options);
+            CHECK(worst_aspect_ratio(ls.surface) <= 30);
+            if (iterations > 0) CHECK(ls.sliver_vertices > 0);  // the pass was needed
+            // Index space (unit spacing, origin 0): each coordinate of a vertex of cube
+            // (a, b, c) in [a - 1 + margin, a - margin].
+            for (const Vec3& x : ls.surface.vertices)
+                for (int d = 0; d < 3; ++d) {
+                    const double f = x[d] - std::floor(x[d]);
+                    CHECK(f >= options.margin - 1e-12);
+                    CHECK(f <= 1 - options.margin + 1e-12);
+                }
+            const std::map<int32_t, double> volume = closed_volumes(ls);
+            for (const int32_t l : {1, 2, 3}) CHECK(volume.at(l) > 0);
+            check_valid_and_not_self_intersecting(ls);
+        }
     }
 }
 
