@@ -104,6 +104,11 @@ for w in v[1:]:
 expect 0 "bpm-check passes" -- "$tools/bpm-check" "$work/mhd.bpm"
 expect 3 "a .mhd whose data file is missing" -- "$tools/bpm-simplify" "$work/bad_missing_data.mhd" --ratio 0.5 -o "$work/x.bpm"
 contains "$work/err" "bad_missing_data.mhd: key ElementDataFile: the data file 'nowhere.raw' cannot be read" "names the header, the key and the data file"
+# A data file that is not a regular file (a device, a FIFO) is refused, not read until
+# memory runs out or waited on forever (it was read to the end).
+sed 's#^ElementDataFile = .*#ElementDataFile = /dev/zero#' "$work/bad_missing_data.mhd" >"$work/bad_device_data.mhd"
+expect 3 "a .mhd whose data file is /dev/zero" -- timeout 60 "$tools/bpm-simplify" "$work/bad_device_data.mhd" --ratio 0.5 -o "$work/x.bpm"
+contains "$work/err" "/dev/zero: the header's ElementDataFile is not a regular file" "says why"
 expect 0 "raw big-endian int16 NRRD with spacings" -- "$tools/bpm-simplify" "$work/spheres_raw.nrrd" --ratio 0.2 -o "$work/raw.bpm" -q
 expect 0 "passes bpm-check" -- "$tools/bpm-check" "$work/raw.bpm"
 expect 3 "NRRD of an unknown type" -- "$tools/bpm-simplify" "$work/bad_type.nrrd" --ratio 0.5 -o "$work/x.bpm"

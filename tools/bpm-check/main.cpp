@@ -93,7 +93,7 @@ int main(int argc, char** argv) {
     app.add_option("--checks", checks,
                    "Comma-separated checks to run: format, intersections, topology, junctions, bijectivity, distortion, "
                    "tetmesh, replay ('all' = the first seven, the default; tetmesh runs on files with a volume mesh and, named "
-                   "here by itself, fails on files without one). With --surface only intersections and topology apply")
+                   "here by itself, fails on files without one). With --surface: intersections, topology, junctions")
         ->capture_default_str();
     app.add_flag("--original", original,
                  "Also check the original surface for self-intersections (reported as 'original-intersections')");
@@ -141,7 +141,7 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(0, 64))
         ->capture_default_str();
     app.add_flag("--surface", surface_mode,
-                 "FILE is a plain surface (off obj stl ply msh vtk vtp vtu surf): check intersections and topology");
+                 "FILE is a plain surface or a label image, not a .bpm: check intersections, topology and junctions");
     bool triangulate_polygons = false;
     bpm::SurfaceReadOptions read_options;
     app.add_flag("--triangulate-polygons", triangulate_polygons,

@@ -670,11 +670,16 @@ Surface read_surface(const std::string& path, const SurfaceReadOptions& options,
     }
     // A MetaImage header's data file: next to the header, read as it is (no gzip sniffing:
     // raw voxels may start with any bytes; .zraw is zlib data the reader inflates).
+    // Only a regular file: a header naming /dev/zero or a FIFO would read until memory ran
+    // out or hang. (An absolute name or "../" is followed, as ITK does.)
     const detail::DataFileLoader load = [&](const std::string& file) -> std::string {
         if (path == "-") throw InputError(name, "standard input has no directory to find it in");
         const std::filesystem::path data_path = std::filesystem::path(path).parent_path() / file;
+        std::error_code ec;
+        if (std::filesystem::exists(data_path, ec) && !std::filesystem::is_regular_file(data_path, ec))
+            throw InputError(data_path.string(), "the header's ElementDataFile is not a regular file");
         std::ifstream in(data_path, std::ios::binary);
-        if (!in || std::filesystem::is_directory(data_path)) throw InputError(data_path.string(), "cannot open it");
+        if (!in) throw InputError(data_path.string(), "cannot open it");
         std::string data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
         if (in.bad()) throw InputError(data_path.string(), "cannot read it");
         return data;
