@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "bpm/predicates.h"
 #include "core/sheet_order.h"
 
 namespace bpm::detail {
@@ -39,10 +40,15 @@ bool keeps_sheet_order(const CoarseMesh& mesh, const std::vector<int32_t>& remov
                     ++replaced;
                 }
             if (replaced != 1 || tris.size() - 1 < 2) continue;
+            // An old triangle without area (apex on the edge's line) lies between no two
+            // sheets, and the wedge test below would accept any new apex: refuse. (Input
+            // that passed validate_surface has none; this keeps the guard sound anyway.)
+            if (old_apex < 0 || collinear3d(x[size_t(a)], x[size_t(b)], x[size_t(old_apex)])) return false;
             const Vec3& p = x[size_t(old_apex)];
             for (int32_t u : tris) {
                 if (std::find(removed.begin(), removed.end(), u) != removed.end()) continue;
                 const int32_t c = third_corner(mesh.triangle(u), a, b);
+                if (c < 0) return false;
                 // after: the first kept sheet turning from p; before: the last.
                 if (after < 0 || turns_before(x[a], x[b], p, x[c], x[after])) after = c;
                 if (before < 0 || turns_before(x[a], x[b], p, x[before], x[c])) before = c;
