@@ -719,6 +719,9 @@ BpmFile read_image(const std::string& bytes, const std::string& where, Tape* rec
     out.format_version = read_identification(r);
     out.units = r.read_string_attribute("units", false);
     out.coordinate_frame = r.read_string_attribute("coordinate_frame", false);
+    // spec §2: any other value is "unknown"; kept, the tools would copy it into every file
+    // they write from this one.
+    if (out.coordinate_frame != "LPS" && out.coordinate_frame != "RAS") out.coordinate_frame.clear();
 
     Parametrization& p = out.param;
     p.original = read_surface(r, "/original");

@@ -150,6 +150,9 @@ TEST_CASE("the coordinate frame round-trips, and files without one have none (fo
     CHECK(without.find("coordinate_frame") == std::string::npos);  // not written when unknown
     CHECK(with.find("coordinate_frame") != std::string::npos);
     CHECK(read_bpm_from_memory(without, "mem").coordinate_frame.empty());
+    // Another value (written elsewhere) reads as unknown, so that no tool copies it on.
+    f.coordinate_frame = "scanner-xyz";
+    CHECK(read_bpm_from_memory(write_bpm_to_memory(f), "mem").coordinate_frame.empty());
 }
 
 TEST_CASE("with crash isolation the parsed data comes back from the child unchanged", "[format]") {
