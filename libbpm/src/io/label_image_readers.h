@@ -52,4 +52,30 @@ LabelImage read_metaimage_image(std::string_view bytes, const std::string& name,
 ReaderOutput label_image_reader_output(LabelImage image, const std::string& name, const LabelSurfaceOptions& options,
                                        const Context& context, std::vector<std::string> notes);
 
+// Text of the key/value headers of NRRD and MetaImage: `s` without leading and trailing
+// white space; ASCII lower case; the fields between runs of white space.
+inline std::string header_trim(std::string_view s) {
+    size_t a = 0, b = s.size();
+    while (a < b && is_space(s[a])) ++a;
+    while (b > a && is_space(s[b - 1])) --b;
+    return std::string(s.substr(a, b - a));
+}
+inline std::string header_lower(std::string s) {
+    for (char& c : s)
+        if (c >= 'A' && c <= 'Z') c = char(c - 'A' + 'a');
+    return s;
+}
+inline std::vector<std::string> header_words(const std::string& s) {
+    std::vector<std::string> out;
+    size_t i = 0;
+    while (i < s.size()) {
+        while (i < s.size() && is_space(s[i])) ++i;
+        size_t j = i;
+        while (j < s.size() && !is_space(s[j])) ++j;
+        if (j > i) out.push_back(s.substr(i, j - i));
+        i = j;
+    }
+    return out;
+}
+
 }  // namespace bpm::detail

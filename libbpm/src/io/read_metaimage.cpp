@@ -35,31 +35,6 @@ namespace bpm::detail {
 
 namespace {
 
-std::string trim(std::string_view s) {
-    size_t a = 0, b = s.size();
-    while (a < b && is_space(s[a])) ++a;
-    while (b > a && is_space(s[b - 1])) --b;
-    return std::string(s.substr(a, b - a));
-}
-
-std::string lower(std::string s) {
-    for (char& c : s) c = char(std::tolower(static_cast<unsigned char>(c)));
-    return s;
-}
-
-std::vector<std::string> words(const std::string& s) {
-    std::vector<std::string> out;
-    size_t i = 0;
-    while (i < s.size()) {
-        while (i < s.size() && is_space(s[i])) ++i;
-        size_t j = i;
-        while (j < s.size() && !is_space(s[j])) ++j;
-        if (j > i) out.push_back(s.substr(i, j - i));
-        i = j;
-    }
-    return out;
-}
-
 // `expected` bytes inflated from a zlib (or gzip) stream; more data than that is refused
 // without producing it.
 std::string inflate_exactly(std::string_view in, size_t expected, const std::string& name) {
@@ -119,15 +94,15 @@ LabelImage read_metaimage_image(std::string_view bytes, const std::string& name,
         pos = std::min(end + 1, bytes.size());
         ++line_number;
         if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
-        if (trim(line).empty()) continue;
+        if (header_trim(line).empty()) continue;
         const size_t eq = line.find('=');
         if (eq == std::string_view::npos)
             fail("line " + std::to_string(line_number) + ": expected 'Key = Value', found " + quote_token(line.substr(0, 80)));
-        const std::string key = trim(line.substr(0, eq));
+        const std::string key = header_trim(line.substr(0, eq));
         if (key.empty() || key.size() > 64)
             fail("line " + std::to_string(line_number) + ": expected 'Key = Value', found " + quote_token(line.substr(0, 80)));
-        field[lower(key)] = {key, trim(line.substr(eq + 1))};
-        if (lower(key) == "elementdatafile") {
+        field[header_lower(key)] = {key, header_trim(line.substr(eq + 1))};
+        if (header_lower(key) == "elementdatafile") {
             ended = true;
             break;
         }
@@ -141,14 +116,14 @@ LabelImage read_metaimage_image(std::string_view bytes, const std::string& name,
     };
     const auto boolean = [&](const char* key, const char* spelled) {
         if (!has(key)) return false;
-        const std::string v = lower(value(key));
+        const std::string v = header_lower(value(key));
         if (v == "true" || v == "1") return true;
         if (v == "false" || v == "0") return false;
         fail(std::string("key ") + spelled + " is " + quote_token(value(key)) + ", not True or False");
         return false;
     };
     const auto numbers = [&](const char* key, const char* spelled, size_t count) {
-        const std::vector<std::string> w = words(value(key));
+        const std::vector<std::string> w = header_words(value(key));
         if (w.size() != count)
             fail(std::string("key ") + spelled + " has " + std::to_string(w.size()) + " values, expected " + std::to_string(count));
         std::vector<double> out(count);
@@ -160,14 +135,14 @@ LabelImage read_metaimage_image(std::string_view bytes, const std::string& name,
         return out;
     };
 
-    if (has("objecttype") && lower(value("objecttype")) != "image")
+    if (has("objecttype") && header_lower(value("objecttype")) != "image")
         fail("key ObjectType is " + quote_token(value("objecttype")) + ", not Image");
     {
         const std::string& n = need("ndims", "NDims");
-        if (trim(n) != "3")
+        if (header_trim(n) != "3")
             fail("key NDims is " + quote_token(n) + "; a label image has 3 dimensions");
     }
-    if (has("elementnumberofchannels") && trim(value("elementnumberofchannels")) != "1")
+    if (has("elementnumberofchannels") && header_trim(value("elementnumberofchannels")) != "1")
         fail("key ElementNumberOfChannels is " + quote_token(value("elementnumberofchannels")) +
              "; a label image has one value per voxel");
     if (has("binarydata") && !boolean("binarydata", "BinaryData"))
@@ -175,7 +150,7 @@ LabelImage read_metaimage_image(std::string_view bytes, const std::string& name,
 
     LabelImage image;
     {
-        const std::vector<std::string> w = words(need("dimsize", "DimSize"));
+        const std::vector<std::string> w = header_words(need("dimsize", "DimSize"));
         if (w.size() != 3) fail("key DimSize has " + std::to_string(w.size()) + " values, expected 3");
         for (int d = 0; d < 3; ++d) {
             int64_t n = 0;
@@ -192,7 +167,7 @@ LabelImage read_metaimage_image(std::string_view bytes, const std::string& name,
     const std::string type_text = need("elementtype", "ElementType");
     VoxelType type;
     {
-        const std::string t = lower(type_text);
+        const std::string t = header_lower(type_text);
         if (t == "met_uchar") type = VoxelType::U8;
         else if (t == "met_char") type = VoxelType::I8;
         else if (t == "met_ushort") type = VoxelType::U16;
@@ -247,7 +222,7 @@ LabelImage read_metaimage_image(std::string_view bytes, const std::string& name,
     std::string orientation;
     if (has("anatomicalorientation")) {
         // Three letters, one of R/L, A/P, S/I each ('?' unknown), as MetaIO writes them.
-        const std::string o = trim(value("anatomicalorientation"));
+        const std::string o = header_trim(value("anatomicalorientation"));
         bool good = o.size() == 3;
         int seen[3] = {0, 0, 0};
         for (const char c : o) {
@@ -269,13 +244,13 @@ LabelImage read_metaimage_image(std::string_view bytes, const std::string& name,
     std::string loaded;
     std::string_view data;
     std::string source;  // for messages: "after the header" or "data file 'x.raw'"
-    if (lower(data_file) == "local") {
+    if (header_lower(data_file) == "local") {
         data = bytes.substr(pos);
         source = "the data after the header";
     } else {
         if (data_file.empty()) fail("key ElementDataFile is empty");
-        if (lower(data_file).rfind("list", 0) == 0 || data_file.find('%') != std::string::npos ||
-            words(data_file).size() > 1)
+        if (header_lower(data_file).rfind("list", 0) == 0 || data_file.find('%') != std::string::npos ||
+            header_words(data_file).size() > 1)
             fail("key ElementDataFile is " + quote_token(data_file) +
                  ": the voxels are split over several files (one per slice); bpm reads one data file");
         if (!load)
@@ -334,7 +309,7 @@ LabelImage read_metaimage_image(std::string_view bytes, const std::string& name,
     if (notes) {
         notes->push_back("MetaImage label image: " + std::to_string(image.size[0]) + " x " + std::to_string(image.size[1]) +
                          " x " + std::to_string(image.size[2]) + " voxels of " + voxel_type_name(type) +
-                         (compressed ? " (compressed)" : "") + (lower(data_file) == "local" ? "" : " in " + quote_token(data_file)) +
+                         (compressed ? " (compressed)" : "") + (header_lower(data_file) == "local" ? "" : " in " + quote_token(data_file)) +
                          ", " + placed + "; world coordinates LPS" +
                          (orientation.empty() ? std::string() : " (AnatomicalOrientation " + orientation + ")"));
     }

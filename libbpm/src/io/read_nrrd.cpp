@@ -37,31 +37,6 @@ namespace bpm::detail {
 
 namespace {
 
-std::string trim(std::string_view s) {
-    size_t a = 0, b = s.size();
-    while (a < b && is_space(s[a])) ++a;
-    while (b > a && is_space(s[b - 1])) --b;
-    return std::string(s.substr(a, b - a));
-}
-
-std::string lower(std::string s) {
-    for (char& c : s) c = char(std::tolower(static_cast<unsigned char>(c)));
-    return s;
-}
-
-std::vector<std::string> words(const std::string& s) {
-    std::vector<std::string> out;
-    size_t i = 0;
-    while (i < s.size()) {
-        while (i < s.size() && is_space(s[i])) ++i;
-        size_t j = i;
-        while (j < s.size() && !is_space(s[j])) ++j;
-        if (j > i) out.push_back(s.substr(i, j - i));
-        i = j;
-    }
-    return out;
-}
-
 }  // namespace
 
 LabelImage read_nrrd_image(std::string_view bytes, const std::string& name, std::vector<std::string>* notes) {
@@ -94,7 +69,7 @@ LabelImage read_nrrd_image(std::string_view bytes, const std::string& name, std:
         }
         if (colon == std::string_view::npos)
             fail("line " + std::to_string(line_number) + ": expected 'field: value', found " + quote_token(line));
-        field[lower(trim(line.substr(0, colon)))] = trim(line.substr(colon + 2));
+        field[header_lower(header_trim(line.substr(0, colon)))] = header_trim(line.substr(colon + 2));
     }
     if (field.count("data file") || field.count("datafile"))
         fail("field 'data file': the voxels are in another file (a detached header, .nhdr); bpm reads NRRD files "
@@ -105,7 +80,7 @@ LabelImage read_nrrd_image(std::string_view bytes, const std::string& name, std:
         if (it == field.end()) fail(std::string("field '") + key + "' is missing");
         return it->second;
     };
-    const std::string type_text = lower(need("type"));
+    const std::string type_text = header_lower(need("type"));
     VoxelType type;
     if (type_text == "uchar" || type_text == "unsigned char" || type_text == "uint8" || type_text == "uint8_t")
         type = VoxelType::U8;
@@ -129,7 +104,7 @@ LabelImage read_nrrd_image(std::string_view bytes, const std::string& name, std:
         fail("field 'type' is " + quote_token(type_text) + "; a label image needs integer labels (uchar, short, "
              "ushort, int, uint, signed char; or float/double holding integers)");
 
-    const std::vector<std::string> sizes_text = words(need("sizes"));
+    const std::vector<std::string> sizes_text = header_words(need("sizes"));
     const std::string dimension_text = need("dimension");
     int64_t dimension = 0;
     {
@@ -164,7 +139,7 @@ LabelImage read_nrrd_image(std::string_view bytes, const std::string& name, std:
     // Geometry.
     const auto parse_vector = [&](const std::string& text, const std::string& what) -> Vec3 {
         // "(x,y,z)"
-        std::string t = trim(text);
+        std::string t = header_trim(text);
         if (t.size() < 2 || t.front() != '(' || t.back() != ')') fail(what + ": expected (x,y,z), found " + quote_token(t));
         t = t.substr(1, t.size() - 2);
         Vec3 v{0, 0, 0};
@@ -172,7 +147,7 @@ LabelImage read_nrrd_image(std::string_view bytes, const std::string& name, std:
         for (int c = 0; c < 3; ++c) {
             size_t comma = c < 2 ? t.find(',', at) : t.size();
             if (comma == std::string::npos) fail(what + ": expected 3 components in " + quote_token(text));
-            const std::string number = trim(std::string_view(t).substr(at, comma - at));
+            const std::string number = header_trim(std::string_view(t).substr(at, comma - at));
             const auto [p, ec] = parse_double(number.data(), number.data() + number.size(), v[size_t(c)]);
             if (ec != std::errc() || p != number.data() + number.size() || !std::isfinite(v[size_t(c)]))
                 fail(what + ": " + quote_token(number) + " is not a finite number");
@@ -184,7 +159,7 @@ LabelImage read_nrrd_image(std::string_view bytes, const std::string& name, std:
     std::array<Vec3, 3> axes{Vec3{1, 0, 0}, Vec3{0, 1, 0}, Vec3{0, 0, 1}};
     std::string method = "no space directions: axes x, y, z";
     if (const auto it = field.find("space directions"); it != field.end()) {
-        std::vector<std::string> parts = words(it->second);
+        std::vector<std::string> parts = header_words(it->second);
         if (int64_t(parts.size()) != dimension)
             fail("field 'space directions' has " + std::to_string(parts.size()) + " entries for dimension " +
                  std::to_string(dimension));
@@ -193,7 +168,7 @@ LabelImage read_nrrd_image(std::string_view bytes, const std::string& name, std:
             axes[size_t(d)] = parse_vector(parts[first + size_t(d)], "field 'space directions', axis " + std::to_string(d));
         method = "space directions";
     } else if (const auto sp = field.find("spacings"); sp != field.end()) {
-        const std::vector<std::string> parts = words(sp->second);
+        const std::vector<std::string> parts = header_words(sp->second);
         if (int64_t(parts.size()) != dimension) fail("field 'spacings' has " + std::to_string(parts.size()) + " values");
         for (int d = 0; d < 3; ++d) {
             double x = 0;
@@ -218,7 +193,7 @@ LabelImage read_nrrd_image(std::string_view bytes, const std::string& name, std:
     }
     std::string space_note;
     if (const auto it = field.find("space"); it != field.end()) {
-        const std::string space = lower(it->second);
+        const std::string space = header_lower(it->second);
         if (space == "left-posterior-superior" || space == "lps") {
             image.frame = ImageFrame::Lps;
         } else if (space == "right-anterior-superior" || space == "ras") {
@@ -252,13 +227,13 @@ LabelImage read_nrrd_image(std::string_view bytes, const std::string& name, std:
             const std::string id = key.substr(7, us - 7), what = key.substr(us + 1);
             if (what == "LabelValue") segments[id].first = value;
             else if (what == "Name") segments[id].second = value;
-            else if (what == "Layer" && trim(value) != "0")
+            else if (what == "Layer" && header_trim(value) != "0")
                 fail("key " + key + " is " + quote_token(value) + ": the segments overlap (several layers); bpm needs "
                      "one label per voxel (3D Slicer: export the segmentation as a labelmap)");
         }
         for (const auto& [id, seg] : segments) {
             int64_t label = 0;
-            const std::string v = trim(seg.first);
+            const std::string v = header_trim(seg.first);
             const auto [p, ec] = std::from_chars(v.data(), v.data() + v.size(), label);
             if (v.empty() || ec != std::errc() || p != v.data() + v.size() || seg.second.empty()) continue;
             std::string material = seg.second;
@@ -268,7 +243,7 @@ LabelImage read_nrrd_image(std::string_view bytes, const std::string& name, std:
     }
 
     // Data.
-    const std::string encoding = lower(need("encoding"));
+    const std::string encoding = header_lower(need("encoding"));
     std::string_view data = bytes.substr(pos);
     std::string inflated;
     const int64_t voxels = image.num_voxels();
@@ -308,7 +283,7 @@ LabelImage read_nrrd_image(std::string_view bytes, const std::string& name, std:
         if (size > 1) {
             const auto it = field.find("endian");
             if (it == field.end()) fail("field 'endian' is missing (needed for " + std::string(voxel_type_name(type)) + ")");
-            const std::string e = lower(it->second);
+            const std::string e = header_lower(it->second);
             if (e != "little" && e != "big") fail("field 'endian' is " + quote_token(it->second) + ", not little or big");
             swap = (e == "big") != InputCursor::host_is_big_endian();
         }
