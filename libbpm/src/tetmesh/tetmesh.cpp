@@ -742,45 +742,54 @@ TetMeshResult generate_tetmesh(const Parametrization& param, const TetMeshOption
             out.vertex_parameter_points[v] = {t, b};
         }
     out.level = 0;
+    // One round of level-0 improvement: flips, a new interior vertex in each sliver no flip
+    // improves, and flips again around the new vertices. `when` names the round in the
+    // debug lines ("" or " after the splits").
+    const auto flip_and_insert = [&](const detail::TetFlipOptions& flip_options, const std::string& when) {
+        const detail::TetFlipResult fr = detail::flip_tetrahedra(out.vertices, out.tetrahedra, nullptr, out.regions,
+                                                                 nullptr, out.faces, flip_options);
+        result.flips += fr.flips_23 + fr.edge_removals;
+        result.flip_seconds += fr.seconds;
+        context.debug("level-0 flips" + when + ": " + num(fr.flips_23) + " 2-3 flips and " + num(fr.edge_removals) +
+                      " edge removals (" + num(fr.visited) + " tetrahedra below 15 degrees, " + num(fr.sweeps) +
+                      " sweeps), min dihedral " + detail::three_digit_text(fr.min_dihedral_before_degrees) + " -> " +
+                      detail::three_digit_text(fr.min_dihedral_after_degrees) + " degrees, " +
+                      detail::three_digit_text(fr.seconds) + " s");
+        const detail::TetInsertResult ir =
+            detail::insert_vertices(out.vertices, out.tetrahedra, out.regions, out.faces, {});
+        result.insertions += ir.inserted;
+        result.flip_seconds += ir.seconds;
+        out.vertex_coarse_vertex.resize(out.vertices.size(), -1);
+        out.vertex_parameter_points.resize(out.vertices.size(), SurfacePoint{});
+        context.debug("level-0 vertex insertion" + when + ": " + num(ir.inserted) + " vertices inserted (" +
+                      num(ir.tried) + " tetrahedra below 15 degrees, " + num(ir.rounds) + " rounds), min dihedral " +
+                      detail::three_digit_text(ir.min_dihedral_before_degrees) + " -> " +
+                      detail::three_digit_text(ir.min_dihedral_after_degrees) + " degrees, " +
+                      detail::three_digit_text(ir.seconds) + " s");
+        if (ir.inserted == 0) return;
+        const detail::TetFlipResult again = detail::flip_tetrahedra(out.vertices, out.tetrahedra, nullptr,
+                                                                    out.regions, nullptr, out.faces, flip_options);
+        result.flips += again.flips_23 + again.edge_removals;
+        result.flip_seconds += again.seconds;
+        context.debug("level-0 flips after insertion" + when + ": " + num(again.flips_23) + " 2-3 flips and " +
+                      num(again.edge_removals) + " edge removals, min dihedral " +
+                      detail::three_digit_text(again.min_dihedral_before_degrees) + " -> " +
+                      detail::three_digit_text(again.min_dihedral_after_degrees) + " degrees");
+    };
     // Flips first, then smoothing: measured on femur, fandisk, elephant, armadillo at 10 %
     // and at 1000 vertices, the other orders (smooth then flip, smooth-flip-smooth,
     // flip-smooth-flip-smooth) gave the same minimum angles and within one the same counts
     // of tetrahedra below 5 and 10 degrees.
-    if (options.flip) {
-        const detail::TetFlipResult fr =
-            detail::flip_tetrahedra(out.vertices, out.tetrahedra, nullptr, out.regions, nullptr, out.faces, {});
-        result.flips = fr.flips_23 + fr.edge_removals;
-        result.flip_seconds = fr.seconds;
-        context.debug("level-0 flips: " + num(fr.flips_23) + " 2-3 flips and " + num(fr.edge_removals) +
-                      " edge removals (" + num(fr.visited) + " tetrahedra below 15 degrees, " + num(fr.sweeps) +
-                      " sweeps), min dihedral " + detail::three_digit_text(fr.min_dihedral_before_degrees) + " -> " +
-                      detail::three_digit_text(fr.min_dihedral_after_degrees) + " degrees, " + detail::three_digit_text(fr.seconds) + " s");
-        // The slivers no flip improves: a new interior vertex in each (and flips around it).
-        const detail::TetInsertResult ir =
-            detail::insert_vertices(out.vertices, out.tetrahedra, out.regions, out.faces, {});
-        result.insertions = ir.inserted;
-        result.flip_seconds += ir.seconds;
-        out.vertex_coarse_vertex.resize(out.vertices.size(), -1);
-        out.vertex_parameter_points.resize(out.vertices.size(), SurfacePoint{});
-        context.debug("level-0 vertex insertion: " + num(ir.inserted) + " vertices inserted (" + num(ir.tried) +
-                      " tetrahedra below 15 degrees, " + num(ir.rounds) + " rounds), min dihedral " +
-                      detail::three_digit_text(ir.min_dihedral_before_degrees) + " -> " +
-                      detail::three_digit_text(ir.min_dihedral_after_degrees) + " degrees, " + detail::three_digit_text(ir.seconds) + " s");
-        if (ir.inserted > 0) {
-            const detail::TetFlipResult again =
-                detail::flip_tetrahedra(out.vertices, out.tetrahedra, nullptr, out.regions, nullptr, out.faces, {});
-            result.flips += again.flips_23 + again.edge_removals;
-            result.flip_seconds += again.seconds;
-            context.debug("level-0 flips after insertion: " + num(again.flips_23) + " 2-3 flips and " +
-                          num(again.edge_removals) + " edge removals, min dihedral " +
-                          detail::three_digit_text(again.min_dihedral_before_degrees) + " -> " +
-                          detail::three_digit_text(again.min_dihedral_after_degrees) + " degrees");
-        }
-    }
-    // Splits last: before the flips they cost femur 10 % 203 vertices instead of 111 and gave
-    // 6.27 instead of 8.56 degrees after smoothing (the flips and insertions remove some
-    // surface corners themselves and had fewer choices). The flips after them make no new
-    // surface corner; the inserted vertices are interior, so their stars have none either.
+    if (options.flip) flip_and_insert({}, "");
+    // Surface-corner splits after that round: before the flips they cost femur 10 % 203
+    // vertices instead of 111 and gave 6.27 instead of 8.56 degrees after smoothing (the
+    // flips and insertions remove some surface corners themselves and had fewer choices).
+    // Then a second round, whose flips make no new surface corner (the inserted vertices
+    // are interior, so their stars have none either): the halves of a split ring share its
+    // angles at the edges opposite the split edge (they add up to the parent's), which
+    // smoothing cannot widen; a new vertex in a cavity around them can. Femur 10 % level-0
+    // minimum after smoothing 8.56 -> 10.6 degrees with 54 more vertices, armadillo 1000
+    // 8.07 -> 14.0 with 32 (12.3 and 8.87 without the splits).
     if (options.split_surface_corners) {
         const detail::TetSplitResult sr =
             detail::split_surface_corners(out.vertices, out.tetrahedra, out.regions, out.faces);
@@ -791,36 +800,9 @@ TetMeshResult generate_tetmesh(const Parametrization& param, const TetMeshOption
                       num(sr.edge_splits) + " edges split, " + num(sr.centroid_splits) + " centroid splits, " +
                       num(sr.left) + " left, " + detail::three_digit_text(sr.seconds) + " s");
         if (options.flip) {
-            detail::TetFlipOptions flip_options;
-            flip_options.keep_surface_corners_out = true;
-            const detail::TetFlipResult fr = detail::flip_tetrahedra(out.vertices, out.tetrahedra, nullptr, out.regions,
-                                                                     nullptr, out.faces, flip_options);
-            result.flips += fr.flips_23 + fr.edge_removals;
-            result.flip_seconds += fr.seconds;
-            context.debug("level-0 flips after the splits: " + num(fr.flips_23) + " 2-3 flips and " +
-                          num(fr.edge_removals) + " edge removals, min dihedral " +
-                          detail::three_digit_text(fr.min_dihedral_before_degrees) + " -> " +
-                          detail::three_digit_text(fr.min_dihedral_after_degrees) + " degrees");
-            // The halves of a split ring share its angles at the edges opposite the split edge
-            // (they add up to the parent's), which smoothing cannot widen; a new vertex in a
-            // cavity around them can. Femur 10 % level-0 minimum after smoothing 8.56 -> 10.6
-            // degrees with 54 more vertices, armadillo 1000 8.07 -> 14.0 with 32 (12.3 and 8.87
-            // without the splits).
-            const detail::TetInsertResult ir =
-                detail::insert_vertices(out.vertices, out.tetrahedra, out.regions, out.faces, {});
-            result.insertions += ir.inserted;
-            result.flip_seconds += ir.seconds;
-            out.vertex_coarse_vertex.resize(out.vertices.size(), -1);
-            out.vertex_parameter_points.resize(out.vertices.size(), SurfacePoint{});
-            context.debug("level-0 vertex insertion after the splits: " + num(ir.inserted) + " vertices inserted, min dihedral " +
-                          detail::three_digit_text(ir.min_dihedral_before_degrees) + " -> " +
-                          detail::three_digit_text(ir.min_dihedral_after_degrees) + " degrees");
-            if (ir.inserted > 0) {
-                const detail::TetFlipResult again = detail::flip_tetrahedra(
-                    out.vertices, out.tetrahedra, nullptr, out.regions, nullptr, out.faces, flip_options);
-                result.flips += again.flips_23 + again.edge_removals;
-                result.flip_seconds += again.seconds;
-            }
+            detail::TetFlipOptions keep_corners_out;
+            keep_corners_out.keep_surface_corners_out = true;
+            flip_and_insert(keep_corners_out, " after the splits");
         }
     }
     if (options.smooth) {
