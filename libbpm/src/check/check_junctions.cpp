@@ -13,6 +13,7 @@
 #include "bpm/patch_info.h"
 #include "bpm/surface_topology.h"
 #include "check/check_internal.h"
+#include "core/number_text.h"
 #include "core/sheet_order.h"
 
 namespace bpm {
@@ -136,7 +137,7 @@ void add_counts(CheckResult& r, const std::string& prefix, const JunctionCounts&
 }
 
 std::string describe(const std::string& what, const JunctionCounts& c) {
-    std::string s = std::to_string(c.junction_edges) + " junction edges" + what;
+    std::string s = detail::count_text(c.junction_edges, "junction edge") + what;
     if (c.junction_edges == 0) return s;
     s += ", " + std::to_string(c.inconsistent) + " with wedges claimed by two materials";
     if (c.overlapping) s += ", " + std::to_string(c.overlapping) + " with overlapping sheets";
