@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Builds the libFuzzer targets (tests/fuzz/) with clang, ASan and UBSan into build-fuzz/
-# and runs each of them, one after the other, for SECONDS (default 30) each.
+# (scripts/configure-sanitized.sh: the build scripts/test-sanitized.sh uses too) and runs
+# each of them for SECONDS (default 30), two at a time on two cores (one core each: a
+# target fuzzes as long as alone).
 #
 #   scripts/fuzz.sh [SECONDS] [TARGET...]      e.g.  scripts/fuzz.sh 600 fuzz_read_bpm
 #
@@ -10,8 +12,14 @@
 # generated or copied into build-fuzz/seeds/ at run time. What a target finds is kept
 # in build-fuzz/corpus/TARGET/ (reused by the next run), crashes in
 # build-fuzz/artifacts/TARGET/, the full log in build-fuzz/logs/TARGET.log.
-# Prints one line per target with its executions; exits 1 if any target found a crash,
-# leak, timeout or out-of-memory (reproduce with: build-fuzz/fuzz/TARGET ARTIFACT).
+# Prints one line per target with its executions, in the order of the targets; exits 1 if
+# any target found a crash, leak, timeout or out-of-memory (reproduce with:
+# build-fuzz/fuzz/TARGET ARTIFACT).
+#
+# Environment: BPM_FUZZ_DIR=DIR builds and runs in DIR instead of build-fuzz/ (CI: the
+# build-asan/ that scripts/test-sanitized.sh built, so libbpm is compiled once);
+# BPM_FUZZ_JOBS=N runs N targets at a time (default: the cores, at most 2);
+# BPM_FUZZ_BUILD=0 runs what the directory already holds.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -23,19 +31,16 @@ targets=("$@")
 [ ${#targets[@]} -gt 0 ] || targets=("${all[@]}")
 case $seconds in '' | *[!0-9]*) echo "fuzz: SECONDS must be a whole number, not '$seconds'" >&2; exit 2 ;; esac
 
-for tool in clang clang++; do
-    command -v $tool >/dev/null || { echo "fuzz: $tool not found (Debian packages clang, libclang-rt-14-dev; scripts/setup.sh installs them)" >&2; exit 2; }
-done
-
-build=build-fuzz
+build=${BPM_FUZZ_DIR:-build-fuzz}
 jobs=$(nproc 2>/dev/null || echo 2)
-[ "$jobs" -le 2 ] || jobs=2   # shared machines: never more than 2 compile jobs
-# BPM_FUZZ_BUILD=0 runs what build-fuzz/ already holds (long runs on a tree that others
-# are editing).
+[ "$jobs" -le 2 ] || jobs=2   # shared machines: never more than 2 compile jobs or fuzzers
+parallel=${BPM_FUZZ_JOBS:-$jobs}
+case $parallel in '' | *[!0-9]* | 0) echo "fuzz: BPM_FUZZ_JOBS must be a positive whole number, not '$parallel'" >&2; exit 2 ;; esac
+# BPM_FUZZ_BUILD=0 runs what the build directory already holds (long runs on a tree that
+# others are editing).
 if [ "${BPM_FUZZ_BUILD:-1}" != 0 ]; then
-    # -g1: line tables are enough for the findings' stack traces, and compile faster.
-    CC=clang CXX=clang++ cmake -S . -B $build -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g1 -DNDEBUG" -DBPM_FUZZ=ON -DBPM_BUILD_TESTS=OFF >/dev/null
-    cmake --build $build -j "$jobs" --target "${targets[@]}" bpm-fuzz-seeds >&2
+    ./scripts/configure-sanitized.sh "$build"
+    cmake --build "$build" -j "$jobs" --target "${targets[@]}" bpm-fuzz-seeds >&2
 fi
 
 # ---- seed corpora --------------------------------------------------------------------
@@ -60,38 +65,57 @@ cp tests/data/bad/bpm/*.bpm "$seeds/bpm/" 2>/dev/null || true
 export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:symbolize=1:allocator_may_return_null=1:max_allocation_size_mb=512:handle_abort=1
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 export LSAN_OPTIONS=suppressions=$PWD/tests/fuzz/lsan.supp:print_suppressions=0
-failed=()
 # hdf5-skips: inputs on which HDF5 itself crashed (the .bpm targets only; not our code, see
 # tests/fuzz/hdf5_child.cpp), saved in build-fuzz/hdf5-crashes/TARGET/.
-printf '%-22s %12s %8s %10s  %s\n' target executions exec/s hdf5-skips result
-for target in "${targets[@]}"; do
-    format=${target#fuzz_read_}
+run_target() {  # TARGET: fuzzes it for $seconds; its exit status is the fuzzer's
+    local target=$1 format=${1#fuzz_read_}
     [ "$format" != bpm_outline ] || format=bpm   # bpm-info's reader: the .bpm seeds and dictionary
-    corpus=$build/corpus/$target
-    artifacts=$build/artifacts/$target
-    log=$build/logs/$target.log
-    mkdir -p "$corpus" "$artifacts" "$(dirname "$log")"
-    dict=()
+    local corpus=$build/corpus/$target artifacts=$build/artifacts/$target
+    local hdf5_crashes=$build/hdf5-crashes/$target
+    mkdir -p "$corpus" "$artifacts" "$hdf5_crashes"
+    local dict=()
     [ -f tests/fuzz/$format.dict ] && dict=(-dict=tests/fuzz/$format.dict)
-    hdf5_crashes=$build/hdf5-crashes/$target
-    mkdir -p "$hdf5_crashes"
-    set +e
     # One process (no -jobs: that would fork workers logging to ./fuzz-N.log); -timeout:
     # one input may take at most 20 s (a hang is a finding).
     BPM_FUZZ_HDF5_CRASH_DIR=$hdf5_crashes $build/fuzz/$target "$corpus" "$seeds/$format" "${dict[@]}" -max_total_time="$seconds" \
-        -timeout=20 -rss_limit_mb=1024 -print_final_stats=1 -artifact_prefix="$artifacts/" >"$log" 2>&1
-    status=$?
-    set -e
+        -timeout=20 -rss_limit_mb=1024 -print_final_stats=1 -artifact_prefix="$artifacts/" >"$build/logs/$target.log" 2>&1
+}
+report_target() {  # TARGET STATUS: prints its line, adds it to failed
+    local target=$1 status=$2 log=$build/logs/$1.log result
+    local execs rate skips
     execs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -1)
     rate=$(sed -n 's/^stat::average_exec_per_sec: *//p' "$log" | tail -1)
     skips=$(grep -c '^HDF5 crash skipped' "$log" || true)
-    if [ $status -eq 0 ]; then
+    if [ "$status" -eq 0 ]; then
         result=ok
     else
         result="FAILED (exit $status): $(grep -m1 -E '^==[0-9]+== ?ERROR|runtime error:|fuzz property violated|^SUMMARY' "$log" || echo "see $log")"
         failed+=("$target")
     fi
     printf '%-22s %12s %8s %10s  %s\n' "$target" "${execs:-?}" "${rate:-?}" "$skips" "$result"
+}
+failed=()
+pids=()
+mkdir -p "$build/logs"
+printf '%-22s %12s %8s %10s  %s\n' target executions exec/s hdf5-skips result
+# $parallel targets run at once, each in the background with a log of its own; they are
+# waited for (and reported) in the order of the list, so the output does not depend on
+# which finishes first. All run the same time, so the next one starts as a slot frees.
+for i in "${!targets[@]}"; do
+    if [ "$i" -ge "$parallel" ]; then
+        done_i=$((i - parallel))
+        status=0
+        wait "${pids[done_i]}" || status=$?
+        report_target "${targets[done_i]}" $status
+    fi
+    run_target "${targets[i]}" &
+    pids[i]=$!
+done
+first=$(( ${#targets[@]} > parallel ? ${#targets[@]} - parallel : 0 ))
+for ((i = first; i < ${#targets[@]}; i++)); do
+    status=0
+    wait "${pids[i]}" || status=$?
+    report_target "${targets[i]}" $status
 done
 
 if [ ${#failed[@]} -gt 0 ]; then
