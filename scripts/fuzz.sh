@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Builds the libFuzzer targets (tests/fuzz/) with clang, ASan and UBSan into build-fuzz/
-# and runs each of them for SECONDS (default 30), two at a time on two cores (one core
-# each: a target fuzzes as long as alone).
+# (scripts/configure-sanitized.sh: the build scripts/test-sanitized.sh uses too) and runs
+# each of them for SECONDS (default 30), two at a time on two cores (one core each: a
+# target fuzzes as long as alone).
 #
 #   scripts/fuzz.sh [SECONDS] [TARGET...]      e.g.  scripts/fuzz.sh 600 fuzz_read_bpm
 #
@@ -16,7 +17,8 @@
 # any target found a crash, leak, timeout or out-of-memory (reproduce with:
 # build-fuzz/fuzz/TARGET ARTIFACT).
 #
-# Environment: BPM_FUZZ_DIR=DIR builds and runs in DIR instead of build-fuzz/;
+# Environment: BPM_FUZZ_DIR=DIR builds and runs in DIR instead of build-fuzz/ (CI: the
+# build-asan/ that scripts/test-sanitized.sh built, so libbpm is compiled once);
 # BPM_FUZZ_JOBS=N runs N targets at a time (default: the cores, at most 2);
 # BPM_FUZZ_BUILD=0 runs what the directory already holds.
 set -euo pipefail
@@ -31,10 +33,6 @@ targets=("$@")
 [ ${#targets[@]} -gt 0 ] || targets=("${all[@]}")
 case $seconds in '' | *[!0-9]*) echo "fuzz: SECONDS must be a whole number, not '$seconds'" >&2; exit 2 ;; esac
 
-for tool in clang clang++; do
-    command -v $tool >/dev/null || { echo "fuzz: $tool not found (Debian packages clang, libclang-rt-14-dev; scripts/setup.sh installs them)" >&2; exit 2; }
-done
-
 build=${BPM_FUZZ_DIR:-build-fuzz}
 jobs=$(nproc 2>/dev/null || echo 2)
 [ "$jobs" -le 2 ] || jobs=2   # shared machines: never more than 2 compile jobs or fuzzers
@@ -43,8 +41,7 @@ case $parallel in '' | *[!0-9]* | 0) echo "fuzz: BPM_FUZZ_JOBS must be a positiv
 # BPM_FUZZ_BUILD=0 runs what the build directory already holds (long runs on a tree that
 # others are editing).
 if [ "${BPM_FUZZ_BUILD:-1}" != 0 ]; then
-    # -g1: line tables are enough for the findings' stack traces, and compile faster.
-    CC=clang CXX=clang++ cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g1 -DNDEBUG" -DBPM_FUZZ=ON -DBPM_BUILD_TESTS=OFF >/dev/null
+    ./scripts/configure-sanitized.sh "$build"
     cmake --build "$build" -j "$jobs" --target "${targets[@]}" bpm-fuzz-seeds >&2
 fi
 
@@ -108,8 +105,7 @@ mkdir -p "$build/logs"
 printf '%-22s %12s %8s %10s  %s\n' target executions exec/s hdf5-skips result
 # $parallel targets run at once, each in the background with a log of its own; they are
 # waited for (and reported) in the order of the list, so the output does not depend on
-# which finishes first. All run the same time, so the next one starts when the earliest
-# started one ends (one that stops early, on a finding, leaves its core idle until then).
+# which finishes first. All run the same time, so the next one starts as a slot frees.
 for i in "${!targets[@]}"; do
     if [ "$i" -ge "$parallel" ]; then
         done_i=$((i - parallel))
