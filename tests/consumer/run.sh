@@ -75,7 +75,7 @@ cmake)
 pkgconfig)
     # README-BEGIN
     export PKG_CONFIG_PATH=$prefix/$libdir/pkgconfig
-    $CXX -O2 -o "$work/consumer-pc" "$source/tests/consumer/consumer.cpp" \
+    $CXX -std=c++17 -O2 -o "$work/consumer-pc" "$source/tests/consumer/consumer.cpp" \
         $(pkg-config --cflags --libs bpm) -Wl,-rpath,"$(pkg-config --variable=libdir bpm)"
     # README-END
     run_consumer "$work/consumer-pc" pkgconfig
