@@ -159,7 +159,7 @@ LabelImage read_metaimage_image(std::string_view bytes, const std::string& name,
                  std::to_string(image.size[2]) + " voxels is too large");
     }
     const std::string type_text = need("elementtype", "ElementType");
-    VoxelType type;
+    VoxelType type = VoxelType::U8;  // set below, or fail() throws (clang cannot tell: -Wsometimes-uninitialized)
     {
         const std::string t = header_lower(type_text);
         if (t == "met_uchar") type = VoxelType::U8;
