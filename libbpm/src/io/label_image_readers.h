@@ -3,6 +3,8 @@
 // label_image_reader_output() then extracts the multi-material surface (bpm/label_image.h)
 // for read_surface. Internal, like surface_readers.h.
 
+#include <algorithm>
+#include <cstdint>
 #include <functional>
 #include <string>
 #include <string_view>
@@ -65,6 +67,30 @@ inline std::string header_lower(std::string s) {
         if (c >= 'A' && c <= 'Z') c = char(c - 'A' + 'a');
     return s;
 }
+// The lines of a text header one at a time (ended by \n or \r\n, the last one perhaps by
+// the end of the bytes), numbered from 1 for messages; offset() is where the next line,
+// or after the header's last line the data, starts.
+class HeaderLines {
+public:
+    explicit HeaderLines(std::string_view bytes) : bytes_(bytes) {}
+    bool next(std::string_view& line) {
+        if (offset_ >= bytes_.size()) return false;
+        size_t end = bytes_.find('\n', offset_);
+        if (end == std::string_view::npos) end = bytes_.size();
+        line = bytes_.substr(offset_, end - offset_);
+        offset_ = std::min(end + 1, bytes_.size());
+        ++number_;
+        if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+        return true;
+    }
+    int64_t number() const { return number_; }  // of the line next() returned last
+    size_t offset() const { return offset_; }
+
+private:
+    std::string_view bytes_;
+    size_t offset_ = 0;
+    int64_t number_ = 0;
+};
 inline std::vector<std::string> header_words(const std::string& s) {
     std::vector<std::string> out;
     size_t i = 0;

@@ -84,23 +84,17 @@ LabelImage read_metaimage_image(std::string_view bytes, const std::string& name,
     const auto fail = [&](const std::string& message) -> void { throw InputError(name, message); };
     // Header lines up to ElementDataFile (which MetaIO requires to be the last key).
     std::map<std::string, std::pair<std::string, std::string>> field;  // lower-case key -> (key, value)
-    size_t pos = 0;
-    int64_t line_number = 0;
+    HeaderLines lines(bytes);
+    std::string_view line;
     bool ended = false;
-    while (pos < bytes.size()) {
-        size_t end = bytes.find('\n', pos);
-        if (end == std::string_view::npos) end = bytes.size();
-        std::string_view line = bytes.substr(pos, end - pos);
-        pos = std::min(end + 1, bytes.size());
-        ++line_number;
-        if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+    while (lines.next(line)) {
         if (header_trim(line).empty()) continue;
         const size_t eq = line.find('=');
         if (eq == std::string_view::npos)
-            fail("line " + std::to_string(line_number) + ": expected 'Key = Value', found " + quote_token(line.substr(0, 80)));
+            fail("line " + std::to_string(lines.number()) + ": expected 'Key = Value', found " + quote_token(line.substr(0, 80)));
         const std::string key = header_trim(line.substr(0, eq));
         if (key.empty() || key.size() > 64)
-            fail("line " + std::to_string(line_number) + ": expected 'Key = Value', found " + quote_token(line.substr(0, 80)));
+            fail("line " + std::to_string(lines.number()) + ": expected 'Key = Value', found " + quote_token(line.substr(0, 80)));
         field[header_lower(key)] = {key, header_trim(line.substr(eq + 1))};
         if (header_lower(key) == "elementdatafile") {
             ended = true;
@@ -165,7 +159,7 @@ LabelImage read_metaimage_image(std::string_view bytes, const std::string& name,
                  std::to_string(image.size[2]) + " voxels is too large");
     }
     const std::string type_text = need("elementtype", "ElementType");
-    VoxelType type;
+    VoxelType type = VoxelType::U8;  // set below, or fail() throws (clang cannot tell: -Wsometimes-uninitialized)
     {
         const std::string t = header_lower(type_text);
         if (t == "met_uchar") type = VoxelType::U8;
@@ -245,7 +239,7 @@ LabelImage read_metaimage_image(std::string_view bytes, const std::string& name,
     std::string_view data;
     std::string source;  // for messages: "after the header" or "data file 'x.raw'"
     if (header_lower(data_file) == "local") {
-        data = bytes.substr(pos);
+        data = bytes.substr(lines.offset());
         source = "the data after the header";
     } else {
         if (data_file.empty()) fail("key ElementDataFile is empty");

@@ -45,17 +45,11 @@ LabelImage read_nrrd_image(std::string_view bytes, const std::string& name, std:
     // Header lines up to the first empty line.
     std::map<std::string, std::string> field;
     std::map<std::string, std::string> keys;  // key:=value pairs
-    size_t pos = 0;
-    int64_t line_number = 0;
+    HeaderLines lines(bytes);
+    std::string_view line;
     bool ended = false;
-    while (pos < bytes.size()) {
-        size_t end = bytes.find('\n', pos);
-        if (end == std::string_view::npos) end = bytes.size();
-        std::string_view line = bytes.substr(pos, end - pos);
-        pos = std::min(end + 1, bytes.size());
-        ++line_number;
-        if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
-        if (line_number == 1) continue;  // NRRD000N
+    while (lines.next(line)) {
+        if (lines.number() == 1) continue;  // NRRD000N
         if (line.empty()) {
             ended = true;
             break;
@@ -68,7 +62,7 @@ LabelImage read_nrrd_image(std::string_view bytes, const std::string& name, std:
             continue;
         }
         if (colon == std::string_view::npos)
-            fail("line " + std::to_string(line_number) + ": expected 'field: value', found " + quote_token(line));
+            fail("line " + std::to_string(lines.number()) + ": expected 'field: value', found " + quote_token(line));
         field[header_lower(header_trim(line.substr(0, colon)))] = header_trim(line.substr(colon + 2));
     }
     if (field.count("data file") || field.count("datafile"))
@@ -244,7 +238,7 @@ LabelImage read_nrrd_image(std::string_view bytes, const std::string& name, std:
 
     // Data.
     const std::string encoding = header_lower(need("encoding"));
-    std::string_view data = bytes.substr(pos);
+    std::string_view data = bytes.substr(lines.offset());
     std::string inflated;
     const int64_t voxels = image.num_voxels();
     const int size = voxel_type_size(type);

@@ -403,8 +403,6 @@ VertexRemover::VertexRemover(const CoarseMesh& mesh, const Embedding& embedding,
                              const std::vector<float>& vertex_ridges)
     : mesh_(mesh),
       embedding_(embedding),
-      orientation_sign_(orientation_sign),
-      oriented_normals_(oriented_normals),
       vertex_ridges_(vertex_ridges),
       scratch_(new RemovalScratch(mesh, embedding, orientation_sign, oriented_normals)) {
     scratch_->planner.set_vertex_ridges(vertex_ridges_);

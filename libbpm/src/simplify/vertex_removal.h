@@ -145,8 +145,6 @@ private:
 
     const CoarseMesh& mesh_;
     const Embedding& embedding_;
-    const std::vector<int8_t>& orientation_sign_;
-    const std::vector<Vec3>& oriented_normals_;
     const std::vector<float>& vertex_ridges_;
     RemovalScratch* scratch_;
     double aspect_limit_ = std::numeric_limits<double>::infinity();
