@@ -22,6 +22,10 @@ enum class RayHit {
     Cross,    // it crosses it once
     Touches,  // p itself lies on the (closed) triangle: inside/outside is not defined
 };
+// A point on a surface is reported as touching only by a triangle whose projection holds
+// the perturbed point; elsewhere it gets the parity of its perturbation (which lies off the
+// surface). Callers that must not decide for such a point test first that it is off the
+// surface (the simplifier: the intersection test), or take Touches as a refusal.
 
 // The ray from p + (0, e, e^2) along +x against triangle (a, b, c).
 RayHit ray_crosses(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c);
