@@ -13,7 +13,6 @@
 // from one of its vertices, the parity of a ray's crossings with the other components'
 // triangles bounding each material (core/ray_crossing.h, exact).
 #include <algorithm>
-#include <array>
 #include <cctype>
 #include <cmath>
 #include <cstdint>
@@ -54,7 +53,8 @@ template <class VertexName>
 JunctionCounts scan_junctions(const Surface& surface, const std::vector<PatchInfo>& infos,
                               const std::string& triangle_kind, const VertexName& vertex_name, CheckResult& r,
                               size_t max_problems, std::vector<int32_t>* reference,
-                              const std::vector<int32_t>& doubtful) {
+                              const std::vector<int32_t>& doubtful, const std::vector<uint64_t>* material_bits = nullptr,
+                              uint64_t* open_materials = nullptr) {
     JunctionCounts counts;
     const SurfaceConnectivity conn = build_connectivity(surface);
     const bool have_patches = surface.patches.size() == surface.triangles.size();
@@ -63,6 +63,12 @@ JunctionCounts scan_junctions(const Surface& surface, const std::vector<PatchInf
     std::vector<int8_t> forward;  // the triangle runs a -> b
     std::vector<const PatchInfo*> info;
     for (int32_t e = 0; e < conn.num_edges(); ++e) {
+        if (material_bits) {  // the materials whose boundary is open at e (compare_components)
+            uint64_t x = 0;
+            for (int32_t i = conn.edge_triangle_offsets[e]; i < conn.edge_triangle_offsets[e + 1]; ++i)
+                x ^= (*material_bits)[size_t(conn.edge_triangles[size_t(i)])];
+            *open_materials |= x;
+        }
         if (conn.edge_degree(e) < 3) continue;
         ++counts.junction_edges;
         const int32_t a = conn.edges[e][0], b = conn.edges[e][1];
@@ -191,25 +197,6 @@ MaterialBits triangle_bits(const Surface& surface, const std::vector<PatchInfo>&
     return m;
 }
 
-// The bits of materials whose bounding triangles are not closed: an edge in an odd number of them.
-uint64_t open_bits(const Surface& surface, const std::vector<uint64_t>& mask) {
-    std::vector<std::pair<uint64_t, uint64_t>> sides;  // (edge key, the triangle's bits)
-    sides.reserve(3 * surface.triangles.size());
-    for (size_t t = 0; t < surface.triangles.size(); ++t)
-        for (int k = 0; k < 3; ++k) {
-            const uint64_t u = uint32_t(surface.triangles[t][k]), w = uint32_t(surface.triangles[t][(k + 1) % 3]);
-            sides.push_back({std::min(u, w) << 32 | std::max(u, w), mask[t]});
-        }
-    std::sort(sides.begin(), sides.end());
-    uint64_t open = 0;
-    for (size_t i = 0, j = 0; i < sides.size(); i = j) {
-        uint64_t x = 0;
-        for (j = i; j < sides.size() && sides[j].first == sides[i].first; ++j) x ^= sides[j].second;
-        open |= x;
-    }
-    return open;
-}
-
 // Components through shared vertices: per vertex (-1 for a vertex of no triangle).
 int32_t vertex_components(const Surface& surface, std::vector<int32_t>& component) {
     std::vector<int32_t> parent(surface.vertices.size());
@@ -256,28 +243,34 @@ public:
         n_ = std::max<int64_t>(1, std::min<int64_t>(2048, int64_t(std::sqrt(double(s.triangles.size()) / 2.0))));
         for (int k = 0; k < 2; ++k) scale_[k] = hi[k] > lo_[k] ? double(n_) / (hi[k] - lo_[k]) : 0.0;
         // Counted first, then each cell's list in one array (start_: offsets per cell).
-        std::vector<std::array<int64_t, 4>> spans(s.triangles.size());  // cells i0, i1, j0, j1
         start_.assign(size_t(n_ * n_ + 1), 0);
-        for (size_t t = 0; t < s.triangles.size(); ++t) {
-            const Tri& c = s.triangles[t];
-            for (int k = 0; k < 2; ++k) {
-                const double a = std::min({s.vertices[size_t(c[0])][k + 1], s.vertices[size_t(c[1])][k + 1],
-                                           s.vertices[size_t(c[2])][k + 1]});
-                const double b = std::max({s.vertices[size_t(c[0])][k + 1], s.vertices[size_t(c[1])][k + 1],
-                                           s.vertices[size_t(c[2])][k + 1]});
-                spans[t][size_t(2 * k)] = cell(a, k);
-                spans[t][size_t(2 * k + 1)] = cell(b, k);
+        for (int pass = 0; pass < 2; ++pass) {
+            std::vector<int64_t> next;
+            if (pass == 1) {
+                for (size_t i = 1; i < start_.size(); ++i) start_[i] += start_[i - 1];
+                ids_.resize(size_t(start_.back()));
+                next.assign(start_.begin(), start_.end() - 1);
             }
-            for (int64_t i = spans[t][0]; i <= spans[t][1]; ++i)
-                for (int64_t j = spans[t][2]; j <= spans[t][3]; ++j) ++start_[size_t(i * n_ + j + 1)];
+            for (size_t t = 0; t < s.triangles.size(); ++t) {
+                int64_t span[4];  // cells: y from, y to, z from, z to
+                const Tri& c = s.triangles[t];
+                for (int k = 0; k < 2; ++k) {
+                    const double u = s.vertices[size_t(c[0])][k + 1], v = s.vertices[size_t(c[1])][k + 1],
+                                 w = s.vertices[size_t(c[2])][k + 1];
+                    span[2 * k] = cell(std::min({u, v, w}), k);
+                    span[2 * k + 1] = cell(std::max({u, v, w}), k);
+                }
+                for (int64_t i = span[0]; i <= span[1]; ++i)
+                    for (int64_t j = span[2]; j <= span[3]; ++j) {
+                        if (pass == 0)
+                            ++start_[size_t(i * n_ + j + 1)];
+                        else
+                            ids_[size_t(next[size_t(i * n_ + j)]++)] = int32_t(t);
+                    }
+            }
         }
-        for (size_t i = 1; i < start_.size(); ++i) start_[i] += start_[i - 1];
-        ids_.resize(size_t(start_.back()));
-        std::vector<int64_t> next(start_.begin(), start_.end() - 1);
-        for (size_t t = 0; t < s.triangles.size(); ++t)
-            for (int64_t i = spans[t][0]; i <= spans[t][1]; ++i)
-                for (int64_t j = spans[t][2]; j <= spans[t][3]; ++j) ids_[size_t(next[size_t(i * n_ + j)]++)] = int32_t(t);
     }
+
     // The triangles whose (y, z) box may hold p.
     template <class F>
     void for_candidates(const Vec3& p, F&& f) const {
@@ -341,34 +334,48 @@ struct ComponentCounts {
     int64_t not_compared = 0;  // a vertex on another component's triangle (an intersection)
 };
 
-// Every component of S against its component of S0 (through the original id of one of
-// its vertices); nothing to do while S0 has one component.
-ComponentCounts compare_components(const BpmFile& file, CheckResult& r, size_t max_problems) {
-    const Parametrization& p = file.param;
+// What compare_components needs of S and S0: their components and the triangles'
+// material bits (only when either has two or more components).
+struct ComponentMaterials {
+    std::vector<int32_t> comp0, comp;  // per vertex
     ComponentCounts counts;
-    std::vector<int32_t> comp0, comp;
-    counts.original_components = vertex_components(p.original, comp0);
-    counts.components = vertex_components(p.coarse, comp);
-    if (counts.original_components < 2 && counts.components < 2) return counts;
-    std::map<std::string, int> bits;
-    const MaterialBits m0 = triangle_bits(p.original, file.patch_info, bits);
-    const MaterialBits m = triangle_bits(p.coarse, file.patch_info, bits);
-    if (!m0.usable || !m.usable) {
+    std::map<std::string, int> bits;  // material name (lower case) -> bit
+    MaterialBits m0, m;
+    bool active() const { return counts.original_components > 1 || counts.components > 1; }
+};
+
+ComponentMaterials component_materials(const BpmFile& file) {
+    ComponentMaterials c;
+    c.counts.original_components = vertex_components(file.param.original, c.comp0);
+    c.counts.components = vertex_components(file.param.coarse, c.comp);
+    if (!c.active()) return c;
+    c.m0 = triangle_bits(file.param.original, file.patch_info, c.bits);
+    c.m = triangle_bits(file.param.coarse, file.patch_info, c.bits);
+    return c;
+}
+
+// Every component of S against its component of S0 (through the original id of one of
+// its vertices); `open`: the materials left out (their boundary is not closed on S or S0).
+void compare_components(const BpmFile& file, ComponentMaterials& c, uint64_t open, CheckResult& r,
+                        size_t max_problems) {
+    const Parametrization& p = file.param;
+    ComponentCounts& counts = c.counts;
+    if (!c.active()) return;
+    if (!c.m0.usable || !c.m.usable) {
         counts.not_compared = counts.components;
-        return counts;
+        return;
     }
-    const uint64_t open = open_bits(p.original, m0.of_patch_triangle) | open_bits(p.coarse, m.of_patch_triangle);
     const RayCells cells0(p.original), cells(p.coarse);
     std::vector<int32_t> first(size_t(counts.components), -1);
-    for (size_t v = 0; v < comp.size(); ++v)
-        if (comp[v] >= 0 && first[size_t(comp[v])] < 0) first[size_t(comp[v])] = int32_t(v);
+    for (size_t v = 0; v < c.comp.size(); ++v)
+        if (c.comp[v] >= 0 && first[size_t(c.comp[v])] < 0) first[size_t(c.comp[v])] = int32_t(v);
     for (int32_t k = 0; k < counts.components; ++k) {
         const int32_t v = first[size_t(k)];
         const int32_t o = p.coarse_vertex_origin[size_t(v)];
         uint64_t on_s = 0, on_s0 = 0;
-        if (!lies_in(p.coarse, cells, comp, k, m.of_patch_triangle, p.coarse.vertices[size_t(v)], on_s) ||
-            !lies_in(p.original, cells0, comp0, comp0[size_t(o)], m0.of_patch_triangle, p.original.vertices[size_t(o)],
-                     on_s0)) {
+        if (!lies_in(p.coarse, cells, c.comp, k, c.m.of_patch_triangle, p.coarse.vertices[size_t(v)], on_s) ||
+            !lies_in(p.original, cells0, c.comp0, c.comp0[size_t(o)], c.m0.of_patch_triangle,
+                     p.original.vertices[size_t(o)], on_s0)) {
             ++counts.not_compared;
             continue;
         }
@@ -377,12 +384,11 @@ ComponentCounts compare_components(const BpmFile& file, CheckResult& r, size_t m
         if (on_s == on_s0) continue;
         ++counts.moved;
         r.add_problem({{{"coarse_vertex", v}, {"original_vertex", o}},
-                      "the component of coarse vertex " + std::to_string(v) + " (original " + std::to_string(o) +
-                          ") lies in " + material_names(on_s, bits) + " on S but in " + material_names(on_s0, bits) +
-                          " on S0: a sheet was moved across it"},
+                       "the component of coarse vertex " + std::to_string(v) + " (original " + std::to_string(o) +
+                           ") lies in " + material_names(on_s, c.bits) + " on S but in " +
+                           material_names(on_s0, c.bits) + " on S0: a sheet was moved across it"},
                       max_problems);
     }
-    return counts;
 }
 
 void add_counts(CheckResult& r, const std::string& prefix, const JunctionCounts& c) {
@@ -435,9 +441,12 @@ CheckResult check_junctions(const BpmFile& file, const CheckOptions& options, co
     // about S either: those patches are left out on S, and S0 is only counted.
     context.report(0.0, "sheets around junction edges of the original surface");
     std::vector<int32_t> doubtful;
+    ComponentMaterials components = component_materials(file);
+    uint64_t open = 0;  // materials whose boundary is not closed (left out of the components' comparison)
     const JunctionCounts original = scan_junctions(
         p.original, file.patch_info, "original_triangle",
-        [](int32_t v) { return "original vertex " + std::to_string(v); }, r, options.max_problems, &doubtful, {});
+        [](int32_t v) { return "original vertex " + std::to_string(v); }, r, options.max_problems, &doubtful, {},
+        components.active() ? &components.m0.of_patch_triangle : nullptr, &open);
     std::sort(doubtful.begin(), doubtful.end());
     doubtful.erase(std::unique(doubtful.begin(), doubtful.end()), doubtful.end());
     context.report(0.5, "sheets around junction edges of the coarse surface");
@@ -446,22 +455,23 @@ CheckResult check_junctions(const BpmFile& file, const CheckOptions& options, co
         [&](int32_t v) {
             return "coarse vertex " + std::to_string(v) + " (original " + std::to_string(p.coarse_vertex_origin[v]) + ")";
         },
-        r, options.max_problems, nullptr, doubtful);
+        r, options.max_problems, nullptr, doubtful, components.active() ? &components.m.of_patch_triangle : nullptr,
+        &open);
     add_counts(r, "original_", original);
     add_counts(r, "", coarse);
     r.add_count("patches_contradicting_original", static_cast<int64_t>(doubtful.size()));
     context.report(0.75, "materials around the components");
-    const ComponentCounts components = compare_components(file, r, options.max_problems);
-    r.add_count("components", components.components);
-    r.add_count("original_components", components.original_components);
-    r.add_count("components_in_other_materials", components.moved);
-    r.add_count("components_not_compared", components.not_compared);
+    compare_components(file, components, open, r, options.max_problems);
+    const ComponentCounts& cc = components.counts;
+    r.add_count("components", cc.components);
+    r.add_count("original_components", cc.original_components);
+    r.add_count("components_in_other_materials", cc.moved);
+    r.add_count("components_not_compared", cc.not_compared);
     r.summary = describe(" on S", coarse) + "; " + describe(" on S0", original);
-    if (components.components > 1 || components.original_components > 1) {
-        r.summary += "; " + detail::count_text(components.components, "component") + ", " +
-                     std::to_string(components.moved) + " lying in other materials than on S0";
-        if (components.not_compared)
-            r.summary += " (" + std::to_string(components.not_compared) + " not compared)";
+    if (components.active()) {
+        r.summary += "; " + detail::count_text(cc.components, "component") + ", " + std::to_string(cc.moved) +
+                     " lying in other materials than on S0";
+        if (cc.not_compared) r.summary += " (" + std::to_string(cc.not_compared) + " not compared)";
     }
     if (!doubtful.empty())
         r.summary += "; the materials of " + std::to_string(doubtful.size()) +

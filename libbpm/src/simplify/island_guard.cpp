@@ -95,7 +95,7 @@ bool IslandGuard::sweeps_island(const CoarseMesh& mesh, const TriangleGrid& grid
         scratch.components.push_back(k);
         scratch.points.push_back(c[0]);
     };
-    grid.query_boxes(lo, hi, scratch.entries);
+    grid.query_within(lo, hi, scratch.entries);
     for (const TriangleGrid::Entry& e : scratch.entries) consider(e.id);
     for (int32_t t = first_unindexed; t < mesh.triangle_capacity(); ++t) consider(t);
     if (scratch.points.empty()) return false;
