@@ -5,7 +5,9 @@
 # regions whose sides disagreed about their material. A 32^3 label image of four labels
 # with 15 % noise (bpm-simplify extracts its multi-material surface) at --ratio 0.2 had
 # 13 such edges; bpm-check's junctions check finds them, the simplifier now refuses those
-# removals ("sheet order" in the kept vertices' reasons).
+# removals ("sheet order" in the kept vertices' reasons). The same image had a small
+# island swept by a removal (see islands_stay_inside.sh): no component may lie in another
+# material than on S0.
 # Usage: sheets_keep_their_order.sh TOOL_DIR SOURCE_DIR WORK_DIR
 source "$(dirname "$0")/lib/harness.bash"
 py=/usr/bin/python3
@@ -26,5 +28,9 @@ c = j["counts"]
 assert c["junction_edges"] > 1000 and c["original_junction_edges"] > 1000, c
 assert c["inconsistent_junction_edges"] == 0 and c["original_inconsistent_junction_edges"] == 0, c
 assert c["junction_edges_without_materials"] == 0, c
+# and no sheet was swept across an island (one component lay in another material before
+# the island guard: islands_stay_inside.sh)
+assert c["components"] == c["original_components"] > 100, c
+assert c["components_in_other_materials"] == 0 and c["components_not_compared"] == 0, c
 ' "$work/out"
 finish

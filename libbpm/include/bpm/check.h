@@ -125,7 +125,13 @@ CheckResult check_topology(const Surface& surface, const CheckOptions& options =
 // passes, but the regions of the volume change. The file's form checks that S keeps the
 // structure of S0: S0 is scanned too (counts prefixed "original_") but never fails, and
 // patches whose materials contradict S0 itself (a reader's guess) are not checked on S
-// (count "patches_contradicting_original"). The surface's form checks that surface.
+// (count "patches_contradicting_original"). The file's form also compares every component
+// of S (triangles connected through shared vertices) with its component of S0 by the
+// materials it lies in (exact ray-crossing parity over the other components' material
+// boundaries): a sheet swept across an island intersects nothing either (counts
+// "components", "original_components", "components_in_other_materials",
+// "components_not_compared"; nothing to do when both have one component). The surface's
+// form checks that surface.
 CheckResult check_junctions(const BpmFile& file, const CheckOptions& options = {}, const Context& context = {});
 CheckResult check_junctions(const Surface& surface, const std::vector<PatchInfo>& patch_info,
                             const CheckOptions& options = {}, const Context& context = {});

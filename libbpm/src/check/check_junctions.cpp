@@ -6,14 +6,25 @@
 // another around their common edge intersects nothing, so the intersection check
 // passes, but the volume regions change: bpm-mesh then finds regions whose sides
 // disagree about their material.
+//
+// The same for whole components: a sheet swept across an island (a component it never
+// touches) intersects nothing either. So each component of S (triangles connected through
+// shared vertices) is compared with its component of S0 by the materials it lies in:
+// from one of its vertices, the parity of a ray's crossings with the other components'
+// triangles bounding each material (core/ray_crossing.h, exact).
 #include <algorithm>
 #include <cctype>
+#include <cmath>
+#include <cstdint>
+#include <map>
+#include <numeric>
 
 #include "bpm/check.h"
 #include "bpm/patch_info.h"
 #include "bpm/surface_topology.h"
 #include "check/check_internal.h"
 #include "core/number_text.h"
+#include "core/ray_crossing.h"
 #include "core/sheet_order.h"
 
 namespace bpm {
@@ -42,7 +53,8 @@ template <class VertexName>
 JunctionCounts scan_junctions(const Surface& surface, const std::vector<PatchInfo>& infos,
                               const std::string& triangle_kind, const VertexName& vertex_name, CheckResult& r,
                               size_t max_problems, std::vector<int32_t>* reference,
-                              const std::vector<int32_t>& doubtful) {
+                              const std::vector<int32_t>& doubtful, const std::vector<uint64_t>* material_bits = nullptr,
+                              uint64_t* open_materials = nullptr) {
     JunctionCounts counts;
     const SurfaceConnectivity conn = build_connectivity(surface);
     const bool have_patches = surface.patches.size() == surface.triangles.size();
@@ -51,6 +63,12 @@ JunctionCounts scan_junctions(const Surface& surface, const std::vector<PatchInf
     std::vector<int8_t> forward;  // the triangle runs a -> b
     std::vector<const PatchInfo*> info;
     for (int32_t e = 0; e < conn.num_edges(); ++e) {
+        if (material_bits) {  // the materials whose boundary is open at e (compare_components)
+            uint64_t x = 0;
+            for (int32_t i = conn.edge_triangle_offsets[e]; i < conn.edge_triangle_offsets[e + 1]; ++i)
+                x ^= (*material_bits)[size_t(conn.edge_triangles[size_t(i)])];
+            *open_materials |= x;
+        }
         if (conn.edge_degree(e) < 3) continue;
         ++counts.junction_edges;
         const int32_t a = conn.edges[e][0], b = conn.edges[e][1];
@@ -129,6 +147,250 @@ JunctionCounts scan_junctions(const Surface& surface, const std::vector<PatchInf
     return counts;
 }
 
+// The materials a component lies in, as bits: bit m is set when the parity of the
+// crossings of a ray from one of its vertices (to infinity) with the triangles of the
+// other components that bound material m is odd, i.e. when the material m begins or ends
+// between the component and the unbounded region. A patch bounds each of its two
+// materials (none when they are equal); the patches without materials count as bounding
+// one material of their own (kUnknownBit): a closed surface of one material, whose inner
+// shells are then cavities or islands. Bits of a material whose bounding triangles are no
+// closed surface (an edge in an odd number of them: a reader's guess that contradicts the
+// surface, or an open surface) say nothing: they are left out (`open`).
+constexpr int kUnknownBit = 63;
+
+struct MaterialBits {
+    std::vector<uint64_t> of_patch_triangle;  // per triangle
+    bool usable = true;                       // at most 63 materials
+};
+
+int material_bit(std::map<std::string, int>& bits, const std::string& name) {
+    std::string key = name;
+    for (char& c : key) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    auto it = bits.find(key);
+    if (it != bits.end()) return it->second;
+    const int b = static_cast<int>(bits.size());
+    bits.emplace(key, b);
+    return b;
+}
+
+MaterialBits triangle_bits(const Surface& surface, const std::vector<PatchInfo>& infos,
+                           std::map<std::string, int>& bits) {
+    MaterialBits m;
+    const bool have_patches = surface.patches.size() == surface.triangles.size();
+    m.of_patch_triangle.resize(surface.triangles.size());
+    std::map<int32_t, uint64_t> of_patch;
+    for (size_t t = 0; t < surface.triangles.size(); ++t) {
+        const int32_t patch = have_patches ? surface.patches[t] : 0;
+        auto it = of_patch.find(patch);
+        if (it == of_patch.end()) {
+            const PatchInfo* pi = have_patches ? find_patch_info(infos, patch) : nullptr;
+            uint64_t mask = uint64_t(1) << kUnknownBit;
+            if (pi && pi->has_materials()) {
+                const int f = material_bit(bits, pi->front), b = material_bit(bits, pi->back);
+                if (f >= kUnknownBit || b >= kUnknownBit) m.usable = false;
+                mask = f == b ? 0 : (uint64_t(1) << (f % kUnknownBit)) ^ (uint64_t(1) << (b % kUnknownBit));
+            }
+            it = of_patch.emplace(patch, mask).first;
+        }
+        m.of_patch_triangle[t] = it->second;
+    }
+    return m;
+}
+
+// Components through shared vertices: per vertex (-1 for a vertex of no triangle).
+int32_t vertex_components(const Surface& surface, std::vector<int32_t>& component) {
+    std::vector<int32_t> parent(surface.vertices.size());
+    std::iota(parent.begin(), parent.end(), 0);
+    const auto root = [&](int32_t x) {
+        while (parent[size_t(x)] != x) x = parent[size_t(x)] = parent[size_t(parent[size_t(x)])];
+        return x;
+    };
+    for (const Tri& t : surface.triangles)
+        for (int k = 1; k < 3; ++k) {
+            const int32_t a = root(t[0]), b = root(t[size_t(k)]);
+            if (a != b) parent[size_t(std::max(a, b))] = std::min(a, b);
+        }
+    std::vector<char> used(surface.vertices.size(), 0);
+    for (const Tri& t : surface.triangles)
+        for (int32_t c : t) used[size_t(c)] = 1;
+    component.assign(surface.vertices.size(), -1);
+    std::vector<int32_t> id(surface.vertices.size(), -1);
+    int32_t count = 0;
+    for (size_t x = 0; x < surface.vertices.size(); ++x) {
+        if (!used[x]) continue;
+        const int32_t r = root(int32_t(x));
+        if (id[size_t(r)] < 0) id[size_t(r)] = count++;
+        component[x] = id[size_t(r)];
+    }
+    return count;
+}
+
+// The triangles in cells of the (y, z) plane, for rays along +x: a ray from p meets only
+// triangles whose (y, z) box holds p, and those are in p's cell (the cell index is
+// monotone in the coordinate, rounding included, so a box's cells include p's).
+class RayCells {
+public:
+    explicit RayCells(const Surface& s) {
+        if (s.triangles.empty()) return;
+        lo_ = {s.vertices[size_t(s.triangles[0][0])][1], s.vertices[size_t(s.triangles[0][0])][2]};
+        Vec2 hi = lo_;
+        for (const Tri& t : s.triangles)
+            for (int32_t c : t)
+                for (int k = 0; k < 2; ++k) {
+                    lo_[k] = std::min(lo_[k], s.vertices[size_t(c)][k + 1]);
+                    hi[k] = std::max(hi[k], s.vertices[size_t(c)][k + 1]);
+                }
+        n_ = std::max<int64_t>(1, std::min<int64_t>(2048, int64_t(std::sqrt(double(s.triangles.size()) / 2.0))));
+        for (int k = 0; k < 2; ++k) scale_[k] = hi[k] > lo_[k] ? double(n_) / (hi[k] - lo_[k]) : 0.0;
+        // Counted first, then each cell's list in one array (start_: offsets per cell).
+        start_.assign(size_t(n_ * n_ + 1), 0);
+        for (int pass = 0; pass < 2; ++pass) {
+            std::vector<int64_t> next;
+            if (pass == 1) {
+                for (size_t i = 1; i < start_.size(); ++i) start_[i] += start_[i - 1];
+                ids_.resize(size_t(start_.back()));
+                next.assign(start_.begin(), start_.end() - 1);
+            }
+            for (size_t t = 0; t < s.triangles.size(); ++t) {
+                int64_t span[4];  // cells: y from, y to, z from, z to
+                const Tri& c = s.triangles[t];
+                for (int k = 0; k < 2; ++k) {
+                    const double u = s.vertices[size_t(c[0])][k + 1], v = s.vertices[size_t(c[1])][k + 1],
+                                 w = s.vertices[size_t(c[2])][k + 1];
+                    span[2 * k] = cell(std::min({u, v, w}), k);
+                    span[2 * k + 1] = cell(std::max({u, v, w}), k);
+                }
+                for (int64_t i = span[0]; i <= span[1]; ++i)
+                    for (int64_t j = span[2]; j <= span[3]; ++j) {
+                        if (pass == 0)
+                            ++start_[size_t(i * n_ + j + 1)];
+                        else
+                            ids_[size_t(next[size_t(i * n_ + j)]++)] = int32_t(t);
+                    }
+            }
+        }
+    }
+
+    // The triangles whose (y, z) box may hold p.
+    template <class F>
+    void for_candidates(const Vec3& p, F&& f) const {
+        if (ids_.empty()) return;
+        const size_t key = size_t(cell(p[1], 0) * n_ + cell(p[2], 1));
+        for (int64_t i = start_[key]; i < start_[key + 1]; ++i) f(ids_[size_t(i)]);
+    }
+
+private:
+    int64_t cell(double y, int k) const {
+        const double c = std::floor((y - lo_[k]) * scale_[k]);
+        return std::clamp<int64_t>(std::isfinite(c) ? int64_t(c) : 0, 0, n_ - 1);
+    }
+    Vec2 lo_{};
+    Vec2 scale_{};
+    int64_t n_ = 1;
+    std::vector<int64_t> start_;
+    std::vector<int32_t> ids_;
+};
+
+// The bits (above) of the component `own` seen from p, over the other components'
+// triangles; false when p lies on one of them (they intersect: not decided).
+bool lies_in(const Surface& s, const RayCells& cells, const std::vector<int32_t>& component, int32_t own,
+             const std::vector<uint64_t>& mask, const Vec3& p, uint64_t& bits) {
+    bits = 0;
+    bool on = false;
+    cells.for_candidates(p, [&](int32_t t) {
+        const Tri& c = s.triangles[size_t(t)];
+        if (component[size_t(c[0])] == own || mask[size_t(t)] == 0) return;
+        const detail::RayHit h = detail::ray_crosses(p, s.vertices[size_t(c[0])], s.vertices[size_t(c[1])],
+                                                     s.vertices[size_t(c[2])]);
+        if (h == detail::RayHit::Touches) on = true;
+        if (h == detail::RayHit::Cross) bits ^= mask[size_t(t)];
+    });
+    return !on;
+}
+
+std::string material_names(uint64_t b, const std::map<std::string, int>& bits) {
+    if (b == 0) return "the unbounded region's material";
+    // b holds the material at the vertex and the unbounded region's, which is exterior
+    // for label images and one file per material.
+    std::vector<std::string> names;
+    bool exterior = false;
+    for (const auto& [name, bit] : bits)
+        if (bit < kUnknownBit && (b >> bit & 1)) {
+            if (same_material(name, kExteriorMaterial))
+                exterior = true;
+            else
+                names.push_back(name);
+        }
+    if (b >> kUnknownBit & 1) names.push_back("what the patches without materials enclose");
+    std::string text;
+    for (const std::string& n : names) text += (text.empty() ? "" : ", ") + n;
+    if (exterior && names.size() == 1) return text;
+    return "materials other than the unbounded region's (" + text + (exterior ? ", exterior" : "") + ")";
+}
+
+struct ComponentCounts {
+    int64_t components = 0, original_components = 0;
+    int64_t moved = 0;         // lying in other materials than on S0
+    int64_t not_compared = 0;  // a vertex on another component's triangle (an intersection)
+};
+
+// What compare_components needs of S and S0: their components and the triangles'
+// material bits (only when either has two or more components).
+struct ComponentMaterials {
+    std::vector<int32_t> comp0, comp;  // per vertex
+    ComponentCounts counts;
+    std::map<std::string, int> bits;  // material name (lower case) -> bit
+    MaterialBits m0, m;
+    bool active() const { return counts.original_components > 1 || counts.components > 1; }
+};
+
+ComponentMaterials component_materials(const BpmFile& file) {
+    ComponentMaterials c;
+    c.counts.original_components = vertex_components(file.param.original, c.comp0);
+    c.counts.components = vertex_components(file.param.coarse, c.comp);
+    if (!c.active()) return c;
+    c.m0 = triangle_bits(file.param.original, file.patch_info, c.bits);
+    c.m = triangle_bits(file.param.coarse, file.patch_info, c.bits);
+    return c;
+}
+
+// Every component of S against its component of S0 (through the original id of one of
+// its vertices); `open`: the materials left out (their boundary is not closed on S or S0).
+void compare_components(const BpmFile& file, ComponentMaterials& c, uint64_t open, CheckResult& r,
+                        size_t max_problems) {
+    const Parametrization& p = file.param;
+    ComponentCounts& counts = c.counts;
+    if (!c.active()) return;
+    if (!c.m0.usable || !c.m.usable) {
+        counts.not_compared = counts.components;
+        return;
+    }
+    const RayCells cells0(p.original), cells(p.coarse);
+    std::vector<int32_t> first(size_t(counts.components), -1);
+    for (size_t v = 0; v < c.comp.size(); ++v)
+        if (c.comp[v] >= 0 && first[size_t(c.comp[v])] < 0) first[size_t(c.comp[v])] = int32_t(v);
+    for (int32_t k = 0; k < counts.components; ++k) {
+        const int32_t v = first[size_t(k)];
+        const int32_t o = p.coarse_vertex_origin[size_t(v)];
+        uint64_t on_s = 0, on_s0 = 0;
+        if (!lies_in(p.coarse, cells, c.comp, k, c.m.of_patch_triangle, p.coarse.vertices[size_t(v)], on_s) ||
+            !lies_in(p.original, cells0, c.comp0, c.comp0[size_t(o)], c.m0.of_patch_triangle,
+                     p.original.vertices[size_t(o)], on_s0)) {
+            ++counts.not_compared;
+            continue;
+        }
+        on_s &= ~open;
+        on_s0 &= ~open;
+        if (on_s == on_s0) continue;
+        ++counts.moved;
+        r.add_problem({{{"coarse_vertex", v}, {"original_vertex", o}},
+                       "the component of coarse vertex " + std::to_string(v) + " (original " + std::to_string(o) +
+                           ") lies in " + material_names(on_s, c.bits) + " on S but in " +
+                           material_names(on_s0, c.bits) + " on S0: a sheet was moved across it"},
+                      max_problems);
+    }
+}
+
 void add_counts(CheckResult& r, const std::string& prefix, const JunctionCounts& c) {
     r.add_count(prefix + "junction_edges", c.junction_edges);
     r.add_count(prefix + "junction_edges_without_materials", c.unknown_materials);
@@ -179,9 +441,12 @@ CheckResult check_junctions(const BpmFile& file, const CheckOptions& options, co
     // about S either: those patches are left out on S, and S0 is only counted.
     context.report(0.0, "sheets around junction edges of the original surface");
     std::vector<int32_t> doubtful;
+    ComponentMaterials components = component_materials(file);
+    uint64_t open = 0;  // materials whose boundary is not closed (left out of the components' comparison)
     const JunctionCounts original = scan_junctions(
         p.original, file.patch_info, "original_triangle",
-        [](int32_t v) { return "original vertex " + std::to_string(v); }, r, options.max_problems, &doubtful, {});
+        [](int32_t v) { return "original vertex " + std::to_string(v); }, r, options.max_problems, &doubtful, {},
+        components.active() ? &components.m0.of_patch_triangle : nullptr, &open);
     std::sort(doubtful.begin(), doubtful.end());
     doubtful.erase(std::unique(doubtful.begin(), doubtful.end()), doubtful.end());
     context.report(0.5, "sheets around junction edges of the coarse surface");
@@ -190,11 +455,24 @@ CheckResult check_junctions(const BpmFile& file, const CheckOptions& options, co
         [&](int32_t v) {
             return "coarse vertex " + std::to_string(v) + " (original " + std::to_string(p.coarse_vertex_origin[v]) + ")";
         },
-        r, options.max_problems, nullptr, doubtful);
+        r, options.max_problems, nullptr, doubtful, components.active() ? &components.m.of_patch_triangle : nullptr,
+        &open);
     add_counts(r, "original_", original);
     add_counts(r, "", coarse);
     r.add_count("patches_contradicting_original", static_cast<int64_t>(doubtful.size()));
+    context.report(0.75, "materials around the components");
+    compare_components(file, components, open, r, options.max_problems);
+    const ComponentCounts& cc = components.counts;
+    r.add_count("components", cc.components);
+    r.add_count("original_components", cc.original_components);
+    r.add_count("components_in_other_materials", cc.moved);
+    r.add_count("components_not_compared", cc.not_compared);
     r.summary = describe(" on S", coarse) + "; " + describe(" on S0", original);
+    if (components.active()) {
+        r.summary += "; " + detail::count_text(cc.components, "component") + ", " + std::to_string(cc.moved) +
+                     " lying in other materials than on S0";
+        if (cc.not_compared) r.summary += " (" + std::to_string(cc.not_compared) + " not compared)";
+    }
     if (!doubtful.empty())
         r.summary += "; the materials of " + std::to_string(doubtful.size()) +
                      " patches contradict S0 (not checked on S)";

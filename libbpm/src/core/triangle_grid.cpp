@@ -174,4 +174,14 @@ void TriangleGrid::query_boxes(const Vec3& lo, const Vec3& hi, std::vector<Entry
               out.end());
 }
 
+void TriangleGrid::query_within(const Vec3& lo, const Vec3& hi, std::vector<Entry>& out) const {
+    out.clear();
+    const LatticeBox box = lattice_box(lo, hi);
+    for_entries(lo, hi, [&](const Entry& e) {
+        for (int k = 0; k < 3; ++k)
+            if (e.lo[k] < box.lo[k] || e.hi[k] > box.hi[k]) return;
+        out.push_back(e);
+    });
+}
+
 }  // namespace bpm::detail

@@ -58,6 +58,12 @@ public:
     // The triangles whose bounding box meets the closed box [lo, hi], sorted by id,
     // each once.
     void query_boxes(const Vec3& lo, const Vec3& hi, std::vector<Entry>& out) const;
+    // The triangles whose bounding box may lie inside the closed box [lo, hi] (the
+    // lattice boxes decide: a box inside [lo, hi] has its lattice box inside
+    // lattice_box(lo, hi), rounding being monotone; the converse need not hold), in no
+    // order and with repeats (a triangle in several cells): a filter for exact tests that
+    // need no order (simplify/island_guard.h). Cheaper than query_boxes: no sort.
+    void query_within(const Vec3& lo, const Vec3& hi, std::vector<Entry>& out) const;
     void clear() {
         cells_.clear();
         big_.clear();

@@ -374,7 +374,7 @@ bool circumcenter(const Vec3& p0, const Vec3& p1, const Vec3& p2, const Vec3& p3
 }  // namespace
 
 FlipStats flip_edges(CoarseMesh& mesh, Embedding& embedding, const std::vector<int8_t>& orientation_sign,
-                     IntersectionTest& intersections, const FlipLimits& limits) {
+                     IntersectionTest& intersections, const FlipLimits& limits, const IslandGuard* islands) {
     FlipStats stats;
     const auto& X = mesh.positions();
     const int outward = limits.sliver_dihedral_degrees > 0 ? outward_orientation(mesh) : 0;
@@ -382,6 +382,7 @@ FlipStats flip_edges(CoarseMesh& mesh, Embedding& embedding, const std::vector<i
     std::set<uint64_t> refused;  // edges (by their vertices) whose flip was refused: not tried again
     std::vector<TriangleGrid::Entry> scratch;
     std::vector<int32_t> sheet_scratch;
+    IslandGuard::Scratch island_scratch;
     EdgeFlip flip, undo;
     std::string why;
     enum class Kind { Needle, Sliver };
@@ -409,6 +410,11 @@ FlipStats flip_edges(CoarseMesh& mesh, Embedding& embedding, const std::vector<i
             return refuse();
         // The quad's sides may be junction edges: the new apexes must stay between the same sheets.
         if (!keeps_sheet_order(mesh, {flip.removed[0], flip.removed[1]}, {flip.added[0], flip.added[1]}, sheet_scratch))
+            return refuse();
+        // The tetrahedron between the old and the new pair must hold no other component.
+        if (islands && islands->active() &&
+            islands->sweeps_island(mesh, intersections.grid(), mesh.triangle_capacity(), flip.a, -1, -1,
+                                   {flip.removed[0], flip.removed[1]}, {flip.added[0], flip.added[1]}, island_scratch))
             return refuse();
         // What undoes it: the old triangles, the old locations and paths.
         undo = EdgeFlip();

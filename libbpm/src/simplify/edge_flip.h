@@ -24,6 +24,7 @@
 #include "simplify/coarse_mesh.h"
 #include "simplify/embedding.h"
 #include "simplify/intersection_test.h"
+#include "simplify/island_guard.h"
 
 namespace bpm::detail {
 
@@ -73,7 +74,8 @@ struct FlipStats {
 };
 
 // Flips while any candidate improves (passes in triangle id order: deterministic).
+// `islands`, if given, refuses flips that sweep another component (simplify/island_guard.h).
 FlipStats flip_edges(CoarseMesh& mesh, Embedding& embedding, const std::vector<int8_t>& orientation_sign,
-                     IntersectionTest& intersections, const FlipLimits& limits);
+                     IntersectionTest& intersections, const FlipLimits& limits, const IslandGuard* islands = nullptr);
 
 }  // namespace bpm::detail

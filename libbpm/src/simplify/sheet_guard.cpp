@@ -67,9 +67,31 @@ bool keeps_line_sheet_order(const std::vector<Vec3>& x, int32_t a, int32_t v, in
     if (!cyclic_order(x[a], x[b], apexes, order_new)) return false;
     for (int k = 0; k < 2; ++k) {
         for (size_t i = 0; i < sheets.size(); ++i) apexes[i] = x[size_t(sheets[i][k])];
-        // Both edges point along the line as a -> b does.
-        if (!cyclic_order(k == 0 ? x[a] : x[v], k == 0 ? x[v] : x[b], apexes, order_old)) continue;  // was undefined
+        // Both edges point along the line as a -> b does. An undefined old order (sheets
+        // that overlap, or one without area) cannot be said to be kept.
+        if (!cyclic_order(k == 0 ? x[a] : x[v], k == 0 ? x[v] : x[b], apexes, order_old)) return false;
         if (order_old != order_new) return false;
+    }
+    return true;
+}
+
+bool line_sheets_of(int32_t a, int32_t b, const std::vector<Fan>& fans, const std::vector<Tri>& added,
+                    std::vector<std::array<int32_t, 3>>& sheets) {
+    sheets.clear();
+    size_t base = 0;
+    for (const Fan& fan : fans) {
+        const size_t n = fan.link.size();
+        if (n < 3) return false;
+        const bool from_a = fan.link.front() == a;  // else it runs from b to a
+        int32_t found = -1;
+        for (size_t i = base; i < base + (n - 2) && i < added.size(); ++i) {
+            const Tri& t = added[i];
+            const bool has_a = t[0] == a || t[1] == a || t[2] == a, has_b = t[0] == b || t[1] == b || t[2] == b;
+            if (has_a && has_b) found = third_corner(t, a, b);
+        }
+        if (found < 0) return false;
+        sheets.push_back({from_a ? fan.link[1] : fan.link[n - 2], from_a ? fan.link[n - 2] : fan.link[1], found});
+        base += n - 2;
     }
     return true;
 }

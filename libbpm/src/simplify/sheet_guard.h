@@ -13,7 +13,12 @@
 //                           other side may have changed since the plan was made).
 //   keeps_line_sheet_order  a removal along a feature line of three or more sheets: the
 //                           sheets around the new edge a -- b come in the order they have
-//                           around the two edges a -- v and v -- b it replaces.
+//                           around the two edges a -- v and v -- b it replaces. Where an
+//                           order is not defined (two sheets on one half-plane, a sheet
+//                           without area) it is not kept: refused.
+//   line_sheets_of          which apexes keeps_line_sheet_order compares, from the plan's
+//                           half-disks; false (the plan is refused) when a half-disk has no
+//                           new triangle at a -- b.
 // Internal to libbpm.
 
 #include <array>
@@ -22,6 +27,7 @@
 
 #include "bpm/geometry.h"
 #include "simplify/coarse_mesh.h"
+#include "simplify/star_fans.h"
 
 namespace bpm::detail {
 
@@ -38,5 +44,13 @@ bool keeps_sheet_order(const CoarseMesh& mesh, const std::vector<int32_t>& remov
 // answer holds as long as the plan does.
 bool keeps_line_sheet_order(const std::vector<Vec3>& x, int32_t a, int32_t v, int32_t b,
                             const std::vector<std::array<int32_t, 3>>& sheets);
+
+// `sheets` for the removal of v along the feature line a -- v -- b, from its half-disks
+// `fans` (each runs from a to b or back; link[1] and link[n - 2] are the apexes of its
+// triangles at the line) and `added`, the fans' new triangles in fan order, n - 2 each.
+// False when a half-disk has no new triangle at a -- b (the layout is not the expected
+// one): no order can be compared, and the removal must be refused, not let pass.
+bool line_sheets_of(int32_t a, int32_t b, const std::vector<Fan>& fans, const std::vector<Tri>& added,
+                    std::vector<std::array<int32_t, 3>>& sheets);
 
 }  // namespace bpm::detail

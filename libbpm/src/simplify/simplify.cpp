@@ -38,6 +38,7 @@
 #include "simplify/export_phi.h"
 #include "simplify/input_intersections.h"
 #include "simplify/intersection_test.h"
+#include "simplify/island_guard.h"
 #include "simplify/overlay.h"
 #include "simplify/planning_pool.h"
 #include "simplify/removal_cost.h"
@@ -257,7 +258,8 @@ private:
           mesh_(original, uses),
           diagonal_(bounding_box_diagonal(original)),
           target_(target_vertex_count(options, original.num_vertices())),
-          intersections_(mesh_) {
+          intersections_(mesh_),
+          islands_(mesh_) {
         // Room for the triangle ids the removals will make, at once (the per-triangle arrays
         // grew by doubling: a copy of the old arrays beside the new ones). A removal of a
         // vertex of valence d makes d - 2 triangles and the mean valence is 3 T / V, so
@@ -336,6 +338,8 @@ private:
     int64_t target_;                  // vertices to stop at, 0: none
     IntersectionTest intersections_;  // of new triangles with the rest of the surface
     std::vector<int32_t> sheet_scratch_;  // keeps_sheet_order's buffer (committing is serial)
+    IslandGuard islands_;                  // of the components (two or more: removals must not sweep one)
+    IslandGuard::Scratch island_scratch_;  // its buffers (committing is serial)
     std::vector<std::vector<TriangleGrid::Entry>> grid_scratch_;  // per thread, for intersects_rest
     std::vector<uint32_t> stamp_;     // per vertex, moved on when its star changes
     RemovalQueue queue_;
@@ -408,6 +412,8 @@ private:
     bool ready_to_commit(int k, double& cost);
     void commit(int k, double cost, SimplifyResult& result);
     bool admissible_globally(int32_t v, const RemovalPlan& plan);
+    // IslandGuard::sweeps_island for the plan to remove v, on the surface as it is now.
+    bool sweeps_island(int32_t v, const RemovalPlan& plan, int32_t first_unindexed);
     // A full plan made earlier is still exact if its star is unchanged (stamp), no
     // edited path changed elsewhere, and its new edges still do not exist.
     bool still_current(const RemovalPlan& plan) const;
@@ -747,7 +753,20 @@ bool Simplifier::ready_to_commit(int k, double& cost) {
         last_reason_.set(v, kSheetOrderReason, 0);
         return false;
     }
+    // And no other component inside the volume the star sweeps (only with two or more
+    // components; the grid lacks the triangles this step's commits made: passed on).
+    if (sweeps_island(v, plan, step_.first_new)) {
+        last_reason_.set(v, kIslandReason, 0);
+        return false;
+    }
     return true;
+}
+
+bool Simplifier::sweeps_island(int32_t v, const RemovalPlan& plan, int32_t first_unindexed) {
+    return islands_.active() &&
+           islands_.sweeps_island(mesh_, intersections_.grid(), first_unindexed, v,
+                                  plan.feature_line ? plan.feature_a : -1, plan.feature_line ? plan.feature_b : -1,
+                                  plan.removed_triangles, plan.new_triangles, island_scratch_);
 }
 
 void Simplifier::commit(int k, double cost, SimplifyResult& result) {
@@ -907,6 +926,8 @@ void Simplifier::report_slivers(SimplifyResult& result) {
                 else if (!keeps_line_sheet_order(x, plan.feature_a, v, plan.feature_b, plan.line_sheets) ||
                          !keeps_sheet_order(mesh_, plan.removed_triangles, plan.new_triangles, sheet_scratch_))
                     why = kSheetOrderReason;
+                else if (sweeps_island(v, plan, mesh_.triangle_capacity()))
+                    why = kIslandReason;
                 else {
                     char text[160];
                     std::snprintf(text, sizeof text, "removable (new triangles up to R/r %.3g, error %.3g of diagonal), %s",
@@ -960,7 +981,7 @@ void Simplifier::flip_edges_phase(SimplifyResult& result) {
     limits.sliver_dihedral_degrees = options_.flip_min_dihedral_degrees;
     limits.max_deviation = error_so_far_ * diagonal_;
     limits.prevent_intersections = options_.prevent_intersections;
-    const FlipStats stats = flip_edges(mesh_, embedding_, sign_, intersections_, limits);
+    const FlipStats stats = flip_edges(mesh_, embedding_, sign_, intersections_, limits, &islands_);
     result.needle_flips = stats.needle_flips;
     result.sliver_flips = stats.sliver_flips;
     context_.debug("edge flips: " + std::to_string(stats.needle_flips) + " of needles, " +

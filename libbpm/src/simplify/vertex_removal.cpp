@@ -690,37 +690,15 @@ void VertexRemover::plan_once(int32_t v, bool force_disk, bool validate, bool de
     }
     // Along a feature line of three or more sheets the new edge a -- b must keep the
     // sheets in their order around the line: which apexes to compare, for the check at
-    // commit (simplify/sheet_guard.h; most plans are never committed).
-    if (plan.feature_line && fans.size() >= 3) record_line_sheets(plan);
+    // commit (simplify/sheet_guard.h; most plans are never committed). Without them the
+    // order could not be checked: refused.
+    if (plan.feature_line && fans.size() >= 3 &&
+        !line_sheets_of(plan.feature_a, plan.feature_b, fans, plan.new_triangles, plan.line_sheets)) {
+        plan.reason = kSheetOrderReason;
+        return;
+    }
     measure_new_ridges(plan);
     finish_paths(mesh_, embedding_, *scratch_, plan);
-}
-
-void VertexRemover::record_line_sheets(RemovalPlan& plan) const {
-    // Each half-disk runs from a (link.front()) to b (link.back()), or back: its triangles
-    // at a -- v and v -- b have the apexes link[1] and link[n - 2]; its new triangle at
-    // a -- b is the one whose corners include a and b (the new triangles are the fans'
-    // in order, link.size() - 2 each).
-    const auto& fans = scratch_->fans;
-    const int32_t a = plan.feature_a, b = plan.feature_b;
-    plan.line_sheets.clear();
-    size_t base = 0;
-    for (const Fan& fan : fans) {
-        const size_t n = fan.link.size();
-        const bool from_a = fan.link.front() == a;  // else it runs from b to a
-        int32_t found = -1;
-        for (size_t i = base; i < base + (n - 2) && i < plan.new_triangles.size(); ++i) {
-            const Tri& t = plan.new_triangles[i];
-            const bool has_a = t[0] == a || t[1] == a || t[2] == a, has_b = t[0] == b || t[1] == b || t[2] == b;
-            if (has_a && has_b) found = t[0] != a && t[0] != b ? t[0] : (t[1] != a && t[1] != b ? t[1] : t[2]);
-        }
-        if (found < 0) {  // not the expected layout: leave it to the other checks
-            plan.line_sheets.clear();
-            return;
-        }
-        plan.line_sheets.push_back({from_a ? fan.link[1] : fan.link[n - 2], from_a ? fan.link[n - 2] : fan.link[1], found});
-        base += n - 2;
-    }
 }
 
 void VertexRemover::measure_new_ridges(RemovalPlan& plan) {

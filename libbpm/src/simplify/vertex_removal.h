@@ -44,7 +44,7 @@ struct RemovalPlan {
     int32_t feature_a = -1, feature_b = -1;
     uint8_t feature_kind = 0;                       // CoarseMesh::Feature of the new edge a -- b
     // Along a feature line of three or more sheets, per sheet: the apexes of its triangles
-    // at a -- v and v -- b and of its new triangle at a -- b (keeps_line_sheet_order).
+    // at a -- v and v -- b and of its new triangle at a -- b (line_sheets_of, keeps_line_sheet_order).
     std::vector<std::array<int32_t, 3>> line_sheets;
 
     // Embedding updates. Locations refer to new triangles by local index (>= 0) through
@@ -140,8 +140,6 @@ public:
 private:
     void plan_once(int32_t v, bool force_disk, bool validate, bool defer, RemovalPlan& plan, bool& crease_line);
     void measure_new_ridges(RemovalPlan& plan);  // RemovalPlan::sharpest_new_ridge
-    // RemovalPlan::line_sheets of a feature-line plan of three or more fans.
-    void record_line_sheets(RemovalPlan& plan) const;
 
     const CoarseMesh& mesh_;
     const Embedding& embedding_;

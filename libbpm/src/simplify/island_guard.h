@@ -1,0 +1,61 @@
+#pragma once
+// The island guard: a removal (or an edge flip) must not sweep a sheet across a whole
+// component of the surface that it does not touch (an island: a blob of one label
+// inside another in a label image, a cavity in a solid). The old triangles and the new
+// ones together bound the volume the change sweeps; an island inside it touches no new
+// triangle, so the intersection test passes, but the island then lies in another
+// material (bpm-mesh found regions whose sides disagree; bpm-check's junctions check
+// compares the material every component lies in).
+//
+// Exact (core/ray_crossing.h): a vertex of the island inside the closed surface of the
+// old and the new triangles, by the parity of a ray's crossings. For a removal along a
+// feature line a -- v -- b each sheet (fan) is a surface of its own, closed by the
+// triangle (a, v, b) (no area where the line is straight: a ray never crosses it then),
+// and is tested alone: the volumes of two sheets may nest, and the parity of their union
+// would cancel. Components are those of the triangles through shared vertices; removals
+// and flips never change them (the new triangles join the same link vertices).
+// Internal to libbpm.
+
+#include <cstdint>
+#include <vector>
+
+#include "bpm/geometry.h"
+#include "core/triangle_grid.h"
+#include "simplify/coarse_mesh.h"
+
+namespace bpm::detail {
+
+// The reason recorded for a refused removal (counted in the simplifier's "vertices kept").
+inline constexpr const char* kIslandReason = "would sweep a sheet across another component of the surface (island)";
+
+class IslandGuard {
+public:
+    // The components of the alive triangles of `mesh` (which must stay the same mesh).
+    explicit IslandGuard(const CoarseMesh& mesh);
+
+    // Two or more components: otherwise there is nothing to guard and sweeps_island()
+    // answers false at once.
+    bool active() const { return !component_.empty(); }
+    int32_t components() const { return components_; }
+
+    // Whether a vertex of a component other than v's lies inside the volume swept by
+    // replacing `removed` (alive triangles of the mesh, all in v's component) with
+    // `added`. Along a feature line, `a` and `b` are its vertices next to v (else -1).
+    // The candidates come from `grid` (the alive triangles, as far as indexed) and the
+    // triangles from id `first_unindexed` on (made since the grid was last updated).
+    // `scratch` is the caller's buffer.
+    struct Scratch {
+        std::vector<TriangleGrid::Entry> entries;
+        std::vector<int32_t> components, points, group;
+        std::vector<Tri> tris;
+    };
+    bool sweeps_island(const CoarseMesh& mesh, const TriangleGrid& grid, int32_t first_unindexed, int32_t v,
+                       int32_t a, int32_t b, const std::vector<int32_t>& removed, const std::vector<Tri>& added,
+                       Scratch& scratch) const;
+
+private:
+    std::vector<int32_t> component_;  // per vertex; empty when the mesh has one component
+    int32_t components_ = 0;
+};
+
+}  // namespace bpm::detail
