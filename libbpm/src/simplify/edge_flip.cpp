@@ -8,6 +8,7 @@
 #include "core/tetrahedron_quality.h"
 #include "simplify/overlay.h"
 #include "simplify/sheet_guard.h"
+#include "simplify/wedge_guard.h"
 
 namespace bpm::detail {
 
@@ -382,6 +383,7 @@ FlipStats flip_edges(CoarseMesh& mesh, Embedding& embedding, const std::vector<i
     std::set<uint64_t> refused;  // edges (by their vertices) whose flip was refused: not tried again
     std::vector<TriangleGrid::Entry> scratch;
     std::vector<int32_t> sheet_scratch;
+    WedgeScratch wedge_scratch;
     EdgeFlip flip, undo;
     std::string why;
     enum class Kind { Needle, Sliver };
@@ -409,6 +411,10 @@ FlipStats flip_edges(CoarseMesh& mesh, Embedding& embedding, const std::vector<i
             return refuse();
         // The quad's sides may be junction edges: the new apexes must stay between the same sheets.
         if (!keeps_sheet_order(mesh, {flip.removed[0], flip.removed[1]}, {flip.added[0], flip.added[1]}, sheet_scratch))
+            return refuse();
+        // ... and not fold onto their neighbours (the wedges there bound bpm-mesh's angles).
+        if (!keeps_junction_wedges(mesh, {flip.removed[0], flip.removed[1]}, {flip.added[0], flip.added[1]}, -1, -1, -1,
+                                   wedge_scratch))
             return refuse();
         // What undoes it: the old triangles, the old locations and paths.
         undo = EdgeFlip();

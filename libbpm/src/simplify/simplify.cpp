@@ -42,6 +42,7 @@
 #include "simplify/planning_pool.h"
 #include "simplify/removal_cost.h"
 #include "simplify/ridge_guard.h"
+#include "simplify/wedge_guard.h"
 #include "simplify/sheet_guard.h"
 #include "simplify/vertex_order.h"
 #include "simplify/vertex_removal.h"
@@ -246,6 +247,11 @@ public:
     void name_vertices_by(const std::vector<int32_t>& user_vertex) { user_vertex_ = &user_vertex; }
 
 private:
+    // The wedge guard's floor (simplify/wedge_guard.h): --min-ridge-angle 0 turns it off
+    // with the ridge guard, a lower one lowers it too.
+    double junction_wedge_floor() const {
+        return std::min(kJunctionWedgeFloorDegrees, options_.min_ridge_angle_degrees);
+    }
     // `uses`: the original's sides grouped by edge, counted once for the coarse mesh's
     // orientation walk and the embedding's edges (each used to collect its own).
     Simplifier(const Surface& original, const SimplifyOptions& options, const Context& context, int threads,
@@ -336,6 +342,7 @@ private:
     int64_t target_;                  // vertices to stop at, 0: none
     IntersectionTest intersections_;  // of new triangles with the rest of the surface
     std::vector<int32_t> sheet_scratch_;  // keeps_sheet_order's buffer (committing is serial)
+    WedgeScratch wedge_scratch_;          // keeps_junction_wedges' buffers (committing is serial)
     std::vector<std::vector<TriangleGrid::Entry>> grid_scratch_;  // per thread, for intersects_rest
     std::vector<uint32_t> stamp_;     // per vertex, moved on when its star changes
     RemovalQueue queue_;
@@ -747,6 +754,11 @@ bool Simplifier::ready_to_commit(int k, double& cost) {
         last_reason_.set(v, kSheetOrderReason, 0);
         return false;
     }
+    if (!keeps_junction_wedges(mesh_, plan.removed_triangles, plan.new_triangles, plan.feature_a, v, plan.feature_b,
+                               wedge_scratch_, junction_wedge_floor())) {
+        last_reason_.set(v, kJunctionWedgeReason, 0);
+        return false;
+    }
     return true;
 }
 
@@ -907,6 +919,9 @@ void Simplifier::report_slivers(SimplifyResult& result) {
                 else if (!keeps_line_sheet_order(x, plan.feature_a, v, plan.feature_b, plan.line_sheets) ||
                          !keeps_sheet_order(mesh_, plan.removed_triangles, plan.new_triangles, sheet_scratch_))
                     why = kSheetOrderReason;
+                else if (!keeps_junction_wedges(mesh_, plan.removed_triangles, plan.new_triangles, plan.feature_a, v,
+                                                plan.feature_b, wedge_scratch_, junction_wedge_floor()))
+                    why = kJunctionWedgeReason;
                 else {
                     char text[160];
                     std::snprintf(text, sizeof text, "removable (new triangles up to R/r %.3g, error %.3g of diagonal), %s",
