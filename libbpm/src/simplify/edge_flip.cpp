@@ -413,8 +413,8 @@ FlipStats flip_edges(CoarseMesh& mesh, Embedding& embedding, const std::vector<i
         if (!keeps_sheet_order(mesh, {flip.removed[0], flip.removed[1]}, {flip.added[0], flip.added[1]}, sheet_scratch))
             return refuse();
         // ... and not fold onto their neighbours (the wedges there bound bpm-mesh's angles).
-        if (!keeps_junction_wedges(mesh, {flip.removed[0], flip.removed[1]}, {flip.added[0], flip.added[1]}, -1, -1, -1,
-                                   wedge_scratch))
+        if (!keeps_feature_wedges(mesh, {flip.removed[0], flip.removed[1]}, {flip.added[0], flip.added[1]}, -1, -1, -1,
+                                  wedge_scratch, limits.junction_wedge_floor, limits.crease_wedge_floor))
             return refuse();
         // What undoes it: the old triangles, the old locations and paths.
         undo = EdgeFlip();

@@ -252,6 +252,7 @@ private:
     double junction_wedge_floor() const {
         return std::min(kJunctionWedgeFloorDegrees, options_.min_ridge_angle_degrees);
     }
+    double crease_wedge_floor() const { return std::min(kCreaseWedgeFloorDegrees, options_.min_ridge_angle_degrees); }
     // `uses`: the original's sides grouped by edge, counted once for the coarse mesh's
     // orientation walk and the embedding's edges (each used to collect its own).
     Simplifier(const Surface& original, const SimplifyOptions& options, const Context& context, int threads,
@@ -342,7 +343,7 @@ private:
     int64_t target_;                  // vertices to stop at, 0: none
     IntersectionTest intersections_;  // of new triangles with the rest of the surface
     std::vector<int32_t> sheet_scratch_;  // keeps_sheet_order's buffer (committing is serial)
-    WedgeScratch wedge_scratch_;          // keeps_junction_wedges' buffers (committing is serial)
+    WedgeScratch wedge_scratch_;          // keeps_feature_wedges' buffers (committing is serial)
     std::vector<std::vector<TriangleGrid::Entry>> grid_scratch_;  // per thread, for intersects_rest
     std::vector<uint32_t> stamp_;     // per vertex, moved on when its star changes
     RemovalQueue queue_;
@@ -754,8 +755,8 @@ bool Simplifier::ready_to_commit(int k, double& cost) {
         last_reason_.set(v, kSheetOrderReason, 0);
         return false;
     }
-    if (!keeps_junction_wedges(mesh_, plan.removed_triangles, plan.new_triangles, plan.feature_a, v, plan.feature_b,
-                               wedge_scratch_, junction_wedge_floor())) {
+    if (!keeps_feature_wedges(mesh_, plan.removed_triangles, plan.new_triangles, plan.feature_a, v, plan.feature_b,
+                               wedge_scratch_, junction_wedge_floor(), crease_wedge_floor())) {
         last_reason_.set(v, kJunctionWedgeReason, 0);
         return false;
     }
@@ -919,8 +920,8 @@ void Simplifier::report_slivers(SimplifyResult& result) {
                 else if (!keeps_line_sheet_order(x, plan.feature_a, v, plan.feature_b, plan.line_sheets) ||
                          !keeps_sheet_order(mesh_, plan.removed_triangles, plan.new_triangles, sheet_scratch_))
                     why = kSheetOrderReason;
-                else if (!keeps_junction_wedges(mesh_, plan.removed_triangles, plan.new_triangles, plan.feature_a, v,
-                                                plan.feature_b, wedge_scratch_, junction_wedge_floor()))
+                else if (!keeps_feature_wedges(mesh_, plan.removed_triangles, plan.new_triangles, plan.feature_a, v,
+                                                plan.feature_b, wedge_scratch_, junction_wedge_floor(), crease_wedge_floor()))
                     why = kJunctionWedgeReason;
                 else {
                     char text[160];
@@ -975,6 +976,8 @@ void Simplifier::flip_edges_phase(SimplifyResult& result) {
     limits.sliver_dihedral_degrees = options_.flip_min_dihedral_degrees;
     limits.max_deviation = error_so_far_ * diagonal_;
     limits.prevent_intersections = options_.prevent_intersections;
+    limits.junction_wedge_floor = junction_wedge_floor();
+    limits.crease_wedge_floor = crease_wedge_floor();
     const FlipStats stats = flip_edges(mesh_, embedding_, sign_, intersections_, limits);
     result.needle_flips = stats.needle_flips;
     result.sliver_flips = stats.sliver_flips;

@@ -63,8 +63,9 @@ double wedge_now(const CoarseMesh& mesh, int32_t a, int32_t b, WedgeScratch& s) 
 
 }  // namespace
 
-bool keeps_junction_wedges(const CoarseMesh& mesh, const std::vector<int32_t>& removed, const std::vector<Tri>& added,
-                           int32_t line_a, int32_t line_v, int32_t line_b, WedgeScratch& s, double floor_degrees) {
+bool keeps_feature_wedges(const CoarseMesh& mesh, const std::vector<int32_t>& removed, const std::vector<Tri>& added,
+                           int32_t line_a, int32_t line_v, int32_t line_b, WedgeScratch& s,
+                           double junction_floor_degrees, double crease_floor_degrees) {
     const auto& x = mesh.positions();
     const auto is_removed = [&](int32_t t) { return std::find(removed.begin(), removed.end(), t) != removed.end(); };
     for (size_t i = 0; i < added.size(); ++i)
@@ -87,7 +88,8 @@ bool keeps_junction_wedges(const CoarseMesh& mesh, const std::vector<int32_t>& r
             }
             for (const Tri& t : added)
                 if (has_edge(t, a, b)) s.apexes.push_back(x[size_t(third_corner(t, a, b))]);
-            if (s.apexes.size() < 3) continue;
+            if (s.apexes.size() < 2) continue;
+            const double floor_degrees = s.apexes.size() >= 3 ? junction_floor_degrees : crease_floor_degrees;
             const double after = smallest_wedge_degrees(x[size_t(a)], x[size_t(b)], s.apexes);
             if (after >= floor_degrees) continue;
             const double before = line_edge ? std::min(wedge_now(mesh, line_a, line_v, s), wedge_now(mesh, line_v, line_b, s))

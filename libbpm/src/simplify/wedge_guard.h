@@ -1,8 +1,11 @@
 #pragma once
 // The wedge guard of the simplifier: a removal (or an edge flip) must not make the wedge
-// between two neighbouring sheets of a junction edge (an edge of three or more triangles)
-// thinner than kJunctionWedgeFloorDegrees, unless it was thinner already, and then it may
-// only stay or widen. Internal to libbpm.
+// between two neighbouring sheets at a feature edge thinner than a floor, unless it was
+// thinner already, and then it may only stay or widen. The floor is
+// kJunctionWedgeFloorDegrees at junction edges (three or more triangles) and
+// kCreaseWedgeFloorDegrees at feature edges of two triangles (creases, patch borders),
+// both at most SimplifyOptions::min_ridge_angle_degrees (0 turns the guard off with the
+// ridge guard). Internal to libbpm.
 //
 // Why: every tetrahedral mesh of the coarse surface S that has S's triangles among its
 // faces (bpm-mesh keeps S exactly) has a tetrahedron inside every wedge of S at every edge
@@ -13,19 +16,26 @@
 // (simplify/ridge_guard.h) keeps the wedges of edges with two triangles open, but exempts
 // feature edges, and every junction edge is one. On noisy label images (three and more
 // materials, junction lines everywhere) the removals along and beside the junction lines
-// folded one sheet onto its neighbour: noisy 32^3 at --ratio 0.2 had 124 junction wedges
-// below 1 degree, the smallest 1.1e-13 degrees, where the original's smallest was 4.45; the
-// tetrahedral mesh had the same 1.2e-13 degrees (spec/tetmesh.md; tests/cli noisy label
-// images). The sheet-order guard (simplify/sheet_guard.h) only asks that a new sheet lie
-// strictly inside its wedge, which a sheet 1e-13 degrees from its neighbour does.
+// folded one sheet onto its neighbour: noisy 32^3 at --ratio 0.2 (tests/cli/lib
+// label_images.noisy(32, 3)) had 124 junction wedges below 1 degree, the smallest 1.1e-13
+// degrees, where the original's smallest was 4.45, and bpm-mesh's smallest dihedral angle
+// was 1.2e-13 degrees. The sheet-order guard (simplify/sheet_guard.h) only asks that a new
+// sheet lie strictly inside its wedge, which a sheet 1e-13 degrees from its neighbour does.
+// With the junction floor alone the smallest wedge there was a crease of 1.3 degrees.
 //
-// The rule, for every edge a -- b of a new triangle that has three or more triangles after
-// the change: `after` is the smallest angle between cyclically neighbouring sheets there
-// after the change, `before` the same before it (for the new edge a -- b of a removal along
-// a junction line through v, the smaller of those at a -- v and v -- b, the edges it
-// replaces). Refused when after < min(kJunctionWedgeFloorDegrees, before): the coarse
-// surface's junction wedges stay at least min(floor, the original's smallest) wide.
-// Edges with two triangles after the change are the ridge guard's, not this guard's.
+// The floors: 15 degrees at junctions (noisy 14^3 and 32^3 at --ratio 0.2 kept 1.8 % and
+// 2.2 % more vertices, the same error); 5 at creases, where the ridge guard's notes found
+// guarding scans' creases costly: the reference outputs of the five benchmark meshes and
+// two_cubes are byte-identical with it (10 changed mech-holes-shark's), and it takes the
+// noisy images' smallest crease wedges from 1.3-1.9 to 5.2-5.4 degrees.
+//
+// The rule, for every edge a -- b of a new triangle that is a feature edge (or the new edge
+// of a removal along a feature line) with two or more triangles after the change: `after`
+// is the smallest angle between cyclically neighbouring sheets there after the change
+// (for two triangles: the ridge angle), `before` the same before it (for the new edge
+// a -- b of a removal along a feature line through v, the smaller of those at a -- v and
+// v -- b, the edges it replaces). Refused when after < min(floor, before): the coarse
+// surface's wedges at feature edges stay at least min(floor, the original's smallest).
 //
 // Floating point: the angles are measured, not topological decisions (the sheet order is
 // decided exactly by the sheet-order guard); the same operations in the same order give
@@ -39,13 +49,13 @@
 
 namespace bpm::detail {
 
-// Junction wedges are kept at least this wide (degrees) where the coarse surface has
-// them so wide. See bench/RESULTS.md, "Junction wedges", for the floors measured.
+// The floors (degrees; see the top of this file).
 inline constexpr double kJunctionWedgeFloorDegrees = 15.0;
+inline constexpr double kCreaseWedgeFloorDegrees = 5.0;
 
 // The reason recorded for a refused removal.
 inline constexpr const char* kJunctionWedgeReason =
-    "would make a wedge between two sheets of a junction edge thinner (junction wedge floor)";
+    "would make a wedge between two sheets of a feature edge thinner (wedge floor)";
 
 // The smallest angle (degrees, in [0, 360]) between cyclically neighbouring half-planes of
 // the triangles (a, b, apexes[i]) around the line through a and b; 360 for fewer than two.
@@ -57,10 +67,11 @@ struct WedgeScratch {
 };
 
 // Does the change of `removed` (alive triangles of `mesh`) into `added` keep the rule
-// above? `line_v`: the vertex removed along a feature line from line_a -- line_v --
+// above (floors in degrees)? `line_v`: the vertex removed along a feature line from line_a -- line_v --
 // line_b (the plan's feature_a, feature_b), else -1.
-bool keeps_junction_wedges(const CoarseMesh& mesh, const std::vector<int32_t>& removed, const std::vector<Tri>& added,
+bool keeps_feature_wedges(const CoarseMesh& mesh, const std::vector<int32_t>& removed, const std::vector<Tri>& added,
                            int32_t line_a, int32_t line_v, int32_t line_b, WedgeScratch& scratch,
-                           double floor_degrees = kJunctionWedgeFloorDegrees);
+                           double junction_floor_degrees = kJunctionWedgeFloorDegrees,
+                           double crease_floor_degrees = kCreaseWedgeFloorDegrees);
 
 }  // namespace bpm::detail
