@@ -947,8 +947,12 @@ void Simplifier::report_slivers(SimplifyResult& result) {
                          !keeps_sheet_order(mesh_, plan.removed_triangles, plan.new_triangles, sheet_scratch_))
                     why = kSheetOrderReason;
                 else if (!keeps_feature_wedges(mesh_, plan.removed_triangles, plan.new_triangles, plan.feature_a, v,
-                                                plan.feature_b, wedge_scratch_, junction_wedge_floor(), crease_wedge_floor()))
+                                               plan.feature_b, wedge_scratch_, junction_wedge_floor(), crease_wedge_floor()))
                     why = kJunctionWedgeReason;
+                else if (options_.prevent_intersections && clearance_floor() > 0 && longest_edge_ > 0 &&
+                         !keeps_clearance(mesh_, intersections_.grid(), plan.removed_triangles, plan.new_triangles, {},
+                                          longest_edge_, clearance_scratch_, clearance_floor()))
+                    why = kClearanceReason;
                 else {
                     char text[160];
                     std::snprintf(text, sizeof text, "removable (new triangles up to R/r %.3g, error %.3g of diagonal), %s",
