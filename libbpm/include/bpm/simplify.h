@@ -133,7 +133,13 @@ struct SimplifyOptions {
     // --max-error). Measured on femur (bench/RESULTS.md, "Coarse ridges"): 30 met the
     // adaptive target at T = 0.001 and the tets' 5 degrees at level 0, for a Hausdorff
     // distance 1.02x; 20 left the adaptive rows unmet, 40 and 50 cost 1.13x. On fandisk,
-    // armadillo and mech-holes-shark it changes nothing (elephant at 10 %: 1.06x). 0 = off.
+    // armadillo and mech-holes-shark it changes nothing (elephant at 10 %: 1.06x).
+    // Feature edges get a floor of their own (the wedge guard): the wedge between two
+    // neighbouring sheets at a junction edge (three or more triangles) is kept at least
+    // min(15, this) degrees wide, at another feature edge min(5, this), where it was so
+    // wide, else it may not get thinner. Every tetrahedral mesh of the coarse surface has
+    // a dihedral angle at most its thinnest wedge (noisy label images: junction wedges of
+    // 1e-13 degrees, and bpm-mesh's angle with them). 0 = off (both guards).
     double min_ridge_angle_degrees = 30.0;
     // Longest edge a removal may create, relative to the diagonal.
     double max_edge_length = std::numeric_limits<double>::infinity();

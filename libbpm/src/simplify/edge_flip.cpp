@@ -8,6 +8,7 @@
 #include "core/tetrahedron_quality.h"
 #include "simplify/overlay.h"
 #include "simplify/sheet_guard.h"
+#include "simplify/wedge_guard.h"
 
 namespace bpm::detail {
 
@@ -383,6 +384,7 @@ FlipStats flip_edges(CoarseMesh& mesh, Embedding& embedding, const std::vector<i
     std::vector<TriangleGrid::Entry> scratch;
     std::vector<int32_t> sheet_scratch;
     IslandGuard::Scratch island_scratch;
+    WedgeScratch wedge_scratch;
     EdgeFlip flip, undo;
     std::string why;
     enum class Kind { Needle, Sliver };
@@ -410,6 +412,10 @@ FlipStats flip_edges(CoarseMesh& mesh, Embedding& embedding, const std::vector<i
             return refuse();
         // The quad's sides may be junction edges: the new apexes must stay between the same sheets.
         if (!keeps_sheet_order(mesh, {flip.removed[0], flip.removed[1]}, {flip.added[0], flip.added[1]}, sheet_scratch))
+            return refuse();
+        // ... and not fold onto their neighbours (the wedges there bound bpm-mesh's angles).
+        if (!keeps_feature_wedges(mesh, {flip.removed[0], flip.removed[1]}, {flip.added[0], flip.added[1]}, -1, -1, -1,
+                                  wedge_scratch, limits.junction_wedge_floor, limits.crease_wedge_floor))
             return refuse();
         // The tetrahedron between the old and the new pair must hold no other component.
         if (islands && islands->active() &&

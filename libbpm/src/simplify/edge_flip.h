@@ -66,6 +66,9 @@ struct FlipLimits {
     double max_deviation = 0.0;    // absolute: no flip may raise |phi(p) - p| above it
     double max_normal_turn = 60.0; // degrees between the new triangles' normals (no new crease)
     bool prevent_intersections = true;
+    // The wedge guard's floors at junction edges and other feature edges (degrees;
+    // simplify/wedge_guard.h): the quad's sides may be such edges.
+    double junction_wedge_floor = 15.0, crease_wedge_floor = 5.0;
 };
 
 struct FlipStats {

@@ -43,6 +43,8 @@
 #include "simplify/planning_pool.h"
 #include "simplify/removal_cost.h"
 #include "simplify/ridge_guard.h"
+#include "simplify/wedge_guard.h"
+#include "simplify/clearance_guard.h"
 #include "simplify/sheet_guard.h"
 #include "simplify/vertex_order.h"
 #include "simplify/vertex_removal.h"
@@ -247,6 +249,13 @@ public:
     void name_vertices_by(const std::vector<int32_t>& user_vertex) { user_vertex_ = &user_vertex; }
 
 private:
+    // The wedge guard's floor (simplify/wedge_guard.h): --min-ridge-angle 0 turns it off
+    // with the ridge guard, a lower one lowers it too.
+    double junction_wedge_floor() const {
+        return std::min(kJunctionWedgeFloorDegrees, options_.min_ridge_angle_degrees);
+    }
+    double clearance_floor() const { return options_.min_ridge_angle_degrees > 0 ? kClearanceFloor : 0.0; }
+    double crease_wedge_floor() const { return std::min(kCreaseWedgeFloorDegrees, options_.min_ridge_angle_degrees); }
     // `uses`: the original's sides grouped by edge, counted once for the coarse mesh's
     // orientation walk and the embedding's edges (each used to collect its own).
     Simplifier(const Surface& original, const SimplifyOptions& options, const Context& context, int threads,
@@ -340,6 +349,10 @@ private:
     std::vector<int32_t> sheet_scratch_;  // keeps_sheet_order's buffer (committing is serial)
     IslandGuard islands_;                  // of the components (two or more: removals must not sweep one)
     IslandGuard::Scratch island_scratch_;  // its buffers (committing is serial)
+    WedgeScratch wedge_scratch_;          // keeps_feature_wedges' buffers (committing is serial)
+    std::vector<TriangleGrid::Entry> clearance_scratch_;  // keeps_clearance's buffer
+    std::vector<Tri> clearance_also_;  // the new triangles of this step's earlier commits (not in the grid yet)
+    double longest_edge_ = 0;          // at least the longest edge of the coarse surface (0: not yet known)
     std::vector<std::vector<TriangleGrid::Entry>> grid_scratch_;  // per thread, for intersects_rest
     std::vector<uint32_t> stamp_;     // per vertex, moved on when its star changes
     RemovalQueue queue_;
@@ -759,6 +772,28 @@ bool Simplifier::ready_to_commit(int k, double& cost) {
         last_reason_.set(v, kIslandReason, 0);
         return false;
     }
+    if (!keeps_feature_wedges(mesh_, plan.removed_triangles, plan.new_triangles, plan.feature_a, v, plan.feature_b,
+                               wedge_scratch_, junction_wedge_floor(), crease_wedge_floor())) {
+        last_reason_.set(v, kJunctionWedgeReason, 0);
+        return false;
+    }
+    if (options_.prevent_intersections && clearance_floor() > 0) {
+        clearance_also_.clear();
+        for (int j = 0; j < k; ++j)
+            if (step_.candidates[j].committed)
+                for (const Tri& t : step_.candidates[j].plan->new_triangles) clearance_also_.push_back(t);
+        if (longest_edge_ == 0)
+            for (const Tri& t : original_.triangles)
+                for (int i = 0; i < 3; ++i)
+                    longest_edge_ = std::max(longest_edge_, distance(original_.vertices[size_t(t[i])],
+                                                                     original_.vertices[size_t(t[(i + 1) % 3])]));
+    }
+    if (options_.prevent_intersections && clearance_floor() > 0 &&
+        !keeps_clearance(mesh_, intersections_.grid(), plan.removed_triangles, plan.new_triangles, clearance_also_,
+                         longest_edge_, clearance_scratch_, clearance_floor())) {
+        last_reason_.set(v, kClearanceReason, 0);
+        return false;
+    }
     return true;
 }
 
@@ -789,6 +824,10 @@ void Simplifier::commit(int k, double cost, SimplifyResult& result) {
     // The grid follows in the re-ranking round (its planning does not read the grid).
     for (int32_t t : plan.removed_triangles) step_.grid_removed.push_back({t, mesh_.triangle(t)});
     first_new_ = mesh_.triangle_capacity();
+    for (const Tri& t : plan.new_triangles)
+        for (int i = 0; i < 3; ++i)
+            longest_edge_ = std::max(longest_edge_, distance(mesh_.positions()[size_t(t[i])],
+                                                             mesh_.positions()[size_t(t[(i + 1) % 3])]));
     commit_removal(mesh_, embedding_, plan);
     if (result.steps) result.steps->append(v, plan.new_triangles, plan.new_patches);
     ++commits_;
@@ -928,6 +967,13 @@ void Simplifier::report_slivers(SimplifyResult& result) {
                     why = kSheetOrderReason;
                 else if (sweeps_island(v, plan, mesh_.triangle_capacity()))
                     why = kIslandReason;
+                else if (!keeps_feature_wedges(mesh_, plan.removed_triangles, plan.new_triangles, plan.feature_a, v,
+                                               plan.feature_b, wedge_scratch_, junction_wedge_floor(), crease_wedge_floor()))
+                    why = kJunctionWedgeReason;
+                else if (options_.prevent_intersections && clearance_floor() > 0 && longest_edge_ > 0 &&
+                         !keeps_clearance(mesh_, intersections_.grid(), plan.removed_triangles, plan.new_triangles, {},
+                                          longest_edge_, clearance_scratch_, clearance_floor()))
+                    why = kClearanceReason;
                 else {
                     char text[160];
                     std::snprintf(text, sizeof text, "removable (new triangles up to R/r %.3g, error %.3g of diagonal), %s",
@@ -981,6 +1027,8 @@ void Simplifier::flip_edges_phase(SimplifyResult& result) {
     limits.sliver_dihedral_degrees = options_.flip_min_dihedral_degrees;
     limits.max_deviation = error_so_far_ * diagonal_;
     limits.prevent_intersections = options_.prevent_intersections;
+    limits.junction_wedge_floor = junction_wedge_floor();
+    limits.crease_wedge_floor = crease_wedge_floor();
     const FlipStats stats = flip_edges(mesh_, embedding_, sign_, intersections_, limits, &islands_);
     result.needle_flips = stats.needle_flips;
     result.sliver_flips = stats.sliver_flips;

@@ -1,0 +1,56 @@
+// The clearance guard (simplify/clearance_guard.h): a new triangle may not hover just above
+// another sheet (noisy 48^3 at --ratio 0.2: a new coarse edge 2.8e-6 from another, and
+// bpm-mesh's smallest dihedral angle 4.4e-6 degrees); the exact intersection test lets any
+// positive gap pass.
+#include <vector>
+
+#include <catch2/catch.hpp>
+
+#include "bpm/surface.h"
+#include "core/triangle_grid.h"
+#include "simplify/clearance_guard.h"
+#include "simplify/coarse_mesh.h"
+
+using namespace bpm;
+using namespace bpm::detail;
+
+TEST_CASE("clearance guard: relative clearance of two triangles", "[internal][simplify]") {
+    const std::vector<Vec3> x = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0},            // a flat triangle
+                                 {0.2, 0.2, 1e-4}, {1.2, 0.2, 1e-4}, {0.2, 1.2, 1e-4},  // one 1e-4 above it
+                                 {0.2, 0.2, 0.5}, {1, 1, 0}, {-1, -1, 0.2}};
+    CHECK(relative_clearance(x, {0, 1, 2}, {3, 4, 5}) == Approx(1e-4 / std::sqrt(2.0)));
+    CHECK(relative_clearance(x, {0, 1, 2}, {6, 3, 4}) == Approx(1e-4 / std::sqrt(2.0)));  // an edge near it
+    // One common vertex: the edges opposite it count, not the vertex itself ...
+    CHECK(relative_clearance(x, {0, 1, 2}, {0, 6, 8}) > 0.05);
+    // ... and an edge from it lying almost in the other triangle's plane, across its
+    // opposite edge, is a thin fold (z 1e-4 at x + y = 1.4: 7e-5 above edge 1-2).
+    CHECK(relative_clearance(x, {0, 1, 2}, {0, 6, 4}) < 1e-4);
+    // A common edge: the wedge guard's business.
+    CHECK(relative_clearance(x, {0, 1, 2}, {1, 7, 2}) == std::numeric_limits<double>::infinity());
+}
+
+TEST_CASE("clearance guard: a new triangle hovering over another sheet is refused", "[internal][simplify]") {
+    // Two separate sheets: a triangle at z = 0 and a pair at z = 0.5 to be replaced by
+    // triangles with a corner pulled down to 1e-5 above the first (or kept at 0.5).
+    Surface s;
+    s.vertices = {{0, 0, 0}, {4, 0, 0}, {0, 4, 0},                 // sheet A
+                  {0, 0, 0.5}, {2, 0, 0.5}, {0, 2, 0.5}, {1, 1, 0.5},  // sheet B
+                  {1, 1, 1e-5}};                                     // a point just above A
+    s.triangles = {{0, 1, 2}, {3, 4, 6}, {3, 6, 5}};
+    s.patches = {0, 1, 1};
+    CoarseMesh mesh(s);
+    TriangleGrid grid(1.0);
+    std::vector<int32_t> alive;
+    mesh.alive_triangles(alive);
+    for (int32_t t : alive) {
+        const Tri& c = mesh.triangle(t);
+        grid.insert(t, s.vertices[c[0]], s.vertices[c[1]], s.vertices[c[2]]);
+    }
+    std::vector<int32_t> removed;
+    for (int32_t t : alive)
+        if (t != alive.front()) removed.push_back(t);
+    std::vector<TriangleGrid::Entry> scratch;
+    CHECK(keeps_clearance(mesh, grid, removed, {Tri{3, 4, 5}}, {}, 4.0, scratch));  // 0.5 above A
+    CHECK_FALSE(keeps_clearance(mesh, grid, removed, {Tri{3, 4, 7}, Tri{3, 7, 5}}, {}, 4.0, scratch));
+    CHECK(keeps_clearance(mesh, grid, removed, {Tri{3, 4, 7}, Tri{3, 7, 5}}, {}, 4.0, scratch, 0.0));  // off
+}
