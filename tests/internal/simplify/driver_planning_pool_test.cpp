@@ -172,3 +172,35 @@ TEST_CASE("planning pool: threads that went to sleep (a worker between rounds, t
         }
     }
 }
+
+TEST_CASE("spin budget: a worker spins through short waits and sleeps at once through long ones",
+          "[internal][simplify]") {
+    // A fixed 30 us spin burnt a core through every long wait (the other thread's slow plan,
+    // a busy machine) and gained nothing there: 1.3x the CPU of one thread.
+    using bpm::detail::SpinBudget;
+    auto after = [](std::initializer_list<std::pair<double, int>> waits) {
+        SpinBudget b;
+        for (int window = 0; window < 4; ++window)
+            for (const auto& [micros, share] : waits)
+                for (int i = 0; i < share * SpinBudget::kWindow / 100; ++i) b.record(micros);
+        return b.micros();
+    };
+    CHECK(SpinBudget().micros() == 10);            // until it has seen waits
+    CHECK(after({{200.0, 100}}) == 0);             // long waits only: sleep at once
+    CHECK(after({{1.0, 100}}) == 2);               // the shortest budget that covers them
+    CHECK(after({{3.0, 100}}) == 5);
+    CHECK(after({{8.0, 100}}) == 10);              // 8 us spun is cheaper than a wake-up (10)
+    CHECK(after({{25.0, 100}}) == 0);              // 25 us spun is dearer than a wake-up
+    CHECK(after({{3.0, 70}, {200.0, 30}}) == 5);   // 0.7 * 3 + 0.3 * (5 + 10) < 10
+    CHECK(after({{3.0, 20}, {200.0, 80}}) == 0);   // 0.2 * 3 + 0.8 * 15 > 10
+}
+
+TEST_CASE("spin budget: it follows a change of the waits", "[internal][simplify]") {
+    // A busy machine (long waits) that becomes idle (short ones): the budget comes back.
+    using bpm::detail::SpinBudget;
+    SpinBudget b;
+    for (int i = 0; i < 4 * SpinBudget::kWindow; ++i) b.record(500.0);
+    REQUIRE(b.micros() == 0);
+    for (int i = 0; i < 4 * SpinBudget::kWindow; ++i) b.record(4.0);
+    CHECK(b.micros() == 5);
+}
