@@ -80,7 +80,7 @@ PlanningPool::~PlanningPool() {
     for (auto& w : workers_) w.join();
 }
 
-void PlanningPool::run(size_t tasks, WorkRef work) {
+void PlanningPool::run(size_t tasks, WorkRef work, int kind) {
     if (workers_.empty() || tasks < 2) {
         for (size_t i = 0; i < tasks; ++i) work(0, i);
         return;
@@ -92,6 +92,7 @@ void PlanningPool::run(size_t tasks, WorkRef work) {
     round_id_ = (round_id_ + 1) & kRoundMask;
     slot_.store((round_id_ << 40) | (uint64_t(tasks) << 20));
     published_.store(std::chrono::steady_clock::now().time_since_epoch().count(), std::memory_order_relaxed);
+    kind_.store(std::clamp(kind, 0, kKinds - 1), std::memory_order_relaxed);
     round_.fetch_add(1);
     if (sleeping_.load() > 0) {
         // A worker reads round_ under the lock before it waits: taking the lock after the
@@ -162,13 +163,15 @@ void PlanningPool::skip_rest() {
     }
 }
 
-// A worker: spins for the next round as long as its budget says, else sleeps until it
-// comes; each wait is recorded for the budget.
+// A worker: spins for the next round as long as the budget of the kind of round it last
+// worked in says, else sleeps until it comes; each wait is recorded for that budget.
 void PlanningPool::serve(int thread) {
     uint64_t seen = 0;
-    SpinBudget budget;
+    SpinBudget budgets[kKinds];
+    int kind = 0;
     bool first = true;
     while (true) {
+        SpinBudget& budget = budgets[kind];
         const auto idle_since = std::chrono::steady_clock::now();
         const auto spin_until = idle_since + std::chrono::duration<double, std::micro>(budget.micros());
         bool spinning = budget.micros() > 0;
@@ -194,6 +197,7 @@ void PlanningPool::serve(int thread) {
         }
         first = false;
         seen = round_.load();
+        kind = kind_.load(std::memory_order_relaxed);  // a later round's at worst: only timing
         take_tasks(thread);
     }
 }

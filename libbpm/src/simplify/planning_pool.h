@@ -97,12 +97,17 @@ public:
     int threads() const { return static_cast<int>(workers_.size()) + 1; }
 
     // `work(int thread, size_t task)`; see the contract above. `work` is used only
-    // during the call.
+    // during the call. `kind` (0 .. kKinds - 1) names what comes after the round: the
+    // workers learn a spin budget per kind (the simplifier's re-ranking round is followed
+    // by a short pick, its plan round by the other thread's longer plan).
+    static constexpr int kKinds = 4;
     template <class Work>
-    void run_round(size_t tasks, Work&& work) {
+    void run_round(size_t tasks, Work&& work, int kind = 0) {
         using W = std::remove_reference_t<Work>;
-        run(tasks, WorkRef{const_cast<void*>(static_cast<const void*>(&work)),
-                           [](void* w, int thread, size_t i) { (*static_cast<W*>(w))(thread, i); }});
+        run(tasks,
+            WorkRef{const_cast<void*>(static_cast<const void*>(&work)),
+                    [](void* w, int thread, size_t i) { (*static_cast<W*>(w))(thread, i); }},
+            kind);
     }
 
 private:
@@ -112,7 +117,7 @@ private:
         void (*call)(void*, int, size_t) = nullptr;
         void operator()(int thread, size_t i) const { call(object, thread, i); }
     };
-    void run(size_t tasks, WorkRef work);
+    void run(size_t tasks, WorkRef work, int kind);
     void take_tasks(int thread);
     void skip_rest();
     void wait_until_done(size_t tasks);
@@ -126,6 +131,7 @@ private:
     // When the caller published the last round (steady_clock ticks): a worker's wait for
     // it, for its SpinBudget, without the wake-up latency of a worker that slept.
     std::atomic<int64_t> published_{0};
+    std::atomic<int> kind_{0};  // of the last round published (run_round)
     // The round's tasks: (round id << 40) | (number of tasks << 20) | next task. A task is
     // taken by a compare-and-swap of the whole word, so a thread that comes late from an
     // earlier round can never take (or count) a task of a later one. (A shared counter

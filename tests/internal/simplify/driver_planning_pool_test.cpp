@@ -27,11 +27,13 @@ void run_many_rounds(PlanningPool& pool, std::vector<uint64_t>& sums) {
         std::vector<std::atomic<int>> runs(tasks);
         std::vector<uint64_t> value(tasks, 0);
         std::atomic<int> bad_thread{0};
+        // Of every kind, as the simplifier's steps (plan, validation, re-ranking) and an
+        // out-of-range kind (clamped): the kind only sets the workers' spin.
         pool.run_round(tasks, [&](int thread, size_t i) {
             if (thread < 0 || thread >= pool.threads()) bad_thread.fetch_add(1);
             runs[i].fetch_add(1);
             value[i] = uint64_t(round) * 1000003u + i * i;
-        });
+        }, round % (PlanningPool::kKinds + 1));
         REQUIRE(bad_thread.load() == 0);
         uint64_t sum = 0;
         for (size_t i = 0; i < tasks; ++i) {
