@@ -20,9 +20,9 @@
 // Rounds are short (a few plans, tens of microseconds) and follow each other quickly,
 // so a thread with nothing to do spins for a while before it sleeps. The caller waiting
 // for a worker's last task spins 30 us (kSpin in planning_pool.cpp). A worker between
-// rounds spins as long as its recent waits say pays, at most 10 us (SpinBudget below):
-// on a busy machine or through long gaps not at all (a fixed 200 us, then 30 us, spun
-// through most gaps: 1.3-1.6x the CPU of one thread).
+// rounds spins as long as its recent waits after rounds of the same kind say pays, at
+// most 10 us (SpinBudget below): on a busy machine or through long gaps not at all (a
+// fixed 200 us, then 30 us, spun through most gaps: 1.3-1.6x the CPU of one thread).
 
 #include <atomic>
 #include <condition_variable>
