@@ -18,11 +18,11 @@
 //   (std::length_error otherwise).
 //
 // Rounds are short (a few plans, tens of microseconds) and follow each other quickly,
-// so a thread with nothing to do (a worker between rounds, the caller waiting for a
-// worker's last task) spins for a while (30 us, kSpin in planning_pool.cpp) before it
-// sleeps: long enough for the short gaps, short enough that the serial commits and a slow
-// plan on the other thread are slept through instead of burning a core (it was 200 us:
-// the second thread then spun through nearly every gap, 1.3-1.6x the CPU of one thread).
+// so a thread with nothing to do spins for a while before it sleeps. The caller waiting
+// for a worker's last task spins 30 us (kSpin in planning_pool.cpp). A worker between
+// rounds spins as long as its recent waits after rounds of the same kind say pays, at
+// most 10 us (SpinBudget below): on a busy machine or through long gaps not at all (a
+// fixed 200 us, then 30 us, spun through most gaps: 1.3-1.6x the CPU of one thread).
 
 #include <atomic>
 #include <condition_variable>
@@ -52,6 +52,40 @@ constexpr int64_t kSmallInputTriangles = 10000;
 // own earlier runs count in the load too).
 int planning_threads(int requested, int64_t triangles);
 
+// How long a worker spins for the next round before it sleeps, learnt from its own recent
+// waits (ski rental): spinning through a wait of w costs w of CPU time; sleeping costs
+// kWakeCostMicros (the futex calls of the sleeper and of the thread that wakes it) plus
+// the spin before it. The budget is the one of 0, 2, 5, 10 us that would have cost least
+// over the last few hundred waits: 0 when the waits are long (the other thread in a long
+// plan, or a busy machine, where the waiting thread is often descheduled and a spin takes
+// the core from the thread it waits for), 2-10 us when most are short (the gaps between
+// the rounds of a step). A spin longer than kWakeCostMicros never costs less CPU time
+// than a sleep, so there is no longer budget; what a sleep costs besides is latency (the
+// worker joins the next round about 20 us late). Only timing: which thread runs a task
+// never changes a result.
+class SpinBudget {
+public:
+    static constexpr int kChoices = 4;
+    static constexpr double kBudgetMicros[kChoices] = {0, 2, 5, 10};
+    // A sleep and wake-up of a thread: about 5 us of CPU time on each side (futex call and
+    // wake-up, measured on the 2-core VM of bench/RESULTS.md), and about 20 us of latency.
+    static constexpr double kWakeCostMicros = 10;
+    static constexpr int kWindow = 128;  // waits between choices; older waits count half
+
+    // The current budget in microseconds (10 until kWindow waits were seen).
+    double micros() const { return kBudgetMicros[choice_]; }
+    // One wait for a round: from the end of the worker's last task until the round was
+    // published (whether spun or slept through; 0 if it came first).
+    void record(double waited_micros);
+
+private:
+    void choose();
+    double count_[kChoices] = {};  // waits between kBudgetMicros[i] and [i + 1] (the last: longer)
+    double sum_[kChoices] = {};    // their total length, us
+    int since_ = 0;
+    int choice_ = kChoices - 1;
+};
+
 class PlanningPool {
 public:
     // `threads` >= 1: the caller and threads - 1 workers.
@@ -63,12 +97,17 @@ public:
     int threads() const { return static_cast<int>(workers_.size()) + 1; }
 
     // `work(int thread, size_t task)`; see the contract above. `work` is used only
-    // during the call.
+    // during the call. `kind` (0 .. kKinds - 1) names what comes after the round: the
+    // workers learn a spin budget per kind (the simplifier's re-ranking round is followed
+    // by a short pick, its plan round by the other thread's longer plan).
+    static constexpr int kKinds = 4;
     template <class Work>
-    void run_round(size_t tasks, Work&& work) {
+    void run_round(size_t tasks, Work&& work, int kind = 0) {
         using W = std::remove_reference_t<Work>;
-        run(tasks, WorkRef{const_cast<void*>(static_cast<const void*>(&work)),
-                           [](void* w, int thread, size_t i) { (*static_cast<W*>(w))(thread, i); }});
+        run(tasks,
+            WorkRef{const_cast<void*>(static_cast<const void*>(&work)),
+                    [](void* w, int thread, size_t i) { (*static_cast<W*>(w))(thread, i); }},
+            kind);
     }
 
 private:
@@ -78,7 +117,7 @@ private:
         void (*call)(void*, int, size_t) = nullptr;
         void operator()(int thread, size_t i) const { call(object, thread, i); }
     };
-    void run(size_t tasks, WorkRef work);
+    void run(size_t tasks, WorkRef work, int kind);
     void take_tasks(int thread);
     void skip_rest();
     void wait_until_done(size_t tasks);
@@ -89,6 +128,10 @@ private:
     // after it took a task of that round (the compare-and-swap on slot_ orders them).
     WorkRef work_;
     std::atomic<uint64_t> round_{0};  // wakes the workers
+    // When the caller published the last round (steady_clock ticks): a worker's wait for
+    // it, for its SpinBudget, without the wake-up latency of a worker that slept.
+    std::atomic<int64_t> published_{0};
+    std::atomic<int> kind_{0};  // of the last round published (run_round)
     // The round's tasks: (round id << 40) | (number of tasks << 20) | next task. A task is
     // taken by a compare-and-swap of the whole word, so a thread that comes late from an
     // earlier round can never take (or count) a task of a later one. (A shared counter

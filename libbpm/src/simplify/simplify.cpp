@@ -209,6 +209,10 @@ private:
 };
 
 constexpr int kMaxRemovalsPerStep = 64;  // SimplifyOptions::removals_per_step
+// The kinds of the steps' rounds (PlanningPool::run_round): after each the other threads
+// wait differently long (the caller's slower plan; the commits; the next pick), so the
+// pool learns a spin budget per kind. Only timing.
+constexpr int kPlanRound = 1, kValidationRound = 2, kRerankRound = 3;
 const std::string kSelfIntersection = "would create a self-intersection";
 
 // The vertex count to stop at (0: none): the larger of the two targets asked for.
@@ -610,7 +614,7 @@ void Simplifier::plan_round(PlanningPool& pool) {
         c.remover->finish_part(0, 1);
         c.replanned = c.remover->finish_parts_done(*c.plan, 1);
         c.validated_early = true;
-    });
+    }, kPlanRound);
     // A plan made again during its validation was not tested: the validation round tests it.
     for (int k : to_plan) {
         Candidate& c = step_.candidates[k];
@@ -684,7 +688,7 @@ void Simplifier::validate_round(PlanningPool& pool) {
                                                           grid_scratch_[thread]);
         else
             c.remover->finish_part(checks[i].part, parts);
-    });
+    }, kValidationRound);
     bool replanned[kMaxRemovalsPerStep] = {};
     for (size_t i = 0; i < count; ++i) {
         Candidate& c = step_.candidates[checks[i].slot];
@@ -860,7 +864,7 @@ void Simplifier::rerank_round(PlanningPool& pool) {
         }
         else
             rerank_costs_[i - 1] = rank(affected[i - 1], cheap_plans_[thread], thread);
-    });
+    }, kRerankRound);
     intersections_.rebuild_if_sparse();
     for (size_t i = 0; i < affected.size(); ++i)
         if (std::isfinite(rerank_costs_[i])) queue_.push({rerank_costs_[i], affected[i], stamp_[affected[i]]});

@@ -27,11 +27,13 @@ void run_many_rounds(PlanningPool& pool, std::vector<uint64_t>& sums) {
         std::vector<std::atomic<int>> runs(tasks);
         std::vector<uint64_t> value(tasks, 0);
         std::atomic<int> bad_thread{0};
+        // Of every kind, as the simplifier's steps (plan, validation, re-ranking) and an
+        // out-of-range kind (clamped): the kind only sets the workers' spin.
         pool.run_round(tasks, [&](int thread, size_t i) {
             if (thread < 0 || thread >= pool.threads()) bad_thread.fetch_add(1);
             runs[i].fetch_add(1);
             value[i] = uint64_t(round) * 1000003u + i * i;
-        });
+        }, round % (PlanningPool::kKinds + 1));
         REQUIRE(bad_thread.load() == 0);
         uint64_t sum = 0;
         for (size_t i = 0; i < tasks; ++i) {
@@ -171,4 +173,36 @@ TEST_CASE("planning pool: threads that went to sleep (a worker between rounds, t
             for (size_t i = 0; i < tasks; ++i) REQUIRE(runs[i].load() == 1);
         }
     }
+}
+
+TEST_CASE("spin budget: a worker spins through short waits and sleeps at once through long ones",
+          "[internal][simplify]") {
+    // A fixed 30 us spin burnt a core through every long wait (the other thread's slow plan,
+    // a busy machine) and gained nothing there: 1.3x the CPU of one thread.
+    using bpm::detail::SpinBudget;
+    auto after = [](std::initializer_list<std::pair<double, int>> waits) {
+        SpinBudget b;
+        for (int window = 0; window < 4; ++window)
+            for (const auto& [micros, share] : waits)
+                for (int i = 0; i < share * SpinBudget::kWindow / 100; ++i) b.record(micros);
+        return b.micros();
+    };
+    CHECK(SpinBudget().micros() == 10);            // until it has seen waits
+    CHECK(after({{200.0, 100}}) == 0);             // long waits only: sleep at once
+    CHECK(after({{1.0, 100}}) == 2);               // the shortest budget that covers them
+    CHECK(after({{3.0, 100}}) == 5);
+    CHECK(after({{8.0, 100}}) == 10);              // 8 us spun is cheaper than a wake-up (10)
+    CHECK(after({{25.0, 100}}) == 0);              // 25 us spun is dearer than a wake-up
+    CHECK(after({{3.0, 70}, {200.0, 30}}) == 5);   // 0.7 * 3 + 0.3 * (5 + 10) < 10
+    CHECK(after({{3.0, 20}, {200.0, 80}}) == 0);   // 0.2 * 3 + 0.8 * 15 > 10
+}
+
+TEST_CASE("spin budget: it follows a change of the waits", "[internal][simplify]") {
+    // A busy machine (long waits) that becomes idle (short ones): the budget comes back.
+    using bpm::detail::SpinBudget;
+    SpinBudget b;
+    for (int i = 0; i < 4 * SpinBudget::kWindow; ++i) b.record(500.0);
+    REQUIRE(b.micros() == 0);
+    for (int i = 0; i < 4 * SpinBudget::kWindow; ++i) b.record(4.0);
+    CHECK(b.micros() == 5);
 }
