@@ -457,7 +457,7 @@ int main(int argc, char** argv) {
         if (!result.target_reached) {
             context.warn("stopped before the target: " + with_flags(result.stop_reason));
             for (const auto& [why, count] : result.blocked)
-                context.warn("  " + std::to_string(count) + " vertices kept: " + with_flags(why));
+                context.warn("  " + std::to_string(count) + (count == 1 ? " vertex" : " vertices") + " kept: " + with_flags(why));
             if (result.corners_kept && result.crease_junctions + result.crease_cone_ends > 0 &&
                 std::max<int64_t>(options.target_vertices, int64_t(std::ceil(options.target_ratio * double(result.input_vertices)))) < result.kept_feature_vertices())
                 context.warn("  (--no-keep-corners lets the corners of creases go)");
