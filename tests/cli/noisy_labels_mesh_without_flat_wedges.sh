@@ -20,7 +20,7 @@ import label_images as L
 L.write(sys.argv[2], L.noisy(14, 3))" "$(dirname "$0")/lib" "$work/noisy14.nii"
 
 expect 0 "simplify the noisy label image to 20 %" -- "$tools/bpm-simplify" "$work/noisy14.nii" --ratio 0.2 -o "$work/n.bpm" --deterministic
-contains "$work/err" "would make a wedge between two sheets of a feature edge thinner (wedge floor)" "removals refused for the wedges are counted"
+contains "$work/err" "would make a wedge between two sheets of a feature edge thinner (wedge floor, --min-ridge-angle)" "removals refused for the wedges are counted"
 ok "no wedge between neighbouring sheets of the coarse surface is thinner than 5 degrees" -- $py -c '
 import sys
 from collections import defaultdict

@@ -55,7 +55,7 @@ inline constexpr double kCreaseWedgeFloorDegrees = 5.0;
 
 // The reason recorded for a refused removal.
 inline constexpr const char* kJunctionWedgeReason =
-    "would make a wedge between two sheets of a feature edge thinner (wedge floor)";
+    "would make a wedge between two sheets of a feature edge thinner (wedge floor, min_ridge_angle_degrees)";
 
 // The smallest angle (degrees, in [0, 360]) between cyclically neighbouring half-planes of
 // the triangles (a, b, apexes[i]) around the line through a and b; 360 for fewer than two.
