@@ -105,7 +105,8 @@ mkdir -p "$build/logs"
 printf '%-22s %12s %8s %10s  %s\n' target executions exec/s hdf5-skips result
 # $parallel targets run at once, each in the background with a log of its own; they are
 # waited for (and reported) in the order of the list, so the output does not depend on
-# which finishes first. All run the same time, so the next one starts as a slot frees.
+# which finishes first. All run the same time, so the next one starts when the earliest
+# started one ends (one that stops early, on a finding, leaves its core idle until then).
 for i in "${!targets[@]}"; do
     if [ "$i" -ge "$parallel" ]; then
         done_i=$((i - parallel))

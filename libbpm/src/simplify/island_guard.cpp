@@ -76,7 +76,8 @@ bool IslandGuard::sweeps_island(const CoarseMesh& mesh, const TriangleGrid& grid
     // Candidates: one vertex per other component with a triangle inside the box. Another
     // component shares no vertex with the old or the new triangles, so (the intersection
     // test passed, and the surface does not intersect itself) it meets neither: it lies
-    // wholly inside the swept volume or wholly outside, one vertex decides, and inside
+    // wholly inside the swept volume or wholly outside (but see the header on the closing
+    // triangle of a feature-line sheet), one vertex decides, and inside
     // means inside the box. A component that reaches out of the box (a triangle partly
     // outside) is outside, or it crosses a new triangle, which the intersection test
     // refuses: only components with a triangle wholly inside are tested (a triangle per

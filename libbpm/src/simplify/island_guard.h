@@ -14,6 +14,14 @@
 // and is tested alone: the volumes of two sheets may nest, and the parity of their union
 // would cancel. Components are those of the triangles through shared vertices; removals
 // and flips never change them (the new triangles join the same link vertices).
+// Preconditions of the exactness: the intersection test passed for the new triangles
+// (with intersections allowed another component may cross them, and one vertex no longer
+// tells where the whole component lies: the guard still decides the same way every time,
+// but may refuse or pass wrongly). The closing triangle (a, v, b) of a feature-line sheet is
+// no part of the surface, so another component may cross it; crossing it flips every
+// sheet's parity at once, and the vertex tested (the first corner of the first grid entry:
+// deterministic) decides. A review found only over-refusals there (a vertex kept), no
+// sweep that passes.
 // Internal to libbpm.
 
 #include <cstdint>
