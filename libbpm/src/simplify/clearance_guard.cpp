@@ -100,14 +100,21 @@ struct Shape {
     double magnitude = 0;  // largest |coordinate| of a corner
     Vec3 axis[4]{};        // the unit normal, then the unit normal in the plane of edge i (corners i, i + 1)
     double proj[4][3]{};   // axis[k] . corner v
+    double lo[4]{}, hi[4]{};  // the least and the greatest of proj[k]
 };
 
-Shape shape_of(const std::vector<Vec3>& x, const Tri& t) {
-    Shape s;
+void set_shape(const std::vector<Vec3>& x, const Tri& t, Shape& s) {
     s.box = box_of(x, t);
     s.size2 = longest_edge_sq(x, t);
     s.size = std::sqrt(s.size2);
-    return s;
+    s.has_axes = false;
+}
+
+// The shapes of triangles `tris` (without axes) in `shapes`.
+template <class Tris, class F>
+void set_shapes(const std::vector<Vec3>& x, const Tris& tris, F&& triangle, std::vector<Shape>& shapes) {
+    shapes.resize(tris.size());  // in place: a Shape is 300 bytes
+    for (size_t i = 0; i < tris.size(); ++i) set_shape(x, triangle(tris[i]), shapes[i]);
 }
 
 const Shape& with_axes(const std::vector<Vec3>& x, const Tri& t, Shape& s) {
@@ -123,19 +130,22 @@ const Shape& with_axes(const std::vector<Vec3>& x, const Tri& t, Shape& s) {
         const Vec3 m = cross(*p[(i + 1) % 3] - *p[i], s.axis[0]);
         s.axis[i + 1] = (1.0 / norm(m)) * m;
     }
-    for (int k = 0; k < 4; ++k)
+    for (int k = 0; k < 4; ++k) {
         for (int v = 0; v < 3; ++v) s.proj[k][v] = dot(s.axis[k], *p[v]);
+        s.lo[k] = std::min({s.proj[k][0], s.proj[k][1], s.proj[k][2]});
+        s.hi[k] = std::max({s.proj[k][0], s.proj[k][1], s.proj[k][2]});
+    }
     return s;
 }
 
-struct Range {
-    double lo, hi;
-};
-Range corners_on(const double (&p)[3]) { return {std::min({p[0], p[1], p[2]}), std::max({p[0], p[1], p[2]})}; }
-Range edge_on(const double (&p)[3], int i) { return {std::min(p[i], p[(i + 1) % 3]), std::max(p[i], p[(i + 1) % 3])}; }
-// How far apart two sets are along a unit axis, from their projections onto it: a lower
-// bound of their distance (negative when the projections overlap).
-double gap(const Range& r, const Range& s) { return std::max(s.lo - r.hi, r.lo - s.hi); }
+// How far apart two sets are along a unit axis, from their projections [lo1, hi1] and
+// [lo2, hi2] onto it: a lower bound of their distance (negative when those overlap).
+double gap(double lo1, double hi1, double lo2, double hi2) { return std::max(lo2 - hi1, lo1 - hi2); }
+// The same for edge i (corners i, i + 1) of a triangle, from its corners' projections p.
+double edge_gap(const double (&p)[3], int i, double lo2, double hi2) {
+    const double p1 = p[i], p2 = p[(i + 1) % 3];
+    return gap(std::min(p1, p2), std::max(p1, p2), lo2, hi2);
+}
 
 // relative_clearance(x, a, b) when that is below `floor`, bit for bit; otherwise some
 // value >= floor (infinity). The pairs measured are may_be_below's, and of a pair only
@@ -176,34 +186,40 @@ double clearance_below(const std::vector<Vec3>& x, const Tri& a, Shape& sa, cons
     if (!thick(A) || !thick(B)) return relative_clearance(x, a, b);  // thin (or degenerate, or not finite)
     const double reach = margin * (1 + 1e-6) + 1e-6 * size + 1e-9 * (A.magnitude + B.magnitude);
     // The corners of each triangle on the other's axes.
-    double b_on_a[4][3], a_on_b[4][3];
-    for (int k = 0; k < 4; ++k)
+    double b_on_a[4][3], a_on_b[4][3], b_lo[4], b_hi[4], a_lo[4], a_hi[4];
+    for (int k = 0; k < 4; ++k) {
         for (int v = 0; v < 3; ++v) {
             b_on_a[k][v] = dot(A.axis[k], x[size_t(b[v])]);
             a_on_b[k][v] = dot(B.axis[k], x[size_t(a[v])]);
         }
-    // Lower bounds of the distance from edge i of a (or all of a: i < 0) to b, and from
-    // edge i of b to a.
+        b_lo[k] = std::min({b_on_a[k][0], b_on_a[k][1], b_on_a[k][2]});
+        b_hi[k] = std::max({b_on_a[k][0], b_on_a[k][1], b_on_a[k][2]});
+        a_lo[k] = std::min({a_on_b[k][0], a_on_b[k][1], a_on_b[k][2]});
+        a_hi[k] = std::max({a_on_b[k][0], a_on_b[k][1], a_on_b[k][2]});
+    }
+    // Lower bounds of the distance from edge i of a to b, and from edge i of b to a.
     const auto bound_a = [&](int i) {
         double d = -kInfinity;
-        for (int k = 0; k < 4; ++k) {
-            const Range a1 = i < 0 ? corners_on(A.proj[k]) : edge_on(A.proj[k], i);
-            const Range a2 = i < 0 ? corners_on(a_on_b[k]) : edge_on(a_on_b[k], i);
-            d = std::max({d, gap(a1, corners_on(b_on_a[k])), gap(a2, corners_on(B.proj[k]))});
-        }
+        for (int k = 0; k < 4; ++k)
+            d = std::max({d, edge_gap(A.proj[k], i, b_lo[k], b_hi[k]), edge_gap(a_on_b[k], i, B.lo[k], B.hi[k])});
         return d;
     };
     const auto bound_b = [&](int i) {
         double d = -kInfinity;
         for (int k = 0; k < 4; ++k)
-            d = std::max({d, gap(edge_on(B.proj[k], i), corners_on(a_on_b[k])),
-                          gap(edge_on(b_on_a[k], i), corners_on(A.proj[k]))});
+            d = std::max({d, edge_gap(B.proj[k], i, a_lo[k], a_hi[k]), edge_gap(b_on_a[k], i, A.lo[k], A.hi[k])});
+        return d;
+    };
+    const auto bound = [&] {  // all of a to all of b
+        double d = -kInfinity;
+        for (int k = 0; k < 4; ++k)
+            d = std::max({d, gap(A.lo[k], A.hi[k], b_lo[k], b_hi[k]), gap(a_lo[k], a_hi[k], B.lo[k], B.hi[k])});
         return d;
     };
     const auto P = [&](int32_t v) -> const Vec3& { return x[size_t(v)]; };
     double d2 = kInfinity;
     if (shared == 0) {
-        if (bound_a(-1) > reach) return kInfinity;
+        if (bound() > reach) return kInfinity;
         for (int i = 0; i < 3; ++i) {  // relative_clearance's order
             if (!(bound_a(i) > reach))
                 d2 = std::min(d2, segment_triangle_sq(P(a[i]), P(a[(i + 1) % 3]), P(b[0]), P(b[1]), P(b[2])));
@@ -259,8 +275,8 @@ bool keeps_clearance(const CoarseMesh& mesh, const TriangleGrid& grid, const std
     const auto is_removed = [&](int32_t t) { return std::find(removed.begin(), removed.end(), t) != removed.end(); };
     static thread_local std::vector<Shape> added_shapes, other_shapes;
     static thread_local std::vector<Tri> others;
-    added_shapes.clear();
-    for (const Tri& t : added) added_shapes.push_back(shape_of(x, t));
+    const auto same = [](const Tri& t) -> const Tri& { return t; };
+    set_shapes(x, added, same, added_shapes);
     // Every pair below the floor has its other triangle's box within floor * (the longer
     // of their longest edges) of the new triangle's box, and `longest_edge` bounds the
     // other's.
@@ -279,15 +295,13 @@ bool keeps_clearance(const CoarseMesh& mesh, const TriangleGrid& grid, const std
     for (const TriangleGrid::Entry& e : scratch)
         if (mesh.alive(e.id) && !is_removed(e.id)) others.push_back(mesh.triangle(e.id));
     others.insert(others.end(), also.begin(), also.end());
-    other_shapes.clear();
-    for (const Tri& t : others) other_shapes.push_back(shape_of(x, t));
+    set_shapes(x, others, same, other_shapes);
     double after = std::numeric_limits<double>::infinity();
     for (size_t j = 0; j < others.size(); ++j)
         for (size_t i = 0; i < added.size(); ++i)
             after = std::min(after, clearance_below(x, added[i], added_shapes[i], others[j], other_shapes[j], floor));
     if (after >= floor) return true;
-    added_shapes.clear();  // now those of the removed triangles
-    for (int32_t r : removed) added_shapes.push_back(shape_of(x, mesh.triangle(r)));
+    set_shapes(x, removed, [&](int32_t r) -> const Tri& { return mesh.triangle(r); }, added_shapes);  // now the removed
     double before = std::numeric_limits<double>::infinity();
     for (size_t j = 0; j < others.size(); ++j)
         for (size_t i = 0; i < removed.size(); ++i)
