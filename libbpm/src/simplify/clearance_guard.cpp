@@ -113,7 +113,7 @@ void set_shape(const std::vector<Vec3>& x, const Tri& t, Shape& s) {
 // The shapes of triangles `tris` (without axes) in `shapes`.
 template <class Tris, class F>
 void set_shapes(const std::vector<Vec3>& x, const Tris& tris, F&& triangle, std::vector<Shape>& shapes) {
-    shapes.resize(tris.size());  // in place: a Shape is 300 bytes
+    if (shapes.size() < tris.size()) shapes.resize(tris.size());  // in place: a Shape is 300 bytes
     for (size_t i = 0; i < tris.size(); ++i) set_shape(x, triangle(tris[i]), shapes[i]);
 }
 
@@ -186,16 +186,18 @@ double clearance_below(const std::vector<Vec3>& x, const Tri& a, Shape& sa, cons
     if (!thick(A) || !thick(B)) return relative_clearance(x, a, b);  // thin (or degenerate, or not finite)
     const double reach = margin * (1 + 1e-6) + 1e-6 * size + 1e-9 * (A.magnitude + B.magnitude);
     // The corners of each triangle on the other's axes.
+    // Without a common corner, the whole triangles first (most pairs end here, at the
+    // first axis that separates them).
     double b_on_a[4][3], a_on_b[4][3], b_lo[4], b_hi[4], a_lo[4], a_hi[4];
     for (int k = 0; k < 4; ++k) {
-        for (int v = 0; v < 3; ++v) {
-            b_on_a[k][v] = dot(A.axis[k], x[size_t(b[v])]);
-            a_on_b[k][v] = dot(B.axis[k], x[size_t(a[v])]);
-        }
+        for (int v = 0; v < 3; ++v) b_on_a[k][v] = dot(A.axis[k], x[size_t(b[v])]);
         b_lo[k] = std::min({b_on_a[k][0], b_on_a[k][1], b_on_a[k][2]});
         b_hi[k] = std::max({b_on_a[k][0], b_on_a[k][1], b_on_a[k][2]});
+        if (shared == 0 && gap(A.lo[k], A.hi[k], b_lo[k], b_hi[k]) > reach) return kInfinity;
+        for (int v = 0; v < 3; ++v) a_on_b[k][v] = dot(B.axis[k], x[size_t(a[v])]);
         a_lo[k] = std::min({a_on_b[k][0], a_on_b[k][1], a_on_b[k][2]});
         a_hi[k] = std::max({a_on_b[k][0], a_on_b[k][1], a_on_b[k][2]});
+        if (shared == 0 && gap(a_lo[k], a_hi[k], B.lo[k], B.hi[k]) > reach) return kInfinity;
     }
     // Lower bounds of the distance from edge i of a to b, and from edge i of b to a.
     const auto bound_a = [&](int i) {
@@ -210,16 +212,9 @@ double clearance_below(const std::vector<Vec3>& x, const Tri& a, Shape& sa, cons
             d = std::max({d, edge_gap(B.proj[k], i, a_lo[k], a_hi[k]), edge_gap(b_on_a[k], i, A.lo[k], A.hi[k])});
         return d;
     };
-    const auto bound = [&] {  // all of a to all of b
-        double d = -kInfinity;
-        for (int k = 0; k < 4; ++k)
-            d = std::max({d, gap(A.lo[k], A.hi[k], b_lo[k], b_hi[k]), gap(a_lo[k], a_hi[k], B.lo[k], B.hi[k])});
-        return d;
-    };
     const auto P = [&](int32_t v) -> const Vec3& { return x[size_t(v)]; };
     double d2 = kInfinity;
     if (shared == 0) {
-        if (bound() > reach) return kInfinity;
         for (int i = 0; i < 3; ++i) {  // relative_clearance's order
             if (!(bound_a(i) > reach))
                 d2 = std::min(d2, segment_triangle_sq(P(a[i]), P(a[(i + 1) % 3]), P(b[0]), P(b[1]), P(b[2])));
