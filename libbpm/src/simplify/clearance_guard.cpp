@@ -277,7 +277,8 @@ bool keeps_clearance(const CoarseMesh& mesh, const TriangleGrid& grid, const std
     // other's.
     Vec3 lo = added_shapes[0].box.lo, hi = added_shapes[0].box.hi;
     double reach = 0;
-    for (const Shape& s : added_shapes) {
+    for (size_t i = 0; i < added.size(); ++i) {
+        const Shape& s = added_shapes[i];
         for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], s.box.lo[k]), hi[k] = std::max(hi[k], s.box.hi[k]);
         reach = std::max(reach, s.size);
     }
