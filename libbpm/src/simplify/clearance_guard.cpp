@@ -148,7 +148,9 @@ double edge_gap(const double (&p)[3], int i, double lo2, double hi2) {
 }
 
 // relative_clearance(x, a, b) when that is below `floor`, bit for bit; otherwise some
-// value >= floor (infinity). The pairs measured are may_be_below's, and of a pair only
+// value >= floor (infinity). Measured are only the pairs whose boxes come within
+// floor * size of each other (with a common corner: the box of one's opposite edge and
+// the other's box; the box filter the guard had from the start), and of a pair only
 // the parts relative_clearance takes the smallest of (an edge of one triangle against
 // the other, all of them when no corner is common) that some axis does not show to lie
 // farther apart than the floor * size (`reach`, with a margin for rounding): a part
@@ -166,8 +168,9 @@ double edge_gap(const double (&p)[3], int i, double lo2, double hi2) {
 double clearance_below(const std::vector<Vec3>& x, const Tri& a, Shape& sa, const Tri& b, Shape& sb,
                        double floor) {
     constexpr double kInfinity = std::numeric_limits<double>::infinity();
-    // may_be_below, with the boxes and sizes computed once (the root of the larger square
-    // is the larger root: the same margin to the bit). A common corner lies in both boxes.
+    // The box filter, with the boxes and sizes computed once (the root of the larger
+    // square is the larger root: the same margin to the bit). A common corner lies in
+    // both boxes.
     const double size = std::max(sa.size, sb.size), margin = floor * size;
     if (apart(sa.box, sb.box, margin)) return kInfinity;
     int shared = 0, shared_a = -1, shared_b = -1;
@@ -185,9 +188,9 @@ double clearance_below(const std::vector<Vec3>& x, const Tri& a, Shape& sa, cons
     const auto thick = [size2](const Shape& s) { return s.area2 > 0 && s.area2 >= 1e-6 * s.size2 * size2; };
     if (!thick(A) || !thick(B)) return relative_clearance(x, a, b);  // thin (or degenerate, or not finite)
     const double reach = margin * (1 + 1e-6) + 1e-6 * size + 1e-9 * (A.magnitude + B.magnitude);
-    // The corners of each triangle on the other's axes.
-    // Without a common corner, the whole triangles first (most pairs end here, at the
-    // first axis that separates them).
+    // The corners of each triangle on the other's axes; without a common corner, the
+    // whole triangles are compared on the way (most pairs end here, at the first axis
+    // that separates them).
     double b_on_a[4][3], a_on_b[4][3], b_lo[4], b_hi[4], a_lo[4], a_hi[4];
     for (int k = 0; k < 4; ++k) {
         for (int v = 0; v < 3; ++v) b_on_a[k][v] = dot(A.axis[k], x[size_t(b[v])]);
