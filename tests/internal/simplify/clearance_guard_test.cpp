@@ -2,6 +2,9 @@
 // another sheet (noisy 48^3 at --ratio 0.2: a new coarse edge 2.8e-6 from another, and
 // bpm-mesh's smallest dihedral angle 4.4e-6 degrees); the exact intersection test lets any
 // positive gap pass.
+#include <cmath>
+#include <limits>
+#include <random>
 #include <vector>
 
 #include <catch2/catch.hpp>
@@ -53,4 +56,65 @@ TEST_CASE("clearance guard: a new triangle hovering over another sheet is refuse
     CHECK(keeps_clearance(mesh, grid, removed, {Tri{3, 4, 5}}, {}, 4.0, scratch));  // 0.5 above A
     CHECK_FALSE(keeps_clearance(mesh, grid, removed, {Tri{3, 4, 7}, Tri{3, 7, 5}}, {}, 4.0, scratch));
     CHECK(keeps_clearance(mesh, grid, removed, {Tri{3, 4, 7}, Tri{3, 7, 5}}, {}, 4.0, scratch, 0.0));  // off
+}
+
+TEST_CASE("clearance guard: its filters keep the exact decision at any floor", "[internal][simplify]") {
+    // keeps_clearance measures only the pairs (and parts of pairs) that its box and
+    // separating-axis bounds do not put beyond the floor: at a floor just above the exact
+    // smallest relative clearance it must refuse, at that clearance itself accept (bit
+    // for bit: the outputs may not change). Random triangles near a new one, with and
+    // without a common corner, some thin.
+    std::mt19937 random(7);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    int refused = 0, thin = 0;
+    for (int scene = 0; scene < 400; ++scene) {
+        Surface s;
+        const auto point = [&](double spread) {
+            return Vec3{spread * unit(random), spread * unit(random), spread * unit(random)};
+        };
+        for (int i = 0; i < 3; ++i) s.vertices.push_back(point(1.0));  // the new triangle: 0 1 2
+        const bool flat = scene % 4 == 0;  // all in one plane (the new triangle's fans are often flat)
+        if (flat)
+            for (Vec3& p : s.vertices) p[2] = 0.5;
+        for (int t = 0; t < 6; ++t) {
+            const int32_t base = int32_t(s.vertices.size());
+            Vec3 c = point(1.4);
+            for (int i = 0; i < 3; ++i) {
+                Vec3 p = c + Vec3{0.6 * unit(random) - 0.3, 0.6 * unit(random) - 0.3, 0.6 * unit(random) - 0.3};
+                if (flat) p[2] = 0.5;
+                s.vertices.push_back(p);
+            }
+            if (t == 5) {  // a sliver: its third corner on the first edge, lifted by 1e-6
+                Vec3& p = s.vertices[size_t(base + 2)];
+                p = 0.5 * (s.vertices[size_t(base)] + s.vertices[size_t(base + 1)]);
+                p[2] += 1e-6;
+                ++thin;
+            }
+            Tri tri{base, base + 1, base + 2};
+            if (t % 3 == 1) tri[0] = int32_t(t % 2 == 0 ? 0 : 1);  // a common corner with the new triangle
+            s.triangles.push_back(tri);
+            s.patches.push_back(1);
+        }
+        CoarseMesh mesh(s);
+        TriangleGrid grid(0.5);
+        std::vector<int32_t> alive;
+        mesh.alive_triangles(alive);
+        double longest = 0;
+        for (int32_t t : alive) {
+            const Tri& c = mesh.triangle(t);
+            grid.insert(t, s.vertices[c[0]], s.vertices[c[1]], s.vertices[c[2]]);
+            for (int i = 0; i < 3; ++i) longest = std::max(longest, distance(s.vertices[c[i]], s.vertices[c[(i + 1) % 3]]));
+        }
+        const Tri added{0, 1, 2};
+        double smallest = std::numeric_limits<double>::infinity();
+        for (int32_t t : alive) smallest = std::min(smallest, relative_clearance(s.vertices, added, mesh.triangle(t)));
+        if (!(smallest > 0) || !std::isfinite(smallest)) continue;
+        std::vector<TriangleGrid::Entry> scratch;
+        CHECK(keeps_clearance(mesh, grid, {}, {added}, {}, longest, scratch, smallest));
+        CHECK_FALSE(keeps_clearance(mesh, grid, {}, {added}, {}, longest, scratch,
+                                    std::nextafter(smallest, std::numeric_limits<double>::infinity())));
+        ++refused;
+    }
+    CHECK(refused > 300);
+    CHECK(thin > 0);
 }
