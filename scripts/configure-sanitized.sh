@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Configures DIR (default build-asan/) as the clang build that scripts/test-sanitized.sh and
-# scripts/fuzz.sh share: libbpm compiled with -fsanitize=fuzzer-no-link,address,undefined
-# (coverage for the fuzzers, ASan and UBSan for everyone), the tests and tools linked with
+# scripts/fuzz.sh share: libbpm compiled with -fsanitize=address,undefined, its readers and
+# checks also with -fsanitize=fuzzer-no-link (coverage for the fuzzers; not the simplifier,
+# whose tests it slowed 1.6-1.9x: tests/fuzz/CMakeLists.txt), the tests and tools linked with
 # address,undefined (the coverage hooks resolve to the no-ops of the sanitizer runtime), the
 # fuzz targets with fuzzer. CI runs both scripts on one such directory, so libbpm's
 # sanitized objects are compiled once instead of twice (GCC for the tests, clang for the
