@@ -271,17 +271,26 @@ bool keeps_clearance(const CoarseMesh& mesh, const TriangleGrid& grid, const std
     if (!(floor > 0) || added.empty()) return true;
     const auto& x = mesh.positions();
     const auto is_removed = [&](int32_t t) { return std::find(removed.begin(), removed.end(), t) != removed.end(); };
-    static thread_local std::vector<Shape> added_shapes, other_shapes;
+    static thread_local std::vector<Shape> added_shapes, removed_shapes, other_shapes;
     static thread_local std::vector<Tri> others;
     const auto same = [](const Tri& t) -> const Tri& { return t; };
+    const auto of_mesh = [&](int32_t r) -> const Tri& { return mesh.triangle(r); };
     set_shapes(x, added, same, added_shapes);
+    set_shapes(x, removed, of_mesh, removed_shapes);
     // Every pair below the floor has its other triangle's box within floor * (the longer
-    // of their longest edges) of the new triangle's box, and `longest_edge` bounds the
-    // other's.
+    // of their longest edges) of its own box, and `longest_edge` bounds the other's. One
+    // query serves both: the removed triangles' box holds the new ones' (their corners are
+    // the link's), so it finds every triangle near the star as it is and as it will be
+    // (the star's old contacts may lie beyond the new triangles, e.g. at a peak's tip).
     Vec3 lo = added_shapes[0].box.lo, hi = added_shapes[0].box.hi;
     double reach = 0;
     for (size_t i = 0; i < added.size(); ++i) {
         const Shape& s = added_shapes[i];
+        for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], s.box.lo[k]), hi[k] = std::max(hi[k], s.box.hi[k]);
+        reach = std::max(reach, s.size);
+    }
+    for (size_t i = 0; i < removed.size(); ++i) {
+        const Shape& s = removed_shapes[i];
         for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], s.box.lo[k]), hi[k] = std::max(hi[k], s.box.hi[k]);
         reach = std::max(reach, s.size);
     }
@@ -299,13 +308,22 @@ bool keeps_clearance(const CoarseMesh& mesh, const TriangleGrid& grid, const std
     for (size_t j = 0; j < others.size(); ++j)
         for (size_t i = 0; i < added.size(); ++i)
             after = std::min(after, clearance_below(x, added[i], added_shapes[i], others[j], other_shapes[j], floor));
+    // And the new triangles among themselves: a removal along a junction line makes a fan
+    // per sheet, and two sheets' fans meet only at the line's ends (pairs sharing an edge
+    // are the wedge guard's).
+    for (size_t i = 0; i < added.size(); ++i)
+        for (size_t j = 0; j < i; ++j)
+            after = std::min(after, clearance_below(x, added[i], added_shapes[i], added[j], added_shapes[j], floor));
     if (after >= floor) return true;
-    set_shapes(x, removed, [&](int32_t r) -> const Tri& { return mesh.triangle(r); }, added_shapes);  // now the removed
     double before = std::numeric_limits<double>::infinity();
     for (size_t j = 0; j < others.size(); ++j)
         for (size_t i = 0; i < removed.size(); ++i)
-            before = std::min(before, clearance_below(x, mesh.triangle(removed[i]), added_shapes[i], others[j],
+            before = std::min(before, clearance_below(x, mesh.triangle(removed[i]), removed_shapes[i], others[j],
                                                       other_shapes[j], floor));
+    for (size_t i = 0; i < removed.size(); ++i)
+        for (size_t j = 0; j < i; ++j)
+            before = std::min(before, clearance_below(x, mesh.triangle(removed[i]), removed_shapes[i],
+                                                      mesh.triangle(removed[j]), removed_shapes[j], floor));
     return !(after < before);
 }
 

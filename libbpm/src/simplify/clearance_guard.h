@@ -26,9 +26,9 @@
 // of edges 2.8-4.9, whose tetrahedron has 0.30 degrees.
 //
 // The rule, per removal: `after` is the smallest relative clearance between a new
-// triangle and an alive triangle outside the removed ones, `before` the same for the
-// removed triangles. Refused when after < min(kClearanceFloor, before). The final edge
-// flips (simplify/edge_flip.h) are not guarded.
+// triangle and an alive triangle outside the removed ones or another new triangle,
+// `before` the same for the removed triangles. Refused when after < min(kClearanceFloor,
+// before). The final edge flips (simplify/edge_flip.h) are not guarded.
 //
 // Floating point: distances are measured, not topological decisions.
 //
@@ -49,7 +49,7 @@ namespace bpm::detail {
 inline constexpr double kClearanceFloor = 0.001;
 
 inline constexpr const char* kClearanceReason =
-    "would bring two sheets of the coarse surface closer than 0.1 % of their triangles' size (clearance)";
+    "would bring two sheets of the coarse surface closer than 0.1 % of their triangles' size (clearance, min_ridge_angle_degrees)";
 
 // Relative clearance of triangles a and b (see above); +infinity when they share an edge.
 double relative_clearance(const std::vector<Vec3>& x, const Tri& a, const Tri& b);

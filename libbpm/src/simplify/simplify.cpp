@@ -950,6 +950,13 @@ void Simplifier::report_slivers(SimplifyResult& result) {
         return p.first > q.first || (p.first == q.first && p.second < q.second);
     });
     if (bad.size() > SimplifyResult::kListedSlivers) bad.resize(SimplifyResult::kListedSlivers);
+    // The clearance guard's bound on the longest edge, which the final edge flips did not
+    // follow (a flip's new diagonal may be longer than the edges before it).
+    if (!bad.empty() && longest_edge_ > 0)
+        for (int32_t t : alive)
+            for (int i = 0; i < 3; ++i)
+                longest_edge_ = std::max(longest_edge_, distance(x[size_t(mesh_.triangle(t)[i])],
+                                                                 x[size_t(mesh_.triangle(t)[(i + 1) % 3])]));
     RemovalPlan& plan = step_plans_[0];
     for (const auto& [r, t] : bad) {
         const Tri& c = mesh_.triangle(t);

@@ -58,6 +58,70 @@ TEST_CASE("clearance guard: a new triangle hovering over another sheet is refuse
     CHECK(keeps_clearance(mesh, grid, removed, {Tri{3, 4, 7}, Tri{3, 7, 5}}, {}, 4.0, scratch, 0.0));  // off
 }
 
+namespace {
+// A mesh of `s` with every triangle in a grid of unit cells.
+struct Scene {
+    explicit Scene(const Surface& s) : mesh(s), grid(1.0) {
+        mesh.alive_triangles(alive);
+        for (int32_t t : alive) {
+            const Tri& c = mesh.triangle(t);
+            grid.insert(t, s.vertices[c[0]], s.vertices[c[1]], s.vertices[c[2]]);
+        }
+    }
+    CoarseMesh mesh;
+    TriangleGrid grid;
+    std::vector<int32_t> alive;
+};
+}  // namespace
+
+TEST_CASE("clearance guard: two new triangles of one removal may not hover over each other", "[internal][simplify]") {
+    // A removal along a junction line makes a fan per sheet; two fans' triangles share at
+    // most a corner, and the intersection test lets any gap between them pass. Old: two
+    // triangles at v = 0 far apart; new: a flat triangle and one whose far edge runs
+    // 1e-5 above it (relative 2.5e-6).
+    Surface s;
+    s.vertices = {{0, 0, 0},   {4, 0, 0},   {0, 4, 0},                    // 0 1 2: flat
+                  {1, 1, 1e-5}, {2, 1, 1e-5},                             // 3 4: just above
+                  {0, 0, 3},   {1, 0, 3},   {0, 0, -3}, {1, 0, -3}};      // 5 6 7 8: the old sheets
+    s.triangles = {{0, 5, 6}, {0, 7, 8}};
+    s.patches = {0, 1};
+    Scene scene(s);
+    std::vector<TriangleGrid::Entry> scratch;
+    const std::vector<int32_t> removed = scene.alive;
+    CHECK_FALSE(keeps_clearance(scene.mesh, scene.grid, removed, {Tri{0, 1, 2}, Tri{0, 3, 4}}, {}, 5.0, scratch));
+    // Lifted to 0.5 the pair is clear.
+    s.vertices[3][2] = s.vertices[4][2] = 0.5;
+    Scene clear(s);
+    CHECK(keeps_clearance(clear.mesh, clear.grid, removed, {Tri{0, 1, 2}, Tri{0, 3, 4}}, {}, 5.0, scratch));
+}
+
+TEST_CASE("clearance guard: the star's old contacts count where the new triangles do not reach", "[internal][simplify]") {
+    // A peak v = 0 at height 10 over the square 1 2 3 4, its tip 0.004 below a small
+    // triangle O (relative 4e-4: closer than the floor already); removing v puts the new
+    // square 0.002 above a small triangle P (relative 7e-4). The removal makes nothing
+    // closer than the star was (7e-4 >= 4e-4), so it passes, although O lies far beyond
+    // the new triangles.
+    Surface s;
+    s.vertices = {{0, 0, 10},                                              // 0: v
+                  {-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0},          // 1-4: the link
+                  {-0.1, -0.1, 10.004}, {0.1, -0.1, 10.004}, {0, 0.1, 10.004},  // 5-7: O
+                  {-0.1, -0.1, -0.002}, {0.1, -0.1, -0.002}, {0, 0.1, -0.002}};  // 8-10: P
+    s.triangles = {{0, 1, 2}, {0, 2, 3}, {0, 3, 4}, {0, 4, 1}, {5, 6, 7}, {8, 10, 9}};
+    s.patches = {0, 0, 0, 0, 1, 2};
+    Scene scene(s);
+    std::vector<int32_t> removed;
+    for (int32_t t : scene.alive)
+        if (scene.mesh.triangle(t)[0] == 0 || scene.mesh.triangle(t)[1] == 0 || scene.mesh.triangle(t)[2] == 0)
+            removed.push_back(t);
+    REQUIRE(removed.size() == 4);
+    std::vector<TriangleGrid::Entry> scratch;
+    CHECK(keeps_clearance(scene.mesh, scene.grid, removed, {Tri{1, 2, 3}, Tri{1, 3, 4}}, {}, 11.0, scratch));
+    // Without O the star was clear, and the removal is refused.
+    s.vertices[5][2] = s.vertices[6][2] = s.vertices[7][2] = 12;
+    Scene far(s);
+    CHECK_FALSE(keeps_clearance(far.mesh, far.grid, removed, {Tri{1, 2, 3}, Tri{1, 3, 4}}, {}, 11.0, scratch));
+}
+
 TEST_CASE("clearance guard: its filters keep the exact decision at any floor", "[internal][simplify]") {
     // keeps_clearance measures only the pairs (and parts of pairs) that its box and
     // separating-axis bounds do not put beyond the floor: at a floor just above the exact
