@@ -240,6 +240,8 @@ double clearance_below(const std::vector<Vec3>& x, const Tri& a, Shape& sa, cons
 
 }  // namespace
 
+double longest_edge(const std::vector<Vec3>& x, const Tri& t) { return std::sqrt(longest_edge_sq(x, t)); }
+
 double relative_clearance(const std::vector<Vec3>& x, const Tri& a, const Tri& b) {
     int shared = 0, shared_a = -1, shared_b = -1;
     for (int i = 0; i < 3; ++i)

@@ -54,6 +54,10 @@ inline constexpr const char* kClearanceReason =
 // Relative clearance of triangles a and b (see above); +infinity when they share an edge.
 double relative_clearance(const std::vector<Vec3>& x, const Tri& a, const Tri& b);
 
+// The length of t's longest edge (keeps_clearance's `longest_edge` is the largest over the
+// alive triangles).
+double longest_edge(const std::vector<Vec3>& x, const Tri& t);
+
 // `grid`: the alive triangles' boxes (it may still hold removed ones, and lack `also`:
 // the new triangles of the removals committed earlier in the same step, which are
 // compared as well). `longest_edge`: at least the longest edge of any alive triangle.

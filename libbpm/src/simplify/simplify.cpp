@@ -325,6 +325,9 @@ private:
         cheap_plans_.resize(threads);
         grid_scratch_.resize(threads);
         stamp_.assign(original.vertices.size(), 0);
+        // The clearance guard's bound on the longest edge: the original's, then every
+        // commit's new triangles (and, for the report, the flips').
+        for (const Tri& t : original.triangles) longest_edge_ = std::max(longest_edge_, longest_edge(original.vertices, t));
     }
 
     // The caller's id of vertex v, for messages.
@@ -356,7 +359,7 @@ private:
     WedgeScratch wedge_scratch_;          // keeps_feature_wedges' buffers (committing is serial)
     std::vector<TriangleGrid::Entry> clearance_scratch_;  // keeps_clearance's buffer
     std::vector<Tri> clearance_also_;  // the new triangles of this step's earlier commits (not in the grid yet)
-    double longest_edge_ = 0;          // at least the longest edge of the coarse surface (0: not yet known)
+    double longest_edge_ = 0;          // at least the longest edge of the coarse surface
     std::vector<std::vector<TriangleGrid::Entry>> grid_scratch_;  // per thread, for intersects_rest
     std::vector<uint32_t> stamp_;     // per vertex, moved on when its star changes
     RemovalQueue queue_;
@@ -429,8 +432,12 @@ private:
     bool ready_to_commit(int k, double& cost);
     void commit(int k, double cost, SimplifyResult& result);
     bool admissible_globally(int32_t v, const RemovalPlan& plan);
-    // IslandGuard::sweeps_island for the plan to remove v, on the surface as it is now.
-    bool sweeps_island(int32_t v, const RemovalPlan& plan, int32_t first_unindexed);
+    // The guards a plan to remove v meets at commit, on the surface as it is now: sheet
+    // order, islands, wedges, clearance (simplify/*_guard.h); the reason of the first
+    // that refuses it, or nullptr. `first_unindexed`: the first triangle the grid lacks;
+    // `also`: new triangles the grid lacks (this step's earlier commits).
+    const char* refused_by_guards(int32_t v, const RemovalPlan& plan, int32_t first_unindexed,
+                                  const std::vector<Tri>& also);
     // A full plan made earlier is still exact if its star is unchanged (stamp), no
     // edited path changed elsewhere, and its new edges still do not exist.
     bool still_current(const RemovalPlan& plan) const;
@@ -763,49 +770,40 @@ bool Simplifier::ready_to_commit(int k, double& cost) {
         if (c.known_intersection == 1) last_reason_.set(v, kSelfIntersection, 0);
         return false;
     }
-    // Last, on the surface as it is now: the sheets on the other side of a junction edge
-    // may have changed since the plan was made, without touching its star.
-    if (!keeps_line_sheet_order(mesh_.positions(), plan.feature_a, v, plan.feature_b, plan.line_sheets) ||
-        !keeps_sheet_order(mesh_, plan.removed_triangles, plan.new_triangles, sheet_scratch_)) {
-        last_reason_.set(v, kSheetOrderReason, 0);
-        return false;
-    }
-    // And no other component inside the volume the star sweeps (only with two or more
-    // components; the grid lacks the triangles this step's commits made: passed on).
-    if (sweeps_island(v, plan, step_.first_new)) {
-        last_reason_.set(v, kIslandReason, 0);
-        return false;
-    }
-    if (!keeps_feature_wedges(mesh_, plan.removed_triangles, plan.new_triangles, plan.feature_a, v, plan.feature_b,
-                               wedge_scratch_, junction_wedge_floor(), crease_wedge_floor())) {
-        last_reason_.set(v, kJunctionWedgeReason, 0);
-        return false;
-    }
-    if (options_.prevent_intersections && clearance_floor() > 0) {
-        clearance_also_.clear();
-        for (int j = 0; j < k; ++j)
-            if (step_.candidates[j].committed)
-                for (const Tri& t : step_.candidates[j].plan->new_triangles) clearance_also_.push_back(t);
-        if (longest_edge_ == 0)
-            for (const Tri& t : original_.triangles)
-                for (int i = 0; i < 3; ++i)
-                    longest_edge_ = std::max(longest_edge_, distance(original_.vertices[size_t(t[i])],
-                                                                     original_.vertices[size_t(t[(i + 1) % 3])]));
-    }
-    if (options_.prevent_intersections && clearance_floor() > 0 &&
-        !keeps_clearance(mesh_, intersections_.grid(), plan.removed_triangles, plan.new_triangles, clearance_also_,
-                         longest_edge_, clearance_scratch_, clearance_floor())) {
-        last_reason_.set(v, kClearanceReason, 0);
+    // Last, the guards on the surface as it is now (the grid lacks the triangles this
+    // step's commits made: passed on).
+    clearance_also_.clear();
+    for (int j = 0; j < k; ++j)
+        if (step_.candidates[j].committed)
+            for (const Tri& t : step_.candidates[j].plan->new_triangles) clearance_also_.push_back(t);
+    if (const char* why = refused_by_guards(v, plan, step_.first_new, clearance_also_)) {
+        last_reason_.set(v, why, 0);
         return false;
     }
     return true;
 }
 
-bool Simplifier::sweeps_island(int32_t v, const RemovalPlan& plan, int32_t first_unindexed) {
-    return islands_.active() &&
-           islands_.sweeps_island(mesh_, intersections_.grid(), first_unindexed, v,
-                                  plan.feature_line ? plan.feature_a : -1, plan.feature_line ? plan.feature_b : -1,
-                                  plan.removed_triangles, plan.new_triangles, island_scratch_);
+const char* Simplifier::refused_by_guards(int32_t v, const RemovalPlan& plan, int32_t first_unindexed,
+                                          const std::vector<Tri>& also) {
+    // The sheets on the other side of a junction edge may have changed since the plan was
+    // made, without touching its star.
+    if (!keeps_line_sheet_order(mesh_.positions(), plan.feature_a, v, plan.feature_b, plan.line_sheets) ||
+        !keeps_sheet_order(mesh_, plan.removed_triangles, plan.new_triangles, sheet_scratch_))
+        return kSheetOrderReason;
+    // No other component inside the volume the star sweeps (only with two or more).
+    if (islands_.active() &&
+        islands_.sweeps_island(mesh_, intersections_.grid(), first_unindexed, v,
+                               plan.feature_line ? plan.feature_a : -1, plan.feature_line ? plan.feature_b : -1,
+                               plan.removed_triangles, plan.new_triangles, island_scratch_))
+        return kIslandReason;
+    if (!keeps_feature_wedges(mesh_, plan.removed_triangles, plan.new_triangles, plan.feature_a, v, plan.feature_b,
+                              wedge_scratch_, junction_wedge_floor(), crease_wedge_floor()))
+        return kJunctionWedgeReason;
+    if (options_.prevent_intersections && clearance_floor() > 0 &&
+        !keeps_clearance(mesh_, intersections_.grid(), plan.removed_triangles, plan.new_triangles, also,
+                         longest_edge_, clearance_scratch_, clearance_floor()))
+        return kClearanceReason;
+    return nullptr;
 }
 
 void Simplifier::commit(int k, double cost, SimplifyResult& result) {
@@ -828,10 +826,7 @@ void Simplifier::commit(int k, double cost, SimplifyResult& result) {
     // The grid follows in the re-ranking round (its planning does not read the grid).
     for (int32_t t : plan.removed_triangles) step_.grid_removed.push_back({t, mesh_.triangle(t)});
     first_new_ = mesh_.triangle_capacity();
-    for (const Tri& t : plan.new_triangles)
-        for (int i = 0; i < 3; ++i)
-            longest_edge_ = std::max(longest_edge_, distance(mesh_.positions()[size_t(t[i])],
-                                                             mesh_.positions()[size_t(t[(i + 1) % 3])]));
+    for (const Tri& t : plan.new_triangles) longest_edge_ = std::max(longest_edge_, longest_edge(mesh_.positions(), t));
     commit_removal(mesh_, embedding_, plan);
     if (result.steps) result.steps->append(v, plan.new_triangles, plan.new_patches);
     ++commits_;
@@ -952,11 +947,8 @@ void Simplifier::report_slivers(SimplifyResult& result) {
     if (bad.size() > SimplifyResult::kListedSlivers) bad.resize(SimplifyResult::kListedSlivers);
     // The clearance guard's bound on the longest edge, which the final edge flips did not
     // follow (a flip's new diagonal may be longer than the edges before it).
-    if (!bad.empty() && longest_edge_ > 0)
-        for (int32_t t : alive)
-            for (int i = 0; i < 3; ++i)
-                longest_edge_ = std::max(longest_edge_, distance(x[size_t(mesh_.triangle(t)[i])],
-                                                                 x[size_t(mesh_.triangle(t)[(i + 1) % 3])]));
+    if (!bad.empty())
+        for (int32_t t : alive) longest_edge_ = std::max(longest_edge_, longest_edge(x, mesh_.triangle(t)));
     RemovalPlan& plan = step_plans_[0];
     for (const auto& [r, t] : bad) {
         const Tri& c = mesh_.triangle(t);
@@ -973,18 +965,8 @@ void Simplifier::report_slivers(SimplifyResult& result) {
                 if (options_.prevent_intersections &&
                     intersections_.intersects_rest(plan.new_triangles, plan.removed_triangles, grid_scratch_[0]))
                     why = kSelfIntersection;
-                else if (!keeps_line_sheet_order(x, plan.feature_a, v, plan.feature_b, plan.line_sheets) ||
-                         !keeps_sheet_order(mesh_, plan.removed_triangles, plan.new_triangles, sheet_scratch_))
-                    why = kSheetOrderReason;
-                else if (sweeps_island(v, plan, mesh_.triangle_capacity()))
-                    why = kIslandReason;
-                else if (!keeps_feature_wedges(mesh_, plan.removed_triangles, plan.new_triangles, plan.feature_a, v,
-                                               plan.feature_b, wedge_scratch_, junction_wedge_floor(), crease_wedge_floor()))
-                    why = kJunctionWedgeReason;
-                else if (options_.prevent_intersections && clearance_floor() > 0 && longest_edge_ > 0 &&
-                         !keeps_clearance(mesh_, intersections_.grid(), plan.removed_triangles, plan.new_triangles, {},
-                                          longest_edge_, clearance_scratch_, clearance_floor()))
-                    why = kClearanceReason;
+                else if (const char* guard = refused_by_guards(v, plan, mesh_.triangle_capacity(), {}))
+                    why = guard;
                 else {
                     char text[160];
                     std::snprintf(text, sizeof text, "removable (new triangles up to R/r %.3g, error %.3g of diagonal), %s",
