@@ -145,8 +145,10 @@ private:
     std::mutex mutex_;
 };
 
-// One of the removals tried in a step (at most SimplifyOptions::removals_per_step).
-struct Candidate {
+// One of the removals tried in a step (at most SimplifyOptions::removals_per_step). A
+// cache line or more each: a planning thread writes its candidate's fields at the end of
+// its task while another thread works on the next candidate.
+struct alignas(64) Candidate {
     QueueEntry entry{};
     RemovalPlan* plan = nullptr;
     VertexRemover* remover = nullptr;  // of the plan (a pending plan's validation is in it)
@@ -156,6 +158,35 @@ struct Candidate {
     bool committed = false;            // removed in this step
     bool validated_early = false;      // tested and validated in the planning round (plan_round)
     bool replanned = false;            // its validation in plan_round made a new plan (finish_parts_done)
+    // The commit-time guards already asked in plan_round, on the surface as the step found
+    // it: exact for the step's first commit (nothing changed since), asked again after one.
+    bool guarded_early = false;
+    const char* guard_refusal = nullptr;  // refused_by_guards' answer then
+};
+
+// The buffers of the commit-time guards (simplify/*_guard.h): one set per planning thread
+// (plan_round asks the guards too).
+struct GuardScratch {
+    std::vector<int32_t> sheet;                  // keeps_sheet_order's
+    IslandGuard::Scratch island;                 // sweeps_island's
+    WedgeScratch wedge;                          // keeps_feature_wedges'
+    std::vector<TriangleGrid::Entry> clearance;  // keeps_clearance's
+};
+
+// What one planning thread writes during a round besides its remover, on cache lines of
+// its own: the threads change these for every plan (a vector's end with every push), and
+// two threads writing the same line make it travel between their cores each time.
+struct alignas(64) ThreadState {
+    RemovalPlan cheap_plan;                    // of rank()
+    std::vector<TriangleGrid::Entry> grid;     // intersects_rest's buffer
+    GuardScratch guards;                       // refused_by_guards' buffers
+    std::string why;                           // judge()'s reason
+    int64_t cheap_plans = 0;                   // made on this thread (debug log)
+};
+
+// A step's plan of one slot, on cache lines of its own (written by the thread planning it).
+struct alignas(64) SlotPlan {
+    RemovalPlan plan;
 };
 
 // The removals of one step of the loop, and what their commits changed.
@@ -314,7 +345,7 @@ private:
         step_.candidates.resize(size_t(slots));
         for (int k = 0; k < slots; ++k) {
             if (k > 0) candidate_removers_.push_back(std::make_unique<VertexRemover>(mesh_, embedding_, sign_, oriented_normals_, vertex_ridges_));
-            step_.candidates[size_t(k)].plan = &step_plans_[size_t(k)];
+            step_.candidates[size_t(k)].plan = &step_plans_[size_t(k)].plan;
             step_.candidates[size_t(k)].remover = k == 0 ? remover_.get() : candidate_removers_.back().get();
         }
         // Large stars that removal_cost would refuse for their shape are refused unplanned.
@@ -322,8 +353,7 @@ private:
         for (auto& r : removers_) r->set_aspect_limit(options.max_aspect_ratio);
         for (auto& r : candidate_removers_) r->set_aspect_limit(options.max_aspect_ratio);
         finish_parts_ = std::min<int>(VertexRemover::kMaxFinishParts, threads);
-        cheap_plans_.resize(threads);
-        grid_scratch_.resize(threads);
+        per_thread_.resize(size_t(threads));
         stamp_.assign(original.vertices.size(), 0);
         // The clearance guard's bound on the longest edge: the original's, then every
         // commit's new triangles (and, for the report, the flips').
@@ -346,21 +376,16 @@ private:
     std::unique_ptr<VertexRemover> remover_;         // of thread 0 and of the first removal of a step
     std::vector<std::unique_ptr<VertexRemover>> candidate_removers_;  // of the step's removals 1..
     std::vector<std::unique_ptr<VertexRemover>> removers_;  // of threads 1..
-    std::vector<RemovalPlan> step_plans_;            // of the step's removals (Candidate::plan)
+    std::vector<SlotPlan> step_plans_;               // of the step's removals (Candidate::plan)
     std::vector<int> to_plan_;                       // plan_round: the slots planned anew
-    std::vector<RemovalPlan> cheap_plans_;           // per thread, for ranking
+    std::vector<ThreadState> per_thread_;            // per planning thread
     int finish_parts_ = 1;                           // of a deferred validation (VertexRemover::finish_part)
     double diagonal_;
     int64_t target_;                  // vertices to stop at, 0: none
     IntersectionTest intersections_;  // of new triangles with the rest of the surface
-    std::vector<int32_t> sheet_scratch_;  // keeps_sheet_order's buffer (committing is serial)
     IslandGuard islands_;                  // of the components (two or more: removals must not sweep one)
-    IslandGuard::Scratch island_scratch_;  // its buffers (committing is serial)
-    WedgeScratch wedge_scratch_;          // keeps_feature_wedges' buffers (committing is serial)
-    std::vector<TriangleGrid::Entry> clearance_scratch_;  // keeps_clearance's buffer
     std::vector<Tri> clearance_also_;  // the new triangles of this step's earlier commits (not in the grid yet)
     double longest_edge_ = 0;          // at least the longest edge of the coarse surface
-    std::vector<std::vector<TriangleGrid::Entry>> grid_scratch_;  // per thread, for intersects_rest
     std::vector<uint32_t> stamp_;     // per vertex, moved on when its star changes
     RemovalQueue queue_;
     // Full plans of entries pushed back because their real cost was higher than the
@@ -370,14 +395,10 @@ private:
     Step step_;
     std::vector<double> rerank_costs_;
     int32_t first_new_ = 0;  // first triangle id of the last commit (self_check)
-    std::atomic<int64_t> plans_[2] = {{0}, {0}};  // cheap, full
+    int64_t full_plans_made_ = 0;
+    int64_t cheap_plans_made_ = 0;  // summed from ThreadState::cheap_plans when they are freed
     int64_t commits_ = 0;
     int64_t reused_plans_ = 0;
-    // Per thread, of judge(); a cache line each (the threads write them for every plan).
-    struct alignas(64) Why {
-        std::string text;
-    };
-    std::vector<Why> why_;
     // What became of the candidates of the steps (debug log): taken, held back by their
     // estimate, waiting after validation, gone stale or intersecting after an earlier
     // commit of their step, meeting an earlier commit's new triangles.
@@ -419,7 +440,7 @@ private:
     // whose validation is pending and for a complete one).
     // On planning thread `thread` (0 between rounds).
     double judge(int32_t v, const RemovalPlan& plan, int thread, CostBasis basis = CostBasis::Plan) {
-        std::string& why = why_[size_t(thread)].text;
+        std::string& why = per_thread_[size_t(thread)].why;
         const double cost = removal_cost(plan, options_, diagonal_, basis, why);
         last_reason_.set(v, why, thread);
         return cost;
@@ -435,9 +456,10 @@ private:
     // The guards a plan to remove v meets at commit, on the surface as it is now: sheet
     // order, islands, wedges, clearance (simplify/*_guard.h); the reason of the first
     // that refuses it, or nullptr. `first_unindexed`: the first triangle the grid lacks;
-    // `also`: new triangles the grid lacks (this step's earlier commits).
+    // `also`: new triangles the grid lacks (this step's earlier commits). Reads the state
+    // only (a planning thread may ask, with its own `scratch`).
     const char* refused_by_guards(int32_t v, const RemovalPlan& plan, int32_t first_unindexed,
-                                  const std::vector<Tri>& also);
+                                  const std::vector<Tri>& also, GuardScratch& scratch) const;
     // A full plan made earlier is still exact if its star is unchanged (stamp), no
     // edited path changed elsewhere, and its new edges still do not exist.
     bool still_current(const RemovalPlan& plan) const;
@@ -507,7 +529,6 @@ SimplifyResult Simplifier::describe_input() const {
 void Simplifier::rank_all(PlanningPool& pool) {
     const int32_t nv = original_.num_vertices();
     last_reason_.reset(original_.vertices.size(), pool.threads());
-    why_.assign(size_t(pool.threads()), Why());
     // 256 vertices per task; above 2^27 vertices more, so that a round has at most
     // 2^19 tasks (the pool takes fewer than 2^20). The costs do not depend on it.
     const int32_t chunk = std::max<int32_t>(256, int32_t((int64_t(nv) + (1 << 19) - 1) >> 19));
@@ -517,13 +538,14 @@ void Simplifier::rank_all(PlanningPool& pool) {
     pool.run_round(chunks, [&](int thread, size_t i) {
         const int32_t first = int32_t(int64_t(i) * chunk), last = int32_t(std::min<int64_t>(nv, int64_t(first) + chunk));
         for (int32_t v = first; v < last; ++v) {
-            remover(thread).plan(v, false, cheap_plans_[thread]);
-            costs[v] = judge(v, cheap_plans_[thread], thread);
+            RemovalPlan& plan = per_thread_[size_t(thread)].cheap_plan;
+            remover(thread).plan(v, false, plan);
+            costs[v] = judge(v, plan, thread);
         }
         const int32_t done = ranked.fetch_add(last - first) + (last - first);
         if (thread == 0) context_.report(0.2 * done / std::max(nv, 1), "evaluating vertices");
     });
-    plans_[0] += nv;
+    per_thread_[0].cheap_plans += nv;
     // The heap reaches 3 to 5 entries per vertex (208k-triangle input: ~400k for 104k
     // vertices); beyond the reservation it grows as before.
     queue_.reserve(8 * size_t(nv) + 1024);
@@ -590,6 +612,7 @@ void Simplifier::plan_round(PlanningPool& pool) {
         c.committed = false;
         c.validated_early = false;
         c.replanned = false;
+        c.guarded_early = false;
         auto cached = full_plans_.find(c.entry.vertex);
         if (cached != full_plans_.end() && cached->second.stamp == c.entry.stamp && still_current(cached->second.plan)) {
             WaitingPlan& wp = cached->second;
@@ -617,17 +640,26 @@ void Simplifier::plan_round(PlanningPool& pool) {
         if (!std::isfinite(estimate) || estimate > c.entry.cost + 1e-15) return;
         if (options_.prevent_intersections)
             c.intersects = intersections_.intersects_rest(c.plan->new_triangles, c.plan->removed_triangles,
-                                                          grid_scratch_[thread]);
+                                                          per_thread_[size_t(thread)].grid);
         c.remover->finish_part(0, 1);
         c.replanned = c.remover->finish_parts_done(*c.plan, 1);
         c.validated_early = true;
+        // The guards too (ready_to_commit asks them last), while the state is the one the
+        // step's first commit will see (they were a third of the serial commit time); only
+        // for the queue's top, which is nearly always that commit: a later candidate is
+        // asked again after it (asking every candidate here cost ~4 % more CPU on one thread:
+        // a second candidate is asked again after the first commit in 3 of 5 steps).
+        if (to_plan[i] == 0 && !c.replanned && c.plan->valid && !(options_.prevent_intersections && c.intersects)) {
+            c.guard_refusal = refused_by_guards(v, *c.plan, mesh_.triangle_capacity(), {}, per_thread_[size_t(thread)].guards);
+            c.guarded_early = true;
+        }
     }, kPlanRound);
     // A plan made again during its validation was not tested: the validation round tests it.
     for (int k : to_plan) {
         Candidate& c = step_.candidates[k];
         if (c.validated_early && options_.prevent_intersections && !c.replanned) c.known_intersection = c.intersects;
     }
-    plans_[1].fetch_add(int64_t(count), std::memory_order_relaxed);
+    full_plans_made_ += int64_t(count);
 }
 
 // A full plan is ranked by its estimate first (the cost before validation): if that is
@@ -692,7 +724,7 @@ void Simplifier::validate_round(PlanningPool& pool) {
         Candidate& c = step_.candidates[checks[i].slot];
         if (checks[i].part < 0)
             c.intersects = intersections_.intersects_rest(c.plan->new_triangles, c.plan->removed_triangles,
-                                                          grid_scratch_[thread]);
+                                                          per_thread_[size_t(thread)].grid);
         else
             c.remover->finish_part(checks[i].part, parts);
     }, kValidationRound);
@@ -776,7 +808,12 @@ bool Simplifier::ready_to_commit(int k, double& cost) {
     for (int j = 0; j < k; ++j)
         if (step_.candidates[j].committed)
             for (const Tri& t : step_.candidates[j].plan->new_triangles) clearance_also_.push_back(t);
-    if (const char* why = refused_by_guards(v, plan, step_.first_new, clearance_also_)) {
+    // Asked in plan_round on the surface as the step found it: the same answer unless an
+    // earlier removal of this step was committed since.
+    const char* why = c.guarded_early && !after_first
+                          ? c.guard_refusal
+                          : refused_by_guards(v, plan, step_.first_new, clearance_also_, per_thread_[0].guards);
+    if (why) {
         last_reason_.set(v, why, 0);
         return false;
     }
@@ -784,24 +821,24 @@ bool Simplifier::ready_to_commit(int k, double& cost) {
 }
 
 const char* Simplifier::refused_by_guards(int32_t v, const RemovalPlan& plan, int32_t first_unindexed,
-                                          const std::vector<Tri>& also) {
+                                          const std::vector<Tri>& also, GuardScratch& scratch) const {
     // The sheets on the other side of a junction edge may have changed since the plan was
     // made, without touching its star.
     if (!keeps_line_sheet_order(mesh_.positions(), plan.feature_a, v, plan.feature_b, plan.line_sheets) ||
-        !keeps_sheet_order(mesh_, plan.removed_triangles, plan.new_triangles, sheet_scratch_))
+        !keeps_sheet_order(mesh_, plan.removed_triangles, plan.new_triangles, scratch.sheet))
         return kSheetOrderReason;
     // No other component inside the volume the star sweeps (only with two or more).
     if (islands_.active() &&
         islands_.sweeps_island(mesh_, intersections_.grid(), first_unindexed, v,
                                plan.feature_line ? plan.feature_a : -1, plan.feature_line ? plan.feature_b : -1,
-                               plan.removed_triangles, plan.new_triangles, island_scratch_))
+                               plan.removed_triangles, plan.new_triangles, scratch.island))
         return kIslandReason;
     if (!keeps_feature_wedges(mesh_, plan.removed_triangles, plan.new_triangles, plan.feature_a, v, plan.feature_b,
-                              wedge_scratch_, junction_wedge_floor(), crease_wedge_floor()))
+                              scratch.wedge, junction_wedge_floor(), crease_wedge_floor()))
         return kJunctionWedgeReason;
     if (options_.prevent_intersections && clearance_floor() > 0 &&
         !keeps_clearance(mesh_, intersections_.grid(), plan.removed_triangles, plan.new_triangles, also,
-                         longest_edge_, clearance_scratch_, clearance_floor()))
+                         longest_edge_, scratch.clearance, clearance_floor()))
         return kClearanceReason;
     return nullptr;
 }
@@ -858,7 +895,7 @@ void Simplifier::rerank_round(PlanningPool& pool) {
             step_seconds_[5] += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         }
         else
-            rerank_costs_[i - 1] = rank(affected[i - 1], cheap_plans_[thread], thread);
+            rerank_costs_[i - 1] = rank(affected[i - 1], per_thread_[size_t(thread)].cheap_plan, thread);
     }, kRerankRound);
     intersections_.rebuild_if_sparse();
     for (size_t i = 0; i < affected.size(); ++i)
@@ -916,7 +953,7 @@ void Simplifier::count_blocked(SimplifyResult& result) {
         if (!mesh_.vertex_alive(v)) continue;
         std::string why = last_reason_[v];
         if (why.empty()) {
-            RemovalPlan& plan = step_plans_[0];
+            RemovalPlan& plan = step_plans_[0].plan;
             remover_->plan(v, true, plan);
             why = plan.valid ? "not reached" : plan.reason;
         }
@@ -949,7 +986,7 @@ void Simplifier::report_slivers(SimplifyResult& result) {
     // follow (a flip's new diagonal may be longer than the edges before it).
     if (!bad.empty())
         for (int32_t t : alive) longest_edge_ = std::max(longest_edge_, longest_edge(x, mesh_.triangle(t)));
-    RemovalPlan& plan = step_plans_[0];
+    RemovalPlan& plan = step_plans_[0].plan;
     for (const auto& [r, t] : bad) {
         const Tri& c = mesh_.triangle(t);
         SliverReport s;
@@ -963,9 +1000,9 @@ void Simplifier::report_slivers(SimplifyResult& result) {
             const double cost = removal_cost(plan, options_, diagonal_, CostBasis::Plan, why);
             if (std::isfinite(cost)) {
                 if (options_.prevent_intersections &&
-                    intersections_.intersects_rest(plan.new_triangles, plan.removed_triangles, grid_scratch_[0]))
+                    intersections_.intersects_rest(plan.new_triangles, plan.removed_triangles, per_thread_[0].grid))
                     why = kSelfIntersection;
-                else if (const char* guard = refused_by_guards(v, plan, mesh_.triangle_capacity(), {}))
+                else if (const char* guard = refused_by_guards(v, plan, mesh_.triangle_capacity(), {}, per_thread_[0].guards))
                     why = guard;
                 else {
                     char text[160];
@@ -994,9 +1031,8 @@ void Simplifier::release_planning_state() {
     decltype(oriented_normals_)().swap(oriented_normals_);
     decltype(vertex_ridges_)().swap(vertex_ridges_);
     decltype(rerank_costs_)().swap(rerank_costs_);
-    decltype(grid_scratch_)().swap(grid_scratch_);
-    decltype(cheap_plans_)().swap(cheap_plans_);
-    decltype(why_)().swap(why_);
+    for (const ThreadState& t : per_thread_) cheap_plans_made_ += t.cheap_plans;
+    decltype(per_thread_)().swap(per_thread_);
     decltype(step_plans_)().swap(step_plans_);
     decltype(to_plan_)().swap(to_plan_);
     step_ = Step();
@@ -1042,7 +1078,7 @@ void Simplifier::summarize(const Parametrization& out, double max_deviation,
             result.worst_aspect_ratio,
             aspect_ratio(out.coarse.vertices[t[0]], out.coarse.vertices[t[1]], out.coarse.vertices[t[2]]));
     result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    context_.debug("plans: " + std::to_string(plans_[0].load()) + " cheap, " + std::to_string(plans_[1].load()) +
+    context_.debug("plans: " + std::to_string(cheap_plans_made_) + " cheap, " + std::to_string(full_plans_made_) +
                    " full (" + std::to_string(reused_plans_) + " reused); " + std::to_string(result.paired_steps) +
                    " steps removed two or more vertices; " + std::to_string(steps_) + " steps took " +
                    std::to_string(taken_) + " candidates: " + std::to_string(held_back_) + " held back by the estimate, " +
@@ -1060,7 +1096,7 @@ void Simplifier::summarize(const Parametrization& out, double max_deviation,
 
 double Simplifier::rank(int32_t v, RemovalPlan& plan, int thread) {
     remover(thread).plan(v, false, plan);
-    plans_[0].fetch_add(1, std::memory_order_relaxed);
+    ++per_thread_[size_t(thread)].cheap_plans;
     return judge(v, plan, thread);
 }
 
@@ -1076,7 +1112,7 @@ bool Simplifier::still_current(const RemovalPlan& plan) const {
 
 bool Simplifier::admissible_globally(int32_t v, const RemovalPlan& plan) {
     if (options_.prevent_intersections &&
-        intersections_.intersects_rest(plan.new_triangles, plan.removed_triangles, grid_scratch_[0])) {
+        intersections_.intersects_rest(plan.new_triangles, plan.removed_triangles, per_thread_[0].grid)) {
         last_reason_.set(v, kSelfIntersection, 0);
         return false;
     }
