@@ -4,6 +4,7 @@
 #include <numeric>
 
 #include "core/ray_crossing.h"
+#include "core/vertex_components.h"
 
 namespace bpm::detail {
 
@@ -37,25 +38,11 @@ bool glued(const Tri& s, const Tri& t, int32_t v, int32_t a, int32_t b) {
 }  // namespace
 
 IslandGuard::IslandGuard(const CoarseMesh& mesh) {
-    const int32_t n = int32_t(mesh.positions().size());
-    std::vector<int32_t> parent(static_cast<size_t>(n));
-    std::iota(parent.begin(), parent.end(), 0);
-    for (int32_t t = 0; t < mesh.triangle_capacity(); ++t) {
-        if (!mesh.alive(t)) continue;
-        const Tri& c = mesh.triangle(t);
-        for (int k = 1; k < 3; ++k) {
-            const int32_t r = find_root(parent, c[0]), s = find_root(parent, c[size_t(k)]);
-            if (r != s) parent[size_t(std::max(r, s))] = std::min(r, s);
-        }
-    }
-    std::vector<int32_t> id(static_cast<size_t>(n), -1);
-    components_ = 0;
-    for (int32_t x = 0; x < n; ++x) {
-        if (!mesh.vertex_alive(x)) continue;
-        const int32_t r = find_root(parent, x);
-        if (id[size_t(r)] < 0) id[size_t(r)] = components_++;
-        id[size_t(x)] = id[size_t(r)];
-    }
+    VertexComponents components(mesh.positions().size());
+    for (int32_t t = 0; t < mesh.triangle_capacity(); ++t)
+        if (mesh.alive(t)) components.add(mesh.triangle(t));
+    std::vector<int32_t> id;
+    components_ = components.number(id);
     if (components_ > 1) component_ = std::move(id);
 }
 
