@@ -17,7 +17,6 @@
 #include <cmath>
 #include <cstdint>
 #include <map>
-#include <numeric>
 
 #include "bpm/check.h"
 #include "bpm/patch_info.h"
@@ -26,6 +25,7 @@
 #include "core/number_text.h"
 #include "core/ray_crossing.h"
 #include "core/sheet_order.h"
+#include "core/vertex_components.h"
 
 namespace bpm {
 
@@ -199,30 +199,9 @@ MaterialBits triangle_bits(const Surface& surface, const std::vector<PatchInfo>&
 
 // Components through shared vertices: per vertex (-1 for a vertex of no triangle).
 int32_t vertex_components(const Surface& surface, std::vector<int32_t>& component) {
-    std::vector<int32_t> parent(surface.vertices.size());
-    std::iota(parent.begin(), parent.end(), 0);
-    const auto root = [&](int32_t x) {
-        while (parent[size_t(x)] != x) x = parent[size_t(x)] = parent[size_t(parent[size_t(x)])];
-        return x;
-    };
-    for (const Tri& t : surface.triangles)
-        for (int k = 1; k < 3; ++k) {
-            const int32_t a = root(t[0]), b = root(t[size_t(k)]);
-            if (a != b) parent[size_t(std::max(a, b))] = std::min(a, b);
-        }
-    std::vector<char> used(surface.vertices.size(), 0);
-    for (const Tri& t : surface.triangles)
-        for (int32_t c : t) used[size_t(c)] = 1;
-    component.assign(surface.vertices.size(), -1);
-    std::vector<int32_t> id(surface.vertices.size(), -1);
-    int32_t count = 0;
-    for (size_t x = 0; x < surface.vertices.size(); ++x) {
-        if (!used[x]) continue;
-        const int32_t r = root(int32_t(x));
-        if (id[size_t(r)] < 0) id[size_t(r)] = count++;
-        component[x] = id[size_t(r)];
-    }
-    return count;
+    detail::VertexComponents components(surface.vertices.size());
+    for (const Tri& t : surface.triangles) components.add(t);
+    return components.number(component);
 }
 
 // The triangles in cells of the (y, z) plane, for rays along +x: a ray from p meets only

@@ -4,6 +4,7 @@
 #include <numeric>
 
 #include "core/ray_crossing.h"
+#include "core/vertex_components.h"
 
 namespace bpm::detail {
 
@@ -37,25 +38,11 @@ bool glued(const Tri& s, const Tri& t, int32_t v, int32_t a, int32_t b) {
 }  // namespace
 
 IslandGuard::IslandGuard(const CoarseMesh& mesh) {
-    const int32_t n = int32_t(mesh.positions().size());
-    std::vector<int32_t> parent(static_cast<size_t>(n));
-    std::iota(parent.begin(), parent.end(), 0);
-    for (int32_t t = 0; t < mesh.triangle_capacity(); ++t) {
-        if (!mesh.alive(t)) continue;
-        const Tri& c = mesh.triangle(t);
-        for (int k = 1; k < 3; ++k) {
-            const int32_t r = find_root(parent, c[0]), s = find_root(parent, c[size_t(k)]);
-            if (r != s) parent[size_t(std::max(r, s))] = std::min(r, s);
-        }
-    }
-    std::vector<int32_t> id(static_cast<size_t>(n), -1);
-    components_ = 0;
-    for (int32_t x = 0; x < n; ++x) {
-        if (!mesh.vertex_alive(x)) continue;
-        const int32_t r = find_root(parent, x);
-        if (id[size_t(r)] < 0) id[size_t(r)] = components_++;
-        id[size_t(x)] = id[size_t(r)];
-    }
+    VertexComponents components(mesh.positions().size());
+    for (int32_t t = 0; t < mesh.triangle_capacity(); ++t)
+        if (mesh.alive(t)) components.add(mesh.triangle(t));
+    std::vector<int32_t> id;
+    components_ = components.number(id);
     if (components_ > 1) component_ = std::move(id);
 }
 
@@ -76,8 +63,8 @@ bool IslandGuard::sweeps_island(const CoarseMesh& mesh, const TriangleGrid& grid
     // Candidates: one vertex per other component with a triangle inside the box. Another
     // component shares no vertex with the old or the new triangles, so (the intersection
     // test passed, and the surface does not intersect itself) it meets neither: it lies
-    // wholly inside the swept volume or wholly outside (but see the header on the closing
-    // triangle of a feature-line sheet), one vertex decides, and inside
+    // wholly inside the swept volume or wholly outside (the header says which volume along
+    // a feature line), one vertex decides, and inside
     // means inside the box. A component that reaches out of the box (a triangle partly
     // outside) is outside, or it crosses a new triangle, which the intersection test
     // refuses: only components with a triangle wholly inside are tested (a triangle per
@@ -101,8 +88,9 @@ bool IslandGuard::sweeps_island(const CoarseMesh& mesh, const TriangleGrid& grid
     for (int32_t t = first_unindexed; t < mesh.triangle_capacity(); ++t) consider(t);
     if (scratch.points.empty()) return false;
 
-    // The closed surfaces: old and new triangles glued along their edges but the line's,
-    // one group per sheet (without a feature line one group).
+    // The sheets: old and new triangles glued along their edges but the line's, one group
+    // per sheet (without a feature line one group). Sheets never share another edge: a
+    // link vertex of two sheets would make its edge to v a feature edge.
     scratch.tris.clear();
     for (int32_t t : removed) scratch.tris.push_back(mesh.triangle(t));
     scratch.tris.insert(scratch.tris.end(), added.begin(), added.end());
@@ -117,10 +105,20 @@ bool IslandGuard::sweeps_island(const CoarseMesh& mesh, const TriangleGrid& grid
                     const int32_t r = find_root(group, int32_t(i)), s = find_root(group, int32_t(j));
                     if (r != s) group[size_t(std::max(r, s))] = std::min(r, s);
                 }
-    for (size_t i = 0; i < n; ++i) group[i] = a >= 0 ? find_root(group, int32_t(i)) : 0;
+    size_t sheets = 0;
+    for (size_t i = 0; i < n; ++i) {
+        group[i] = a >= 0 ? find_root(group, int32_t(i)) : 0;
+        if (group[i] == int32_t(i)) ++sheets;
+    }
+    // One surface (no feature line, or a line with one sheet): closed (by (a, v, b) along
+    // a line), and a point is swept when it lies inside. Two or more sheets along a line:
+    // swept when the sheets' parities differ (see the header), which the closing triangle
+    // flips for all sheets at once: left out.
+    const bool closed = sheets == 1;
     for (int32_t q : scratch.points) {
         const Vec3& p = x[size_t(q)];
-        // Parity per group (bit set: odd); groups are named by their smallest member.
+        // Parity per group; groups are named by their smallest member.
+        int first = -1;  // the first sheet's parity
         for (size_t g = 0; g < n; ++g) {
             if (group[g] != int32_t(g)) continue;
             bool odd = false;
@@ -131,12 +129,18 @@ bool IslandGuard::sweeps_island(const CoarseMesh& mesh, const TriangleGrid& grid
                 if (h == RayHit::Touches) return true;  // on the swept surface: refuse (not after a passed test)
                 if (h == RayHit::Cross) odd = !odd;
             }
-            if (a >= 0) {  // the sheet's closing triangle
-                const RayHit h = ray_crosses(p, x[size_t(a)], x[size_t(v)], x[size_t(b)]);
-                if (h == RayHit::Touches) return true;
-                if (h == RayHit::Cross) odd = !odd;
+            if (closed) {
+                if (a >= 0) {  // the sheet's closing triangle
+                    const RayHit h = ray_crosses(p, x[size_t(a)], x[size_t(v)], x[size_t(b)]);
+                    if (h == RayHit::Touches) return true;
+                    if (h == RayHit::Cross) odd = !odd;
+                }
+                if (odd) return true;
+            } else if (first < 0) {
+                first = odd;
+            } else if (int(odd) != first) {
+                return true;
             }
-            if (odd) return true;
         }
     }
     return false;

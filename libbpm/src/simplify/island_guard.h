@@ -8,20 +8,32 @@
 // compares the material every component lies in).
 //
 // Exact (core/ray_crossing.h): a vertex of the island inside the closed surface of the
-// old and the new triangles, by the parity of a ray's crossings. For a removal along a
-// feature line a -- v -- b each sheet (fan) is a surface of its own, closed by the
-// triangle (a, v, b) (no area where the line is straight: a ray never crosses it then),
-// and is tested alone: the volumes of two sheets may nest, and the parity of their union
-// would cancel. Components are those of the triangles through shared vertices; removals
-// and flips never change them (the new triangles join the same link vertices).
+// old and the new triangles, by the parity of a ray's crossings. Components are those of
+// the triangles through shared vertices (core/vertex_components.h); removals and flips
+// never change them (the new triangles join the same link vertices).
+//
+// Along a feature line a -- v -- b each sheet j (half-disk) is replaced on its own: old
+// fan F_j, new triangles G_j, and F_j + G_j has the boundary of the triangle T = (a, v, b).
+// A material whose region meets the line has, around it, an even number of sheets on its
+// boundary (those where it begins or ends, around the line); its boundary changes by the
+// sum of their F_j + G_j, in which the T's cancel: a point leaves or enters that material
+// exactly when the parities of those sheets' F_j + G_j (one ray for all) XOR to 1. Every
+// even set of sheets bounds some union of the wedges between them, so a point keeps its
+// material for every labelling exactly when all sheets' parities are equal: that is the
+// test (for a crease, the two sheets' parities differ; nested volumes of two sheets do not
+// cancel, and T, no part of the surface, which another component may cross, flips every
+// sheet's parity at once and does not matter). Each difference is the parity of the
+// closed surface F_i + G_i + F_j + G_j, which another component does not cross (the
+// surface does not intersect itself, and the intersection test passed for the new
+// triangles), so one of its vertices decides for all of it. A line with one sheet (the
+// boundary of an open surface) is closed by T and refused when odd, as without a line
+// (there a component crossing T can make the vertex tested refuse wrongly: an
+// over-refusal only).
 // Preconditions of the exactness: the intersection test passed for the new triangles
 // (with intersections allowed another component may cross them, and one vertex no longer
 // tells where the whole component lies: the guard still decides the same way every time,
-// but may refuse or pass wrongly). The closing triangle (a, v, b) of a feature-line sheet is
-// no part of the surface, so another component may cross it; crossing it flips every
-// sheet's parity at once, and the vertex tested (the first corner of the first grid entry:
-// deterministic) decides. A review found only over-refusals there (a vertex kept), no
-// sweep that passes.
+// but may refuse or pass wrongly). The sheet order guard runs first: the sheets keep their
+// order around the line, so the wedges before and after correspond.
 // Internal to libbpm.
 
 #include <cstdint>

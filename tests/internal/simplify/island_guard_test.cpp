@@ -5,6 +5,7 @@
 // tetrahedron under the apex, a feature-line removal (two half-disks) with the island in
 // one half-disk's swept volume, and two sheets whose swept volumes nest (their union's
 // parity cancels: each sheet is tested alone).
+#include <cmath>
 #include <vector>
 
 #include <catch2/catch.hpp>
@@ -135,4 +136,80 @@ TEST_CASE("island guard: nested swept volumes of two sheets do not cancel", "[in
     IslandGuard::Scratch scratch;
     const std::vector<Tri> added = {{0, 2, 3}, {0, 2, 4}, {2, 0, 5}};
     CHECK(guard.sweeps_island(mesh, grid, mesh.triangle_capacity(), 1, 0, 2, triangles_at(mesh, 1), added, scratch));
+}
+
+namespace {
+
+// The line a = 0, v = 1, b = 2 along x with v bent up by 0.4 in y, a half-disk (v, a,
+// apex), (v, b, apex) per apex, and a small tetrahedron around `island` (its triangles
+// start at its two vertices above the island's centre in z: the guard tests one of
+// those); the removal of v replaces each half-disk by (a, b, apex). All of it turned by
+// `turn` (radians) about the x axis at the end.
+struct LineRemoval {
+    Surface s;
+    std::vector<Tri> added;
+};
+
+LineRemoval half_disks(const std::vector<Vec3>& apexes, const Vec3& island, double r, double turn = 0) {
+    LineRemoval x;
+    x.s.vertices = {{-1, 0, 0}, {0, 0.4, 0}, {1, 0, 0}};
+    for (const Vec3& p : apexes) {
+        const int32_t k = int32_t(x.s.vertices.size());
+        x.s.vertices.push_back(p);
+        x.s.triangles.push_back({0, 1, k});
+        x.s.triangles.push_back({1, 2, k});
+        x.added.push_back({0, 2, k});
+    }
+    const int32_t i = int32_t(x.s.vertices.size());
+    // i and i + 3 above the island's centre in z, i + 1 and i + 2 below.
+    for (const Vec3& d : {Vec3{r, r, r}, Vec3{r, -r, -r}, Vec3{-r, r, -r}, Vec3{-r, -r, r}})
+        x.s.vertices.push_back({island[0] + d[0], island[1] + d[1], island[2] + d[2]});
+    x.s.triangles.insert(x.s.triangles.end(),
+                         {{i, i + 1, i + 2}, {i, i + 3, i + 1}, {i, i + 2, i + 3}, {i + 3, i + 2, i + 1}});
+    const double c = std::cos(turn), s = std::sin(turn);
+    for (Vec3& p : x.s.vertices) p = {p[0], c * p[1] - s * p[2], s * p[1] + c * p[2]};
+    x.s.patches.assign(x.s.triangles.size(), 0);
+    return x;
+}
+
+bool sweeps(const LineRemoval& x) {
+    CoarseMesh mesh(x.s);
+    const IslandGuard guard(mesh);
+    REQUIRE(guard.components() == 2);
+    const TriangleGrid grid = grid_of(mesh);
+    IslandGuard::Scratch scratch;
+    return guard.sweeps_island(mesh, grid, mesh.triangle_capacity(), 1, 0, 2, triangles_at(mesh, 1), x.added, scratch);
+}
+
+}  // namespace
+
+TEST_CASE("island guard: a crease whose two half-disks both enclose the island sweeps nothing",
+          "[internal][simplify][islands]") {
+    // Both half-disks above the line (apexes at 59 and 73 degrees from v in the (y, z)
+    // plane, 45 and 63 from the new line a -- b): the thin wedge between them moves, the
+    // island lies in both closed half-disks' volumes but outside the thin wedge before
+    // (at 108 degrees from v) and after (at 18 degrees from a -- b). Refused while both
+    // odd parities refused; a point is swept exactly when the two parities differ.
+    CHECK_FALSE(sweeps(half_disks({{0, 1, 1}, {0, 1, 2}}, {0, 0.36, 0.12}, 0.01)));
+    // Between the two: in the thin wedge after, not before (only the volume of the apex
+    // at (0, 1, 2) holds it).
+    CHECK(sweeps(half_disks({{0, 1, 1}, {0, 1, 2}}, {0, 0.5, 0.75}, 0.01)));
+}
+
+TEST_CASE("island guard: an island through the closing triangle (a, v, b) decides by the sheets, not by that triangle",
+          "[internal][simplify][islands]") {
+    // The island crosses the triangle (a, v, b) that closes each half-disk's volume (no
+    // part of the surface): the vertex tested lies above it, inside every half-disk's
+    // volume. Three half-disks all above the line (59, 73, 96 degrees from v; 45, 63, 84
+    // from a -- b): the island lies in the wedge from the last to the first before (at 180
+    // degrees from v) and after (at 0 from a -- b): nothing is swept. Turned by 45 degrees
+    // about x so that the box of the old triangles holds the island (untouched, the box
+    // ends at the plane of (a, v, b), and the island is no candidate).
+    const double turn = std::atan(1.0);
+    CHECK_FALSE(sweeps(half_disks({{0, 1, 1}, {0, 1, 2}, {0, 0.2, 2}}, {0, 0.2, 0}, 0.05, turn)));
+    // A flat crease (half-disks above and below, the wedge holding +y between them): the
+    // same island moves from the outer wedge (180 degrees from v) into the inner one
+    // (0 degrees from a -- b): swept.
+    CHECK(sweeps(half_disks({{0, 1, 1}, {0, 1, -1}}, {0, 0.2, 0}, 0.05)));
+    CHECK(sweeps(half_disks({{0, 1, 1}, {0, 1, -1}}, {0, 0.2, 0}, 0.05, turn)));
 }

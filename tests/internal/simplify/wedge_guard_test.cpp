@@ -1,7 +1,9 @@
 // The wedge guard (simplify/wedge_guard.h) on a junction edge of three sheets: a new
 // triangle may not fold onto a neighbouring sheet (noisy label images had junction wedges
 // of 1e-13 degrees, and bpm-mesh the same smallest dihedral angle), a wedge already
-// thinner than the floor may stay or widen, and a crease of two triangles has its own floor.
+// thinner than the floor may stay or widen, a crease of two triangles has its own floor,
+// and a removal along a feature line a -- v -- b compares the new edge a -- b with the
+// thinner of the wedges at a -- v and v -- b, which it replaces.
 #include <cmath>
 #include <vector>
 
@@ -91,4 +93,57 @@ TEST_CASE("wedge guard: a crease of two triangles has the lower floor", "[intern
     WedgeScratch scratch;
     CHECK(keeps_feature_wedges(mesh, {t}, {Tri{1, 0, 4}}, -1, -1, -1, scratch));        // 6 >= 5
     CHECK_FALSE(keeps_feature_wedges(mesh, {t}, {Tri{1, 0, 5}}, -1, -1, -1, scratch));  // 3 < 5
+}
+
+namespace {
+
+// A junction line a = 0, v = 1, b = 2 along x (v at the origin) with three sheets: the
+// half-disk j is (a, v, p_j) and (v, b, q_j), p_j at `at_av[j]` degrees around x (above
+// x = -0.5), q_j at `at_vb[j]` (above x = 0.5). The removal of v replaces the six by
+// (a, b, r_j), r_j at `after[j]` degrees (above x = 0). Whether the wedge guard lets it.
+bool line_removal_keeps_wedges(const std::vector<double>& at_av, const std::vector<double>& at_vb,
+                               const std::vector<double>& after) {
+    const auto point = [](double x, double degrees) {
+        const double r = degrees * M_PI / 180;
+        return Vec3{x, std::cos(r), std::sin(r)};
+    };
+    Surface s;
+    s.vertices = {{-1, 0, 0}, {0, 0, 0}, {1, 0, 0}};
+    std::vector<Tri> added;
+    for (size_t j = 0; j < 3; ++j) {
+        const int32_t p = int32_t(s.vertices.size());
+        s.vertices.push_back(point(-0.5, at_av[j]));
+        s.vertices.push_back(point(0.5, at_vb[j]));
+        s.vertices.push_back(point(0, after[j]));
+        s.triangles.push_back({0, 1, p});
+        s.triangles.push_back({1, 2, p + 1});
+        s.patches.insert(s.patches.end(), 2, int32_t(j));
+        added.push_back({0, 2, p + 2});
+    }
+    CoarseMesh mesh(s);
+    mesh.mark_feature_edges(180.0);
+    REQUIRE(mesh.is_feature_edge(0, 1));
+    REQUIRE(mesh.is_feature_edge(1, 2));
+    std::vector<int32_t> removed;
+    for (int32_t t = 0; t < mesh.triangle_capacity(); ++t)
+        if (mesh.alive(t)) removed.push_back(t);
+    WedgeScratch scratch;
+    return keeps_feature_wedges(mesh, removed, added, 0, 1, 2, scratch);
+}
+
+}  // namespace
+
+TEST_CASE("wedge guard: along a feature line the wedge before is the thinner of a -- v and v -- b",
+          "[internal][simplify][junctions]") {
+    // Both old wedges below the 15-degree floor: 3 degrees at one of a -- v, v -- b and 10
+    // at the other. A new wedge of 6 degrees at a -- b is no thinner than the thinner (3):
+    // let pass, either way round (a guard that read only a -- v, or only v -- b, refuses
+    // one of the two); 2 degrees is thinner than both: refused.
+    const std::vector<double> thin = {0, 120, 123}, wider = {0, 120, 130};
+    CHECK(line_removal_keeps_wedges(thin, wider, {0, 120, 126}));
+    CHECK(line_removal_keeps_wedges(wider, thin, {0, 120, 126}));
+    CHECK_FALSE(line_removal_keeps_wedges(thin, wider, {0, 120, 122}));
+    CHECK_FALSE(line_removal_keeps_wedges(wider, thin, {0, 120, 122}));
+    // Wide enough after (20 degrees): let pass without a look at before.
+    CHECK(line_removal_keeps_wedges(thin, thin, {0, 120, 140}));
 }
