@@ -158,8 +158,9 @@ struct alignas(64) Candidate {
     bool committed = false;            // removed in this step
     bool validated_early = false;      // tested and validated in the planning round (plan_round)
     bool replanned = false;            // its validation in plan_round made a new plan (finish_parts_done)
-    // The commit-time guards already asked in plan_round, on the surface as the step found
-    // it: exact for the step's first commit (nothing changed since), asked again after one.
+    // The commit-time guards already asked in plan_round or validate_round, on the surface
+    // as the step found it: exact for the step's first commit (nothing changed since), asked
+    // again after one.
     bool guarded_early = false;
     const char* guard_refusal = nullptr;  // refused_by_guards' answer then
 };
@@ -703,9 +704,9 @@ bool Simplifier::waits(int k, double cost) const {
 void Simplifier::validate_round(PlanningPool& pool) {
     struct Check {
         int8_t slot;  // candidate
-        int8_t part;  // of its validation; -1: its intersection test
+        int8_t part;  // of its validation; -1: its intersection test; -2: its guards
     };
-    Check checks[kMaxRemovalsPerStep * (VertexRemover::kMaxFinishParts + 1)];
+    Check checks[kMaxRemovalsPerStep * (VertexRemover::kMaxFinishParts + 1) + 1];
     size_t count = 0;
     auto validating = [&](int k) { return step_.candidates[k].live && step_.candidates[k].plan->pending; };
     for (int k = 0; k < step_.count; ++k)
@@ -720,20 +721,33 @@ void Simplifier::validate_round(PlanningPool& pool) {
     for (int part = 1; part < parts; ++part)
         for (int k = 0; k < step_.count; ++k)
             if (validating(k)) checks[count++] = {int8_t(k), int8_t(part)};
+    // The queue top's guards, if plan_round did not ask them, beside its validation: on
+    // the plan's triangles, which its validation keeps unless it plans again (as for the
+    // intersection test). Only with other threads to share the round: on one thread they
+    // are asked at the commit, and not at all for a plan its validation refuses.
+    const Candidate& top = step_.candidates[0];
+    if (pool.threads() > 1 && top.live && !top.guarded_early)
+        checks[count++] = {0, -2};
     pool.run_round(count, [&](int thread, size_t i) {
         Candidate& c = step_.candidates[checks[i].slot];
-        if (checks[i].part < 0)
+        if (checks[i].part == -2)
+            c.guard_refusal = refused_by_guards(c.entry.vertex, *c.plan, mesh_.triangle_capacity(), {},
+                                                per_thread_[size_t(thread)].guards);
+        else if (checks[i].part < 0)
             c.intersects = intersections_.intersects_rest(c.plan->new_triangles, c.plan->removed_triangles,
                                                           per_thread_[size_t(thread)].grid);
         else
             c.remover->finish_part(checks[i].part, parts);
     }, kValidationRound);
     bool replanned[kMaxRemovalsPerStep] = {};
+    bool guarded_top = false;
     for (size_t i = 0; i < count; ++i) {
         Candidate& c = step_.candidates[checks[i].slot];
-        if (checks[i].part < 0) c.known_intersection = c.intersects;
+        if (checks[i].part == -2) guarded_top = true;
+        else if (checks[i].part < 0) c.known_intersection = c.intersects;
         if (checks[i].part == 0) replanned[checks[i].slot] = c.remover->finish_parts_done(*c.plan, parts);
     }
+    if (guarded_top && !replanned[0]) step_.candidates[0].guarded_early = true;
     // The test of a plan made again during this validation saw the pending plan's
     // triangles: unknown again (the first candidate is tested at its commit, a later one
     // goes back into the queue).
