@@ -33,6 +33,9 @@ public:
     const std::vector<Vec3>& positions() const { return *positions_; }
     const Tri& triangle(int32_t t) const { return triangles_[slot(t)]; }
     int32_t patch(int32_t t) const { return patches_.empty() ? uniform_patch_ : patches_[slot(t)]; }
+    // Whether every triangle has the same patch (new triangles inherit their patches:
+    // decided by the input).
+    bool one_patch() const { return patches_.empty(); }
     // Circumradius / inradius of triangle t (bpm::aspect_ratio of its corners in stored
     // order), computed once when the triangle is made: the planners ask for it every time
     // they plan a star, and used to cache it per planner (a double per triangle id each).

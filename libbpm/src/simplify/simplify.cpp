@@ -45,6 +45,7 @@
 #include "simplify/ridge_guard.h"
 #include "simplify/wedge_guard.h"
 #include "simplify/clearance_guard.h"
+#include "simplify/corner_wedge_guard.h"
 #include "simplify/sheet_guard.h"
 #include "simplify/vertex_order.h"
 #include "simplify/vertex_removal.h"
@@ -850,6 +851,9 @@ const char* Simplifier::refused_by_guards(int32_t v, const RemovalPlan& plan, in
     if (!keeps_feature_wedges(mesh_, plan.removed_triangles, plan.new_triangles, plan.feature_a, v, plan.feature_b,
                               scratch.wedge, junction_wedge_floor(), crease_wedge_floor()))
         return kJunctionWedgeReason;
+    if (!keeps_corner_wedges(mesh_, plan.removed_triangles, plan.new_triangles,
+                             std::min(kCornerWedgeFloorDegrees, options_.min_ridge_angle_degrees)))
+        return kCornerWedgeReason;
     if (options_.prevent_intersections && clearance_floor() > 0 &&
         !keeps_clearance(mesh_, intersections_.grid(), plan.removed_triangles, plan.new_triangles, also,
                          longest_edge_, scratch.clearance, clearance_floor()))
