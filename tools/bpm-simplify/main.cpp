@@ -193,8 +193,8 @@ int main(int argc, char** argv) {
                    "the original's sharpest edge where it lies minus 5 (degrees: interior angle of a convex edge, "
                    "exterior of a concave one; default 30, 0 = off); on feature lines, the wedges between sheets are kept "
                    "at least 15 degrees wide at junctions and 5 elsewhere, or not made thinner than they are, and no new triangle "
-                   "comes closer than 0.1 % of its size to another sheet; with two or more patches, no two triangles with one "
-                   "common corner are laid onto each other at less than 4 degrees")
+                   "comes closer than 0.1 % of its size to another sheet (1 % with two or more patches); with two or more patches, "
+                   "no two triangles with one common corner are laid onto each other at less than 4 degrees")
         ->check(CLI::Range(0.0, 90.0))
         ->group(quality);
     app.add_option("--distortion-weight", options.distortion_weight,

@@ -291,7 +291,9 @@ private:
     double junction_wedge_floor() const {
         return std::min(kJunctionWedgeFloorDegrees, options_.min_ridge_angle_degrees);
     }
-    double clearance_floor() const { return options_.min_ridge_angle_degrees > 0 ? kClearanceFloor : 0.0; }
+    double clearance_floor() const {
+        return options_.min_ridge_angle_degrees > 0 ? (mesh_.one_patch() ? kClearanceFloor : kMultiPatchClearanceFloor) : 0.0;
+    }
     double crease_wedge_floor() const { return std::min(kCreaseWedgeFloorDegrees, options_.min_ridge_angle_degrees); }
     // `uses`: the original's sides grouped by edge, counted once for the coarse mesh's
     // orientation walk and the embedding's edges (each used to collect its own).

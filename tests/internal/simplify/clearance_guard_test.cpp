@@ -58,6 +58,31 @@ TEST_CASE("clearance guard: a new triangle hovering over another sheet is refuse
     CHECK(keeps_clearance(mesh, grid, removed, {Tri{3, 4, 7}, Tri{3, 7, 5}}, {}, 4.0, scratch, 0.0));  // off
 }
 
+TEST_CASE("clearance guard: on two or more patches a vertex 0.7 % above another sheet is refused", "[internal][simplify]") {
+    // Noisy 48^3 at --ratio 0.2 with the corner-wedge guard: bpm-mesh's smallest angle
+    // (1.36 degrees) on a triangle with a corner of another sheet 0.7 % of its longest
+    // edge above it, which the floor of one patch (0.1 %) lets pass.
+    Surface s;
+    s.vertices = {{0, 0, 0}, {4, 0, 0}, {0, 4, 0},                     // sheet A (longest edge 4 sqrt 2)
+                  {0, 0, 0.5}, {2, 0, 0.5}, {0, 2, 0.5}, {1, 1, 0.5},  // sheet B
+                  {1, 1, 0.04}};                                       // 0.71 % above A
+    s.triangles = {{0, 1, 2}, {3, 4, 6}, {3, 6, 5}};
+    s.patches = {0, 1, 1};
+    CoarseMesh mesh(s);
+    TriangleGrid grid(1.0);
+    std::vector<int32_t> alive;
+    mesh.alive_triangles(alive);
+    for (int32_t t : alive) {
+        const Tri& c = mesh.triangle(t);
+        grid.insert(t, s.vertices[c[0]], s.vertices[c[1]], s.vertices[c[2]]);
+    }
+    const std::vector<int32_t> removed(alive.begin() + 1, alive.end());
+    const std::vector<Tri> added = {Tri{3, 4, 7}, Tri{3, 7, 5}};
+    std::vector<TriangleGrid::Entry> scratch;
+    CHECK(keeps_clearance(mesh, grid, removed, added, {}, 6.0, scratch, kClearanceFloor));
+    CHECK_FALSE(keeps_clearance(mesh, grid, removed, added, {}, 6.0, scratch, kMultiPatchClearanceFloor));
+}
+
 namespace {
 // A mesh of `s` with every triangle in a grid of unit cells.
 struct Scene {
