@@ -21,7 +21,7 @@
 // so a thread with nothing to do spins for a while before it sleeps. The caller waiting
 // for a worker's last task spins 30 us (kSpin in planning_pool.cpp). A worker between
 // rounds spins as long as its recent waits after rounds of the same kind say pays, at
-// most 10 us (SpinBudget below): on a busy machine or through long gaps not at all (a
+// most 20 us (SpinBudget below): on a busy machine or through long gaps not at all (a
 // fixed 200 us, then 30 us, spun through most gaps: 1.3-1.6x the CPU of one thread).
 
 #include <atomic>
@@ -55,24 +55,30 @@ int planning_threads(int requested, int64_t triangles);
 // How long a worker spins for the next round before it sleeps, learnt from its own recent
 // waits (ski rental): spinning through a wait of w costs w of CPU time; sleeping costs
 // kWakeCostMicros (the futex calls of the sleeper and of the thread that wakes it) plus
-// the spin before it. The budget is the one of 0, 2, 5, 10 us that would have cost least
-// over the last few hundred waits: 0 when the waits are long (the other thread in a long
-// plan, or a busy machine, where the waiting thread is often descheduled and a spin takes
-// the core from the thread it waits for), 2-10 us when most are short (the gaps between
-// the rounds of a step). A spin longer than kWakeCostMicros never costs less CPU time
-// than a sleep, so there is no longer budget; what a sleep costs besides is latency (the
-// worker joins the next round about 20 us late). Only timing: which thread runs a task
-// never changes a result.
+// the spin before it. The budget is the one of 0, 2, 5, 10, 20 us that would have cost
+// least over the last few hundred waits: 0 when the waits are long (the other thread in
+// a long plan, or a busy machine, where the waiting thread is often descheduled and a
+// spin takes the core from the thread it waits for), 2-20 us when most are short (the
+// gaps between the rounds of a step). A spin longer than kWakeCostMicros never costs less
+// CPU time than a sleep, so there is no longer budget. What a sleep costs besides is wall
+// time on the critical path: the caller's notify (below) and the worker joining the next
+// round late. Only timing: which thread runs a task never changes a result.
 class SpinBudget {
 public:
-    static constexpr int kChoices = 4;
-    static constexpr double kBudgetMicros[kChoices] = {0, 2, 5, 10};
-    // A sleep and wake-up of a thread: about 5 us of CPU time on each side (futex call and
-    // wake-up, measured on the 2-core VM of bench/RESULTS.md), and about 20 us of latency.
-    static constexpr double kWakeCostMicros = 10;
+    static constexpr int kChoices = 5;
+    static constexpr double kBudgetMicros[kChoices] = {0, 2, 5, 10, 20};
+    // A sleep and wake-up of a thread, in CPU time: on the 2-core Firecracker VM of
+    // bench/RESULTS.md (where a system call is dear) the notify alone costs the notifier
+    // 6-7 us (median; 15 us at the 90th percentile), the sleeper's futex return about as
+    // much. With 10 us and budgets up to 10 us the worker slept through every gap between
+    // rounds longer than 10 us. Loop^1 208k -> 10k on an idle machine, two threads against
+    // one, alt.py 7 rounds (2026-12-07, load ~1.3): wall 0.965x for 1.53x the CPU; with
+    // 20 us (and budgets up to 20 us) 0.916x for 1.54x. (Across runs of the same binaries
+    // two threads' wall varied from 0.74x to 0.97x: compare within one run.)
+    static constexpr double kWakeCostMicros = 20;
     static constexpr int kWindow = 128;  // waits between choices; older waits count half
 
-    // The current budget in microseconds (10 until kWindow waits were seen).
+    // The current budget in microseconds (the longest until kWindow waits were seen).
     double micros() const { return kBudgetMicros[choice_]; }
     // One wait for a round: from the end of the worker's last task until the round was
     // published (whether spun or slept through; 0 if it came first).
