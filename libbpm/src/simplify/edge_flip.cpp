@@ -1,11 +1,13 @@
 #include "simplify/edge_flip.h"
 
+#include "simplify/corner_wedge_guard.h"
 #include <algorithm>
 #include <cmath>
 #include <set>
 
 #include "bpm/predicates.h"
 #include "core/tetrahedron_quality.h"
+#include "simplify/corner_wedge_guard.h"
 #include "simplify/overlay.h"
 #include "simplify/sheet_guard.h"
 #include "simplify/wedge_guard.h"
@@ -416,6 +418,10 @@ FlipStats flip_edges(CoarseMesh& mesh, Embedding& embedding, const std::vector<i
         // ... and not fold onto their neighbours (the wedges there bound bpm-mesh's angles).
         if (!keeps_feature_wedges(mesh, {flip.removed[0], flip.removed[1]}, {flip.added[0], flip.added[1]}, -1, -1, -1,
                                   wedge_scratch, limits.junction_wedge_floor, limits.crease_wedge_floor))
+            return refuse();
+        // ... nor onto a triangle they share one corner with (as for removals).
+        if (!keeps_corner_wedges(mesh, {flip.removed[0], flip.removed[1]}, {flip.added[0], flip.added[1]},
+                                 limits.corner_wedge_floor))
             return refuse();
         // The tetrahedron between the old and the new pair must hold no other component.
         if (islands && islands->active() &&

@@ -69,6 +69,9 @@ struct FlipLimits {
     // The wedge guard's floors at junction edges and other feature edges (degrees;
     // simplify/wedge_guard.h): the quad's sides may be such edges.
     double junction_wedge_floor = 15.0, crease_wedge_floor = 5.0;
+    // The corner-wedge guard's floor (degrees; simplify/corner_wedge_guard.h, which is off
+    // on one patch); 0 = off.
+    double corner_wedge_floor = 0.0;
 };
 
 struct FlipStats {

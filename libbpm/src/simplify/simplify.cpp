@@ -729,7 +729,8 @@ void Simplifier::validate_round(PlanningPool& pool) {
     // intersection test). Only with other threads to share the round: on one thread they
     // are asked at the commit, and not at all for a plan its validation refuses.
     const Candidate& top = step_.candidates[0];
-    if (pool.threads() > 1 && top.live && !top.guarded_early)
+    if (pool.threads() > 1 && top.live && !top.guarded_early && top.known_intersection != 1 &&
+        (top.plan->pending || top.plan->valid))
         checks[count++] = {0, -2};
     pool.run_round(count, [&](int thread, size_t i) {
         Candidate& c = step_.candidates[checks[i].slot];
@@ -825,8 +826,8 @@ bool Simplifier::ready_to_commit(int k, double& cost) {
     for (int j = 0; j < k; ++j)
         if (step_.candidates[j].committed)
             for (const Tri& t : step_.candidates[j].plan->new_triangles) clearance_also_.push_back(t);
-    // Asked in plan_round on the surface as the step found it: the same answer unless an
-    // earlier removal of this step was committed since.
+    // Asked in plan_round or validate_round on the surface as the step found it: the same
+    // answer unless an earlier removal of this step was committed since.
     const char* why = c.guarded_early && !after_first
                           ? c.guard_refusal
                           : refused_by_guards(v, plan, step_.first_new, clearance_also_, per_thread_[0].guards);
@@ -1078,6 +1079,7 @@ void Simplifier::flip_edges_phase(SimplifyResult& result) {
     limits.prevent_intersections = options_.prevent_intersections;
     limits.junction_wedge_floor = junction_wedge_floor();
     limits.crease_wedge_floor = crease_wedge_floor();
+    limits.corner_wedge_floor = std::min(kCornerWedgeFloorDegrees, options_.min_ridge_angle_degrees);
     const FlipStats stats = flip_edges(mesh_, embedding_, sign_, intersections_, limits, &islands_);
     result.needle_flips = stats.needle_flips;
     result.sliver_flips = stats.sliver_flips;
