@@ -141,9 +141,10 @@ struct SimplifyOptions {
     // a dihedral angle at most its thinnest wedge (noisy label images: junction wedges of
     // 1e-13 degrees, and bpm-mesh's angle with them). 0 = off (both guards, and the
     // clearance guard: no new triangle within 0.1 % of its size of another (1 % with two
-    // or more patches), which made tetrahedra of 4e-6 degrees on noisy label images; and on surfaces of two or more
-    // patches the corner-wedge guard: two triangles with one common corner are not laid
-    // onto each other at less than min(4, this) degrees, which made 0.34).
+    // or more patches), which made tetrahedra of 4e-6 degrees on noisy label images; and
+    // on surfaces of two or more patches the corner-wedge guard: two triangles with one
+    // common corner are not laid onto each other at less than min(4, this) degrees, which
+    // made 0.34).
     double min_ridge_angle_degrees = 30.0;
     // Longest edge a removal may create, relative to the diagonal.
     double max_edge_length = std::numeric_limits<double>::infinity();

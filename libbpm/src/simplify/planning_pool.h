@@ -67,16 +67,17 @@ class SpinBudget {
 public:
     static constexpr int kChoices = 5;
     static constexpr double kBudgetMicros[kChoices] = {0, 2, 5, 10, 20};
-    // A sleep and wake-up of a thread: on the 2-core Firecracker VM of bench/RESULTS.md
-    // (where a system call is dear) the notify alone costs the notifier 6-7 us (median; 15
-    // us at the 90th percentile), the sleeper's futex return about as much: 12-14 us of CPU
-    // time, and more of wall time, as the notify is on the caller's critical path; 20 us
-    // counts some of that latency. With 10 us and budgets up to 10 us the worker slept through every gap between
-    // rounds longer than 10 us. Loop^1 208k -> 10k on an idle machine, two threads against
-    // one, alt.py 7 rounds (2026-12-07, load ~1.3): wall 0.965x for 1.53x the CPU; with
-    // 20 us (and budgets up to 20 us) 0.916x for 1.54x. (Across runs of the same binaries
-    // two threads' wall varied from 0.74x to 0.97x: compare within one run; the gain is
-    // one run's, within that spread.)
+    // A sleep and wake-up of a thread. On the 2-core Firecracker VM of bench/RESULTS.md
+    // (where a system call is dear) a two-thread probe measured the notify alone at 6-7 us
+    // of the notifier's time (median; 15 us at the 90th percentile), on the caller's
+    // critical path, and the sleeper awake 3-4 us after it (35 us at the 90th percentile);
+    // the sleeper's own futex calls were not measured. 20 us counts some of that latency:
+    // with 10 us and budgets up to 10 us the worker slept through every gap between rounds
+    // longer than 10 us. Loop^1 208k -> 10k on an idle machine, two threads against one,
+    // alt.py 7 rounds (2026-12-07, load ~1.3): wall 0.965x for 1.53x the CPU; with 20 us
+    // (and budgets up to 20 us) 0.916x for 1.54x. Across runs of the same binaries two
+    // threads' wall varied from 0.74x to 0.97x: compare within one run; the gain is one
+    // run's, within that spread.
     static constexpr double kWakeCostMicros = 20;
     static constexpr int kWindow = 128;  // waits between choices; older waits count half
 

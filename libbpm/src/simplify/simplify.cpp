@@ -167,7 +167,7 @@ struct alignas(64) Candidate {
 };
 
 // The buffers of the commit-time guards (simplify/*_guard.h): one set per planning thread
-// (plan_round asks the guards too).
+// (plan_round and validate_round ask the guards too).
 struct GuardScratch {
     std::vector<int32_t> sheet;                  // keeps_sheet_order's
     IslandGuard::Scratch island;                 // sweeps_island's
