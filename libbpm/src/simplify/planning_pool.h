@@ -21,7 +21,7 @@
 // so a thread with nothing to do spins for a while before it sleeps. The caller waiting
 // for a worker's last task spins 30 us (kSpin in planning_pool.cpp). A worker between
 // rounds spins as long as its recent waits after rounds of the same kind say pays, at
-// most 20 us (SpinBudget below): on a busy machine or through long gaps not at all (a
+// most 100 us (SpinBudget below): on a busy machine or through long gaps not at all (a
 // fixed 200 us, then 30 us, spun through most gaps: 1.3-1.6x the CPU of one thread).
 
 #include <atomic>
@@ -55,18 +55,21 @@ int planning_threads(int requested, int64_t triangles);
 // How long a worker spins for the next round before it sleeps, learnt from its own recent
 // waits (ski rental): spinning through a wait of w costs w of CPU time; sleeping costs
 // kWakeCostMicros (the futex calls of the sleeper and of the thread that wakes it) plus
-// the spin before it. The budget is the one of 0, 2, 5, 10, 20 us that would have cost
+// the spin before it. The budget is the one of 0, 5, 20, 50, 100 us that would have cost
 // least over the last few hundred waits: 0 when the waits are long (the other thread in
 // a long plan, or a busy machine, where the waiting thread is often descheduled and a
-// spin takes the core from the thread it waits for), 2-20 us when most are short (the
-// gaps between the rounds of a step). A spin longer than kWakeCostMicros never costs less
-// CPU time than a sleep, so there is no longer budget. What a sleep costs besides is wall
-// time on the critical path: the caller's notify (below) and the worker joining the next
-// round late. Only timing: which thread runs a task never changes a result.
+// spin takes the core from the thread it waits for), 5-100 us when most are short (the
+// gaps between the rounds of a step). One wait alone longer than kWakeCostMicros is
+// cheaper slept through at once, but the budget is one for all waits: once most waits
+// are short enough to spin through, spinning on through the 20-50 us gaps of a step (the
+// commits) costs less than the budget spun plus a wake-up. Budgets up to 20 us left those
+// gaps to sleeps. What a sleep costs besides is wall time on the critical path: the
+// caller's notify (below) and the worker joining the next round late. Only timing: which
+// thread runs a task never changes a result.
 class SpinBudget {
 public:
     static constexpr int kChoices = 5;
-    static constexpr double kBudgetMicros[kChoices] = {0, 2, 5, 10, 20};
+    static constexpr double kBudgetMicros[kChoices] = {0, 5, 20, 50, 100};
     // A sleep and wake-up of a thread. On the 2-core Firecracker VM of bench/RESULTS.md
     // (where a system call is dear) a two-thread probe measured the notify alone at 6-7 us
     // of the notifier's time (median; 15 us at the 90th percentile), on the caller's
@@ -76,8 +79,14 @@ public:
     // longer than 10 us. Loop^1 208k -> 10k on an idle machine, two threads against one,
     // alt.py 7 rounds (2026-12-07, load ~1.3): wall 0.965x for 1.53x the CPU; with 20 us
     // (and budgets up to 20 us) 0.916x for 1.54x. Across runs of the same binaries two
-    // threads' wall varied from 0.74x to 0.97x: compare within one run; the gain is one
-    // run's, within that spread.
+    // threads' wall varied from 0.74x to 0.97x: compare within one run.
+    // The same input with the worker never sleeping (a measurement build) had these waits
+    // per run: 65k under 5 us (0.14 s in all), 46k of 5-20 us (0.53 s), 36k of 20-50 us
+    // (1.06 s), 4k of 50-100 us (0.26 s), 214 longer (0.25 s); never sleeping cost 0.5 s
+    // less system time than sleeping (~69k wake-ups: ~7 us of system time each) and 1.35 s
+    // more user time. Budgets up to 100 us (the rule above picks 50-100 us on these waits),
+    // alt.py 7 rounds, idle: two threads' wall 0.926x -> 0.880x one thread's, CPU 1.51x ->
+    // 1.53x.
     static constexpr double kWakeCostMicros = 20;
     static constexpr int kWindow = 128;  // waits between choices; older waits count half
 

@@ -189,15 +189,21 @@ TEST_CASE("spin budget: a worker spins through short waits and sleeps at once th
                 for (int i = 0; i < share * SpinBudget::kWindow / 100; ++i) b.record(micros);
         return b.micros();
     };
-    CHECK(SpinBudget().micros() == 20);            // until it has seen waits
+    CHECK(SpinBudget().micros() == 100);           // until it has seen waits
     CHECK(after({{200.0, 100}}) == 0);             // long waits only: sleep at once
-    CHECK(after({{1.0, 100}}) == 2);               // the shortest budget that covers them
+    CHECK(after({{1.0, 100}}) == 5);               // the shortest budget that covers them
     CHECK(after({{3.0, 100}}) == 5);
-    CHECK(after({{8.0, 100}}) == 10);
+    CHECK(after({{8.0, 100}}) == 20);
     CHECK(after({{15.0, 100}}) == 20);             // 15 us spun is cheaper than a wake-up (20)
     CHECK(after({{25.0, 100}}) == 0);              // 25 us spun is dearer than a wake-up
     CHECK(after({{3.0, 70}, {200.0, 30}}) == 5);   // 0.7 * 3 + 0.3 * (5 + 20) < 20
     CHECK(after({{3.0, 20}, {200.0, 80}}) == 0);   // 0.2 * 3 + 0.8 * 25 > 20
+    // Short waits and 30 us ones: 50 us (0.6 * 10 + 0.4 * 30 = 18) beats sleeping at once
+    // (20) and 20 us (0.6 * 10 + 0.4 * (20 + 20) = 22), though 30 us alone is dearer
+    // spun than slept.
+    CHECK(after({{10.0, 60}, {30.0, 40}}) == 50);
+    // The waits of Loop^1 armadillo on two threads (planning_pool.h): 100 us.
+    CHECK(after({{2.0, 43}, {12.0, 30}, {29.0, 24}, {62.0, 3}}) == 100);
 }
 
 TEST_CASE("spin budget: it follows a change of the waits", "[internal][simplify]") {
