@@ -51,6 +51,20 @@ contains "$work/err" "vertices moved back where it made slivers (R/r > 30)" "the
 expect 0 "passes bpm-check" -- "$tools/bpm-check" "$work/n.bpm"
 # Smoothing straightened junction lines into triangles of almost no area (R/r 1.9e5 here).
 expect 0 "its surface has no sliver (R/r <= 30)" -- "$tools/bpm-check" --surface "$work/noisy.nii" --checks quality --max-aspect 30
+# Its noise makes dozens of regions per material (thousands at 64^3): the log lists a few
+# ids per material and counts the rest (one line naming every region was tens of kB).
+expect 0 "mesh the noisy checkerboard" -- "$tools/bpm-mesh" "$work/n.bpm" -o "$work/n.tet.bpm"
+ok "the materials line lists at most 8 regions per material and counts the rest" -- $py -c '
+import re, sys
+lines = [l for l in open(sys.argv[1]) if " materials: " in l]
+assert len(lines) == 1, lines
+line = lines[0]
+print(len(line), "characters:", line[:200])
+assert re.search(r"\(regions (\d+,){7}\d+ and \d+ more\)", line), line[:300]
+for ids in re.findall(r"\(regions? ([\d,]+)", line):
+    assert len(ids.split(",")) <= 8, ids
+assert len(line) < 600, len(line)
+' "$work/err"
 
 # NRRD: 3D Slicer's .seg.nrrd (gzip, segment names) and raw big-endian int16.
 expect 0 "simplify a .seg.nrrd" -- "$tools/bpm-simplify" "$work/spheres.seg.nrrd" --ratio 0.2 -o "$work/seg.bpm" -v

@@ -4,6 +4,8 @@
 #include <cstdio>
 #include <iostream>
 #include <memory>
+#include <string>
+#include <vector>
 
 #include "bpm/bpm_file.h"
 #include "bpm/errors.h"
@@ -35,6 +37,19 @@ std::string json_escape(const std::string& s) {
         }
     }
     return out;
+}
+
+// How many region ids, materials and problems the log lists before it counts the rest: a
+// noisy label image gives thousands of regions (64^3 voxels: 7920), and one line naming
+// every region was tens of kilobytes. --json lists every region with its material.
+constexpr size_t kListed = 8, kListedMaterials = 20, kListedProblems = 10;
+
+// "1,5,6" or "1,5,6,9,11,13,19,25 and 6 more".
+std::string listed_ids(const std::vector<int64_t>& ids) {
+    std::string text;
+    for (size_t k = 0; k < ids.size() && k < kListed; ++k) text += (k ? "," : "") + std::to_string(ids[k]);
+    if (ids.size() > kListed) text += " and " + std::to_string(ids.size() - kListed) + " more";
+    return text;
 }
 
 }  // namespace
@@ -241,26 +256,36 @@ int main(int argc, char** argv) {
         {
             const bpm::TetMesh& m = *file.tetmesh;
             std::string line = std::to_string(materials.materials) + " material" + (materials.materials == 1 ? "" : "s") + ":";
-            for (size_t i = 0; i < m.material_names.size() && i < 20; ++i) {
-                std::string regions;
-                for (size_t r = 0; r < m.region_material.size(); ++r)
-                    if (m.region_material[r] == int32_t(i) + 1) regions += (regions.empty() ? "" : ",") + std::to_string(r + 1);
+            std::vector<std::vector<int64_t>> regions_of(m.material_names.size());
+            for (size_t r = 0; r < m.region_material.size(); ++r)
+                if (m.region_material[r] >= 1 && size_t(m.region_material[r]) <= regions_of.size())
+                    regions_of[size_t(m.region_material[r] - 1)].push_back(int64_t(r) + 1);
+            for (size_t i = 0; i < regions_of.size() && i < kListedMaterials; ++i)
                 line += std::string(i ? ";" : "") + " " + std::to_string(i + 1) + " " + m.material_names[i] +
-                        " (region" + (regions.find(',') == std::string::npos ? " " : "s ") + regions + ")";
-            }
+                        " (region" + (regions_of[i].size() == 1 ? " " : "s ") + listed_ids(regions_of[i]) + ")";
+            if (regions_of.size() > kListedMaterials)
+                line += "; and " + std::to_string(regions_of.size() - kListedMaterials) + " more materials";
             context.info(line);
             if (materials.orientation_ignored)
                 context.warn("the patches' front/back materials contradict each other (reversed normals?): read them "
                              "as unordered pairs");
-            for (const std::string& p : materials.problems) context.warn(p);
+            for (size_t k = 0; k < materials.problems.size() && k < kListedProblems; ++k)
+                context.warn(materials.problems[k]);
+            if (materials.problems.size() > kListedProblems)
+                context.warn("and " + std::to_string(materials.problems.size() - kListedProblems) +
+                             " more regions like these (--json lists every region with its material)");
             // Each problem leaves a region named region_<id>: say how to name it.
             std::string unnamed;
+            size_t unnamed_count = 0;
             for (size_t r = 0; r < m.region_material.size(); ++r) {
                 const std::string id = std::to_string(r + 1);
-                if (m.material_names[size_t(m.region_material[r] - 1)] == "region_" + id)
-                    unnamed += (unnamed.empty() ? "" : " ") + std::string("--material ") + id + "=NAME";
+                if (m.material_names[size_t(m.region_material[r] - 1)] != "region_" + id) continue;
+                if (++unnamed_count <= kListed) unnamed += (unnamed.empty() ? "" : " ") + std::string("--material ") + id + "=NAME";
             }
-            if (!materials.problems.empty() && !unnamed.empty())
+            if (unnamed_count > kListed)
+                unnamed += " and so on for " + std::to_string(unnamed_count - kListed) +
+                           " more (--json lists them: material_name region_<id>)";
+            if (!materials.problems.empty() && unnamed_count > 0)
                 context.warn("to name the regions the input does not decide, rerun with " + unnamed);
         }
         // For the warning (which -q hides) and --json only.
