@@ -77,29 +77,37 @@ assert s["two"] >= two_floor, (s["two"], two_floor)
 ' "$work/n.bpm"
 ok "no two coarse triangles with one common corner lie closer onto each other than the original's closest" -- $py -c '
 import sys
-from collections import defaultdict
 import h5py, numpy as np
 def smallest(X, T):
     # The corner wedge (simplify/corner_wedge_guard.h): over the pairs with exactly one
     # common corner s, the smallest angle between an edge of one from s that falls inside
-    # the other one`s sector (projected onto its plane) and that plane.
-    at = defaultdict(list)
-    for t in T:
-        for k in range(3):
-            at[t[k]].append((t[(k + 1) % 3], t[(k + 2) % 3]))
+    # the other one`s sector (projected onto its plane) and that plane. The pairs of
+    # corners at each vertex all at once (one at a time took 6 s on S0).
+    T = np.asarray(T)
+    s, b, c = T.reshape(-1), np.roll(T, -1, axis=1).reshape(-1), np.roll(T, -2, axis=1).reshape(-1)
+    order = np.argsort(s, kind="stable")
+    starts = np.flatnonzero(np.r_[True, s[order][1:] != s[order][:-1]])
+    sizes = np.diff(np.r_[starts, len(order)])
+    I, J = [], []
+    for m in np.unique(sizes[sizes >= 2]):
+        i, j = np.triu_indices(m, 1)
+        first = starts[sizes == m]
+        I.append((first[:, None] + i).ravel())
+        J.append((first[:, None] + j).ravel())
+    I, J = order[np.concatenate(I)], order[np.concatenate(J)]
+    apart = (b[I] != b[J]) & (b[I] != c[J]) & (c[I] != b[J]) & (c[I] != c[J])
+    I, J = I[apart], J[apart]
+    u, w = X[b] - X[s], X[c] - X[s]
+    n = np.cross(u, w)
+    dot = lambda p, q: np.einsum("ij,ij->i", p, q)
     best = 90.0
-    for s, fan in at.items():
-        P = [(X[b] - X[s], X[c] - X[s]) for b, c in fan]
-        N = [np.cross(u, w) for u, w in P]
-        for i in range(len(fan)):
-            for j in range(i):
-                if set(fan[i]) & set(fan[j]):
-                    continue
-                for (u, w), n, (r1, r2) in ((P[i], N[i], P[j]), (P[j], N[j], P[i])):
-                    for r in (r1, r2):
-                        if np.cross(u, r) @ n >= 0 and np.cross(r, w) @ n >= 0:
-                            sine = abs(r @ n) / (np.linalg.norm(r) * np.linalg.norm(n))
-                            best = min(best, np.degrees(np.arcsin(min(1.0, sine))))
+    for A, B in ((I, J), (J, I)):
+        for r in (u[B], w[B]):
+            inside = (dot(np.cross(u[A], r), n[A]) >= 0) & (dot(np.cross(r, w[A]), n[A]) >= 0)
+            sine = np.abs(dot(r, n[A])) / (np.linalg.norm(r, axis=1) * np.linalg.norm(n[A], axis=1))
+            inside &= np.isfinite(sine)  # a triangle without area has no corner wedge
+            if inside.any():
+                best = min(best, float(np.degrees(np.arcsin(min(1.0, sine[inside].min())))))
     return best
 with h5py.File(sys.argv[1], "r") as f:
     coarse = smallest(f["coarse/vertices"][()], f["coarse/triangles"][()])
