@@ -23,6 +23,17 @@ TEST_CASE("vertex components: joined through shared vertices, numbered by their 
     CHECK(id == std::vector<int32_t>{-1, 0, 1, -1, 0, 1, 1, 0, 0, 0});
 }
 
+TEST_CASE("vertex components: numbered by their smallest vertex, not by first appearance", "[internal][core]") {
+    // The first triangle is {6, 5, 2}: numbered as they first appear, {2, 5, 6} would be
+    // component 0 and {0, 1, 3, 4} component 1; by the smallest vertex it is the other way
+    // round (0 < 2). Vertex 7 is in no triangle.
+    VertexComponents components(8);
+    for (const Tri& t : {Tri{6, 5, 2}, Tri{4, 3, 1}, Tri{1, 0, 4}}) components.add(t);
+    std::vector<int32_t> id;
+    CHECK(components.number(id) == 2);
+    CHECK(id == std::vector<int32_t>{0, 0, 1, 0, 0, 1, 1, -1});
+}
+
 TEST_CASE("vertex components: none without triangles", "[internal][core]") {
     VertexComponents components(3);
     std::vector<int32_t> id = {5};

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <random>
+#include <utility>
 #include <vector>
 
 #include <catch2/catch.hpp>
@@ -32,72 +33,60 @@ TEST_CASE("clearance guard: relative clearance of two triangles", "[internal][si
     CHECK(relative_clearance(x, {0, 1, 2}, {1, 7, 2}) == std::numeric_limits<double>::infinity());
 }
 
-TEST_CASE("clearance guard: a new triangle hovering over another sheet is refused", "[internal][simplify]") {
-    // Two separate sheets: a triangle at z = 0 and a pair at z = 0.5 to be replaced by
-    // triangles with a corner pulled down to 1e-5 above the first (or kept at 0.5).
+namespace {
+// A mesh of `s` with every triangle in a grid of unit cells. The scene keeps its own copy
+// of `s`: the mesh reads its positions from there.
+struct Scene {
+    explicit Scene(Surface s) : surface(std::move(s)), mesh(surface), grid(1.0) {
+        mesh.alive_triangles(alive);
+        for (int32_t t : alive) {
+            const Tri& c = mesh.triangle(t);
+            grid.insert(t, surface.vertices[c[0]], surface.vertices[c[1]], surface.vertices[c[2]]);
+        }
+    }
+    Surface surface;
+    CoarseMesh mesh;
+    TriangleGrid grid;
+    std::vector<int32_t> alive;
+};
+
+// Two separate sheets: A, a triangle at z = 0 (patch 0, longest edge 4 sqrt 2), and B, a
+// pair at z = 0.5 (patch 1) to be replaced by triangles 3 4 7 and 3 7 5 with a corner
+// 7 = (1, 1, corner_height) pulled down towards A (or by 3 4 5, kept at 0.5).
+Surface sheet_over_sheet(double corner_height) {
     Surface s;
-    s.vertices = {{0, 0, 0}, {4, 0, 0}, {0, 4, 0},                 // sheet A
+    s.vertices = {{0, 0, 0}, {4, 0, 0}, {0, 4, 0},                     // sheet A
                   {0, 0, 0.5}, {2, 0, 0.5}, {0, 2, 0.5}, {1, 1, 0.5},  // sheet B
-                  {1, 1, 1e-5}};                                     // a point just above A
+                  {1, 1, corner_height}};                              // 7
     s.triangles = {{0, 1, 2}, {3, 4, 6}, {3, 6, 5}};
     s.patches = {0, 1, 1};
-    CoarseMesh mesh(s);
-    TriangleGrid grid(1.0);
-    std::vector<int32_t> alive;
-    mesh.alive_triangles(alive);
-    for (int32_t t : alive) {
-        const Tri& c = mesh.triangle(t);
-        grid.insert(t, s.vertices[c[0]], s.vertices[c[1]], s.vertices[c[2]]);
-    }
-    std::vector<int32_t> removed;
-    for (int32_t t : alive)
-        if (t != alive.front()) removed.push_back(t);
+    return s;
+}
+// Sheet B's triangles.
+std::vector<int32_t> sheet_b(const Scene& scene) { return {scene.alive.begin() + 1, scene.alive.end()}; }
+}  // namespace
+
+TEST_CASE("clearance guard: a new triangle hovering over another sheet is refused", "[internal][simplify]") {
+    // Corner 7 1e-5 above A.
+    Scene scene(sheet_over_sheet(1e-5));
+    const std::vector<int32_t> removed = sheet_b(scene);
     std::vector<TriangleGrid::Entry> scratch;
-    CHECK(keeps_clearance(mesh, grid, removed, {Tri{3, 4, 5}}, {}, 4.0, scratch));  // 0.5 above A
-    CHECK_FALSE(keeps_clearance(mesh, grid, removed, {Tri{3, 4, 7}, Tri{3, 7, 5}}, {}, 4.0, scratch));
-    CHECK(keeps_clearance(mesh, grid, removed, {Tri{3, 4, 7}, Tri{3, 7, 5}}, {}, 4.0, scratch, 0.0));  // off
+    CHECK(keeps_clearance(scene.mesh, scene.grid, removed, {Tri{3, 4, 5}}, {}, 4.0, scratch));  // 0.5 above A
+    CHECK_FALSE(keeps_clearance(scene.mesh, scene.grid, removed, {Tri{3, 4, 7}, Tri{3, 7, 5}}, {}, 4.0, scratch));
+    CHECK(keeps_clearance(scene.mesh, scene.grid, removed, {Tri{3, 4, 7}, Tri{3, 7, 5}}, {}, 4.0, scratch, 0.0));  // off
 }
 
 TEST_CASE("clearance guard: on two or more patches a vertex 0.7 % above another sheet is refused", "[internal][simplify]") {
     // Noisy 48^3 at --ratio 0.2 with the corner-wedge guard: bpm-mesh's smallest angle
     // (1.36 degrees) on a triangle with a corner of another sheet 0.7 % of its longest
     // edge above it, which the floor of one patch (0.1 %) lets pass.
-    Surface s;
-    s.vertices = {{0, 0, 0}, {4, 0, 0}, {0, 4, 0},                     // sheet A (longest edge 4 sqrt 2)
-                  {0, 0, 0.5}, {2, 0, 0.5}, {0, 2, 0.5}, {1, 1, 0.5},  // sheet B
-                  {1, 1, 0.04}};                                       // 0.71 % above A
-    s.triangles = {{0, 1, 2}, {3, 4, 6}, {3, 6, 5}};
-    s.patches = {0, 1, 1};
-    CoarseMesh mesh(s);
-    TriangleGrid grid(1.0);
-    std::vector<int32_t> alive;
-    mesh.alive_triangles(alive);
-    for (int32_t t : alive) {
-        const Tri& c = mesh.triangle(t);
-        grid.insert(t, s.vertices[c[0]], s.vertices[c[1]], s.vertices[c[2]]);
-    }
-    const std::vector<int32_t> removed(alive.begin() + 1, alive.end());
+    Scene scene(sheet_over_sheet(0.04));  // 0.71 % above A
+    const std::vector<int32_t> removed = sheet_b(scene);
     const std::vector<Tri> added = {Tri{3, 4, 7}, Tri{3, 7, 5}};
     std::vector<TriangleGrid::Entry> scratch;
-    CHECK(keeps_clearance(mesh, grid, removed, added, {}, 6.0, scratch, kClearanceFloor));
-    CHECK_FALSE(keeps_clearance(mesh, grid, removed, added, {}, 6.0, scratch, kMultiPatchClearanceFloor));
+    CHECK(keeps_clearance(scene.mesh, scene.grid, removed, added, {}, 6.0, scratch, kClearanceFloor));
+    CHECK_FALSE(keeps_clearance(scene.mesh, scene.grid, removed, added, {}, 6.0, scratch, kMultiPatchClearanceFloor));
 }
-
-namespace {
-// A mesh of `s` with every triangle in a grid of unit cells.
-struct Scene {
-    explicit Scene(const Surface& s) : mesh(s), grid(1.0) {
-        mesh.alive_triangles(alive);
-        for (int32_t t : alive) {
-            const Tri& c = mesh.triangle(t);
-            grid.insert(t, s.vertices[c[0]], s.vertices[c[1]], s.vertices[c[2]]);
-        }
-    }
-    CoarseMesh mesh;
-    TriangleGrid grid;
-    std::vector<int32_t> alive;
-};
-}  // namespace
 
 TEST_CASE("clearance guard: two new triangles of one removal may not hover over each other", "[internal][simplify]") {
     // A removal along a junction line makes a fan per sheet; two fans' triangles share at

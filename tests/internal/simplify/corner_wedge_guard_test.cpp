@@ -75,6 +75,63 @@ TEST_CASE("corner wedge guard: a star that was that thin already may stay so", "
     CHECK(keeps_corner_wedges(mesh, star_of_5(mesh), {Tri{0, 3, 4}}));
 }
 
+namespace {
+// The star of v = 5 (patch 1) over a link 0 1 2 3 4 that folds back over itself: 0 1 2
+// flat at z = 0, 3 high above it, and 4 back down over 0 1 2, `fold` degrees above its
+// plane seen from 0; v = (0.8, 0.8, v_height). Removing v makes the fan 0 1 2, 0 2 3,
+// 0 3 4, whose first and last triangles meet only at 0, 0 3 4 lying `fold` degrees over
+// 0 1 2. A lid 1 6 7 (patch 0) over 0 1 2 at its corner 1, `lid` degrees above its plane.
+Surface folded_star(double fold, double v_height, double lid) {
+    const auto slope = [](double degrees) { return std::tan(degrees * M_PI / 180); };
+    const auto at = [](double degrees) { return Vec3{std::cos(degrees * M_PI / 180), std::sin(degrees * M_PI / 180), 0}; };
+    Surface s;
+    s.vertices = {{0, 0, 0}, {2, 0, 0}, {0, 2, 0}, {1, 1, 2}, {2, 0.6, std::hypot(2, 0.6) * slope(fold)},
+                  {0.8, 0.8, v_height},
+                  Vec3{2, 0, slope(lid)} + at(150), Vec3{2, 0, slope(lid)} + at(165)};
+    s.triangles = {{5, 0, 1}, {5, 1, 2}, {5, 2, 3}, {5, 3, 4}, {5, 4, 0}, {1, 6, 7}};
+    s.patches = {1, 1, 1, 1, 1, 0};
+    return s;
+}
+// What removing v makes (0 3 4 last: it is not the neighbour of 0 1 2 in the list).
+const std::vector<Tri> kFoldedFan = {Tri{0, 1, 2}, Tri{0, 2, 3}, Tri{0, 3, 4}};
+}  // namespace
+
+TEST_CASE("corner wedge guard: two new triangles laid onto each other at their common corner are refused",
+          "[internal][simplify]") {
+    // The pairs among the new triangles count, not only new against old: the fan's 0 3 4
+    // folds back over its 0 1 2. With v 0.07 above 0 1 2 the old star's own corner wedges
+    // are 4.7 degrees or more, the lid stands 45 degrees off, and the new fan comes within
+    // 2.3 (2.8 for the wider fold) degrees of old triangles at common corners, which do not
+    // count (they go), so the floor decides: 0.25 degrees under it refused, 0.25 over it
+    // passes.
+    const double floor = kCornerWedgeFloorDegrees;
+    const Surface thin = folded_star(floor - 0.25, 0.07, 45);
+    REQUIRE(corner_wedge_degrees(thin.vertices, {0, 1, 2}, {0, 3, 4}) == Approx(floor - 0.25));
+    CoarseMesh thin_mesh(thin);
+    CHECK_FALSE(keeps_corner_wedges(thin_mesh, star_of_5(thin_mesh), kFoldedFan));
+    const Surface wider = folded_star(floor + 0.25, 0.07, 45);
+    REQUIRE(corner_wedge_degrees(wider.vertices, {0, 1, 2}, {0, 3, 4}) == Approx(floor + 0.25));
+    CoarseMesh wider_mesh(wider);
+    CHECK(keeps_corner_wedges(wider_mesh, star_of_5(wider_mesh), kFoldedFan));
+}
+
+TEST_CASE("corner wedge guard: a thin pair of two old triangles lowers the floor", "[internal][simplify]") {
+    // v 3 below 0 1 2: its triangles 5 1 2 and 5 3 4 meet only at v, 2.15 degrees apart,
+    // the old star's thinnest pair (against the lid: 15 degrees or more). The fan folds 20
+    // degrees; its 0 1 2 lies under the lid at corner 1: the lid 0.05 degrees lower than
+    // that old pair is refused, 0.05 higher passes, although both are under the floor.
+    const double before = corner_wedge_degrees(folded_star(20, -3, 45).vertices, {5, 1, 2}, {5, 3, 4});
+    REQUIRE(before == Approx(2.15).margin(0.01));
+    const Surface lower = folded_star(20, -3, before - 0.05);
+    REQUIRE(corner_wedge_degrees(lower.vertices, {0, 1, 2}, {1, 6, 7}) == Approx(before - 0.05));
+    CoarseMesh lower_mesh(lower);
+    CHECK_FALSE(keeps_corner_wedges(lower_mesh, star_of_5(lower_mesh), kFoldedFan));
+    const Surface higher = folded_star(20, -3, before + 0.05);
+    REQUIRE(corner_wedge_degrees(higher.vertices, {0, 1, 2}, {1, 6, 7}) == Approx(before + 0.05));
+    CoarseMesh higher_mesh(higher);
+    CHECK(keeps_corner_wedges(higher_mesh, star_of_5(higher_mesh), kFoldedFan));
+}
+
 TEST_CASE("corner wedge guard: off on a surface of one patch", "[internal][simplify]") {
     Surface s = star_over_triangle(0.02, 1.0);
     s.patches = {0, 0, 0, 0};
