@@ -264,7 +264,8 @@ int main(int argc, char** argv) {
                 line += std::string(i ? ";" : "") + " " + std::to_string(i + 1) + " " + m.material_names[i] +
                         " (region" + (regions_of[i].size() == 1 ? " " : "s ") + listed_ids(regions_of[i]) + ")";
             if (regions_of.size() > kListedMaterials)
-                line += "; and " + std::to_string(regions_of.size() - kListedMaterials) + " more materials";
+                line += "; and " + std::to_string(regions_of.size() - kListedMaterials) + " more material" +
+                        (regions_of.size() - kListedMaterials == 1 ? "" : "s");
             context.info(line);
             if (materials.orientation_ignored)
                 context.warn("the patches' front/back materials contradict each other (reversed normals?): read them "
@@ -272,8 +273,9 @@ int main(int argc, char** argv) {
             for (size_t k = 0; k < materials.problems.size() && k < kListedProblems; ++k)
                 context.warn(materials.problems[k]);
             if (materials.problems.size() > kListedProblems)
-                context.warn("and " + std::to_string(materials.problems.size() - kListedProblems) +
-                             " more regions like these (--json lists every region with its material)");
+                context.warn("and " + std::to_string(materials.problems.size() - kListedProblems) + " more region" +
+                             (materials.problems.size() - kListedProblems == 1 ? "" : "s") +
+                             " like these (--json lists every region with its material)");
             // Each problem leaves a region named region_<id>: say how to name it.
             std::string unnamed;
             size_t unnamed_count = 0;

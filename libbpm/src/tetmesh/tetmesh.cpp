@@ -814,12 +814,13 @@ TetMeshResult generate_tetmesh(const Parametrization& param, const TetMeshOption
         }
     }
     if (options.smooth) {
-        // Its own progress (0 to 1) shown as the last part of this call's.
+        // Its own progress (0 to 1) shown as 95-99 % of this call's: only this call's own
+        // report reaches 100 % (a tool ends the progress line there).
         Context smoothing_context;
         smoothing_context.log = context.log;
         if (context.progress)
             smoothing_context.progress = [&context](double fraction, const std::string& stage) {
-                return context.progress(0.95 + 0.05 * fraction, stage);
+                return context.progress(0.95 + 0.04 * fraction, stage);
             };
         const TetSmoothResult sm = smooth_tetmesh(out, options.smoothing, smoothing_context);
         context.debug("level-0 smoothing: " + num(sm.moved_vertices) + " vertices moved, min dihedral " +

@@ -44,6 +44,9 @@ struct Scene {
             grid.insert(t, surface.vertices[c[0]], surface.vertices[c[1]], surface.vertices[c[2]]);
         }
     }
+    // Not copied or moved: a copy's mesh would read the other scene's positions.
+    Scene(const Scene&) = delete;
+    Scene& operator=(const Scene&) = delete;
     Surface surface;
     CoarseMesh mesh;
     TriangleGrid grid;

@@ -200,7 +200,7 @@ TEST_CASE("spin budget: a worker spins through short waits and sleeps at once th
     CHECK(after({{3.0, 20}, {200.0, 80}}) == 0);   // 0.2 * 3 + 0.8 * 25 > 20
     // Short waits and 30 us ones: 50 us (0.6 * 10 + 0.4 * 30 = 18) beats sleeping at once
     // (20) and 20 us (0.6 * 10 + 0.4 * (20 + 20) = 22), though 30 us alone is dearer
-    // spun than slept.
+    // spun than slept. (100 us costs the same as 50 here: a tie keeps the shorter.)
     CHECK(after({{10.0, 60}, {30.0, 40}}) == 50);
     // The waits of Loop^1 armadillo on two threads (planning_pool.h): 100 us.
     CHECK(after({{2.0, 43}, {12.0, 30}, {29.0, 24}, {62.0, 3}}) == 100);
