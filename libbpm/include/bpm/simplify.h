@@ -104,7 +104,9 @@ struct SimplifyOptions {
     // flipped too, if the new triangles are no worse than max(old worst R/r,
     // max_aspect_ratio). Never feature edges or patch borders; never a flip that makes
     // phi invalid, an intersection, a new crease (normals turning more than 60 degrees
-    // unless they did before), or an error above the largest error of a removal.
+    // unless they did before), or an error above the largest error of a removal, nor one
+    // the guards of a removal would refuse (min_ridge_angle_degrees: ridges at its new
+    // edge and at the four sides of its quad, wedges, clearance; sheet order, islands).
     // Measured (bench/RESULTS.md "Tets without slivers"): no needle of the bench surfaces
     // at 10 % or 1000 vertices can be flipped (femur's has a short edge); the sliver flips
     // (6 degrees) raise elephant 10 % from 4.92 to 6.29 degrees at level 0 but add

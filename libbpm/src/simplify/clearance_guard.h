@@ -35,7 +35,9 @@
 // The rule, per removal: `after` is the smallest relative clearance between a new
 // triangle and an alive triangle outside the removed ones or another new triangle,
 // `before` the same for the removed triangles. Refused when after < min(kClearanceFloor,
-// before). The final edge flips (simplify/edge_flip.h) are not guarded.
+// before). The final edge flips (simplify/edge_flip.h) are guarded the same way (their
+// two triangles out, two in): a flip's new edge lies off the old surface, up to the
+// height of the tetrahedron between the two pairs, and may bring it nearer another sheet.
 //
 // Floating point: distances are measured, not topological decisions.
 //

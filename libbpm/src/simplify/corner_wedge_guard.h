@@ -1,6 +1,6 @@
 #pragma once
 // The corner-wedge guard of the simplifier: on a surface of two or more patches, a
-// removal must not lay two triangles that share exactly one corner onto each other at a
+// removal (or an edge flip) must not lay two triangles that share exactly one corner onto each other at a
 // smaller angle than a floor, unless its star had such a pair already, and then not at a
 // smaller angle. Internal to libbpm.
 //

@@ -1,14 +1,15 @@
 #include "simplify/edge_flip.h"
 
-#include "simplify/corner_wedge_guard.h"
 #include <algorithm>
 #include <cmath>
 #include <set>
 
 #include "bpm/predicates.h"
 #include "core/tetrahedron_quality.h"
+#include "simplify/clearance_guard.h"
 #include "simplify/corner_wedge_guard.h"
 #include "simplify/overlay.h"
+#include "simplify/ridge_guard.h"
 #include "simplify/sheet_guard.h"
 #include "simplify/wedge_guard.h"
 
@@ -377,7 +378,8 @@ bool circumcenter(const Vec3& p0, const Vec3& p1, const Vec3& p2, const Vec3& p3
 }  // namespace
 
 FlipStats flip_edges(CoarseMesh& mesh, Embedding& embedding, const std::vector<int8_t>& orientation_sign,
-                     IntersectionTest& intersections, const FlipLimits& limits, const IslandGuard* islands) {
+                     IntersectionTest& intersections, const FlipLimits& limits, const IslandGuard* islands,
+                     const std::vector<float>* vertex_ridges) {
     FlipStats stats;
     const auto& X = mesh.positions();
     const int outward = limits.sliver_dihedral_degrees > 0 ? outward_orientation(mesh) : 0;
@@ -387,6 +389,16 @@ FlipStats flip_edges(CoarseMesh& mesh, Embedding& embedding, const std::vector<i
     std::vector<int32_t> sheet_scratch;
     IslandGuard::Scratch island_scratch;
     WedgeScratch wedge_scratch;
+    RidgeScratch ridge_scratch;
+    const bool ridges = vertex_ridges && !vertex_ridges->empty() && limits.min_ridge_angle_degrees > 0;
+    const bool clearance = limits.prevent_intersections && limits.clearance_floor > 0;
+    // The clearance guard's bound on the longest edge of the alive triangles (its grid
+    // query reaches that far), kept up to date: a flip's new edge may be longer than any
+    // before it.
+    double longest = 0.0;
+    if (clearance)
+        for (int32_t t = 0; t < mesh.triangle_capacity(); ++t)
+            if (mesh.alive(t)) longest = std::max(longest, longest_edge(X, mesh.triangle(t)));
     EdgeFlip flip, undo;
     std::string why;
     enum class Kind { Needle, Sliver };
@@ -409,6 +421,21 @@ FlipStats flip_edges(CoarseMesh& mesh, Embedding& embedding, const std::vector<i
             return refuse();
         if (normal_turn(X, flip.added[0], flip.added[1]) > std::max(limits.max_normal_turn, normal_turn(X, old0, old1)))
             return refuse();
+        // The ridge guard, as for a removal: the new edge is the removal's diagonal, the
+        // quad's four sides the sides of its hole (their triangles outside stay, the one
+        // inside changes), and the original vertices it covers are its corners and those
+        // that move (inside the two triangles and on a -- b).
+        if (ridges) {
+            double sharpest_original = 180.0;
+            for (int32_t v : {flip.a, flip.b, flip.c, flip.d})
+                sharpest_original = std::min(sharpest_original, double((*vertex_ridges)[size_t(v)]));
+            for (const auto& loc : flip.new_locations)
+                sharpest_original = std::min(sharpest_original, double((*vertex_ridges)[size_t(loc.first)]));
+            const double sharpest_new = sharpest_changed_ridge(mesh, {flip.removed[0], flip.removed[1]},
+                                                               {flip.added[0], flip.added[1]}, -1, -1, ridge_scratch);
+            if (sharpest_new < std::min(limits.min_ridge_angle_degrees, sharpest_original - kRidgeMargin))
+                return refuse();
+        }
         if (limits.prevent_intersections &&
             intersections.intersects_rest({flip.added[0], flip.added[1]}, {flip.removed[0], flip.removed[1]}, scratch))
             return refuse();
@@ -422,6 +449,11 @@ FlipStats flip_edges(CoarseMesh& mesh, Embedding& embedding, const std::vector<i
         // ... nor onto a triangle they share one corner with (as for removals).
         if (!keeps_corner_wedges(mesh, {flip.removed[0], flip.removed[1]}, {flip.added[0], flip.added[1]},
                                  limits.corner_wedge_floor))
+            return refuse();
+        // ... nor within the clearance floor of another part of the surface (the grid is
+        // up to date: each flip is committed into it before the next is planned).
+        if (clearance && !keeps_clearance(mesh, intersections.grid(), {flip.removed[0], flip.removed[1]},
+                                          {flip.added[0], flip.added[1]}, {}, longest, scratch, limits.clearance_floor))
             return refuse();
         // The tetrahedron between the old and the new pair must hold no other component.
         if (islands && islands->active() &&
@@ -451,6 +483,7 @@ FlipStats flip_edges(CoarseMesh& mesh, Embedding& embedding, const std::vector<i
             return refuse();
         }
         intersections.update({{flip.removed[0], old0}, {flip.removed[1], old1}}, ids[0]);
+        if (clearance) longest = std::max({longest, longest_edge(X, flip.added[0]), longest_edge(X, flip.added[1])});
         ++(kind == Kind::Needle ? stats.needle_flips : stats.sliver_flips);
         return true;
     };

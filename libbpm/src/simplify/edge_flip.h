@@ -72,6 +72,14 @@ struct FlipLimits {
     // The corner-wedge guard's floor (degrees; simplify/corner_wedge_guard.h, which is off
     // on one patch); 0 = off.
     double corner_wedge_floor = 0.0;
+    // The clearance guard's floor (simplify/clearance_guard.h: kClearanceFloor, or
+    // kMultiPatchClearanceFloor on two or more patches), asked only with
+    // prevent_intersections (it reads the intersection test's grid); 0 = off.
+    double clearance_floor = 0.0;
+    // The ridge guard's floor (degrees; simplify/ridge_guard.h, with flip_edges'
+    // `vertex_ridges`): the quad's new edge and its four sides, as a removal's diagonals
+    // and the sides of its hole; 0 = off.
+    double min_ridge_angle_degrees = 0.0;
 };
 
 struct FlipStats {
@@ -81,7 +89,12 @@ struct FlipStats {
 
 // Flips while any candidate improves (passes in triangle id order: deterministic).
 // `islands`, if given, refuses flips that sweep another component (simplify/island_guard.h).
+// `vertex_ridges`, if given and not empty: the original's vertex_ridge_angles
+// (simplify/ridge_guard.h), for the ridge guard (FlipLimits::min_ridge_angle_degrees).
+// A flip passes the guards a removal passes at its commit (sheet order, islands, feature
+// and corner wedges, clearance, ridges), with the same floors.
 FlipStats flip_edges(CoarseMesh& mesh, Embedding& embedding, const std::vector<int8_t>& orientation_sign,
-                     IntersectionTest& intersections, const FlipLimits& limits, const IslandGuard* islands = nullptr);
+                     IntersectionTest& intersections, const FlipLimits& limits, const IslandGuard* islands = nullptr,
+                     const std::vector<float>* vertex_ridges = nullptr);
 
 }  // namespace bpm::detail

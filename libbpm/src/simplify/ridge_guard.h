@@ -34,6 +34,12 @@
 // already sharper than the limit (the input's own sharp edges when feature lines are
 // off) may stay as it is, only not get sharper.
 //
+// The final edge flips (simplify/edge_flip.h) follow the same rule: the flip's new edge
+// is a diagonal, the four sides of its quad are sides of the hole (each keeps its
+// triangle outside the quad and gets a new one inside: a flip can fold a side onto its
+// neighbour while its new edge stays flat), and the original vertices are the quad's
+// corners and those inside it (in its two triangles and on the old edge).
+//
 // Floating point: the angles are measured, not topological decisions; the comparison is
 // deterministic (the same operations in the same order on every thread).
 

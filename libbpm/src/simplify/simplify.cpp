@@ -1003,8 +1003,8 @@ void Simplifier::report_slivers(SimplifyResult& result) {
         return p.first > q.first || (p.first == q.first && p.second < q.second);
     });
     if (bad.size() > SimplifyResult::kListedSlivers) bad.resize(SimplifyResult::kListedSlivers);
-    // The clearance guard's bound on the longest edge, which the final edge flips did not
-    // follow (a flip's new diagonal may be longer than the edges before it).
+    // The clearance guard's bound on the longest edge, which the final edge flips kept
+    // for themselves (a flip's new diagonal may be longer than the edges before it).
     if (!bad.empty())
         for (int32_t t : alive) longest_edge_ = std::max(longest_edge_, longest_edge(x, mesh_.triangle(t)));
     RemovalPlan& plan = step_plans_[0].plan;
@@ -1080,7 +1080,9 @@ void Simplifier::flip_edges_phase(SimplifyResult& result) {
     limits.junction_wedge_floor = junction_wedge_floor();
     limits.crease_wedge_floor = crease_wedge_floor();
     limits.corner_wedge_floor = std::min(kCornerWedgeFloorDegrees, options_.min_ridge_angle_degrees);
-    const FlipStats stats = flip_edges(mesh_, embedding_, sign_, intersections_, limits, &islands_);
+    limits.clearance_floor = clearance_floor();
+    limits.min_ridge_angle_degrees = options_.min_ridge_angle_degrees;
+    const FlipStats stats = flip_edges(mesh_, embedding_, sign_, intersections_, limits, &islands_, &vertex_ridges_);
     result.needle_flips = stats.needle_flips;
     result.sliver_flips = stats.sliver_flips;
     context_.debug("edge flips: " + std::to_string(stats.needle_flips) + " of needles, " +

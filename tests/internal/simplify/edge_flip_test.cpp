@@ -1,7 +1,10 @@
 // Edge flips of the coarse surface with phi re-embedded (simplify/edge_flip.h): a cap
 // needle is flipped, a feature edge never, a sliver edge of a closed surface is, phi
 // stays bijective through flips of edges that carry original vertices and crossings,
-// and a flip refused by the error bound leaves phi as it was.
+// a flip refused by the error bound leaves phi as it was, and the guards a removal
+// passes refuse flips too (a side of the quad folded by the ridge guard, a new triangle
+// near another sheet by the clearance guard, one laid onto a triangle at a common
+// corner by the corner-wedge guard).
 #include <algorithm>
 #include <string>
 #include <vector>
@@ -9,13 +12,17 @@
 #include <catch2/catch.hpp>
 
 #include "bpm/check.h"
+#include "core/crease.h"
 #include "fixtures_surfaces.h"
 #include "simplify/coarse_mesh.h"
 #include "simplify/edge_flip.h"
 #include "simplify/embedding.h"
 #include "simplify/export_phi.h"
 #include "simplify/intersection_test.h"
+#include "simplify/clearance_guard.h"
+#include "simplify/corner_wedge_guard.h"
 #include "simplify/planning_pool.h"
+#include "simplify/ridge_guard.h"
 #include "simplify/vertex_removal.h"
 #include "simplifier_state_fixture.h"
 
@@ -45,6 +52,54 @@ Surface bent_box(double rise) {
                    {0, 1, 5}, {0, 5, 4}, {1, 2, 6}, {1, 6, 5},       // sides
                    {2, 3, 7}, {2, 7, 6}, {3, 0, 4}, {3, 4, 7}};
     s.patches.assign(s.triangles.size(), 0);
+    return s;
+}
+
+// A cap (0,1,2) beside (1,0,3), and (2,1,4) across the cap's side 1 -- 2. The flip of
+// 0 -- 1 (the cap's R/r 47 -> 5.8) turns the new triangle (3,1,2) onto (2,1,4): the
+// ridge angle at the quad's side 1 -- 2 falls from 94 to 6.8 degrees, while its new
+// edge 2 -- 3 has 162 (the ridges of 0 -- 1 and 1 -- 2 are 91 and 94: the test turns
+// feature lines off).
+Surface side_folding_quad() {
+    Surface s;
+    s.vertices = {{0, 0, 0}, {2, 0, 0}, {1.3, -0.1, 0.1}, {1.5, 2.7, 2.6}, {1.5, 0.9, 1.2}};
+    s.triangles = {{0, 1, 2}, {1, 0, 3}, {2, 1, 4}};
+    s.patches = {0, 0, 0};
+    return s;
+}
+
+// A cap (0,1,2) bent up 45 degrees from (1,0,3) in the plane z = 0, and a small
+// triangle (4,5,6) of its own 0.0005 above the ridge 2 -- 3 that the flip of 0 -- 1
+// makes: relative clearance 0.00035 (of the new triangles' longest edge), from the old
+// triangles 0.023 and 0.030.
+Surface quad_under_a_sheet() {
+    Surface s;
+    // The new triangles meet at x = 1 along 2 -- 3, at height (0.05 + 0.05 y) / 1.05.
+    const auto above_ridge = [](double x, double y) { return Vec3{x, y, (0.05 + 0.05 * y) / 1.05 + 0.0005}; };
+    s.vertices = {{0, 0, 0}, {2, 0, 0}, {1, 0.05, 0.05}, {1, -1, 0},
+                  above_ridge(0.99, -0.06), above_ridge(1.01, -0.06), above_ridge(1, -0.04)};
+    s.triangles = {{0, 1, 2}, {1, 0, 3}, {4, 5, 6}};
+    s.patches = {0, 0, 0};
+    return s;
+}
+
+// A cap (0,1,2) bent up 50 degrees from (1,0,3) in the plane z = 0 (patch 0), and a
+// triangle (3,4,5) of patch 1 at corner 3, 2 degrees above the plane of (0,3,2) that
+// the flip of 0 -- 1 makes, inside its sector at 3 (6.6 degrees above (1,0,3)).
+Surface quad_beside_a_corner() {
+    Surface s;
+    s.vertices = {{0, 0, 0}, {2, 0, 0}, {1, 0.1, 0.12}, {1, -1, 0}};
+    const Vec3 d = s.vertices[3], to_a = s.vertices[0] - d, to_c = s.vertices[2] - d;
+    const Vec3 normal = (1.0 / norm(cross(to_c, to_a))) * cross(to_c, to_a);  // up, away from the cap
+    const double lift = std::tan(2.0 * M_PI / 180.0);
+    // Two rays from 3 in the plane of (0,3,2), between 3 -> 2 and the bisector, lifted 2 degrees.
+    for (double w : {0.1, 0.3}) {
+        const Vec3 in_plane = (1 - w) * (1.0 / norm(to_c)) * to_c + w * (1.0 / norm(to_a)) * to_a;
+        const Vec3 ray = (1.0 / norm(in_plane)) * in_plane;
+        s.vertices.push_back(d + 0.5 * (ray + lift * normal));
+    }
+    s.triangles = {{0, 1, 2}, {1, 0, 3}, {3, 4, 5}};
+    s.patches = {0, 0, 1};
     return s;
 }
 
@@ -170,4 +225,92 @@ TEST_CASE("edge flip: phi stays bijective through flips of edges that carry phi"
     const Parametrization p = state.exported(original);
     CHECK(check_format(p).passed);
     CHECK(check_bijectivity(p).passed);
+}
+
+TEST_CASE("edge flip: a flip that folds a side of its quad is refused (ridge guard)", "[internal][simplify][flip]") {
+    const Surface original = side_folding_quad();
+    FlipLimits limits;
+    limits.needle_aspect = 3.5;  // the cap; (2,1,4) is no needle
+    limits.max_deviation = 10.0;
+    limits.min_ridge_angle_degrees = 30.0;
+    LiveState state(original, 180.0);
+    const std::vector<float> ridges = vertex_ridge_angles(original, state.embedding);
+    const std::vector<Tri> before = state.sorted_triangles();
+    IntersectionTest intersections(state.mesh);
+    const FlipStats stats = flip_edges(state.mesh, state.embedding, state.sign, intersections, limits, nullptr, &ridges);
+    CHECK(stats.needle_flips == 0);
+    CHECK(stats.refused >= 1);
+    CHECK(state.sorted_triangles() == before);
+
+    // Without the ridge guard the flip is made (and only the side's ridge was wrong).
+    LiveState off(original, 180.0);
+    IntersectionTest off_intersections(off.mesh);
+    limits.min_ridge_angle_degrees = 0.0;
+    CHECK(flip_edges(off.mesh, off.embedding, off.sign, off_intersections, limits, nullptr, &ridges).needle_flips >= 1);
+    CHECK(off.mesh.has_edge(2, 3));
+    CHECK_FALSE(off.mesh.has_edge(0, 1));
+    CHECK(check_bijectivity(off.exported(original)).passed);
+    // The fold is at the side 1 -- 2, not at the new edge (a check there alone lets it pass).
+    const auto ridge = [&](int32_t u, int32_t w) {
+        std::vector<int32_t> tris;
+        off.mesh.edge_triangles(u, w, tris);
+        REQUIRE(tris.size() == 2);
+        return ridge_angle_degrees(off.mesh.positions(), off.mesh.triangle(tris[0]), off.mesh.triangle(tris[1]), u, w);
+    };
+    CHECK(ridge(2, 3) > 150.0);
+    CHECK(ridge(1, 2) < 10.0);
+}
+
+TEST_CASE("edge flip: a flip that brings a new triangle near another sheet is refused (clearance)",
+          "[internal][simplify][flip]") {
+    const Surface original = quad_under_a_sheet();
+    for (int32_t t : {0, 1})
+        CHECK(relative_clearance(original.vertices, original.triangles[t], Tri{4, 5, 6}) > 10 * kClearanceFloor);
+    FlipLimits limits;
+    limits.max_deviation = 1.0;
+    limits.clearance_floor = kClearanceFloor;
+    LiveState state(original);
+    const std::vector<Tri> before = state.sorted_triangles();
+    IntersectionTest intersections(state.mesh);
+    const FlipStats stats = flip_edges(state.mesh, state.embedding, state.sign, intersections, limits);
+    CHECK(stats.needle_flips == 0);
+    CHECK(stats.refused >= 1);
+    CHECK(state.sorted_triangles() == before);
+
+    // Without the clearance guard the flip is made: the new ridge passes under the sheet.
+    LiveState off(original);
+    IntersectionTest off_intersections(off.mesh);
+    limits.clearance_floor = 0.0;
+    CHECK(flip_edges(off.mesh, off.embedding, off.sign, off_intersections, limits).needle_flips == 1);
+    CHECK(off.mesh.has_edge(2, 3));
+    const auto& x = off.mesh.positions();
+    double nearest = 1.0;
+    for (int32_t t = 0; t < off.mesh.triangle_capacity(); ++t)
+        if (off.mesh.alive(t) && off.mesh.triangle(t)[0] < 4)
+            nearest = std::min(nearest, relative_clearance(x, off.mesh.triangle(t), Tri{4, 5, 6}));
+    CHECK(nearest < kClearanceFloor);
+}
+
+TEST_CASE("edge flip: a flip that lays a new triangle onto another at a common corner is refused (corner wedges)",
+          "[internal][simplify][flip]") {
+    const Surface original = quad_beside_a_corner();
+    FlipLimits limits;
+    limits.max_deviation = 1.0;
+    limits.corner_wedge_floor = kCornerWedgeFloorDegrees;
+    LiveState state(original);
+    const std::vector<Tri> before = state.sorted_triangles();
+    IntersectionTest intersections(state.mesh);
+    const FlipStats stats = flip_edges(state.mesh, state.embedding, state.sign, intersections, limits);
+    CHECK(stats.needle_flips == 0);
+    CHECK(stats.refused >= 1);
+    CHECK(state.sorted_triangles() == before);
+
+    // Without the corner-wedge guard the flip is made, 2 degrees from (3,4,5).
+    LiveState off(original);
+    IntersectionTest off_intersections(off.mesh);
+    limits.corner_wedge_floor = 0.0;
+    CHECK(flip_edges(off.mesh, off.embedding, off.sign, off_intersections, limits).needle_flips == 1);
+    CHECK(off.mesh.has_edge(2, 3));
+    CHECK(corner_wedge_degrees(off.mesh.positions(), Tri{0, 3, 2}, Tri{3, 4, 5}) < 2.5);
+    CHECK(corner_wedge_degrees(off.mesh.positions(), Tri{1, 0, 3}, Tri{3, 4, 5}) > kCornerWedgeFloorDegrees);
 }

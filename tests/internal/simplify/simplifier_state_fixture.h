@@ -21,8 +21,10 @@ struct LiveState {
     std::vector<int8_t> sign;
     std::vector<Vec3> no_normals;  // VertexRemover keeps a reference: no normal deviation
     std::vector<float> no_ridges;  // ... and no ridge guard
-    explicit LiveState(const Surface& original) : mesh(original) {
-        mesh.mark_feature_edges(60.0);
+    // `feature_angle`: creases above it are feature edges (180: none, only boundaries and
+    // patch borders).
+    explicit LiveState(const Surface& original, double feature_angle = 60.0) : mesh(original) {
+        mesh.mark_feature_edges(feature_angle);
         sign.resize(original.triangles.size());
         for (int32_t t = 0; t < original.num_triangles(); ++t) sign[t] = mesh.flipped_initially(t) ? -1 : 1;
         embedding.init_identity(original, mesh.triangle_capacity());
