@@ -227,38 +227,54 @@ TEST_CASE("edge flip: phi stays bijective through flips of edges that carry phi"
     CHECK(check_bijectivity(p).passed);
 }
 
+// A guard's case: on `original` with `limits` no flip is made (the guard refuses it) and
+// the surface is unchanged; with `guard_off` applied to the limits the flip of (0, 1) into
+// (2, 3) is made, and `check_made(mesh state, stats)` looks at the result.
+template <class GuardOff, class CheckMade>
+void refused_only_by_the_guard(const Surface& original, FlipLimits limits, double feature_angle,
+                               const std::vector<float>* ridges, GuardOff guard_off, CheckMade check_made) {
+    {
+        LiveState state(original, feature_angle);
+        const std::vector<Tri> before = state.sorted_triangles();
+        IntersectionTest intersections(state.mesh);
+        const FlipStats stats = flip_edges(state.mesh, state.embedding, state.sign, intersections, limits, nullptr, ridges);
+        CHECK(stats.needle_flips == 0);
+        CHECK(stats.refused >= 1);
+        CHECK(state.sorted_triangles() == before);
+    }
+    LiveState off(original, feature_angle);
+    IntersectionTest off_intersections(off.mesh);
+    guard_off(limits);
+    const FlipStats stats = flip_edges(off.mesh, off.embedding, off.sign, off_intersections, limits, nullptr, ridges);
+    CHECK(off.mesh.has_edge(2, 3));
+    check_made(off, stats);
+}
+
 TEST_CASE("edge flip: a flip that folds a side of its quad is refused (ridge guard)", "[internal][simplify][flip]") {
     const Surface original = side_folding_quad();
     FlipLimits limits;
     limits.needle_aspect = 3.5;  // the cap; (2,1,4) is no needle
     limits.max_deviation = 10.0;
     limits.min_ridge_angle_degrees = 30.0;
-    LiveState state(original, 180.0);
-    const std::vector<float> ridges = vertex_ridge_angles(original, state.embedding);
-    const std::vector<Tri> before = state.sorted_triangles();
-    IntersectionTest intersections(state.mesh);
-    const FlipStats stats = flip_edges(state.mesh, state.embedding, state.sign, intersections, limits, nullptr, &ridges);
-    CHECK(stats.needle_flips == 0);
-    CHECK(stats.refused >= 1);
-    CHECK(state.sorted_triangles() == before);
-
+    const std::vector<float> ridges = vertex_ridge_angles(original, LiveState(original, 180.0).embedding);
     // Without the ridge guard the flip is made (and only the side's ridge was wrong).
-    LiveState off(original, 180.0);
-    IntersectionTest off_intersections(off.mesh);
-    limits.min_ridge_angle_degrees = 0.0;
-    CHECK(flip_edges(off.mesh, off.embedding, off.sign, off_intersections, limits, nullptr, &ridges).needle_flips >= 1);
-    CHECK(off.mesh.has_edge(2, 3));
-    CHECK_FALSE(off.mesh.has_edge(0, 1));
-    CHECK(check_bijectivity(off.exported(original)).passed);
-    // The fold is at the side 1 -- 2, not at the new edge (a check there alone lets it pass).
-    const auto ridge = [&](int32_t u, int32_t w) {
-        std::vector<int32_t> tris;
-        off.mesh.edge_triangles(u, w, tris);
-        REQUIRE(tris.size() == 2);
-        return ridge_angle_degrees(off.mesh.positions(), off.mesh.triangle(tris[0]), off.mesh.triangle(tris[1]), u, w);
-    };
-    CHECK(ridge(2, 3) > 150.0);
-    CHECK(ridge(1, 2) < 10.0);
+    refused_only_by_the_guard(
+        original, limits, 180.0, &ridges, [](FlipLimits& l) { l.min_ridge_angle_degrees = 0.0; },
+        [&](LiveState& off, const FlipStats& stats) {
+            CHECK(stats.needle_flips >= 1);
+            CHECK_FALSE(off.mesh.has_edge(0, 1));
+            CHECK(check_bijectivity(off.exported(original)).passed);
+            // The fold is at the side 1 -- 2, not at the new edge (a check there alone lets it pass).
+            const auto ridge = [&](int32_t u, int32_t w) {
+                std::vector<int32_t> tris;
+                off.mesh.edge_triangles(u, w, tris);
+                REQUIRE(tris.size() == 2);
+                return ridge_angle_degrees(off.mesh.positions(), off.mesh.triangle(tris[0]), off.mesh.triangle(tris[1]),
+                                           u, w);
+            };
+            CHECK(ridge(2, 3) > 150.0);
+            CHECK(ridge(1, 2) < 10.0);
+        });
 }
 
 TEST_CASE("edge flip: a flip that brings a new triangle near another sheet is refused (clearance)",
@@ -269,26 +285,18 @@ TEST_CASE("edge flip: a flip that brings a new triangle near another sheet is re
     FlipLimits limits;
     limits.max_deviation = 1.0;
     limits.clearance_floor = kClearanceFloor;
-    LiveState state(original);
-    const std::vector<Tri> before = state.sorted_triangles();
-    IntersectionTest intersections(state.mesh);
-    const FlipStats stats = flip_edges(state.mesh, state.embedding, state.sign, intersections, limits);
-    CHECK(stats.needle_flips == 0);
-    CHECK(stats.refused >= 1);
-    CHECK(state.sorted_triangles() == before);
-
     // Without the clearance guard the flip is made: the new ridge passes under the sheet.
-    LiveState off(original);
-    IntersectionTest off_intersections(off.mesh);
-    limits.clearance_floor = 0.0;
-    CHECK(flip_edges(off.mesh, off.embedding, off.sign, off_intersections, limits).needle_flips == 1);
-    CHECK(off.mesh.has_edge(2, 3));
-    const auto& x = off.mesh.positions();
-    double nearest = 1.0;
-    for (int32_t t = 0; t < off.mesh.triangle_capacity(); ++t)
-        if (off.mesh.alive(t) && off.mesh.triangle(t)[0] < 4)
-            nearest = std::min(nearest, relative_clearance(x, off.mesh.triangle(t), Tri{4, 5, 6}));
-    CHECK(nearest < kClearanceFloor);
+    refused_only_by_the_guard(
+        original, limits, 60.0, nullptr, [](FlipLimits& l) { l.clearance_floor = 0.0; },
+        [](LiveState& off, const FlipStats& stats) {
+            CHECK(stats.needle_flips == 1);
+            const auto& x = off.mesh.positions();
+            double nearest = 1.0;
+            for (int32_t t = 0; t < off.mesh.triangle_capacity(); ++t)
+                if (off.mesh.alive(t) && off.mesh.triangle(t)[0] < 4)
+                    nearest = std::min(nearest, relative_clearance(x, off.mesh.triangle(t), Tri{4, 5, 6}));
+            CHECK(nearest < kClearanceFloor);
+        });
 }
 
 TEST_CASE("edge flip: a flip that lays a new triangle onto another at a common corner is refused (corner wedges)",
@@ -297,20 +305,12 @@ TEST_CASE("edge flip: a flip that lays a new triangle onto another at a common c
     FlipLimits limits;
     limits.max_deviation = 1.0;
     limits.corner_wedge_floor = kCornerWedgeFloorDegrees;
-    LiveState state(original);
-    const std::vector<Tri> before = state.sorted_triangles();
-    IntersectionTest intersections(state.mesh);
-    const FlipStats stats = flip_edges(state.mesh, state.embedding, state.sign, intersections, limits);
-    CHECK(stats.needle_flips == 0);
-    CHECK(stats.refused >= 1);
-    CHECK(state.sorted_triangles() == before);
-
     // Without the corner-wedge guard the flip is made, 2 degrees from (3,4,5).
-    LiveState off(original);
-    IntersectionTest off_intersections(off.mesh);
-    limits.corner_wedge_floor = 0.0;
-    CHECK(flip_edges(off.mesh, off.embedding, off.sign, off_intersections, limits).needle_flips == 1);
-    CHECK(off.mesh.has_edge(2, 3));
-    CHECK(corner_wedge_degrees(off.mesh.positions(), Tri{0, 3, 2}, Tri{3, 4, 5}) < 2.5);
-    CHECK(corner_wedge_degrees(off.mesh.positions(), Tri{1, 0, 3}, Tri{3, 4, 5}) > kCornerWedgeFloorDegrees);
+    refused_only_by_the_guard(
+        original, limits, 60.0, nullptr, [](FlipLimits& l) { l.corner_wedge_floor = 0.0; },
+        [](LiveState& off, const FlipStats& stats) {
+            CHECK(stats.needle_flips == 1);
+            CHECK(corner_wedge_degrees(off.mesh.positions(), Tri{0, 3, 2}, Tri{3, 4, 5}) < 2.5);
+            CHECK(corner_wedge_degrees(off.mesh.positions(), Tri{1, 0, 3}, Tri{3, 4, 5}) > kCornerWedgeFloorDegrees);
+        });
 }
