@@ -215,6 +215,7 @@ private:
         size_t worst = 0;
         Vec3 p = start;
         double q = star_quality(s.faces, order, p, -std::numeric_limits<double>::infinity(), worst);
+        if (order.empty()) return;  // no star (boundary_of gives a closed one: not reached)
         std::swap(order[0], order[worst]);
         double h = 0.25 * length;
         for (int it = 0; it < kSearchIterations && h > kMinStep * length; ++it) {
