@@ -65,8 +65,8 @@ with h5py.File(sys.argv[1], "r") as f:
 # the wedge guard, min(15, the smallest of S0); at edges of two triangles the wedge guard
 # at creases, min(5, the smallest of S0), and the ridge guard elsewhere, min(30, the
 # sharpest of S0 there - 5): together min(5, the smallest of S0 - 5). The final edge flips
-# keep the junction and crease wedges but check only the ridge at their new edge, not the
-# ordinary sides of the quad: the bound at edges of two triangles holds here, not in general.
+# ask the same guards, the ridge guard at their new edge and at the four sides of their
+# quad, so the bounds hold for them too.
 junction_floor = min(15.0, s0["junction"])
 two_floor = min(5.0, s0["two"] - 5.0)
 print("smallest wedge at junctions", s["junction"], "floor", junction_floor, "(S0:", s0["junction"], ")")

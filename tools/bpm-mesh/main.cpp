@@ -44,6 +44,9 @@ std::string json_escape(const std::string& s) {
 // every region was tens of kilobytes. --json lists every region with its material.
 constexpr size_t kListed = 8, kListedMaterials = 20, kListedProblems = 10;
 
+// "1 region", "3 regions".
+std::string count_text(size_t n, const std::string& noun) { return std::to_string(n) + " " + noun + (n == 1 ? "" : "s"); }
+
 // "1,5,6" or "1,5,6,9,11,13,19,25 and 6 more".
 std::string listed_ids(const std::vector<int64_t>& ids) {
     std::string text;
@@ -256,16 +259,15 @@ int main(int argc, char** argv) {
         {
             const bpm::TetMesh& m = *file.tetmesh;
             std::string line = std::to_string(materials.materials) + " material" + (materials.materials == 1 ? "" : "s") + ":";
+            // assign_materials gave every region a material in 1 .. #materials.
             std::vector<std::vector<int64_t>> regions_of(m.material_names.size());
             for (size_t r = 0; r < m.region_material.size(); ++r)
-                if (m.region_material[r] >= 1 && size_t(m.region_material[r]) <= regions_of.size())
-                    regions_of[size_t(m.region_material[r] - 1)].push_back(int64_t(r) + 1);
+                regions_of[size_t(m.region_material[r] - 1)].push_back(int64_t(r) + 1);
             for (size_t i = 0; i < regions_of.size() && i < kListedMaterials; ++i)
                 line += std::string(i ? ";" : "") + " " + std::to_string(i + 1) + " " + m.material_names[i] +
                         " (region" + (regions_of[i].size() == 1 ? " " : "s ") + listed_ids(regions_of[i]) + ")";
             if (regions_of.size() > kListedMaterials)
-                line += "; and " + std::to_string(regions_of.size() - kListedMaterials) + " more material" +
-                        (regions_of.size() - kListedMaterials == 1 ? "" : "s");
+                line += "; and " + count_text(regions_of.size() - kListedMaterials, "more material");
             context.info(line);
             if (materials.orientation_ignored)
                 context.warn("the patches' front/back materials contradict each other (reversed normals?): read them "
@@ -273,8 +275,7 @@ int main(int argc, char** argv) {
             for (size_t k = 0; k < materials.problems.size() && k < kListedProblems; ++k)
                 context.warn(materials.problems[k]);
             if (materials.problems.size() > kListedProblems)
-                context.warn("and " + std::to_string(materials.problems.size() - kListedProblems) + " more region" +
-                             (materials.problems.size() - kListedProblems == 1 ? "" : "s") +
+                context.warn("and " + count_text(materials.problems.size() - kListedProblems, "more region") +
                              " like these (--json lists every region with its material)");
             // Each problem leaves a region named region_<id>: say how to name it.
             std::string unnamed;

@@ -191,8 +191,7 @@ int main(int argc, char** argv) {
     app.add_option("--min-ridge-angle", options.min_ridge_angle_degrees,
                    "Refuse removals and the final edge flips that leave a coarse edge (not a feature line) folded "
                    "sharper than this, or than the original's sharpest edge where it lies minus 5 (degrees: interior "
-                   "angle of a convex edge, "
-                   "exterior of a concave one; default 30, 0 = off); on feature lines, the wedges between sheets are kept "
+                   "angle of a convex edge, exterior of a concave one; default 30, 0 = off); on feature lines, the wedges between sheets are kept "
                    "at least 15 degrees wide at junctions and 5 elsewhere, or not made thinner than they are, and no new triangle "
                    "comes closer than 0.1 % of its size to another sheet (1 % with two or more patches); with two or more patches, "
                    "no two triangles with one common corner are laid onto each other at less than 4 degrees")

@@ -1,8 +1,8 @@
 #pragma once
 // The corner-wedge guard of the simplifier: on a surface of two or more patches, a
-// removal (or an edge flip) must not lay two triangles that share exactly one corner onto each other at a
-// smaller angle than a floor, unless its star had such a pair already, and then not at a
-// smaller angle. Internal to libbpm.
+// removal (or an edge flip) must not lay two triangles that share exactly one corner onto
+// each other at a smaller angle than a floor, unless its star had such a pair already, and
+// then not at a smaller angle. Internal to libbpm.
 //
 // Why: two triangles a and b with a common corner s whose sectors at s overlap (seen
 // along a's normal, an edge of b from s falls inside a's sector, or the other way)

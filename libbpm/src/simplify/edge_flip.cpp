@@ -433,8 +433,7 @@ FlipStats flip_edges(CoarseMesh& mesh, Embedding& embedding, const std::vector<i
                 sharpest_original = std::min(sharpest_original, double((*vertex_ridges)[size_t(loc.first)]));
             const double sharpest_new = sharpest_changed_ridge(mesh, {flip.removed[0], flip.removed[1]},
                                                                {flip.added[0], flip.added[1]}, -1, -1, ridge_scratch);
-            if (sharpest_new < std::min(limits.min_ridge_angle_degrees, sharpest_original - kRidgeMargin))
-                return refuse();
+            if (ridge_too_sharp(sharpest_new, sharpest_original, limits.min_ridge_angle_degrees)) return refuse();
         }
         if (limits.prevent_intersections &&
             intersections.intersects_rest({flip.added[0], flip.added[1]}, {flip.removed[0], flip.removed[1]}, scratch))

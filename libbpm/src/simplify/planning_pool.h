@@ -66,9 +66,9 @@ int planning_threads(int requested, int64_t triangles);
 // under 40 us; the 20-50 us gaps of a step, the commits, average 29 us), while every wait
 // longer than the new budget costs the difference more. choose() weighs both on the
 // recorded waits; with budgets up to 20 us those gaps were left to sleeps. What a sleep
-// costs besides is wall time on the critical path: the
-// caller's notify (below) and the worker joining the next round late. Only timing: which
-// thread runs a task never changes a result.
+// costs besides is wall time on the critical path: the caller's notify (below) and the
+// worker joining the next round late. Only timing: which thread runs a task never changes
+// a result.
 class SpinBudget {
 public:
     static constexpr int kChoices = 5;

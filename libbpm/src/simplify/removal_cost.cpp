@@ -31,7 +31,7 @@ double removal_cost(const RemovalPlan& plan, const SimplifyOptions& options, dou
         why = "edge length limit (max_edge_length)";
         return kRefused;
     }
-    if (plan.sharpest_new_ridge < std::min(options.min_ridge_angle_degrees, plan.sharpest_original_ridge - kRidgeMargin)) {
+    if (ridge_too_sharp(plan.sharpest_new_ridge, plan.sharpest_original_ridge, options.min_ridge_angle_degrees)) {
         why = "ridge angle limit (min_ridge_angle_degrees)";
         return kRefused;
     }

@@ -43,6 +43,7 @@
 // Floating point: the angles are measured, not topological decisions; the comparison is
 // deterministic (the same operations in the same order on every thread).
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -57,6 +58,14 @@ namespace bpm::detail {
 // still have (when that is below the floor): ridges of the coarse surface are straighter
 // than the original's noisy ones, a little sharper is fine.
 constexpr double kRidgeMargin = 5.0;
+
+// The rule, for a removal (removal_cost) and an edge flip (edge_flip.cpp): refused when
+// the sharpest ridge the change makes (sharpest_changed_ridge) is below `floor_degrees`
+// (min_ridge_angle_degrees) and below the original's sharpest ridge where the change lies
+// (vertex_ridge_angles over the original vertices it covers) minus kRidgeMargin.
+inline bool ridge_too_sharp(double sharpest_new, double sharpest_original, double floor_degrees) {
+    return sharpest_new < std::min(floor_degrees, sharpest_original - kRidgeMargin);
+}
 
 // Per original vertex: the smallest ridge angle (degrees) of the original edges at it
 // that have exactly two triangles; 180 if it has none. #V0 entries. `embedding`: of

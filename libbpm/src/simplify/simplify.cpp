@@ -295,6 +295,7 @@ private:
         return options_.min_ridge_angle_degrees > 0 ? (mesh_.one_patch() ? kClearanceFloor : kMultiPatchClearanceFloor) : 0.0;
     }
     double crease_wedge_floor() const { return std::min(kCreaseWedgeFloorDegrees, options_.min_ridge_angle_degrees); }
+    double corner_wedge_floor() const { return std::min(kCornerWedgeFloorDegrees, options_.min_ridge_angle_degrees); }
     // `uses`: the original's sides grouped by edge, counted once for the coarse mesh's
     // orientation walk and the embedding's edges (each used to collect its own).
     Simplifier(const Surface& original, const SimplifyOptions& options, const Context& context, int threads,
@@ -854,8 +855,7 @@ const char* Simplifier::refused_by_guards(int32_t v, const RemovalPlan& plan, in
     if (!keeps_feature_wedges(mesh_, plan.removed_triangles, plan.new_triangles, plan.feature_a, v, plan.feature_b,
                               scratch.wedge, junction_wedge_floor(), crease_wedge_floor()))
         return kJunctionWedgeReason;
-    if (!keeps_corner_wedges(mesh_, plan.removed_triangles, plan.new_triangles,
-                             std::min(kCornerWedgeFloorDegrees, options_.min_ridge_angle_degrees)))
+    if (!keeps_corner_wedges(mesh_, plan.removed_triangles, plan.new_triangles, corner_wedge_floor()))
         return kCornerWedgeReason;
     if (options_.prevent_intersections && clearance_floor() > 0 &&
         !keeps_clearance(mesh_, intersections_.grid(), plan.removed_triangles, plan.new_triangles, also,
@@ -1079,7 +1079,7 @@ void Simplifier::flip_edges_phase(SimplifyResult& result) {
     limits.prevent_intersections = options_.prevent_intersections;
     limits.junction_wedge_floor = junction_wedge_floor();
     limits.crease_wedge_floor = crease_wedge_floor();
-    limits.corner_wedge_floor = std::min(kCornerWedgeFloorDegrees, options_.min_ridge_angle_degrees);
+    limits.corner_wedge_floor = corner_wedge_floor();
     limits.clearance_floor = clearance_floor();
     limits.min_ridge_angle_degrees = options_.min_ridge_angle_degrees;
     const FlipStats stats = flip_edges(mesh_, embedding_, sign_, intersections_, limits, &islands_, &vertex_ridges_);

@@ -746,8 +746,8 @@ TetMeshResult generate_tetmesh(const Parametrization& param, const TetMeshOption
     // improves, and flips again around the new vertices. `when` names the round in the
     // debug lines ("" or " after the splits").
     // Progress: this improvement takes most of the time after TetGen on noisy label images
-    // (noisy 32^3 at 20 %: 13 of 16 s; 64^3: ~150 s), where "reading the tetrahedral mesh"
-    // stood still on the terminal throughout. `at`: the fraction of the round's start.
+    // (noisy 32^3 at 20 %: 13 of 16 s; the whole run on 64^3 took 181 s), where "reading the
+    // tetrahedral mesh" stood still on the terminal throughout. `at`: the fraction of the round's start.
     const auto flip_and_insert = [&](const detail::TetFlipOptions& flip_options, const std::string& when, double at) {
         const std::string round = when.empty() ? "" : " (round 2)";
         context.report(at, "improving the mesh: flips" + round);
@@ -814,15 +814,9 @@ TetMeshResult generate_tetmesh(const Parametrization& param, const TetMeshOption
         }
     }
     if (options.smooth) {
-        // Its own progress (0 to 1) shown as 95-99 % of this call's: only this call's own
-        // report reaches 100 % (a tool ends the progress line there).
-        Context smoothing_context;
-        smoothing_context.log = context.log;
-        if (context.progress)
-            smoothing_context.progress = [&context](double fraction, const std::string& stage) {
-                return context.progress(0.95 + 0.04 * fraction, stage);
-            };
-        const TetSmoothResult sm = smooth_tetmesh(out, options.smoothing, smoothing_context);
+        // Its progress as 95-99 % of this call's: only this call's own report reaches 100 %
+        // (a tool ends the progress line there).
+        const TetSmoothResult sm = detail::smooth_tetmesh_within(out, options.smoothing, context, 0.95, 0.04);
         context.debug("level-0 smoothing: " + num(sm.moved_vertices) + " vertices moved, min dihedral " +
                       detail::three_digit_text(sm.min_dihedral_before_degrees) + " -> " +
                       detail::three_digit_text(sm.min_dihedral_after_degrees) + " degrees");

@@ -45,6 +45,10 @@ double signed_volume(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d)
 
 // \throw OptionError for options smooth_tetmesh refuses.
 void check_smooth_options(const TetSmoothOptions& options);
+// smooth_tetmesh with its progress in [progress_base, progress_base + progress_span] of
+// the caller's (generate_tetmesh smooths as its last part), without its "smoothing done".
+TetSmoothResult smooth_tetmesh_within(TetMesh& mesh, const TetSmoothOptions& options, const Context& context,
+                                      double progress_base, double progress_span);
 // smooth_tetmesh on raw arrays: moves the vertices v with movable[v] != 0. tets[t] is
 // positively oriented, or negatively where negative[t] (negative may be empty: all
 // positive). dirty (#V, or null = all): the vertices whose tetrahedra changed since they

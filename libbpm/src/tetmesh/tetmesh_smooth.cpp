@@ -303,13 +303,22 @@ double tet_min_dihedral_degrees(const Vec3& a, const Vec3& b, const Vec3& c, con
     return detail::min_dihedral_degrees(a, b, c, d);
 }
 
-TetSmoothResult smooth_tetmesh(TetMesh& mesh, const TetSmoothOptions& options, const Context& context) {
-    detail::check_smooth_options(options);
+namespace detail {
+
+TetSmoothResult smooth_tetmesh_within(TetMesh& mesh, const TetSmoothOptions& options, const Context& context,
+                                      double progress_base, double progress_span) {
+    check_smooth_options(options);
     std::vector<char> movable(mesh.vertices.size(), 0);
     for (size_t v = 0; v < movable.size(); ++v)
         movable[v] = v < mesh.vertex_parameter_points.size() && !mesh.vertex_parameter_points[v].valid();
-    const TetSmoothResult r =
-        detail::smooth_interior(mesh.vertices, mesh.tetrahedra, {}, movable, nullptr, options, context, 0, 1);
+    return smooth_interior(mesh.vertices, mesh.tetrahedra, {}, movable, nullptr, options, context, progress_base,
+                           progress_span);
+}
+
+}  // namespace detail
+
+TetSmoothResult smooth_tetmesh(TetMesh& mesh, const TetSmoothOptions& options, const Context& context) {
+    const TetSmoothResult r = detail::smooth_tetmesh_within(mesh, options, context, 0, 1);
     context.report(1.0, "smoothing done");
     return r;
 }
